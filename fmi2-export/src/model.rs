@@ -94,10 +94,12 @@ pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static
         &[]
     }
 
-    /// Recompute outputs and calculated parameters from parameters/inputs, so that a `get` in
-    /// initialization mode sees consistent values. Called by the layer before a get when a set
-    /// happened since the last call. Must not fail.
-    fn calculate_values(&mut self) {}
+    /// Recompute outputs (and calculated parameters) from the current parameters, inputs and
+    /// state, so that a `get` sees consistent values (outputs with direct feedthrough, initial
+    /// unknowns in initialization mode). The layer calls it before a `fmi2Get*` whenever a
+    /// `fmi2Set*`, `fmi2DoStep`, `fmi2SetFMUstate` or mode change happened since the last call.
+    /// Must not fail; a warning in `log` turns the get's status into `fmi2Warning`.
+    fn calculate_values(&mut self, _log: &mut Log) {}
 
     /// `fmi2ExitInitializationMode`: check parameters (naming the offending one) and set up the
     /// state from them. `start_time` is the value given to `fmi2SetupExperiment`.
