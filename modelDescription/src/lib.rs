@@ -6,5 +6,12 @@
 //! `serde-xml-rs` 0.8 requires.
 #![deny(unsafe_code)]
 
+mod diagnose;
+mod error;
+mod read;
 mod types;
+mod write;
+mod xsd;
+
+pub use error::Error;
 pub use types::*;

@@ -208,9 +208,19 @@ pub struct BaseUnit {
     pub cd: Option<i32>,
     #[serde(rename = "@rad", default, skip_serializing_if = "Option::is_none")]
     pub rad: Option<i32>,
-    #[serde(rename = "@factor", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@factor",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub factor: Option<f64>,
-    #[serde(rename = "@offset", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@offset",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub offset: Option<f64>,
 }
 
@@ -218,9 +228,19 @@ pub struct BaseUnit {
 pub struct DisplayUnit {
     #[serde(rename = "@name")]
     pub name: String,
-    #[serde(rename = "@factor", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@factor",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub factor: Option<f64>,
-    #[serde(rename = "@offset", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@offset",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub offset: Option<f64>,
 }
 
@@ -266,9 +286,19 @@ pub struct RealType {
     pub quantity: Option<String>,
     #[serde(rename = "@unit", default, skip_serializing_if = "Option::is_none")]
     pub unit: Option<String>,
-    #[serde(rename = "@min", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@min",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub min: Option<f64>,
-    #[serde(rename = "@max", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@max",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub max: Option<f64>,
 }
 
@@ -327,18 +357,30 @@ pub struct DefaultExperiment {
     #[serde(
         rename = "@startTime",
         default,
-        skip_serializing_if = "Option::is_none"
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
     )]
     pub start_time: Option<f64>,
-    #[serde(rename = "@stopTime", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@stopTime",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub stop_time: Option<f64>,
     #[serde(
         rename = "@tolerance",
         default,
-        skip_serializing_if = "Option::is_none"
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
     )]
     pub tolerance: Option<f64>,
-    #[serde(rename = "@stepSize", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@stepSize",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub step_size: Option<f64>,
 }
 
@@ -446,13 +488,33 @@ pub struct RealVariable {
         skip_serializing_if = "Option::is_none"
     )]
     pub display_unit: Option<String>,
-    #[serde(rename = "@min", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@min",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub min: Option<f64>,
-    #[serde(rename = "@max", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@max",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub max: Option<f64>,
-    #[serde(rename = "@nominal", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@nominal",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub nominal: Option<f64>,
-    #[serde(rename = "@start", default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "@start",
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "crate::xsd::opt_f64"
+    )]
     pub start: Option<f64>,
     #[serde(
         rename = "@derivative",
