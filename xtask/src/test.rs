@@ -1,0 +1,86 @@
+//! `cargo xtask test`: every check, in order, stopping at the first failure.
+use crate::workspace::{self, Workspace};
+use crate::{fmus, python_env};
+use anyhow::Result;
+use std::time::{Duration, Instant};
+
+struct Stage {
+    name: &'static str,
+    run: fn(&Workspace) -> Result<()>,
+}
+
+const STAGES: [Stage; 5] = [
+    Stage {
+        name: "rustfmt",
+        run: |ws| workspace::run(ws.cargo().args(["fmt", "--all", "--", "--check"])),
+    },
+    Stage {
+        name: "clippy",
+        run: |ws| {
+            workspace::run(ws.cargo().args([
+                "clippy",
+                "--workspace",
+                "--all-targets",
+                "--",
+                "-D",
+                "warnings",
+            ]))
+        },
+    },
+    Stage {
+        name: "package FMUs",
+        run: |ws| fmus::package_all(ws).map(|_| ()),
+    },
+    // Before the cargo tests: the fmpy system tests run in this venv.
+    Stage {
+        name: "python venv",
+        run: python_env::ensure,
+    },
+    // Unit tests of every crate and the system tests (C ABI check, the `fmi` crate's
+    // importer, the fmpy scripts), all against the FMUs packaged above.
+    Stage {
+        name: "cargo test",
+        run: |ws| workspace::run(ws.cargo().args(["test", "--workspace"])),
+    },
+];
+
+pub fn run_all(ws: &Workspace) -> Result<()> {
+    let started = Instant::now();
+    let mut finished: Vec<(&str, Duration)> = Vec::new();
+    for stage in &STAGES {
+        println!("\n=== xtask test: {} ===", stage.name);
+        let stage_started = Instant::now();
+        let result = (stage.run)(ws);
+        let elapsed = stage_started.elapsed();
+        if let Err(error) = result {
+            println!("\n=== xtask test: summary ===");
+            print_timings(&finished);
+            println!(
+                "FAILED  {:<14} {:>8.1} s: {error:#}",
+                stage.name,
+                elapsed.as_secs_f64()
+            );
+            anyhow::bail!("stage `{}` failed", stage.name);
+        }
+        println!(
+            "=== xtask test: {} passed in {:.1} s ===",
+            stage.name,
+            elapsed.as_secs_f64()
+        );
+        finished.push((stage.name, elapsed));
+    }
+    println!("\n=== xtask test: summary ===");
+    print_timings(&finished);
+    println!(
+        "all {} stages passed in {:.1} s",
+        STAGES.len(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn print_timings(finished: &[(&str, Duration)]) {
+    for (name, elapsed) in finished {
+        println!("ok      {name:<14} {:>8.1} s", elapsed.as_secs_f64());
+    }
+}
