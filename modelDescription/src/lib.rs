@@ -8,10 +8,13 @@
 
 mod diagnose;
 mod error;
+mod query;
 mod read;
 mod types;
+mod validate;
 mod write;
 mod xsd;
 
 pub use error::Error;
+pub use query::{StartValue, VariableKind};
 pub use types::*;
