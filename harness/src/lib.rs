@@ -1,1 +1,8 @@
-//! placeholder
+//! The harness: an FMI 2.0 Co-Simulation master for the lander FMUs.
+//!
+//! [`loader`] loads any FMI 2.0 CS FMU through its C ABI; it is the only module with `unsafe`.
+#![deny(unsafe_code)]
+
+pub mod loader;
+
+pub use loader::{Fmu, Instance};

@@ -1,0 +1,110 @@
+//! Errors of loading an FMU and of calling into an instance.
+use super::logger::FmuLog;
+use super::status::Failure;
+use super::variables::VariableKind;
+use std::path::PathBuf;
+
+/// Why an FMU could not be loaded. Every variant names the file or item at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error("FMU {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("FMU {path} is not a readable zip archive: {source}")]
+    Zip {
+        path: PathBuf,
+        #[source]
+        source: zip::result::ZipError,
+    },
+    #[error("FMU {path} has no modelDescription.xml at its top level")]
+    MissingModelDescription { path: PathBuf },
+    #[error("{path}: {source}")]
+    ModelDescription {
+        path: PathBuf,
+        #[source]
+        source: model_description::Error,
+    },
+    #[error("model description says fmiVersion=\"{found}\"; this loader reads FMI 2.0 only")]
+    UnsupportedFmiVersion { found: String },
+    #[error("model '{model_name}' has no <CoSimulation> element; this loader runs Co-Simulation FMUs only")]
+    NotCoSimulation { model_name: String },
+    #[error("model description declares the variable name '{name}' twice")]
+    DuplicateVariableName { name: String },
+    #[error(
+        "variable '{name}' has no type element (Real, Integer, Boolean, String or Enumeration)"
+    )]
+    UntypedVariable { name: String },
+    #[error(
+        "FMU binary {path} not found (expected binaries/{platform}/<modelIdentifier>.{extension})"
+    )]
+    MissingBinary {
+        path: PathBuf,
+        platform: &'static str,
+        extension: &'static str,
+    },
+    #[error("cannot load FMU binary {path}: {source}")]
+    Library {
+        path: PathBuf,
+        #[source]
+        source: libloading::Error,
+    },
+    #[error("FMU binary {binary} does not export {symbol}: {source}")]
+    MissingSymbol {
+        symbol: &'static str,
+        binary: PathBuf,
+        #[source]
+        source: libloading::Error,
+    },
+    #[error("FMU binary {binary}: {function} returned \"{found}\", expected \"{expected}\"")]
+    BinaryMismatch {
+        binary: PathBuf,
+        function: &'static str,
+        found: String,
+        expected: &'static str,
+    },
+}
+
+/// A call the FMU answered with `fmi2Discard`, `fmi2Error`, `fmi2Fatal` or `fmi2Pending`,
+/// with what the FMU logged during that call.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{function} on instance '{instance}' returned {status}{log}")]
+pub struct FmiError {
+    pub function: &'static str,
+    pub instance: String,
+    pub status: Failure,
+    pub log: FmuLog,
+}
+
+/// A name that does not resolve to a variable of the requested type.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum VariableError {
+    #[error("model '{model}' has no variable named '{name}'")]
+    Unknown { model: String, name: String },
+    #[error("variable '{name}' of model '{model}' is {actual}, not {requested}")]
+    TypeMismatch {
+        model: String,
+        name: String,
+        actual: VariableKind,
+        requested: VariableKind,
+    },
+}
+
+/// Any failure of an instance call that checks its arguments before reaching the FMU.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum CallError {
+    #[error(transparent)]
+    Fmi(#[from] FmiError),
+    #[error(transparent)]
+    Variable(#[from] VariableError),
+    #[error("{function} on instance '{instance}': {reason}")]
+    InvalidArgument {
+        function: &'static str,
+        instance: String,
+        reason: String,
+    },
+    #[error("fmi2Instantiate returned NULL for instance '{instance}'{log}")]
+    InstantiationFailed { instance: String, log: FmuLog },
+}

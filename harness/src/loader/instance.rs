@@ -1,0 +1,688 @@
+//! One instance of a loaded FMU, driven through a safe API. Every FMI status comes back as a
+//! `Result`, and a failure carries what the FMU logged during the failing call.
+#![allow(unsafe_code)]
+
+use super::error::{CallError, FmiError};
+use super::ffi::{self, fmi2Component, fmi2FMUstate, fmi2Status};
+use super::fmu::FmuShared;
+use super::functions::Fmi2Functions;
+use super::logger::{LogEnv, LogMark, LogMessage};
+use super::status::{Failure, Status, StepStatus, Success};
+use super::variables::{VariableInfo, VariableKind};
+use std::ffi::{c_void, CStr, CString};
+use std::ptr::{self, NonNull};
+use std::sync::{Arc, Weak};
+
+/// A Co-Simulation slave. `fmi2FreeInstance` is called on drop.
+///
+/// `Send`, so each thread of a Monte Carlo campaign can own its instances, but not `Sync`:
+/// every call takes `&mut self`, so calls into one instance never overlap.
+pub struct Instance {
+    component: NonNull<c_void>,
+    name: String,
+    fmu: Arc<FmuShared>,
+    /// Also the instance's identity for [`FmuState`] tokens.
+    log: Arc<LogEnv>,
+    /// FMUs written against FMI 2.0 may keep this pointer instead of copying the struct,
+    /// and likewise the strings; all live until after `fmi2FreeInstance`.
+    _callbacks: Box<ffi::fmi2CallbackFunctions>,
+    _instantiate_strings: [CString; 3],
+    /// Live FMU states by slot; a freed slot is null and reused.
+    states: Vec<fmi2FMUstate>,
+}
+
+// SAFETY: the component and FMU-state pointers are used only through `&mut self` (or in
+// `drop`), so calls into one instance are serialised. FMI 2.0 does not bind an instance to the
+// thread that created it, and the callbacks we pass are thread-safe (`LogEnv` locks).
+unsafe impl Send for Instance {}
+
+/// A saved FMU state, usable only with the instance that made it. Free it with
+/// [`Instance::free_fmu_state`]; states still held when the instance drops are freed then.
+#[derive(Debug)]
+pub struct FmuState {
+    slot: usize,
+    owner: Weak<LogEnv>,
+}
+
+impl std::fmt::Debug for Instance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Instance")
+            .field("name", &self.name)
+            .field("model_name", &self.fmu.description.model_name)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Instance {
+    pub(crate) fn new(
+        fmu: Arc<FmuShared>,
+        name: &str,
+        logging_on: bool,
+    ) -> Result<Self, CallError> {
+        let c_string = |what: &str, text: &str| {
+            CString::new(text).map_err(|_| CallError::InvalidArgument {
+                function: "fmi2Instantiate",
+                instance: name.to_owned(),
+                reason: format!("{what} contains a NUL byte"),
+            })
+        };
+        let instance_name = c_string("instance name", name)?;
+        let guid = c_string("GUID", &fmu.description.guid)?;
+        let resource_uri = c_string("resource location", &fmu.resource_uri)?;
+
+        let log = Arc::new(LogEnv::new());
+        let callbacks = Box::new(log.callbacks());
+        let mark = log.mark();
+        // SAFETY: every pointer is valid for the call, and `log`, `callbacks` and the strings
+        // are moved into the instance, which outlives the component.
+        let component = unsafe {
+            (fmu.functions.instantiate)(
+                instance_name.as_ptr(),
+                ffi::FMI2_CO_SIMULATION,
+                guid.as_ptr(),
+                resource_uri.as_ptr(),
+                &*callbacks,
+                ffi::FMI2_FALSE,
+                fmi2_bool(logging_on),
+            )
+        };
+        let Some(component) = NonNull::new(component) else {
+            return Err(CallError::InstantiationFailed {
+                instance: name.to_owned(),
+                log: log.since(mark),
+            });
+        };
+        Ok(Self {
+            component,
+            name: name.to_owned(),
+            fmu,
+            log,
+            _callbacks: callbacks,
+            _instantiate_strings: [instance_name, guid, resource_uri],
+            states: Vec::new(),
+        })
+    }
+
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Everything the FMU logged for this instance (the newest [`LOG_CAPACITY`](super::LOG_CAPACITY) messages).
+    pub fn log_messages(&self) -> Vec<LogMessage> {
+        self.log.all()
+    }
+
+    pub fn clear_log(&self) {
+        self.log.clear();
+    }
+
+    pub fn variable(&self, name: &str) -> Result<&VariableInfo, CallError> {
+        Ok(self.fmu.variables.get(name)?)
+    }
+
+    fn c(&self) -> fmi2Component {
+        self.component.as_ptr()
+    }
+
+    fn functions(&self) -> &Fmi2Functions {
+        &self.fmu.functions
+    }
+
+    /// Turns a returned status into a `Result`, attaching the messages logged since `mark`.
+    fn check(
+        &self,
+        function: &'static str,
+        mark: LogMark,
+        raw: fmi2Status,
+    ) -> Result<Success, FmiError> {
+        Status::from_raw(raw)
+            .into_result()
+            .map_err(|status| FmiError {
+                function,
+                instance: self.name.clone(),
+                status,
+                log: self.log.since(mark),
+            })
+    }
+
+    fn invalid(&self, function: &'static str, reason: String) -> CallError {
+        CallError::InvalidArgument {
+            function,
+            instance: self.name.clone(),
+            reason,
+        }
+    }
+
+    fn check_lengths(
+        &self,
+        function: &'static str,
+        vrs: usize,
+        values: usize,
+    ) -> Result<(), CallError> {
+        if vrs == values {
+            Ok(())
+        } else {
+            Err(self.invalid(
+                function,
+                format!("{vrs} value references but {values} values"),
+            ))
+        }
+    }
+
+    /// `fmi2SetDebugLogging`; an empty `categories` means all categories.
+    pub fn set_debug_logging(
+        &mut self,
+        logging_on: bool,
+        categories: &[&str],
+    ) -> Result<Success, CallError> {
+        const F: &str = "fmi2SetDebugLogging";
+        let owned = categories
+            .iter()
+            .map(|category| {
+                CString::new(*category).map_err(|_| {
+                    self.invalid(F, format!("category {category:?} contains a NUL byte"))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let pointers: Vec<ffi::fmi2String> = owned.iter().map(|c| c.as_ptr()).collect();
+        let mark = self.log.mark();
+        // SAFETY: `pointers` holds `len` valid C strings for the duration of the call.
+        let raw = unsafe {
+            (self.functions().set_debug_logging)(
+                self.c(),
+                fmi2_bool(logging_on),
+                pointers.len(),
+                array_or_null(&pointers),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// `fmi2SetupExperiment`. `None` leaves the tolerance or stop time undefined.
+    pub fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Result<Success, FmiError> {
+        let mark = self.log.mark();
+        // SAFETY: plain values only.
+        let raw = unsafe {
+            (self.functions().setup_experiment)(
+                self.c(),
+                fmi2_bool(tolerance.is_some()),
+                tolerance.unwrap_or(0.0),
+                start_time,
+                fmi2_bool(stop_time.is_some()),
+                stop_time.unwrap_or(0.0),
+            )
+        };
+        self.check("fmi2SetupExperiment", mark, raw)
+    }
+
+    fn component_only(
+        &mut self,
+        function: &'static str,
+        call: ffi::fmi2ComponentOnlyTYPE,
+    ) -> Result<Success, FmiError> {
+        let mark = self.log.mark();
+        // SAFETY: the component is live; the function takes nothing else.
+        let raw = unsafe { call(self.c()) };
+        self.check(function, mark, raw)
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> Result<Success, FmiError> {
+        let call = self.functions().enter_initialization_mode;
+        self.component_only("fmi2EnterInitializationMode", call)
+    }
+
+    pub fn exit_initialization_mode(&mut self) -> Result<Success, FmiError> {
+        let call = self.functions().exit_initialization_mode;
+        self.component_only("fmi2ExitInitializationMode", call)
+    }
+
+    pub fn terminate(&mut self) -> Result<Success, FmiError> {
+        let call = self.functions().terminate;
+        self.component_only("fmi2Terminate", call)
+    }
+
+    /// `fmi2Reset`: back to the freshly instantiated state. Saved FMU states stay valid.
+    pub fn reset(&mut self) -> Result<Success, FmiError> {
+        let call = self.functions().reset;
+        self.component_only("fmi2Reset", call)
+    }
+
+    /// `fmi2DoStep` from `current_time` over `step_size`.
+    ///
+    /// `noSetFMUStatePriorToCurrentPoint` is passed as false because this API lets the caller
+    /// restore any saved state at any time.
+    pub fn do_step(&mut self, current_time: f64, step_size: f64) -> Result<StepStatus, FmiError> {
+        const F: &str = "fmi2DoStep";
+        let mark = self.log.mark();
+        // SAFETY: plain values only.
+        let raw = unsafe {
+            (self.functions().do_step)(self.c(), current_time, step_size, ffi::FMI2_FALSE)
+        };
+        match Status::from_raw(raw).into_result() {
+            Ok(success) => Ok(StepStatus::Complete(success)),
+            Err(Failure::Discard) => Ok(StepStatus::Discarded {
+                last_successful_time: self.last_successful_time()?,
+                terminated: self.terminated()?,
+            }),
+            Err(status) => Err(FmiError {
+                function: F,
+                instance: self.name.clone(),
+                status,
+                log: self.log.since(mark),
+            }),
+        }
+    }
+
+    /// `fmi2GetRealStatus(fmi2LastSuccessfulTime)`.
+    pub fn last_successful_time(&mut self) -> Result<f64, FmiError> {
+        let mut time = f64::NAN;
+        let mark = self.log.mark();
+        // SAFETY: `time` is a valid out-pointer.
+        let raw = unsafe {
+            (self.functions().get_real_status)(self.c(), ffi::FMI2_LAST_SUCCESSFUL_TIME, &mut time)
+        };
+        self.check("fmi2GetRealStatus(fmi2LastSuccessfulTime)", mark, raw)?;
+        Ok(time)
+    }
+
+    /// `fmi2GetBooleanStatus(fmi2Terminated)`: the FMU wants the simulation to end.
+    pub fn terminated(&mut self) -> Result<bool, FmiError> {
+        let mut terminated = ffi::FMI2_FALSE;
+        let mark = self.log.mark();
+        // SAFETY: `terminated` is a valid out-pointer.
+        let raw = unsafe {
+            (self.functions().get_boolean_status)(self.c(), ffi::FMI2_TERMINATED, &mut terminated)
+        };
+        self.check("fmi2GetBooleanStatus(fmi2Terminated)", mark, raw)?;
+        Ok(terminated != ffi::FMI2_FALSE)
+    }
+
+    // ---- values by value reference ----
+
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<Success, CallError> {
+        const F: &str = "fmi2SetReal";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements.
+        let raw = unsafe {
+            (self.functions().set_real)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                array_or_null(values),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<Success, CallError> {
+        const F: &str = "fmi2GetReal";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements; `values` is writable.
+        let raw = unsafe {
+            (self.functions().get_real)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                mut_array_or_null(values),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// Also sets Enumeration variables.
+    pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Result<Success, CallError> {
+        const F: &str = "fmi2SetInteger";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements.
+        let raw = unsafe {
+            (self.functions().set_integer)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                array_or_null(values),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// Also gets Enumeration variables.
+    pub fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Result<Success, CallError> {
+        const F: &str = "fmi2GetInteger";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements; `values` is writable.
+        let raw = unsafe {
+            (self.functions().get_integer)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                mut_array_or_null(values),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<Success, CallError> {
+        const F: &str = "fmi2SetBoolean";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let values: Vec<ffi::fmi2Boolean> = values.iter().map(|&value| fmi2_bool(value)).collect();
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements.
+        let raw = unsafe {
+            (self.functions().set_boolean)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                array_or_null(&values),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    pub fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<Success, CallError> {
+        const F: &str = "fmi2GetBoolean";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let mut raw_values = vec![ffi::FMI2_FALSE; vrs.len()];
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements; `raw_values` is writable.
+        let raw = unsafe {
+            (self.functions().get_boolean)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                mut_array_or_null(&mut raw_values),
+            )
+        };
+        let success = self.check(F, mark, raw)?;
+        for (value, raw_value) in values.iter_mut().zip(raw_values) {
+            *value = raw_value != ffi::FMI2_FALSE;
+        }
+        Ok(success)
+    }
+
+    pub fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<Success, CallError> {
+        const F: &str = "fmi2SetString";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let owned = values
+            .iter()
+            .map(|value| {
+                CString::new(*value)
+                    .map_err(|_| self.invalid(F, format!("value {value:?} contains a NUL byte")))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let pointers: Vec<ffi::fmi2String> = owned.iter().map(|c| c.as_ptr()).collect();
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements, the strings outlive the call.
+        let raw = unsafe {
+            (self.functions().set_string)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                array_or_null(&pointers),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// The strings are copied at once: the FMU's pointers are valid only until its next call.
+    pub fn get_string(&mut self, vrs: &[u32]) -> Result<(Vec<String>, Success), CallError> {
+        const F: &str = "fmi2GetString";
+        let mut pointers: Vec<ffi::fmi2String> = vec![ptr::null(); vrs.len()];
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements; `pointers` is writable.
+        let raw = unsafe {
+            (self.functions().get_string)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                mut_array_or_null(&mut pointers),
+            )
+        };
+        let success = self.check(F, mark, raw)?;
+        let values = pointers
+            .into_iter()
+            .zip(vrs)
+            .map(|(pointer, vr)| {
+                if pointer.is_null() {
+                    return Err(
+                        self.invalid(F, format!("the FMU returned NULL for value reference {vr}"))
+                    );
+                }
+                // SAFETY: a non-null fmi2String returned by the FMU is NUL-terminated and valid
+                // until the next call into the instance.
+                Ok(unsafe { CStr::from_ptr(pointer) }
+                    .to_string_lossy()
+                    .into_owned())
+            })
+            .collect::<Result<_, _>>()?;
+        Ok((values, success))
+    }
+
+    // ---- values by name ----
+
+    fn vr(&self, name: &str, kind: VariableKind) -> Result<u32, CallError> {
+        Ok(self.fmu.variables.value_reference(name, kind)?)
+    }
+
+    pub fn set_real_by_name(&mut self, name: &str, value: f64) -> Result<Success, CallError> {
+        let vr = self.vr(name, VariableKind::Real)?;
+        self.set_real(&[vr], &[value])
+    }
+
+    pub fn get_real_by_name(&mut self, name: &str) -> Result<f64, CallError> {
+        let vr = self.vr(name, VariableKind::Real)?;
+        let mut value = [0.0];
+        self.get_real(&[vr], &mut value)?;
+        Ok(value[0])
+    }
+
+    /// Sets an Integer or Enumeration variable.
+    pub fn set_integer_by_name(&mut self, name: &str, value: i32) -> Result<Success, CallError> {
+        let vr = self.vr(name, VariableKind::Integer)?;
+        self.set_integer(&[vr], &[value])
+    }
+
+    /// Gets an Integer or Enumeration variable.
+    pub fn get_integer_by_name(&mut self, name: &str) -> Result<i32, CallError> {
+        let vr = self.vr(name, VariableKind::Integer)?;
+        let mut value = [0];
+        self.get_integer(&[vr], &mut value)?;
+        Ok(value[0])
+    }
+
+    pub fn set_boolean_by_name(&mut self, name: &str, value: bool) -> Result<Success, CallError> {
+        let vr = self.vr(name, VariableKind::Boolean)?;
+        self.set_boolean(&[vr], &[value])
+    }
+
+    pub fn get_boolean_by_name(&mut self, name: &str) -> Result<bool, CallError> {
+        let vr = self.vr(name, VariableKind::Boolean)?;
+        let mut value = [false];
+        self.get_boolean(&[vr], &mut value)?;
+        Ok(value[0])
+    }
+
+    pub fn set_string_by_name(&mut self, name: &str, value: &str) -> Result<Success, CallError> {
+        let vr = self.vr(name, VariableKind::String)?;
+        self.set_string(&[vr], &[value])
+    }
+
+    pub fn get_string_by_name(&mut self, name: &str) -> Result<String, CallError> {
+        let vr = self.vr(name, VariableKind::String)?;
+        let (mut values, _) = self.get_string(&[vr])?;
+        Ok(values.remove(0))
+    }
+
+    // ---- FMU state ----
+
+    fn owned_state(
+        &self,
+        function: &'static str,
+        state: &FmuState,
+    ) -> Result<fmi2FMUstate, CallError> {
+        let pointer = if ptr::eq(state.owner.as_ptr(), Arc::as_ptr(&self.log)) {
+            self.states
+                .get(state.slot)
+                .copied()
+                .unwrap_or(ptr::null_mut())
+        } else {
+            ptr::null_mut()
+        };
+        if pointer.is_null() {
+            return Err(self.invalid(
+                function,
+                "the FMU state belongs to another instance".to_owned(),
+            ));
+        }
+        Ok(pointer)
+    }
+
+    fn store_state(&mut self, pointer: fmi2FMUstate) -> FmuState {
+        let slot = match self.states.iter().position(|state| state.is_null()) {
+            Some(free) => {
+                self.states[free] = pointer;
+                free
+            }
+            None => {
+                self.states.push(pointer);
+                self.states.len() - 1
+            }
+        };
+        FmuState {
+            slot,
+            owner: Arc::downgrade(&self.log),
+        }
+    }
+
+    /// `fmi2GetFMUstate` into a new state.
+    pub fn get_fmu_state(&mut self) -> Result<FmuState, FmiError> {
+        let mut pointer: fmi2FMUstate = ptr::null_mut();
+        let mark = self.log.mark();
+        // SAFETY: a null state asks the FMU to allocate a new one.
+        let raw = unsafe { (self.functions().get_fmu_state)(self.c(), &mut pointer) };
+        self.check("fmi2GetFMUstate", mark, raw)?;
+        Ok(self.store_state(pointer))
+    }
+
+    /// `fmi2GetFMUstate` overwriting an existing state, without a new allocation.
+    pub fn update_fmu_state(&mut self, state: &FmuState) -> Result<Success, CallError> {
+        const F: &str = "fmi2GetFMUstate";
+        let mut pointer = self.owned_state(F, state)?;
+        let mark = self.log.mark();
+        // SAFETY: `pointer` is a live state of this instance.
+        let raw = unsafe { (self.functions().get_fmu_state)(self.c(), &mut pointer) };
+        // The FMU may hand back a different pointer even on failure; keep whatever it returned.
+        self.states[state.slot] = pointer;
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// `fmi2SetFMUstate`: continue from a saved state.
+    pub fn set_fmu_state(&mut self, state: &FmuState) -> Result<Success, CallError> {
+        const F: &str = "fmi2SetFMUstate";
+        let pointer = self.owned_state(F, state)?;
+        let mark = self.log.mark();
+        // SAFETY: `pointer` is a live state of this instance.
+        let raw = unsafe { (self.functions().set_fmu_state)(self.c(), pointer) };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// `fmi2FreeFMUstate`.
+    pub fn free_fmu_state(&mut self, state: FmuState) -> Result<Success, CallError> {
+        const F: &str = "fmi2FreeFMUstate";
+        let mut pointer = self.owned_state(F, &state)?;
+        self.states[state.slot] = ptr::null_mut();
+        let mark = self.log.mark();
+        // SAFETY: `pointer` is a live state of this instance, freed exactly once (its slot is cleared).
+        let raw = unsafe { (self.functions().free_fmu_state)(self.c(), &mut pointer) };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// `fmi2SerializedFMUstateSize` + `fmi2SerializeFMUstate`.
+    pub fn serialize_fmu_state(&mut self, state: &FmuState) -> Result<Vec<u8>, CallError> {
+        let pointer = self.owned_state("fmi2SerializeFMUstate", state)?;
+        let mut size = 0usize;
+        let mark = self.log.mark();
+        // SAFETY: `pointer` is a live state of this instance; `size` is a valid out-pointer.
+        let raw =
+            unsafe { (self.functions().serialized_fmu_state_size)(self.c(), pointer, &mut size) };
+        self.check("fmi2SerializedFMUstateSize", mark, raw)?;
+        let mut bytes = vec![0u8; size];
+        let mark = self.log.mark();
+        // SAFETY: `bytes` holds exactly the `size` bytes the FMU asked for.
+        let raw = unsafe {
+            (self.functions().serialize_fmu_state)(
+                self.c(),
+                pointer,
+                bytes.as_mut_ptr().cast(),
+                bytes.len(),
+            )
+        };
+        self.check("fmi2SerializeFMUstate", mark, raw)?;
+        Ok(bytes)
+    }
+
+    /// `fmi2DeSerializeFMUstate` into a new state.
+    pub fn deserialize_fmu_state(&mut self, bytes: &[u8]) -> Result<FmuState, FmiError> {
+        let mut pointer: fmi2FMUstate = ptr::null_mut();
+        let mark = self.log.mark();
+        // SAFETY: `bytes` is readable for its length; a null state asks for a new one.
+        let raw = unsafe {
+            (self.functions().deserialize_fmu_state)(
+                self.c(),
+                bytes.as_ptr().cast(),
+                bytes.len(),
+                &mut pointer,
+            )
+        };
+        self.check("fmi2DeSerializeFMUstate", mark, raw)?;
+        Ok(self.store_state(pointer))
+    }
+}
+
+impl Drop for Instance {
+    fn drop(&mut self) {
+        let functions = self.fmu.functions;
+        for pointer in self.states.iter_mut().filter(|state| !state.is_null()) {
+            // SAFETY: each non-null slot is a live state of this instance, freed once here. A
+            // failure cannot be reported from drop; the FMU has logged it.
+            unsafe { (functions.free_fmu_state)(self.component.as_ptr(), pointer) };
+        }
+        // SAFETY: the component is live and never used again; the callbacks and log sink
+        // are dropped only after this returns.
+        unsafe { (functions.free_instance)(self.component.as_ptr()) };
+    }
+}
+
+fn fmi2_bool(value: bool) -> ffi::fmi2Boolean {
+    if value {
+        ffi::FMI2_TRUE
+    } else {
+        ffi::FMI2_FALSE
+    }
+}
+
+/// The standard allows null arrays only with a zero count; pass null then rather than a
+/// dangling (if well-aligned) pointer from an empty slice.
+fn array_or_null<T>(slice: &[T]) -> *const T {
+    if slice.is_empty() {
+        ptr::null()
+    } else {
+        slice.as_ptr()
+    }
+}
+
+fn mut_array_or_null<T>(slice: &mut [T]) -> *mut T {
+    if slice.is_empty() {
+        ptr::null_mut()
+    } else {
+        slice.as_mut_ptr()
+    }
+}

@@ -1,0 +1,37 @@
+//! Loads FMI 2.0 Co-Simulation FMUs through their C ABI, as any FMI master does.
+//!
+//! ```no_run
+//! use harness::loader::{Fmu, StepStatus};
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let fmu = Fmu::load("target/fmu/Oscillator.fmu")?;
+//! let mut oscillator = fmu.instantiate("oscillator", false)?;
+//! oscillator.set_real_by_name("k", 4.0)?;
+//! oscillator.setup_experiment(None, 0.0, None)?;
+//! oscillator.enter_initialization_mode()?;
+//! oscillator.exit_initialization_mode()?;
+//! for step in 0..100 {
+//!     let time = f64::from(step) * 0.01;
+//!     if let StepStatus::Discarded { .. } = oscillator.do_step(time, 0.01)? {
+//!         break;
+//!     }
+//! }
+//! println!("x = {}", oscillator.get_real_by_name("x")?);
+//! # Ok(())
+//! # }
+//! ```
+mod archive;
+mod error;
+mod ffi;
+mod fmu;
+mod functions;
+mod instance;
+mod logger;
+mod status;
+mod variables;
+
+pub use error::{CallError, FmiError, LoadError, VariableError};
+pub use fmu::Fmu;
+pub use instance::{FmuState, Instance};
+pub use logger::{FmuLog, LogMessage, LOG_CAPACITY};
+pub use status::{Failure, Status, StepStatus, Success};
+pub use variables::{VariableInfo, VariableKind};

@@ -1,0 +1,143 @@
+//! FMI 2.0 status codes as Rust results: `Ok(Ok | Warning)`, `Err(Discard | Error | Fatal | Pending)`.
+use super::ffi;
+use std::fmt;
+
+/// A status the standard counts as success: the call's results are valid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Success {
+    Ok,
+    /// Results are valid but the FMU logged something the user should see.
+    Warning,
+}
+
+/// A status the standard counts as failure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Failure {
+    /// The call could not be completed as asked (e.g. a step stopped early); the instance is usable.
+    Discard,
+    /// The instance is unusable until it is reset or freed.
+    Error,
+    /// The FMU (all its instances) is unusable; only freeing is allowed.
+    Fatal,
+    /// An asynchronous step is still running; the harness never asks for one.
+    Pending,
+}
+
+/// The raw `fmi2Status` of a call, as logged messages carry it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Status {
+    Ok,
+    Warning,
+    Discard,
+    Error,
+    Fatal,
+    Pending,
+    /// A value outside the enumeration, which only a broken FMU returns.
+    Unknown(i32),
+}
+
+impl Status {
+    pub(crate) fn from_raw(raw: ffi::fmi2Status) -> Self {
+        match raw {
+            ffi::FMI2_OK => Self::Ok,
+            ffi::FMI2_WARNING => Self::Warning,
+            ffi::FMI2_DISCARD => Self::Discard,
+            ffi::FMI2_ERROR => Self::Error,
+            ffi::FMI2_FATAL => Self::Fatal,
+            ffi::FMI2_PENDING => Self::Pending,
+            other => Self::Unknown(other),
+        }
+    }
+
+    /// Splits the status into success and failure; an out-of-range value is treated as fatal,
+    /// since nothing the FMU says afterwards can be trusted.
+    pub fn into_result(self) -> Result<Success, Failure> {
+        match self {
+            Self::Ok => Ok(Success::Ok),
+            Self::Warning => Ok(Success::Warning),
+            Self::Discard => Err(Failure::Discard),
+            Self::Error => Err(Failure::Error),
+            Self::Fatal | Self::Unknown(_) => Err(Failure::Fatal),
+            Self::Pending => Err(Failure::Pending),
+        }
+    }
+}
+
+impl fmt::Display for Status {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Ok => f.write_str("fmi2OK"),
+            Self::Warning => f.write_str("fmi2Warning"),
+            Self::Discard => f.write_str("fmi2Discard"),
+            Self::Error => f.write_str("fmi2Error"),
+            Self::Fatal => f.write_str("fmi2Fatal"),
+            Self::Pending => f.write_str("fmi2Pending"),
+            Self::Unknown(raw) => write!(f, "invalid fmi2Status {raw}"),
+        }
+    }
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let status = match self {
+            Self::Discard => Status::Discard,
+            Self::Error => Status::Error,
+            Self::Fatal => Status::Fatal,
+            Self::Pending => Status::Pending,
+        };
+        status.fmt(f)
+    }
+}
+
+/// How a `do_step` ended, when it did not fail.
+///
+/// `fmi2Discard` from `fmi2DoStep` is the standard's way to stop a step early (touchdown, a
+/// threshold): an expected outcome a master acts on, not an error, so it is reported here.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StepStatus {
+    /// The step reached `t + h`.
+    Complete(Success),
+    /// The FMU stopped at `last_successful_time` (`t <= time <= t + h`); `terminated` says the
+    /// simulation cannot be continued (`fmi2Terminated`).
+    Discarded {
+        last_successful_time: f64,
+        terminated: bool,
+    },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn raw_status_values_follow_the_standard_enumeration() {
+        // fmi2FunctionTypes.h: fmi2OK, fmi2Warning, fmi2Discard, fmi2Error, fmi2Fatal, fmi2Pending.
+        let expected = [
+            Status::Ok,
+            Status::Warning,
+            Status::Discard,
+            Status::Error,
+            Status::Fatal,
+            Status::Pending,
+        ];
+        for (raw, status) in expected.into_iter().enumerate() {
+            assert_eq!(Status::from_raw(raw as i32), status);
+        }
+    }
+
+    #[test]
+    fn only_ok_and_warning_are_success() {
+        assert_eq!(Status::Ok.into_result(), Ok(Success::Ok));
+        assert_eq!(Status::Warning.into_result(), Ok(Success::Warning));
+        assert_eq!(Status::Discard.into_result(), Err(Failure::Discard));
+        assert_eq!(Status::Error.into_result(), Err(Failure::Error));
+        assert_eq!(Status::Fatal.into_result(), Err(Failure::Fatal));
+        assert_eq!(Status::Pending.into_result(), Err(Failure::Pending));
+    }
+
+    #[test]
+    fn an_out_of_range_status_is_fatal_not_success() {
+        assert_eq!(Status::from_raw(6), Status::Unknown(6));
+        assert_eq!(Status::from_raw(-1).into_result(), Err(Failure::Fatal));
+    }
+}
