@@ -1,7 +1,7 @@
 //! Errors of loading an FMU and of calling into an instance.
 use super::logger::FmuLog;
 use super::status::Failure;
-use super::variables::VariableKind;
+use model_description::VariableKind;
 use std::path::PathBuf;
 
 /// Why an FMU could not be loaded. Every variant names the file or item at fault.
@@ -83,7 +83,7 @@ pub struct FmiError {
 pub enum VariableError {
     #[error("model '{model}' has no variable named '{name}'")]
     Unknown { model: String, name: String },
-    #[error("variable '{name}' of model '{model}' is {actual}, not {requested}")]
+    #[error("variable '{name}' of model '{model}' is {actual:?}, not {requested:?}")]
     TypeMismatch {
         model: String,
         name: String,

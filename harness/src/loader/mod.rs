@@ -33,5 +33,6 @@ pub use error::{CallError, FmiError, LoadError, VariableError};
 pub use fmu::Fmu;
 pub use instance::{FmuState, Instance};
 pub use logger::{FmuLog, LogMessage, LOG_CAPACITY};
+pub use model_description::VariableKind;
 pub use status::{Failure, Status, StepStatus, Success};
-pub use variables::{VariableInfo, VariableKind};
+pub use variables::VariableInfo;

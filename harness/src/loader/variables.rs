@@ -1,54 +1,7 @@
 //! Name lookup: variable name -> value reference and type, built once from the model description.
 use super::error::{LoadError, VariableError};
-use model_description::{Causality, ModelDescription, ScalarVariable, Variability};
+use model_description::{Causality, ModelDescription, Variability, VariableKind};
 use std::collections::HashMap;
-use std::fmt;
-
-/// The FMI 2.0 type of a variable. Enumerations are exchanged through the Integer functions.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum VariableKind {
-    Real,
-    Integer,
-    Boolean,
-    String,
-    Enumeration,
-}
-
-impl VariableKind {
-    fn of(variable: &ScalarVariable) -> Option<Self> {
-        // The schema allows exactly one type element; the first present one decides.
-        if variable.real.is_some() {
-            Some(Self::Real)
-        } else if variable.integer.is_some() {
-            Some(Self::Integer)
-        } else if variable.boolean.is_some() {
-            Some(Self::Boolean)
-        } else if variable.string.is_some() {
-            Some(Self::String)
-        } else if variable.enumeration.is_some() {
-            Some(Self::Enumeration)
-        } else {
-            None
-        }
-    }
-
-    /// Whether a value of this variable travels through the functions for `requested`.
-    fn is_exchanged_as(self, requested: Self) -> bool {
-        self == requested || (self == Self::Enumeration && requested == Self::Integer)
-    }
-}
-
-impl fmt::Display for VariableKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Self::Real => "Real",
-            Self::Integer => "Integer",
-            Self::Boolean => "Boolean",
-            Self::String => "String",
-            Self::Enumeration => "Enumeration",
-        })
-    }
-}
 
 /// What a master needs to know about one variable to exchange it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,14 +24,14 @@ impl VariableIndex {
         let variables = &description.model_variables.variables;
         let mut by_name = HashMap::with_capacity(variables.len());
         for variable in variables {
-            let kind = VariableKind::of(variable).ok_or_else(|| LoadError::UntypedVariable {
+            let kind = variable.kind().ok_or_else(|| LoadError::UntypedVariable {
                 name: variable.name.clone(),
             })?;
             let info = VariableInfo {
                 value_reference: variable.value_reference,
                 kind,
-                causality: variable.causality.unwrap_or(Causality::Local),
-                variability: variable.variability.unwrap_or(Variability::Continuous),
+                causality: variable.causality_or_default(),
+                variability: variable.variability_or_default(),
             };
             if by_name.insert(variable.name.clone(), info).is_some() {
                 return Err(LoadError::DuplicateVariableName {
@@ -108,7 +61,8 @@ impl VariableIndex {
         requested: VariableKind,
     ) -> Result<u32, VariableError> {
         let info = self.get(name)?;
-        if info.kind.is_exchanged_as(requested) {
+        // Enumerations travel through the Integer functions.
+        if info.kind == requested || info.kind.accessed_as() == requested {
             Ok(info.value_reference)
         } else {
             Err(VariableError::TypeMismatch {
@@ -124,7 +78,7 @@ impl VariableIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use model_description::{EnumerationVariable, ModelVariables, RealVariable};
+    use model_description::{EnumerationVariable, ModelVariables, RealVariable, ScalarVariable};
 
     fn description(variables: Vec<ScalarVariable>) -> ModelDescription {
         ModelDescription {
