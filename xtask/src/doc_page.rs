@@ -1,6 +1,6 @@
 //! `documentation/index.html`, rendered from the model description so that the page and
 //! the FMU's interface can never disagree.
-use model_description::{Causality, ModelDescription, ScalarVariable, Variability};
+use model_description::{Causality, ModelDescription, ScalarVariable, StartValue, Variability};
 use std::fmt::Write;
 
 /// The order in which a user reads an FMU's interface: what they set, then what they get.
@@ -105,18 +105,17 @@ fn render_variables(html: &mut String, md: &ModelDescription) {
     );
     let variables = &md.model_variables.variables;
     for causality in CAUSALITY_ORDER {
-        // FMI 2.0 defaults: an absent causality is local.
         for variable in variables
             .iter()
-            .filter(|v| v.causality.unwrap_or(Causality::Local) == causality)
+            .filter(|v| v.causality_or_default() == causality)
         {
-            let (type_name, start, unit) = type_start_unit(variable);
+            let (type_name, start, unit) = type_start_unit(md, variable);
             let _ = writeln!(
                 html,
                 "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
                 escape(&variable.name),
                 causality_name(causality),
-                variability_name(variable.variability.unwrap_or(Variability::Continuous)),
+                variability_name(variable.variability_or_default()),
                 escape(&type_name),
                 escape(&start),
                 escape(&unit),
@@ -128,37 +127,21 @@ fn render_variables(html: &mut String, md: &ModelDescription) {
 }
 
 /// (type, start value, unit) of a variable as shown to a reader; empty where not applicable.
-fn type_start_unit(v: &ScalarVariable) -> (String, String, String) {
-    let shown = |x: Option<String>| x.unwrap_or_default();
-    if let Some(real) = &v.real {
-        (
-            "Real".into(),
-            shown(real.start.map(|s| s.to_string())),
-            shown(real.unit.clone()),
-        )
-    } else if let Some(integer) = &v.integer {
-        (
-            "Integer".into(),
-            shown(integer.start.map(|s| s.to_string())),
-            String::new(),
-        )
-    } else if let Some(enumeration) = &v.enumeration {
-        (
-            format!("Enumeration {}", enumeration.declared_type),
-            shown(enumeration.start.map(|s| s.to_string())),
-            String::new(),
-        )
-    } else if let Some(boolean) = &v.boolean {
-        (
-            "Boolean".into(),
-            shown(boolean.start.map(|s| s.to_string())),
-            String::new(),
-        )
-    } else if let Some(string) = &v.string {
-        ("String".into(), shown(string.start.clone()), String::new())
-    } else {
-        ("?".into(), String::new(), String::new())
-    }
+fn type_start_unit(md: &ModelDescription, v: &ScalarVariable) -> (String, String, String) {
+    let type_name = match (&v.enumeration, v.kind()) {
+        (Some(enumeration), _) => format!("Enumeration {}", enumeration.declared_type),
+        (None, Some(kind)) => format!("{kind:?}"),
+        (None, None) => "?".to_owned(),
+    };
+    let start = match v.start() {
+        Some(StartValue::Real(x)) => x.to_string(),
+        Some(StartValue::Integer(x) | StartValue::Enumeration(x)) => x.to_string(),
+        Some(StartValue::Boolean(x)) => x.to_string(),
+        Some(StartValue::String(x)) => x,
+        None => String::new(),
+    };
+    let unit = md.unit_of(v).unwrap_or_default().to_owned();
+    (type_name, start, unit)
 }
 
 fn causality_name(c: Causality) -> &'static str {
@@ -220,7 +203,7 @@ mod tests {
 </fmiModelDescription>"#;
 
     fn page() -> String {
-        render(&serde_xml_rs::from_str(XML).unwrap())
+        render(&ModelDescription::from_xml(XML).unwrap())
     }
 
     #[test]

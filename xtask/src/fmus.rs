@@ -84,12 +84,19 @@ fn package_one(ws: &Workspace, fmu: &FmuCrate, out_dir: &Path) -> Result<PathBuf
         "--example",
         DESCRIPTION_EXAMPLE,
     ]))?;
-    let description: ModelDescription = serde_xml_rs::from_str(&xml).with_context(|| {
+    let description = ModelDescription::from_xml(&xml).with_context(|| {
         format!(
             "{} printed a modelDescription.xml that does not parse",
             fmu.package
         )
     })?;
+    if let Err(problems) = description.validate() {
+        bail!(
+            "the model description of {} is invalid:\n  {}",
+            fmu.package,
+            problems.join("\n  ")
+        );
+    }
     let identifier = model_identifier(&description)
         .with_context(|| format!("in the model description of {}", fmu.package))?;
 
