@@ -72,20 +72,19 @@ impl ModelDescription {
             }
         }
         if let Some(real) = &variable.real {
-            if let Some(unit) = &real.unit {
-                match self.unit(unit) {
-                    None => {
-                        problems.push(format!("{at}: unit \"{unit}\" is not in UnitDefinitions"))
-                    }
-                    Some(defined) => {
-                        if let Some(display) = &real.display_unit {
-                            if !defined.display_units.iter().any(|d| &d.name == display) {
-                                problems.push(format!(
-                                    "{at}: displayUnit \"{display}\" is not a DisplayUnit of unit \"{unit}\""
-                                ));
-                            }
-                        }
-                    }
+            if let Some(unit) = real.unit.as_ref().filter(|unit| self.unit(unit).is_none()) {
+                problems.push(format!("{at}: unit \"{unit}\" is not in UnitDefinitions"));
+            }
+            if let Some(display) = &real.display_unit {
+                let unit = self.unit_of(variable);
+                let defined = unit
+                    .and_then(|unit| self.unit(unit))
+                    .is_some_and(|u| u.display_units.iter().any(|d| &d.name == display));
+                if !defined {
+                    problems.push(format!(
+                        "{at}: displayUnit \"{display}\" is not a DisplayUnit of unit \"{}\"",
+                        unit.unwrap_or_default()
+                    ));
                 }
             }
             if let Some(derivative) = real.derivative {
