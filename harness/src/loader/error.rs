@@ -4,16 +4,18 @@ use super::status::Failure;
 use model_description::VariableKind;
 use std::path::PathBuf;
 
-/// Why an FMU could not be loaded. Every variant names the file or item at fault.
+/// Why an FMU could not be loaded. Every variant names the file or item at fault; the
+/// underlying cause, where there is one, is the error's `source()` (print the chain, e.g. with
+/// anyhow's `{:#}`, to see both).
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
-    #[error("FMU {path}: {source}")]
+    #[error("cannot read FMU {path}")]
     Io {
         path: PathBuf,
         #[source]
         source: std::io::Error,
     },
-    #[error("FMU {path} is not a readable zip archive: {source}")]
+    #[error("FMU {path} is not a readable zip archive")]
     Zip {
         path: PathBuf,
         #[source]
@@ -21,7 +23,7 @@ pub enum LoadError {
     },
     #[error("FMU {path} has no modelDescription.xml at its top level")]
     MissingModelDescription { path: PathBuf },
-    #[error("{path}: {source}")]
+    #[error("cannot read model description {path}")]
     ModelDescription {
         path: PathBuf,
         #[source]
@@ -45,13 +47,13 @@ pub enum LoadError {
         platform: &'static str,
         extension: &'static str,
     },
-    #[error("cannot load FMU binary {path}: {source}")]
+    #[error("cannot load FMU binary {path}")]
     Library {
         path: PathBuf,
         #[source]
         source: libloading::Error,
     },
-    #[error("FMU binary {binary} does not export {symbol}: {source}")]
+    #[error("FMU binary {binary} does not export {symbol}")]
     MissingSymbol {
         symbol: &'static str,
         binary: PathBuf,
