@@ -18,6 +18,11 @@ use std::sync::{Arc, Weak};
 ///
 /// `Send`, so each thread of a Monte Carlo campaign can own its instances, but not `Sync`:
 /// every call takes `&mut self`, so calls into one instance never overlap.
+///
+/// ```compile_fail
+/// fn shared_between_threads<T: Sync>() {}
+/// shared_between_threads::<harness::Instance>();
+/// ```
 pub struct Instance {
     component: NonNull<c_void>,
     name: String,
@@ -36,6 +41,15 @@ pub struct Instance {
 // `drop`), so calls into one instance are serialised. FMI 2.0 does not bind an instance to the
 // thread that created it, and the callbacks we pass are thread-safe (`LogEnv` locks).
 unsafe impl Send for Instance {}
+
+// Monte Carlo workers own their instances and FMU handles; fail to compile if that breaks.
+const _: () = {
+    const fn assert_send<T: Send>() {}
+    const fn assert_send_sync<T: Send + Sync>() {}
+    assert_send::<Instance>();
+    assert_send::<FmuState>();
+    assert_send_sync::<super::Fmu>();
+};
 
 /// A saved FMU state, usable only with the instance that made it. Free it with
 /// [`Instance::free_fmu_state`]; states still held when the instance drops are freed then.

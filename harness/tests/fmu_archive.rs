@@ -1,0 +1,107 @@
+//! Loading from a `.fmu` zip: the archive is unpacked into a temporary directory that lives
+//! exactly as long as the FMU, and broken archives get errors that say what is wrong.
+mod common;
+
+use common::{zip_dir, StubFmu};
+use harness::loader::{Fmu, LoadError};
+use std::fs;
+use std::io::Write;
+use tempfile::TempDir;
+
+#[test]
+fn a_zipped_fmu_loads_runs_and_cleans_up_after_itself() {
+    let stub = StubFmu::standard();
+    let out = TempDir::new().unwrap();
+    let archive = out.path().join("Stub.fmu");
+    zip_dir(&stub.dir, &archive);
+
+    let fmu = Fmu::load(&archive).unwrap();
+    let unpacked = fmu.unpacked_dir().to_path_buf();
+    assert_ne!(unpacked, stub.dir);
+    assert!(unpacked.join("modelDescription.xml").is_file());
+    assert!(fmu.binary_path().starts_with(&unpacked));
+
+    let mut instance = fmu.instantiate("zipped", false).unwrap();
+    instance.set_real_by_name("x", 0.75).unwrap();
+    assert_eq!(instance.get_real_by_name("x").unwrap(), 0.75);
+
+    // The unpacked files stay while any instance lives, and go with the last one.
+    drop(fmu);
+    assert!(unpacked.is_dir());
+    drop(instance);
+    assert!(!unpacked.exists());
+}
+
+#[test]
+fn a_file_that_is_not_a_zip_is_refused_as_such() {
+    let out = TempDir::new().unwrap();
+    let archive = out.path().join("garbage.fmu");
+    fs::write(&archive, b"this is not a zip archive").unwrap();
+    let error = Fmu::load(&archive).unwrap_err();
+    assert!(matches!(error, LoadError::Zip { .. }), "{error:?}");
+    assert!(
+        error
+            .to_string()
+            .contains("garbage.fmu is not a readable zip archive"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_missing_file_is_an_io_error_naming_it() {
+    let error = Fmu::load("/nonexistent/Missing.fmu").unwrap_err();
+    assert!(matches!(error, LoadError::Io { .. }), "{error:?}");
+    assert!(
+        error.to_string().contains("/nonexistent/Missing.fmu"),
+        "{error}"
+    );
+}
+
+#[test]
+fn an_archive_without_a_model_description_is_refused() {
+    let out = TempDir::new().unwrap();
+    let archive = out.path().join("NoDescription.fmu");
+    let mut zip = zip::ZipWriter::new(fs::File::create(&archive).unwrap());
+    zip.start_file(
+        "binaries/linux64/Stub.so",
+        zip::write::SimpleFileOptions::default(),
+    )
+    .unwrap();
+    zip.write_all(b"\x7fELF").unwrap();
+    zip.finish().unwrap();
+
+    let error = Fmu::load(&archive).unwrap_err();
+    assert!(
+        matches!(error, LoadError::MissingModelDescription { .. }),
+        "{error:?}"
+    );
+    assert!(
+        error.to_string().contains("no modelDescription.xml"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_directory_without_a_model_description_is_refused() {
+    let empty = TempDir::new().unwrap();
+    let error = Fmu::load(empty.path()).unwrap_err();
+    assert!(
+        matches!(error, LoadError::MissingModelDescription { .. }),
+        "{error:?}"
+    );
+}
+
+#[test]
+fn an_entry_escaping_the_archive_is_not_written_outside_it() {
+    let out = TempDir::new().unwrap();
+    let archive = out.path().join("Slip.fmu");
+    let mut zip = zip::ZipWriter::new(fs::File::create(&archive).unwrap());
+    zip.start_file("../escaped.txt", zip::write::SimpleFileOptions::default())
+        .unwrap();
+    zip.write_all(b"outside").unwrap();
+    zip.finish().unwrap();
+
+    // Refused either as a bad archive or for its missing description; never written out.
+    assert!(Fmu::load(&archive).is_err());
+    assert!(!std::env::temp_dir().join("escaped.txt").exists());
+}
