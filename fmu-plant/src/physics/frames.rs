@@ -1,0 +1,82 @@
+//! The conventions of the plant, stated once (they match `shared/INTERFACE.md` and fmu-gnc).
+//!
+//! * **NUE**: the local frame of the landing site, axis 1 North, axis 2 Up, axis 3 East,
+//!   origin at the landing site on the surface. It is fixed to the Moon.
+//! * **Body**: axis 1 = yaw (x), axis 2 = roll (y) = the thrust axis, axis 3 = pitch (z).
+//!   The main engine pushes along +y body.
+//! * **Attitude**: a Hamilton quaternion, *scalar first* in every public array,
+//!   `q_body_to_nue = [q0, q1, q2, q3]`, rotating body vectors into NUE:
+//!   `v_nue = q ⊗ v_body ⊗ q*`. Identity = upright (body x North, y Up, z East).
+//! * **Kinematics**: `q' = ½ q ⊗ [0, omega_body]`, `omega_body` in body axes.
+//!
+//! nalgebra stores a quaternion with w *last* (`coords = [i, j, k, w]`) although
+//! `Quaternion::new(w, i, j, k)` takes w first. The two functions below are the only places in
+//! the crate where a scalar-first array meets a nalgebra quaternion.
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+
+/// Thrust axis in body coordinates.
+pub fn thrust_axis_body() -> Vector3<f64> {
+    Vector3::y()
+}
+
+/// Local vertical (Up) in NUE coordinates.
+pub fn up_nue() -> Vector3<f64> {
+    Vector3::y()
+}
+
+/// `[q0, q1, q2, q3]` (scalar first) to a nalgebra quaternion, not normalised.
+pub fn quaternion_from_scalar_first(q: [f64; 4]) -> Quaternion<f64> {
+    Quaternion::new(q[0], q[1], q[2], q[3])
+}
+
+/// A nalgebra quaternion to `[q0, q1, q2, q3]` (scalar first).
+pub fn quaternion_to_scalar_first(q: &Quaternion<f64>) -> [f64; 4] {
+    [q.w, q.i, q.j, q.k]
+}
+
+/// Rotates a body vector into NUE with the attitude `q_body_to_nue` (unit or not: the
+/// rotation of the normalised quaternion is used).
+pub fn body_to_nue(q_body_to_nue: &Quaternion<f64>, v_body: &Vector3<f64>) -> Vector3<f64> {
+    UnitQuaternion::from_quaternion(*q_body_to_nue) * v_body
+}
+
+/// Angle between the thrust axis and the local vertical, in [0, pi] rad.
+pub fn tilt_from_vertical(q_body_to_nue: &Quaternion<f64>) -> f64 {
+    let thrust_nue = body_to_nue(q_body_to_nue, &thrust_axis_body());
+    thrust_nue.dot(&up_nue()).clamp(-1.0, 1.0).acos()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn scalar_first_round_trip_keeps_the_scalar_in_slot_one() {
+        let q = [0.5, -0.1, 0.7, 0.2];
+        let nq = quaternion_from_scalar_first(q);
+        assert_eq!(nq.w, 0.5);
+        assert_eq!(nq.coords[3], 0.5, "nalgebra keeps w last in storage");
+        assert_eq!(quaternion_to_scalar_first(&nq), q);
+    }
+
+    #[test]
+    fn positive_rotation_about_pitch_tips_the_thrust_axis_from_up_towards_north() {
+        // GIVEN a +90 deg rotation about body z (pitch, = East when upright), scalar first
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let q = quaternion_from_scalar_first([h, 0.0, 0.0, h]);
+        // WHEN the thrust axis (body +y) is rotated into NUE
+        let t = body_to_nue(&q, &thrust_axis_body());
+        // THEN z x y = -x: the thrust axis points South (-North), a right-handed rotation.
+        assert!((t - Vector3::new(-1.0, 0.0, 0.0)).norm() < 1e-15);
+        assert!((tilt_from_vertical(&q) - FRAC_PI_2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn body_to_nue_matches_the_explicit_sandwich_product() {
+        let q = quaternion_from_scalar_first([0.9, 0.1, -0.3, 0.2]).normalize();
+        let v = Vector3::new(0.3, -1.2, 2.0);
+        let sandwich = q * Quaternion::from_imag(v) * q.conjugate();
+        assert!((body_to_nue(&q, &v) - sandwich.imag()).norm() < 1e-14);
+    }
+}

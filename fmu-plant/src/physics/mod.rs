@@ -1,0 +1,11 @@
+//! The lander physics, free of FMI: usable on its own and tested on its own.
+pub mod actuators;
+pub mod events;
+pub mod frames;
+pub mod integrator;
+pub mod parameters;
+pub mod plant;
+pub mod rigid_body;
+pub mod state;
+pub mod translation_flat;
+pub mod translation_spherical;

@@ -1,0 +1,398 @@
+//! Plant parameters as the user sets them, their defaults and their validation.
+//!
+//! Each error names the parameter by its FMI variable name, so that the message a master
+//! shows points at the field to fix.
+use super::actuators::{Engines, Rcs, ThrustLine};
+use nalgebra::{Quaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// Moon mean radius (IAU), m.
+pub const MOON_RADIUS_M: f64 = 1_737_400.0;
+/// Sidereal rotation rate of the Moon, 2 pi / 27.321661 d, rad/s.
+pub const MOON_ROTATION_RATE_RADPS: f64 = 2.661_699_5e-6;
+/// Chandrayaan-3 landing site (Shiv Shakti point), 69.373 S 32.319 E, the paper's mission.
+pub const SITE_LATITUDE_RAD: f64 = -69.373 * std::f64::consts::PI / 180.0;
+pub const SITE_LONGITUDE_RAD: f64 = 32.319 * std::f64::consts::PI / 180.0;
+/// Highest |site latitude|: eq. 1 divides by cos(latitude).
+pub const MAX_SITE_LATITUDE_RAD: f64 = 85.0 * std::f64::consts::PI / 180.0;
+
+/// |q0| may differ from 1 by this much and is normalised silently (round-off of a unit
+/// quaternion computed elsewhere).
+const Q0_SILENT_NORM_TOLERANCE: f64 = 1e-6;
+/// Up to this deviation q0 is normalised with a warning (four printed digits per component);
+/// beyond it the value is most likely not meant as an attitude and is refused.
+const Q0_WARN_NORM_TOLERANCE: f64 = 1e-3;
+
+/// Translation model selector (FMI Enumeration `TranslationModel`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum TranslationModelKind {
+    /// Paper eq. 2: flat, non-rotating Moon, uniform gravity.
+    Flat = 1,
+    /// Paper eq. 1 (corrected): spherical, rotating Moon, central gravity.
+    Spherical = 2,
+}
+
+/// Every parameter of the plant, in SI units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlantParameters {
+    pub r0_nue_m: Vector3<f64>,
+    pub v0_nue_mps: Vector3<f64>,
+    /// Scalar first, as set by the user (normalised by `validated_q0`).
+    pub q0_body_to_nue: [f64; 4],
+    pub omega0_body_radps: Vector3<f64>,
+    pub m0_kg: f64,
+    pub gravity_mps2: f64,
+    pub isp_s: f64,
+    pub g0_mps2: f64,
+    pub dry_mass_kg: f64,
+    /// Principal moments `[Ixx, Iyy, Izz]`, kg m^2.
+    pub inertia_body_kgm2: Vector3<f64>,
+    pub engines: Engines,
+    pub rcs: Rcs,
+    pub thrust_line: ThrustLine,
+    /// Raw Enumeration value (1 flat, 2 spherical), checked in `validate`.
+    pub translation_model: i32,
+    pub moon_radius_m: f64,
+    pub moon_rotation_rate_radps: f64,
+    pub site_latitude_rad: f64,
+    pub site_longitude_rad: f64,
+    /// Maximum RK4 sub-step, s.
+    pub integration_step_s: f64,
+}
+
+impl Default for PlantParameters {
+    fn default() -> Self {
+        Self {
+            r0_nue_m: Vector3::new(0.0, 800.0, 0.0),
+            v0_nue_mps: Vector3::zeros(),
+            q0_body_to_nue: [1.0, 0.0, 0.0, 0.0],
+            omega0_body_radps: Vector3::zeros(),
+            m0_kg: 900.0,
+            gravity_mps2: 1.62,
+            isp_s: 300.0,
+            g0_mps2: 9.81,
+            // 600 kg: one third of m0 is propellant, ~3.7x what the 172 s reference mission
+            // burns (~81 kg), and every mass in [600, 900] kg hovers inside the throttle
+            // range (m g = 972..1458 N within 720..1600 N), so a long hover or a Monte Carlo
+            // excursion ends in flight rather than by an artefact of the default.
+            dry_mass_kg: 600.0,
+            inertia_body_kgm2: Vector3::new(400.0, 300.0, 450.0),
+            engines: Engines {
+                count: 2,
+                min_thrust_per_engine_n: 360.0,
+                max_thrust_per_engine_n: 800.0,
+                off_threshold_n: 1.0,
+                time_constant_s: 0.0,
+            },
+            rcs: Rcs {
+                thruster_force_n: 58.0,
+                moment_arm_m: 1.0,
+                time_constant_s: 0.0,
+            },
+            thrust_line: ThrustLine {
+                misalignment_rad: 0.0,
+                misalignment_azimuth_rad: 0.0,
+                // Nozzle exit plane 1 m below the centre of mass on the thrust axis: with a
+                // misalignment angle this lever arm turns it into a disturbance torque.
+                point_body_m: Vector3::new(0.0, -1.0, 0.0),
+            },
+            translation_model: TranslationModelKind::Flat as i32,
+            moon_radius_m: MOON_RADIUS_M,
+            moon_rotation_rate_radps: MOON_ROTATION_RATE_RADPS,
+            site_latitude_rad: SITE_LATITUDE_RAD,
+            site_longitude_rad: SITE_LONGITUDE_RAD,
+            integration_step_s: 0.01,
+        }
+    }
+}
+
+/// A parameter value the plant refuses.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("parameter {name} = {value}: {reason}")]
+pub struct ParameterError {
+    pub name: &'static str,
+    pub value: String,
+    pub reason: String,
+}
+
+fn refuse(name: &'static str, value: impl ToString, reason: impl Into<String>) -> ParameterError {
+    ParameterError {
+        name,
+        value: value.to_string(),
+        reason: reason.into(),
+    }
+}
+
+fn require(ok: bool, name: &'static str, value: f64, reason: &str) -> Result<(), ParameterError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(refuse(name, value, reason))
+    }
+}
+
+fn positive(name: &'static str, value: f64) -> Result<(), ParameterError> {
+    require(
+        value.is_finite() && value > 0.0,
+        name,
+        value,
+        "must be finite and > 0",
+    )
+}
+
+fn non_negative(name: &'static str, value: f64) -> Result<(), ParameterError> {
+    require(
+        value.is_finite() && value >= 0.0,
+        name,
+        value,
+        "must be finite and >= 0",
+    )
+}
+
+fn finite(name: &'static str, value: f64) -> Result<(), ParameterError> {
+    require(value.is_finite(), name, value, "must be finite")
+}
+
+const R0_NAMES: [&str; 3] = ["r0_nue[1]", "r0_nue[2]", "r0_nue[3]"];
+const V0_NAMES: [&str; 3] = ["v0_nue[1]", "v0_nue[2]", "v0_nue[3]"];
+const OMEGA0_NAMES: [&str; 3] = ["omega0_body[1]", "omega0_body[2]", "omega0_body[3]"];
+const INERTIA_NAMES: [&str; 3] = ["inertia_body[1]", "inertia_body[2]", "inertia_body[3]"];
+const POINT_NAMES: [&str; 3] = [
+    "thrust_point_body[1]",
+    "thrust_point_body[2]",
+    "thrust_point_body[3]",
+];
+
+impl PlantParameters {
+    pub fn translation_model_kind(&self) -> Result<TranslationModelKind, ParameterError> {
+        match self.translation_model {
+            1 => Ok(TranslationModelKind::Flat),
+            2 => Ok(TranslationModelKind::Spherical),
+            other => Err(refuse(
+                "translation_model",
+                other,
+                "must be 1 (flat) or 2 (spherical)",
+            )),
+        }
+    }
+
+    /// The initial attitude as a unit quaternion, and a warning when it had to be normalised
+    /// noticeably.
+    pub fn validated_q0(&self) -> Result<(Quaternion<f64>, Option<String>), ParameterError> {
+        let [w, x, y, z] = self.q0_body_to_nue;
+        let q = Quaternion::new(w, x, y, z);
+        let norm = q.norm();
+        let shown = format!("[{w}, {x}, {y}, {z}]");
+        if !norm.is_finite() {
+            return Err(refuse("q0_body_to_nue", shown, "must be finite"));
+        }
+        let deviation = (norm - 1.0).abs();
+        if deviation <= Q0_SILENT_NORM_TOLERANCE {
+            Ok((q / norm, None))
+        } else if deviation <= Q0_WARN_NORM_TOLERANCE {
+            Ok((
+                q / norm,
+                Some(format!(
+                    "q0_body_to_nue = {shown} has norm {norm}; normalised"
+                )),
+            ))
+        } else {
+            Err(refuse(
+                "q0_body_to_nue",
+                shown,
+                format!("norm {norm} is not 1 (|norm - 1| must be <= {Q0_WARN_NORM_TOLERANCE})"),
+            ))
+        }
+    }
+
+    /// Checks every parameter; the first offending one is named.
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        for k in 0..3 {
+            finite(R0_NAMES[k], self.r0_nue_m[k])?;
+            finite(V0_NAMES[k], self.v0_nue_mps[k])?;
+            finite(OMEGA0_NAMES[k], self.omega0_body_radps[k])?;
+            positive(INERTIA_NAMES[k], self.inertia_body_kgm2[k])?;
+            finite(POINT_NAMES[k], self.thrust_line.point_body_m[k])?;
+        }
+        // A rigid body's principal moments obey the triangle inequality (equality for a
+        // flat plate); a violation means a typo, not a vehicle.
+        let i = self.inertia_body_kgm2;
+        for k in 0..3 {
+            let others = i[(k + 1) % 3] + i[(k + 2) % 3];
+            require(
+                i[k] <= others * (1.0 + 1e-12),
+                INERTIA_NAMES[k],
+                i[k],
+                "exceeds the sum of the other two principal moments: no rigid body has it",
+            )?;
+        }
+        positive("m0", self.m0_kg)?;
+        positive("dry_mass", self.dry_mass_kg)?;
+        require(
+            self.m0_kg > self.dry_mass_kg,
+            "m0",
+            self.m0_kg,
+            &format!("must exceed dry_mass = {}", self.dry_mass_kg),
+        )?;
+        positive("g", self.gravity_mps2)?;
+        positive("isp", self.isp_s)?;
+        positive("g0", self.g0_mps2)?;
+        let e = &self.engines;
+        if e.count == 0 {
+            return Err(refuse("engine_count", e.count, "must be >= 1"));
+        }
+        non_negative("engine_thrust_min", e.min_thrust_per_engine_n)?;
+        non_negative("engine_thrust_max", e.max_thrust_per_engine_n)?;
+        require(
+            e.min_thrust_per_engine_n <= e.max_thrust_per_engine_n,
+            "engine_thrust_min",
+            e.min_thrust_per_engine_n,
+            &format!(
+                "must not exceed engine_thrust_max = {}",
+                e.max_thrust_per_engine_n
+            ),
+        )?;
+        non_negative("engine_off_threshold", e.off_threshold_n)?;
+        non_negative("engine_time_constant", e.time_constant_s)?;
+        non_negative("rcs_thruster_force", self.rcs.thruster_force_n)?;
+        non_negative("rcs_moment_arm", self.rcs.moment_arm_m)?;
+        non_negative("rcs_time_constant", self.rcs.time_constant_s)?;
+        let misalignment = self.thrust_line.misalignment_rad;
+        require(
+            misalignment.is_finite() && misalignment.abs() < std::f64::consts::FRAC_PI_2,
+            "thrust_misalignment",
+            misalignment,
+            "must be finite and below pi/2 in magnitude",
+        )?;
+        finite(
+            "thrust_misalignment_azimuth",
+            self.thrust_line.misalignment_azimuth_rad,
+        )?;
+        positive("integration_step", self.integration_step_s)?;
+        let kind = self.translation_model_kind()?;
+        positive("moon_radius", self.moon_radius_m)?;
+        finite("moon_rotation_rate", self.moon_rotation_rate_radps)?;
+        finite("site_longitude", self.site_longitude_rad)?;
+        require(
+            self.site_latitude_rad.abs() <= MAX_SITE_LATITUDE_RAD,
+            "site_latitude",
+            self.site_latitude_rad,
+            "must be within +-85 deg (1.4835 rad): eq. 1 is singular at the poles",
+        )?;
+        self.validated_q0()?;
+        if kind == TranslationModelKind::Flat {
+            require(
+                self.r0_nue_m.y > 0.0,
+                "r0_nue[2]",
+                self.r0_nue_m.y,
+                "the altitude must be > 0: the plant starts in flight (ground contact is not modelled)",
+            )?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        assert_eq!(PlantParameters::default().validate(), Ok(()));
+    }
+
+    fn refused_name(p: PlantParameters) -> &'static str {
+        p.validate().expect_err("must be refused").name
+    }
+
+    #[test]
+    fn each_bad_value_is_refused_under_its_own_name() {
+        let d = PlantParameters::default;
+        assert_eq!(refused_name(PlantParameters { m0_kg: -1.0, ..d() }), "m0");
+        assert_eq!(
+            refused_name(PlantParameters {
+                m0_kg: 600.0,
+                ..d()
+            }),
+            "m0"
+        );
+        assert_eq!(
+            refused_name(PlantParameters {
+                dry_mass_kg: 0.0,
+                ..d()
+            }),
+            "dry_mass"
+        );
+        let mut p = d();
+        p.inertia_body_kgm2.y = -300.0;
+        assert_eq!(refused_name(p), "inertia_body[2]");
+        let mut p = d();
+        p.inertia_body_kgm2.z = 900.0;
+        assert_eq!(refused_name(p), "inertia_body[3]");
+        let mut p = d();
+        p.engines.min_thrust_per_engine_n = 900.0;
+        assert_eq!(refused_name(p), "engine_thrust_min");
+        assert_eq!(
+            refused_name(PlantParameters {
+                integration_step_s: 0.0,
+                ..d()
+            }),
+            "integration_step"
+        );
+        assert_eq!(
+            refused_name(PlantParameters {
+                integration_step_s: f64::NAN,
+                ..d()
+            }),
+            "integration_step"
+        );
+        assert_eq!(
+            refused_name(PlantParameters {
+                translation_model: 3,
+                ..d()
+            }),
+            "translation_model"
+        );
+        assert_eq!(
+            refused_name(PlantParameters {
+                q0_body_to_nue: [0.0; 4],
+                ..d()
+            }),
+            "q0_body_to_nue"
+        );
+        assert_eq!(
+            refused_name(PlantParameters {
+                q0_body_to_nue: [1.0, 0.5, 0.0, 0.0],
+                ..d()
+            }),
+            "q0_body_to_nue"
+        );
+        let mut p = d();
+        p.r0_nue_m.y = 0.0;
+        assert_eq!(refused_name(p), "r0_nue[2]");
+        assert_eq!(
+            refused_name(PlantParameters {
+                site_latitude_rad: 1.5,
+                ..d()
+            }),
+            "site_latitude"
+        );
+    }
+
+    #[test]
+    fn nearly_unit_q0_is_normalised_silently_and_a_rounded_one_with_a_warning() {
+        let tiny = PlantParameters {
+            q0_body_to_nue: [1.0 + 5e-7, 0.0, 0.0, 0.0],
+            ..Default::default()
+        };
+        let (q, warning) = tiny.validated_q0().unwrap();
+        assert!((q.norm() - 1.0).abs() < 1e-15 && warning.is_none());
+        // Four printed digits of [cos 45 deg, 0, 0, sin 45 deg].
+        let rounded = PlantParameters {
+            q0_body_to_nue: [0.7071, 0.0, 0.0, 0.7071],
+            ..Default::default()
+        };
+        let (q, warning) = rounded.validated_q0().unwrap();
+        assert!((q.norm() - 1.0).abs() < 1e-15 && warning.is_some());
+    }
+}

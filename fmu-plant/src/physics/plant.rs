@@ -1,0 +1,344 @@
+//! The plant: equations of motion, the sub-stepped RK4 advance and its events.
+use super::actuators::{lag_rate, lagged_or_direct, Engines, Rcs, ThrustLine};
+use super::events::find_crossing;
+use super::frames::{body_to_nue, tilt_from_vertical};
+use super::integrator::{rk4_step, SubSteps};
+use super::parameters::{ParameterError, PlantParameters, TranslationModelKind};
+use super::rigid_body::{omega_dot_body, quaternion_rate, PrincipalInertia};
+use super::state::PlantState;
+use super::translation_flat;
+use super::translation_spherical::SphericalMoon;
+use nalgebra::{Quaternion, Vector3, Vector6};
+use serde::{Deserialize, Serialize};
+
+/// The translation model with whatever it needs to evaluate.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Translation {
+    Flat { gravity_mps2: f64 },
+    Spherical(SphericalMoon),
+}
+
+impl Translation {
+    pub fn from_nue(&self, r_nue: &Vector3<f64>, v_nue: &Vector3<f64>) -> Vector6<f64> {
+        match self {
+            Self::Flat { .. } => translation_flat::pack(r_nue, v_nue),
+            Self::Spherical(moon) => moon.from_nue(r_nue, v_nue),
+        }
+    }
+
+    /// Position (m) and Moon-relative velocity (m/s) in site NUE.
+    pub fn to_nue(&self, x: &Vector6<f64>) -> (Vector3<f64>, Vector3<f64>) {
+        match self {
+            Self::Flat { .. } => (
+                translation_flat::position_nue(x),
+                translation_flat::velocity_nue(x),
+            ),
+            Self::Spherical(moon) => moon.to_nue(x),
+        }
+    }
+
+    /// Height above the surface (the plane, or the sphere), m.
+    pub fn altitude(&self, x: &Vector6<f64>) -> f64 {
+        match self {
+            Self::Flat { .. } => translation_flat::altitude(x),
+            Self::Spherical(moon) => moon.altitude(x),
+        }
+    }
+
+    fn derivative(&self, x: &Vector6<f64>, a_thrust_nue: &Vector3<f64>) -> Vector6<f64> {
+        match self {
+            Self::Flat { gravity_mps2 } => {
+                translation_flat::derivative(x, *gravity_mps2, a_thrust_nue)
+            }
+            Self::Spherical(moon) => moon.derivative(x, a_thrust_nue),
+        }
+    }
+}
+
+/// Commands held constant over a communication step (zero-order hold).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct Commands {
+    pub thrust_cmd_n: f64,
+    pub torque_cmd_body_nm: Vector3<f64>,
+}
+
+/// What the actuators deliver at a state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Delivered {
+    pub thrust_n: f64,
+    pub rcs_torque_body_nm: Vector3<f64>,
+    /// Torque of the (misaligned or offset) thrust line about the centre of mass.
+    pub engine_torque_body_nm: Vector3<f64>,
+}
+
+/// The state of a touchdown, frozen at the crossing.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Touchdown {
+    pub time_s: f64,
+    pub v_nue_mps: Vector3<f64>,
+    pub q_body_to_nue: Quaternion<f64>,
+    pub omega_body_radps: Vector3<f64>,
+    /// Angle between the thrust axis and the local vertical, rad.
+    pub tilt_rad: f64,
+}
+
+/// Everything that evolves: the integrated state and the discrete flags.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PlantRun {
+    pub state: PlantState,
+    pub propellant_exhausted: bool,
+    pub touchdown: Option<Touchdown>,
+}
+
+/// How an advance ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Advance {
+    Reached,
+    /// Touchdown at this time (<= the requested end).
+    Touchdown(f64),
+}
+
+/// The plant with validated, pre-computed parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Plant {
+    pub translation: Translation,
+    pub inertia_body_kgm2: PrincipalInertia,
+    pub engines: Engines,
+    pub rcs: Rcs,
+    pub thrust_line: ThrustLine,
+    thrust_direction_body: Vector3<f64>,
+    /// `1 / (Isp g0)`, s/m: mass flow per newton of thrust.
+    mass_flow_per_newton: f64,
+    pub dry_mass_kg: f64,
+    pub integration_step_s: f64,
+}
+
+/// Which event ended an RK4 piece.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Event {
+    Touchdown,
+    Exhaustion,
+}
+
+impl Plant {
+    /// Validates the parameters and builds the plant and its initial run state; the second
+    /// element is a warning worth logging (a noticeably non-unit q0 that was normalised).
+    pub fn new(p: &PlantParameters) -> Result<(Self, PlantRun, Option<String>), ParameterError> {
+        p.validate()?;
+        let (q0, warning) = p.validated_q0()?;
+        let translation = match p.translation_model_kind()? {
+            TranslationModelKind::Flat => Translation::Flat {
+                gravity_mps2: p.gravity_mps2,
+            },
+            TranslationModelKind::Spherical => Translation::Spherical(SphericalMoon::new(
+                p.moon_radius_m,
+                p.gravity_mps2,
+                p.moon_rotation_rate_radps,
+                p.site_latitude_rad,
+                p.site_longitude_rad,
+            )),
+        };
+        let plant = Self {
+            translation,
+            inertia_body_kgm2: p.inertia_body_kgm2,
+            engines: p.engines,
+            rcs: p.rcs,
+            thrust_line: p.thrust_line,
+            thrust_direction_body: p.thrust_line.direction_body(),
+            mass_flow_per_newton: 1.0 / (p.isp_s * p.g0_mps2),
+            dry_mass_kg: p.dry_mass_kg,
+            integration_step_s: p.integration_step_s,
+        };
+        let translation_state = translation.from_nue(&p.r0_nue_m, &p.v0_nue_mps);
+        let altitude = translation.altitude(&translation_state);
+        if altitude.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return Err(ParameterError {
+                name: "r0_nue[2]",
+                value: p.r0_nue_m.y.to_string(),
+                reason: format!(
+                    "the altitude above the surface is {altitude} m; it must be > 0: \
+                     the plant starts in flight (ground contact is not modelled)"
+                ),
+            });
+        }
+        let state = PlantState {
+            translation: translation_state,
+            q_body_to_nue: q0,
+            omega_body: p.omega0_body_radps,
+            mass_kg: p.m0_kg,
+            thrust_lag_n: 0.0,
+            torque_lag_body_nm: Vector3::zeros(),
+        };
+        let run = PlantRun {
+            state,
+            propellant_exhausted: false,
+            touchdown: None,
+        };
+        Ok((plant, run, warning))
+    }
+
+    /// Engine thrust the engines aim at (saturated command; 0 once the propellant is gone).
+    fn thrust_target_n(&self, commands: &Commands, exhausted: bool) -> f64 {
+        if exhausted {
+            0.0
+        } else {
+            self.engines.saturate(commands.thrust_cmd_n)
+        }
+    }
+
+    /// What the actuators deliver at state `x` under `commands`.
+    pub fn delivered(&self, x: &PlantState, commands: &Commands, exhausted: bool) -> Delivered {
+        let target = self.thrust_target_n(commands, exhausted);
+        let mut thrust_n = lagged_or_direct(target, x.thrust_lag_n, self.engines.time_constant_s);
+        // Inside an RK4 stage of the sub-step in which the mass reaches the dry mass, the
+        // stage state can lie past it: no propellant, no thrust (the event search then
+        // re-integrates up to the exact crossing).
+        if exhausted || x.mass_kg <= self.dry_mass_kg {
+            thrust_n = 0.0;
+        }
+        let rcs_target = self.rcs.saturate(&commands.torque_cmd_body_nm);
+        let tau = self.rcs.time_constant_s;
+        let rcs_torque_body_nm =
+            Vector3::from_fn(|k, _| lagged_or_direct(rcs_target[k], x.torque_lag_body_nm[k], tau));
+        Delivered {
+            thrust_n,
+            rcs_torque_body_nm,
+            engine_torque_body_nm: self
+                .thrust_line
+                .torque_body_nm(&self.thrust_direction_body, thrust_n),
+        }
+    }
+
+    /// Time derivative of the whole state.
+    pub fn derivative(&self, x: &PlantState, commands: &Commands, exhausted: bool) -> PlantState {
+        let d = self.delivered(x, commands, exhausted);
+        let thrust_body = self.thrust_direction_body * (d.thrust_n / x.mass_kg);
+        let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &thrust_body);
+        let torque_body = d.rcs_torque_body_nm + d.engine_torque_body_nm;
+        let thrust_target = self.thrust_target_n(commands, exhausted);
+        let rcs_target = self.rcs.saturate(&commands.torque_cmd_body_nm);
+        let tau_rcs = self.rcs.time_constant_s;
+        PlantState {
+            translation: self.translation.derivative(&x.translation, &a_thrust_nue),
+            q_body_to_nue: quaternion_rate(&x.q_body_to_nue, &x.omega_body),
+            omega_body: omega_dot_body(&self.inertia_body_kgm2, &x.omega_body, &torque_body),
+            mass_kg: -d.thrust_n * self.mass_flow_per_newton,
+            thrust_lag_n: lag_rate(thrust_target, x.thrust_lag_n, self.engines.time_constant_s),
+            torque_lag_body_nm: Vector3::from_fn(|k, _| {
+                lag_rate(rcs_target[k], x.torque_lag_body_nm[k], tau_rcs)
+            }),
+        }
+    }
+
+    fn rk4(
+        &self,
+        x: &PlantState,
+        commands: &Commands,
+        exhausted: bool,
+        t: f64,
+        h: f64,
+    ) -> PlantState {
+        rk4_step(
+            |_t, s: &PlantState| self.derivative(s, commands, exhausted),
+            t,
+            x,
+            h,
+        )
+        .renormalised()
+    }
+
+    pub fn altitude(&self, x: &PlantState) -> f64 {
+        self.translation.altitude(&x.translation)
+    }
+
+    /// Advances `run` from `t` to `t + h` under constant `commands`, in RK4 sub-steps of at
+    /// most `integration_step_s`, stopping at a touchdown. After a touchdown it does not move.
+    pub fn advance(&self, run: &mut PlantRun, commands: &Commands, t: f64, h: f64) -> Advance {
+        if let Some(td) = run.touchdown {
+            return Advance::Touchdown(td.time_s);
+        }
+        let schedule = SubSteps::new(h, self.integration_step_s);
+        for k in 0..schedule.count {
+            let (offset, size) = schedule.get(k);
+            let start = t + offset;
+            let end = if k + 1 == schedule.count {
+                t + h
+            } else {
+                start + size
+            };
+            if let Some(time) = self.advance_piecewise(run, commands, start, end) {
+                return Advance::Touchdown(time);
+            }
+        }
+        Advance::Reached
+    }
+
+    /// One sub-step from `start` to `end`, split at events; returns the touchdown time if any.
+    fn advance_piecewise(
+        &self,
+        run: &mut PlantRun,
+        commands: &Commands,
+        start: f64,
+        end: f64,
+    ) -> Option<f64> {
+        let mut t = start;
+        // An event piece can end a hair before `end`; a remainder below the crossing tolerance
+        // is not worth an RK4 step (it would only add round-off).
+        while end - t > super::events::CROSSING_TIME_TOLERANCE_S {
+            let h = end - t;
+            let x0 = run.state;
+            let exhausted = run.propellant_exhausted;
+            let x1 = self.rk4(&x0, commands, exhausted, t, h);
+            let altitude_event = |x: &PlantState| self.altitude(x);
+            let mass_event = |x: &PlantState| x.mass_kg - self.dry_mass_kg;
+
+            let mut first: Option<(f64, Event)> = None;
+            let mut consider = |event: Event, g: &dyn Fn(&PlantState) -> f64| {
+                let (g0, g1) = (g(&x0), g(&x1));
+                if g0 > 0.0 && g1 <= 0.0 {
+                    let tau =
+                        find_crossing(|s| g(&self.rk4(&x0, commands, exhausted, t, s)), g0, g1, h);
+                    if first.is_none_or(|(best, _)| tau < best) {
+                        first = Some((tau, event));
+                    }
+                }
+            };
+            if !exhausted {
+                consider(Event::Exhaustion, &mass_event);
+            }
+            consider(Event::Touchdown, &altitude_event);
+
+            let Some((tau, event)) = first else {
+                run.state = x1;
+                return None;
+            };
+            run.state = if tau >= h {
+                x1
+            } else {
+                self.rk4(&x0, commands, exhausted, t, tau)
+            };
+            t = if tau >= h { end } else { t + tau };
+            match event {
+                Event::Exhaustion => {
+                    run.propellant_exhausted = true;
+                    // The located state lies within the crossing tolerance past the dry mass.
+                    run.state.mass_kg = self.dry_mass_kg;
+                    run.state.thrust_lag_n = 0.0;
+                }
+                Event::Touchdown => {
+                    let x = &run.state;
+                    let (_, v_nue) = self.translation.to_nue(&x.translation);
+                    run.touchdown = Some(Touchdown {
+                        time_s: t,
+                        v_nue_mps: v_nue,
+                        q_body_to_nue: x.q_body_to_nue,
+                        omega_body_radps: x.omega_body,
+                        tilt_rad: tilt_from_vertical(&x.q_body_to_nue),
+                    });
+                    return Some(t);
+                }
+            }
+        }
+        None
+    }
+}

@@ -1,0 +1,52 @@
+//! The integrated state of the plant.
+use super::integrator::OdeState;
+use nalgebra::{Quaternion, Vector3, Vector6};
+use serde::{Deserialize, Serialize};
+
+/// Everything RK4 integrates. The same type holds its own time derivative.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PlantState {
+    /// Translational state; its layout belongs to the selected translation model
+    /// (`translation_flat`: r_nue, v_nue; `translation_spherical`: r, lon, lat, u, v, w).
+    pub translation: Vector6<f64>,
+    /// Attitude, body to NUE (renormalised after every sub-step, not inside RK4 stages).
+    pub q_body_to_nue: Quaternion<f64>,
+    /// Body angular rate, rad/s.
+    pub omega_body: Vector3<f64>,
+    /// Total mass, kg.
+    pub mass_kg: f64,
+    /// First-order-lag state of the delivered engine thrust, N (unused when the lag is off).
+    pub thrust_lag_n: f64,
+    /// First-order-lag state of the delivered RCS torque, N m (unused when the lag is off).
+    pub torque_lag_body_nm: Vector3<f64>,
+}
+
+impl OdeState for PlantState {
+    fn add_scaled(&self, h: f64, d: &Self) -> Self {
+        Self {
+            translation: self.translation + d.translation * h,
+            q_body_to_nue: self.q_body_to_nue + d.q_body_to_nue * h,
+            omega_body: self.omega_body + d.omega_body * h,
+            mass_kg: self.mass_kg + d.mass_kg * h,
+            thrust_lag_n: self.thrust_lag_n + d.thrust_lag_n * h,
+            torque_lag_body_nm: self.torque_lag_body_nm + d.torque_lag_body_nm * h,
+        }
+    }
+}
+
+impl PlantState {
+    /// Normalises the attitude quaternion; RK4 preserves |q| only to O(h^5) per step.
+    pub fn renormalised(mut self) -> Self {
+        self.q_body_to_nue = self.q_body_to_nue.normalize();
+        self
+    }
+
+    pub fn is_finite(&self) -> bool {
+        self.translation.iter().all(|x| x.is_finite())
+            && self.q_body_to_nue.coords.iter().all(|x| x.is_finite())
+            && self.omega_body.iter().all(|x| x.is_finite())
+            && self.mass_kg.is_finite()
+            && self.thrust_lag_n.is_finite()
+            && self.torque_lag_body_nm.iter().all(|x| x.is_finite())
+    }
+}
