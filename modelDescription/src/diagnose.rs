@@ -24,6 +24,9 @@ enum Lexical {
     /// Whitespace-separated `xs:unsignedInt`s (ModelStructure `dependencies`).
     UnsignedIntList,
     OneOf(&'static [&'static str]),
+    /// `fmiVersion`: refused early when not 2.x, because an FMI 1.0 or 3.0 file would
+    /// otherwise fail later with a message about some other attribute.
+    Fmi2Version,
 }
 
 struct Attr {
@@ -48,7 +51,7 @@ const fn opt(name: &'static str, lexical: Lexical) -> Attr {
     }
 }
 
-use Lexical::{Boolean, Double, Int, OneOf, Text, UnsignedInt, UnsignedIntList};
+use Lexical::{Boolean, Double, Fmi2Version, Int, OneOf, Text, UnsignedInt, UnsignedIntList};
 
 pub(crate) const CAUSALITIES: &[&str] = &[
     "parameter",
@@ -65,18 +68,29 @@ pub(crate) const INITIALS: &[&str] = &["exact", "approx", "calculated"];
 /// The type elements of which a ScalarVariable or SimpleType holds exactly one.
 const TYPE_ELEMENTS: &[&str] = &["Real", "Integer", "Boolean", "String", "Enumeration"];
 
-/// Children of the root that may appear at most once.
-const SINGLETONS: &[&str] = &[
-    "ModelExchange",
-    "CoSimulation",
-    "UnitDefinitions",
-    "TypeDefinitions",
-    "LogCategories",
-    "DefaultExperiment",
-    "VendorAnnotations",
-    "ModelVariables",
-    "ModelStructure",
-];
+/// Child elements that may appear at most once, by parent path below the root. The type
+/// elements of ScalarVariable and SimpleType are counted separately.
+fn at_most_once(parent: &[&str]) -> &'static [&'static str] {
+    match parent {
+        [] => &[
+            "ModelExchange",
+            "CoSimulation",
+            "UnitDefinitions",
+            "TypeDefinitions",
+            "LogCategories",
+            "DefaultExperiment",
+            "VendorAnnotations",
+            "ModelVariables",
+            "ModelStructure",
+        ],
+        ["ModelStructure"] => &["Outputs", "Derivatives", "InitialUnknowns"],
+        ["UnitDefinitions", "Unit"] => &["BaseUnit"],
+        ["TypeDefinitions", "SimpleType", "Enumeration"] | ["ModelVariables", "ScalarVariable"] => {
+            &["Annotations"]
+        }
+        _ => &[],
+    }
+}
 
 /// Attribute rules by element path below the root (the root itself is the empty path).
 fn rules(path: &[&str]) -> Option<&'static [Attr]> {
@@ -133,7 +147,7 @@ fn rules(path: &[&str]) -> Option<&'static [Attr]> {
     ];
     const NAMED: &[Attr] = &[req("name", Text)];
     const ROOT_ATTRS: &[Attr] = &[
-        req("fmiVersion", Text),
+        req("fmiVersion", Fmi2Version),
         req("modelName", Text),
         req("guid", Text),
         opt("numberOfEventIndicators", UnsignedInt),
@@ -252,8 +266,10 @@ pub(crate) fn check(bytes: &[u8]) -> Result<(), Error> {
                     children: BTreeMap::new(),
                 });
                 let path = path_below_root(&stack);
-                if stack.len() == 2 && SINGLETONS.contains(&path[0]) && ordinal > 1 {
-                    return Err(invalid(&stack, None, "appears more than once".to_owned()));
+                if let Some((name, parent)) = path.split_last() {
+                    if ordinal > 1 && at_most_once(parent).contains(name) {
+                        return Err(invalid(&stack, None, "appears more than once".to_owned()));
+                    }
                 }
                 if let Some(attrs) = rules(&path) {
                     for attr in attrs {
@@ -344,6 +360,8 @@ fn check_attribute(stack: &[Frame], attr: &Attr, value: Option<&str>) -> Result<
             .split_ascii_whitespace()
             .find(|item| item.parse::<u32>().is_err())
             .map(|item| format!("\"{item}\" in \"{value}\" is not an unsigned integer")),
+        Fmi2Version => (!value.starts_with("2."))
+            .then(|| format!("\"{value}\" is not FMI 2.0, the only version this reader reads")),
         OneOf(allowed) => (!allowed.contains(&value))
             .then(|| format!("\"{value}\" is not one of {}", allowed.join(", "))),
     };
