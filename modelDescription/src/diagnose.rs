@@ -406,3 +406,32 @@ fn malformed_message(e: &xml::reader::Error) -> String {
         _ => e.to_string(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Causality, Initial, Variability};
+
+    /// The diagnosis must accept exactly the spellings serde maps onto the enums.
+    #[test]
+    fn enumerated_attribute_lists_match_the_serde_enums() {
+        fn parses<T: serde::de::DeserializeOwned>(text: &str) -> bool {
+            let xml = format!("<x v=\"{text}\"/>");
+            #[derive(serde::Deserialize)]
+            struct Holder<T> {
+                #[serde(rename = "@v")]
+                #[allow(dead_code)]
+                v: T,
+            }
+            serde_xml_rs::from_str::<Holder<T>>(&xml).is_ok()
+        }
+        assert!(CAUSALITIES.iter().all(|c| parses::<Causality>(c)));
+        assert!(VARIABILITIES.iter().all(|v| parses::<Variability>(v)));
+        assert!(INITIALS.iter().all(|i| parses::<Initial>(i)));
+        // And the lists are complete: every variant is listed.
+        assert_eq!(CAUSALITIES.len(), 6);
+        assert_eq!(VARIABILITIES.len(), 5);
+        assert_eq!(INITIALS.len(), 3);
+        assert!(!parses::<Causality>("internal"), "an FMI 1.0 causality");
+    }
+}

@@ -361,3 +361,21 @@ fn absent_optionals_write_no_attribute_and_empty_types_write_an_empty_element() 
         "{xml}"
     );
 }
+
+#[test]
+fn a_tab_survives_the_round_trip_as_a_character_reference() {
+    let xml = rich().to_xml().unwrap();
+    assert!(xml.contains("line two&#x9;tabbed"), "{xml}");
+    assert!(!xml.contains('\t'));
+}
+
+#[test]
+fn control_characters_xml_cannot_hold_are_refused_with_the_line() {
+    let mut md = rich();
+    md.model_variables.variables[1].description = Some("bell\u{7}".into());
+    let error = md.to_xml().unwrap_err();
+    assert!(matches!(error, Error::Write(_)), "{error:?}");
+    let message = error.to_string();
+    assert!(message.contains("g_moon"), "{message}");
+    assert!(message.contains("\\u{7}"), "{message}");
+}
