@@ -1,1 +1,20 @@
-//! placeholder
+//! LanderGnc: guidance and attitude control of a lunar lander after Rallapalli et al.,
+//! "Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3 Lunar Landing
+//! Mission", with the corrections of `shared/paper/ERRATA.md`, as an FMI 2.0 co-simulation FMU.
+//!
+//! * [`conventions`]: frames, axes, the scalar-first quaternion and its nalgebra boundary.
+//! * [`guidance`]: cubic-polynomial descent, PV hover, the phase sequencer, thrust magnitude.
+//! * [`attitude`]: reference attitude, phi_b, the thrust-axis error split, the coupled,
+//!   decoupled and reduced laws, gains and saturation.
+//! * [`controller`]: one GNC sample from navigation inputs (pure).
+//! * [`fmu`]: the FMI variable table and timing; no math.
+#![deny(unsafe_code)]
+
+pub mod attitude;
+pub mod controller;
+pub mod conventions;
+pub mod fmu;
+pub mod guidance;
+pub mod params;
+
+pub use fmu::LanderGnc;

@@ -1,0 +1,61 @@
+//! The thrust-axis split of the attitude error (paper Sec. IV control errors, ERRATA 5, 7, 9):
+//! one pure function, consumed by the decoupled law and by every law's diagnostics.
+use super::phi_b::phi_b;
+use super::reference::q_phi;
+use crate::conventions::{angle_between, canonical, thrust_axis_body, wrap_angle, Attitude};
+use nalgebra::Vector3;
+
+/// Control errors about the body axes, all angles in rad (ERRATA 9).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ThrustAxisErrors {
+    /// Rotation about the thrust axis (body y): `wrap(phi_b - phi_cmd)` in (-pi, pi].
+    pub roll_rad: f64,
+    /// Lateral error about body x: `2 q_ex` of `q_refL^-1 ⊗ q`.
+    pub yaw_rad: f64,
+    /// Lateral error about body z: `2 q_ez` of `q_refL^-1 ⊗ q`.
+    pub pitch_rad: f64,
+    /// Angle between the body thrust axis and the guidance direction, in [0, pi].
+    pub tilt_rad: f64,
+    /// The achieved 1-3-2 rotation about the thrust axis.
+    pub phi_b_rad: f64,
+}
+
+impl ThrustAxisErrors {
+    /// The three errors as a body-axis vector `[yaw (x), roll (y), pitch (z)]`.
+    pub fn angle_error_body(&self) -> Vector3<f64> {
+        Vector3::new(self.yaw_rad, self.roll_rad, self.pitch_rad)
+    }
+}
+
+/// Angle between the body thrust axis and the thrust direction of the guidance attitude
+/// `q_guid`; unchanged by any rotation of `q` about the thrust axis.
+pub fn tilt_angle(q_body_to_nue: &Attitude, q_guid: &Attitude) -> f64 {
+    angle_between(
+        &(q_body_to_nue * thrust_axis_body()),
+        &(q_guid * thrust_axis_body()),
+    )
+}
+
+/// Paper Sec. IV, decoupled errors: `q_refL = q_guid ⊗ q_phib` (ERRATA 6 for `q_phib`),
+/// `q_e = q_refL^-1 ⊗ q` taken the short way (`q_e0 >= 0`), yaw and pitch errors
+/// `2 q_ex`, `2 q_ez`, roll error `wrap(phi_b - phi_cmd)` (ERRATA 5, 9).
+///
+/// Because `q_refL` carries the attitude's own 1-3-2 angle about the thrust axis, `q_e` has no
+/// share of the roll command: the lateral errors only move the thrust axis toward guidance
+/// and are exactly zero when it is on target, whatever the roll (ERRATA 7).
+pub fn thrust_axis_errors(
+    q_body_to_nue: &Attitude,
+    q_guid: &Attitude,
+    phi_cmd_rad: f64,
+) -> ThrustAxisErrors {
+    let phi_b_rad = phi_b(q_body_to_nue);
+    let q_ref_lateral = q_guid * q_phi(phi_b_rad);
+    let q_e = canonical(&(q_ref_lateral.inverse() * q_body_to_nue));
+    ThrustAxisErrors {
+        roll_rad: wrap_angle(phi_b_rad - phi_cmd_rad),
+        yaw_rad: 2.0 * q_e.i,
+        pitch_rad: 2.0 * q_e.k,
+        tilt_rad: tilt_angle(q_body_to_nue, q_guid),
+        phi_b_rad,
+    }
+}

@@ -1,0 +1,102 @@
+//! Reference attitude and the three attitude control laws (paper Sec. III-IV, plus the
+//! reduced law for comparison), all pure functions of the current sample.
+pub mod coupled;
+pub mod decoupled;
+pub mod errors;
+pub mod gains;
+pub mod phi_b;
+pub mod reduced;
+pub mod reference;
+
+use crate::conventions::Attitude;
+use gains::{saturate_torque_body, AttitudeGains};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// Which attitude law runs; exchanged as the Enumeration parameter `control_law`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ControlLaw {
+    /// Classical quaternion PD on the full reference attitude (paper Sec. IV).
+    Coupled = 1,
+    /// The paper's decoupled thrust-axis law (paper Sec. IV).
+    Decoupled = 2,
+    /// PX4-style reduced attitude (Brescianini et al. 2013).
+    Reduced = 3,
+}
+
+impl ControlLaw {
+    pub fn from_index(value: i32) -> Option<Self> {
+        match value {
+            1 => Some(Self::Coupled),
+            2 => Some(Self::Decoupled),
+            3 => Some(Self::Reduced),
+            _ => None,
+        }
+    }
+}
+
+/// Everything an attitude law needs besides the current sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AttitudeSettings {
+    pub law: ControlLaw,
+    pub gains: AttitudeGains,
+    pub torque_limit_body_nm: Vector3<f64>,
+    /// Weight of the rotation about the thrust axis in the reduced law, [0, 1].
+    pub reduced_yaw_weight: f64,
+}
+
+/// The attitude command of one control sample, with the diagnostics of the law that ran.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AttitudeCommand {
+    /// Saturated per axis to the RCS limits.
+    pub torque_body_nm: Vector3<f64>,
+    pub q_ref: Attitude,
+    /// The angle errors the law acted on, body axes `[yaw (x), roll (y), pitch (z)]`.
+    pub angle_error_body: Vector3<f64>,
+    pub phi_b_rad: f64,
+    pub tilt_rad: f64,
+}
+
+/// One control sample: reference attitude from the guidance direction and `phi_cmd`, then the
+/// selected law, then saturation.
+pub fn attitude_command(
+    settings: &AttitudeSettings,
+    q_body_to_nue: &Attitude,
+    omega_body: &Vector3<f64>,
+    a_thrust_cmd_nue: &Vector3<f64>,
+    phi_cmd_rad: f64,
+) -> AttitudeCommand {
+    let q_guid = reference::q_guid(a_thrust_cmd_nue);
+    let q_ref = reference::q_ref(&q_guid, phi_cmd_rad);
+    let split = errors::thrust_axis_errors(q_body_to_nue, &q_guid, phi_cmd_rad);
+    let gains = &settings.gains;
+    let (torque, angle_error_body) = match settings.law {
+        ControlLaw::Coupled => {
+            coupled::coupled_torque_body(gains, q_body_to_nue, omega_body, &q_ref)
+        }
+        ControlLaw::Decoupled => {
+            let (torque, _) = decoupled::decoupled_torque_body(
+                gains,
+                q_body_to_nue,
+                omega_body,
+                &q_guid,
+                phi_cmd_rad,
+            );
+            (torque, split.angle_error_body())
+        }
+        ControlLaw::Reduced => reduced::reduced_torque_body(
+            gains,
+            q_body_to_nue,
+            omega_body,
+            &q_ref,
+            settings.reduced_yaw_weight,
+        ),
+    };
+    AttitudeCommand {
+        torque_body_nm: saturate_torque_body(&torque, &settings.torque_limit_body_nm),
+        q_ref,
+        angle_error_body,
+        phi_b_rad: split.phi_b_rad,
+        tilt_rad: split.tilt_rad,
+    }
+}

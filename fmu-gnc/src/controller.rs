@@ -1,0 +1,209 @@
+//! One GNC sample: guidance (held at its own rate), thrust magnitude, reference attitude and
+//! attitude law, from the navigation inputs at time `t`. Pure: the caller decides whether to
+//! commit the returned guidance state (do_step) or only read the outputs (calculate_values).
+use crate::attitude::{attitude_command, reference};
+use crate::conventions::{attitude_from_scalar_first, attitude_to_scalar_first};
+use crate::guidance::sequencer::{guidance_sample, has_reached, GuidanceInputs, GuidanceState};
+use crate::guidance::thrust::thrust_magnitude_n;
+use crate::params::GncParameters;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// The navigation state (LanderPlant outputs), as exchanged: scalar-first quaternion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct NavigationInputs {
+    pub r_nue_m: [f64; 3],
+    pub v_nue_mps: [f64; 3],
+    pub q_body_to_nue: [f64; 4],
+    pub omega_body_radps: [f64; 3],
+    pub mass_kg: f64,
+}
+
+impl Default for NavigationInputs {
+    /// The paper's initial condition: upright, at rest, 800 m up, 900 kg.
+    fn default() -> Self {
+        Self {
+            r_nue_m: [0.0, 800.0, 0.0],
+            v_nue_mps: [0.0; 3],
+            q_body_to_nue: [1.0, 0.0, 0.0, 0.0],
+            omega_body_radps: [0.0; 3],
+            mass_kg: 900.0,
+        }
+    }
+}
+
+/// Commands and diagnostics of one sample, as exchanged.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct GncOutputs {
+    pub thrust_cmd_n: f64,
+    pub torque_cmd_body_nm: [f64; 3],
+    /// Commanded thrust acceleration (guidance net acceleration minus gravity), NUE.
+    pub a_cmd_nue_mps2: [f64; 3],
+    pub q_ref: [f64; 4],
+    pub phi_b_rad: f64,
+    pub err_roll_rad: f64,
+    pub err_yaw_rad: f64,
+    pub err_pitch_rad: f64,
+    pub tilt_error_rad: f64,
+    pub guidance_phase: i32,
+    pub time_to_go_s: f64,
+}
+
+/// Why a sample's navigation inputs cannot be used (INTERFACE "Degenerate first inputs").
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum DegenerateInput {
+    #[error("q_body_to_nue has (near) zero norm: no attitude; commanding minimum thrust and zero torque")]
+    ZeroNormQuaternion,
+    #[error("mass = {0} kg is not positive; commanding minimum thrust and zero torque")]
+    NonPositiveMass(f64),
+}
+
+/// Result of one sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Guidance state to commit if this sample is taken (unchanged on degenerate input).
+    pub guidance: GuidanceState,
+    pub outputs: GncOutputs,
+    pub degenerate: Option<DegenerateInput>,
+}
+
+/// Evaluate the GNC at absolute time `t_s`; `start_time_s` anchors the phase schedule.
+/// Parameters must have passed [`GncParameters::validate`]. Never returns NaN for finite input.
+pub fn gnc_sample(
+    params: &GncParameters,
+    start_time_s: f64,
+    guidance: &GuidanceState,
+    nav: &NavigationInputs,
+    t_s: f64,
+) -> Sample {
+    let phi_cmd_rad = if has_reached(t_s, params.phi_cmd_time_s) {
+        params.phi_cmd_rad
+    } else {
+        0.0
+    };
+    let q = attitude_from_scalar_first(nav.q_body_to_nue);
+    let degenerate = match q {
+        None => Some(DegenerateInput::ZeroNormQuaternion),
+        Some(_) if nav.mass_kg <= 0.0 => Some(DegenerateInput::NonPositiveMass(nav.mass_kg)),
+        Some(_) => None,
+    };
+    let Some(q) = q.filter(|_| degenerate.is_none()) else {
+        return Sample {
+            guidance: *guidance,
+            outputs: safe_outputs(params, guidance, phi_cmd_rad),
+            degenerate,
+        };
+    };
+
+    let next = guidance_sample(
+        &params.scenario(),
+        guidance,
+        t_s - start_time_s,
+        &GuidanceInputs {
+            r_nue: Vector3::from(nav.r_nue_m),
+            v_nue: Vector3::from(nav.v_nue_mps),
+        },
+    );
+    let attitude = attitude_command(
+        &params.attitude_settings(),
+        &q,
+        &Vector3::from(nav.omega_body_radps),
+        &next.a_thrust_cmd_nue,
+        phi_cmd_rad,
+    );
+    let outputs = GncOutputs {
+        thrust_cmd_n: thrust_magnitude_n(
+            nav.mass_kg,
+            &next.a_thrust_cmd_nue,
+            params.thrust_min_n,
+            params.thrust_max_n,
+        ),
+        torque_cmd_body_nm: attitude.torque_body_nm.into(),
+        a_cmd_nue_mps2: next.a_thrust_cmd_nue.into(),
+        q_ref: attitude_to_scalar_first(&attitude.q_ref),
+        phi_b_rad: attitude.phi_b_rad,
+        err_yaw_rad: attitude.angle_error_body.x,
+        err_roll_rad: attitude.angle_error_body.y,
+        err_pitch_rad: attitude.angle_error_body.z,
+        tilt_error_rad: attitude.tilt_rad,
+        guidance_phase: next.phase as i32,
+        time_to_go_s: next.time_to_go_s,
+    };
+    Sample {
+        guidance: next,
+        outputs,
+        degenerate: None,
+    }
+}
+
+/// Minimum thrust, zero torque; guidance diagnostics held; attitude diagnostics zero.
+fn safe_outputs(params: &GncParameters, guidance: &GuidanceState, phi_cmd_rad: f64) -> GncOutputs {
+    let q_ref = reference::q_ref(&reference::q_guid(&guidance.a_thrust_cmd_nue), phi_cmd_rad);
+    GncOutputs {
+        thrust_cmd_n: params.thrust_min_n,
+        torque_cmd_body_nm: [0.0; 3],
+        a_cmd_nue_mps2: guidance.a_thrust_cmd_nue.into(),
+        q_ref: attitude_to_scalar_first(&q_ref),
+        guidance_phase: guidance.phase as i32,
+        time_to_go_s: guidance.time_to_go_s,
+        ..GncOutputs::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn initial() -> GuidanceState {
+        GuidanceState::initial(GncParameters::default().gravity_mps2)
+    }
+
+    #[test]
+    fn upright_hover_on_target_commands_weight_and_no_torque() {
+        let params = GncParameters::default();
+        let s = gnc_sample(&params, 0.0, &initial(), &NavigationInputs::default(), 0.0);
+        assert_eq!(s.degenerate, None);
+        assert!((s.outputs.thrust_cmd_n - 900.0 * 1.62).abs() < 1e-9);
+        assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
+        assert_eq!(s.outputs.guidance_phase, 1);
+        assert_eq!(s.outputs.q_ref, [1.0, 0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn degenerate_inputs_give_safe_outputs_and_keep_guidance() {
+        let params = GncParameters::default();
+        let zeros = NavigationInputs {
+            r_nue_m: [0.0; 3],
+            v_nue_mps: [0.0; 3],
+            q_body_to_nue: [0.0; 4],
+            omega_body_radps: [0.0; 3],
+            mass_kg: 0.0,
+        };
+        let s = gnc_sample(&params, 0.0, &initial(), &zeros, 0.0);
+        assert_eq!(s.degenerate, Some(DegenerateInput::ZeroNormQuaternion));
+        assert_eq!(s.outputs.thrust_cmd_n, params.thrust_min_n);
+        assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
+        assert_eq!(s.guidance, initial(), "no guidance solve from garbage");
+        let massless = NavigationInputs {
+            mass_kg: -1.0,
+            ..NavigationInputs::default()
+        };
+        let s = gnc_sample(&params, 0.0, &initial(), &massless, 0.0);
+        assert_eq!(s.degenerate, Some(DegenerateInput::NonPositiveMass(-1.0)));
+        assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
+    }
+
+    #[test]
+    fn phi_cmd_applies_from_its_time_with_tolerance() {
+        let params = GncParameters {
+            phi_cmd_rad: 1.0,
+            ..GncParameters::default()
+        };
+        let nav = NavigationInputs::default();
+        let before = gnc_sample(&params, 0.0, &initial(), &nav, 11.99);
+        assert_eq!(before.outputs.q_ref, [1.0, 0.0, 0.0, 0.0]);
+        let at = gnc_sample(&params, 0.0, &initial(), &nav, 11.999999999999789);
+        assert!((at.outputs.q_ref[2] - 0.5_f64.sin()).abs() < 1e-15);
+        assert!((at.outputs.err_roll_rad + 1.0).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,6 @@
+//! Guidance (paper Sec. III): the acceleration the lander must produce, sampled at the
+//! guidance rate, and the thrust magnitude that realises it.
+pub mod polynomial;
+pub mod pv;
+pub mod sequencer;
+pub mod thrust;

@@ -1,0 +1,164 @@
+//! Cubic-polynomial descent guidance (paper Sec. III, eq. (eq3) and eq. (gui_lin_eq)).
+//!
+//! The net (kinematic) acceleration is a cubic in the time since the solve,
+//! `a_net(s) = C0 + C1 s + C2 s^2 + C3 s^3`, whose coefficients satisfy the two-point boundary
+//! value problem over `[0, tgo]` per axis: start and end acceleration, end velocity and end
+//! position of the double integrator `r'' = a_net` (ERRATA 8: net, not thrust, acceleration).
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// Boundary conditions of one solve, all in NUE.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundaryConditions {
+    pub r0_nue: Vector3<f64>,
+    pub v0_nue: Vector3<f64>,
+    /// Net acceleration at the start (the previous command, for continuity).
+    pub a0_net_nue: Vector3<f64>,
+    pub rf_nue: Vector3<f64>,
+    pub vf_nue: Vector3<f64>,
+    pub af_net_nue: Vector3<f64>,
+}
+
+/// The cubic's coefficients per axis: `coeffs[k]` multiplies `s^k`, NUE components.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CubicAcceleration {
+    pub coeffs: [Vector3<f64>; 4],
+}
+
+impl CubicAcceleration {
+    /// Paper Sec. III, eq. (eq3): the net acceleration `s` seconds after the solve.
+    pub fn net_acceleration_nue(&self, s: f64) -> Vector3<f64> {
+        let [c0, c1, c2, c3] = &self.coeffs;
+        c0 + (c1 + (c2 + c3 * s) * s) * s
+    }
+}
+
+/// The 4x4 matrix of paper Sec. III, eq. (gui_lin_eq) for a given `tgo`. Rows: acceleration at
+/// 0, acceleration at tgo, velocity change over tgo, position change over tgo minus `v0 tgo`.
+pub fn boundary_value_matrix(tgo_s: f64) -> nalgebra::Matrix4<f64> {
+    let t = tgo_s;
+    let (t2, t3, t4, t5) = (t * t, t * t * t, t * t * t * t, t * t * t * t * t);
+    nalgebra::Matrix4::new(
+        1.0,
+        0.0,
+        0.0,
+        0.0,
+        1.0,
+        t,
+        t2,
+        t3,
+        t,
+        t2 / 2.0,
+        t3 / 3.0,
+        t4 / 4.0,
+        t2 / 2.0,
+        t3 / 6.0,
+        t4 / 12.0,
+        t5 / 20.0,
+    )
+}
+
+/// The right-hand side of paper Sec. III, eq. (gui_lin_eq) for one axis `i`.
+pub fn boundary_value_rhs(bc: &BoundaryConditions, tgo_s: f64, i: usize) -> nalgebra::Vector4<f64> {
+    nalgebra::Vector4::new(
+        bc.a0_net_nue[i],
+        bc.af_net_nue[i],
+        bc.vf_nue[i] - bc.v0_nue[i],
+        bc.rf_nue[i] - bc.r0_nue[i] - bc.v0_nue[i] * tgo_s,
+    )
+}
+
+/// Paper Sec. III, eq. (gui_lin_eq) solved in closed form, all three axes at once.
+///
+/// `C0 = a0` from the first row. Scaling the unknowns as `x_k = C_k tgo^k` turns the other three
+/// rows into a constant 3x3 system `[[1,1,1],[1/2,1/3,1/4],[1/6,1/12,1/20]] x = [A, B, D]`
+/// whose inverse is the integer matrix `[[3,-24,60],[-12,84,-180],[10,-60,120]]`, with
+/// `A = af - a0`, `B = (dv - a0 tgo)/tgo`, `D = (dr - v0 tgo - a0 tgo^2/2)/tgo^2`.
+///
+/// `tgo_s` must be positive; the sequencer freezes the coefficients before it gets small.
+pub fn solve_cubic(bc: &BoundaryConditions, tgo_s: f64) -> CubicAcceleration {
+    let t = tgo_s;
+    let a0 = bc.a0_net_nue;
+    let big_a = bc.af_net_nue - a0;
+    let big_b = (bc.vf_nue - bc.v0_nue - a0 * t) / t;
+    let big_d = (bc.rf_nue - bc.r0_nue - bc.v0_nue * t - a0 * (0.5 * t * t)) / (t * t);
+    let x1 = big_a * 3.0 - big_b * 24.0 + big_d * 60.0;
+    let x2 = big_a * -12.0 + big_b * 84.0 - big_d * 180.0;
+    let x3 = big_a * 10.0 - big_b * 60.0 + big_d * 120.0;
+    CubicAcceleration {
+        coeffs: [a0, x1 / t, x2 / (t * t), x3 / (t * t * t)],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn descent_case() -> BoundaryConditions {
+        BoundaryConditions {
+            r0_nue: Vector3::new(12.0, 800.0, -7.0),
+            v0_nue: Vector3::new(0.3, -1.5, 0.2),
+            a0_net_nue: Vector3::new(0.01, -0.05, 0.02),
+            rf_nue: Vector3::new(0.0, 150.0, 0.0),
+            vf_nue: Vector3::zeros(),
+            af_net_nue: Vector3::zeros(),
+        }
+    }
+
+    #[test]
+    fn closed_form_matches_a_generic_lu_solve() {
+        let bc = descent_case();
+        for tgo in [0.5, 5.0, 37.3, 130.0] {
+            let closed = solve_cubic(&bc, tgo);
+            let lu = boundary_value_matrix(tgo).lu();
+            for i in 0..3 {
+                let c = lu.solve(&boundary_value_rhs(&bc, tgo, i)).unwrap();
+                for k in 0..4 {
+                    let scale = c[k].abs().max(1e-12);
+                    assert!(
+                        (closed.coeffs[k][i] - c[k]).abs() / scale < 1e-9,
+                        "tgo {tgo} axis {i} C{k}: closed {} lu {}",
+                        closed.coeffs[k][i],
+                        c[k]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn double_integrator_meets_the_boundary_conditions() {
+        // GIVEN a double integrator r'' = a_net(s) driven open loop by one solve
+        let bc = descent_case();
+        let tgo = 130.0;
+        let cubic = solve_cubic(&bc, tgo);
+        // WHEN it is integrated analytically over [0, tgo] (term by term: C_k s^k integrates
+        // to C_k s^(k+1)/(k+1) and C_k s^(k+2)/((k+1)(k+2)))
+        let mut v = bc.v0_nue;
+        let mut r = bc.r0_nue + bc.v0_nue * tgo;
+        for (k, c) in cubic.coeffs.iter().enumerate() {
+            let k = k as i32;
+            v += c * tgo.powi(k + 1) / f64::from(k + 1);
+            r += c * tgo.powi(k + 2) / f64::from((k + 1) * (k + 2));
+        }
+        // THEN it arrives at the target position and velocity with the wanted accelerations
+        assert!((r - bc.rf_nue).norm() < 1e-9, "r(tgo) = {r}");
+        assert!((v - bc.vf_nue).norm() < 1e-11, "v(tgo) = {v}");
+        assert!((cubic.net_acceleration_nue(0.0) - bc.a0_net_nue).norm() < 1e-15);
+        assert!((cubic.net_acceleration_nue(tgo) - bc.af_net_nue).norm() < 1e-12);
+    }
+
+    #[test]
+    fn already_on_target_at_rest_needs_no_acceleration() {
+        let bc = BoundaryConditions {
+            r0_nue: Vector3::new(0.0, 150.0, 0.0),
+            v0_nue: Vector3::zeros(),
+            a0_net_nue: Vector3::zeros(),
+            rf_nue: Vector3::new(0.0, 150.0, 0.0),
+            vf_nue: Vector3::zeros(),
+            af_net_nue: Vector3::zeros(),
+        };
+        let cubic = solve_cubic(&bc, 42.0);
+        assert!(cubic.coeffs.iter().all(|c| c.norm() < 1e-15));
+    }
+}

@@ -1,0 +1,269 @@
+//! The GNC parameters, their defaults (paper Tables I-II and the ERRATA modelling defaults)
+//! and their validation.
+use crate::attitude::gains::AttitudeGains;
+use crate::attitude::{AttitudeSettings, ControlLaw};
+use crate::guidance::pv::PvGains;
+use crate::guidance::sequencer::Scenario;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// All parameters, SI units, NUE / body axes as named.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct GncParameters {
+    /// Enumeration value: 1 coupled, 2 decoupled, 3 reduced.
+    pub control_law: i32,
+    pub phi_cmd_rad: f64,
+    /// Absolute simulation time at which `phi_cmd` is applied (0 before it).
+    pub phi_cmd_time_s: f64,
+    pub control_bandwidth_hz: f64,
+    pub control_damping: f64,
+    pub guidance_bandwidth_hz: f64,
+    pub guidance_damping: f64,
+    pub guidance_cycle_s: f64,
+    pub inertia_body_kgm2: [f64; 3],
+    pub thrust_min_n: f64,
+    pub thrust_max_n: f64,
+    pub torque_limit_body_nm: [f64; 3],
+    pub gravity_mps2: f64,
+    pub hover_target_nue_m: [f64; 3],
+    pub hover_duration_s: f64,
+    pub descent_target_nue_m: [f64; 3],
+    pub descent_time_to_go_s: f64,
+    pub descent_freeze_time_to_go_s: f64,
+    pub target_hover_duration_s: f64,
+    pub reduced_yaw_weight: f64,
+}
+
+impl Default for GncParameters {
+    fn default() -> Self {
+        Self {
+            control_law: ControlLaw::Decoupled as i32,
+            phi_cmd_rad: 0.0,
+            phi_cmd_time_s: 12.0,
+            control_bandwidth_hz: 0.5,
+            control_damping: 0.8,
+            guidance_bandwidth_hz: 0.06,
+            guidance_damping: 0.8,
+            guidance_cycle_s: 0.1,
+            inertia_body_kgm2: [400.0, 300.0, 450.0],
+            thrust_min_n: 720.0,
+            thrust_max_n: 1600.0,
+            torque_limit_body_nm: [116.0; 3],
+            gravity_mps2: 1.62,
+            hover_target_nue_m: [0.0, 800.0, 0.0],
+            hover_duration_s: 12.0,
+            descent_target_nue_m: [0.0, 150.0, 0.0],
+            descent_time_to_go_s: 130.0,
+            descent_freeze_time_to_go_s: 5.0,
+            target_hover_duration_s: 30.0,
+            reduced_yaw_weight: 0.4,
+        }
+    }
+}
+
+/// A parameter value the GNC refuses, naming the FMI variable.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("parameter {name} = {value}: {reason}")]
+pub struct InvalidParameter {
+    pub name: &'static str,
+    pub value: String,
+    pub reason: &'static str,
+}
+
+fn check(
+    ok: bool,
+    name: &'static str,
+    value: f64,
+    reason: &'static str,
+) -> Result<(), InvalidParameter> {
+    if ok {
+        Ok(())
+    } else {
+        Err(InvalidParameter {
+            name,
+            value: format!("{value}"),
+            reason,
+        })
+    }
+}
+
+const INERTIA_NAMES: [&str; 3] = ["inertia_body[1]", "inertia_body[2]", "inertia_body[3]"];
+const TORQUE_NAMES: [&str; 3] = [
+    "torque_limit_body[1]",
+    "torque_limit_body[2]",
+    "torque_limit_body[3]",
+];
+const HOVER_NAMES: [&str; 3] = [
+    "hover_target_nue[1]",
+    "hover_target_nue[2]",
+    "hover_target_nue[3]",
+];
+const DESCENT_NAMES: [&str; 3] = [
+    "descent_target_nue[1]",
+    "descent_target_nue[2]",
+    "descent_target_nue[3]",
+];
+
+impl GncParameters {
+    /// Refuse values the laws cannot work with; the error names the FMI variable.
+    /// Non-finite values are refused everywhere (the layer already refuses them on set).
+    pub fn validate(&self) -> Result<(), InvalidParameter> {
+        let p = self;
+        if ControlLaw::from_index(p.control_law).is_none() {
+            return Err(InvalidParameter {
+                name: "control_law",
+                value: p.control_law.to_string(),
+                reason: "must be 1 (coupled), 2 (decoupled) or 3 (reduced)",
+            });
+        }
+        check(
+            p.phi_cmd_rad.is_finite(),
+            "phi_cmd",
+            p.phi_cmd_rad,
+            "must be finite",
+        )?;
+        check(
+            p.phi_cmd_time_s.is_finite(),
+            "phi_cmd_time",
+            p.phi_cmd_time_s,
+            "must be finite",
+        )?;
+        let positive = [
+            ("control_bandwidth", p.control_bandwidth_hz),
+            ("control_damping", p.control_damping),
+            ("guidance_bandwidth", p.guidance_bandwidth_hz),
+            ("guidance_damping", p.guidance_damping),
+            ("guidance_cycle", p.guidance_cycle_s),
+            ("descent_time_to_go", p.descent_time_to_go_s),
+            ("gravity", p.gravity_mps2),
+        ];
+        for (name, value) in positive {
+            check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
+        }
+        for (name, value) in INERTIA_NAMES.iter().zip(p.inertia_body_kgm2) {
+            check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
+        }
+        for (name, value) in TORQUE_NAMES.iter().zip(p.torque_limit_body_nm) {
+            check(
+                value >= 0.0 && value.is_finite(),
+                name,
+                value,
+                "must be >= 0",
+            )?;
+        }
+        for (name, value) in HOVER_NAMES
+            .iter()
+            .chain(&DESCENT_NAMES)
+            .zip(p.hover_target_nue_m.iter().chain(&p.descent_target_nue_m))
+        {
+            check(value.is_finite(), name, *value, "must be finite")?;
+        }
+        check(
+            p.thrust_min_n >= 0.0,
+            "thrust_min",
+            p.thrust_min_n,
+            "must be >= 0",
+        )?;
+        check(
+            p.thrust_max_n >= p.thrust_min_n && p.thrust_max_n.is_finite(),
+            "thrust_max",
+            p.thrust_max_n,
+            "must be finite and >= thrust_min",
+        )?;
+        check(
+            p.hover_duration_s >= 0.0 && p.hover_duration_s.is_finite(),
+            "hover_duration",
+            p.hover_duration_s,
+            "must be >= 0",
+        )?;
+        check(
+            p.target_hover_duration_s >= 0.0 && p.target_hover_duration_s.is_finite(),
+            "target_hover_duration",
+            p.target_hover_duration_s,
+            "must be >= 0",
+        )?;
+        // The last solve then has tgo >= one guidance cycle: no division by a vanishing tgo.
+        check(
+            p.descent_freeze_time_to_go_s >= p.guidance_cycle_s
+                && p.descent_freeze_time_to_go_s.is_finite(),
+            "descent_freeze_time_to_go",
+            p.descent_freeze_time_to_go_s,
+            "must be >= guidance_cycle",
+        )?;
+        check(
+            (0.0..=1.0).contains(&p.reduced_yaw_weight),
+            "reduced_yaw_weight",
+            p.reduced_yaw_weight,
+            "must be in [0, 1]",
+        )?;
+        Ok(())
+    }
+
+    /// The guidance scenario these parameters describe.
+    pub fn scenario(&self) -> Scenario {
+        Scenario {
+            hover_target_nue: Vector3::from(self.hover_target_nue_m),
+            hover_duration_s: self.hover_duration_s,
+            descent_target_nue: Vector3::from(self.descent_target_nue_m),
+            descent_time_to_go_s: self.descent_time_to_go_s,
+            freeze_time_to_go_s: self.descent_freeze_time_to_go_s,
+            target_hover_duration_s: self.target_hover_duration_s,
+            guidance_cycle_s: self.guidance_cycle_s,
+            gravity_mps2: self.gravity_mps2,
+            pv_gains: PvGains::from_bandwidth(self.guidance_bandwidth_hz, self.guidance_damping),
+        }
+    }
+
+    /// The attitude settings these parameters describe (law falls back to decoupled only for
+    /// values `validate` refuses).
+    pub fn attitude_settings(&self) -> AttitudeSettings {
+        AttitudeSettings {
+            law: ControlLaw::from_index(self.control_law).unwrap_or(ControlLaw::Decoupled),
+            gains: AttitudeGains::from_bandwidth(
+                self.control_bandwidth_hz,
+                self.control_damping,
+                Vector3::from(self.inertia_body_kgm2),
+            ),
+            torque_limit_body_nm: Vector3::from(self.torque_limit_body_nm),
+            reduced_yaw_weight: self.reduced_yaw_weight,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        assert_eq!(GncParameters::default().validate(), Ok(()));
+    }
+
+    #[test]
+    fn bad_values_are_refused_by_name() {
+        let cases: [(&str, fn(&mut GncParameters)); 12] = [
+            ("control_law", |p| p.control_law = 4),
+            ("phi_cmd", |p| p.phi_cmd_rad = f64::NAN),
+            ("control_bandwidth", |p| p.control_bandwidth_hz = 0.0),
+            ("control_damping", |p| p.control_damping = -0.1),
+            ("guidance_bandwidth", |p| p.guidance_bandwidth_hz = -1.0),
+            ("guidance_cycle", |p| p.guidance_cycle_s = 0.0),
+            ("inertia_body[2]", |p| p.inertia_body_kgm2[1] = -300.0),
+            ("torque_limit_body[3]", |p| p.torque_limit_body_nm[2] = -1.0),
+            ("thrust_max", |p| p.thrust_min_n = 2000.0),
+            ("descent_freeze_time_to_go", |p| {
+                p.descent_freeze_time_to_go_s = 0.0
+            }),
+            ("reduced_yaw_weight", |p| p.reduced_yaw_weight = 1.5),
+            ("hover_target_nue[2]", |p| {
+                p.hover_target_nue_m[1] = f64::INFINITY
+            }),
+        ];
+        for (name, spoil) in cases {
+            let mut p = GncParameters::default();
+            spoil(&mut p);
+            let err = p.validate().unwrap_err();
+            assert_eq!(err.name, name, "{err}");
+        }
+    }
+}
