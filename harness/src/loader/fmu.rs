@@ -29,7 +29,7 @@ pub(crate) struct FmuShared {
     // Declared last and in this order: fields drop in declaration order, so the library is
     // unloaded before the temporary directory holding its file is deleted.
     _library: Library,
-    _unpacked: Unpacked,
+    unpacked: Unpacked,
 }
 
 impl std::fmt::Debug for Fmu {
@@ -94,7 +94,7 @@ impl Fmu {
                 resource_uri: unpacked.resource_uri(),
                 binary_path,
                 _library: library,
-                _unpacked: unpacked,
+                unpacked,
             }),
         })
     }
@@ -109,7 +109,7 @@ impl Fmu {
 
     /// The directory holding the unpacked FMU (a temporary one for a `.fmu`).
     pub fn unpacked_dir(&self) -> &Path {
-        self.shared._unpacked.root()
+        self.shared.unpacked.root()
     }
 
     pub fn binary_path(&self) -> &Path {
