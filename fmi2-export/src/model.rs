@@ -94,6 +94,14 @@ pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static
         &[]
     }
 
+    /// The inputs `output` depends on within one communication point (direct feedthrough),
+    /// written to `ModelStructure/Outputs`. The default, every input, is always safe; a
+    /// model whose outputs are pure functions of its state says `NoInputs`, which lets a
+    /// master close a loop through it without an algebraic loop.
+    fn output_dependencies(_output: &str) -> Dependencies {
+        Dependencies::AllInputs
+    }
+
     /// Recompute outputs (and calculated parameters) from the current parameters, inputs and
     /// state, so that a `get` sees consistent values (outputs with direct feedthrough, initial
     /// unknowns in initialization mode). The layer calls it before a `fmi2Get*` whenever a
@@ -107,6 +115,15 @@ pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static
 
     /// Advance from `t` to `t + h` (`h > 0`, all inputs finite, checked by the layer).
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError>;
+}
+
+/// Direct feedthrough of one output, see [`Model::output_dependencies`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dependencies {
+    AllInputs,
+    NoInputs,
+    /// These inputs, by name.
+    Inputs(&'static [&'static str]),
 }
 
 /// An enumeration type (`<SimpleType><Enumeration>`).

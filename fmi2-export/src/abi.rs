@@ -1,0 +1,1263 @@
+//! The generic bodies of the 34 `fmi2*` functions. [`export_fmi2!`](crate::export_fmi2)
+//! generates the `#[no_mangle]` symbols in the model crate, each a one-line call into here.
+//!
+//! Every function that takes an instance goes through [`call`]: NULL or foreign component
+//! -> `fmi2Error` (no logger to tell); call trace (`logCalls`); state-machine check against
+//! the table of [`Function::legal_states`]; the body under `catch_unwind` (a panic becomes
+//! `fmi2Fatal` and state Fatal); a refusal is logged as one line "fmi2Xxx: reason".
+//!
+//! Refused arguments (illegal call sequence, NULL array, unknown value reference, value not
+//! settable/non-finite/out of range, bad communication point) leave the instance as it
+//! was, like the Reference FMUs: the call had no effect, so there is nothing to recover
+//! from. A failure of the model itself (`exit_initialization` or `do_step` returning an
+//! error) moves it to state Error as the standard's state machine says; `fmi2Reset`,
+//! `fmi2SetFMUstate` or `fmi2FreeInstance` lead on from there.
+//!
+//! # Safety
+//! Every function here is `unsafe`: the caller (the generated symbol, i.e. the master)
+//! must pass pointers that are valid as the FMI 2.0 standard requires for the function.
+#![allow(unsafe_code)]
+
+use crate::error::{CallError, Success};
+use crate::ffi::*;
+use crate::index::BaseType;
+use crate::instance::{Core, Instance, Tag};
+use crate::logging::{Category, Logger};
+use crate::model::{Log, Model, StepEnd};
+use crate::rules::{check_enumeration, check_integer, check_real, check_settable};
+use crate::snapshot;
+use crate::state::{Function, State};
+use crate::variable::{Access, Variable};
+use std::ffi::{CStr, CString};
+use std::fmt::Debug;
+use std::os::raw::c_char;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::ptr;
+
+/// Relative tolerance on communication points: masters accumulate `t += h` and arrive a
+/// few ulps off (fmpy reaches step 1200 of 0.01 s at 11.999999999999789). A point `t` is
+/// accepted when `|t - time| <= 1e-9 * max(1, |time|)`; the same bound applies to the
+/// declared stop time.
+pub const TIME_TOLERANCE: f64 = 1e-9;
+
+fn time_tolerance(reference: f64) -> f64 {
+    TIME_TOLERANCE * reference.abs().max(1.0)
+}
+
+// ---------------------------------------------------------------------------------------
+// Plumbing
+// ---------------------------------------------------------------------------------------
+
+/// The instance behind `c`, or `None` for NULL or a pointer that is not an `Instance<M>`.
+unsafe fn instance_mut<'a, M: Model>(c: fmi2Component) -> Option<&'a mut Instance<M>> {
+    if c.is_null() {
+        return None;
+    }
+    // SAFETY: the master hands back what fmi2Instantiate returned (a Box<Instance<M>>,
+    // whose first field is the Tag: repr(C)); the tag check guards against a component
+    // of another model type.
+    let tag = unsafe { ptr::read(c as *const Tag) };
+    if tag != Tag::of::<M>() {
+        return None;
+    }
+    Some(unsafe { &mut *(c as *mut Instance<M>) })
+}
+
+fn panic_text(payload: &(dyn std::any::Any + Send)) -> &str {
+    payload
+        .downcast_ref::<&str>()
+        .copied()
+        .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
+        .unwrap_or("unknown panic")
+}
+
+/// Runs one FMI call on an instance; see the module documentation.
+unsafe fn call<M: Model>(
+    c: fmi2Component,
+    function: Function,
+    trace: impl FnOnce() -> String,
+    body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
+) -> fmi2Status {
+    let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
+        return fmi2Status::fmi2Error;
+    };
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        if inst.logger.is_on(Category::Calls) {
+            inst.logger
+                .log(fmi2Status::fmi2OK, Category::Calls, &trace());
+        }
+        let state = inst.core.state;
+        let result = if function.legal_states().contains(state) {
+            body(inst)
+        } else {
+            Err(CallError::IllegalCall(state))
+        };
+        match result {
+            Ok(success) => success.status(),
+            Err(error) => {
+                let status = error.status();
+                inst.logger
+                    .status(status, &format!("{}: {error}", function.name()));
+                status
+            }
+        }
+    }));
+    outcome.unwrap_or_else(|payload| {
+        let _ = catch_unwind(AssertUnwindSafe(|| {
+            inst.core.state = State::Fatal;
+            inst.logger.status(
+                fmi2Status::fmi2Fatal,
+                &format!(
+                    "{}: internal error, instance unusable: {}",
+                    function.name(),
+                    panic_text(payload.as_ref())
+                ),
+            );
+        }));
+        fmi2Status::fmi2Fatal
+    })
+}
+
+/// `n` elements at `ptr`; NULL is an error unless `n == 0`.
+unsafe fn slice<'a, T>(ptr: *const T, n: usize, name: &'static str) -> Result<&'a [T], CallError> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if ptr.is_null() {
+        return Err(CallError::NullArgument(name));
+    }
+    if n > isize::MAX as usize / std::mem::size_of::<T>().max(1) {
+        return Err(CallError::InvalidArgument(format!(
+            "{n} elements for {name} cannot exist"
+        )));
+    }
+    // SAFETY: non-null, size checked; the master guarantees n readable elements.
+    Ok(unsafe { std::slice::from_raw_parts(ptr, n) })
+}
+
+unsafe fn slice_mut<'a, T>(
+    ptr: *mut T,
+    n: usize,
+    name: &'static str,
+) -> Result<&'a mut [T], CallError> {
+    unsafe { slice(ptr as *const T, n, name) }?;
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    // SAFETY: as in `slice`; the master guarantees n writable elements.
+    Ok(unsafe { std::slice::from_raw_parts_mut(ptr, n) })
+}
+
+/// `*ptr` as an out-parameter; NULL is an error.
+unsafe fn out<'a, T>(ptr: *mut T, name: &'static str) -> Result<&'a mut T, CallError> {
+    // SAFETY: the master guarantees a writable T when non-null.
+    unsafe { ptr.as_mut() }.ok_or(CallError::NullArgument(name))
+}
+
+/// For the call trace: up to 16 elements of an input array.
+unsafe fn show<T: Debug>(ptr: *const T, n: usize) -> String {
+    if n == 0 {
+        return "[]".into();
+    }
+    if ptr.is_null() {
+        return "NULL".into();
+    }
+    let shown = n.min(16);
+    // SAFETY: as in `slice`.
+    let items = unsafe { std::slice::from_raw_parts(ptr, shown) };
+    let more = if n > shown { ", ..." } else { "" };
+    format!("{items:?}{more}")
+}
+
+unsafe fn show_str(s: fmi2String) -> String {
+    if s.is_null() {
+        "NULL".into()
+    } else {
+        // SAFETY: the master passes NUL-terminated strings.
+        format!("{:?}", unsafe { CStr::from_ptr(s) }.to_string_lossy())
+    }
+}
+
+fn row<M: Model>(
+    inst: &Instance<M>,
+    base: BaseType,
+    vr: fmi2ValueReference,
+) -> Result<&'static Variable<M>, CallError> {
+    inst.index
+        .row(base, vr)
+        .map(|r| &M::variables()[r])
+        .ok_or(CallError::UnknownValueReference {
+            vr,
+            type_name: base.name(),
+        })
+}
+
+// ---------------------------------------------------------------------------------------
+// Functions without an instance
+// ---------------------------------------------------------------------------------------
+
+pub fn get_types_platform() -> *const c_char {
+    TYPES_PLATFORM.as_ptr()
+}
+
+pub fn get_version() -> *const c_char {
+    VERSION.as_ptr()
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn instantiate<M: Model>(
+    instance_name: fmi2String,
+    fmu_type: fmi2Type,
+    fmu_guid: fmi2String,
+    fmu_resource_location: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    visible: fmi2Boolean,
+    logging_on: fmi2Boolean,
+) -> fmi2Component {
+    // Without callbacks there is no way to say what went wrong: NULL is the whole answer.
+    // SAFETY: the master passes a readable struct when non-null; we copy it.
+    let Some(callbacks) = (unsafe { functions.as_ref() }).copied() else {
+        return ptr::null_mut();
+    };
+    if callbacks.logger.is_none() {
+        return ptr::null_mut();
+    }
+    let owned = |s: fmi2String| {
+        // SAFETY: NUL-terminated when non-null, per the standard; copied at once.
+        (!s.is_null()).then(|| unsafe { CStr::from_ptr(s) }.to_owned())
+    };
+    let name = owned(instance_name);
+    let guid = owned(fmu_guid);
+    let resource_location = owned(fmu_resource_location);
+    let logger = Logger::new(
+        callbacks.logger,
+        callbacks.componentEnvironment,
+        name.clone().unwrap_or_default(),
+        logging_on != fmi2False,
+    );
+    let outcome = catch_unwind(AssertUnwindSafe(move || {
+        if logger.is_on(Category::Calls) {
+            let trace = format!(
+                "fmi2Instantiate(instanceName={:?}, fmuType={fmu_type}, fmuGUID={:?}, \
+                 fmuResourceLocation={:?}, visible={visible}, loggingOn={logging_on})",
+                name, guid, resource_location
+            );
+            logger.log(fmi2Status::fmi2OK, Category::Calls, &trace);
+        }
+        let expected_guid = crate::guid::<M>();
+        let refusal = if name.as_ref().is_none_or(|n| n.is_empty()) {
+            Some("instanceName is NULL or empty".to_string())
+        } else if fmu_type != fmi2CoSimulation {
+            Some(format!(
+                "fmuType {fmu_type} is not supported: {} implements Co-Simulation \
+                 (fmi2CoSimulation = {fmi2CoSimulation}) only",
+                M::MODEL_IDENTIFIER
+            ))
+        } else if guid.as_ref().map(|g| g.to_bytes()) != Some(expected_guid.as_bytes()) {
+            Some(format!(
+                "fmuGUID {:?} does not match this FMU's GUID {expected_guid}",
+                guid.as_ref().map(|g| g.to_string_lossy())
+            ))
+        } else {
+            None
+        };
+        if let Some(reason) = refusal {
+            logger.status(fmi2Status::fmi2Error, &format!("fmi2Instantiate: {reason}"));
+            return ptr::null_mut();
+        }
+        let instance = Box::new(Instance::<M>::new(
+            logger,
+            crate::interface_uuid::<M>(),
+            resource_location,
+        ));
+        Box::into_raw(instance) as fmi2Component
+    }));
+    outcome.unwrap_or_else(|payload| {
+        let logger = Logger::new(
+            callbacks.logger,
+            callbacks.componentEnvironment,
+            c"".to_owned(),
+            false,
+        );
+        logger.status(
+            fmi2Status::fmi2Fatal,
+            &format!(
+                "fmi2Instantiate: internal error: {}",
+                panic_text(payload.as_ref())
+            ),
+        );
+        ptr::null_mut()
+    })
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn free_instance<M: Model>(c: fmi2Component) {
+    let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
+        return;
+    };
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        if inst.logger.is_on(Category::Calls) {
+            inst.logger
+                .log(fmi2Status::fmi2OK, Category::Calls, "fmi2FreeInstance()");
+        }
+        inst.tag = Tag::cleared();
+        // SAFETY: `c` came from Box::into_raw in instantiate; `inst` is not used again.
+        let mut boxed = unsafe { Box::from_raw(c as *mut Instance<M>) };
+        for address in boxed.fmu_states.drain() {
+            // SAFETY: only addresses from Box::into_raw of a Core<M> are registered.
+            drop(unsafe { Box::from_raw(address as *mut Core<M>) });
+        }
+    }));
+}
+
+// ---------------------------------------------------------------------------------------
+// Lifecycle
+// ---------------------------------------------------------------------------------------
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_debug_logging<M: Model>(
+    c: fmi2Component,
+    logging_on: fmi2Boolean,
+    n_categories: usize,
+    categories: *const fmi2String,
+) -> fmi2Status {
+    let f = Function::SetDebugLogging;
+    let trace = || {
+        let names: Vec<String> = unsafe { slice(categories, n_categories, "categories") }
+            .map(|s| s.iter().map(|&p| unsafe { show_str(p) }).collect())
+            .unwrap_or_default();
+        format!(
+            "{}(loggingOn={logging_on}, nCategories={n_categories}, categories={names:?})",
+            f.name()
+        )
+    };
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            let names = slice(categories, n_categories, "categories")?;
+            let mut chosen = Vec::with_capacity(names.len());
+            for &p in names {
+                if p.is_null() {
+                    return Err(CallError::NullArgument("categories[i]"));
+                }
+                let name = CStr::from_ptr(p).to_bytes();
+                let category = crate::logging::Category::from_name(name).ok_or_else(|| {
+                    CallError::InvalidArgument(format!(
+                        "unknown log category {:?}",
+                        String::from_utf8_lossy(name)
+                    ))
+                })?;
+                chosen.push(category);
+            }
+            let on = logging_on != fmi2False;
+            if chosen.is_empty() {
+                inst.logger.set_all(on);
+            } else {
+                for category in chosen {
+                    inst.logger.set(category, on);
+                }
+            }
+            Ok(Success::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn setup_experiment<M: Model>(
+    c: fmi2Component,
+    tolerance_defined: fmi2Boolean,
+    tolerance: fmi2Real,
+    start_time: fmi2Real,
+    stop_time_defined: fmi2Boolean,
+    stop_time: fmi2Real,
+) -> fmi2Status {
+    let f = Function::SetupExperiment;
+    let trace = || {
+        format!(
+            "{}(toleranceDefined={tolerance_defined}, tolerance={tolerance:e} (not used: \
+             fixed-step model), startTime={start_time}, stopTimeDefined={stop_time_defined}, \
+             stopTime={stop_time})",
+            f.name()
+        )
+    };
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            if !start_time.is_finite() {
+                return Err(CallError::InvalidArgument(format!(
+                    "startTime {start_time} is not finite"
+                )));
+            }
+            let stop = (stop_time_defined != fmi2False).then_some(stop_time);
+            if let Some(stop) = stop {
+                if !stop.is_finite() || stop < start_time {
+                    return Err(CallError::InvalidArgument(format!(
+                        "stopTime {stop} is not a finite time at or after startTime {start_time}"
+                    )));
+                }
+            }
+            let core = &mut inst.core;
+            core.start_time = start_time;
+            core.stop_time = stop;
+            core.time = start_time;
+            core.last_successful_time = start_time;
+            Ok(Success::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn enter_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status {
+    let f = Function::EnterInitializationMode;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}()", f.name()),
+            |inst| {
+                inst.core.state = State::InitializationMode;
+                inst.dirty = true;
+                Ok(Success::Ok)
+            },
+        )
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status {
+    let f = Function::ExitInitializationMode;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}()", f.name()),
+            |inst| {
+                let mut log = Log::default();
+                let start_time = inst.core.start_time;
+                let result = inst.core.model.exit_initialization(start_time, &mut log);
+                let success = inst.forward(f, &log);
+                result.map_err(|e| inst.fail(e))?;
+                inst.core.state = State::StepComplete;
+                inst.core.time = start_time;
+                inst.core.last_successful_time = start_time;
+                inst.dirty = true;
+                Ok(success)
+            },
+        )
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn terminate<M: Model>(c: fmi2Component) -> fmi2Status {
+    let f = Function::Terminate;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}()", f.name()),
+            |inst| {
+                inst.core.state = State::Terminated;
+                Ok(Success::Ok)
+            },
+        )
+    }
+}
+
+/// Back to the freshly instantiated state: start values reapplied, time and status reset.
+/// Logging flags and FMU states stay: they belong to the master's session, not to the run.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn reset<M: Model>(c: fmi2Component) -> fmi2Status {
+    let f = Function::Reset;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}()", f.name()),
+            |inst| {
+                inst.core = Core::fresh();
+                inst.dirty = true;
+                Ok(Success::Ok)
+            },
+        )
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Get and set
+// ---------------------------------------------------------------------------------------
+
+fn get_values<M: Model, V>(
+    inst: &mut Instance<M>,
+    f: Function,
+    base: BaseType,
+    vrs: &[fmi2ValueReference],
+    values: &mut [V],
+    read: impl Fn(&Variable<M>, &M) -> V,
+) -> Result<Success, CallError> {
+    let success = inst.refresh(f);
+    for (&vr, value) in vrs.iter().zip(values) {
+        *value = read(row(inst, base, vr)?, &inst.core.model);
+    }
+    Ok(success)
+}
+
+/// Checks every value before writing any, so a refused call changes nothing.
+fn set_values<M: Model, V: Copy>(
+    inst: &mut Instance<M>,
+    base: BaseType,
+    vrs: &[fmi2ValueReference],
+    values: &[V],
+    check: impl Fn(&Variable<M>, V) -> Result<(), CallError>,
+    write: impl Fn(&Variable<M>, &mut M, V),
+) -> Result<Success, CallError> {
+    for (&vr, &value) in vrs.iter().zip(values) {
+        let var = row(inst, base, vr)?;
+        check_settable(var, inst.core.state)?;
+        check(var, value)?;
+    }
+    for (&vr, &value) in vrs.iter().zip(values) {
+        let var = row(inst, base, vr)?;
+        write(var, &mut inst.core.model, value);
+    }
+    if !vrs.is_empty() {
+        inst.dirty = true;
+    }
+    Ok(Success::Ok)
+}
+
+macro_rules! trace_array_call {
+    ($f:expr, $vr:expr, $nvr:expr, $value:expr) => {
+        || {
+            format!(
+                "{}(nvr={}, vr={}, value={})",
+                $f.name(),
+                $nvr,
+                show($vr, $nvr),
+                show($value, $nvr)
+            )
+        }
+    };
+    ($f:expr, $vr:expr, $nvr:expr) => {
+        || format!("{}(nvr={}, vr={})", $f.name(), $nvr, show($vr, $nvr))
+    };
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_real<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    let f = Function::GetReal;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let values = slice_mut(value, nvr, "value")?;
+            get_values(inst, f, BaseType::Real, vrs, values, |var, m| {
+                match &var.access {
+                    Access::Real { get, .. } => get(m),
+                    _ => f64::NAN,
+                }
+            })
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_integer<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    let f = Function::GetInteger;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let values = slice_mut(value, nvr, "value")?;
+            get_values(
+                inst,
+                f,
+                BaseType::Integer,
+                vrs,
+                values,
+                |var, m| match &var.access {
+                    Access::Integer { get, .. } | Access::Enumeration { get, .. } => get(m),
+                    _ => 0,
+                },
+            )
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_boolean<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    let f = Function::GetBoolean;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let values = slice_mut(value, nvr, "value")?;
+            get_values(
+                inst,
+                f,
+                BaseType::Boolean,
+                vrs,
+                values,
+                |var, m| match &var.access {
+                    Access::Boolean { get, .. } if get(m) => fmi2True,
+                    _ => fmi2False,
+                },
+            )
+        })
+    }
+}
+
+/// The returned pointers stay valid until the next `fmi2GetString` on this instance or
+/// its `fmi2FreeInstance`.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_string<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2String,
+) -> fmi2Status {
+    let f = Function::GetString;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let values = slice_mut(value, nvr, "value")?;
+            let mut strings = vec![CString::default(); nvr];
+            let success =
+                get_values(
+                    inst,
+                    f,
+                    BaseType::String,
+                    vrs,
+                    &mut strings,
+                    |var, m| match &var.access {
+                        Access::String { get, .. } => crate::logging::sanitize(get(m)),
+                        _ => CString::default(),
+                    },
+                )?;
+            inst.returned_strings = strings;
+            for (out, s) in values.iter_mut().zip(&inst.returned_strings) {
+                *out = s.as_ptr();
+            }
+            Ok(success)
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_real<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    let f = Function::SetReal;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let values = slice(value, nvr, "value")?;
+            set_values(
+                inst,
+                BaseType::Real,
+                vrs,
+                values,
+                |var, v| match &var.access {
+                    Access::Real { min, max, .. } => check_real(var, v, *min, *max),
+                    _ => Ok(()),
+                },
+                |var, m, v| {
+                    if let Access::Real { set: Some(set), .. } = &var.access {
+                        set(m, v)
+                    }
+                },
+            )
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_integer<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Integer,
+) -> fmi2Status {
+    let f = Function::SetInteger;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let values = slice(value, nvr, "value")?;
+            set_values(
+                inst,
+                BaseType::Integer,
+                vrs,
+                values,
+                |var, v| match &var.access {
+                    Access::Integer { min, max, .. } => check_integer(var, v, *min, *max),
+                    Access::Enumeration { type_name, .. } => {
+                        check_enumeration(var, v, type_name, M::enumeration_types())
+                    }
+                    _ => Ok(()),
+                },
+                |var, m, v| match &var.access {
+                    Access::Integer { set: Some(set), .. }
+                    | Access::Enumeration { set: Some(set), .. } => set(m, v),
+                    _ => {}
+                },
+            )
+        })
+    }
+}
+
+/// Any non-zero `fmi2Boolean` is true, as C reads it.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_boolean<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Boolean,
+) -> fmi2Status {
+    let f = Function::SetBoolean;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let values = slice(value, nvr, "value")?;
+            set_values(
+                inst,
+                BaseType::Boolean,
+                vrs,
+                values,
+                |_, _| Ok(()),
+                |var, m, v| {
+                    if let Access::Boolean { set: Some(set), .. } = &var.access {
+                        set(m, v != fmi2False)
+                    }
+                },
+            )
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_string<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2String,
+) -> fmi2Status {
+    let f = Function::SetString;
+    let trace = || {
+        let shown: Vec<String> = unsafe { slice(value, nvr.min(16), "value") }
+            .map(|s| s.iter().map(|&p| unsafe { show_str(p) }).collect())
+            .unwrap_or_default();
+        format!("{}(nvr={nvr}, vr={}, value={shown:?})", f.name(), unsafe {
+            show(vr, nvr)
+        })
+    };
+    let text = |var: &Variable<M>, p: fmi2String| -> Result<&str, CallError> {
+        let invalid = |reason: &str| CallError::InvalidValue {
+            name: var.name,
+            vr: var.value_reference,
+            reason: reason.into(),
+        };
+        if p.is_null() {
+            return Err(invalid("value is a NULL string"));
+        }
+        // SAFETY: non-null strings are NUL-terminated per the standard.
+        unsafe { CStr::from_ptr(p) }
+            .to_str()
+            .map_err(|_| invalid("value is not valid UTF-8"))
+    };
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let values = slice(value, nvr, "value")?;
+            set_values(
+                inst,
+                BaseType::String,
+                vrs,
+                values,
+                |var, p| text(var, p).map(|_| ()),
+                |var, m, p| {
+                    if let (Access::String { set: Some(set), .. }, Ok(s)) =
+                        (&var.access, text(var, p))
+                    {
+                        set(m, s)
+                    }
+                },
+            )
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// FMU state
+// ---------------------------------------------------------------------------------------
+
+/// The state at `state` if this instance handed it out and has not freed it.
+fn owned_state<'a, M: Model>(
+    inst: &Instance<M>,
+    state: fmi2FMUstate,
+) -> Result<&'a mut Core<M>, CallError> {
+    if state.is_null() {
+        return Err(CallError::NullArgument("FMUstate"));
+    }
+    if !inst.fmu_states.contains(&(state as usize)) {
+        return Err(CallError::InvalidArgument(format!(
+            "FMUstate {state:p} was not created by this instance (or was freed)"
+        )));
+    }
+    // SAFETY: registered addresses come from Box::into_raw of a Core<M> and are removed
+    // when freed; the master does not use one state from two threads at once.
+    Ok(unsafe { &mut *(state as *mut Core<M>) })
+}
+
+/// Stores `core` in `*slot`: into the state already there (which must be ours) or a new one.
+fn store_state<M: Model>(
+    inst: &mut Instance<M>,
+    slot: &mut fmi2FMUstate,
+    core: Core<M>,
+) -> Result<Success, CallError> {
+    if slot.is_null() {
+        let address = Box::into_raw(Box::new(core));
+        inst.fmu_states.insert(address as usize);
+        *slot = address as fmi2FMUstate;
+    } else {
+        *owned_state(inst, *slot)? = core;
+    }
+    Ok(Success::Ok)
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
+    let f = Function::GetFMUstate;
+    let trace = || format!("{}(FMUstate={state:p})", f.name());
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            let slot = out(state, "FMUstate")?;
+            let core = inst.core.clone();
+            store_state(inst, slot, core)
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_fmu_state<M: Model>(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
+    let f = Function::SetFMUstate;
+    let trace = || format!("{}(FMUstate={state:p})", f.name());
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            inst.core = owned_state(inst, state)?.clone();
+            inst.dirty = true;
+            Ok(Success::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn free_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
+    let f = Function::FreeFMUstate;
+    let trace = || format!("{}(FMUstate={state:p})", f.name());
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            let slot = out(state, "FMUstate")?;
+            // The standard: a NULL *FMUstate is ignored.
+            if slot.is_null() {
+                return Ok(Success::Ok);
+            }
+            owned_state(inst, *slot)?;
+            inst.fmu_states.remove(&(*slot as usize));
+            // SAFETY: registered (checked above), hence a live Box<Core<M>>; now unregistered.
+            drop(Box::from_raw(*slot as *mut Core<M>));
+            *slot = ptr::null_mut();
+            Ok(Success::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn serialized_fmu_state_size<M: Model>(
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    size: *mut usize,
+) -> fmi2Status {
+    let f = Function::SerializedFMUstateSize;
+    let trace = || format!("{}(FMUstate={state:p})", f.name());
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            let size = out(size, "size")?;
+            *size = snapshot::encode(owned_state(inst, state)?, inst.guid)?.len();
+            Ok(Success::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn serialize_fmu_state<M: Model>(
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    serialized: *mut fmi2Byte,
+    size: usize,
+) -> fmi2Status {
+    let f = Function::SerializeFMUstate;
+    let trace = || format!("{}(FMUstate={state:p}, size={size})", f.name());
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            let bytes = snapshot::encode(owned_state(inst, state)?, inst.guid)?;
+            if size != bytes.len() {
+                return Err(CallError::InvalidArgument(format!(
+                    "size {size} differs from fmi2SerializedFMUstateSize = {}",
+                    bytes.len()
+                )));
+            }
+            let buffer = slice_mut(serialized as *mut u8, size, "serializedState")?;
+            buffer.copy_from_slice(&bytes);
+            Ok(Success::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn de_serialize_fmu_state<M: Model>(
+    c: fmi2Component,
+    serialized: *const fmi2Byte,
+    size: usize,
+    state: *mut fmi2FMUstate,
+) -> fmi2Status {
+    let f = Function::DeSerializeFMUstate;
+    let trace = || format!("{}(size={size}, FMUstate={state:p})", f.name());
+    unsafe {
+        call::<M>(c, f, trace, |inst| {
+            let bytes = slice(serialized as *const u8, size, "serializedState")?;
+            let slot = out(state, "FMUstate")?;
+            let core = snapshot::decode::<M>(bytes, inst.guid)?;
+            store_state(inst, slot, core)
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Unsupported optional functions
+// ---------------------------------------------------------------------------------------
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_directional_derivative<M: Model>(
+    c: fmi2Component,
+    _unknowns: *const fmi2ValueReference,
+    n_unknown: usize,
+    _knowns: *const fmi2ValueReference,
+    n_known: usize,
+    _dv_known: *const fmi2Real,
+    _dv_unknown: *mut fmi2Real,
+) -> fmi2Status {
+    let f = Function::GetDirectionalDerivative;
+    let trace = || format!("{}(nUnknown={n_unknown}, nKnown={n_known})", f.name());
+    unsafe {
+        call::<M>(c, f, trace, |_| {
+            Err(CallError::Unsupported(
+                "not provided (providesDirectionalDerivative = false)",
+            ))
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_real_input_derivatives<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *const fmi2Real,
+) -> fmi2Status {
+    let f = Function::SetRealInputDerivatives;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr), |_| {
+            Err(CallError::Unsupported(
+                "not supported (canInterpolateInputs = false)",
+            ))
+        })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_real_output_derivatives<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *mut fmi2Real,
+) -> fmi2Status {
+    let f = Function::GetRealOutputDerivatives;
+    unsafe {
+        call::<M>(c, f, trace_array_call!(f, vr, nvr), |_| {
+            Err(CallError::Unsupported(
+                "not supported (maxOutputDerivativeOrder = 0)",
+            ))
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Stepping and status
+// ---------------------------------------------------------------------------------------
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn do_step<M: Model>(
+    c: fmi2Component,
+    current_communication_point: fmi2Real,
+    communication_step_size: fmi2Real,
+    no_set_fmu_state_prior_to_current_point: fmi2Boolean,
+) -> fmi2Status {
+    let f = Function::DoStep;
+    let (t, h) = (current_communication_point, communication_step_size);
+    let trace = || {
+        format!(
+            "{}(currentCommunicationPoint={t}, communicationStepSize={h}, \
+             noSetFMUStatePriorToCurrentPoint={no_set_fmu_state_prior_to_current_point})",
+            f.name()
+        )
+    };
+    unsafe { call::<M>(c, f, trace, |inst| step(inst, t, h)) }
+}
+
+fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, CallError> {
+    let f = Function::DoStep;
+    if !(h.is_finite() && h > 0.0) {
+        return Err(CallError::InvalidArgument(format!(
+            "communicationStepSize {h} is not a finite positive number"
+        )));
+    }
+    let time = inst.core.time;
+    if !t.is_finite() || (t - time).abs() > time_tolerance(time) {
+        return Err(CallError::InvalidArgument(format!(
+            "currentCommunicationPoint {t} does not match the FMU's time {time} \
+             (relative tolerance {TIME_TOLERANCE:e})"
+        )));
+    }
+    // The master's own t + h: the next call's t must match it, so no rounding of ours.
+    let end = t + h;
+    if let Some(stop) = inst.core.stop_time {
+        if end > stop + time_tolerance(stop) {
+            return Err(CallError::InvalidArgument(format!(
+                "step to {end} (currentCommunicationPoint {t} + communicationStepSize {h}) \
+                 passes the stop time {stop} declared in fmi2SetupExperiment"
+            )));
+        }
+    }
+    let mut log = Log::default();
+    let result = inst.core.model.do_step(t, h, &mut log);
+    inst.dirty = true;
+    let success = inst.forward(f, &log);
+    match result.map_err(|e| inst.fail(e))? {
+        StepEnd::Complete => {
+            inst.core.time = end;
+            inst.core.last_successful_time = end;
+            Ok(success)
+        }
+        StepEnd::Stopped {
+            time: stopped,
+            terminated,
+            reason,
+        } => {
+            if !(t..=end).contains(&stopped) {
+                return Err(inst.fail(CallError::InvalidArgument(format!(
+                    "model error: stopped at {stopped}, outside the step [{t}, {end}]"
+                ))));
+            }
+            let core = &mut inst.core;
+            core.time = stopped;
+            core.last_successful_time = stopped;
+            core.terminated = terminated;
+            core.state = State::StepFailed;
+            Err(CallError::Discard(format!(
+                "step ended early at t = {stopped}{}: {reason}",
+                if terminated { " (terminated)" } else { "" }
+            )))
+        }
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn cancel_step<M: Model>(c: fmi2Component) -> fmi2Status {
+    // Never legal: fmi2DoStep is synchronous and never returns fmi2Pending, so the table
+    // refuses it in every state with "illegal call".
+    let f = Function::CancelStep;
+    unsafe { call::<M>(c, f, || format!("{}()", f.name()), |_| Ok(Success::Ok)) }
+}
+
+#[allow(non_upper_case_globals)]
+fn status_kind_name(kind: fmi2StatusKind) -> Result<&'static str, CallError> {
+    match kind {
+        fmi2DoStepStatus => Ok("fmi2DoStepStatus"),
+        fmi2PendingStatus => Ok("fmi2PendingStatus"),
+        fmi2LastSuccessfulTime => Ok("fmi2LastSuccessfulTime"),
+        fmi2Terminated => Ok("fmi2Terminated"),
+        other => Err(CallError::InvalidArgument(format!(
+            "status kind {other} is not an fmi2StatusKind"
+        ))),
+    }
+}
+
+/// The standard: "If a status is required which cannot be retrieved by the slave it
+/// returns fmi2Discard."
+fn not_available(kind: fmi2StatusKind, what: &str) -> Result<Success, CallError> {
+    Err(CallError::Discard(format!(
+        "{} is not available as {what} (no asynchronous steps here)",
+        status_kind_name(kind)?
+    )))
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_status<M: Model>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Status,
+) -> fmi2Status {
+    let f = Function::GetStatus;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}(s={kind})", f.name()),
+            |_| {
+                out(value, "value")?;
+                not_available(kind, "an fmi2Status")
+            },
+        )
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_real_status<M: Model>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    let f = Function::GetRealStatus;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}(s={kind})", f.name()),
+            |inst| {
+                let value = out(value, "value")?;
+                if kind != fmi2LastSuccessfulTime {
+                    return not_available(kind, "a Real");
+                }
+                *value = inst.core.last_successful_time;
+                Ok(Success::Ok)
+            },
+        )
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_integer_status<M: Model>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    let f = Function::GetIntegerStatus;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}(s={kind})", f.name()),
+            |_| {
+                out(value, "value")?;
+                not_available(kind, "an Integer")
+            },
+        )
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_boolean_status<M: Model>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    let f = Function::GetBooleanStatus;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}(s={kind})", f.name()),
+            |inst| {
+                let value = out(value, "value")?;
+                if kind != fmi2Terminated {
+                    return not_available(kind, "a Boolean");
+                }
+                *value = if inst.core.terminated {
+                    fmi2True
+                } else {
+                    fmi2False
+                };
+                Ok(Success::Ok)
+            },
+        )
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_string_status<M: Model>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2String,
+) -> fmi2Status {
+    let f = Function::GetStringStatus;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}(s={kind})", f.name()),
+            |_| {
+                out(value, "value")?;
+                not_available(kind, "a String")
+            },
+        )
+    }
+}

@@ -1,0 +1,326 @@
+//! `check_table`: the rules of FMI 2.0 §2.2.7 that a variable table must keep, checked in
+//! the model crates' tests and before any XML is written.
+use crate::index::BaseType;
+use crate::instance::apply_start_values;
+use crate::model::{Dependencies, Model};
+use crate::units::base_unit;
+use crate::variable::{Access, Causality, Initial, Variability, Variable};
+use std::collections::HashSet;
+
+/// Everything wrong with a table, one line per problem.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("invalid variable table of {model}:\n  {}", problems.join("\n  "))]
+pub struct TableError {
+    pub model: &'static str,
+    pub problems: Vec<String>,
+}
+
+/// The `initial` attribute a (causality, variability) pair allows, FMI 2.0 table of
+/// §2.2.7: `None` if the pair itself is illegal; otherwise (default, allowed values), where
+/// an empty `allowed` means the attribute must be absent (inputs, independent).
+pub fn initial_rule(
+    causality: Causality,
+    variability: Variability,
+) -> Option<(Option<Initial>, &'static [Initial])> {
+    use Causality as C;
+    use Initial::*;
+    use Variability as V;
+    const A: (Option<Initial>, &[Initial]) = (Some(Exact), &[Exact]);
+    const B: (Option<Initial>, &[Initial]) = (Some(Calculated), &[Approx, Calculated]);
+    const C_: (Option<Initial>, &[Initial]) = (Some(Calculated), &[Exact, Approx, Calculated]);
+    const NONE: (Option<Initial>, &[Initial]) = (None, &[]);
+    match (causality, variability) {
+        (C::Parameter, V::Fixed | V::Tunable) => Some(A),
+        (C::CalculatedParameter, V::Fixed | V::Tunable) => Some(B),
+        (C::Output | C::Local, V::Constant) => Some(A),
+        (C::Local, V::Fixed | V::Tunable) => Some(B),
+        (C::Output | C::Local, V::Discrete | V::Continuous) => Some(C_),
+        (C::Input, V::Discrete | V::Continuous) => Some(NONE),
+        (C::Independent, V::Continuous) => Some(NONE),
+        _ => None,
+    }
+}
+
+/// The declared `initial`, or the default for the variable's causality and variability.
+pub fn effective_initial<M>(var: &Variable<M>) -> Option<Initial> {
+    var.initial
+        .or_else(|| initial_rule(var.causality, var.variability).and_then(|(d, _)| d))
+}
+
+/// Checks a model's table and declarations; `Ok` or every problem found.
+pub fn check_table<M: Model>() -> Result<(), TableError> {
+    let mut problems = Vec::new();
+    let table = M::variables();
+    let mut names = HashSet::new();
+    let mut references = HashSet::new();
+
+    if !is_c_identifier(M::MODEL_IDENTIFIER) {
+        problems.push(format!(
+            "modelIdentifier {:?} is not a C identifier",
+            M::MODEL_IDENTIFIER
+        ));
+    }
+    let e = M::DEFAULT_EXPERIMENT;
+    if !(e.start_time.is_finite() && e.stop_time > e.start_time && e.step_size > 0.0) {
+        problems.push(format!(
+            "DefaultExperiment {e:?} is not a forward time span with a positive step"
+        ));
+    }
+    for t in M::enumeration_types() {
+        let mut values = HashSet::new();
+        let mut item_names = HashSet::new();
+        if t.items.is_empty() {
+            problems.push(format!("enumeration {} has no items", t.name));
+        }
+        for (name, value, _) in t.items {
+            if !values.insert(value) || !item_names.insert(name) {
+                problems.push(format!(
+                    "enumeration {}: item {name} = {value} repeats a name or value",
+                    t.name
+                ));
+            }
+        }
+    }
+
+    for var in table {
+        let mut problem = |text: String| problems.push(format!("{}: {text}", var.name));
+        if var.name.is_empty() || var.name.chars().any(char::is_whitespace) {
+            problem("name is empty or contains white space".into());
+        }
+        if !names.insert(var.name) {
+            problem("name declared twice".into());
+        }
+        let base = BaseType::of(&var.access);
+        if !references.insert((base, var.value_reference)) {
+            problem(format!(
+                "value reference {} used twice among {} variables",
+                var.value_reference,
+                base.name()
+            ));
+        }
+        if base != BaseType::Real && var.variability == Variability::Continuous {
+            problem("only Real variables can be continuous".into());
+        }
+
+        let Some((_, allowed)) = initial_rule(var.causality, var.variability) else {
+            problem(format!(
+                "causality {:?} with variability {:?} is not allowed",
+                var.causality, var.variability
+            ));
+            continue;
+        };
+        if let Some(initial) = var.initial {
+            if !allowed.contains(&initial) {
+                problem(format!(
+                    "initial {initial:?} is not allowed for {:?}/{:?} (allowed: {allowed:?})",
+                    var.causality, var.variability
+                ));
+            }
+        }
+        let needs_start = var.causality == Causality::Input
+            || matches!(
+                effective_initial(var),
+                Some(Initial::Exact | Initial::Approx)
+            );
+        let has_start = match &var.access {
+            Access::Real { start, .. } => start.is_some(),
+            Access::Integer { start, .. } | Access::Enumeration { start, .. } => start.is_some(),
+            Access::Boolean { start, .. } => start.is_some(),
+            Access::String { start, .. } => start.is_some(),
+        };
+        if needs_start != has_start {
+            problem(format!(
+                "start value {} (causality {:?}, initial {:?})",
+                if needs_start {
+                    "required"
+                } else {
+                    "not allowed"
+                },
+                var.causality,
+                effective_initial(var)
+            ));
+        }
+        let settable = matches!(var.causality, Causality::Parameter | Causality::Input)
+            && var.variability != Variability::Constant;
+        let has_set = match &var.access {
+            Access::Real { set, .. } => set.is_some(),
+            Access::Integer { set, .. } | Access::Enumeration { set, .. } => set.is_some(),
+            Access::Boolean { set, .. } => set.is_some(),
+            Access::String { set, .. } => set.is_some(),
+        };
+        if settable != has_set {
+            problem(format!(
+                "a setter must be present exactly for non-constant parameters and inputs (has one: {has_set})"
+            ));
+        }
+        match &var.access {
+            Access::Real {
+                start, min, max, ..
+            } => {
+                if let (Some(lo), Some(hi)) = (min, max) {
+                    if lo > hi {
+                        problem(format!("min {lo} > max {hi}"));
+                    }
+                }
+                if let Some(s) = start {
+                    if !s.is_finite() || min.is_some_and(|m| *s < m) || max.is_some_and(|m| *s > m)
+                    {
+                        problem(format!("start {s} is not finite within [min, max]"));
+                    }
+                }
+                match var.unit {
+                    Some(u) if base_unit(u).is_none() => problem(format!(
+                        "unit {u:?} is not in the unit table of fmi2-export (src/units.rs)"
+                    )),
+                    _ => {}
+                }
+            }
+            Access::Integer {
+                start, min, max, ..
+            } => {
+                if let (Some(lo), Some(hi)) = (min, max) {
+                    if lo > hi {
+                        problem(format!("min {lo} > max {hi}"));
+                    }
+                }
+                if let Some(s) = start {
+                    if min.is_some_and(|m| *s < m) || max.is_some_and(|m| *s > m) {
+                        problem(format!("start {s} is outside [min, max]"));
+                    }
+                }
+            }
+            Access::Enumeration {
+                type_name, start, ..
+            } => match M::enumeration_types().iter().find(|t| t.name == *type_name) {
+                None => problem(format!("enumeration type {type_name} is not declared")),
+                Some(t) => {
+                    if let Some(s) = start {
+                        if !t.items.iter().any(|&(_, v, _)| v == *s) {
+                            problem(format!("start {s} is not an item of {type_name}"));
+                        }
+                    }
+                }
+            },
+            Access::Boolean { .. } | Access::String { .. } => {}
+        }
+        if base != BaseType::Real && var.unit.is_some() {
+            problem("only Real variables have a unit".into());
+        }
+        if var.causality == Causality::Output {
+            if let Dependencies::Inputs(inputs) = M::output_dependencies(var.name) {
+                for input in inputs {
+                    if !table
+                        .iter()
+                        .any(|v| v.name == *input && v.causality == Causality::Input)
+                    {
+                        problem(format!("depends on {input}, which is not an input"));
+                    }
+                }
+            }
+        }
+    }
+    problems.extend(start_values_round_trip::<M>());
+
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(TableError {
+            model: M::MODEL_IDENTIFIER,
+            problems,
+        })
+    }
+}
+
+/// After the start values are applied to `M::default()`, every getter returns its start
+/// value: setters write where getters read, and variables without a setter (constants)
+/// hold their start in `Default`.
+fn start_values_round_trip<M: Model>() -> Vec<String> {
+    let mut model = M::default();
+    apply_start_values(&mut model);
+    let mut problems = Vec::new();
+    for var in M::variables() {
+        let (start, got) = match &var.access {
+            Access::Real {
+                start: Some(s),
+                get,
+                ..
+            } => (s.to_string(), get(&model).to_string()),
+            Access::Integer {
+                start: Some(s),
+                get,
+                ..
+            }
+            | Access::Enumeration {
+                start: Some(s),
+                get,
+                ..
+            } => (s.to_string(), get(&model).to_string()),
+            Access::Boolean {
+                start: Some(s),
+                get,
+                ..
+            } => (s.to_string(), get(&model).to_string()),
+            Access::String {
+                start: Some(s),
+                get,
+                ..
+            } => (s.to_string(), get(&model).to_string()),
+            _ => continue,
+        };
+        if start != got {
+            problems.push(format!(
+                "{}: start {start} but the getter returns {got} after the start values are applied",
+                var.name
+            ));
+        }
+    }
+    problems
+}
+
+fn is_c_identifier(s: &str) -> bool {
+    let mut chars = s.chars();
+    chars
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A few cells of the FMI 2.0 table, read off the standard independently of the match.
+    #[test]
+    fn initial_rules_match_the_standard_table() {
+        use Causality as C;
+        use Initial::*;
+        use Variability as V;
+        assert_eq!(
+            initial_rule(C::Parameter, V::Fixed),
+            Some((Some(Exact), &[Exact][..]))
+        );
+        assert_eq!(initial_rule(C::Input, V::Continuous), Some((None, &[][..])));
+        assert_eq!(
+            initial_rule(C::Output, V::Continuous),
+            Some((Some(Calculated), &[Exact, Approx, Calculated][..]))
+        );
+        assert_eq!(
+            initial_rule(C::CalculatedParameter, V::Tunable),
+            Some((Some(Calculated), &[Approx, Calculated][..]))
+        );
+        // Illegal pairs: constant inputs, continuous parameters, fixed outputs.
+        assert_eq!(initial_rule(C::Input, V::Constant), None);
+        assert_eq!(initial_rule(C::Parameter, V::Continuous), None);
+        assert_eq!(initial_rule(C::Output, V::Fixed), None);
+        assert_eq!(initial_rule(C::Independent, V::Discrete), None);
+    }
+
+    #[test]
+    fn c_identifiers() {
+        assert!(is_c_identifier("LanderGnc"));
+        assert!(is_c_identifier("_x1"));
+        assert!(!is_c_identifier("1x"));
+        assert!(!is_c_identifier("a-b"));
+        assert!(!is_c_identifier(""));
+    }
+}

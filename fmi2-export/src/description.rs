@@ -1,0 +1,274 @@
+//! `modelDescription.xml` and the GUID, both produced from the variable table.
+use crate::check::{check_table, effective_initial};
+use crate::logging::Category;
+use crate::model::{Dependencies, Model};
+use crate::units::base_unit;
+use crate::variable::{Access, Causality, Initial, Variable};
+use model_description as md;
+use std::collections::BTreeSet;
+use std::fmt::Write;
+use uuid::Uuid;
+
+/// The UUID v5 of the interface: modelIdentifier and, per variable in table order, name,
+/// value reference, type, causality and variability (plus enumeration items, since they
+/// define what an Integer value means). Descriptions, units, start values and bounds are
+/// not interface: changing them keeps the GUID, so saved FMU states stay loadable.
+pub fn interface_uuid<M: Model>() -> Uuid {
+    let namespace = Uuid::new_v5(
+        &Uuid::NAMESPACE_URL,
+        b"urn:lander-fmi:fmi2-export:interface",
+    );
+    let mut text = format!("modelIdentifier={}\n", M::MODEL_IDENTIFIER);
+    for var in M::variables() {
+        let type_name = match &var.access {
+            Access::Real { .. } => "Real".to_string(),
+            Access::Integer { .. } => "Integer".to_string(),
+            Access::Boolean { .. } => "Boolean".to_string(),
+            Access::String { .. } => "String".to_string(),
+            Access::Enumeration { type_name, .. } => {
+                let items = M::enumeration_types()
+                    .iter()
+                    .find(|t| t.name == *type_name)
+                    .map(|t| t.items)
+                    .unwrap_or(&[]);
+                let items: Vec<String> = items.iter().map(|(n, v, _)| format!("{n}={v}")).collect();
+                format!("Enumeration {type_name} [{}]", items.join(","))
+            }
+        };
+        let _ = writeln!(
+            text,
+            "{}\t{}\t{type_name}\t{:?}\t{:?}",
+            var.name, var.value_reference, var.causality, var.variability
+        );
+    }
+    Uuid::new_v5(&namespace, text.as_bytes())
+}
+
+/// The `guid` attribute: `{xxxxxxxx-xxxx-5xxx-xxxx-xxxxxxxxxxxx}`.
+pub fn guid<M: Model>() -> String {
+    format!("{{{}}}", interface_uuid::<M>())
+}
+
+/// The model description, as a struct.
+pub fn model_description<M: Model>() -> md::ModelDescription {
+    let table = M::variables();
+    let e = M::DEFAULT_EXPERIMENT;
+    md::ModelDescription {
+        fmi_version: "2.0".into(),
+        model_name: M::MODEL_NAME.into(),
+        guid: guid::<M>(),
+        description: Some(M::DESCRIPTION.into()),
+        generation_tool: Some(format!(
+            "lander-fmi fmi2-export {}",
+            env!("CARGO_PKG_VERSION")
+        )),
+        variable_naming_convention: Some("structured".into()),
+        co_simulation: Some(md::CoSimulation {
+            model_identifier: M::MODEL_IDENTIFIER.into(),
+            needs_execution_tool: Some(false),
+            can_handle_variable_communication_step_size: Some(true),
+            can_interpolate_inputs: Some(false),
+            max_output_derivative_order: Some(0),
+            can_run_asynchronuously: Some(false),
+            can_be_instantiated_only_once_per_process: Some(false),
+            can_not_use_memory_management_functions: Some(true),
+            can_get_and_set_fmu_state: Some(true),
+            can_serialize_fmu_state: Some(true),
+            provides_directional_derivative: Some(false),
+        }),
+        unit_definitions: unit_definitions(table),
+        type_definitions: type_definitions::<M>(),
+        log_categories: Some(md::LogCategories {
+            categories: Category::ALL
+                .iter()
+                .map(|c| md::Category {
+                    name: c.name().to_string_lossy().into_owned(),
+                    description: Some(c.description().into()),
+                })
+                .collect(),
+        }),
+        default_experiment: Some(md::DefaultExperiment {
+            start_time: Some(e.start_time),
+            stop_time: Some(e.stop_time),
+            tolerance: e.tolerance,
+            step_size: Some(e.step_size),
+        }),
+        model_variables: md::ModelVariables {
+            variables: table.iter().map(scalar_variable).collect(),
+        },
+        model_structure: model_structure::<M>(),
+        ..md::ModelDescription::default()
+    }
+}
+
+/// The model description as `modelDescription.xml`.
+///
+/// # Panics
+/// If the table fails [`check_table`] or the XML cannot be written: this runs in the
+/// packaging tool and the drift tests, where a loud stop is the right answer to a table
+/// that would give an invalid FMU.
+pub fn model_description_xml<M: Model>() -> String {
+    if let Err(e) = check_table::<M>() {
+        panic!("{e}");
+    }
+    model_description::<M>().to_xml().unwrap_or_else(|e| {
+        panic!(
+            "cannot write the model description of {}: {e}",
+            M::MODEL_IDENTIFIER
+        )
+    })
+}
+
+fn unit_definitions<M>(table: &[Variable<M>]) -> Option<md::UnitDefinitions> {
+    let used: BTreeSet<&str> = table.iter().filter_map(|v| v.unit).collect();
+    (!used.is_empty()).then(|| md::UnitDefinitions {
+        units: used
+            .into_iter()
+            .map(|name| md::Unit {
+                name: name.into(),
+                base_unit: base_unit(name),
+                display_units: Vec::new(),
+            })
+            .collect(),
+    })
+}
+
+fn type_definitions<M: Model>() -> Option<md::TypeDefinitions> {
+    let types = M::enumeration_types();
+    (!types.is_empty()).then(|| md::TypeDefinitions {
+        simple_types: types
+            .iter()
+            .map(|t| md::SimpleType {
+                name: t.name.into(),
+                description: (!t.description.is_empty()).then(|| t.description.into()),
+                enumeration: Some(md::EnumerationType {
+                    quantity: None,
+                    items: t
+                        .items
+                        .iter()
+                        .map(|&(name, value, description)| md::EnumerationItem {
+                            name: name.into(),
+                            value,
+                            description: (!description.is_empty()).then(|| description.into()),
+                        })
+                        .collect(),
+                }),
+                ..md::SimpleType::default()
+            })
+            .collect(),
+    })
+}
+
+fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
+    let mut sv = md::ScalarVariable {
+        name: var.name.into(),
+        value_reference: var.value_reference,
+        description: (!var.description.is_empty()).then(|| var.description.into()),
+        causality: Some(var.causality),
+        variability: Some(var.variability),
+        initial: var.initial,
+        ..md::ScalarVariable::default()
+    };
+    match &var.access {
+        Access::Real {
+            start, min, max, ..
+        } => {
+            sv.real = Some(md::RealVariable {
+                unit: var.unit.map(Into::into),
+                min: *min,
+                max: *max,
+                start: *start,
+                ..md::RealVariable::default()
+            })
+        }
+        Access::Integer {
+            start, min, max, ..
+        } => {
+            sv.integer = Some(md::IntegerVariable {
+                min: *min,
+                max: *max,
+                start: *start,
+                ..md::IntegerVariable::default()
+            })
+        }
+        Access::Enumeration {
+            type_name, start, ..
+        } => {
+            sv.enumeration = Some(md::EnumerationVariable {
+                declared_type: (*type_name).into(),
+                start: *start,
+                ..md::EnumerationVariable::default()
+            })
+        }
+        Access::Boolean { start, .. } => {
+            sv.boolean = Some(md::BooleanVariable {
+                start: *start,
+                ..md::BooleanVariable::default()
+            })
+        }
+        Access::String { start, .. } => {
+            sv.string = Some(md::StringVariable {
+                start: start.map(Into::into),
+                ..md::StringVariable::default()
+            })
+        }
+    }
+    sv
+}
+
+/// Outputs: every output, with its direct-feedthrough inputs. InitialUnknowns (FMI 2.0
+/// §2.2.8, co-simulation): outputs whose initial is approx or calculated, and every
+/// calculated parameter; their dependencies are left out, meaning "all knowns", which is
+/// always correct.
+fn model_structure<M: Model>() -> md::ModelStructure {
+    let table = M::variables();
+    let index = |i: usize| i as u32 + 1;
+    let inputs: Vec<(usize, &str)> = table
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == Causality::Input)
+        .map(|(i, v)| (i, v.name))
+        .collect();
+    let dependencies = |output: &str| -> String {
+        let chosen: Vec<String> = match M::output_dependencies(output) {
+            Dependencies::AllInputs => inputs.iter().map(|&(i, _)| index(i).to_string()).collect(),
+            Dependencies::NoInputs => Vec::new(),
+            Dependencies::Inputs(names) => inputs
+                .iter()
+                .filter(|(_, n)| names.contains(n))
+                .map(|&(i, _)| index(i).to_string())
+                .collect(),
+        };
+        chosen.join(" ")
+    };
+    let outputs: Vec<md::Unknown> = table
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == Causality::Output)
+        .map(|(i, v)| md::Unknown {
+            index: index(i),
+            dependencies: Some(dependencies(v.name)),
+            dependencies_kind: None,
+        })
+        .collect();
+    let initial_unknowns: Vec<md::Unknown> = table
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| match v.causality {
+            Causality::Output => effective_initial(v) != Some(Initial::Exact),
+            Causality::CalculatedParameter => true,
+            _ => false,
+        })
+        .map(|(i, _)| md::Unknown {
+            index: index(i),
+            ..md::Unknown::default()
+        })
+        .collect();
+    md::ModelStructure {
+        outputs: (!outputs.is_empty()).then_some(md::UnknownList { unknowns: outputs }),
+        derivatives: None,
+        initial_unknowns: (!initial_unknowns.is_empty()).then_some(md::UnknownList {
+            unknowns: initial_unknowns,
+        }),
+    }
+}

@@ -1,0 +1,182 @@
+//! What an `fmi2Component` points to.
+use crate::error::{CallError, Success};
+use crate::ffi::fmi2Status;
+use crate::index::VariableIndex;
+use crate::logging::{Category, Logger};
+use crate::model::{Level, Log, Model};
+use crate::state::{Function, State};
+use crate::variable::Access;
+use serde::{Deserialize, Serialize};
+use std::any::TypeId;
+use std::collections::HashSet;
+use std::ffi::CString;
+
+/// Everything an FMU state copies: the model and the simulation bookkeeping. Callbacks,
+/// names and logging flags belong to the instance and are not part of an FMU state.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(bound = "M: Model")]
+pub struct Core<M> {
+    pub model: M,
+    pub state: State,
+    /// The current communication point.
+    pub time: f64,
+    pub start_time: f64,
+    pub stop_time: Option<f64>,
+    /// `fmi2LastSuccessfulTime`.
+    pub last_successful_time: f64,
+    /// `fmi2Terminated`: the model asked to end the simulation.
+    pub terminated: bool,
+}
+
+impl<M: Model> Core<M> {
+    /// A freshly instantiated model: `M::default()` with the table's start values applied.
+    pub fn fresh() -> Core<M> {
+        let mut model = M::default();
+        apply_start_values(&mut model);
+        Core {
+            model,
+            state: State::Instantiated,
+            time: 0.0,
+            start_time: 0.0,
+            stop_time: None,
+            last_successful_time: 0.0,
+            terminated: false,
+        }
+    }
+}
+
+/// Writes every start value through its setter. Variables without a setter (constants,
+/// outputs) must already hold their start value in `M::default()`; `check_table` proves it.
+pub fn apply_start_values<M: Model>(model: &mut M) {
+    for var in M::variables() {
+        match &var.access {
+            Access::Real {
+                start: Some(s),
+                set: Some(set),
+                ..
+            } => set(model, *s),
+            Access::Integer {
+                start: Some(s),
+                set: Some(set),
+                ..
+            }
+            | Access::Enumeration {
+                start: Some(s),
+                set: Some(set),
+                ..
+            } => set(model, *s),
+            Access::Boolean {
+                start: Some(s),
+                set: Some(set),
+                ..
+            } => set(model, *s),
+            Access::String {
+                start: Some(s),
+                set: Some(set),
+                ..
+            } => set(model, s),
+            _ => {}
+        }
+    }
+}
+
+/// First field of every instance, so a pointer to something else (another FMU's instance,
+/// a freed one that was overwritten) is refused instead of being used as an `Instance<M>`.
+/// Best effort only: a dangling pointer is as undefined in our API as in any C API.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(C)]
+pub struct Tag {
+    magic: u64,
+    model: TypeId,
+}
+
+const MAGIC: u64 = u64::from_le_bytes(*b"fmi2inst");
+
+impl Tag {
+    pub fn of<M: Model>() -> Tag {
+        Tag {
+            magic: MAGIC,
+            model: TypeId::of::<M>(),
+        }
+    }
+
+    pub fn cleared() -> Tag {
+        Tag {
+            magic: 0,
+            model: TypeId::of::<()>(),
+        }
+    }
+}
+
+#[repr(C)]
+pub struct Instance<M: Model> {
+    pub tag: Tag,
+    pub core: Core<M>,
+    /// Set by every call that can change values; `calculate_values` runs before the next get.
+    pub dirty: bool,
+    pub logger: Logger,
+    pub guid: uuid::Uuid,
+    pub resource_location: Option<CString>,
+    pub index: VariableIndex,
+    /// Keeps the strings returned by `fmi2GetString` alive until the next call of it.
+    pub returned_strings: Vec<CString>,
+    /// Addresses of the FMU states handed out by this instance and not yet freed.
+    pub fmu_states: HashSet<usize>,
+}
+
+impl<M: Model> Instance<M> {
+    pub fn new(
+        logger: Logger,
+        guid: uuid::Uuid,
+        resource_location: Option<CString>,
+    ) -> Instance<M> {
+        Instance {
+            tag: Tag::of::<M>(),
+            core: Core::fresh(),
+            dirty: true,
+            logger,
+            guid,
+            resource_location,
+            index: VariableIndex::new(M::variables()),
+            returned_strings: Vec::new(),
+            fmu_states: HashSet::new(),
+        }
+    }
+
+    /// Runs `calculate_values` if anything changed since the last get.
+    pub fn refresh(&mut self, function: Function) -> Success {
+        if !self.dirty {
+            return Success::Ok;
+        }
+        let mut log = Log::default();
+        self.core.model.calculate_values(&mut log);
+        self.dirty = false;
+        self.forward(function, &log)
+    }
+
+    /// Passes a model's messages to the logger; a warning makes the call's status `fmi2Warning`.
+    pub fn forward(&self, function: Function, log: &Log) -> Success {
+        for (level, message) in &log.entries {
+            let (status, category) = match level {
+                Level::Info => (fmi2Status::fmi2OK, Category::StatusOk),
+                Level::Warning => (fmi2Status::fmi2Warning, Category::StatusWarning),
+            };
+            if self.logger.is_on(category) {
+                self.logger
+                    .log(status, category, &format!("{}: {message}", function.name()));
+            }
+        }
+        if log.has_warning() {
+            Success::Warning
+        } else {
+            Success::Ok
+        }
+    }
+
+    /// A model failure: per the standard the instance is then in state Error (from which
+    /// `fmi2Reset`, `fmi2SetFMUstate` or `fmi2FreeInstance` lead on).
+    pub fn fail(&mut self, error: impl Into<CallError>) -> CallError {
+        self.core.state = State::Error;
+        error.into()
+    }
+}

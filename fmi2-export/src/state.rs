@@ -1,0 +1,176 @@
+//! The co-simulation state machine of FMI 2.0.4 §4.2.4 as a table: each function has a
+//! mask of the states in which it may be called.
+//!
+//! `StepInProgress` does not exist here: `fmi2DoStep` always runs synchronously, so it can
+//! never be observed. `Fatal` has an empty row everywhere (the standard allows no further
+//! call), except that `fmi2FreeInstance` is always honoured: it returns `void`, so refusing
+//! it could only leak memory, and a caught panic leaves our memory intact.
+use serde::{Deserialize, Serialize};
+
+/// States of an instance. The discriminants are the bits of a [`StateMask`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[repr(u16)]
+pub enum State {
+    Instantiated = 1 << 0,
+    InitializationMode = 1 << 1,
+    StepComplete = 1 << 2,
+    StepFailed = 1 << 3,
+    StepCanceled = 1 << 4,
+    Terminated = 1 << 5,
+    Error = 1 << 6,
+    Fatal = 1 << 7,
+}
+
+impl State {
+    pub const ALL: [State; 8] = [
+        State::Instantiated,
+        State::InitializationMode,
+        State::StepComplete,
+        State::StepFailed,
+        State::StepCanceled,
+        State::Terminated,
+        State::Error,
+        State::Fatal,
+    ];
+}
+
+/// A set of [`State`]s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StateMask(u16);
+
+impl StateMask {
+    pub const fn of(states: &[State]) -> StateMask {
+        let mut bits = 0;
+        let mut i = 0;
+        while i < states.len() {
+            bits |= states[i] as u16;
+            i += 1;
+        }
+        StateMask(bits)
+    }
+
+    pub const fn contains(self, state: State) -> bool {
+        self.0 & state as u16 != 0
+    }
+}
+
+use State::*;
+
+/// Every state but `Fatal`, minus nothing: the functions that only read or that manage memory.
+const ANY_BUT_FATAL: StateMask = StateMask::of(&[
+    Instantiated,
+    InitializationMode,
+    StepComplete,
+    StepFailed,
+    StepCanceled,
+    Terminated,
+    Error,
+]);
+const GETTERS: StateMask = StateMask::of(&[
+    InitializationMode,
+    StepComplete,
+    StepFailed,
+    StepCanceled,
+    Terminated,
+    Error,
+]);
+const SETTERS: StateMask = StateMask::of(&[Instantiated, InitializationMode, StepComplete]);
+const STATUS_QUERIES: StateMask = StateMask::of(&[StepComplete, StepFailed, Terminated]);
+
+macro_rules! functions {
+    ($($variant:ident => $mask:expr,)*) => {
+        /// The FMI functions that take an instance (all but `fmi2GetTypesPlatform`,
+        /// `fmi2GetVersion` and `fmi2Instantiate`), named as in C.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[allow(clippy::enum_variant_names)]
+        pub enum Function { $($variant,)* }
+
+        impl Function {
+            pub const ALL: &'static [Function] = &[$(Function::$variant,)*];
+
+            /// The C name, e.g. `"fmi2DoStep"`.
+            pub const fn name(self) -> &'static str {
+                match self { $(Function::$variant => concat!("fmi2", stringify!($variant)),)* }
+            }
+
+            /// The states in which the function may be called.
+            pub const fn legal_states(self) -> StateMask {
+                match self { $(Function::$variant => $mask,)* }
+            }
+        }
+    };
+}
+
+functions! {
+    SetDebugLogging => ANY_BUT_FATAL,
+    FreeInstance => StateMask::of(&[
+        Instantiated, InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated,
+        Error, Fatal,
+    ]),
+    SetupExperiment => StateMask::of(&[Instantiated]),
+    EnterInitializationMode => StateMask::of(&[Instantiated]),
+    ExitInitializationMode => StateMask::of(&[InitializationMode]),
+    Terminate => StateMask::of(&[StepComplete, StepFailed]),
+    Reset => ANY_BUT_FATAL,
+    GetReal => GETTERS,
+    GetInteger => GETTERS,
+    GetBoolean => GETTERS,
+    GetString => GETTERS,
+    SetReal => SETTERS,
+    SetInteger => SETTERS,
+    SetBoolean => SETTERS,
+    SetString => SETTERS,
+    GetFMUstate => ANY_BUT_FATAL,
+    SetFMUstate => ANY_BUT_FATAL,
+    FreeFMUstate => ANY_BUT_FATAL,
+    SerializedFMUstateSize => ANY_BUT_FATAL,
+    SerializeFMUstate => ANY_BUT_FATAL,
+    DeSerializeFMUstate => ANY_BUT_FATAL,
+    GetDirectionalDerivative => GETTERS,
+    SetRealInputDerivatives => SETTERS,
+    GetRealOutputDerivatives => StateMask::of(&[StepComplete, StepFailed, StepCanceled, Terminated, Error]),
+    DoStep => StateMask::of(&[StepComplete]),
+    CancelStep => StateMask::of(&[]),
+    GetStatus => STATUS_QUERIES,
+    GetRealStatus => STATUS_QUERIES,
+    GetIntegerStatus => STATUS_QUERIES,
+    GetBooleanStatus => STATUS_QUERIES,
+    GetStringStatus => STATUS_QUERIES,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thirty_one_functions_take_an_instance() {
+        // 34 exported functions minus GetTypesPlatform, GetVersion and Instantiate.
+        assert_eq!(Function::ALL.len(), 31);
+        assert_eq!(Function::DoStep.name(), "fmi2DoStep");
+        assert_eq!(
+            Function::DeSerializeFMUstate.name(),
+            "fmi2DeSerializeFMUstate"
+        );
+    }
+
+    #[test]
+    fn nothing_but_free_instance_is_legal_when_fatal() {
+        for f in Function::ALL {
+            assert_eq!(
+                f.legal_states().contains(Fatal),
+                *f == Function::FreeInstance,
+                "{}",
+                f.name()
+            );
+        }
+    }
+
+    #[test]
+    fn the_bits_of_the_states_are_distinct() {
+        let mut seen = 0u16;
+        for s in State::ALL {
+            assert_eq!(seen & s as u16, 0);
+            seen |= s as u16;
+        }
+    }
+}

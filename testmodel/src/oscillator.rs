@@ -1,0 +1,209 @@
+//! The model: parameters, state, and the `fmi2_export::Model` implementation.
+use crate::dynamics::{Coefficients, State};
+use fmi2_export::{EnumerationDecl, Experiment, Log, Model, ModelError, StepEnd, Variable};
+use serde::{Deserialize, Serialize};
+
+/// The constant mass (kg) of the oscillator.
+pub const MASS_KG: f64 = 1.0;
+
+/// Bisection steps for the threshold crossing: 2^-60 of a sub-step is below f64 resolution.
+const CROSSING_BISECTIONS: usize = 60;
+
+/// Which crossings of `threshold` stop the simulation (`crossing_direction`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Crossing {
+    #[default]
+    Either = 1,
+    Falling = 2,
+    Rising = 3,
+}
+
+impl Crossing {
+    pub const DECL: EnumerationDecl = EnumerationDecl {
+        name: "Oscillator.Crossing",
+        description: "Direction of a threshold crossing that stops the simulation",
+        items: &[
+            ("either", 1, "x crosses the threshold in either direction"),
+            ("falling", 2, "x falls through the threshold"),
+            ("rising", 3, "x rises through the threshold"),
+        ],
+    };
+
+    /// The layer has checked that `value` is an item of [`Crossing::DECL`].
+    pub fn from_item(value: i32) -> Crossing {
+        match value {
+            2 => Crossing::Falling,
+            3 => Crossing::Rising,
+            _ => Crossing::Either,
+        }
+    }
+
+    /// Whether going from `before` to `after` (offsets from the threshold) is a crossing.
+    fn crossed(self, before: f64, after: f64) -> bool {
+        let falling = before > 0.0 && after <= 0.0;
+        let rising = before < 0.0 && after >= 0.0;
+        match self {
+            Crossing::Either => falling || rising,
+            Crossing::Falling => falling,
+            Crossing::Rising => rising,
+        }
+    }
+}
+
+/// m x'' = -k x - c x' + u with m = 1 kg.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Oscillator {
+    pub(crate) x0_m: f64,
+    pub(crate) k_n_per_m: f64,
+    pub(crate) c_ns_per_m: f64,
+    pub(crate) substeps: i32,
+    pub(crate) stop_at_threshold: bool,
+    pub(crate) threshold_m: f64,
+    pub(crate) crossing: Crossing,
+    pub(crate) label: String,
+    pub(crate) u_n: f64,
+    pub(crate) x_m: f64,
+    pub(crate) v_m_per_s: f64,
+    pub(crate) step_count: i32,
+    pub(crate) omega_n_rad_per_s: f64,
+    initialized: bool,
+}
+
+impl Oscillator {
+    fn coefficients(&self) -> Coefficients {
+        Coefficients {
+            mass_kg: MASS_KG,
+            k_n_per_m: self.k_n_per_m,
+            c_ns_per_m: self.c_ns_per_m,
+            u_n: self.u_n,
+        }
+    }
+
+    fn state(&self) -> State {
+        State {
+            x_m: self.x_m,
+            v_m_per_s: self.v_m_per_s,
+        }
+    }
+
+    /// The fraction of `dt_s` after `from` at which x reaches the threshold (bisection on
+    /// the RK4 step itself, so the stop state lies on the integrated trajectory).
+    fn crossing_time(&self, from: State, dt_s: f64) -> f64 {
+        let offset = |s: State| s.x_m - self.threshold_m;
+        let coefficients = self.coefficients();
+        let (mut lo, mut hi) = (0.0, dt_s);
+        for _ in 0..CROSSING_BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if self
+                .crossing
+                .crossed(offset(from), offset(coefficients.rk4(from, mid)))
+            {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        hi
+    }
+}
+
+impl Model for Oscillator {
+    const MODEL_IDENTIFIER: &'static str = "Oscillator";
+    const MODEL_NAME: &'static str = "Oscillator";
+    const DESCRIPTION: &'static str =
+        "Damped spring-mass oscillator, the test model of the fmi2-export layer";
+    const DEFAULT_EXPERIMENT: Experiment = Experiment {
+        start_time: 0.0,
+        stop_time: 10.0,
+        step_size: 0.01,
+        tolerance: None,
+    };
+
+    fn variables() -> &'static [Variable<Self>] {
+        &crate::variables::VARIABLES
+    }
+
+    fn enumeration_types() -> &'static [EnumerationDecl] {
+        &[Crossing::DECL]
+    }
+
+    fn output_dependencies(_output: &str) -> fmi2_export::Dependencies {
+        // x, v and step_count are state: the input acts through the integration only.
+        fmi2_export::Dependencies::NoInputs
+    }
+
+    fn calculate_values(&mut self, _log: &mut Log) {
+        self.omega_n_rad_per_s = (self.k_n_per_m / MASS_KG).sqrt();
+        if !self.initialized {
+            // Initial unknowns in initialization mode follow the parameters.
+            self.x_m = self.x0_m;
+            self.v_m_per_s = 0.0;
+        }
+    }
+
+    fn exit_initialization(&mut self, _start_time: f64, log: &mut Log) -> Result<(), ModelError> {
+        if self.stop_at_threshold && self.x0_m == self.threshold_m {
+            return Err(ModelError::InvalidParameter {
+                name: "threshold",
+                value: self.threshold_m.to_string(),
+                reason: "equals x0 while stop_at_threshold is set: the model would stop at once"
+                    .into(),
+            });
+        }
+        self.x_m = self.x0_m;
+        self.v_m_per_s = 0.0;
+        self.step_count = 0;
+        self.initialized = true;
+        log.info(format!(
+            "{}: x0 = {} m, k = {} N/m, c = {} N.s/m",
+            self.label, self.x0_m, self.k_n_per_m, self.c_ns_per_m
+        ));
+        Ok(())
+    }
+
+    fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError> {
+        let n = self.substeps.max(1);
+        let dt_s = h / f64::from(n);
+        let omega_n = (self.k_n_per_m / MASS_KG).sqrt();
+        if omega_n * dt_s > 0.5 {
+            log.warning(format!(
+                "sub-step {dt_s} s is coarse for omega_n = {omega_n} rad/s (omega_n dt > 0.5): \
+                 raise substeps"
+            ));
+        }
+        let coefficients = self.coefficients();
+        self.step_count = self.step_count.saturating_add(1);
+        for i in 0..n {
+            let from = self.state();
+            let mut to = coefficients.rk4(from, dt_s);
+            let crossed = self.stop_at_threshold
+                && self
+                    .crossing
+                    .crossed(from.x_m - self.threshold_m, to.x_m - self.threshold_m);
+            let mut stop = None;
+            if crossed {
+                let tau = self.crossing_time(from, dt_s);
+                to = coefficients.rk4(from, tau);
+                stop = Some((t + f64::from(i) * dt_s + tau).min(t + h));
+            }
+            if !(to.x_m.is_finite() && to.v_m_per_s.is_finite()) {
+                return Err(ModelError::Other(format!(
+                    "state diverged at t = {} s: x = {} m, v = {} m/s",
+                    t + f64::from(i) * dt_s,
+                    to.x_m,
+                    to.v_m_per_s
+                )));
+            }
+            self.x_m = to.x_m;
+            self.v_m_per_s = to.v_m_per_s;
+            if let Some(time) = stop {
+                return Ok(StepEnd::Stopped {
+                    time,
+                    terminated: true,
+                    reason: format!("x crossed the threshold {} m", self.threshold_m),
+                });
+            }
+        }
+        Ok(StepEnd::Complete)
+    }
+}
