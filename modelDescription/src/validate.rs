@@ -2,12 +2,15 @@
 //! would trip over; each problem is one self-contained sentence naming the variable.
 use std::collections::HashSet;
 
-use crate::{Causality, Initial, ModelDescription, ScalarVariable, UnknownList, VariableKind};
+use crate::{
+    Causality, Initial, ModelDescription, ScalarVariable, UnknownList, Variability, VariableKind,
+};
 
 impl ModelDescription {
     /// Checks: fmiVersion "2.0"; a ModelExchange or CoSimulation element; unique variable
-    /// names; one type element per variable; declared types and units that exist; start
-    /// values where FMI 2.0 requires or forbids them; `derivative` and ModelStructure
+    /// names; one type element per variable; declared types and units that exist; a legal
+    /// causality/variability pair, no `initial` on inputs; start values where FMI 2.0
+    /// requires or forbids them; `derivative` and ModelStructure
     /// indices in range, with Outputs listing exactly the outputs.
     pub fn validate(&self) -> Result<(), Vec<String>> {
         let mut problems = Vec::new();
@@ -99,8 +102,21 @@ impl ModelDescription {
                 }
             }
         }
-        let has_start = variable.start().is_some();
         let causality = variable.causality_or_default();
+        let variability = variable.variability_or_default();
+        if !legal_combination(causality, variability) {
+            problems.push(format!(
+                "{at}: causality {causality:?} with variability {variability:?} is not a combination FMI 2.0 allows"
+            ));
+        }
+        if variable.initial.is_some()
+            && matches!(causality, Causality::Input | Causality::Independent)
+        {
+            problems.push(format!(
+                "{at}: an {causality:?} variable may not have an initial attribute"
+            ));
+        }
+        let has_start = variable.start().is_some();
         let initial = variable.initial_or_default();
         let start_required = matches!(causality, Causality::Input | Causality::Parameter)
             || matches!(initial, Some(Initial::Exact | Initial::Approx));
@@ -190,6 +206,19 @@ impl ModelDescription {
                 ));
             }
         }
+    }
+}
+
+/// The cells of the causality/variability table in FMI 2.0 §2.2.7 that are not forbidden.
+fn legal_combination(causality: Causality, variability: Variability) -> bool {
+    use {Causality as C, Variability as V};
+    match variability {
+        V::Constant => matches!(causality, C::Output | C::Local),
+        V::Fixed | V::Tunable => {
+            matches!(causality, C::Parameter | C::CalculatedParameter | C::Local)
+        }
+        V::Discrete => matches!(causality, C::Input | C::Output | C::Local),
+        V::Continuous => matches!(causality, C::Input | C::Output | C::Local | C::Independent),
     }
 }
 

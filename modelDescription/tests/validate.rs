@@ -223,3 +223,24 @@ fn every_problem_is_reported_not_just_the_first() {
     variable(&mut md, "u").real.as_mut().unwrap().unit = Some("furlong".into());
     assert_eq!(md.validate().unwrap_err().len(), 3);
 }
+
+#[test]
+fn causality_and_variability_form_a_legal_pair() {
+    // A parameter must be fixed or tunable; absent variability means continuous.
+    assert_single_problem(
+        |md| variable(md, "mode").variability = None,
+        "ScalarVariable 'mode' (index 3): causality Parameter with variability Continuous is not a combination FMI 2.0 allows",
+    );
+    assert_single_problem(
+        |md| variable(md, "u").variability = Some(Variability::Tunable),
+        "causality Input with variability Tunable",
+    );
+}
+
+#[test]
+fn inputs_carry_no_initial_attribute() {
+    assert_single_problem(
+        |md| variable(md, "u").initial = Some(Initial::Exact),
+        "ScalarVariable 'u' (index 4): an Input variable may not have an initial attribute",
+    );
+}
