@@ -189,13 +189,11 @@ impl Plant {
     /// What the actuators deliver at state `x` under `commands`.
     pub fn delivered(&self, x: &PlantState, commands: &Commands, exhausted: bool) -> Delivered {
         let target = self.thrust_target_n(commands, exhausted);
-        let mut thrust_n = lagged_or_direct(target, x.thrust_lag_n, self.engines.time_constant_s);
-        // Inside an RK4 stage of the sub-step in which the mass reaches the dry mass, the
-        // stage state can lie past it: no propellant, no thrust (the event search then
-        // re-integrates up to the exact crossing).
-        if exhausted || x.mass_kg <= self.dry_mass_kg {
-            thrust_n = 0.0;
-        }
+        let thrust_n = if exhausted {
+            0.0
+        } else {
+            lagged_or_direct(target, x.thrust_lag_n, self.engines.time_constant_s)
+        };
         let rcs_target = self.rcs.saturate(&commands.torque_cmd_body_nm);
         let tau = self.rcs.time_constant_s;
         let rcs_torque_body_nm =
@@ -212,7 +210,13 @@ impl Plant {
     /// Time derivative of the whole state.
     pub fn derivative(&self, x: &PlantState, commands: &Commands, exhausted: bool) -> PlantState {
         let d = self.delivered(x, commands, exhausted);
-        let thrust_body = self.thrust_direction_body * (d.thrust_n / x.mass_kg);
+        // Until the exhaustion event the engines burn on, so the mass stays linear in time
+        // across the dry mass and the event search sees a smooth function. An RK4 stage of
+        // the sub-step holding the event can lie past the dry mass (never the accepted
+        // state); clamping the mass there keeps the stage finite for any sub-step length
+        // without touching states before the event.
+        let thrust_body =
+            self.thrust_direction_body * (d.thrust_n / x.mass_kg.max(self.dry_mass_kg));
         let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &thrust_body);
         let torque_body = d.rcs_torque_body_nm + d.engine_torque_body_nm;
         let thrust_target = self.thrust_target_n(commands, exhausted);
