@@ -1,0 +1,250 @@
+//! Every function in every reachable state: legal or refused as an illegal call, exactly
+//! as the table says; and the table itself against rows read off the standard.
+//!
+//! StepCanceled is unreachable (fmi2DoStep never returns fmi2Pending, so fmi2CancelStep is
+//! never legal) and Fatal needs a panicking model: both are covered in fmi2-export's tests.
+mod common;
+
+use common::{vr, Fmu};
+use fmi2_export::ffi::*;
+use fmi2_export::state::{Function, State};
+use fmu_testmodel as fmu;
+use std::ptr::{null, null_mut};
+
+/// A fresh instance driven into `state`.
+fn in_state(state: State) -> Fmu {
+    let fmu = Fmu::new(false);
+    match state {
+        State::Instantiated => {}
+        State::InitializationMode => {
+            fmu.setup(0.0, None);
+            fmu.enter_init();
+        }
+        State::StepComplete => fmu.init(),
+        State::StepFailed => {
+            fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
+            fmu.set_real(vr::THRESHOLD, 0.99999);
+            fmu.init();
+            assert_eq!(fmu.step(0.0, 0.01), fmi2Status::fmi2Discard);
+        }
+        State::Terminated => {
+            fmu.init();
+            assert_eq!(unsafe { fmu::fmi2Terminate(fmu.c) }, fmi2Status::fmi2OK);
+        }
+        State::Error => {
+            fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
+            fmu.set_real(vr::THRESHOLD, 1.0);
+            fmu.setup(0.0, None);
+            fmu.enter_init();
+            assert_eq!(fmu.exit_init(), fmi2Status::fmi2Error);
+        }
+        State::StepCanceled | State::Fatal => unreachable!("not reachable with this model"),
+    }
+    fmu.clear();
+    fmu
+}
+
+/// Calls `f` with valid arguments (any state-independent refusal is not "illegal call").
+fn call(fmu: &Fmu, f: Function) -> fmi2Status {
+    let c = fmu.c;
+    let (x, label, stop) = (vr::X, vr::LABEL, vr::STOP_AT_THRESHOLD);
+    let mut real = 0.0;
+    let mut int = 0;
+    let mut string: fmi2String = null();
+    let mut status = fmi2Status::fmi2OK;
+    unsafe {
+        match f {
+            Function::SetDebugLogging => fmu::fmi2SetDebugLogging(c, fmi2True, 0, null()),
+            Function::FreeInstance => unreachable!("returns void; tested on its own"),
+            Function::SetupExperiment => fmu::fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0),
+            Function::EnterInitializationMode => fmu::fmi2EnterInitializationMode(c),
+            Function::ExitInitializationMode => fmu::fmi2ExitInitializationMode(c),
+            Function::Terminate => fmu::fmi2Terminate(c),
+            Function::Reset => fmu::fmi2Reset(c),
+            Function::GetReal => fmu::fmi2GetReal(c, &x, 1, &mut real),
+            Function::GetInteger => fmu::fmi2GetInteger(c, &vr::STEP_COUNT, 1, &mut int),
+            Function::GetBoolean => fmu::fmi2GetBoolean(c, &stop, 1, &mut int),
+            Function::GetString => fmu::fmi2GetString(c, &label, 1, &mut string),
+            Function::SetReal => fmu::fmi2SetReal(c, &vr::U, 1, &0.5),
+            Function::SetInteger => fmu::fmi2SetInteger(c, &vr::SUBSTEPS, 1, &4),
+            Function::SetBoolean => fmu::fmi2SetBoolean(c, &stop, 1, &fmi2False),
+            Function::SetString => fmu::fmi2SetString(c, &label, 1, &c"l".as_ptr()),
+            Function::GetFMUstate => {
+                let mut state = null_mut();
+                let s = fmu::fmi2GetFMUstate(c, &mut state);
+                fmu::fmi2FreeFMUstate(c, &mut state);
+                s
+            }
+            Function::FreeFMUstate => fmu::fmi2FreeFMUstate(c, &mut null_mut()),
+            Function::SetFMUstate
+            | Function::SerializedFMUstateSize
+            | Function::SerializeFMUstate
+            | Function::DeSerializeFMUstate => {
+                // GetFMUstate is legal wherever these are (checked by the table test).
+                let mut state = null_mut();
+                let got = fmu::fmi2GetFMUstate(c, &mut state);
+                let mut bytes = vec![];
+                if got == fmi2Status::fmi2OK {
+                    bytes = fmu.serialize(state);
+                }
+                fmu.clear();
+                let mut size = 0;
+                let s = match f {
+                    Function::SetFMUstate => fmu::fmi2SetFMUstate(c, state),
+                    Function::SerializedFMUstateSize => {
+                        fmu::fmi2SerializedFMUstateSize(c, state, &mut size)
+                    }
+                    Function::SerializeFMUstate => fmu::fmi2SerializeFMUstate(
+                        c,
+                        state,
+                        bytes.as_mut_ptr() as *mut fmi2Byte,
+                        bytes.len(),
+                    ),
+                    _ => fmu::fmi2DeSerializeFMUstate(
+                        c,
+                        bytes.as_ptr() as *const fmi2Byte,
+                        bytes.len(),
+                        &mut state,
+                    ),
+                };
+                fmu::fmi2FreeFMUstate(c, &mut state);
+                s
+            }
+            Function::GetDirectionalDerivative => {
+                fmu::fmi2GetDirectionalDerivative(c, &x, 1, &vr::U, 1, &1.0, &mut real)
+            }
+            Function::SetRealInputDerivatives => {
+                fmu::fmi2SetRealInputDerivatives(c, &vr::U, 1, &1, &1.0)
+            }
+            Function::GetRealOutputDerivatives => {
+                fmu::fmi2GetRealOutputDerivatives(c, &x, 1, &1, &mut real)
+            }
+            Function::DoStep => fmu::fmi2DoStep(c, 0.0, 0.01, fmi2True),
+            Function::CancelStep => fmu::fmi2CancelStep(c),
+            Function::GetStatus => fmu::fmi2GetStatus(c, fmi2DoStepStatus, &mut status),
+            Function::GetRealStatus => fmu::fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &mut real),
+            Function::GetIntegerStatus => fmu::fmi2GetIntegerStatus(c, fmi2DoStepStatus, &mut int),
+            Function::GetBooleanStatus => fmu::fmi2GetBooleanStatus(c, fmi2Terminated, &mut int),
+            Function::GetStringStatus => {
+                fmu::fmi2GetStringStatus(c, fmi2PendingStatus, &mut string)
+            }
+        }
+    }
+}
+
+const REACHABLE: [State; 6] = [
+    State::Instantiated,
+    State::InitializationMode,
+    State::StepComplete,
+    State::StepFailed,
+    State::Terminated,
+    State::Error,
+];
+
+#[test]
+fn every_function_in_every_state_is_legal_or_refused_as_the_table_says() {
+    let mut checked = 0;
+    for &f in Function::ALL {
+        if f == Function::FreeInstance {
+            continue;
+        }
+        for state in REACHABLE {
+            let fmu = in_state(state);
+            let status = call(&fmu, f);
+            let illegal_line = format!("{}: illegal call in state {state:?}", f.name());
+            let refused = fmu.messages().contains(&illegal_line);
+            let legal = f.legal_states().contains(state);
+            assert_eq!(
+                refused,
+                !legal,
+                "{} in {state:?}: {:?}",
+                f.name(),
+                fmu.messages()
+            );
+            if refused {
+                assert_eq!(status, fmi2Status::fmi2Error);
+                assert_eq!(fmu.messages().len(), 1, "one line: {:?}", fmu.messages());
+            }
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 30 * 6);
+}
+
+/// A refused call leaves the state alone: DoStep in Instantiated, then the normal path works.
+#[test]
+fn an_illegal_call_changes_nothing() {
+    let fmu = in_state(State::Instantiated);
+    assert_eq!(call(&fmu, Function::DoStep), fmi2Status::fmi2Error);
+    assert_eq!(
+        call(&fmu, Function::ExitInitializationMode),
+        fmi2Status::fmi2Error
+    );
+    fmu.init();
+    assert_eq!(fmu.step(0.0, 0.01), fmi2Status::fmi2OK);
+}
+
+#[test]
+fn free_instance_is_accepted_in_every_state() {
+    for state in REACHABLE {
+        let fmu = in_state(state);
+        let _ = fmu.get_state(); // owned states are released with the instance
+        drop(fmu);
+    }
+    unsafe { fmu::fmi2FreeInstance(null_mut()) };
+}
+
+/// Rows of the FMI 2.0.4 co-simulation state table, written out by hand from the standard
+/// (§4.2.4), independently of the masks in fmi2-export.
+#[test]
+fn table_rows_agree_with_the_standard_text() {
+    use State::*;
+    let rows: [(Function, &[State]); 9] = [
+        (Function::DoStep, &[StepComplete]),
+        (
+            Function::SetReal,
+            &[Instantiated, InitializationMode, StepComplete],
+        ),
+        (
+            Function::GetReal,
+            &[
+                InitializationMode,
+                StepComplete,
+                StepFailed,
+                StepCanceled,
+                Terminated,
+                Error,
+            ],
+        ),
+        (Function::SetupExperiment, &[Instantiated]),
+        (Function::EnterInitializationMode, &[Instantiated]),
+        (Function::ExitInitializationMode, &[InitializationMode]),
+        (Function::Terminate, &[StepComplete, StepFailed]),
+        (
+            Function::Reset,
+            &[
+                Instantiated,
+                InitializationMode,
+                StepComplete,
+                StepFailed,
+                StepCanceled,
+                Terminated,
+                Error,
+            ],
+        ),
+        (
+            Function::GetBooleanStatus,
+            &[StepComplete, StepFailed, Terminated],
+        ),
+    ];
+    for (f, legal) in rows {
+        for s in State::ALL {
+            assert_eq!(
+                f.legal_states().contains(s),
+                legal.contains(&s),
+                "{} in {s:?}",
+                f.name()
+            );
+        }
+    }
+}
