@@ -44,8 +44,17 @@ pub fn pd_torque_body(
 }
 
 /// Per-axis saturation of a torque command to the RCS limits (each limit >= 0).
+///
+/// A NaN component can only come from overflowing terms (`inf - inf` at body rates beyond
+/// ~1e150 rad/s); it is commanded as zero torque on that axis rather than passed on.
 pub fn saturate_torque_body(torque_body: &Vector3<f64>, limit_body: &Vector3<f64>) -> Vector3<f64> {
-    torque_body.zip_map(limit_body, |tau, limit| tau.clamp(-limit, limit))
+    torque_body.zip_map(limit_body, |tau, limit| {
+        if tau.is_nan() {
+            0.0
+        } else {
+            tau.clamp(-limit, limit)
+        }
+    })
 }
 
 #[cfg(test)]
@@ -91,5 +100,10 @@ mod tests {
         let limit = Vector3::new(116.0, 116.0, 50.0);
         let tau = saturate_torque_body(&Vector3::new(500.0, -20.0, -60.0), &limit);
         assert_eq!(tau, Vector3::new(116.0, -20.0, -50.0));
+        let overflowed = Vector3::new(f64::INFINITY, f64::NAN, f64::NEG_INFINITY);
+        assert_eq!(
+            saturate_torque_body(&overflowed, &limit),
+            Vector3::new(116.0, 0.0, -50.0)
+        );
     }
 }
