@@ -6,8 +6,8 @@ use crate::physics::parameters::{
 };
 use crate::physics::plant::{Advance, Commands, Plant, PlantRun};
 use fmi2_export::{
-    Access, Causality, EnumerationDecl, Experiment, Initial, Log, Model, ModelError, StepEnd,
-    Variability, Variable,
+    Access, Causality, Dependencies, EnumerationDecl, Experiment, Initial, Log, Model, ModelError,
+    StepEnd, Variability, Variable,
 };
 use serde::{Deserialize, Serialize};
 
@@ -125,6 +125,22 @@ impl Model for LanderPlant {
                 ),
             ],
         }]
+    }
+
+    fn output_dependencies(output: &str) -> Dependencies {
+        // The navigation outputs are functions of the state alone, so a controller can close
+        // its loop through them without an algebraic loop. The delivered actuator values
+        // depend on the current command when no lag is configured.
+        match output {
+            "thrust_actual"
+            | "engine_torque_body[1]"
+            | "engine_torque_body[2]"
+            | "engine_torque_body[3]" => Dependencies::Inputs(&["thrust_cmd"]),
+            "torque_actual_body[1]" => Dependencies::Inputs(&["torque_cmd_body[1]"]),
+            "torque_actual_body[2]" => Dependencies::Inputs(&["torque_cmd_body[2]"]),
+            "torque_actual_body[3]" => Dependencies::Inputs(&["torque_cmd_body[3]"]),
+            _ => Dependencies::NoInputs,
+        }
     }
 
     fn calculate_values(&mut self, _log: &mut Log) {
@@ -482,6 +498,11 @@ mod tests {
                 _ => {}
             }
         }
+    }
+
+    #[test]
+    fn the_export_layer_accepts_the_table() {
+        assert_eq!(fmi2_export::check_table::<LanderPlant>(), Ok(()));
     }
 
     #[test]

@@ -9,3 +9,5 @@ pub mod fmu;
 pub mod physics;
 
 pub use fmu::LanderPlant;
+
+fmi2_export::export_fmi2!(crate::LanderPlant);

@@ -1,0 +1,8 @@
+//! Prints LanderPlant's modelDescription.xml to stdout (checked in as
+//! `fmu-plant/modelDescription.xml`; a test fails on drift).
+fn main() {
+    print!(
+        "{}",
+        fmi2_export::model_description_xml::<fmu_plant::LanderPlant>()
+    );
+}
