@@ -1,0 +1,249 @@
+//! FMU state: in-memory and serialized copies continue bit-exactly; bad buffers and
+//! foreign pointers are refused without reading out of bounds.
+mod common;
+
+use common::{vr, Fmu};
+use fmi2_export::ffi::*;
+use fmu_testmodel as fmu;
+
+const H: f64 = 0.01;
+
+/// Steps n times from the FMU's current time with a varying input; the output bits.
+fn run(fmu: &Fmu, n: usize) -> Vec<u64> {
+    let t0 = fmu.last_successful_time();
+    (0..n)
+        .map(|i| {
+            let t = t0 + i as f64 * H;
+            fmu.set_real(vr::U, (3.0 * t).cos());
+            assert_eq!(fmu.step(t, H), fmi2Status::fmi2OK);
+            let (x, v) = (fmu.get_real(vr::X), fmu.get_real(vr::V));
+            x.to_bits() ^ v.to_bits().rotate_left(1) ^ fmu.get_integer(vr::STEP_COUNT) as u64
+        })
+        .collect()
+}
+
+fn started() -> Fmu {
+    let fmu = Fmu::new(false);
+    fmu.set_real(vr::K, 3.0);
+    fmu.init();
+    run(&fmu, 100);
+    fmu
+}
+
+#[test]
+fn restoring_a_state_continues_bit_exactly() {
+    let fmu = started();
+    let state = fmu.get_state();
+    let first = run(&fmu, 200);
+    assert_eq!(
+        unsafe { fmu::fmi2SetFMUstate(fmu.c, state) },
+        fmi2Status::fmi2OK
+    );
+    assert_eq!(fmu.last_successful_time(), 100.0 * H);
+    assert_eq!(run(&fmu, 200), first);
+    let mut state = state;
+    assert_eq!(
+        unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut state) },
+        fmi2Status::fmi2OK
+    );
+    assert!(state.is_null());
+}
+
+/// GetFMUstate on an existing state overwrites it in place.
+#[test]
+fn get_state_into_an_existing_state_updates_it() {
+    let fmu = started();
+    let mut state = fmu.get_state();
+    let kept = state;
+    run(&fmu, 10);
+    assert_eq!(
+        unsafe { fmu::fmi2GetFMUstate(fmu.c, &mut state) },
+        fmi2Status::fmi2OK
+    );
+    assert_eq!(state, kept);
+    let later = run(&fmu, 5);
+    unsafe { fmu::fmi2SetFMUstate(fmu.c, state) };
+    assert_eq!(run(&fmu, 5), later);
+}
+
+#[test]
+fn serialized_states_round_trip_bit_exactly_also_into_another_instance() {
+    let fmu = started();
+    let state = fmu.get_state();
+    let bytes = fmu.serialize(state);
+    let first = run(&fmu, 150);
+
+    let (status, copy) = fmu.deserialize(&bytes);
+    assert_eq!(status, fmi2Status::fmi2OK);
+    assert_eq!(fmu.serialize(copy), bytes, "serialize(deserialize(b)) == b");
+    unsafe { fmu::fmi2SetFMUstate(fmu.c, copy) };
+    assert_eq!(run(&fmu, 150), first);
+
+    let other = Fmu::named("other", false);
+    let (status, foreign_copy) = other.deserialize(&bytes);
+    assert_eq!(status, fmi2Status::fmi2OK);
+    unsafe { fmu::fmi2SetFMUstate(other.c, foreign_copy) };
+    assert_eq!(run(&other, 150), first);
+}
+
+/// A state taken in StepFailed restores StepFailed, LastSuccessfulTime and Terminated.
+#[test]
+fn the_state_includes_the_simulation_status() {
+    let fmu = Fmu::new(false);
+    fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
+    fmu.set_real(vr::THRESHOLD, 0.99999);
+    fmu.init();
+    let before = fmu.get_state();
+    assert_eq!(fmu.step(0.0, H), fmi2Status::fmi2Discard);
+    let after = fmu.get_state();
+    let stop = fmu.last_successful_time();
+    unsafe { fmu::fmi2SetFMUstate(fmu.c, before) };
+    assert!(!fmu.terminated());
+    assert_eq!(
+        fmu.step(0.0, H),
+        fmi2Status::fmi2Discard,
+        "StepComplete again: the step runs"
+    );
+    unsafe { fmu::fmi2SetFMUstate(fmu.c, after) };
+    assert!(fmu.terminated());
+    assert_eq!(fmu.last_successful_time(), stop);
+}
+
+fn refused_with(fmu: &Fmu, bytes: &[u8], line: &str) {
+    fmu.clear();
+    let (status, state) = fmu.deserialize(bytes);
+    assert_eq!(status, fmi2Status::fmi2Error);
+    assert!(state.is_null());
+    assert_eq!(fmu.last_message(), line);
+}
+
+#[test]
+fn truncated_extended_and_corrupted_buffers_are_refused() {
+    let fmu = started();
+    let bytes = fmu.serialize(fmu.get_state());
+    let n = bytes.len();
+    for len in 0..n {
+        let (status, state) = fmu.deserialize(&bytes[..len]);
+        assert_eq!(status, fmi2Status::fmi2Error, "prefix of {len} bytes");
+        assert!(state.is_null());
+    }
+    refused_with(
+        &fmu,
+        &bytes[..10],
+        "fmi2DeSerializeFMUstate: FMU state: buffer of 10 bytes is shorter than the 44-byte header",
+    );
+    refused_with(
+        &fmu,
+        &bytes[..n - 1],
+        &format!(
+            "fmi2DeSerializeFMUstate: FMU state: buffer of {} bytes, header announces {n}",
+            n - 1
+        ),
+    );
+    let mut longer = bytes.clone();
+    longer.push(0);
+    refused_with(
+        &fmu,
+        &longer,
+        &format!(
+            "fmi2DeSerializeFMUstate: FMU state: buffer of {} bytes, header announces {n}",
+            n + 1
+        ),
+    );
+
+    let flipped = |at: usize| {
+        let mut b = bytes.clone();
+        b[at] ^= 0x40;
+        b
+    };
+    refused_with(
+        &fmu,
+        &flipped(0),
+        "fmi2DeSerializeFMUstate: FMU state: buffer does not start with the FMU-state magic bytes",
+    );
+    refused_with(
+        &fmu,
+        &flipped(8),
+        "fmi2DeSerializeFMUstate: FMU state: format version 65, this FMU reads version 1",
+    );
+    refused_with(
+        &fmu,
+        &flipped(12),
+        "fmi2DeSerializeFMUstate: FMU state: model state version 65, this FMU has version 1",
+    );
+    assert!(fmu.deserialize(&flipped(20)).0 == fmi2Status::fmi2Error);
+    assert!(fmu
+        .last_message()
+        .starts_with("fmi2DeSerializeFMUstate: FMU state: state of a different FMU (GUID {"));
+    for at in 44..n {
+        refused_with(
+            &fmu,
+            &flipped(at),
+            "fmi2DeSerializeFMUstate: FMU state: payload checksum mismatch (corrupted buffer)",
+        );
+    }
+}
+
+#[test]
+fn serialize_needs_the_exact_size() {
+    let fmu = started();
+    let state = fmu.get_state();
+    let n = fmu.serialize(state).len();
+    let mut buffer = vec![0u8; n + 8];
+    let status = unsafe {
+        fmu::fmi2SerializeFMUstate(fmu.c, state, buffer.as_mut_ptr() as *mut fmi2Byte, n - 1)
+    };
+    assert_eq!(status, fmi2Status::fmi2Error);
+    assert_eq!(
+        fmu.last_message(),
+        format!(
+            "fmi2SerializeFMUstate: size {} differs from fmi2SerializedFMUstateSize = {n}",
+            n - 1
+        )
+    );
+}
+
+/// A pointer the instance did not hand out, or already freed, is refused, not dereferenced.
+#[test]
+fn foreign_and_freed_state_pointers_are_refused() {
+    let fmu = started();
+    let other = started();
+    let theirs = other.get_state();
+    assert_eq!(
+        unsafe { fmu::fmi2SetFMUstate(fmu.c, theirs) },
+        fmi2Status::fmi2Error
+    );
+    assert_eq!(
+        fmu.last_message(),
+        format!(
+            "fmi2SetFMUstate: FMUstate {theirs:p} was not created by this instance (or was freed)"
+        )
+    );
+
+    let mut mine = fmu.get_state();
+    let stale = mine;
+    unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut mine) };
+    assert_eq!(
+        unsafe { fmu::fmi2SetFMUstate(fmu.c, stale) },
+        fmi2Status::fmi2Error
+    );
+    let mut size = 0;
+    assert_eq!(
+        unsafe { fmu::fmi2SerializedFMUstateSize(fmu.c, stale, &mut size) },
+        fmi2Status::fmi2Error
+    );
+    let mut stale_again = stale;
+    assert_eq!(
+        unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut stale_again) },
+        fmi2Status::fmi2Error,
+        "double free refused"
+    );
+    assert_eq!(
+        unsafe { fmu::fmi2SetFMUstate(fmu.c, std::ptr::null_mut()) },
+        fmi2Status::fmi2Error
+    );
+    assert_eq!(
+        fmu.last_message(),
+        "fmi2SetFMUstate: argument FMUstate is NULL"
+    );
+}

@@ -1,0 +1,89 @@
+//! The checked-in modelDescription.xml is what the code generates, the table is valid, and
+//! the XML reads back into the same description.
+use fmi2_export::{check_table, model_description, model_description_xml};
+use fmu_testmodel::Oscillator;
+use model_description::{Causality, ModelDescription};
+use std::path::Path;
+
+/// Fails when `testmodel/modelDescription.xml` and the code differ; rewrite it with
+/// `UPDATE_MODEL_DESCRIPTION=1 cargo test -p fmu-testmodel --test model_description`.
+#[test]
+fn checked_in_xml_matches_the_code() {
+    let generated = model_description_xml::<Oscillator>();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("modelDescription.xml");
+    if std::env::var_os("UPDATE_MODEL_DESCRIPTION").is_some() {
+        std::fs::write(&path, &generated).unwrap();
+    }
+    let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        checked_in == generated,
+        "{} differs from the generated model description; regenerate it with\n  \
+         UPDATE_MODEL_DESCRIPTION=1 cargo test -p fmu-testmodel --test model_description\n\
+         and review the diff (a changed interface also changes the GUID)",
+        path.display()
+    );
+}
+
+#[test]
+fn the_table_passes_check_table() {
+    check_table::<Oscillator>().unwrap();
+}
+
+#[test]
+fn the_xml_reads_back_and_validates() {
+    let written = model_description::<Oscillator>();
+    let read = ModelDescription::from_xml(&model_description_xml::<Oscillator>()).unwrap();
+    assert_eq!(read, written);
+    read.validate().unwrap();
+}
+
+/// ModelStructure by hand: outputs x (6), v (7), step_count (10), no direct feedthrough;
+/// initial unknowns are those outputs plus the calculated parameter omega_n (8).
+#[test]
+fn model_structure_lists_outputs_and_initial_unknowns() {
+    let md = model_description::<Oscillator>();
+    let index_of = |name: &str| {
+        md.model_variables
+            .variables
+            .iter()
+            .position(|v| v.name == name)
+            .unwrap() as u32
+            + 1
+    };
+    let outputs = md.model_structure.outputs.unwrap().unknowns;
+    let expected: Vec<u32> = ["x", "v", "step_count"]
+        .iter()
+        .map(|n| index_of(n))
+        .collect();
+    assert_eq!(
+        outputs.iter().map(|u| u.index).collect::<Vec<_>>(),
+        expected
+    );
+    assert!(outputs
+        .iter()
+        .all(|u| u.dependencies.as_deref() == Some("")));
+    let initial: Vec<u32> = md
+        .model_structure
+        .initial_unknowns
+        .unwrap()
+        .unknowns
+        .iter()
+        .map(|u| u.index)
+        .collect();
+    assert_eq!(
+        initial,
+        vec![
+            index_of("x"),
+            index_of("v"),
+            index_of("omega_n"),
+            index_of("step_count")
+        ]
+    );
+    for i in &initial {
+        let var = &md.model_variables.variables[*i as usize - 1];
+        assert!(matches!(
+            var.causality,
+            Some(Causality::Output | Causality::CalculatedParameter)
+        ));
+    }
+}
