@@ -18,3 +18,5 @@ pub mod guidance;
 pub mod params;
 
 pub use fmu::LanderGnc;
+
+fmi2_export::export_fmi2!(crate::LanderGnc);

@@ -1,0 +1,238 @@
+//! LanderGnc through its exported C functions: model description drift, table defaults,
+//! timing, degenerate inputs, parameter refusal, FMU-state save/restore.
+mod fmi;
+
+use fmi::{vr, Gnc};
+use fmi2_export::ffi::fmi2Status;
+use fmi2_export::{Access, Causality, Model};
+use fmu_gnc::LanderGnc;
+
+const UPRIGHT: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
+
+#[test]
+fn checked_in_model_description_matches_the_variable_table() {
+    let generated = fmi2_export::model_description_xml::<LanderGnc>();
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml");
+    let checked_in = std::fs::read_to_string(path).unwrap();
+    assert!(
+        generated == checked_in,
+        "fmu-gnc/modelDescription.xml is stale: regenerate with \
+         `cargo run -p fmu-gnc --example model_description > fmu-gnc/modelDescription.xml`"
+    );
+}
+
+#[test]
+fn table_start_values_equal_the_rust_defaults() {
+    // The table repeats the defaults as literals; a fresh model holds the Rust defaults.
+    let model = LanderGnc::default();
+    for v in LanderGnc::variables() {
+        if let Access::Real {
+            start: Some(start),
+            get,
+            ..
+        } = &v.access
+        {
+            assert_eq!(get(&model), *start, "{}", v.name);
+        }
+        if let Access::Enumeration {
+            start: Some(start),
+            get,
+            ..
+        } = &v.access
+        {
+            assert_eq!(get(&model), *start, "{}", v.name);
+        }
+    }
+    let names: Vec<_> = LanderGnc::variables().iter().map(|v| v.name).collect();
+    for required in [
+        "r_nue[1]",
+        "v_nue[3]",
+        "q_body_to_nue[4]",
+        "omega_body[2]",
+        "mass",
+        "thrust_cmd",
+        "torque_cmd_body[3]",
+        "control_law",
+        "phi_cmd",
+        "phi_cmd_time",
+        "a_cmd_nue[2]",
+        "q_ref[4]",
+        "phi_b",
+        "err_roll",
+        "err_yaw",
+        "err_pitch",
+        "tilt_error",
+        "guidance_phase",
+        "time_to_go",
+    ] {
+        assert!(
+            names.contains(&required),
+            "INTERFACE name {required} missing"
+        );
+    }
+    let inputs = LanderGnc::variables()
+        .iter()
+        .filter(|v| v.causality == Causality::Input)
+        .count();
+    assert_eq!(inputs, 14);
+}
+
+#[test]
+fn hover_then_descent_with_direct_feedthrough() {
+    let gnc = Gnc::new();
+    assert_eq!(gnc.initialize(), fmi2Status::fmi2OK);
+    // GIVEN upright at rest on the hover target
+    gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);
+    let (status, out) = gnc.get_reals(&[vr::THRUST_CMD]);
+    assert_eq!(status, fmi2Status::fmi2OK);
+    assert!(
+        (out[0] - 900.0 * 1.62).abs() < 1e-9,
+        "hover thrust {}",
+        out[0]
+    );
+    // WHEN the attitude input changes, THEN the torque output follows without a step
+    let tilted = [(0.05f64).cos(), 0.0, 0.0, (0.05f64).sin()];
+    gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], tilted, [0.0; 3], 900.0);
+    let (_, torque) = gnc.get_reals(&vr::TORQUE_CMD_BODY);
+    assert!(
+        torque[2] < -1.0,
+        "pitch torque against a +z tilt: {torque:?}"
+    );
+    // WHEN stepping with a master that accumulates t += h
+    let mut t = 0.0;
+    for _ in 0..1200 {
+        gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);
+        assert_eq!(gnc.do_step(t, 0.01), fmi2Status::fmi2OK);
+        t += 0.01;
+    }
+    // THEN at t = 11.99999999999979 the descent has started, with tgo = 130 s
+    assert!(t < 12.0);
+    gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);
+    let (_, tgo) = gnc.get_reals(&[vr::TIME_TO_GO]);
+    assert_eq!(gnc.get_integer(vr::GUIDANCE_PHASE), 2);
+    assert!((tgo[0] - 130.0).abs() < 1e-9);
+    // AND the command accelerates downward: thrust below weight
+    let (_, thrust) = gnc.get_reals(&[vr::THRUST_CMD]);
+    assert!(thrust[0] < 900.0 * 1.62, "{}", thrust[0]);
+}
+
+#[test]
+fn degenerate_first_inputs_warn_and_command_safe_outputs() {
+    let gnc = Gnc::new();
+    assert_eq!(gnc.initialize(), fmi2Status::fmi2OK);
+    // GIVEN a master that zeroes every input before the first exchange
+    gnc.set_navigation([0.0; 3], [0.0; 3], [0.0; 4], [0.0; 3], 0.0);
+    let (status, out) = gnc.get_reals(&[vr::THRUST_CMD, 101, 102, 103]);
+    // THEN the get warns, and the outputs are minimum thrust and zero torque
+    assert_eq!(status, fmi2Status::fmi2Warning);
+    assert_eq!(out, vec![720.0, 0.0, 0.0, 0.0]);
+    assert_eq!(gnc.do_step(0.0, 0.01), fmi2Status::fmi2Warning);
+    assert!(gnc.messages().iter().any(|m| m.contains("q_body_to_nue")));
+    // AND with real inputs the next step is fine
+    gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);
+    assert_eq!(gnc.do_step(0.01, 0.01), fmi2Status::fmi2OK);
+    let (status, out) = gnc.get_reals(&vr::ALL_REAL_OUTPUTS);
+    assert_eq!(status, fmi2Status::fmi2OK);
+    assert!(out.iter().all(|x| x.is_finite()));
+}
+
+#[test]
+fn bad_parameters_are_refused_at_initialization_naming_them() {
+    let gnc = Gnc::new();
+    assert_eq!(
+        gnc.set_reals(&[vr::CONTROL_BANDWIDTH], &[0.0]),
+        fmi2Status::fmi2OK
+    );
+    assert_eq!(gnc.initialize(), fmi2Status::fmi2Error);
+    assert!(
+        gnc.messages()
+            .iter()
+            .any(|m| m.contains("control_bandwidth")),
+        "{:?}",
+        gnc.messages()
+    );
+}
+
+fn scenario_inputs(k: usize) -> ([f64; 3], [f64; 3], [f64; 4], [f64; 3]) {
+    // A made-up but smooth navigation history with tilt and rates, distinct at every step.
+    let s = k as f64 * 0.01;
+    let half = 0.1 * (0.3 * s).sin();
+    (
+        [0.5 * s.sin(), 800.0 - 0.2 * s * s, 0.1 * s],
+        [0.5 * s.cos(), -0.4 * s, 0.1],
+        [half.cos(), 0.3 * half.sin(), 0.0, 0.95 * half.sin()],
+        [0.01 * s.cos(), 0.02, -0.01],
+    )
+}
+
+fn run(gnc: &Gnc, from: usize, to: usize) -> Vec<Vec<f64>> {
+    let mut outputs = Vec::new();
+    for k in from..to {
+        let (r, v, q, w) = scenario_inputs(k);
+        gnc.set_navigation(r, v, q, w, 900.0 - k as f64 * 0.01);
+        let (status, out) = gnc.get_reals(&vr::ALL_REAL_OUTPUTS);
+        assert_eq!(status, fmi2Status::fmi2OK);
+        outputs.push(out);
+        assert_eq!(gnc.do_step(k as f64 * 0.01, 0.01), fmi2Status::fmi2OK);
+    }
+    outputs
+}
+
+fn bits(runs: &[Vec<f64>]) -> Vec<u64> {
+    runs.iter().flatten().map(|x| x.to_bits()).collect()
+}
+
+#[test]
+fn fmu_state_save_restore_and_serialization_are_bit_exact() {
+    use fmu_gnc::{
+        fmi2DeSerializeFMUstate, fmi2FreeFMUstate, fmi2GetFMUstate, fmi2SerializeFMUstate,
+        fmi2SerializedFMUstateSize, fmi2SetFMUstate,
+    };
+    let gnc = Gnc::new();
+    assert_eq!(gnc.set_integer(vr::CONTROL_LAW, 1), fmi2Status::fmi2OK);
+    assert_eq!(gnc.set_reals(&[vr::PHI_CMD], &[2.6]), fmi2Status::fmi2OK);
+    assert_eq!(gnc.initialize(), fmi2Status::fmi2OK);
+    // GIVEN a run up to just before the phase change and phi_cmd step at 12 s
+    run(&gnc, 0, 1190);
+    let mut saved = std::ptr::null_mut();
+    assert_eq!(
+        unsafe { fmi2GetFMUstate(gnc.c, &mut saved) },
+        fmi2Status::fmi2OK
+    );
+    // WHEN the run goes on across guidance cycles, the phase change and the phi_cmd step
+    let first = run(&gnc, 1190, 1260);
+    // AND the state is restored and the same inputs replayed
+    assert_eq!(unsafe { fmi2SetFMUstate(gnc.c, saved) }, fmi2Status::fmi2OK);
+    let second = run(&gnc, 1190, 1260);
+    // THEN every output is bit-identical
+    assert_eq!(bits(&first), bits(&second));
+
+    // AND a serialized copy, restored into a fresh instance, replays bit-identically too
+    let mut size = 0;
+    assert_eq!(
+        unsafe { fmi2SerializedFMUstateSize(gnc.c, saved, &mut size) },
+        fmi2Status::fmi2OK
+    );
+    let mut bytes = vec![0 as std::ffi::c_char; size];
+    assert_eq!(
+        unsafe { fmi2SerializeFMUstate(gnc.c, saved, bytes.as_mut_ptr(), size) },
+        fmi2Status::fmi2OK
+    );
+    let other = Gnc::new();
+    assert_eq!(other.initialize(), fmi2Status::fmi2OK);
+    let mut restored = std::ptr::null_mut();
+    assert_eq!(
+        unsafe { fmi2DeSerializeFMUstate(other.c, bytes.as_ptr(), size, &mut restored) },
+        fmi2Status::fmi2OK
+    );
+    assert_eq!(
+        unsafe { fmi2SetFMUstate(other.c, restored) },
+        fmi2Status::fmi2OK
+    );
+    let third = run(&other, 1190, 1260);
+    assert_eq!(bits(&first), bits(&third));
+    unsafe {
+        fmi2FreeFMUstate(gnc.c, &mut saved);
+        fmi2FreeFMUstate(other.c, &mut restored);
+    }
+}
