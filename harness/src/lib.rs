@@ -4,5 +4,7 @@
 #![deny(unsafe_code)]
 
 pub mod loader;
+pub mod master;
+pub mod system;
 
 pub use loader::{Fmu, Instance};

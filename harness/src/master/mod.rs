@@ -1,0 +1,598 @@
+//! The co-simulation master: instantiates the FMUs of a [`SystemDescription`], applies the
+//! parameters, initializes, and steps them with a fixed communication step.
+//!
+//! - Time: `t_k = start + k h` from an integer step counter, never accumulated, so every
+//!   communication point is exact to one rounding. The last step is shortened to land on the
+//!   stop time when `(stop - start) / h` is not an integer.
+//! - Ordering ([`Ordering`]): Gauss-Seidel (default) visits instances in declaration order,
+//!   setting each one's inputs from the freshest outputs and then reading its outputs, before
+//!   all step; with the controller declared first, the plant's command at `t_k` is computed
+//!   from the plant's state at `t_k` (no added delay). Jacobi reads outputs after the step,
+//!   so every connection carries one step of delay, as in fmpy's `simulate_ssp`.
+//! - Status: `fmi2Discard` with `fmi2Terminated` (touchdown) ends the run cleanly at
+//!   `fmi2LastSuccessfulTime`; `fmi2Error`/`fmi2Fatal` ends it with the FMU's log in the error.
+mod resolve;
+
+pub use resolve::Port;
+
+use crate::loader::{CallError, FmiError, Fmu, StepStatus, VariableKind};
+use crate::system::{Ordering, ParamValue, SystemDescription};
+use std::path::{Path, PathBuf};
+
+/// Why a run could not start or did not finish.
+#[derive(Debug, thiserror::Error)]
+pub enum MasterError {
+    #[error("cannot load FMU {path} for instance '{instance}'")]
+    Load {
+        instance: String,
+        path: PathBuf,
+        #[source]
+        source: crate::loader::LoadError,
+    },
+    #[error("system '{system}' does not match its FMUs:\n  {}", problems.join("\n  "))]
+    Resolve {
+        system: String,
+        problems: Vec<String>,
+    },
+    #[error("instance '{instance}': {context}")]
+    Call {
+        instance: String,
+        context: String,
+        #[source]
+        source: CallError,
+    },
+    #[error("instance '{instance}' failed at t = {time}: {source}")]
+    Step {
+        instance: String,
+        time: f64,
+        #[source]
+        source: FmiError,
+    },
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RunEnd {
+    /// Reached the stop time.
+    Completed,
+    /// An instance stopped the simulation (`fmi2Discard` + `fmi2Terminated`), e.g. touchdown.
+    Terminated { instance: String, time: f64 },
+}
+
+/// Receives the recorded columns at every communication point.
+pub trait Recorder {
+    fn record(&mut self, time: f64, values: &[f64]);
+}
+
+/// Keeps every recorded row in memory.
+#[derive(Debug, Default, Clone)]
+pub struct Trajectory {
+    /// `instance.variable` per column.
+    pub names: Vec<String>,
+    pub times: Vec<f64>,
+    /// Row-major: `rows[k * names.len() + j]`.
+    pub values: Vec<f64>,
+}
+
+impl Recorder for Trajectory {
+    fn record(&mut self, time: f64, values: &[f64]) {
+        self.times.push(time);
+        self.values.extend_from_slice(values);
+    }
+}
+
+impl Trajectory {
+    pub fn column_index(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+    /// The column named `name`, or `None`.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let j = self.column_index(name)?;
+        let width = self.names.len();
+        Some(self.values.iter().skip(j).step_by(width).copied().collect())
+    }
+    pub fn row(&self, k: usize) -> &[f64] {
+        let width = self.names.len();
+        &self.values[k * width..(k + 1) * width]
+    }
+    pub fn len(&self) -> usize {
+        self.times.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.times.is_empty()
+    }
+}
+
+/// Values of one exchange type of one instance, with their value references, so each
+/// exchange is one `fmi2Set*`/`fmi2Get*` call per type.
+#[derive(Debug, Default)]
+struct Block<T> {
+    vrs: Vec<u32>,
+    values: Vec<T>,
+}
+
+impl<T: Copy + Default> Block<T> {
+    /// Slot of `vr`, added if new.
+    fn slot(&mut self, vr: u32) -> usize {
+        match self.vrs.iter().position(|&v| v == vr) {
+            Some(i) => i,
+            None => {
+                self.vrs.push(vr);
+                self.values.push(T::default());
+                self.vrs.len() - 1
+            }
+        }
+    }
+}
+
+#[derive(Debug, Default)]
+struct Io {
+    real: Block<f64>,
+    integer: Block<i32>,
+    boolean: Block<bool>,
+}
+
+impl Io {
+    fn slot(&mut self, port: &Port) -> usize {
+        match port.kind {
+            VariableKind::Real => self.real.slot(port.value_reference),
+            VariableKind::Boolean => self.boolean.slot(port.value_reference),
+            _ => self.integer.slot(port.value_reference),
+        }
+    }
+}
+
+/// A scalar connection after resolution: output slot of one unit to input slot of another.
+#[derive(Debug, Clone, Copy)]
+struct Link {
+    kind: VariableKind,
+    from_unit: usize,
+    from_slot: usize,
+    to_unit: usize,
+    to_slot: usize,
+}
+
+struct Unit {
+    name: String,
+    instance: crate::loader::Instance,
+    inputs: Io,
+    outputs: Io,
+}
+
+/// A loaded, resolved system, ready to run (and to run again, via `fmi2Reset`).
+pub struct Simulation {
+    system: SystemDescription,
+    fmus: Vec<Fmu>,
+    units: Vec<Unit>,
+    links: Vec<Link>,
+    /// (unit, kind, output slot) per recorded column.
+    columns: Vec<(usize, VariableKind, usize)>,
+    column_names: Vec<String>,
+    connection_names: Vec<(String, String)>,
+    connectors: Vec<crate::system::ssp::ConnectorDecl>,
+    row: Vec<f64>,
+    fresh: bool,
+}
+
+/// The FMU file of an instance: absolute, or relative to `fmu_dir`.
+pub fn fmu_path(fmu_dir: &Path, fmu: &Path) -> PathBuf {
+    if fmu.is_absolute() {
+        fmu.to_owned()
+    } else {
+        fmu_dir.join(fmu)
+    }
+}
+
+impl Simulation {
+    /// Loads every FMU (relative paths against `fmu_dir`), instantiates, and resolves all names.
+    pub fn new(system: SystemDescription, fmu_dir: &Path) -> Result<Self, MasterError> {
+        let mut fmus = Vec::with_capacity(system.instances.len());
+        for instance in &system.instances {
+            let path = fmu_path(fmu_dir, &instance.fmu);
+            let fmu = Fmu::load(&path).map_err(|source| MasterError::Load {
+                instance: instance.name.clone(),
+                path,
+                source,
+            })?;
+            fmus.push(fmu);
+        }
+        Self::from_fmus(system, fmus)
+    }
+
+    /// As [`Simulation::new`], with FMUs already loaded (one per instance, in order).
+    pub fn from_fmus(system: SystemDescription, fmus: Vec<Fmu>) -> Result<Self, MasterError> {
+        let mut problems = Vec::new();
+        let pairs = resolve::connections(&system, &fmus, &mut problems);
+        let recorded = resolve::columns(&system, &fmus, &mut problems);
+        for (i, instance) in system.instances.iter().enumerate() {
+            for (name, _) in &instance.parameters {
+                if let Err(error) = fmus[i].variable(name) {
+                    problems.push(format!("instance '{}': parameter {error}", instance.name));
+                }
+            }
+        }
+        if !problems.is_empty() {
+            return Err(MasterError::Resolve {
+                system: system.name.clone(),
+                problems,
+            });
+        }
+        let mut units = Vec::with_capacity(fmus.len());
+        for (fmu, desc) in fmus.iter().zip(&system.instances) {
+            let instance =
+                fmu.instantiate(&desc.name, false)
+                    .map_err(|source| MasterError::Call {
+                        instance: desc.name.clone(),
+                        context: "fmi2Instantiate".into(),
+                        source,
+                    })?;
+            units.push(Unit {
+                name: desc.name.clone(),
+                instance,
+                inputs: Io::default(),
+                outputs: Io::default(),
+            });
+        }
+        let mut links = Vec::with_capacity(pairs.len());
+        for (source, destination) in &pairs {
+            let from_slot = units[source.instance].outputs.slot(source);
+            let to_slot = units[destination.instance].inputs.slot(destination);
+            links.push(Link {
+                kind: source.kind,
+                from_unit: source.instance,
+                from_slot,
+                to_unit: destination.instance,
+                to_slot,
+            });
+        }
+        let mut columns = Vec::with_capacity(recorded.len());
+        let mut column_names = Vec::with_capacity(recorded.len());
+        for port in &recorded {
+            let slot = units[port.instance].outputs.slot(port);
+            columns.push((port.instance, port.kind, slot));
+            column_names.push(format!(
+                "{}.{}",
+                system.instances[port.instance].name, port.name
+            ));
+        }
+        let path = |p: &Port| format!("{}.{}", system.instances[p.instance].name, p.name);
+        let connection_names = pairs.iter().map(|(s, d)| (path(s), path(d))).collect();
+        let mut connectors: Vec<crate::system::ssp::ConnectorDecl> = Vec::new();
+        for (port, kind) in pairs
+            .iter()
+            .flat_map(|(s, d)| [(s, "output"), (d, "input")])
+        {
+            let decl = crate::system::ssp::ConnectorDecl {
+                instance: system.instances[port.instance].name.clone(),
+                name: port.name.clone(),
+                kind,
+                type_name: match port.kind {
+                    VariableKind::Real => "Real",
+                    VariableKind::Boolean => "Boolean",
+                    _ => "Integer",
+                },
+            };
+            if !connectors.contains(&decl) {
+                connectors.push(decl);
+            }
+        }
+        let row = vec![0.0; columns.len()];
+        Ok(Self {
+            system,
+            fmus,
+            units,
+            links,
+            columns,
+            column_names,
+            connection_names,
+            connectors,
+            row,
+            fresh: true,
+        })
+    }
+
+    pub fn system(&self) -> &SystemDescription {
+        &self.system
+    }
+
+    pub fn fmus(&self) -> &[Fmu] {
+        &self.fmus
+    }
+
+    /// `instance.variable` of each recorded column.
+    pub fn column_names(&self) -> &[String] {
+        &self.column_names
+    }
+
+    /// Every connection as (`from`, `to`) scalar `instance.variable` paths, in order.
+    pub fn scalar_connections(&self) -> &[(String, String)] {
+        &self.connection_names
+    }
+
+    /// Every connected variable with its direction, for writing an SSD.
+    pub fn connectors(&self) -> &[crate::system::ssp::ConnectorDecl] {
+        &self.connectors
+    }
+
+    /// Runs from the start to the stop time (or an earlier termination), handing every
+    /// communication point's recorded row to `recorder`. Can be called again: the instances
+    /// are reset first.
+    pub fn run(&mut self, recorder: &mut dyn Recorder) -> Result<RunEnd, MasterError> {
+        if !self.fresh {
+            for unit in &mut self.units {
+                let name = unit.name.clone();
+                unit.instance
+                    .reset()
+                    .map_err(|e| call(&name, "fmi2Reset", e.into()))?;
+            }
+        }
+        self.fresh = false;
+        self.initialize()?;
+        let SystemDescription {
+            start_time,
+            stop_time,
+            step_size,
+            ordering,
+            ..
+        } = self.system;
+        let span = stop_time - start_time;
+        // A step count within 1e-9 of an integer is that integer: 172 / 0.01 is 17200.
+        let ratio = span / step_size;
+        let steps = if (ratio - ratio.round()).abs() < 1e-9 * ratio.max(1.0) {
+            ratio.round() as u64
+        } else {
+            ratio.ceil() as u64
+        };
+        for k in 0..steps {
+            let time = start_time + k as f64 * step_size;
+            let h = if k + 1 == steps {
+                stop_time - time
+            } else {
+                step_size
+            };
+            if ordering == Ordering::GaussSeidel {
+                for u in 0..self.units.len() {
+                    self.set_inputs(u)?;
+                    self.get_outputs(u)?;
+                }
+            }
+            self.record(time, recorder);
+            if ordering == Ordering::Jacobi {
+                for u in 0..self.units.len() {
+                    self.set_inputs(u)?;
+                }
+            }
+            for u in 0..self.units.len() {
+                let unit = &mut self.units[u];
+                match unit.instance.do_step(time, h) {
+                    Ok(StepStatus::Complete(_)) => {}
+                    Ok(StepStatus::Discarded {
+                        last_successful_time,
+                        terminated,
+                    }) => {
+                        let name = unit.name.clone();
+                        if !terminated {
+                            return Err(MasterError::Call {
+                                instance: name,
+                                context: format!(
+                                    "fmi2DoStep at t = {time} returned fmi2Discard without \
+                                     fmi2Terminated (stopped at {last_successful_time}); this \
+                                     fixed-step master cannot retry a shorter step"
+                                ),
+                                source: CallError::InvalidArgument {
+                                    function: "fmi2DoStep",
+                                    instance: unit.name.clone(),
+                                    reason: "discarded step".into(),
+                                },
+                            });
+                        }
+                        self.get_outputs(u)?;
+                        self.record(last_successful_time, recorder);
+                        self.terminate_all();
+                        return Ok(RunEnd::Terminated {
+                            instance: name,
+                            time: last_successful_time,
+                        });
+                    }
+                    Err(source) => {
+                        let instance = unit.name.clone();
+                        self.terminate_all();
+                        return Err(MasterError::Step {
+                            instance,
+                            time,
+                            source,
+                        });
+                    }
+                }
+            }
+            if ordering == Ordering::Jacobi {
+                for u in 0..self.units.len() {
+                    self.get_outputs(u)?;
+                }
+            }
+        }
+        for u in 0..self.units.len() {
+            self.set_inputs(u)?;
+            self.get_outputs(u)?;
+        }
+        self.record(stop_time, recorder);
+        self.terminate_all();
+        Ok(RunEnd::Completed)
+    }
+
+    fn initialize(&mut self) -> Result<(), MasterError> {
+        let (start, stop) = (self.system.start_time, self.system.stop_time);
+        for (u, desc) in self.system.instances.iter().enumerate() {
+            let unit = &mut self.units[u];
+            let name = unit.name.clone();
+            unit.instance
+                .setup_experiment(None, start, Some(stop))
+                .map_err(|e| call(&name, "fmi2SetupExperiment", e.into()))?;
+            for (variable, value) in &desc.parameters {
+                set_parameter(&mut unit.instance, variable, value)
+                    .map_err(|e| call(&name, &format!("setting parameter {variable}"), e))?;
+            }
+            unit.instance
+                .enter_initialization_mode()
+                .map_err(|e| call(&name, "fmi2EnterInitializationMode", e.into()))?;
+        }
+        // Initial exchange in initialization mode, in order, so that a controller sees the
+        // plant's initial state and the plant its initial command.
+        for u in 0..self.units.len() {
+            self.get_outputs(u)?;
+        }
+        for u in 0..self.units.len() {
+            self.set_inputs(u)?;
+            self.get_outputs(u)?;
+        }
+        for unit in &mut self.units {
+            let name = unit.name.clone();
+            unit.instance
+                .exit_initialization_mode()
+                .map_err(|e| call(&name, "fmi2ExitInitializationMode", e.into()))?;
+        }
+        for u in 0..self.units.len() {
+            self.get_outputs(u)?;
+        }
+        Ok(())
+    }
+
+    fn set_inputs(&mut self, u: usize) -> Result<(), MasterError> {
+        for link in self.links.iter().filter(|l| l.to_unit == u) {
+            let (from, to) = if link.from_unit < u {
+                let (a, b) = self.units.split_at_mut(u);
+                (&a[link.from_unit].outputs, &mut b[0].inputs)
+            } else if link.from_unit > u {
+                let (a, b) = self.units.split_at_mut(link.from_unit);
+                (&b[0].outputs, &mut a[u].inputs)
+            } else {
+                // A self-loop: copy through a temporary.
+                let unit = &mut self.units[u];
+                match link.kind {
+                    VariableKind::Real => {
+                        unit.inputs.real.values[link.to_slot] =
+                            unit.outputs.real.values[link.from_slot]
+                    }
+                    VariableKind::Boolean => {
+                        unit.inputs.boolean.values[link.to_slot] =
+                            unit.outputs.boolean.values[link.from_slot]
+                    }
+                    _ => {
+                        unit.inputs.integer.values[link.to_slot] =
+                            unit.outputs.integer.values[link.from_slot]
+                    }
+                }
+                continue;
+            };
+            match link.kind {
+                VariableKind::Real => {
+                    to.real.values[link.to_slot] = from.real.values[link.from_slot]
+                }
+                VariableKind::Boolean => {
+                    to.boolean.values[link.to_slot] = from.boolean.values[link.from_slot]
+                }
+                _ => to.integer.values[link.to_slot] = from.integer.values[link.from_slot],
+            }
+        }
+        let unit = &mut self.units[u];
+        let inputs = &unit.inputs;
+        let result = (|| -> Result<(), CallError> {
+            if !inputs.real.vrs.is_empty() {
+                unit.instance
+                    .set_real(&inputs.real.vrs, &inputs.real.values)?;
+            }
+            if !inputs.integer.vrs.is_empty() {
+                unit.instance
+                    .set_integer(&inputs.integer.vrs, &inputs.integer.values)?;
+            }
+            if !inputs.boolean.vrs.is_empty() {
+                unit.instance
+                    .set_boolean(&inputs.boolean.vrs, &inputs.boolean.values)?;
+            }
+            Ok(())
+        })();
+        result.map_err(|e| call(&unit.name, "setting inputs", e))
+    }
+
+    fn get_outputs(&mut self, u: usize) -> Result<(), MasterError> {
+        let unit = &mut self.units[u];
+        let outputs = &mut unit.outputs;
+        let result = (|| -> Result<(), CallError> {
+            if !outputs.real.vrs.is_empty() {
+                unit.instance
+                    .get_real(&outputs.real.vrs, &mut outputs.real.values)?;
+            }
+            if !outputs.integer.vrs.is_empty() {
+                unit.instance
+                    .get_integer(&outputs.integer.vrs, &mut outputs.integer.values)?;
+            }
+            if !outputs.boolean.vrs.is_empty() {
+                unit.instance
+                    .get_boolean(&outputs.boolean.vrs, &mut outputs.boolean.values)?;
+            }
+            Ok(())
+        })();
+        result.map_err(|e| call(&unit.name, "getting outputs", e))
+    }
+
+    fn record(&mut self, time: f64, recorder: &mut dyn Recorder) {
+        for (j, &(u, kind, slot)) in self.columns.iter().enumerate() {
+            let outputs = &self.units[u].outputs;
+            self.row[j] = match kind {
+                VariableKind::Real => outputs.real.values[slot],
+                VariableKind::Boolean => f64::from(u8::from(outputs.boolean.values[slot])),
+                _ => f64::from(outputs.integer.values[slot]),
+            };
+        }
+        recorder.record(time, &self.row);
+    }
+
+    fn terminate_all(&mut self) {
+        for unit in &mut self.units {
+            // After a terminating discard, fmi2Terminate is legal; a failure here changes
+            // nothing about the run's result, and the FMU's log keeps the reason.
+            let _ = unit.instance.terminate();
+        }
+    }
+}
+
+fn call(instance: &str, context: &str, source: CallError) -> MasterError {
+    MasterError::Call {
+        instance: instance.to_owned(),
+        context: context.to_owned(),
+        source,
+    }
+}
+
+/// Sets a scenario value with the type the model description gives the variable.
+fn set_parameter(
+    instance: &mut crate::loader::Instance,
+    variable: &str,
+    value: &ParamValue,
+) -> Result<(), CallError> {
+    let kind = instance.variable(variable)?.kind;
+    let mismatch = |what: &str| CallError::InvalidArgument {
+        function: "set parameter",
+        instance: instance.name().to_owned(),
+        reason: format!("variable '{variable}' is {kind:?}; the scenario gives {what}"),
+    };
+    match (kind.accessed_as(), value) {
+        (VariableKind::Real, ParamValue::Real(x)) => instance.set_real_by_name(variable, *x)?,
+        (VariableKind::Real, ParamValue::Integer(i)) => {
+            instance.set_real_by_name(variable, *i as f64)?
+        }
+        (VariableKind::Integer, ParamValue::Integer(i)) => {
+            let i =
+                i32::try_from(*i).map_err(|_| mismatch(&format!("{i}, out of Integer range")))?;
+            instance.set_integer_by_name(variable, i)?
+        }
+        (VariableKind::Boolean, ParamValue::Boolean(b)) => {
+            instance.set_boolean_by_name(variable, *b)?
+        }
+        (VariableKind::String, ParamValue::String(s)) => {
+            instance.set_string_by_name(variable, s)?
+        }
+        (_, other) => return Err(mismatch(&format!("{other:?}"))),
+    };
+    Ok(())
+}

@@ -1,0 +1,166 @@
+//! A system of connected FMUs: instances with parameter values, connections output -> input
+//! by variable name, the communication step and the exchange ordering. Read from a TOML
+//! scenario file ([`toml_format`]) or an SSP 1.0 `SystemStructure.ssd` ([`ssp`]), and written
+//! back to SSD so the shipped `.ssd` is generated from the TOML and never drifts.
+pub mod ssp;
+pub mod toml_format;
+
+use std::path::PathBuf;
+
+/// How the master exchanges values at a communication point. See [`crate::master`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Ordering {
+    /// Instances visited in order; each one's inputs are set from the freshest outputs of its
+    /// sources, then its outputs are read, so a direct-feedthrough FMU (a sampled controller)
+    /// acts on the state of the same communication point. The default.
+    #[default]
+    GaussSeidel,
+    /// All inputs set from the outputs read after the previous step, all instances stepped,
+    /// all outputs read: every connection has one step of delay (fmpy's `simulate_ssp`).
+    Jacobi,
+}
+
+/// A start/parameter value as written in a scenario; typed against the model description
+/// when the system is resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ParamValue {
+    Real(f64),
+    Integer(i64),
+    Boolean(bool),
+    String(String),
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct InstanceDesc {
+    /// Instance name, also the prefix of its columns in the results (`plant.r_nue[1]`).
+    pub name: String,
+    /// The `.fmu` file; relative paths are resolved against the scenario file's FMU directory.
+    pub fmu: PathBuf,
+    /// Parameter and start values, applied in this order before initialization.
+    pub parameters: Vec<(String, ParamValue)>,
+}
+
+/// `from` and `to` are `instance.variable`; a variable may name a whole vector (`r_nue` for
+/// `r_nue[1]`..`r_nue[n]`), expanded component by component when the system is resolved.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Connection {
+    pub from: String,
+    pub to: String,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct SystemDescription {
+    pub name: String,
+    pub start_time: f64,
+    pub stop_time: f64,
+    pub step_size: f64,
+    pub ordering: Ordering,
+    /// In exchange order (see [`Ordering::GaussSeidel`]).
+    pub instances: Vec<InstanceDesc>,
+    pub connections: Vec<Connection>,
+    /// Columns to record (`instance.variable`, vectors allowed); `None` = every output.
+    pub record: Option<Vec<String>>,
+}
+
+/// A malformed system description; every variant names what is wrong and where.
+#[derive(Debug, thiserror::Error)]
+pub enum SystemError {
+    #[error("cannot read {path}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Syntax { path: PathBuf, message: String },
+    #[error("system '{system}': {message}")]
+    Invalid { system: String, message: String },
+}
+
+impl SystemDescription {
+    /// Checks that do not need the FMUs: times, names, connection syntax.
+    pub fn validate(&self) -> Result<(), SystemError> {
+        let invalid = |message: String| SystemError::Invalid {
+            system: self.name.clone(),
+            message,
+        };
+        if !(self.step_size.is_finite() && self.step_size > 0.0) {
+            return Err(invalid(format!(
+                "step_size must be a positive number, got {}",
+                self.step_size
+            )));
+        }
+        if !(self.start_time.is_finite()
+            && self.stop_time.is_finite()
+            && self.stop_time > self.start_time)
+        {
+            return Err(invalid(format!(
+                "stop_time ({}) must be after start_time ({})",
+                self.stop_time, self.start_time
+            )));
+        }
+        if self.instances.is_empty() {
+            return Err(invalid("no instances".into()));
+        }
+        for (i, instance) in self.instances.iter().enumerate() {
+            if instance.name.is_empty() || instance.name.contains('.') {
+                return Err(invalid(format!(
+                    "instance name '{}' must be non-empty and contain no '.'",
+                    instance.name
+                )));
+            }
+            if self.instances[..i].iter().any(|o| o.name == instance.name) {
+                return Err(invalid(format!(
+                    "instance '{}' declared twice",
+                    instance.name
+                )));
+            }
+        }
+        for connection in &self.connections {
+            for end in [&connection.from, &connection.to] {
+                let (instance, _) = split_path(end).ok_or_else(|| {
+                    invalid(format!(
+                        "connection end '{end}' is not of the form instance.variable"
+                    ))
+                })?;
+                if !self.instances.iter().any(|i| i.name == instance) {
+                    return Err(invalid(format!(
+                        "connection end '{end}' names unknown instance '{instance}'"
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    pub fn instance(&self, name: &str) -> Option<&InstanceDesc> {
+        self.instances.iter().find(|i| i.name == name)
+    }
+
+    pub fn instance_mut(&mut self, name: &str) -> Option<&mut InstanceDesc> {
+        self.instances.iter_mut().find(|i| i.name == name)
+    }
+
+    /// Sets (or overrides) a parameter value of an instance.
+    pub fn set_parameter(&mut self, instance: &str, variable: &str, value: ParamValue) -> bool {
+        let Some(desc) = self.instance_mut(instance) else {
+            return false;
+        };
+        match desc
+            .parameters
+            .iter_mut()
+            .find(|(name, _)| name == variable)
+        {
+            Some(slot) => slot.1 = value,
+            None => desc.parameters.push((variable.to_owned(), value)),
+        }
+        true
+    }
+}
+
+/// Splits `instance.variable` at the first dot (variable names may contain dots themselves).
+pub fn split_path(path: &str) -> Option<(&str, &str)> {
+    let (instance, variable) = path.split_once('.')?;
+    (!instance.is_empty() && !variable.is_empty()).then_some((instance, variable))
+}

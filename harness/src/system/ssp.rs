@@ -1,0 +1,496 @@
+//! SSP 1.0 `SystemStructure.ssd`: read into a [`SystemDescription`] and written from one.
+//!
+//! What we read: one `ssd:System` of FMU components (`source` relative to the SSD), inline
+//! parameter bindings (`ssd:ParameterValues/ssv:ParameterSet`), component-to-component
+//! connections, and `ssd:DefaultExperiment`. SSP 1.0 has no place for the communication step
+//! or the exchange ordering, so we carry them in an `ssc:Annotation` of type
+//! [`ANNOTATION_TYPE`] (other tools ignore it; fmpy's `simulate_ssp` takes the step as an
+//! argument and always runs Jacobi).
+use super::{Connection, InstanceDesc, Ordering, ParamValue, SystemDescription, SystemError};
+use serde::Deserialize;
+use std::fmt::Write as _;
+use std::path::Path;
+
+pub const ANNOTATION_TYPE: &str = "org.lander-fmi.master";
+const NS_SSC: &str = "http://ssp-standard.org/SSP1/SystemStructureCommon";
+const NS_SSD: &str = "http://ssp-standard.org/SSP1/SystemStructureDescription";
+const NS_SSV: &str = "http://ssp-standard.org/SSP1/SystemStructureParameterValues";
+
+#[derive(Deserialize)]
+struct Ssd {
+    #[serde(rename = "@name")]
+    name: String,
+    #[serde(rename = "ssd:System")]
+    system: System,
+    #[serde(rename = "ssd:DefaultExperiment", default)]
+    default_experiment: Option<DefaultExperiment>,
+}
+
+#[derive(Deserialize)]
+struct System {
+    #[serde(rename = "ssd:Elements", default)]
+    elements: Option<Elements>,
+    #[serde(rename = "ssd:Connections", default)]
+    connections: Option<Connections>,
+}
+
+#[derive(Deserialize)]
+struct Elements {
+    #[serde(rename = "ssd:Component", default)]
+    components: Vec<Component>,
+}
+
+#[derive(Deserialize)]
+struct Component {
+    #[serde(rename = "@name")]
+    name: String,
+    #[serde(rename = "@source")]
+    source: String,
+    #[serde(rename = "ssd:ParameterBindings", default)]
+    bindings: Option<ParameterBindings>,
+}
+
+#[derive(Deserialize)]
+struct ParameterBindings {
+    #[serde(rename = "ssd:ParameterBinding", default)]
+    bindings: Vec<ParameterBinding>,
+}
+
+#[derive(Deserialize)]
+struct ParameterBinding {
+    #[serde(rename = "@source", default)]
+    source: Option<String>,
+    #[serde(rename = "ssd:ParameterValues", default)]
+    values: Option<ParameterValues>,
+}
+
+#[derive(Deserialize)]
+struct ParameterValues {
+    #[serde(rename = "ssv:ParameterSet")]
+    set: ParameterSet,
+}
+
+#[derive(Deserialize)]
+struct ParameterSet {
+    #[serde(rename = "ssv:Parameters", default)]
+    parameters: Option<Parameters>,
+}
+
+#[derive(Deserialize)]
+struct Parameters {
+    #[serde(rename = "ssv:Parameter", default)]
+    parameters: Vec<Parameter>,
+}
+
+#[derive(Deserialize)]
+struct Parameter {
+    #[serde(rename = "@name")]
+    name: String,
+    #[serde(rename = "ssv:Real", default)]
+    real: Option<Value<f64>>,
+    #[serde(rename = "ssv:Integer", default)]
+    integer: Option<Value<i64>>,
+    #[serde(rename = "ssv:Boolean", default)]
+    boolean: Option<Value<bool>>,
+    #[serde(rename = "ssv:String", default)]
+    string: Option<Value<String>>,
+}
+
+#[derive(Deserialize)]
+struct Value<T> {
+    #[serde(rename = "@value")]
+    value: T,
+}
+
+#[derive(Deserialize)]
+struct Connections {
+    #[serde(rename = "ssd:Connection", default)]
+    connections: Vec<SsdConnection>,
+}
+
+#[derive(Deserialize)]
+struct SsdConnection {
+    #[serde(rename = "@startElement", default)]
+    start_element: Option<String>,
+    #[serde(rename = "@startConnector")]
+    start_connector: String,
+    #[serde(rename = "@endElement", default)]
+    end_element: Option<String>,
+    #[serde(rename = "@endConnector")]
+    end_connector: String,
+}
+
+#[derive(Deserialize)]
+struct DefaultExperiment {
+    #[serde(rename = "@startTime", default)]
+    start_time: Option<f64>,
+    #[serde(rename = "@stopTime", default)]
+    stop_time: Option<f64>,
+    #[serde(rename = "ssd:Annotations", default)]
+    annotations: Option<Annotations>,
+}
+
+#[derive(Deserialize)]
+struct Annotations {
+    #[serde(rename = "ssc:Annotation", default)]
+    annotations: Vec<Annotation>,
+}
+
+#[derive(Deserialize)]
+struct Annotation {
+    #[serde(rename = "@type")]
+    kind: String,
+    #[serde(rename = "Master", default)]
+    master: Option<MasterSettings>,
+}
+
+#[derive(Deserialize)]
+struct MasterSettings {
+    #[serde(rename = "@stepSize", default)]
+    step_size: Option<f64>,
+    #[serde(rename = "@ordering", default)]
+    ordering: Option<String>,
+}
+
+/// Parses an SSD; `origin` names the file in errors. FMU sources stay relative to the SSD.
+pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError> {
+    let syntax = |message: String| SystemError::Syntax {
+        path: origin.to_owned(),
+        message,
+    };
+    let ssd: Ssd = serde_xml_rs::from_str(text).map_err(|e| syntax(e.to_string()))?;
+    let mut instances = Vec::new();
+    for component in ssd
+        .system
+        .elements
+        .map(|e| e.components)
+        .unwrap_or_default()
+    {
+        let mut parameters = Vec::new();
+        for binding in component.bindings.map(|b| b.bindings).unwrap_or_default() {
+            if let Some(source) = binding.source {
+                return Err(syntax(format!(
+                    "component '{}': external parameter file '{source}' is not supported; \
+                     bind parameters inline",
+                    component.name
+                )));
+            }
+            let list = binding
+                .values
+                .and_then(|v| v.set.parameters)
+                .map(|p| p.parameters)
+                .unwrap_or_default();
+            for parameter in list {
+                let value = match parameter {
+                    Parameter { real: Some(v), .. } => ParamValue::Real(v.value),
+                    Parameter {
+                        integer: Some(v), ..
+                    } => ParamValue::Integer(v.value),
+                    Parameter {
+                        boolean: Some(v), ..
+                    } => ParamValue::Boolean(v.value),
+                    Parameter {
+                        string: Some(v), ..
+                    } => ParamValue::String(v.value),
+                    Parameter { name, .. } => {
+                        return Err(syntax(format!(
+                            "component '{}': parameter '{name}' has no ssv:Real, ssv:Integer, \
+                             ssv:Boolean or ssv:String value",
+                            component.name
+                        )))
+                    }
+                };
+                parameters.push((parameter.name, value));
+            }
+        }
+        instances.push(InstanceDesc {
+            name: component.name,
+            fmu: component.source.into(),
+            parameters,
+        });
+    }
+    let mut connections = Vec::new();
+    for c in ssd
+        .system
+        .connections
+        .map(|c| c.connections)
+        .unwrap_or_default()
+    {
+        let (Some(start), Some(end)) = (c.start_element, c.end_element) else {
+            return Err(syntax(format!(
+                "connection {} -> {}: connections to the system's own connectors are not \
+                 supported; connect components directly",
+                c.start_connector, c.end_connector
+            )));
+        };
+        connections.push(Connection {
+            from: format!("{start}.{}", c.start_connector),
+            to: format!("{end}.{}", c.end_connector),
+        });
+    }
+    let experiment = ssd.default_experiment;
+    let master = experiment
+        .as_ref()
+        .and_then(|e| e.annotations.as_ref())
+        .and_then(|a| a.annotations.iter().find(|a| a.kind == ANNOTATION_TYPE))
+        .and_then(|a| a.master.as_ref());
+    let ordering = match master.and_then(|m| m.ordering.as_deref()) {
+        None | Some("gauss-seidel") => Ordering::GaussSeidel,
+        Some("jacobi") => Ordering::Jacobi,
+        Some(other) => {
+            return Err(syntax(format!(
+                "annotation {ANNOTATION_TYPE}: unknown ordering '{other}' (gauss-seidel or jacobi)"
+            )))
+        }
+    };
+    let system = SystemDescription {
+        name: ssd.name,
+        start_time: experiment
+            .as_ref()
+            .and_then(|e| e.start_time)
+            .unwrap_or(0.0),
+        stop_time: experiment
+            .as_ref()
+            .and_then(|e| e.stop_time)
+            .ok_or_else(|| syntax("ssd:DefaultExperiment with a stopTime is required".into()))?,
+        step_size: master.and_then(|m| m.step_size).unwrap_or(0.01),
+        ordering,
+        instances,
+        connections,
+        record: None,
+    };
+    system.validate()?;
+    Ok(system)
+}
+
+/// Reads an SSD file.
+pub fn read(path: &Path) -> Result<SystemDescription, SystemError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    parse(&text, path)
+}
+
+/// A connector of a component as the SSD lists it (after vector expansion).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ConnectorDecl {
+    pub instance: String,
+    pub name: String,
+    /// "input" or "output".
+    pub kind: &'static str,
+    /// "Real", "Integer", "Boolean" or "String".
+    pub type_name: &'static str,
+}
+
+/// Writes an SSD for `system`, with `source` of each component = `resources/<file name>`.
+/// `connectors` and `connections` are the expanded (scalar) ones, as resolved against the
+/// FMUs, so that every tool sees explicit connectors with their types.
+pub fn write(
+    system: &SystemDescription,
+    connectors: &[ConnectorDecl],
+    connections: &[(String, String)],
+) -> String {
+    let mut x = String::new();
+    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        x,
+        r#"<ssd:SystemStructureDescription xmlns:ssc="{NS_SSC}" xmlns:ssd="{NS_SSD}" xmlns:ssv="{NS_SSV}" version="1.0" name="{}">"#,
+        esc(&system.name)
+    );
+    let _ = writeln!(x, r#"  <ssd:System name="{}">"#, esc(&system.name));
+    let _ = writeln!(x, "    <ssd:Elements>");
+    for instance in &system.instances {
+        let file = instance
+            .fmu
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let _ = writeln!(
+            x,
+            r#"      <ssd:Component name="{}" type="application/x-fmu-sharedlibrary" source="resources/{}">"#,
+            esc(&instance.name),
+            esc(&file)
+        );
+        let own: Vec<_> = connectors
+            .iter()
+            .filter(|c| c.instance == instance.name)
+            .collect();
+        if !own.is_empty() {
+            let _ = writeln!(x, "        <ssd:Connectors>");
+            for c in own {
+                let _ = writeln!(
+                    x,
+                    r#"          <ssd:Connector name="{}" kind="{}"><ssc:{}/></ssd:Connector>"#,
+                    esc(&c.name),
+                    c.kind,
+                    c.type_name
+                );
+            }
+            let _ = writeln!(x, "        </ssd:Connectors>");
+        }
+        if !instance.parameters.is_empty() {
+            let _ = writeln!(x, "        <ssd:ParameterBindings>");
+            let _ = writeln!(x, "          <ssd:ParameterBinding>");
+            let _ = writeln!(x, "            <ssd:ParameterValues>");
+            let _ = writeln!(
+                x,
+                r#"              <ssv:ParameterSet version="1.0" name="{}">"#,
+                esc(&instance.name)
+            );
+            let _ = writeln!(x, "                <ssv:Parameters>");
+            for (name, value) in &instance.parameters {
+                let (tag, text) = match value {
+                    ParamValue::Real(v) => ("Real", format!("{v:?}")),
+                    ParamValue::Integer(v) => ("Integer", v.to_string()),
+                    ParamValue::Boolean(v) => ("Boolean", v.to_string()),
+                    ParamValue::String(v) => ("String", esc(v)),
+                };
+                let _ = writeln!(
+                    x,
+                    r#"                  <ssv:Parameter name="{}"><ssv:{tag} value="{text}"/></ssv:Parameter>"#,
+                    esc(name)
+                );
+            }
+            let _ = writeln!(x, "                </ssv:Parameters>");
+            let _ = writeln!(x, "              </ssv:ParameterSet>");
+            let _ = writeln!(x, "            </ssd:ParameterValues>");
+            let _ = writeln!(x, "          </ssd:ParameterBinding>");
+            let _ = writeln!(x, "        </ssd:ParameterBindings>");
+        }
+        let _ = writeln!(x, "      </ssd:Component>");
+    }
+    let _ = writeln!(x, "    </ssd:Elements>");
+    if !connections.is_empty() {
+        let _ = writeln!(x, "    <ssd:Connections>");
+        for (from, to) in connections {
+            let (Some((se, sc)), Some((ee, ec))) = (super::split_path(from), super::split_path(to))
+            else {
+                continue;
+            };
+            let _ = writeln!(
+                x,
+                r#"      <ssd:Connection startElement="{}" startConnector="{}" endElement="{}" endConnector="{}"/>"#,
+                esc(se),
+                esc(sc),
+                esc(ee),
+                esc(ec)
+            );
+        }
+        let _ = writeln!(x, "    </ssd:Connections>");
+    }
+    let _ = writeln!(x, "  </ssd:System>");
+    let ordering = match system.ordering {
+        Ordering::GaussSeidel => "gauss-seidel",
+        Ordering::Jacobi => "jacobi",
+    };
+    let _ = writeln!(
+        x,
+        r#"  <ssd:DefaultExperiment startTime="{:?}" stopTime="{:?}">"#,
+        system.start_time, system.stop_time
+    );
+    let _ = writeln!(x, "    <ssd:Annotations>");
+    let _ = writeln!(
+        x,
+        r#"      <ssc:Annotation type="{ANNOTATION_TYPE}"><Master stepSize="{:?}" ordering="{ordering}"/></ssc:Annotation>"#,
+        system.step_size
+    );
+    let _ = writeln!(x, "    </ssd:Annotations>");
+    let _ = writeln!(x, "  </ssd:DefaultExperiment>");
+    let _ = writeln!(x, "</ssd:SystemStructureDescription>");
+    x
+}
+
+fn esc(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> SystemDescription {
+        SystemDescription {
+            name: "demo <&>".into(),
+            start_time: 0.0,
+            stop_time: 1.5,
+            step_size: 0.01,
+            ordering: Ordering::Jacobi,
+            instances: vec![
+                InstanceDesc {
+                    name: "a".into(),
+                    fmu: "some/dir/A.fmu".into(),
+                    parameters: vec![
+                        ("k".into(), ParamValue::Real(0.1)),
+                        ("n".into(), ParamValue::Integer(-3)),
+                        ("on".into(), ParamValue::Boolean(true)),
+                        ("label".into(), ParamValue::String("x\"y".into())),
+                    ],
+                },
+                InstanceDesc {
+                    name: "b".into(),
+                    fmu: "B.fmu".into(),
+                    parameters: vec![],
+                },
+            ],
+            connections: vec![Connection {
+                from: "a.y[1]".into(),
+                to: "b.u[1]".into(),
+            }],
+            record: None,
+        }
+    }
+
+    #[test]
+    fn written_ssd_reads_back_to_the_same_system() {
+        let system = sample();
+        let connectors = vec![
+            ConnectorDecl {
+                instance: "a".into(),
+                name: "y[1]".into(),
+                kind: "output",
+                type_name: "Real",
+            },
+            ConnectorDecl {
+                instance: "b".into(),
+                name: "u[1]".into(),
+                kind: "input",
+                type_name: "Real",
+            },
+        ];
+        let text = write(&system, &connectors, &[("a.y[1]".into(), "b.u[1]".into())]);
+        let back = parse(&text, Path::new("x.ssd")).unwrap();
+        let mut expected = system;
+        expected.instances[0].fmu = "resources/A.fmu".into();
+        expected.instances[1].fmu = "resources/B.fmu".into();
+        assert_eq!(back, expected);
+    }
+
+    #[test]
+    fn a_missing_stop_time_is_refused() {
+        let text = write(&sample(), &[], &[]).replace(r#" stopTime="1.5""#, "");
+        let error = parse(&text, Path::new("x.ssd")).unwrap_err().to_string();
+        assert!(error.contains("stopTime"), "{error}");
+    }
+
+    #[test]
+    fn an_external_parameter_file_is_refused_by_name() {
+        let text = write(&sample(), &[], &[]).replace(
+            "<ssd:ParameterBinding>",
+            r#"<ssd:ParameterBinding source="p.ssv">"#,
+        );
+        let error = parse(&text, Path::new("x.ssd")).unwrap_err().to_string();
+        assert!(error.contains("p.ssv"), "{error}");
+    }
+}
