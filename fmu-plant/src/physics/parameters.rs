@@ -387,9 +387,10 @@ mod tests {
         };
         let (q, warning) = tiny.validated_q0().unwrap();
         assert!((q.norm() - 1.0).abs() < 1e-15 && warning.is_none());
-        // Four printed digits of [cos 45 deg, 0, 0, sin 45 deg].
+        // [cos 45 deg, 0, 0, sin 45 deg] printed with four digits.
+        let c = (std::f64::consts::FRAC_1_SQRT_2 * 1e4).round() / 1e4;
         let rounded = PlantParameters {
-            q0_body_to_nue: [0.7071, 0.0, 0.0, 0.7071],
+            q0_body_to_nue: [c, 0.0, 0.0, c],
             ..Default::default()
         };
         let (q, warning) = rounded.validated_q0().unwrap();
