@@ -1,1 +1,180 @@
-//! System tests live in tests/tests/.
+//! Shared support of the system tests (tests/tests/*.rs): where the packaged FMUs are, and
+//! their unpacked contents. The tests exercise the FMUs exactly as shipped, so they read
+//! `target/fmu/*.fmu` written by `cargo xtask fmus` and never build anything themselves.
+//!
+//! These helpers panic with a message saying what to run: they serve tests only.
+#![deny(unsafe_code)]
+
+use model_description::ModelDescription;
+use std::path::{Path, PathBuf};
+
+/// An FMU the workspace ships, with the crate that builds it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShippedFmu {
+    pub model_identifier: &'static str,
+    /// Folder of the crate, relative to the workspace root.
+    pub crate_dir: &'static str,
+}
+
+/// Every FMU `cargo xtask fmus` packages (same table as xtask/src/fmus.rs).
+pub const SHIPPED_FMUS: [ShippedFmu; 3] = [
+    ShippedFmu {
+        model_identifier: "Oscillator",
+        crate_dir: "testmodel",
+    },
+    ShippedFmu {
+        model_identifier: "LanderGnc",
+        crate_dir: "fmu-gnc",
+    },
+    ShippedFmu {
+        model_identifier: "LanderPlant",
+        crate_dir: "fmu-plant",
+    },
+];
+
+pub fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("the system-tests crate lives one level below the workspace root")
+        .to_path_buf()
+}
+
+/// The cargo target directory, resolved as xtask resolves it (CARGO_TARGET_DIR or `target`).
+pub fn target_dir() -> PathBuf {
+    match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(dir) if Path::new(&dir).is_absolute() => PathBuf::from(dir),
+        Some(dir) => workspace_root().join(dir),
+        None => workspace_root().join("target"),
+    }
+}
+
+pub fn fmu_dir() -> PathBuf {
+    target_dir().join("fmu")
+}
+
+/// The FMUs these tests must find: those whose crate already provides the
+/// `model_description` example that `cargo xtask fmus` packages from. A crate without it
+/// is named on stderr, so its absence is visible in every test log.
+pub fn expected_fmus() -> Vec<ShippedFmu> {
+    SHIPPED_FMUS
+        .into_iter()
+        .filter(|fmu| {
+            let example = workspace_root()
+                .join(fmu.crate_dir)
+                .join("examples/model_description.rs");
+            let packaged = example.is_file();
+            if !packaged {
+                eprintln!(
+                    "note: {} is not packaged yet ({} has no examples/model_description.rs)",
+                    fmu.model_identifier, fmu.crate_dir
+                );
+            }
+            packaged
+        })
+        .collect()
+}
+
+/// Path of a packaged FMU; panics, naming the command that makes it, when it is missing.
+pub fn fmu_path(model_identifier: &str) -> PathBuf {
+    let path = fmu_dir().join(format!("{model_identifier}.fmu"));
+    assert!(
+        path.is_file(),
+        "{} is missing: run `cargo xtask fmus` first (or `cargo xtask test`, which does)",
+        path.display()
+    );
+    path
+}
+
+/// An FMU unzipped into a temporary folder that is removed on drop.
+pub struct UnpackedFmu {
+    dir: tempfile::TempDir,
+    pub description: ModelDescription,
+    pub model_identifier: String,
+}
+
+impl UnpackedFmu {
+    pub fn open(model_identifier: &str) -> Self {
+        let archive_path = fmu_path(model_identifier);
+        let file = std::fs::File::open(&archive_path)
+            .unwrap_or_else(|e| panic!("cannot open {}: {e}", archive_path.display()));
+        let mut archive = zip::ZipArchive::new(file)
+            .unwrap_or_else(|e| panic!("{} is not a zip archive: {e}", archive_path.display()));
+        let dir = tempfile::Builder::new()
+            .prefix(&format!("{model_identifier}-"))
+            .tempdir()
+            .expect("cannot create a temporary folder");
+        archive
+            .extract(dir.path())
+            .unwrap_or_else(|e| panic!("cannot unzip {}: {e}", archive_path.display()));
+        let description = ModelDescription::from_file(dir.path().join("modelDescription.xml"))
+            .unwrap_or_else(|e| panic!("modelDescription.xml of {}: {e}", archive_path.display()));
+        let identifier = description
+            .co_simulation_identifier()
+            .unwrap_or_else(|| panic!("{} has no <CoSimulation>", archive_path.display()))
+            .to_owned();
+        assert_eq!(
+            identifier,
+            model_identifier,
+            "{} declares another modelIdentifier",
+            archive_path.display()
+        );
+        Self {
+            dir,
+            description,
+            model_identifier: identifier,
+        }
+    }
+
+    pub fn root(&self) -> &Path {
+        self.dir.path()
+    }
+
+    pub fn library(&self) -> PathBuf {
+        self.root()
+            .join("binaries/linux64")
+            .join(format!("{}.so", self.model_identifier))
+    }
+
+    /// `fmuResourceLocation` as a master passes it: a file URI of the `resources` folder.
+    pub fn resource_uri(&self) -> String {
+        format!("file://{}/resources", self.root().display())
+    }
+}
+
+/// The 34 functions of the FMI 2.0 Co-Simulation API (25 common + 9 co-simulation).
+pub const FMI2_CS_FUNCTIONS: [&str; 34] = [
+    "fmi2GetTypesPlatform",
+    "fmi2GetVersion",
+    "fmi2SetDebugLogging",
+    "fmi2Instantiate",
+    "fmi2FreeInstance",
+    "fmi2SetupExperiment",
+    "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode",
+    "fmi2Terminate",
+    "fmi2Reset",
+    "fmi2GetReal",
+    "fmi2GetInteger",
+    "fmi2GetBoolean",
+    "fmi2GetString",
+    "fmi2SetReal",
+    "fmi2SetInteger",
+    "fmi2SetBoolean",
+    "fmi2SetString",
+    "fmi2GetFMUstate",
+    "fmi2SetFMUstate",
+    "fmi2FreeFMUstate",
+    "fmi2SerializedFMUstateSize",
+    "fmi2SerializeFMUstate",
+    "fmi2DeSerializeFMUstate",
+    "fmi2GetDirectionalDerivative",
+    "fmi2SetRealInputDerivatives",
+    "fmi2GetRealOutputDerivatives",
+    "fmi2DoStep",
+    "fmi2CancelStep",
+    "fmi2GetStatus",
+    "fmi2GetRealStatus",
+    "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus",
+    "fmi2GetStringStatus",
+];
