@@ -1,0 +1,65 @@
+//! The Python checks of tests/python, run against the packaged FMUs with the interpreter of
+//! the workspace venv (created with pinned versions by `cargo xtask python-env`, which
+//! `cargo xtask test` runs first).
+use std::path::PathBuf;
+use std::process::Command;
+use system_tests::{expected_fmus, fmu_path, workspace_root};
+
+/// Every script in tests/python, each run by one test below.
+const SCRIPTS: [&str; 2] = ["fmpy_validate.py", "fmpy_simulate.py"];
+
+fn venv_python() -> PathBuf {
+    let python = workspace_root().join(".venv/bin/python");
+    assert!(
+        python.is_file(),
+        "{} is missing: run `cargo xtask python-env` (or `cargo xtask test`, which does)",
+        python.display()
+    );
+    python
+}
+
+/// Runs a script with the path of every expected FMU as arguments; it must exit 0.
+fn run_script(script: &str) {
+    let fmus: Vec<PathBuf> = expected_fmus()
+        .iter()
+        .map(|fmu| fmu_path(fmu.model_identifier))
+        .collect();
+    assert!(!fmus.is_empty(), "no FMU to check");
+    let script_path = workspace_root().join("tests/python").join(script);
+    let output = Command::new(venv_python())
+        .arg(&script_path)
+        .args(&fmus)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", script_path.display()));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    println!("{stdout}");
+    assert!(
+        output.status.success(),
+        "{script} failed ({}):\n{stdout}{}",
+        output.status,
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+#[test]
+fn fmpy_validate_finds_no_problem_in_any_fmu() {
+    run_script("fmpy_validate.py");
+}
+
+#[test]
+fn fmpy_simulate_runs_every_fmu_and_the_oscillator_matches_the_closed_form() {
+    run_script("fmpy_simulate.py");
+}
+
+#[test]
+fn every_python_script_is_run_by_a_test() {
+    let mut found: Vec<String> = std::fs::read_dir(workspace_root().join("tests/python"))
+        .unwrap()
+        .map(|entry| entry.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.ends_with(".py"))
+        .collect();
+    found.sort();
+    let mut known = SCRIPTS.map(str::to_owned).to_vec();
+    known.sort();
+    assert_eq!(found, known, "add a test for each script in tests/python");
+}
