@@ -322,6 +322,9 @@ fn running_flag(m: &LanderPlant, f: impl Fn(&PlantRun) -> bool) -> bool {
     m.running.as_ref().is_some_and(|(_, run)| f(run))
 }
 
+/// The variable table, one row per variable as in the model description (kept on one line
+/// each so that the table reads as a table).
+#[rustfmt::skip]
 static VARIABLES: &[V] = &[
     // Inputs (LanderGnc outputs).
     input("thrust_cmd", 1, "N", "Commanded total engine thrust along body +y; at or below engine_off_threshold the engines are off, otherwise saturated to engine_count x [engine_thrust_min, engine_thrust_max]", |m| m.commands.thrust_cmd_n, |m, v| m.commands.thrust_cmd_n = v),
