@@ -12,6 +12,7 @@ mod test;
 mod workspace;
 
 use clap::{Parser, Subcommand};
+use std::process::ExitCode;
 
 #[derive(Parser)]
 #[command(
@@ -36,12 +37,20 @@ enum Command {
     PythonEnv,
 }
 
-fn main() -> anyhow::Result<()> {
-    let ws = workspace::Workspace::locate()?;
-    match Cli::parse().command {
+fn main() -> ExitCode {
+    let command = Cli::parse().command;
+    let result = workspace::Workspace::locate().and_then(|ws| match command {
         Command::Fmus => fmus::package_all(&ws).map(|_| ()),
         Command::Test => test::run_all(&ws),
         Command::Demo => demo::run(&ws),
         Command::PythonEnv => python_env::ensure(&ws),
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            // The chain of causes is the whole story; a backtrace of xtask itself is noise.
+            eprintln!("xtask: {error:#}");
+            ExitCode::FAILURE
+        }
     }
 }
