@@ -241,7 +241,8 @@ mod tests {
 
     #[test]
     fn bad_values_are_refused_by_name() {
-        let cases: [(&str, fn(&mut GncParameters)); 12] = [
+        type Spoil = fn(&mut GncParameters);
+        let cases: [(&str, Spoil); 12] = [
             ("control_law", |p| p.control_law = 4),
             ("phi_cmd", |p| p.phi_cmd_rad = f64::NAN),
             ("control_bandwidth", |p| p.control_bandwidth_hz = 0.0),
