@@ -5,6 +5,11 @@
 
 pub mod loader;
 pub mod master;
+pub mod metrics;
+pub mod paper;
+pub mod plots;
+pub mod results;
+pub mod scenarios;
 pub mod system;
 
 pub use loader::{Fmu, Instance};

@@ -27,7 +27,7 @@ pub enum MasterError {
         instance: String,
         path: PathBuf,
         #[source]
-        source: crate::loader::LoadError,
+        source: Box<crate::loader::LoadError>,
     },
     #[error("system '{system}' does not match its FMUs:\n  {}", problems.join("\n  "))]
     Resolve {
@@ -39,14 +39,14 @@ pub enum MasterError {
         instance: String,
         context: String,
         #[source]
-        source: CallError,
+        source: Box<CallError>,
     },
     #[error("instance '{instance}' failed at t = {time}: {source}")]
     Step {
         instance: String,
         time: f64,
         #[source]
-        source: FmiError,
+        source: Box<FmiError>,
     },
 }
 
@@ -192,7 +192,7 @@ impl Simulation {
             let fmu = Fmu::load(&path).map_err(|source| MasterError::Load {
                 instance: instance.name.clone(),
                 path,
-                source,
+                source: Box::new(source),
             })?;
             fmus.push(fmu);
         }
@@ -224,7 +224,7 @@ impl Simulation {
                     .map_err(|source| MasterError::Call {
                         instance: desc.name.clone(),
                         context: "fmi2Instantiate".into(),
-                        source,
+                        source: Box::new(source),
                     })?;
             units.push(Unit {
                 name: desc.name.clone(),
@@ -293,6 +293,30 @@ impl Simulation {
 
     pub fn system(&self) -> &SystemDescription {
         &self.system
+    }
+
+    /// Sets (or overrides) a parameter for the following runs; the name is checked now.
+    pub fn set_parameter(
+        &mut self,
+        instance: &str,
+        variable: &str,
+        value: ParamValue,
+    ) -> Result<(), MasterError> {
+        let resolve = |problem: String| MasterError::Resolve {
+            system: self.system.name.clone(),
+            problems: vec![problem],
+        };
+        let index = self
+            .system
+            .instances
+            .iter()
+            .position(|i| i.name == instance)
+            .ok_or_else(|| resolve(format!("no instance named '{instance}'")))?;
+        self.fmus[index]
+            .variable(variable)
+            .map_err(|e| resolve(format!("instance '{instance}': parameter {e}")))?;
+        self.system.set_parameter(instance, variable, value);
+        Ok(())
     }
 
     pub fn fmus(&self) -> &[Fmu] {
@@ -379,11 +403,11 @@ impl Simulation {
                                      fmi2Terminated (stopped at {last_successful_time}); this \
                                      fixed-step master cannot retry a shorter step"
                                 ),
-                                source: CallError::InvalidArgument {
+                                source: Box::new(CallError::InvalidArgument {
                                     function: "fmi2DoStep",
                                     instance: unit.name.clone(),
                                     reason: "discarded step".into(),
-                                },
+                                }),
                             });
                         }
                         self.get_outputs(u)?;
@@ -400,7 +424,7 @@ impl Simulation {
                         return Err(MasterError::Step {
                             instance,
                             time,
-                            source,
+                            source: Box::new(source),
                         });
                     }
                 }
@@ -560,7 +584,7 @@ fn call(instance: &str, context: &str, source: CallError) -> MasterError {
     MasterError::Call {
         instance: instance.to_owned(),
         context: context.to_owned(),
-        source,
+        source: Box::new(source),
     }
 }
 

@@ -1,0 +1,163 @@
+//! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals).
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use harness::master::{RunEnd, Simulation, Trajectory};
+use harness::scenarios::{self, Law};
+use harness::system::{split_path, ParamValue};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "harness",
+    version,
+    about = "FMI 2.0 co-simulation master for the lunar-lander GNC and plant FMUs",
+    long_about = "Loads FMI 2.0 Co-Simulation FMUs through their C ABI, connects them as a \
+                  scenario describes (TOML or SSP .ssd), and flies the paper's powered descent.\n\
+                  Built-in scenarios: paper (tilted start, phi_cmd = 150 deg at t = 0), upright \
+                  (Table II literally), descent-roll (tilted start, phi_cmd at the descent)."
+)]
+struct Cli {
+    /// Directory holding the FMUs named by the scenario (relative `fmu` paths).
+    #[arg(
+        long,
+        global = true,
+        default_value = "target/fmu",
+        env = "LANDER_FMU_DIR"
+    )]
+    fmu_dir: PathBuf,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run one scenario (built-in name, .toml or .ssd) and write its results as CSV.
+    Run {
+        /// paper, upright, descent-roll, or a path to a .toml/.ssd scenario.
+        scenario: String,
+        /// CSV output (header: time, instance.variable...).
+        #[arg(long, short, default_value = "target/harness/run.csv")]
+        out: PathBuf,
+        /// Override a parameter, e.g. --set gnc.phi_cmd=0.5 (repeatable).
+        #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
+        sets: Vec<String>,
+        /// Record only these columns (instance.variable, vectors allowed); default all outputs.
+        #[arg(long)]
+        record: Vec<String>,
+        /// Exchange ordering, overriding the scenario's.
+        #[arg(long, value_enum)]
+        ordering: Option<OrderingArg>,
+    },
+    /// Fly a scenario with the coupled, decoupled and reduced laws: table, CSVs and plots.
+    Paper {
+        /// Scenario (default: the paper's).
+        #[arg(default_value = "paper")]
+        scenario: String,
+        /// Where CSVs and PNG plots go.
+        #[arg(long, default_value = "target/paper")]
+        out_dir: PathBuf,
+        /// Skip the PNG plots.
+        #[arg(long)]
+        no_plots: bool,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum OrderingArg {
+    GaussSeidel,
+    Jacobi,
+}
+
+fn parse_set(text: &str) -> anyhow::Result<(String, String, ParamValue)> {
+    let (path, value) = text
+        .split_once('=')
+        .with_context(|| format!("--set {text}: expected INSTANCE.VAR=VALUE"))?;
+    let (instance, variable) =
+        split_path(path).with_context(|| format!("--set {text}: expected INSTANCE.VAR=VALUE"))?;
+    let value = if let Ok(i) = value.parse::<i64>() {
+        ParamValue::Integer(i)
+    } else if let Ok(x) = value.parse::<f64>() {
+        ParamValue::Real(x)
+    } else if let Ok(b) = value.parse::<bool>() {
+        ParamValue::Boolean(b)
+    } else {
+        ParamValue::String(value.to_owned())
+    };
+    Ok((instance.to_owned(), variable.to_owned(), value))
+}
+
+fn main() -> anyhow::Result<()> {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Run {
+            scenario,
+            out,
+            sets,
+            record,
+            ordering,
+        } => {
+            let mut system = scenarios::load(&scenario)?;
+            for set in &sets {
+                let (instance, variable, value) = parse_set(set)?;
+                anyhow::ensure!(
+                    system.set_parameter(&instance, &variable, value),
+                    "--set {set}: no instance '{instance}'"
+                );
+            }
+            if !record.is_empty() {
+                system.record = Some(record);
+            }
+            match ordering {
+                Some(OrderingArg::GaussSeidel) => {
+                    system.ordering = harness::system::Ordering::GaussSeidel
+                }
+                Some(OrderingArg::Jacobi) => system.ordering = harness::system::Ordering::Jacobi,
+                None => {}
+            }
+            let mut simulation = Simulation::new(system, &cli.fmu_dir)?;
+            let mut trajectory = Trajectory {
+                names: simulation.column_names().to_vec(),
+                ..Default::default()
+            };
+            let end = simulation.run(&mut trajectory)?;
+            harness::results::write_csv(&out, &trajectory)
+                .with_context(|| format!("writing {}", out.display()))?;
+            let how = match end {
+                RunEnd::Completed => "completed".to_owned(),
+                RunEnd::Terminated { instance, time } => {
+                    format!("terminated by '{instance}' at t = {time}")
+                }
+            };
+            println!(
+                "{}: {how}; {} rows x {} columns -> {}",
+                simulation.system().name,
+                trajectory.len(),
+                trajectory.names.len() + 1,
+                out.display()
+            );
+        }
+        Command::Paper {
+            scenario,
+            out_dir,
+            no_plots,
+        } => {
+            let system = scenarios::load(&scenario)?;
+            let name = system.name.clone();
+            let flights = harness::paper::fly_all(system, &cli.fmu_dir, &Law::ALL)?;
+            println!("scenario '{name}'\n{}", harness::paper::table(&flights));
+            std::fs::create_dir_all(&out_dir)?;
+            for flight in &flights {
+                let path = out_dir.join(format!("{name}-{}.csv", flight.law.name()));
+                harness::results::write_csv(&path, &flight.trajectory)?;
+            }
+            if !no_plots {
+                for path in harness::plots::paper_figures(&flights, &out_dir, &name)? {
+                    println!("wrote {}", path.display());
+                }
+            }
+            println!("CSVs in {}", out_dir.display());
+        }
+    }
+    Ok(())
+}

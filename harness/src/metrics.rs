@@ -1,0 +1,175 @@
+//! Figures of merit of one descent, computed from a recorded trajectory: what the paper's
+//! comparison (and our acceptance test) looks at.
+use crate::master::Trajectory;
+
+/// Column names the metrics read (instance names as in the shipped scenarios).
+pub struct Columns<'a> {
+    pub plant: &'a str,
+    pub gnc: &'a str,
+}
+
+impl Default for Columns<'_> {
+    fn default() -> Self {
+        Self {
+            plant: "plant",
+            gnc: "gnc",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Metrics {
+    /// Largest horizontal distance from the vertical through the landing site, whole flight (m).
+    pub max_horizontal_deviation_m: f64,
+    /// The same during the polynomial descent (guidance phase 2) (m).
+    pub max_horizontal_deviation_descent_m: f64,
+    /// |r_final - target| (m).
+    pub terminal_position_error_m: f64,
+    /// |v_final| (m/s): the target is a hover.
+    pub terminal_velocity_error_mps: f64,
+    pub final_altitude_m: f64,
+    /// Largest |omega_body| (rad/s).
+    pub max_body_rate_radps: f64,
+    pub propellant_used_kg: f64,
+    /// Time from the start of the run until the thrust-axis (roll) error stays within 2 deg
+    /// (s); NaN if it never settles.
+    pub roll_settling_time_s: f64,
+    /// Final thrust-axis angle phi_b (rad).
+    pub final_phi_b_rad: f64,
+    /// Largest tilt of the thrust axis from the commanded direction after the first 30 s (rad).
+    pub max_tilt_error_after_30s_rad: f64,
+    pub end_time_s: f64,
+}
+
+/// Error naming the missing column.
+#[derive(Debug, thiserror::Error)]
+#[error("trajectory has no column '{0}' (record it, or record all outputs)")]
+pub struct MissingColumn(pub String);
+
+/// Computes the metrics against the terminal hover target `target_nue`.
+pub fn compute(
+    trajectory: &Trajectory,
+    columns: &Columns<'_>,
+    target_nue: [f64; 3],
+) -> Result<Metrics, MissingColumn> {
+    let col = |instance: &str, name: &str| {
+        let full = format!("{instance}.{name}");
+        trajectory.column(&full).ok_or(MissingColumn(full))
+    };
+    let p = columns.plant;
+    let g = columns.gnc;
+    let r: Vec<_> = (1..=3)
+        .map(|i| col(p, &format!("r_nue[{i}]")))
+        .collect::<Result<_, _>>()?;
+    let v: Vec<_> = (1..=3)
+        .map(|i| col(p, &format!("v_nue[{i}]")))
+        .collect::<Result<_, _>>()?;
+    let w: Vec<_> = (1..=3)
+        .map(|i| col(p, &format!("omega_body[{i}]")))
+        .collect::<Result<_, _>>()?;
+    let propellant = col(p, "propellant_used")?;
+    let phase = col(g, "guidance_phase")?;
+    let err_roll = col(g, "err_roll")?;
+    let phi_b = col(g, "phi_b")?;
+    let tilt = col(g, "tilt_error")?;
+    let n = trajectory.len();
+    let last = n.saturating_sub(1);
+    let horizontal = |k: usize| r[0][k].hypot(r[2][k]);
+    let max_over = |it: &mut dyn Iterator<Item = f64>| it.fold(0.0_f64, f64::max);
+    let settle_limit = 2f64.to_radians();
+    let settle_index = (0..n).rev().find(|&k| err_roll[k].abs() > settle_limit);
+    let roll_settling_time_s = match settle_index {
+        None => trajectory.times.first().copied().unwrap_or(f64::NAN),
+        Some(k) if k + 1 < n => trajectory.times[k + 1],
+        Some(_) => f64::NAN,
+    };
+    let t0 = trajectory.times.first().copied().unwrap_or(0.0);
+    Ok(Metrics {
+        max_horizontal_deviation_m: max_over(&mut (0..n).map(horizontal)),
+        max_horizontal_deviation_descent_m: max_over(
+            &mut (0..n).filter(|&k| phase[k] == 2.0).map(horizontal),
+        ),
+        terminal_position_error_m: (0..3)
+            .map(|i| (r[i][last] - target_nue[i]).powi(2))
+            .sum::<f64>()
+            .sqrt(),
+        terminal_velocity_error_mps: (0..3).map(|i| v[i][last].powi(2)).sum::<f64>().sqrt(),
+        final_altitude_m: r[1][last],
+        max_body_rate_radps: max_over(
+            &mut (0..n).map(|k| (w[0][k].powi(2) + w[1][k].powi(2) + w[2][k].powi(2)).sqrt()),
+        ),
+        propellant_used_kg: propellant[last],
+        roll_settling_time_s,
+        final_phi_b_rad: phi_b[last],
+        max_tilt_error_after_30s_rad: max_over(
+            &mut (0..n)
+                .filter(|&k| trajectory.times[k] - t0 >= 30.0)
+                .map(|k| tilt[k]),
+        ),
+        end_time_s: trajectory.times.last().copied().unwrap_or(f64::NAN),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A hand-made two-row trajectory whose metrics are known by inspection.
+    fn sample() -> Trajectory {
+        let names = [
+            "plant.r_nue[1]",
+            "plant.r_nue[2]",
+            "plant.r_nue[3]",
+            "plant.v_nue[1]",
+            "plant.v_nue[2]",
+            "plant.v_nue[3]",
+            "plant.omega_body[1]",
+            "plant.omega_body[2]",
+            "plant.omega_body[3]",
+            "plant.propellant_used",
+            "gnc.guidance_phase",
+            "gnc.err_roll",
+            "gnc.phi_b",
+            "gnc.tilt_error",
+        ];
+        Trajectory {
+            names: names.iter().map(|s| s.to_string()).collect(),
+            times: vec![0.0, 40.0, 80.0],
+            values: [
+                [
+                    3.0, 800.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.3, 0.4, 0.0, 1.0, 1.0, 0.0, 0.2,
+                ],
+                [
+                    6.0, 500.0, 8.0, 0.0, -5.0, 0.0, 0.0, 0.0, 0.0, 5.0, 2.0, 0.01, 1.0, 0.1,
+                ],
+                [
+                    0.0, 152.0, 0.0, 0.0, 0.0, 0.6, 0.0, 0.0, 0.0, 9.0, 3.0, 0.0, 2.6, 0.05,
+                ],
+            ]
+            .concat(),
+        }
+    }
+
+    #[test]
+    fn metrics_of_a_hand_checked_trajectory() {
+        let m = compute(&sample(), &Columns::default(), [0.0, 150.0, 0.0]).unwrap();
+        assert_eq!(m.max_horizontal_deviation_m, 10.0); // (6, 8) at t = 40
+        assert_eq!(m.max_horizontal_deviation_descent_m, 10.0);
+        assert_eq!(m.terminal_position_error_m, 2.0);
+        assert_eq!(m.terminal_velocity_error_mps, 0.6);
+        assert_eq!(m.final_altitude_m, 152.0);
+        assert_eq!(m.max_body_rate_radps, 0.5);
+        assert_eq!(m.propellant_used_kg, 9.0);
+        assert_eq!(m.roll_settling_time_s, 40.0);
+        assert_eq!(m.final_phi_b_rad, 2.6);
+        assert_eq!(m.max_tilt_error_after_30s_rad, 0.1);
+    }
+
+    #[test]
+    fn a_missing_column_is_named() {
+        let mut t = sample();
+        t.names[11] = "gnc.other".into();
+        let e = compute(&t, &Columns::default(), [0.0; 3]).unwrap_err();
+        assert!(e.to_string().contains("gnc.err_roll"));
+    }
+}

@@ -1,0 +1,114 @@
+//! The shipped scenarios (issue 5) and how a scenario argument is resolved: a built-in name,
+//! a TOML file or an SSP `.ssd`.
+use crate::system::{ssp, toml_format, ParamValue, SystemDescription, SystemError};
+use std::path::Path;
+
+/// Built-in scenarios: name, TOML text (the same files as `harness/scenarios/*.toml`).
+pub const BUILT_IN: &[(&str, &str)] = &[
+    ("paper", include_str!("../scenarios/paper.toml")),
+    ("upright", include_str!("../scenarios/upright.toml")),
+    (
+        "descent-roll",
+        include_str!("../scenarios/descent-roll.toml"),
+    ),
+];
+
+/// The terminal hover target of the shipped timeline (LanderGnc's default descent target).
+pub const TERMINAL_TARGET_NUE: [f64; 3] = [0.0, 150.0, 0.0];
+
+/// A built-in scenario by name, or a `.toml`/`.ssd` file.
+pub fn load(name_or_path: &str) -> Result<SystemDescription, SystemError> {
+    if let Some((name, text)) = BUILT_IN.iter().find(|(name, _)| *name == name_or_path) {
+        return toml_format::parse(text, Path::new(&format!("<built-in scenario {name}>")));
+    }
+    let path = Path::new(name_or_path);
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("ssd") => ssp::read(path),
+        _ => toml_format::read(path),
+    }
+}
+
+/// The three attitude laws of LanderGnc's `control_law` enumeration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Law {
+    Coupled = 1,
+    Decoupled = 2,
+    Reduced = 3,
+}
+
+impl Law {
+    pub const ALL: [Law; 3] = [Law::Coupled, Law::Decoupled, Law::Reduced];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Law::Coupled => "coupled",
+            Law::Decoupled => "decoupled",
+            Law::Reduced => "reduced",
+        }
+    }
+
+    pub fn parameter(self) -> ParamValue {
+        ParamValue::Integer(self as i64)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_built_in_scenario_parses_and_connects_the_contract_signals() {
+        for (name, _) in BUILT_IN {
+            let system = load(name).unwrap();
+            assert_eq!(system.instances.len(), 2, "{name}");
+            for signal in ["r_nue", "v_nue", "q_body_to_nue", "omega_body", "mass"] {
+                assert!(
+                    system
+                        .connections
+                        .iter()
+                        .any(|c| c.from == format!("plant.{signal}")
+                            && c.to == format!("gnc.{signal}")),
+                    "{name}: {signal}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_tilted_start_is_15_deg_toward_north_with_the_pitch_axis_east() {
+        let system = load("paper").unwrap();
+        let plant = system.instance("plant").unwrap();
+        let q: Vec<f64> = (1..=4)
+            .map(|i| {
+                match plant
+                    .parameters
+                    .iter()
+                    .find(|(n, _)| *n == format!("q0_body_to_nue[{i}]"))
+                {
+                    Some((_, ParamValue::Real(x))) => *x,
+                    other => panic!("q0[{i}]: {other:?}"),
+                }
+            })
+            .collect();
+        // Rotate body y (thrust) and body z (pitch) into NUE with R(q), scalar first.
+        let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
+        let thrust_nue = [
+            2.0 * (x * y - w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z + w * x),
+        ];
+        let pitch_nue = [
+            2.0 * (x * z + w * y),
+            2.0 * (y * z - w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ];
+        let tilt = thrust_nue[1].acos().to_degrees();
+        assert!((tilt - 15.0).abs() < 1e-9, "tilt {tilt}");
+        assert!(
+            thrust_nue[0] > 0.0 && thrust_nue[2].abs() < 1e-12,
+            "toward North"
+        );
+        assert!((pitch_nue[2] - 1.0).abs() < 1e-12, "pitch axis East");
+    }
+}
