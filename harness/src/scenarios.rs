@@ -1,5 +1,6 @@
 //! The shipped scenarios (issue 5) and how a scenario argument is resolved: a built-in name,
 //! a TOML file or an SSP `.ssd`.
+use crate::master::{MasterError, Simulation};
 use crate::system::{ssp, toml_format, ParamValue, SystemDescription, SystemError};
 use std::path::Path;
 
@@ -17,15 +18,42 @@ pub const BUILT_IN: &[(&str, &str)] = &[
 pub const TERMINAL_TARGET_NUE: [f64; 3] = [0.0, 150.0, 0.0];
 
 /// A built-in scenario by name, or a `.toml`/`.ssd` file.
+///
+/// An SSD's component sources are relative to the SSD (`resources/X.fmu` in an SSP); where that
+/// file exists it is used, otherwise the bare file name is looked up in the master's FMU
+/// directory, so the shipped `harness/scenarios/paper.ssd` runs against `target/fmu`.
 pub fn load(name_or_path: &str) -> Result<SystemDescription, SystemError> {
     if let Some((name, text)) = BUILT_IN.iter().find(|(name, _)| *name == name_or_path) {
         return toml_format::parse(text, Path::new(&format!("<built-in scenario {name}>")));
     }
     let path = Path::new(name_or_path);
     match path.extension().and_then(|e| e.to_str()) {
-        Some("ssd") => ssp::read(path),
+        Some("ssd") => {
+            let mut system = ssp::read(path)?;
+            let base = path.parent().unwrap_or(Path::new("."));
+            for instance in &mut system.instances {
+                let beside = base.join(&instance.fmu);
+                instance.fmu = if beside.is_file() {
+                    beside
+                } else {
+                    instance.fmu.file_name().map(Into::into).unwrap_or_default()
+                };
+            }
+            Ok(system)
+        }
         _ => toml_format::read(path),
     }
+}
+
+/// The SSP `SystemStructure.ssd` of a scenario: its connections expanded to scalars and
+/// typed from the FMUs in `fmu_dir`, components pointing at `resources/<file>.fmu`.
+pub fn ssd_for(system: &SystemDescription, fmu_dir: &Path) -> Result<String, MasterError> {
+    let simulation = Simulation::new(system.clone(), fmu_dir)?;
+    Ok(ssp::write(
+        system,
+        simulation.connectors(),
+        simulation.scalar_connections(),
+    ))
 }
 
 /// The three attitude laws of LanderGnc's `control_law` enumeration.
