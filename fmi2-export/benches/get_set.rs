@@ -1,0 +1,181 @@
+//! The layer's own cost, with a model that does nothing: fmi2GetReal and fmi2SetReal of 14
+//! values (the size of the landers' navigation exchange) through the exported C symbols.
+//! What is measured here is lookup, checks and bookkeeping, never the model.
+#![allow(unsafe_code)]
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use fmi2_export::ffi::*;
+use fmi2_export::{
+    Access, Causality, Experiment, Initial, Log, Model, ModelError, StepEnd, Variability, Variable,
+};
+use serde::{Deserialize, Serialize};
+use std::ffi::{c_void, CString};
+
+/// 14 inputs `u[i]` and 14 outputs `y[i] = u[i]`, value references 1..=14 and 101..=114.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+struct Exchange {
+    u: [f64; 14],
+    y: [f64; 14],
+}
+
+impl Model for Exchange {
+    const MODEL_IDENTIFIER: &'static str = "Exchange";
+    const MODEL_NAME: &'static str = "Exchange";
+    const DESCRIPTION: &'static str = "14 inputs copied to 14 outputs";
+    const DEFAULT_EXPERIMENT: Experiment = Experiment {
+        start_time: 0.0,
+        stop_time: 1.0,
+        step_size: 0.01,
+        tolerance: None,
+    };
+    fn variables() -> &'static [Variable<Self>] {
+        &VARIABLES
+    }
+    fn calculate_values(&mut self, _: &mut Log) {
+        self.y = self.u;
+    }
+    fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
+        Ok(())
+    }
+    fn do_step(&mut self, _: f64, _: f64, _: &mut Log) -> Result<StepEnd, ModelError> {
+        Ok(StepEnd::Complete)
+    }
+}
+
+fmi2_export::export_fmi2!(Exchange);
+
+const fn input(
+    name: &'static str,
+    vr: u32,
+    get: fn(&Exchange) -> f64,
+    set: fn(&mut Exchange, f64),
+) -> Variable<Exchange> {
+    Variable {
+        name,
+        value_reference: vr,
+        causality: Causality::Input,
+        variability: Variability::Continuous,
+        initial: None,
+        unit: None,
+        description: "",
+        access: Access::Real {
+            start: Some(0.0),
+            min: None,
+            max: None,
+            get,
+            set: Some(set),
+        },
+    }
+}
+
+const fn output(name: &'static str, vr: u32, get: fn(&Exchange) -> f64) -> Variable<Exchange> {
+    Variable {
+        name,
+        value_reference: vr,
+        causality: Causality::Output,
+        variability: Variability::Continuous,
+        initial: Some(Initial::Calculated),
+        unit: None,
+        description: "",
+        access: Access::Real {
+            start: None,
+            min: None,
+            max: None,
+            get,
+            set: None,
+        },
+    }
+}
+
+macro_rules! table {
+    ($($i:literal),*) => {
+        [
+            $(input(concat!("u[", $i, "]"), $i + 1, |m| m.u[$i], |m, v| m.u[$i] = v),)*
+            $(output(concat!("y[", $i, "]"), $i + 101, |m| m.y[$i]),)*
+        ]
+    };
+}
+
+static VARIABLES: [Variable<Exchange>; 28] = table!(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13);
+
+extern "C" fn silent(
+    _: fmi2ComponentEnvironment,
+    _: fmi2String,
+    _: fmi2Status,
+    _: fmi2String,
+    _: fmi2String,
+    _: fmi2String,
+) {
+}
+
+type FixedLogger = extern "C" fn(
+    fmi2ComponentEnvironment,
+    fmi2String,
+    fmi2Status,
+    fmi2String,
+    fmi2String,
+    fmi2String,
+);
+
+fn get_set(c: &mut Criterion) {
+    assert_eq!(fmi2_export::check_table::<Exchange>(), Ok(()));
+    let functions = fmi2CallbackFunctions {
+        // SAFETY: the logger reads none of the variadic arguments.
+        logger: unsafe { std::mem::transmute::<FixedLogger, fmi2CallbackLogger>(silent) },
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut::<c_void>(),
+    };
+    let guid = CString::new(fmi2_export::guid::<Exchange>()).unwrap();
+    let inputs: Vec<u32> = (1..=14).collect();
+    let outputs: Vec<u32> = (101..=114).collect();
+    let values: Vec<f64> = (0..14).map(|i| 0.5 + i as f64).collect();
+    let mut read = [0.0; 14];
+    unsafe {
+        let inst = fmi2Instantiate(
+            c"bench".as_ptr(),
+            fmi2CoSimulation,
+            guid.as_ptr(),
+            std::ptr::null(),
+            &functions,
+            fmi2False,
+            fmi2False,
+        );
+        assert!(!inst.is_null());
+        fmi2SetupExperiment(inst, fmi2False, 0.0, 0.0, fmi2False, 0.0);
+        fmi2EnterInitializationMode(inst);
+        assert_eq!(fmi2ExitInitializationMode(inst), fmi2Status::fmi2OK);
+        assert_eq!(
+            fmi2SetReal(inst, inputs.as_ptr(), 14, values.as_ptr()),
+            fmi2Status::fmi2OK
+        );
+        assert_eq!(
+            fmi2GetReal(inst, outputs.as_ptr(), 14, read.as_mut_ptr()),
+            fmi2Status::fmi2OK
+        );
+        assert_eq!(read.as_slice(), values.as_slice(), "y = u");
+
+        // Nothing changed since the last get: no calculate_values, lookup and copy only.
+        c.bench_function("fmi2GetReal of 14 outputs", |b| {
+            b.iter(|| {
+                let status = fmi2GetReal(inst, black_box(outputs.as_ptr()), 14, read.as_mut_ptr());
+                black_box((status, read[13]))
+            })
+        });
+        c.bench_function("fmi2SetReal of 14 inputs", |b| {
+            b.iter(|| {
+                fmi2SetReal(
+                    inst,
+                    black_box(inputs.as_ptr()),
+                    14,
+                    black_box(values.as_ptr()),
+                )
+            })
+        });
+        fmi2FreeInstance(inst);
+    }
+}
+
+criterion_group!(benches, get_set);
+criterion_main!(benches);
