@@ -8,29 +8,10 @@
 use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
-/// An FMU the workspace ships, with the crate that builds it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ShippedFmu {
-    pub model_identifier: &'static str,
-    /// Folder of the crate, relative to the workspace root.
-    pub crate_dir: &'static str,
-}
-
-/// Every FMU `cargo xtask fmus` packages (same table as xtask/src/fmus.rs).
-pub const SHIPPED_FMUS: [ShippedFmu; 3] = [
-    ShippedFmu {
-        model_identifier: "Oscillator",
-        crate_dir: "testmodel",
-    },
-    ShippedFmu {
-        model_identifier: "LanderGnc",
-        crate_dir: "fmu-gnc",
-    },
-    ShippedFmu {
-        model_identifier: "LanderPlant",
-        crate_dir: "fmu-plant",
-    },
-];
+/// The `modelIdentifier` of every FMU `cargo xtask fmus` packages (xtask/src/fmus.rs).
+/// Every system test checks all of them: one missing from `target/fmu` fails the tests
+/// instead of being skipped.
+pub const SHIPPED_FMUS: [&str; 3] = ["Oscillator", "LanderGnc", "LanderPlant"];
 
 pub fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -50,28 +31,6 @@ pub fn target_dir() -> PathBuf {
 
 pub fn fmu_dir() -> PathBuf {
     target_dir().join("fmu")
-}
-
-/// The FMUs these tests must find: those whose crate already provides the
-/// `model_description` example that `cargo xtask fmus` packages from. A crate without it
-/// is named on stderr, so its absence is visible in every test log.
-pub fn expected_fmus() -> Vec<ShippedFmu> {
-    SHIPPED_FMUS
-        .into_iter()
-        .filter(|fmu| {
-            let example = workspace_root()
-                .join(fmu.crate_dir)
-                .join("examples/model_description.rs");
-            let packaged = example.is_file();
-            if !packaged {
-                eprintln!(
-                    "note: {} is not packaged yet ({} has no examples/model_description.rs)",
-                    fmu.model_identifier, fmu.crate_dir
-                );
-            }
-            packaged
-        })
-        .collect()
 }
 
 /// Path of a packaged FMU; panics, naming the command that makes it, when it is missing.
