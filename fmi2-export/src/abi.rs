@@ -183,13 +183,20 @@ fn row<M: Model>(
     base: BaseType,
     vr: fmi2ValueReference,
 ) -> Result<&'static Variable<M>, CallError> {
-    inst.index
-        .row(base, vr)
-        .map(|r| &M::variables()[r])
-        .ok_or(CallError::UnknownValueReference {
-            vr,
-            type_name: base.name(),
-        })
+    match inst.index.row(base, vr) {
+        Some(r) => Ok(&M::variables()[r]),
+        None => Err(unknown_value_reference(base, vr)),
+    }
+}
+
+/// Out of line: the error is built only when a lookup fails, never on the success path.
+#[cold]
+#[inline(never)]
+fn unknown_value_reference(base: BaseType, vr: fmi2ValueReference) -> CallError {
+    CallError::UnknownValueReference {
+        vr,
+        type_name: base.name(),
+    }
 }
 
 // ---------------------------------------------------------------------------------------
