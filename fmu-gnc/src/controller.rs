@@ -32,6 +32,26 @@ impl Default for NavigationInputs {
     }
 }
 
+impl NavigationInputs {
+    /// Every component as its bit pattern: two inputs with equal bits give bit-identical
+    /// samples (unlike `==`, which equates 0.0 with -0.0, and the sign of a zero can reach
+    /// an `atan2`).
+    pub fn to_bits(&self) -> [u64; 14] {
+        let mut bits = [0; 14];
+        let values = self
+            .r_nue_m
+            .iter()
+            .chain(&self.v_nue_mps)
+            .chain(&self.q_body_to_nue)
+            .chain(&self.omega_body_radps)
+            .chain([&self.mass_kg]);
+        for (b, v) in bits.iter_mut().zip(values) {
+            *b = v.to_bits();
+        }
+        bits
+    }
+}
+
 /// Commands and diagnostics of one sample, as exchanged.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct GncOutputs {
@@ -191,6 +211,32 @@ mod tests {
         let s = gnc_sample(&params, 0.0, &initial(), &massless, 0.0);
         assert_eq!(s.degenerate, Some(DegenerateInput::NonPositiveMass(-1.0)));
         assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
+    }
+
+    #[test]
+    fn input_bits_tell_every_component_and_the_sign_of_zero_apart() {
+        let base = NavigationInputs::default();
+        let bits = base.to_bits();
+        assert_eq!(bits[1], 800.0f64.to_bits());
+        assert_eq!(bits[6], 1.0f64.to_bits());
+        assert_eq!(bits[13], 900.0f64.to_bits());
+        for k in 0..14 {
+            let mut nav = base;
+            let mut fields = [0.0; 14];
+            for (f, b) in fields.iter_mut().zip(bits) {
+                *f = f64::from_bits(b);
+            }
+            // -0.0 == 0.0 but must count as a different input.
+            fields[k] = if fields[k] == 0.0 { -0.0 } else { -fields[k] };
+            nav.r_nue_m.copy_from_slice(&fields[0..3]);
+            nav.v_nue_mps.copy_from_slice(&fields[3..6]);
+            nav.q_body_to_nue.copy_from_slice(&fields[6..10]);
+            nav.omega_body_radps.copy_from_slice(&fields[10..13]);
+            nav.mass_kg = fields[13];
+            let new_bits = nav.to_bits();
+            let differing: Vec<usize> = (0..14).filter(|&i| new_bits[i] != bits[i]).collect();
+            assert_eq!(differing, [k]);
+        }
     }
 
     #[test]

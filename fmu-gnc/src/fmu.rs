@@ -5,8 +5,13 @@
 //! point `t` are a function of the inputs at `t` and the internal state: `calculate_values`
 //! evaluates the sample at `t` without committing it; `do_step(t, h)` commits the sample taken
 //! at `t` (guidance re-solve on a new guidance cycle, phase change) and advances to `t + h`.
+//!
+//! A master reads the outputs and then steps at the same point, so the sample evaluated for
+//! the get is kept and committed by `do_step` when its time and inputs are bit-identical
+//! (see [`Evaluated`]); otherwise `do_step` evaluates again. Either way the committed sample is
+//! `gnc_sample` of the same arguments: gets never change a trajectory.
 use crate::attitude::ControlLaw;
-use crate::controller::{gnc_sample, GncOutputs, NavigationInputs};
+use crate::controller::{gnc_sample, GncOutputs, NavigationInputs, Sample};
 use crate::guidance::sequencer::GuidanceState;
 use crate::params::GncParameters;
 use fmi2_export::{
@@ -24,6 +29,22 @@ pub struct LanderGnc {
     guidance: GuidanceState,
     start_time_s: f64,
     time_s: f64,
+    /// A cache, not state: a restored or deserialized instance evaluates afresh.
+    #[serde(skip)]
+    evaluated: Option<Evaluated>,
+}
+
+/// The latest sample evaluated without being committed, with the time and inputs it was
+/// evaluated at. It is only valid while the parameters, the start time and the guidance
+/// state are those it was evaluated with: these change only in `exit_initialization`
+/// (which evaluates and stores afresh) and in `do_step` (which consumes it); a parameter
+/// set in initialization mode is followed by `exit_initialization`; `fmi2Reset` and
+/// `fmi2SetFMUstate` replace the whole instance, this cache included.
+#[derive(Debug, Clone)]
+struct Evaluated {
+    time_bits: u64,
+    input_bits: [u64; 14],
+    sample: Sample,
 }
 
 impl Default for LanderGnc {
@@ -36,27 +57,56 @@ impl Default for LanderGnc {
             guidance: GuidanceState::initial(params.gravity_mps2),
             start_time_s: 0.0,
             time_s: 0.0,
+            evaluated: None,
         }
     }
 }
 
 impl LanderGnc {
-    /// Evaluate the sample at the current time; commit the guidance state if `commit`.
-    fn sample(&mut self, log: &mut Log, commit: bool) {
-        let sample = gnc_sample(
+    fn evaluate(&self) -> Sample {
+        gnc_sample(
             &self.params,
             self.start_time_s,
             &self.guidance,
             &self.inputs,
             self.time_s,
-        );
+        )
+    }
+
+    /// Show `sample` as the outputs; its warning, if any, goes to this call's log.
+    fn publish(&mut self, sample: &Sample, log: &mut Log) {
         if let Some(why) = sample.degenerate {
             log.warning(format!("t = {} s: {why}", self.time_s));
         }
         self.outputs = sample.outputs;
-        if commit {
-            self.guidance = sample.guidance;
-        }
+    }
+
+    /// Evaluate the sample at the current time without committing it, and keep it for the
+    /// `do_step` that usually follows.
+    fn preview(&mut self, log: &mut Log) {
+        let sample = self.evaluate();
+        self.publish(&sample, log);
+        self.evaluated = Some(Evaluated {
+            time_bits: self.time_s.to_bits(),
+            input_bits: self.inputs.to_bits(),
+            sample,
+        });
+    }
+
+    /// Commit the sample at the current time: the kept one if it was evaluated at this very
+    /// time with these very inputs, otherwise a fresh one.
+    fn commit(&mut self, log: &mut Log) {
+        let sample = match self.evaluated.take() {
+            Some(e)
+                if e.time_bits == self.time_s.to_bits()
+                    && e.input_bits == self.inputs.to_bits() =>
+            {
+                e.sample
+            }
+            _ => self.evaluate(),
+        };
+        self.publish(&sample, log);
+        self.guidance = sample.guidance;
     }
 }
 
@@ -103,7 +153,7 @@ impl Model for LanderGnc {
     }
 
     fn calculate_values(&mut self, log: &mut Log) {
-        self.sample(log, false);
+        self.preview(log);
     }
 
     fn exit_initialization(&mut self, start_time: f64, log: &mut Log) -> Result<(), ModelError> {
@@ -117,14 +167,15 @@ impl Model for LanderGnc {
         self.start_time_s = start_time;
         self.time_s = start_time;
         self.guidance = GuidanceState::initial(self.params.gravity_mps2);
-        self.sample(log, false);
+        self.preview(log);
         Ok(())
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError> {
-        // The master's t is authoritative: it may differ from ours by rounding.
+        // The master's t is authoritative: it may differ from ours by rounding (and then the
+        // sample kept from the get is not used).
         self.time_s = t;
-        self.sample(log, true);
+        self.commit(log);
         self.time_s = t + h;
         Ok(StepEnd::Complete)
     }
@@ -313,3 +364,170 @@ static VARIABLES: &[Variable<LanderGnc>] = &[
     parameter("target_hover_duration", 226, S, "phase 3 (PV hover at the descent target) duration; phase 4 holds there after it", 30.0, Some(0.0), |m| m.params.target_hover_duration_s, |m, v| m.params.target_hover_duration_s = v),
     parameter("reduced_yaw_weight", 227, ONE, "reduced law: weight of the rotation about the thrust axis, in [0, 1]", 0.4, Some(0.0), |m| m.params.reduced_yaw_weight, |m, v| m.params.reduced_yaw_weight = v),
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const H: f64 = 0.01;
+
+    /// A lander descending 2 m/s and rocking slowly (an open-loop input sequence, enough
+    /// to pass the phase change, the phi_cmd switch and the 10 Hz re-solves), with one
+    /// degenerate sample whose warning must appear in both runs.
+    fn navigation(k: usize) -> NavigationInputs {
+        let s = k as f64 * H;
+        let half = 0.05 * (0.7 * s).sin();
+        let mut nav = NavigationInputs {
+            r_nue_m: [0.3, 800.0 - 2.0 * s, -0.2],
+            v_nue_mps: [0.01, -2.0, 0.02],
+            q_body_to_nue: [
+                half.cos(),
+                0.2 * half.sin(),
+                0.5 * half.sin(),
+                0.84 * half.sin(),
+            ],
+            omega_body_radps: [0.01, -0.02, 0.005],
+            mass_kg: 880.0,
+        };
+        if k == 777 {
+            nav.q_body_to_nue = [0.0; 4];
+        }
+        nav
+    }
+
+    fn initialized(params: GncParameters) -> LanderGnc {
+        let mut gnc = LanderGnc {
+            params,
+            ..LanderGnc::default()
+        };
+        gnc.exit_initialization(0.0, &mut Log::default()).unwrap();
+        gnc
+    }
+
+    fn paper_params() -> GncParameters {
+        GncParameters {
+            phi_cmd_rad: 150f64.to_radians(),
+            ..GncParameters::default()
+        }
+    }
+
+    /// `{:?}` of f64 is exact (shortest round trip) and tells -0.0 from 0.0.
+    fn exact<T: std::fmt::Debug>(value: &T) -> String {
+        format!("{value:?}")
+    }
+
+    fn messages(log: &Log) -> Vec<String> {
+        log.entries
+            .iter()
+            .map(|(l, m)| format!("{l:?}: {m}"))
+            .collect()
+    }
+
+    #[test]
+    fn gets_between_steps_do_not_change_the_trajectory() {
+        // GIVEN two instances, one stepped bare, one read before (almost) every step
+        let mut bare = initialized(paper_params());
+        let mut read = initialized(paper_params());
+        let (mut kept_time, mut other_time) = (0, 0);
+        for k in 0..2000 {
+            // The master's time from an integer step counter: about a quarter of these
+            // differ in the last bits from our t + h, so a kept sample is then not used.
+            let t = k as f64 * H;
+            if read.time_s.to_bits() == t.to_bits() {
+                kept_time += 1;
+            } else {
+                other_time += 1;
+            }
+            // WHEN the reading instance sees, by turns: a get of the step's inputs; a get
+            // of other inputs then the step's inputs without a get; no get at all
+            match k % 3 {
+                0 => {
+                    read.inputs = navigation(k);
+                    read.calculate_values(&mut Log::default());
+                }
+                1 => {
+                    read.inputs = navigation(k + 50);
+                    read.calculate_values(&mut Log::default());
+                    read.inputs = navigation(k);
+                }
+                _ => read.inputs = navigation(k),
+            }
+            bare.inputs = navigation(k);
+            let (mut bare_log, mut read_log) = (Log::default(), Log::default());
+            bare.do_step(t, H, &mut bare_log).unwrap();
+            read.do_step(t, H, &mut read_log).unwrap();
+            // THEN both commit bit-identical samples and report the same warnings
+            assert_eq!(exact(&read.outputs), exact(&bare.outputs), "step {k}");
+            assert_eq!(exact(&read.guidance), exact(&bare.guidance), "step {k}");
+            assert_eq!(messages(&read_log), messages(&bare_log), "step {k}");
+        }
+        assert!(
+            kept_time > 200 && other_time > 200,
+            "{kept_time} {other_time}"
+        );
+        assert_eq!(
+            bare.outputs.guidance_phase, 2,
+            "the run reaches the descent"
+        );
+    }
+
+    #[test]
+    fn a_get_previews_exactly_the_sample_the_step_commits() {
+        let mut gnc = initialized(paper_params());
+        for k in 0..300 {
+            let t = k as f64 * H;
+            gnc.time_s = t;
+            gnc.inputs = navigation(k);
+            let mut get_log = Log::default();
+            gnc.calculate_values(&mut get_log);
+            let previewed = exact(&gnc.outputs);
+            let mut step_log = Log::default();
+            gnc.do_step(t, H, &mut step_log).unwrap();
+            assert_eq!(exact(&gnc.outputs), previewed, "step {k}");
+            assert_eq!(messages(&step_log), messages(&get_log), "step {k}");
+        }
+    }
+
+    #[test]
+    fn a_step_at_another_time_than_the_get_evaluates_afresh() {
+        // GIVEN a get just before phi_cmd_time (12 s), where q_ref has no rotation yet
+        let mut gnc = initialized(paper_params());
+        gnc.time_s = 11.99;
+        gnc.inputs = navigation(0);
+        gnc.calculate_values(&mut Log::default());
+        let previewed = exact(&gnc.outputs);
+        // WHEN the step is taken at 12 s with the same inputs
+        gnc.do_step(12.0, H, &mut Log::default()).unwrap();
+        // THEN it commits the sample at 12 s, as an instance that had no get does
+        let mut bare = initialized(paper_params());
+        bare.inputs = navigation(0);
+        bare.do_step(12.0, H, &mut Log::default()).unwrap();
+        assert_eq!(exact(&gnc.outputs), exact(&bare.outputs));
+        assert_ne!(exact(&gnc.outputs), previewed);
+    }
+
+    #[test]
+    fn a_parameter_set_after_a_get_in_initialization_mode_is_used() {
+        // GIVEN a get in initialization mode, then a new hover target
+        let mut gnc = LanderGnc {
+            inputs: navigation(0),
+            ..LanderGnc::default()
+        };
+        gnc.calculate_values(&mut Log::default());
+        let before = exact(&gnc.outputs);
+        gnc.params.hover_target_nue_m = [40.0, 700.0, -30.0];
+        // WHEN initialization ends and the first step is taken with the same inputs
+        gnc.exit_initialization(0.0, &mut Log::default()).unwrap();
+        gnc.do_step(0.0, H, &mut Log::default()).unwrap();
+        // THEN the step commands towards the new target, as an instance that never saw the
+        // old one does
+        let mut fresh = initialized(GncParameters {
+            hover_target_nue_m: [40.0, 700.0, -30.0],
+            ..GncParameters::default()
+        });
+        fresh.inputs = navigation(0);
+        fresh.do_step(0.0, H, &mut Log::default()).unwrap();
+        assert_eq!(exact(&gnc.outputs), exact(&fresh.outputs));
+        assert_ne!(exact(&gnc.outputs), before);
+    }
+}
