@@ -6,6 +6,7 @@
 pub mod loader;
 pub mod master;
 pub mod metrics;
+pub mod montecarlo;
 pub mod paper;
 pub mod plots;
 pub mod results;

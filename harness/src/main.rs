@@ -60,6 +60,27 @@ enum Command {
         #[arg(long)]
         no_plots: bool,
     },
+    // Monte Carlo subcommands (harness/src/montecarlo/cli.rs).
+    /// Monte Carlo campaign over phi_cmd x laws x dispersed runs: manifest.csv, campaign.toml
+    /// and the paper's Monte Carlo figure.
+    #[command(
+        name = "monte-carlo",
+        long_about = "Flies the scenario for every phi_cmd of the grid, every law and --runs \
+                      dispersed runs (initial position, velocity, attitude, body rates, mass, \
+                      plant inertia, thrust misalignment; ranges below).\n\
+                      Run j's dispersions are a pure function of the campaign seed and j, and \
+                      the same draw is flown by every law at every phi_cmd, so laws and \
+                      phi_cmd points are compared on identical conditions. Results do not \
+                      depend on --workers or --shard; any flight can be replayed bit-exactly \
+                      with `harness replay`."
+    )]
+    MonteCarlo(harness::montecarlo::cli::MonteCarloArgs),
+    /// Merge `monte-carlo --shard k/N` directories, checking for duplicate and missing flights.
+    #[command(name = "merge-mc")]
+    MergeMc(harness::montecarlo::cli::MergeArgs),
+    /// Re-fly one Monte Carlo flight from its seed (or a manifest row) and write its full
+    /// trajectory; from a manifest, check its metrics bit for bit.
+    Replay(harness::montecarlo::cli::ReplayArgs),
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -158,6 +179,9 @@ fn main() -> anyhow::Result<()> {
             }
             println!("CSVs in {}", out_dir.display());
         }
+        Command::MonteCarlo(args) => harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?,
+        Command::MergeMc(args) => harness::montecarlo::cli::merge_mc(&args)?,
+        Command::Replay(args) => harness::montecarlo::cli::replay(&args, &cli.fmu_dir)?,
     }
     Ok(())
 }

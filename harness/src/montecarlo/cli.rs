@@ -1,0 +1,238 @@
+//! The `monte-carlo`, `merge-mc` and `replay` subcommands: their options and what they do.
+use super::campaign::{CampaignSpec, Flight, Shard};
+use super::dispersion::DispersionRanges;
+use super::manifest::{self, Row};
+use super::seed::run_seed;
+use super::{merge, plots, replay, runner, summary};
+use crate::scenarios::Law;
+use std::path::{Path, PathBuf};
+
+/// The definition of a campaign: with the same options, `monte-carlo` flies the same
+/// flights bit for bit, on any machine, with any number of workers or shards.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CampaignArgs {
+    /// Scenario: paper, upright, descent-roll, or a .toml/.ssd file with instances named
+    /// `gnc` and `plant`.
+    #[arg(long, default_value = "paper")]
+    pub scenario: String,
+    /// Campaign seed (0 ..= 2^63 - 1). Run j draws its dispersions from ChaCha8 seeded
+    /// with output j of SplitMix64 seeded with this.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(..=i64::MAX as u64))]
+    pub seed: u64,
+    /// phi_cmd grid (deg), comma-separated or repeated.
+    #[arg(
+        long = "phi-cmd-deg",
+        value_delimiter = ',',
+        num_args = 1..,
+        default_values_t = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]
+    )]
+    pub phi_cmd_deg: Vec<f64>,
+    /// Control laws, comma-separated or repeated.
+    #[arg(long = "law", value_enum, value_delimiter = ',', num_args = 1.., default_values_t = Law::ALL)]
+    pub laws: Vec<Law>,
+    /// Runs (dispersion draws) per (phi_cmd, law) point.
+    #[arg(long, short = 'n', default_value_t = 10)]
+    pub runs: u64,
+    #[command(flatten)]
+    pub dispersions: DispersionRanges,
+}
+
+impl CampaignArgs {
+    pub fn spec(&self) -> CampaignSpec {
+        CampaignSpec {
+            scenario: self.scenario.clone(),
+            seed: self.seed,
+            phi_cmd_deg: self.phi_cmd_deg.clone(),
+            laws: self.laws.clone(),
+            runs_per_point: self.runs,
+            dispersions: self.dispersions.clone(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct MonteCarloArgs {
+    #[command(flatten)]
+    pub campaign: CampaignArgs,
+    /// Worker threads, each with its own FMU instance pair (default: the available cores).
+    #[arg(long)]
+    pub workers: Option<usize>,
+    /// Where manifest.csv, campaign.toml and the plots go.
+    #[arg(long, default_value = "target/monte-carlo")]
+    pub out_dir: PathBuf,
+    /// Fly only the flights whose index is k-1 modulo N (k = 1..N), e.g. an array job's task;
+    /// combine the shards' directories with `merge-mc`.
+    #[arg(long, value_name = "k/N")]
+    pub shard: Option<Shard>,
+    /// No progress bar and no summary table.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Skip the PNG figure.
+    #[arg(long)]
+    pub no_plots: bool,
+}
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct MergeArgs {
+    /// Shard directories (or their manifest.csv files), each with its campaign.toml.
+    #[arg(required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// Where the merged manifest.csv, campaign.toml and the figure go.
+    #[arg(long)]
+    pub out_dir: PathBuf,
+    /// Merge even if flights are missing (they are listed); duplicates are always an error.
+    #[arg(long)]
+    pub allow_missing: bool,
+    #[arg(long)]
+    pub no_plots: bool,
+}
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct ReplayArgs {
+    /// Replay flight --index of this manifest (or campaign directory) and check its metrics
+    /// bit for bit; the campaign definition is read from the campaign.toml beside it.
+    #[arg(long, requires = "index", conflicts_with_all = ["seed", "run"])]
+    pub manifest: Option<PathBuf>,
+    /// The flight's index (the manifest's `index` column).
+    #[arg(long, requires = "manifest")]
+    pub index: Option<u64>,
+    /// Campaign seed (without --manifest).
+    #[arg(long, required_unless_present = "manifest")]
+    pub seed: Option<u64>,
+    /// Run j (the manifest's `run` column): which dispersion draw.
+    #[arg(long, required_unless_present = "manifest")]
+    pub run: Option<u64>,
+    /// Law to fly the run with (without --manifest).
+    #[arg(long, value_enum, default_value = "decoupled")]
+    pub law: Law,
+    /// phi_cmd to fly the run with (deg; without --manifest).
+    #[arg(long = "phi-cmd-deg", default_value_t = 150.0)]
+    pub phi_cmd_deg: f64,
+    /// Scenario (without --manifest).
+    #[arg(long, default_value = "paper")]
+    pub scenario: String,
+    #[command(flatten)]
+    pub dispersions: DispersionRanges,
+    /// The full trajectory (every output) as CSV.
+    #[arg(long, short, default_value = "target/monte-carlo/replay.csv")]
+    pub out: PathBuf,
+}
+
+/// Summary table and figure of finished rows.
+fn report(rows: &[Row], dir: &Path, title: &str, quiet: bool, plots: bool) -> anyhow::Result<()> {
+    if !quiet {
+        print!("{}", summary::table(&summary::summarise(rows)));
+    }
+    if plots {
+        let path = plots::figure(rows, dir, title)?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<()> {
+    let spec = args.campaign.spec();
+    let options = runner::RunOptions {
+        fmu_dir: fmu_dir.to_owned(),
+        out_dir: args.out_dir.clone(),
+        workers: args.workers.unwrap_or_else(runner::default_workers),
+        shard: args.shard.unwrap_or(Shard::WHOLE),
+        progress: !args.quiet,
+    };
+    let outcome = runner::run(&spec, &options)?;
+    println!(
+        "{} flights ({} failed) in {:.1} s ({:.1} flights/s, {} workers) -> {}",
+        outcome.flights,
+        outcome.failed,
+        outcome.elapsed.as_secs_f64(),
+        outcome.flights_per_second(),
+        options.workers,
+        outcome.manifest.display()
+    );
+    // Read back from disk: the campaign held no rows in memory while it ran.
+    let rows = manifest::read(&outcome.manifest)?;
+    let title = format!(
+        "Monte Carlo, scenario '{}', seed {}, {} runs per point{}",
+        spec.scenario,
+        spec.seed,
+        spec.runs_per_point,
+        if options.shard.is_whole() {
+            String::new()
+        } else {
+            format!(", shard {}", options.shard)
+        }
+    );
+    report(&rows, &args.out_dir, &title, args.quiet, !args.no_plots)
+}
+
+pub fn merge_mc(args: &MergeArgs) -> anyhow::Result<()> {
+    let merged = merge::merge(&args.inputs, args.allow_missing)?;
+    let path = merge::write(&merged, &args.out_dir)?;
+    println!(
+        "{} of {} flights from {} inputs -> {}",
+        merged.rows.len(),
+        merged.spec.flight_count(),
+        args.inputs.len(),
+        path.display()
+    );
+    if !merged.missing.is_empty() {
+        println!("missing: {} flights", merged.missing.len());
+    }
+    let title = format!(
+        "Monte Carlo, scenario '{}', seed {}, {} runs per point",
+        merged.spec.scenario, merged.spec.seed, merged.spec.runs_per_point
+    );
+    report(&merged.rows, &args.out_dir, &title, false, !args.no_plots)
+}
+
+pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
+    let (row, trajectory, verdict) = match (&args.manifest, args.index) {
+        (Some(manifest), Some(index)) => {
+            let r = replay::from_manifest(manifest, index, fmu_dir)?;
+            let verdict = if r.matches() {
+                "metrics identical to the manifest's, bit for bit".to_owned()
+            } else {
+                anyhow::bail!(
+                    "flight {index} does not reproduce: manifest {:?} {:?}, replay {:?} {:?}",
+                    r.recorded.end,
+                    r.recorded.metrics,
+                    r.replayed.end,
+                    r.replayed.metrics
+                );
+            };
+            (r.replayed, r.trajectory, verdict)
+        }
+        _ => {
+            let (seed, run) = args.seed.zip(args.run).ok_or_else(|| {
+                anyhow::anyhow!("give --seed and --run, or --manifest and --index")
+            })?;
+            let flight = Flight {
+                index: u64::MAX,
+                run,
+                run_seed: run_seed(seed, run),
+                law: args.law,
+                phi_cmd_deg: args.phi_cmd_deg,
+            };
+            args.dispersions.validate().map_err(anyhow::Error::msg)?;
+            let (row, trajectory) =
+                replay::fly(&args.scenario, &args.dispersions, &flight, fmu_dir)?;
+            (row, trajectory, "flown from the seed".to_owned())
+        }
+    };
+    crate::results::write_csv(&args.out, &trajectory)?;
+    let m = &row.metrics;
+    println!(
+        "run {} (seed {}), {} at phi_cmd {} deg: {:?}; max horizontal deviation {:.3} m, \
+         terminal position error {:.4} m; {verdict}; {} rows -> {}",
+        row.flight.run,
+        row.flight.run_seed,
+        row.flight.law.name(),
+        row.flight.phi_cmd_deg,
+        row.end,
+        m.max_horizontal_deviation_m,
+        m.terminal_position_error_m,
+        trajectory.len(),
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,477 @@
+//! Dispersions: the ranges a campaign draws from, one run's draw (a pure function of its run
+//! seed), and how a draw is applied on top of the scenario's nominal plant.
+//!
+//! Every quantity is drawn uniformly: a symmetric quantity `x` in `[-a, a]` as
+//! `a (2u - 1)`, a magnitude that spreads over a disc or a cone (horizontal position, extra
+//! tilt, thrust misalignment) as `a sqrt(u)` with a uniform azimuth, so it is uniform over
+//! the disc's area (for small cones, over the solid angle). `u` is one
+//! `rng.gen::<f64>()` (53 random bits, in `[0, 1)`). Every draw consumes exactly one `u`,
+//! also when its range is zero, so setting one range to zero leaves all other draws of
+//! every run unchanged.
+use super::attitude::{self, Quat};
+use crate::system::{ParamValue, SystemDescription};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::TAU;
+
+/// Dispersion ranges, in the units of their names. The defaults are a modest but
+/// non-trivial set: navigation-grade initial-state errors at the start of a terminal
+/// descent, a few per cent of mass and ten per cent of inertia (the GNC keeps the nominal
+/// inertia for its gains, so this exercises the gain margin), and a quarter-degree engine
+/// alignment tolerance.
+#[derive(Debug, Clone, PartialEq, clap::Args, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DispersionRanges {
+    /// Initial horizontal position: uniform over a disc of this radius (m).
+    #[arg(long = "disp-horizontal-m", default_value_t = 10.0, value_name = "M")]
+    pub horizontal_position_m: f64,
+    /// Initial altitude: uniform in +- this (m).
+    #[arg(long = "disp-vertical-m", default_value_t = 10.0, value_name = "M")]
+    pub vertical_position_m: f64,
+    /// Initial velocity: each NUE component uniform in +- this (m/s).
+    #[arg(long = "disp-velocity-mps", default_value_t = 0.5, value_name = "M/S")]
+    pub velocity_mps: f64,
+    /// Extra tilt of the start attitude about a uniformly random horizontal axis: uniform
+    /// over the cone of this half-angle (deg).
+    #[arg(long = "disp-tilt-deg", default_value_t = 2.0, value_name = "DEG")]
+    pub tilt_deg: f64,
+    /// Extra rotation of the start attitude about the thrust axis: uniform in +- this (deg).
+    #[arg(long = "disp-roll-deg", default_value_t = 5.0, value_name = "DEG")]
+    pub roll_deg: f64,
+    /// Initial body rate: each body component uniform in +- this (deg/s).
+    #[arg(long = "disp-rate-degps", default_value_t = 0.5, value_name = "DEG/S")]
+    pub rate_degps: f64,
+    /// Initial mass m0: scaled by 1 + uniform in +- this fraction.
+    #[arg(
+        long = "disp-mass-frac",
+        default_value_t = 0.02,
+        value_name = "FRACTION"
+    )]
+    pub mass_fraction: f64,
+    /// Plant principal inertia: each axis scaled by 1 + uniform in +- this fraction (the GNC
+    /// keeps the nominal inertia for its gains).
+    #[arg(
+        long = "disp-inertia-frac",
+        default_value_t = 0.10,
+        value_name = "FRACTION"
+    )]
+    pub inertia_fraction: f64,
+    /// Thrust misalignment from body +y: uniform over the cone of this half-angle, uniform
+    /// azimuth (deg).
+    #[arg(
+        long = "disp-misalignment-deg",
+        default_value_t = 0.25,
+        value_name = "DEG"
+    )]
+    pub misalignment_deg: f64,
+}
+
+impl Default for DispersionRanges {
+    fn default() -> Self {
+        Self {
+            horizontal_position_m: 10.0,
+            vertical_position_m: 10.0,
+            velocity_mps: 0.5,
+            tilt_deg: 2.0,
+            roll_deg: 5.0,
+            rate_degps: 0.5,
+            mass_fraction: 0.02,
+            inertia_fraction: 0.10,
+            misalignment_deg: 0.25,
+        }
+    }
+}
+
+impl DispersionRanges {
+    /// No dispersion at all: every run flies the nominal scenario.
+    pub fn none() -> Self {
+        Self {
+            horizontal_position_m: 0.0,
+            vertical_position_m: 0.0,
+            velocity_mps: 0.0,
+            tilt_deg: 0.0,
+            roll_deg: 0.0,
+            rate_degps: 0.0,
+            mass_fraction: 0.0,
+            inertia_fraction: 0.0,
+            misalignment_deg: 0.0,
+        }
+    }
+
+    /// Refuses negative, non-finite and physically meaningless ranges, naming the option.
+    pub fn validate(&self) -> Result<(), String> {
+        let checks: [(&str, f64, f64); 9] = [
+            ("--disp-horizontal-m", self.horizontal_position_m, f64::MAX),
+            ("--disp-vertical-m", self.vertical_position_m, f64::MAX),
+            ("--disp-velocity-mps", self.velocity_mps, f64::MAX),
+            ("--disp-tilt-deg", self.tilt_deg, 90.0),
+            ("--disp-roll-deg", self.roll_deg, 180.0),
+            ("--disp-rate-degps", self.rate_degps, f64::MAX),
+            // A scale of zero or less would make a mass or an inertia non-positive.
+            ("--disp-mass-frac", self.mass_fraction, 0.5),
+            ("--disp-inertia-frac", self.inertia_fraction, 0.5),
+            ("--disp-misalignment-deg", self.misalignment_deg, 90.0),
+        ];
+        for (option, value, max) in checks {
+            if !(value.is_finite() && (0.0..=max).contains(&value)) {
+                return Err(format!("{option} {value}: must be in [0, {max}]"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One run's draw. Deltas are added to the scenario's nominal start, scales multiply its
+/// nominal value, the extra attitude is applied as [`Nominal::apply`] describes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dispersion {
+    pub delta_r0_nue_m: [f64; 3],
+    pub delta_v0_nue_mps: [f64; 3],
+    /// Extra tilt angle and the azimuth of its horizontal axis (from North towards East).
+    pub tilt_rad: f64,
+    pub tilt_axis_azimuth_rad: f64,
+    pub roll_about_thrust_rad: f64,
+    pub delta_omega0_body_radps: [f64; 3],
+    pub m0_scale: f64,
+    pub inertia_scale: [f64; 3],
+    pub thrust_misalignment_rad: f64,
+    pub thrust_misalignment_azimuth_rad: f64,
+}
+
+/// Column names of a draw in the manifest, in [`Dispersion::to_fields`] order.
+pub const FIELD_NAMES: [&str; 21] = [
+    "delta_r0_nue_m[1]",
+    "delta_r0_nue_m[2]",
+    "delta_r0_nue_m[3]",
+    "delta_v0_nue_mps[1]",
+    "delta_v0_nue_mps[2]",
+    "delta_v0_nue_mps[3]",
+    "tilt_rad",
+    "tilt_axis_azimuth_rad",
+    "roll_about_thrust_rad",
+    "delta_omega0_body_radps[1]",
+    "delta_omega0_body_radps[2]",
+    "delta_omega0_body_radps[3]",
+    "m0_scale",
+    "inertia_scale[1]",
+    "inertia_scale[2]",
+    "inertia_scale[3]",
+    "thrust_misalignment_rad",
+    "thrust_misalignment_azimuth_rad",
+    // Derived, not drawn: the horizontal offset's polar form is already in [1] and [3].
+    "delta_r0_horizontal_m",
+    "tilt_deg",
+    "thrust_misalignment_deg",
+];
+
+/// The run's generator, one `u` per draw.
+struct Draws(ChaCha8Rng);
+
+impl Draws {
+    fn unit(&mut self) -> f64 {
+        self.0.gen::<f64>()
+    }
+    /// Uniform in `[-half_width, half_width)`.
+    fn symmetric(&mut self, half_width: f64) -> f64 {
+        half_width * (2.0 * self.unit() - 1.0)
+    }
+    /// Uniform over the area of a disc of `radius`: (radius, azimuth in [0, 2 pi)).
+    fn polar(&mut self, radius: f64) -> (f64, f64) {
+        let r = radius * self.unit().sqrt();
+        (r, TAU * self.unit())
+    }
+}
+
+impl Dispersion {
+    /// The draw of the run seeded with `run_seed`. Order of the draws (one `u` each):
+    /// horizontal position radius, its azimuth, vertical position; velocity N, U, E; tilt
+    /// angle, tilt-axis azimuth; roll about the thrust axis; body rate x, y, z; mass;
+    /// inertia x, y, z; misalignment angle, misalignment azimuth.
+    pub fn draw(run_seed: u64, ranges: &DispersionRanges) -> Self {
+        let mut d = Draws(ChaCha8Rng::seed_from_u64(run_seed));
+        let (r_h, az_h) = d.polar(ranges.horizontal_position_m);
+        let delta_r0_nue_m = [
+            r_h * az_h.cos(),
+            d.symmetric(ranges.vertical_position_m),
+            r_h * az_h.sin(),
+        ];
+        let delta_v0_nue_mps = [(); 3].map(|_| d.symmetric(ranges.velocity_mps));
+        let (tilt_rad, tilt_axis_azimuth_rad) = d.polar(ranges.tilt_deg.to_radians());
+        let roll_about_thrust_rad = d.symmetric(ranges.roll_deg.to_radians());
+        let delta_omega0_body_radps = [(); 3].map(|_| d.symmetric(ranges.rate_degps.to_radians()));
+        let m0_scale = 1.0 + d.symmetric(ranges.mass_fraction);
+        let inertia_scale = [(); 3].map(|_| 1.0 + d.symmetric(ranges.inertia_fraction));
+        let (thrust_misalignment_rad, thrust_misalignment_azimuth_rad) =
+            d.polar(ranges.misalignment_deg.to_radians());
+        Self {
+            delta_r0_nue_m,
+            delta_v0_nue_mps,
+            tilt_rad,
+            tilt_axis_azimuth_rad,
+            roll_about_thrust_rad,
+            delta_omega0_body_radps,
+            m0_scale,
+            inertia_scale,
+            thrust_misalignment_rad,
+            thrust_misalignment_azimuth_rad,
+        }
+    }
+
+    /// The manifest's values, in [`FIELD_NAMES`] order.
+    pub fn to_fields(&self) -> [f64; 21] {
+        let [rn, ru, re] = self.delta_r0_nue_m;
+        let [vn, vu, ve] = self.delta_v0_nue_mps;
+        let [wx, wy, wz] = self.delta_omega0_body_radps;
+        let [ix, iy, iz] = self.inertia_scale;
+        [
+            rn,
+            ru,
+            re,
+            vn,
+            vu,
+            ve,
+            self.tilt_rad,
+            self.tilt_axis_azimuth_rad,
+            self.roll_about_thrust_rad,
+            wx,
+            wy,
+            wz,
+            self.m0_scale,
+            ix,
+            iy,
+            iz,
+            self.thrust_misalignment_rad,
+            self.thrust_misalignment_azimuth_rad,
+            rn.hypot(re),
+            self.tilt_rad.to_degrees(),
+            self.thrust_misalignment_rad.to_degrees(),
+        ]
+    }
+
+    /// Inverse of [`Dispersion::to_fields`] (the derived fields are ignored).
+    pub fn from_fields(f: &[f64; 21]) -> Self {
+        Self {
+            delta_r0_nue_m: [f[0], f[1], f[2]],
+            delta_v0_nue_mps: [f[3], f[4], f[5]],
+            tilt_rad: f[6],
+            tilt_axis_azimuth_rad: f[7],
+            roll_about_thrust_rad: f[8],
+            delta_omega0_body_radps: [f[9], f[10], f[11]],
+            m0_scale: f[12],
+            inertia_scale: [f[13], f[14], f[15]],
+            thrust_misalignment_rad: f[16],
+            thrust_misalignment_azimuth_rad: f[17],
+        }
+    }
+}
+
+/// The plant's nominal start and mass properties: the scenario's values, else the FMU's
+/// start values.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Nominal {
+    pub r0_nue_m: [f64; 3],
+    pub v0_nue_mps: [f64; 3],
+    pub q0_body_to_nue: Quat,
+    pub omega0_body_radps: [f64; 3],
+    pub m0_kg: f64,
+    pub inertia_body_kgm2: [f64; 3],
+}
+
+impl Nominal {
+    /// Reads the nominal values of `plant` from the scenario, falling back to the
+    /// model description's start values (`start_of`).
+    pub fn from_scenario(
+        system: &SystemDescription,
+        plant: &str,
+        start_of: impl Fn(&str) -> Option<f64>,
+    ) -> Result<Self, String> {
+        let desc = system
+            .instance(plant)
+            .ok_or_else(|| format!("scenario '{}' has no instance '{plant}'", system.name))?;
+        let value = |name: &str| -> Result<f64, String> {
+            match desc.parameters.iter().find(|(n, _)| n == name) {
+                Some((_, ParamValue::Real(x))) => Ok(*x),
+                Some((_, ParamValue::Integer(i))) => Ok(*i as f64),
+                Some((_, other)) => Err(format!("{plant}.{name} = {other:?} is not a number")),
+                None => start_of(name)
+                    .ok_or_else(|| format!("{plant}.{name} has no value and no start value")),
+            }
+        };
+        let vector = |name: &str| -> Result<[f64; 3], String> {
+            Ok([
+                value(&format!("{name}[1]"))?,
+                value(&format!("{name}[2]"))?,
+                value(&format!("{name}[3]"))?,
+            ])
+        };
+        Ok(Self {
+            r0_nue_m: vector("r0_nue")?,
+            v0_nue_mps: vector("v0_nue")?,
+            q0_body_to_nue: [
+                value("q0_body_to_nue[1]")?,
+                value("q0_body_to_nue[2]")?,
+                value("q0_body_to_nue[3]")?,
+                value("q0_body_to_nue[4]")?,
+            ],
+            omega0_body_radps: vector("omega0_body")?,
+            m0_kg: value("m0")?,
+            inertia_body_kgm2: vector("inertia_body")?,
+        })
+    }
+
+    /// The start attitude of a draw: the nominal attitude turned about the body thrust axis
+    /// (+y) by the roll, then tilted about the horizontal NUE axis at the drawn azimuth:
+    /// `q_tilt ⊗ q0 ⊗ q_roll`. The roll leaves the thrust axis where the scenario put it; the
+    /// tilt moves it by at most the tilt angle.
+    pub fn start_attitude(&self, draw: &Dispersion) -> Quat {
+        let (sin_az, cos_az) = draw.tilt_axis_azimuth_rad.sin_cos();
+        let tilt = attitude::from_axis_angle([cos_az, 0.0, sin_az], draw.tilt_rad);
+        let roll = attitude::from_axis_angle([0.0, 1.0, 0.0], draw.roll_about_thrust_rad);
+        attitude::multiply(tilt, attitude::multiply(self.q0_body_to_nue, roll))
+    }
+
+    /// The plant parameters of a draw (name, value). The misalignment replaces any the
+    /// scenario sets: an angle and an azimuth do not add.
+    pub fn apply(&self, draw: &Dispersion) -> Vec<(&'static str, f64)> {
+        const R0: [&str; 3] = ["r0_nue[1]", "r0_nue[2]", "r0_nue[3]"];
+        const V0: [&str; 3] = ["v0_nue[1]", "v0_nue[2]", "v0_nue[3]"];
+        const Q0: [&str; 4] = [
+            "q0_body_to_nue[1]",
+            "q0_body_to_nue[2]",
+            "q0_body_to_nue[3]",
+            "q0_body_to_nue[4]",
+        ];
+        const OMEGA0: [&str; 3] = ["omega0_body[1]", "omega0_body[2]", "omega0_body[3]"];
+        const INERTIA: [&str; 3] = ["inertia_body[1]", "inertia_body[2]", "inertia_body[3]"];
+        let mut values = Vec::with_capacity(19);
+        for i in 0..3 {
+            values.push((R0[i], self.r0_nue_m[i] + draw.delta_r0_nue_m[i]));
+            values.push((V0[i], self.v0_nue_mps[i] + draw.delta_v0_nue_mps[i]));
+            values.push((
+                OMEGA0[i],
+                self.omega0_body_radps[i] + draw.delta_omega0_body_radps[i],
+            ));
+            values.push((
+                INERTIA[i],
+                self.inertia_body_kgm2[i] * draw.inertia_scale[i],
+            ));
+        }
+        values.extend(Q0.into_iter().zip(self.start_attitude(draw)));
+        values.push(("m0", self.m0_kg * draw.m0_scale));
+        values.push(("thrust_misalignment", draw.thrust_misalignment_rad));
+        values.push((
+            "thrust_misalignment_azimuth",
+            draw.thrust_misalignment_azimuth_rad,
+        ));
+        values
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// atan2(|a x b|, a . b): accurate also for nearly parallel vectors, unlike acos.
+    fn angle_between(a: [f64; 3], b: [f64; 3]) -> f64 {
+        let dot: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+        let cross = [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ];
+        cross.iter().map(|c| c * c).sum::<f64>().sqrt().atan2(dot)
+    }
+
+    /// The paper scenario's start: 15 deg toward North about East.
+    fn nominal() -> Nominal {
+        let half = (-15f64).to_radians() / 2.0;
+        Nominal {
+            r0_nue_m: [0.0, 800.0, 0.0],
+            v0_nue_mps: [0.0; 3],
+            q0_body_to_nue: [half.cos(), 0.0, 0.0, half.sin()],
+            omega0_body_radps: [0.0; 3],
+            m0_kg: 900.0,
+            inertia_body_kgm2: [400.0, 300.0, 450.0],
+        }
+    }
+
+    #[test]
+    fn the_draw_is_a_function_of_the_seed_alone() {
+        let ranges = DispersionRanges::default();
+        assert_eq!(Dispersion::draw(11, &ranges), Dispersion::draw(11, &ranges));
+        assert_ne!(Dispersion::draw(11, &ranges), Dispersion::draw(12, &ranges));
+    }
+
+    #[test]
+    fn zeroing_one_range_leaves_every_other_draw_unchanged() {
+        let all = DispersionRanges::default();
+        let mut no_mass = all.clone();
+        no_mass.mass_fraction = 0.0;
+        for seed in 0..50 {
+            let a = Dispersion::draw(seed, &all).to_fields();
+            let b = Dispersion::draw(seed, &no_mass).to_fields();
+            for (k, name) in FIELD_NAMES.iter().enumerate() {
+                if *name == "m0_scale" {
+                    assert_eq!(b[k], 1.0);
+                } else {
+                    assert_eq!(a[k].to_bits(), b[k].to_bits(), "{name}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn no_dispersion_gives_the_nominal_plant() {
+        let n = nominal();
+        let draw = Dispersion::draw(3, &DispersionRanges::none());
+        let q = n.start_attitude(&draw);
+        for (a, b) in q.iter().zip(&n.q0_body_to_nue) {
+            assert!((a - b).abs() < 1e-15);
+        }
+        let values = n.apply(&draw);
+        let get = |name: &str| values.iter().find(|(n, _)| *n == name).unwrap().1;
+        assert_eq!(get("r0_nue[2]"), 800.0);
+        assert_eq!(get("m0"), 900.0);
+        assert_eq!(get("inertia_body[3]"), 450.0);
+        assert_eq!(get("thrust_misalignment"), 0.0);
+    }
+
+    #[test]
+    fn the_roll_keeps_the_thrust_axis_and_the_tilt_moves_it_by_the_tilt_angle() {
+        let n = nominal();
+        let thrust = |q: Quat| attitude::rotate(q, [0.0, 1.0, 0.0]);
+        let nominal_axis = thrust(n.q0_body_to_nue);
+        let mut roll_only = DispersionRanges::none();
+        roll_only.roll_deg = 90.0;
+        let mut tilt_only = DispersionRanges::none();
+        tilt_only.tilt_deg = 10.0;
+        for seed in 0..200 {
+            let draw = Dispersion::draw(seed, &roll_only);
+            let q = n.start_attitude(&draw);
+            assert!(angle_between(thrust(q), nominal_axis) < 1e-12);
+            // The pitch axis (body z) turns about the thrust axis by the roll angle.
+            let pitch = |q: Quat| attitude::rotate(q, [0.0, 0.0, 1.0]);
+            let turned = angle_between(pitch(q), pitch(n.q0_body_to_nue));
+            assert!((turned - draw.roll_about_thrust_rad.abs()).abs() < 1e-9);
+
+            let draw = Dispersion::draw(seed, &tilt_only);
+            let axis = thrust(n.start_attitude(&draw));
+            // Tilting about a horizontal axis moves the 15-deg-tilted thrust axis by at most
+            // the tilt angle (exactly it only when the axes are perpendicular).
+            assert!(angle_between(axis, nominal_axis) <= draw.tilt_rad + 1e-12);
+            let vertical_change = angle_between(axis, [0.0, 1.0, 0.0]) - 15f64.to_radians();
+            assert!(vertical_change.abs() <= draw.tilt_rad + 1e-12);
+        }
+    }
+
+    #[test]
+    fn out_of_range_options_are_refused_by_name() {
+        let mut r = DispersionRanges::default();
+        r.tilt_deg = f64::NAN;
+        assert!(r.validate().unwrap_err().contains("--disp-tilt-deg"));
+        let mut r = DispersionRanges::default();
+        r.inertia_fraction = 1.0;
+        assert!(r.validate().unwrap_err().contains("--disp-inertia-frac"));
+        assert!(DispersionRanges::default().validate().is_ok());
+    }
+}

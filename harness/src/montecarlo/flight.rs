@@ -1,0 +1,168 @@
+//! Flying one flight of a campaign: apply the run's dispersion and the flight's law and
+//! phi_cmd to a loaded simulation, run it, and compute the metrics.
+use super::campaign::Flight;
+use super::dispersion::{Dispersion, DispersionRanges, Nominal};
+use super::manifest::{End, Row};
+use crate::master::{RunEnd, Simulation, Trajectory};
+use crate::metrics::{self, Metrics};
+use crate::scenarios::TERMINAL_TARGET_NUE;
+use crate::system::{ParamValue, SystemDescription};
+use model_description::StartValue;
+use std::path::Path;
+
+/// Instance names a Monte Carlo scenario must use (those of the shipped scenarios, which
+/// the metrics read).
+pub const PLANT: &str = "plant";
+pub const GNC: &str = "gnc";
+
+/// The columns [`metrics::compute`] reads: all a campaign records.
+pub const METRIC_COLUMNS: [&str; 8] = [
+    "plant.r_nue",
+    "plant.v_nue",
+    "plant.omega_body",
+    "plant.propellant_used",
+    "gnc.guidance_phase",
+    "gnc.err_roll",
+    "gnc.phi_b",
+    "gnc.tilt_error",
+];
+
+/// One loaded FMU instance pair with its recording buffer, reused flight after flight.
+pub struct Flyer {
+    simulation: Simulation,
+    nominal: Nominal,
+    trajectory: Trajectory,
+}
+
+impl Flyer {
+    /// Loads the FMUs of `system` (as it is: set `system.record` before, see
+    /// [`METRIC_COLUMNS`]) and reads the plant's nominal start.
+    pub fn new(system: SystemDescription, fmu_dir: &Path) -> anyhow::Result<Self> {
+        let gnc_present = system.instance(GNC).is_some();
+        anyhow::ensure!(
+            gnc_present,
+            "scenario '{}' has no instance '{GNC}'",
+            system.name
+        );
+        let simulation = Simulation::new(system, fmu_dir)?;
+        let plant_index = simulation
+            .system()
+            .instances
+            .iter()
+            .position(|i| i.name == PLANT)
+            .ok_or_else(|| {
+                anyhow::anyhow!(
+                    "scenario '{}' has no instance '{PLANT}'",
+                    simulation.system().name
+                )
+            })?;
+        let description = simulation.fmus()[plant_index].model_description();
+        let start_of = |name: &str| match description.variable(name)?.start()? {
+            StartValue::Real(x) => Some(x),
+            StartValue::Integer(i) => Some(f64::from(i)),
+            _ => None,
+        };
+        let nominal = Nominal::from_scenario(simulation.system(), PLANT, start_of)
+            .map_err(anyhow::Error::msg)?;
+        let trajectory = Trajectory {
+            names: simulation.column_names().to_vec(),
+            ..Default::default()
+        };
+        Ok(Self {
+            simulation,
+            nominal,
+            trajectory,
+        })
+    }
+
+    pub fn simulation(&self) -> &Simulation {
+        &self.simulation
+    }
+
+    pub fn nominal(&self) -> &Nominal {
+        &self.nominal
+    }
+
+    /// The trajectory of the last flight (the recorded columns only).
+    pub fn trajectory(&self) -> &Trajectory {
+        &self.trajectory
+    }
+
+    /// Flies `flight`. A failure is not an error here: it is the flight's result, recorded
+    /// in [`Row::end`] with NaN metrics, and the campaign goes on.
+    pub fn fly(&mut self, flight: &Flight, ranges: &DispersionRanges) -> Row {
+        let dispersion = Dispersion::draw(flight.run_seed, ranges);
+        let (metrics, end) = match self.try_fly(flight, &dispersion) {
+            Ok(result) => result,
+            Err(error) => (
+                nan_metrics(),
+                End::Error {
+                    message: format!("{error:#}"),
+                },
+            ),
+        };
+        Row {
+            flight: *flight,
+            dispersion,
+            metrics,
+            end,
+        }
+    }
+
+    fn try_fly(
+        &mut self,
+        flight: &Flight,
+        dispersion: &Dispersion,
+    ) -> anyhow::Result<(Metrics, End)> {
+        let sim = &mut self.simulation;
+        sim.set_parameter(GNC, "control_law", flight.law.parameter())?;
+        sim.set_parameter(
+            GNC,
+            "phi_cmd",
+            ParamValue::Real(flight.phi_cmd_deg.to_radians()),
+        )?;
+        for (name, value) in self.nominal.apply(dispersion) {
+            sim.set_parameter(PLANT, name, ParamValue::Real(value))?;
+        }
+        self.trajectory.times.clear();
+        self.trajectory.values.clear();
+        let end = match sim.run(&mut self.trajectory)? {
+            RunEnd::Completed => End::Completed,
+            RunEnd::Terminated { instance, .. } => End::Terminated { instance },
+        };
+        let metrics = metrics::compute(
+            &self.trajectory,
+            &metrics::Columns::default(),
+            TERMINAL_TARGET_NUE,
+        )?;
+        Ok((metrics, end))
+    }
+}
+
+fn nan_metrics() -> Metrics {
+    Metrics {
+        max_horizontal_deviation_m: f64::NAN,
+        max_horizontal_deviation_descent_m: f64::NAN,
+        terminal_position_error_m: f64::NAN,
+        terminal_velocity_error_mps: f64::NAN,
+        final_altitude_m: f64::NAN,
+        max_body_rate_radps: f64::NAN,
+        propellant_used_kg: f64::NAN,
+        roll_settling_time_s: f64::NAN,
+        final_phi_b_rad: f64::NAN,
+        max_tilt_error_after_30s_rad: f64::NAN,
+        end_time_s: f64::NAN,
+    }
+}
+
+/// The scenario of a campaign, recording only what the metrics need (`record_all` = false)
+/// or every output (replay).
+pub fn campaign_system(scenario: &str, record_all: bool) -> anyhow::Result<SystemDescription> {
+    let mut system = crate::scenarios::load(scenario)?;
+    system.record = if record_all {
+        None
+    } else {
+        Some(METRIC_COLUMNS.iter().map(|c| c.to_string()).collect())
+    };
+    Ok(system)
+}

@@ -1,0 +1,323 @@
+//! `manifest.csv`: one row per flight with its identity (index, run, run seed, law,
+//! phi_cmd), every drawn dispersion, every metric and how the flight ended. Numbers are
+//! written in ryu's shortest round-trip form, so a row read back compares bit-exactly
+//! with a replay.
+use super::campaign::Flight;
+use super::dispersion::{self, Dispersion};
+use crate::metrics::Metrics;
+use crate::scenarios::Law;
+use anyhow::Context;
+use std::io::Write;
+use std::path::Path;
+
+pub const FILE_NAME: &str = "manifest.csv";
+
+/// The metric columns, named as the [`Metrics`] fields.
+pub const METRIC_NAMES: [&str; 11] = [
+    "max_horizontal_deviation_m",
+    "max_horizontal_deviation_descent_m",
+    "terminal_position_error_m",
+    "terminal_velocity_error_mps",
+    "final_altitude_m",
+    "max_body_rate_radps",
+    "propellant_used_kg",
+    "roll_settling_time_s",
+    "final_phi_b_rad",
+    "max_tilt_error_after_30s_rad",
+    "end_time_s",
+];
+
+pub fn metric_values(m: &Metrics) -> [f64; 11] {
+    [
+        m.max_horizontal_deviation_m,
+        m.max_horizontal_deviation_descent_m,
+        m.terminal_position_error_m,
+        m.terminal_velocity_error_mps,
+        m.final_altitude_m,
+        m.max_body_rate_radps,
+        m.propellant_used_kg,
+        m.roll_settling_time_s,
+        m.final_phi_b_rad,
+        m.max_tilt_error_after_30s_rad,
+        m.end_time_s,
+    ]
+}
+
+fn metrics_from(v: [f64; 11]) -> Metrics {
+    Metrics {
+        max_horizontal_deviation_m: v[0],
+        max_horizontal_deviation_descent_m: v[1],
+        terminal_position_error_m: v[2],
+        terminal_velocity_error_mps: v[3],
+        final_altitude_m: v[4],
+        max_body_rate_radps: v[5],
+        propellant_used_kg: v[6],
+        roll_settling_time_s: v[7],
+        final_phi_b_rad: v[8],
+        max_tilt_error_after_30s_rad: v[9],
+        end_time_s: v[10],
+    }
+}
+
+/// How a flight ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum End {
+    Completed,
+    /// An instance stopped the run (touchdown).
+    Terminated {
+        instance: String,
+    },
+    /// The run failed; its metrics are NaN.
+    Error {
+        message: String,
+    },
+}
+
+impl End {
+    fn columns(&self) -> (String, &str) {
+        match self {
+            End::Completed => ("completed".into(), ""),
+            End::Terminated { instance } => (format!("terminated:{instance}"), ""),
+            End::Error { message } => ("error".into(), message),
+        }
+    }
+
+    fn parse(end: &str, error: &str) -> Option<Self> {
+        match end {
+            "completed" => Some(End::Completed),
+            "error" => Some(End::Error {
+                message: error.to_owned(),
+            }),
+            _ => end.strip_prefix("terminated:").map(|i| End::Terminated {
+                instance: i.to_owned(),
+            }),
+        }
+    }
+
+    pub fn is_error(&self) -> bool {
+        matches!(self, End::Error { .. })
+    }
+}
+
+/// One manifest row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub flight: Flight,
+    pub dispersion: Dispersion,
+    pub metrics: Metrics,
+    pub end: End,
+}
+
+const IDENTITY: [&str; 5] = ["index", "run", "run_seed", "law", "phi_cmd_deg"];
+const END: [&str; 2] = ["end", "error"];
+
+pub fn header() -> Vec<&'static str> {
+    IDENTITY
+        .iter()
+        .chain(&dispersion::FIELD_NAMES)
+        .chain(&METRIC_NAMES)
+        .chain(&END)
+        .copied()
+        .collect()
+}
+
+fn number(value: f64) -> String {
+    if value.is_finite() {
+        ryu::Buffer::new().format_finite(value).to_owned()
+    } else {
+        // Rust's own spelling ("NaN", "inf", "-inf") parses back with `str::parse`.
+        value.to_string()
+    }
+}
+
+/// Writes rows as they come, flushing each so a killed campaign keeps its finished rows.
+pub struct Writer<W: Write> {
+    csv: csv::Writer<W>,
+}
+
+impl Writer<std::fs::File> {
+    pub fn create(path: &Path) -> anyhow::Result<Self> {
+        let file =
+            std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+        Self::new(file)
+    }
+}
+
+impl<W: Write> Writer<W> {
+    pub fn new(out: W) -> anyhow::Result<Self> {
+        let mut csv = csv::Writer::from_writer(out);
+        csv.write_record(header())?;
+        csv.flush()?;
+        Ok(Self { csv })
+    }
+
+    pub fn write(&mut self, row: &Row) -> anyhow::Result<()> {
+        let f = &row.flight;
+        let mut record: Vec<String> = vec![
+            f.index.to_string(),
+            f.run.to_string(),
+            f.run_seed.to_string(),
+            f.law.name().to_owned(),
+            number(f.phi_cmd_deg),
+        ];
+        record.extend(row.dispersion.to_fields().map(number));
+        record.extend(metric_values(&row.metrics).map(number));
+        let (end, error) = row.end.columns();
+        record.push(end);
+        record.push(error.to_owned());
+        self.csv.write_record(&record)?;
+        self.csv.flush()?;
+        Ok(())
+    }
+}
+
+/// Reads every row of a manifest, checking its header.
+pub fn read(path: &Path) -> anyhow::Result<Vec<Row>> {
+    let mut reader =
+        csv::Reader::from_path(path).with_context(|| format!("opening {}", path.display()))?;
+    let expected = header();
+    let found: Vec<&str> = reader.headers()?.iter().collect();
+    anyhow::ensure!(
+        found == expected,
+        "{}: not a manifest of this harness version (header differs)",
+        path.display()
+    );
+    let mut rows = Vec::new();
+    for (line, record) in reader.records().enumerate() {
+        let record = record?;
+        let at = || format!("{} row {}", path.display(), line + 2);
+        let field = |i: usize| record.get(i).unwrap_or_default();
+        let integer = |i: usize| field(i).parse::<u64>().with_context(at);
+        let real = |i: usize| field(i).parse::<f64>().with_context(at);
+        let law = <Law as clap::ValueEnum>::from_str(field(3), false)
+            .map_err(|e| anyhow::anyhow!("{}: law: {e}", at()))?;
+        let mut fields = [0.0; 21];
+        for (k, slot) in fields.iter_mut().enumerate() {
+            *slot = real(IDENTITY.len() + k)?;
+        }
+        let base = IDENTITY.len() + fields.len();
+        let mut metrics = [0.0; 11];
+        for (k, slot) in metrics.iter_mut().enumerate() {
+            *slot = real(base + k)?;
+        }
+        let end_at = base + metrics.len();
+        let end = End::parse(field(end_at), field(end_at + 1))
+            .with_context(|| format!("{}: end '{}'", at(), field(end_at)))?;
+        rows.push(Row {
+            flight: Flight {
+                index: integer(0)?,
+                run: integer(1)?,
+                run_seed: integer(2)?,
+                law,
+                phi_cmd_deg: real(4)?,
+            },
+            dispersion: Dispersion::from_fields(&fields),
+            metrics: metrics_from(metrics),
+            end,
+        });
+    }
+    Ok(rows)
+}
+
+/// Whether two metric sets are the same bit for bit (NaN equal to the same NaN).
+pub fn metrics_bit_equal(a: &Metrics, b: &Metrics) -> bool {
+    metric_values(a)
+        .iter()
+        .zip(&metric_values(b))
+        .all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::montecarlo::dispersion::DispersionRanges;
+
+    #[test]
+    fn metric_names_are_the_metrics_fields_in_order() {
+        let m = metrics_from(std::array::from_fn(|i| i as f64));
+        let table = toml::Value::try_from(m).unwrap();
+        let table = table.as_table().unwrap();
+        assert_eq!(table.len(), METRIC_NAMES.len());
+        for (i, name) in METRIC_NAMES.iter().enumerate() {
+            assert_eq!(table[*name].as_float(), Some(i as f64), "{name}");
+        }
+    }
+
+    #[test]
+    fn rows_round_trip_bit_exactly() {
+        let dispersion = Dispersion::draw(99, &DispersionRanges::default());
+        let mut metrics = metrics_from(std::array::from_fn(|i| 1.0 / (i as f64 + 3.0)));
+        metrics.roll_settling_time_s = f64::NAN;
+        let rows = [
+            Row {
+                flight: Flight {
+                    index: 3,
+                    run: 1,
+                    run_seed: u64::MAX,
+                    law: Law::Reduced,
+                    phi_cmd_deg: 150.0,
+                },
+                dispersion,
+                metrics,
+                end: End::Completed,
+            },
+            Row {
+                flight: Flight {
+                    index: 4,
+                    run: 1,
+                    run_seed: 5,
+                    law: Law::Coupled,
+                    phi_cmd_deg: -1e-300,
+                },
+                dispersion,
+                metrics,
+                end: End::Error {
+                    message: "instance 'plant', \"quoted\"\nsecond line".into(),
+                },
+            },
+            Row {
+                flight: Flight {
+                    index: 5,
+                    run: 1,
+                    run_seed: 5,
+                    law: Law::Decoupled,
+                    phi_cmd_deg: 0.1 + 0.2,
+                },
+                dispersion,
+                metrics,
+                end: End::Terminated {
+                    instance: "plant".into(),
+                },
+            },
+        ];
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(FILE_NAME);
+        let mut writer = Writer::create(&path).unwrap();
+        for row in &rows {
+            writer.write(row).unwrap();
+        }
+        drop(writer);
+        let back = read(&path).unwrap();
+        assert_eq!(back.len(), rows.len());
+        for (a, b) in back.iter().zip(&rows) {
+            assert_eq!(a.flight.index, b.flight.index);
+            assert_eq!(a.flight.run_seed, b.flight.run_seed);
+            assert_eq!(a.flight.law, b.flight.law);
+            assert_eq!(
+                a.flight.phi_cmd_deg.to_bits(),
+                b.flight.phi_cmd_deg.to_bits()
+            );
+            assert_eq!(a.dispersion, b.dispersion);
+            assert!(metrics_bit_equal(&a.metrics, &b.metrics));
+            assert_eq!(a.end, b.end);
+        }
+    }
+
+    #[test]
+    fn a_foreign_csv_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.csv");
+        std::fs::write(&path, "time,a\n0,1\n").unwrap();
+        assert!(read(&path).unwrap_err().to_string().contains("header"));
+    }
+}

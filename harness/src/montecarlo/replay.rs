@@ -1,0 +1,62 @@
+//! `harness replay`: one flight of a campaign flown again from its seed, recording every
+//! output. The draw is a function of the seed alone and the FMUs are deterministic, so the
+//! metrics come out bit for bit as in the manifest.
+use super::campaign::Flight;
+use super::dispersion::DispersionRanges;
+use super::flight::{campaign_system, Flyer};
+use super::manifest::{self, Row};
+use super::runner::locate;
+use crate::master::Trajectory;
+use std::path::Path;
+
+/// Flies `flight` of a campaign on `scenario` with `ranges`, recording every output.
+pub fn fly(
+    scenario: &str,
+    ranges: &DispersionRanges,
+    flight: &Flight,
+    fmu_dir: &Path,
+) -> anyhow::Result<(Row, Trajectory)> {
+    let mut flyer = Flyer::new(campaign_system(scenario, true)?, fmu_dir)?;
+    let row = flyer.fly(flight, ranges);
+    Ok((row, flyer.trajectory().clone()))
+}
+
+/// A flight replayed from a manifest, with the manifest's row.
+#[derive(Debug)]
+pub struct Replayed {
+    pub recorded: Row,
+    pub replayed: Row,
+    pub trajectory: Trajectory,
+}
+
+impl Replayed {
+    /// Same end and every metric bit-identical.
+    pub fn matches(&self) -> bool {
+        self.recorded.end == self.replayed.end
+            && manifest::metrics_bit_equal(&self.recorded.metrics, &self.replayed.metrics)
+            && self.recorded.dispersion == self.replayed.dispersion
+    }
+}
+
+/// Replays flight `index` of the campaign whose manifest (or directory) is `manifest_path`.
+pub fn from_manifest(manifest_path: &Path, index: u64, fmu_dir: &Path) -> anyhow::Result<Replayed> {
+    let (manifest_path, config_path) = locate(manifest_path);
+    let spec = super::config::CampaignFile::read(&config_path)?
+        .campaign
+        .to_spec()?;
+    let recorded = manifest::read(&manifest_path)?
+        .into_iter()
+        .find(|r| r.flight.index == index)
+        .ok_or_else(|| anyhow::anyhow!("{} has no flight {index}", manifest_path.display()))?;
+    anyhow::ensure!(
+        recorded.flight == spec.flight(index),
+        "{}: flight {index} does not match its campaign definition",
+        manifest_path.display()
+    );
+    let (replayed, trajectory) = fly(&spec.scenario, &spec.dispersions, &recorded.flight, fmu_dir)?;
+    Ok(Replayed {
+        recorded,
+        replayed,
+        trajectory,
+    })
+}

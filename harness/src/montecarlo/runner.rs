@@ -1,0 +1,187 @@
+//! Running a campaign (or one shard of it) in parallel.
+//!
+//! A rayon pool of `workers` threads runs one worker loop per thread
+//! ([`rayon::ThreadPool::broadcast`]), so each thread loads exactly one FMU instance pair
+//! and reuses it (reset) for every flight it takes. Flights are handed out through an atomic
+//! counter; each finished row goes through a bounded channel to one writer thread, which
+//! appends it to `manifest.csv` and advances the progress bar. Nothing accumulates per
+//! flight: peak memory depends on the number of workers, not of flights. Rows are written in
+//! completion order; every result is a function of its flight alone, so the set of rows
+//! does not depend on the worker count or the scheduling.
+use super::campaign::{CampaignSpec, Shard};
+use super::config::{self, CampaignFile, CampaignSection, Execution, ShardSection};
+use super::flight::{campaign_system, Flyer};
+use super::manifest::{self, Row};
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{mpsc, Mutex};
+use std::time::{Duration, Instant};
+
+/// How to run a campaign; none of this changes its results.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    pub fmu_dir: PathBuf,
+    pub out_dir: PathBuf,
+    pub workers: usize,
+    pub shard: Shard,
+    /// Show a progress bar (it still hides itself when stderr is not a terminal).
+    pub progress: bool,
+}
+
+/// What a finished campaign run did.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub manifest: PathBuf,
+    pub flights: u64,
+    pub failed: u64,
+    pub elapsed: Duration,
+}
+
+impl Outcome {
+    pub fn flights_per_second(&self) -> f64 {
+        self.flights as f64 / self.elapsed.as_secs_f64()
+    }
+}
+
+/// Runs `options.shard` of `spec`, writing `manifest.csv` and `campaign.toml` into
+/// `options.out_dir` (plots are the caller's choice: see [`super::plots`]).
+pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome> {
+    spec.validate().map_err(anyhow::Error::msg)?;
+    anyhow::ensure!(options.workers > 0, "--workers must be at least 1");
+    let started = Instant::now();
+    let system = campaign_system(&spec.scenario, false)?;
+    // The first instance pair is loaded here, so a bad scenario or FMU directory fails before
+    // any file is written; the first worker then takes it over.
+    let first = Flyer::new(system.clone(), &options.fmu_dir)?;
+    std::fs::create_dir_all(&options.out_dir)
+        .with_context(|| format!("creating {}", options.out_dir.display()))?;
+    let file = CampaignFile {
+        campaign: CampaignSection::from_spec(spec),
+        shard: (!options.shard.is_whole()).then_some(ShardSection {
+            k: options.shard.k,
+            n: options.shard.n,
+        }),
+        execution: Execution {
+            workers: options.workers,
+            merged_from: Vec::new(),
+        },
+        versions: config::versions(first.simulation()),
+    };
+    file.write(&options.out_dir.join(config::FILE_NAME))?;
+    let manifest_path = options.out_dir.join(manifest::FILE_NAME);
+    let mut writer = manifest::Writer::create(&manifest_path)?;
+
+    let total = spec.flight_count();
+    let shard = options.shard;
+    let count = shard.len(total);
+    let progress = progress_bar(count, options.progress);
+    let next = AtomicU64::new(0);
+    let stop = AtomicBool::new(false);
+    let spare = Mutex::new(Some(first));
+    let (sender, receiver) = mpsc::sync_channel::<Row>(2 * options.workers);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.workers)
+        .thread_name(|i| format!("mc-worker-{i}"))
+        .build()?;
+
+    let (worker_results, written) = std::thread::scope(|scope| {
+        let writer_thread = scope.spawn(|| -> anyhow::Result<(u64, u64)> {
+            let (mut written, mut failed) = (0, 0);
+            for row in receiver {
+                failed += u64::from(row.end.is_error());
+                if let Err(error) = writer.write(&row) {
+                    // Dropping the receiver (by returning) makes the workers stop.
+                    return Err(error.context(format!("writing {}", manifest_path.display())));
+                }
+                written += 1;
+                progress.inc(1);
+            }
+            Ok((written, failed))
+        });
+        let worker_results = pool.broadcast(|_| -> anyhow::Result<()> {
+            let sender = sender.clone();
+            let mut flyer = match spare.lock().map(|mut s| s.take()) {
+                Ok(Some(flyer)) => flyer,
+                _ => Flyer::new(system.clone(), &options.fmu_dir)?,
+            };
+            loop {
+                if stop.load(Ordering::Relaxed) {
+                    return Ok(());
+                }
+                let j = next.fetch_add(1, Ordering::Relaxed);
+                if j >= count {
+                    return Ok(());
+                }
+                let flight = spec.flight(shard.k - 1 + j * shard.n);
+                let row = flyer.fly(&flight, &spec.dispersions);
+                let failed = row.end.is_error();
+                if sender.send(row).is_err() {
+                    return Ok(()); // The writer has failed; its error is reported.
+                }
+                if failed {
+                    // After fmi2Error/fmi2Fatal the instances may not be reusable.
+                    flyer = Flyer::new(system.clone(), &options.fmu_dir).inspect_err(|_| {
+                        stop.store(true, Ordering::Relaxed);
+                    })?;
+                }
+            }
+        });
+        drop(sender);
+        let written = writer_thread
+            .join()
+            .unwrap_or_else(|_| Err(anyhow::anyhow!("the manifest writer panicked")));
+        (worker_results, written)
+    });
+    progress.finish_and_clear();
+    for result in worker_results {
+        result?;
+    }
+    let (flights, failed) = written?;
+    anyhow::ensure!(
+        flights == count,
+        "wrote {flights} of {count} flights to {}",
+        manifest_path.display()
+    );
+    Ok(Outcome {
+        manifest: manifest_path,
+        flights,
+        failed,
+        elapsed: started.elapsed(),
+    })
+}
+
+fn progress_bar(len: u64, show: bool) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    // `stderr()` draws only when stderr is a terminal.
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(
+        "{elapsed_precise} {wide_bar} {pos}/{len} flights, {per_sec}, ETA {eta}",
+    ) {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// The default worker count: the cores this process may use.
+pub fn default_workers() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The manifest and campaign file of a directory (or of the directory of a manifest).
+pub fn locate(path: &Path) -> (PathBuf, PathBuf) {
+    let dir = if path.is_dir() {
+        path.to_owned()
+    } else {
+        path.parent().unwrap_or(Path::new(".")).to_owned()
+    };
+    let manifest = if path.is_dir() {
+        dir.join(manifest::FILE_NAME)
+    } else {
+        path.to_owned()
+    };
+    (manifest, dir.join(config::FILE_NAME))
+}
