@@ -1,0 +1,1 @@
+//! Robustness tests live in tests/robustness/tests/.
