@@ -466,11 +466,15 @@ mod tests {
 
     #[test]
     fn out_of_range_options_are_refused_by_name() {
-        let mut r = DispersionRanges::default();
-        r.tilt_deg = f64::NAN;
+        let r = DispersionRanges {
+            tilt_deg: f64::NAN,
+            ..Default::default()
+        };
         assert!(r.validate().unwrap_err().contains("--disp-tilt-deg"));
-        let mut r = DispersionRanges::default();
-        r.inertia_fraction = 1.0;
+        let r = DispersionRanges {
+            inertia_fraction: 1.0,
+            ..Default::default()
+        };
         assert!(r.validate().unwrap_err().contains("--disp-inertia-frac"));
         assert!(DispersionRanges::default().validate().is_ok());
     }

@@ -1,8 +1,10 @@
 //! The paper's Monte Carlo figure: terminal position error and maximum horizontal deviation
-//! against phi_cmd, one colour per law, a point per flight and a line through the means.
+//! against phi_cmd, one colour per law, a point per flight, a thick line through the means and
+//! a thin one through the medians (a few runs that go far off pull the mean away from the
+//! typical run; the median shows the typical run, the points show the outliers).
 //! Both axes of error are logarithmic: the laws differ by two orders of magnitude.
 use super::manifest::Row;
-use super::summary::{summarise, Statistic};
+use super::summary::{summarise, Moments, Statistic};
 use crate::scenarios::Law;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -98,17 +100,24 @@ fn draw(rows: &[Row], path: &Path, title: &str, panels: &[Panel]) -> anyhow::Res
                 .map(|r| (r.flight.phi_cmd_deg + offset_deg(law), (panel.value)(r)))
                 .filter(|(_, v)| positive(v));
             chart.draw_series(points.map(|p| Circle::new(p, 3, c.mix(0.45).filled())))?;
-            let means: Vec<(f64, f64)> = summary
-                .iter()
-                .filter(|s| s.law == law)
-                .map(|s| (s.phi_cmd_deg, s.get(panel.statistic).mean))
-                .filter(|(_, v)| positive(v))
-                .collect();
-            let style = c.stroke_width(2);
+            let line = |pick: fn(&Moments) -> f64| -> Vec<(f64, f64)> {
+                summary
+                    .iter()
+                    .filter(|s| s.law == law)
+                    .map(|s| (s.phi_cmd_deg, pick(&s.get(panel.statistic))))
+                    .filter(|(_, v)| positive(v))
+                    .collect()
+            };
+            let mean = c.stroke_width(3);
             chart
-                .draw_series(LineSeries::new(means, style))?
-                .label(format!("{} (mean)", law.name()))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                .draw_series(LineSeries::new(line(|m| m.mean), mean))?
+                .label(format!("{} mean", law.name()))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], mean));
+            let median = c.stroke_width(1);
+            chart
+                .draw_series(LineSeries::new(line(|m| m.median), median).point_size(4))?
+                .label(format!("{} median", law.name()))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], median));
         }
         chart
             .configure_series_labels()

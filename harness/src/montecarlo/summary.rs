@@ -9,11 +9,13 @@ pub enum Statistic {
     MaxHorizontalDeviation,
 }
 
-/// Mean, extremes and sample standard deviation of one metric over the flights of a point
-/// that did not fail.
+/// Mean, median, extremes and sample standard deviation of one metric over the flights of
+/// a point that did not fail.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Moments {
     pub mean: f64,
+    /// Insensitive to a minority of runs that go far off, unlike the mean.
+    pub median: f64,
     pub std: f64,
     pub min: f64,
     pub max: f64,
@@ -24,8 +26,17 @@ impl Moments {
         let n = values.len() as f64;
         let mean = values.iter().sum::<f64>() / n;
         let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        let mut sorted = values.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let half = sorted.len() / 2;
+        let median = match sorted.len() {
+            0 => f64::NAN,
+            n if n % 2 == 1 => sorted[half],
+            _ => 0.5 * (sorted[half - 1] + sorted[half]),
+        };
         Self {
             mean,
+            median,
             std: if values.len() > 1 { var.sqrt() } else { 0.0 },
             min: values.iter().copied().fold(f64::INFINITY, f64::min),
             max: values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
@@ -87,31 +98,56 @@ pub fn summarise(rows: &[Row]) -> Vec<PointSummary> {
         .collect()
 }
 
-/// The summary as a text table.
+/// The summary as a text table: median, mean and maximum of each metric per point.
 pub fn table(summary: &[PointSummary]) -> String {
     use std::fmt::Write;
     let mut out = format!(
-        "{:<10} {:>8} {:>7} {:>6}  {:>22}  {:>22}\n",
+        "{:<10} {:>8} {:>7} {:>6}  {:^32}  {:^32}\n{:<35}  {:>10} {:>10} {:>10}  {:>10} {:>10} {:>10}\n",
         "law",
         "phi(deg)",
         "flights",
         "failed",
-        "terminal err mean/max (m)",
-        "max horiz dev mean/max (m)"
+        "terminal position error (m)",
+        "max horizontal deviation (m)",
+        "",
+        "median",
+        "mean",
+        "max",
+        "median",
+        "mean",
+        "max",
     );
     for s in summary {
+        let (t, d) = (s.terminal_position_error_m, s.max_horizontal_deviation_m);
         let _ = writeln!(
             out,
-            "{:<10} {:>8.1} {:>7} {:>6}  {:>11.4} {:>11.4}  {:>11.3} {:>11.3}",
+            "{:<10} {:>8.1} {:>7} {:>6}  {:>10.4} {:>10.4} {:>10.4}  {:>10.3} {:>10.3} {:>10.3}",
             s.law.name(),
             s.phi_cmd_deg,
             s.flights,
             s.failed,
-            s.terminal_position_error_m.mean,
-            s.terminal_position_error_m.max,
-            s.max_horizontal_deviation_m.mean,
-            s.max_horizontal_deviation_m.max,
+            t.median,
+            t.mean,
+            t.max,
+            d.median,
+            d.mean,
+            d.max,
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn moments_of_known_samples() {
+        let m = Moments::of(&[4.0, 1.0, 300.0, 2.0, 3.0]);
+        assert_eq!((m.median, m.mean, m.min, m.max), (3.0, 62.0, 1.0, 300.0));
+        let m = Moments::of(&[2.0, 4.0]);
+        assert_eq!(m.median, 3.0);
+        assert!((m.std - 2f64.sqrt()).abs() < 1e-15);
+        assert!(Moments::of(&[]).median.is_nan());
+    }
 }
