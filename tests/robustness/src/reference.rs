@@ -1,0 +1,131 @@
+//! The legal run every invariant comes back to: a master's ordinary sequence (setup,
+//! initialize, then per step set inputs, get outputs, do step) with deterministic inputs,
+//! recorded as the bit patterns of every Real output. Two runs agree only if every bit does.
+use crate::ffi::*;
+use crate::instance::{Fmu, Instance};
+use crate::package::Lander;
+use model_description::{Causality, VariableKind};
+
+/// Communication step of the legal runs, s.
+pub const STEP_S: f64 = 0.01;
+
+/// Inputs of the legal run at time `t_s`, in the order of [`input_names`].
+///
+/// LanderPlant: a hovering thrust with a slow throttle ripple and small torques.
+/// LanderGnc: a slowly varying, bounded navigation state (periodic, so valid for any run
+/// length): a gently rocking, drifting lander whose mass breathes by a few percent.
+pub fn inputs_at(lander: Lander, t_s: f64) -> Vec<f64> {
+    match lander {
+        Lander::Plant => vec![
+            1300.0 + 50.0 * (0.3 * t_s).sin(),
+            5.0 * (0.5 * t_s).sin(),
+            -3.0 * (0.2 * t_s).cos(),
+            2.0,
+        ],
+        Lander::Gnc => {
+            let axis: [f64; 3] = [0.3, 0.9, 0.3];
+            let norm = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
+            let axis = axis.map(|a| a / norm);
+            let angle_rad = 0.2 * (0.07 * t_s).sin();
+            let rate_radps = 0.2 * 0.07 * (0.07 * t_s).cos();
+            let (s, c) = (0.5 * angle_rad).sin_cos();
+            vec![
+                10.0 * (0.01 * t_s).sin(),
+                500.0 + 300.0 * (0.003 * t_s).cos(),
+                10.0 * (0.013 * t_s).cos(),
+                0.1 * (0.01 * t_s).cos(),
+                -0.9 * (0.003 * t_s).sin(),
+                -0.13 * (0.013 * t_s).sin(),
+                c,
+                axis[0] * s,
+                axis[1] * s,
+                axis[2] * s,
+                axis[0] * rate_radps,
+                axis[1] * rate_radps,
+                axis[2] * rate_radps,
+                800.0 + 50.0 * (0.001 * t_s).sin(),
+            ]
+        }
+    }
+}
+
+/// The contract names of the inputs `inputs_at` feeds (shared/INTERFACE.md).
+pub fn input_names(lander: Lander) -> Vec<String> {
+    let indexed = |base: &'static str, n: usize| (1..=n).map(move |k| format!("{base}[{k}]"));
+    match lander {
+        Lander::Plant => std::iter::once("thrust_cmd".to_string())
+            .chain(indexed("torque_cmd_body", 3))
+            .collect(),
+        Lander::Gnc => indexed("r_nue", 3)
+            .chain(indexed("v_nue", 3))
+            .chain(indexed("q_body_to_nue", 4))
+            .chain(indexed("omega_body", 3))
+            .chain(std::iter::once("mass".to_string()))
+            .collect(),
+    }
+}
+
+/// Value references of the legal run's inputs and of every Real output.
+#[derive(Debug, Clone)]
+pub struct Wiring {
+    pub inputs: Vec<u32>,
+    pub outputs: Vec<u32>,
+}
+
+impl Wiring {
+    pub fn of(fmu: &Fmu) -> Wiring {
+        Wiring {
+            inputs: input_names(fmu.lander())
+                .iter()
+                .map(|n| fmu.vr(n))
+                .collect(),
+            outputs: fmu
+                .package
+                .variables
+                .iter()
+                .filter(|v| v.kind == VariableKind::Real && v.causality == Causality::Output)
+                .map(|v| v.value_reference)
+                .collect(),
+        }
+    }
+}
+
+/// `steps` steps of the legal run from t = 0 on an instance in state Instantiated; the bit
+/// patterns of all Real outputs read before each step and after the last. `Err` names the
+/// first call that did not return fmi2OK.
+pub fn legal_run(inst: &Instance, steps: usize) -> Result<Vec<u64>, String> {
+    let wiring = Wiring::of(inst.fmu);
+    let lander = inst.fmu.lander();
+    let fail = |what: &str, status: fmi2Status| {
+        Err(format!(
+            "{what} returned {}: {:?}",
+            status_name(status),
+            inst.sink.all()
+        ))
+    };
+    let status = inst.init_at(0.0);
+    if status != OK {
+        return fail("initialization", status);
+    }
+    let mut bits = Vec::with_capacity((steps + 1) * wiring.outputs.len());
+    for k in 0..=steps {
+        // An integer step counter: the communication points are exactly k h.
+        let t = k as f64 * STEP_S;
+        let status = inst.set_reals(&wiring.inputs, &inputs_at(lander, t));
+        if status != OK {
+            return fail(&format!("fmi2SetReal at t = {t}"), status);
+        }
+        let (status, outputs) = inst.get_reals(&wiring.outputs);
+        if status != OK {
+            return fail(&format!("fmi2GetReal at t = {t}"), status);
+        }
+        bits.extend(outputs.iter().map(|v| v.to_bits()));
+        if k < steps {
+            let status = inst.step(t, STEP_S);
+            if status != OK {
+                return fail(&format!("fmi2DoStep at t = {t}"), status);
+            }
+        }
+    }
+    Ok(bits)
+}
