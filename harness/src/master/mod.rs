@@ -11,8 +11,12 @@
 //!   so every connection carries one step of delay, as in fmpy's `simulate_ssp`.
 //! - Status: `fmi2Discard` with `fmi2Terminated` (touchdown) ends the run cleanly at
 //!   `fmi2LastSuccessfulTime`; `fmi2Error`/`fmi2Fatal` ends it with the FMU's log in the error.
+//! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
+//!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
+mod conventions;
 mod resolve;
 
+pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use resolve::Port;
 
 use crate::loader::{CallError, FmiError, Fmu, StepStatus, VariableKind};
@@ -172,6 +176,7 @@ pub struct Simulation {
     connectors: Vec<crate::system::ssp::ConnectorDecl>,
     row: Vec<f64>,
     fresh: bool,
+    conventions: Conventions,
 }
 
 /// The FMU file of an instance: absolute, or relative to `fmu_dir`.
@@ -288,6 +293,7 @@ impl Simulation {
             connectors,
             row,
             fresh: true,
+            conventions: Conventions::default(),
         })
     }
 
@@ -317,6 +323,12 @@ impl Simulation {
             .map_err(|e| resolve(format!("instance '{instance}': parameter {e}")))?;
         self.system.set_parameter(instance, variable, value);
         Ok(())
+    }
+
+    /// Sets the initial-input and time conventions of the following runs (default: the
+    /// harness's own; see [`Conventions`]).
+    pub fn set_conventions(&mut self, conventions: Conventions) {
+        self.conventions = conventions;
     }
 
     pub fn fmus(&self) -> &[Fmu] {
@@ -359,21 +371,9 @@ impl Simulation {
             ordering,
             ..
         } = self.system;
-        let span = stop_time - start_time;
-        // A step count within 1e-9 of an integer is that integer: 172 / 0.01 is 17200.
-        let ratio = span / step_size;
-        let steps = if (ratio - ratio.round()).abs() < 1e-9 * ratio.max(1.0) {
-            ratio.round() as u64
-        } else {
-            ratio.ceil() as u64
-        };
-        for k in 0..steps {
-            let time = start_time + k as f64 * step_size;
-            let h = if k + 1 == steps {
-                stop_time - time
-            } else {
-                step_size
-            };
+        let mut clock =
+            conventions::Clock::new(self.conventions.time_grid, start_time, stop_time, step_size);
+        while let Some((time, h)) = clock.next_step() {
             if ordering == Ordering::GaussSeidel {
                 for u in 0..self.units.len() {
                     self.set_inputs(u)?;
@@ -439,18 +439,19 @@ impl Simulation {
             self.set_inputs(u)?;
             self.get_outputs(u)?;
         }
-        self.record(stop_time, recorder);
+        self.record(clock.end_time(), recorder);
         self.terminate_all();
         Ok(RunEnd::Completed)
     }
 
     fn initialize(&mut self) -> Result<(), MasterError> {
         let (start, stop) = (self.system.start_time, self.system.stop_time);
+        let declared_stop = self.conventions.stop_time_declared.then_some(stop);
         for (u, desc) in self.system.instances.iter().enumerate() {
             let unit = &mut self.units[u];
             let name = unit.name.clone();
             unit.instance
-                .setup_experiment(None, start, Some(stop))
+                .setup_experiment(None, start, declared_stop)
                 .map_err(|e| call(&name, "fmi2SetupExperiment", e.into()))?;
             for (variable, value) in &desc.parameters {
                 set_parameter(&mut unit.instance, variable, value)
@@ -459,6 +460,9 @@ impl Simulation {
             unit.instance
                 .enter_initialization_mode()
                 .map_err(|e| call(&name, "fmi2EnterInitializationMode", e.into()))?;
+        }
+        if self.conventions.initial_inputs == InitialInputs::Zero {
+            return self.initialize_with_zero_inputs();
         }
         // Initial exchange in initialization mode, in order, so that a controller sees the
         // plant's initial state and the plant its initial command.
@@ -477,6 +481,22 @@ impl Simulation {
         }
         for u in 0..self.units.len() {
             self.get_outputs(u)?;
+        }
+        Ok(())
+    }
+
+    /// [`InitialInputs::Zero`]: no exchange; every buffer, so every first input, is 0.0.
+    fn initialize_with_zero_inputs(&mut self) -> Result<(), MasterError> {
+        for unit in &mut self.units {
+            for io in [&mut unit.inputs, &mut unit.outputs] {
+                io.real.values.fill(0.0);
+                io.integer.values.fill(0);
+                io.boolean.values.fill(false);
+            }
+            let name = unit.name.clone();
+            unit.instance
+                .exit_initialization_mode()
+                .map_err(|e| call(&name, "fmi2ExitInitializationMode", e.into()))?;
         }
         Ok(())
     }
