@@ -1,6 +1,7 @@
 //! `cargo xtask fmus`: build the release cdylibs and package one `.fmu` per FMU crate.
 use crate::doc_page;
 use crate::fmu_zip::{self, Entry};
+use crate::ssp;
 use crate::workspace::{self, Workspace};
 use anyhow::{bail, Context, Result};
 use model_description::ModelDescription;
@@ -36,7 +37,8 @@ const FMU_CRATES: [FmuCrate; 3] = [
 /// The example each FMU crate provides to print its generated modelDescription.xml.
 const DESCRIPTION_EXAMPLE: &str = "model_description";
 
-/// Build and package every FMU whose crate can describe itself; returns the written files.
+/// Build and package every FMU whose crate can describe itself, then the SSP of the paper
+/// scenario that holds two of them; returns the written files.
 pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
     let mut build = ws.cargo();
     build.args(["build", "--release", "--lib"]);
@@ -71,6 +73,9 @@ pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
     if written.is_empty() {
         bail!("no FMU crate has a `{DESCRIPTION_EXAMPLE}` example: nothing was packaged");
     }
+    let package = ssp::package(ws, &out_dir)?;
+    println!("xtask fmus: wrote {}", package.display());
+    written.push(package);
     Ok(written)
 }
 

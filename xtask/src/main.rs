@@ -8,6 +8,7 @@ mod doc_page;
 mod fmu_zip;
 mod fmus;
 mod python_env;
+mod ssp;
 mod test;
 mod workspace;
 
@@ -26,7 +27,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Build the release cdylibs and write target/fmu/<modelIdentifier>.fmu for each FMU.
+    /// Build the release cdylibs and write target/fmu/<modelIdentifier>.fmu for each FMU,
+    /// and target/fmu/LanderDescent.ssp (the paper scenario with both lander FMUs).
     Fmus,
     /// Run every check in order (fmt, clippy, FMUs, Python venv, cargo tests), stopping at
     /// the first failure.

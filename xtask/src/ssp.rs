@@ -1,0 +1,111 @@
+//! `LanderDescent.ssp`: the paper scenario as an SSP 1.0 package, the one file a user hands
+//! to an SSP-capable master (fmpy's `simulate_ssp`, libcosim) to fly the closed loop.
+//!
+//! The archive holds `SystemStructure.ssd` (the shipped `harness/scenarios/paper.ssd`, itself
+//! generated from `paper.toml` and drift-tested by the harness) and the two FMUs it names
+//! under `resources/`. It is written with the FMU archives' writer (sorted entries, fixed
+//! timestamps), so the same FMUs give the same bytes.
+use crate::fmu_zip::{self, Entry};
+use crate::workspace::Workspace;
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
+
+/// File name of the package in the FMU output folder.
+pub const PACKAGE: &str = "LanderDescent.ssp";
+
+/// The system structure shipped in the package, relative to the workspace root.
+const SSD: &str = "harness/scenarios/paper.ssd";
+
+/// The FMUs the SSD names as `resources/<modelIdentifier>.fmu`.
+const COMPONENT_FMUS: [&str; 2] = ["LanderGnc.fmu", "LanderPlant.fmu"];
+
+/// Writes `LanderDescent.ssp` beside the packaged FMUs in `fmu_dir`; returns its path.
+pub fn package(ws: &Workspace, fmu_dir: &Path) -> Result<PathBuf> {
+    let ssd_path = ws.root.join(SSD);
+    let ssd = std::fs::read_to_string(&ssd_path)
+        .with_context(|| format!("cannot read {}", ssd_path.display()))?;
+    let mut fmus = Vec::with_capacity(COMPONENT_FMUS.len());
+    for fmu in COMPONENT_FMUS {
+        let path = fmu_dir.join(fmu);
+        let bytes =
+            std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
+        fmus.push((fmu, bytes));
+    }
+    let bytes = archive(&ssd, fmus).with_context(|| format!("packaging {}", ssd_path.display()))?;
+    let package = fmu_dir.join(PACKAGE);
+    let partial = fmu_dir.join(format!(".{PACKAGE}.partial"));
+    std::fs::write(&partial, bytes)
+        .with_context(|| format!("cannot write {}", partial.display()))?;
+    std::fs::rename(&partial, &package)
+        .with_context(|| format!("cannot write {}", package.display()))?;
+    Ok(package)
+}
+
+/// The package bytes: the SSD and each FMU (file name, bytes) under `resources/`.
+fn archive(ssd: &str, fmus: Vec<(&str, Vec<u8>)>) -> Result<Vec<u8>> {
+    let mut entries = vec![Entry::file("SystemStructure.ssd", ssd.as_bytes().to_vec())];
+    for (name, bytes) in fmus {
+        let source = format!("resources/{name}");
+        // A renamed FMU would otherwise give a package whose SSD points at nothing.
+        if !ssd.contains(&format!("source=\"{source}\"")) {
+            bail!("the SSD has no component with source=\"{source}\"");
+        }
+        entries.push(Entry::file(source, bytes));
+    }
+    fmu_zip::archive(entries)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Read;
+
+    const SSD_TEXT: &str = r#"<ssd:Component name="gnc" source="resources/LanderGnc.fmu"/>
+<ssd:Component name="plant" source="resources/LanderPlant.fmu"/>"#;
+
+    fn fmus() -> Vec<(&'static str, Vec<u8>)> {
+        vec![
+            ("LanderGnc.fmu", b"gnc bytes".to_vec()),
+            ("LanderPlant.fmu", b"plant bytes".to_vec()),
+        ]
+    }
+
+    #[test]
+    fn package_holds_the_ssd_and_the_fmus_under_resources_and_is_reproducible() {
+        let bytes = archive(SSD_TEXT, fmus()).unwrap();
+        let mut reversed = fmus();
+        reversed.reverse();
+        assert_eq!(bytes, archive(SSD_TEXT, reversed).unwrap());
+
+        let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+        let mut names: Vec<_> = zip.file_names().map(str::to_owned).collect();
+        names.sort();
+        assert_eq!(
+            names,
+            [
+                "SystemStructure.ssd",
+                "resources/LanderGnc.fmu",
+                "resources/LanderPlant.fmu"
+            ]
+        );
+        let mut ssd = String::new();
+        zip.by_name("SystemStructure.ssd")
+            .unwrap()
+            .read_to_string(&mut ssd)
+            .unwrap();
+        assert_eq!(ssd, SSD_TEXT);
+        let mut plant = Vec::new();
+        zip.by_name("resources/LanderPlant.fmu")
+            .unwrap()
+            .read_to_end(&mut plant)
+            .unwrap();
+        assert_eq!(plant, b"plant bytes");
+    }
+
+    #[test]
+    fn an_fmu_the_ssd_does_not_name_is_refused() {
+        let ssd = r#"<ssd:Component name="gnc" source="resources/LanderGnc.fmu"/>"#;
+        let error = archive(ssd, fmus()).unwrap_err().to_string();
+        assert!(error.contains("resources/LanderPlant.fmu"), "{error}");
+    }
+}
