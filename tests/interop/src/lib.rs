@@ -1,1 +1,126 @@
-//! Interoperability tests live in tests/interop/tests/.
+//! Support of the interoperability tests (tests/interop/tests/*.rs): run a system in the Rust
+//! harness in-process, hand the same system to a Python master (tests/interop/python) through
+//! the workspace venv, and compare the two trajectories at every communication point.
+//!
+//! The FMUs are those `cargo xtask fmus` packaged (the system-tests crate resolves where);
+//! these helpers panic with a message saying what to run: they serve tests only.
+#![deny(unsafe_code)]
+
+pub mod compare;
+pub mod python;
+
+use harness::master::{Conventions, Simulation, Trajectory};
+use harness::system::{ParamValue, SystemDescription};
+use std::path::{Path, PathBuf};
+
+pub use system_tests::{fmu_dir, fmu_path, workspace_root};
+
+/// The SSP package `cargo xtask fmus` writes beside the FMUs.
+pub fn ssp_path() -> PathBuf {
+    let path = fmu_dir().join("LanderDescent.ssp");
+    assert!(
+        path.is_file(),
+        "{} is missing: run `cargo xtask fmus` first (or `cargo xtask test`, which does)",
+        path.display()
+    );
+    path
+}
+
+/// A built-in scenario of the harness, or a scenario file (`.toml`, `.ssd`).
+pub fn scenario(name_or_path: &str) -> SystemDescription {
+    harness::scenarios::load(name_or_path)
+        .unwrap_or_else(|e| panic!("scenario {name_or_path}: {e}"))
+}
+
+/// Flies `system` in the harness with `conventions`; FMU paths relative to the packaged FMUs.
+pub fn run_harness(system: SystemDescription, conventions: Conventions) -> Trajectory {
+    let mut simulation = Simulation::new(system, &fmu_dir())
+        .unwrap_or_else(|e| panic!("harness cannot load the system: {e}"));
+    simulation.set_conventions(conventions);
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    let end = simulation
+        .run(&mut trajectory)
+        .unwrap_or_else(|e| panic!("harness run failed: {e:#}"));
+    println!(
+        "harness: {} rows of {} columns, ended {end:?}",
+        trajectory.len(),
+        trajectory.names.len()
+    );
+    trajectory
+}
+
+/// The system as JSON for the Python masters: instances in exchange order with their FMU's
+/// absolute path and their parameters, and the scalar connections the harness resolved.
+pub fn system_json(system: &SystemDescription) -> serde_json::Value {
+    let simulation = Simulation::new(system.clone(), &fmu_dir())
+        .unwrap_or_else(|e| panic!("harness cannot load the system: {e}"));
+    let instances: Vec<_> = system
+        .instances
+        .iter()
+        .map(|instance| {
+            let parameters: Vec<_> = instance
+                .parameters
+                .iter()
+                .map(|(name, value)| {
+                    let value = match value {
+                        ParamValue::Real(x) => serde_json::json!(x),
+                        ParamValue::Integer(i) => serde_json::json!(i),
+                        ParamValue::Boolean(b) => serde_json::json!(b),
+                        ParamValue::String(s) => serde_json::json!(s),
+                    };
+                    serde_json::json!([name, value])
+                })
+                .collect();
+            serde_json::json!({
+                "name": instance.name,
+                "fmu": harness::master::fmu_path(&fmu_dir(), &instance.fmu),
+                "parameters": parameters,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "start_time": system.start_time,
+        "stop_time": system.stop_time,
+        "step_size": system.step_size,
+        "instances": instances,
+        "connections": simulation.scalar_connections(),
+    })
+}
+
+/// Writes [`system_json`] to `dir/system.json` and returns the path.
+pub fn write_system_json(system: &SystemDescription, dir: &Path) -> PathBuf {
+    let path = dir.join("system.json");
+    let text = serde_json::to_string_pretty(&system_json(system)).expect("JSON of a system");
+    std::fs::write(&path, text).unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+    path
+}
+
+/// Reads a CSV a Python master wrote (the harness's format).
+pub fn read_trajectory(path: &Path) -> Trajectory {
+    harness::results::read_csv(path).unwrap_or_else(|e| panic!("{}: {e:#}", path.display()))
+}
+
+/// A scratch folder removed on drop.
+pub fn scratch(prefix: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(prefix)
+        .tempdir()
+        .expect("cannot create a temporary folder")
+}
+
+/// `LanderDescent.ssp` unzipped into a scratch folder, and the system its
+/// `SystemStructure.ssd` describes, with the component FMUs from its `resources/`.
+pub fn unpacked_ssp() -> (tempfile::TempDir, SystemDescription) {
+    let path = ssp_path();
+    let dir = scratch("interop-ssp-");
+    let file = std::fs::File::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    zip::ZipArchive::new(file)
+        .and_then(|mut archive| archive.extract(dir.path()))
+        .unwrap_or_else(|e| panic!("cannot unzip {}: {e}", path.display()));
+    let ssd = dir.path().join("SystemStructure.ssd");
+    let system = scenario(ssd.to_str().expect("a UTF-8 temporary path"));
+    (dir, system)
+}
