@@ -1,0 +1,476 @@
+//! The bad-input table of issue 7: one test per class of bad input, for LanderGnc and
+//! LanderPlant through their packaged C ABI. Each asserts the returned status and that the
+//! log names the function and the variable or value; where a refusal must leave the instance
+//! untouched, that is checked too.
+mod common;
+
+use common::assert_refused;
+use robustness_tests::ffi::*;
+use robustness_tests::instance::{Fmu, Instance};
+use robustness_tests::package::Lander;
+use robustness_tests::reference::{legal_run, Wiring};
+use std::ffi::CString;
+use std::ptr;
+
+fn both(test: impl Fn(&Fmu)) {
+    for lander in Lander::BOTH {
+        test(&Fmu::load(lander).expect("packaged FMU (run `cargo xtask fmus`)"));
+    }
+}
+
+/// A settable input of each FMU (INTERFACE.md).
+fn an_input(fmu: &Fmu) -> &'static str {
+    match fmu.lander() {
+        Lander::Gnc => "q_body_to_nue[1]",
+        Lander::Plant => "thrust_cmd",
+    }
+}
+
+/// An output of each FMU (INTERFACE.md).
+fn an_output(fmu: &Fmu) -> &'static str {
+    match fmu.lander() {
+        Lander::Gnc => "thrust_cmd",
+        Lander::Plant => "r_nue[2]",
+    }
+}
+
+fn initialized(fmu: &Fmu) -> Instance<'_> {
+    let inst = fmu.instantiate("bad-input", false);
+    assert_eq!(inst.init_at(0.0), OK, "{:?}", inst.take_log());
+    inst.take_log();
+    inst
+}
+
+/// The reference: the legal run of a new instance.
+fn reference(fmu: &Fmu) -> Vec<u64> {
+    legal_run(&fmu.instantiate("reference", false), 10).expect("legal run")
+}
+
+#[test]
+fn unknown_value_reference_is_refused_in_get_and_set() {
+    both(|fmu| {
+        let inst = initialized(fmu);
+        let unknown = 9_999_999u32;
+        let input = fmu.vr(an_input(fmu));
+        let (_, before) = inst.get_reals(&[input]);
+        let status = inst.set_reals(&[input, unknown], &[before[0] + 1.5, 2.0]);
+        assert_refused(&inst, status, "fmi2SetReal", &["9999999"]);
+        let (status, _) = inst.get_reals(&[unknown]);
+        assert_refused(&inst, status, "fmi2GetReal", &["9999999"]);
+        // All or nothing: the valid first pair of the refused set was not applied.
+        let (status, after) = inst.get_reals(&[input]);
+        assert_eq!(status, OK);
+        assert_eq!(after[0].to_bits(), before[0].to_bits());
+    });
+}
+
+#[test]
+fn a_value_reference_of_another_type_is_refused() {
+    both(|fmu| {
+        let inst = initialized(fmu);
+        // A Real input through the Integer and Boolean functions.
+        let vr = fmu.vr(an_input(fmu));
+        if !fmu.package.variables.iter().any(|v| v.value_reference == vr && v.kind != model_description::VariableKind::Real) {
+            let status = inst.set_integers(&[vr], &[1]);
+            assert_refused(&inst, status, "fmi2SetInteger", &[&vr.to_string(), "Integer"]);
+            let (status, _) = inst.get_booleans(&[vr]);
+            assert_refused(&inst, status, "fmi2GetBoolean", &[&vr.to_string(), "Boolean"]);
+        }
+        let status = inst.set_strings(&[vr], &[c"text"]);
+        assert_refused(&inst, status, "fmi2SetString", &[&vr.to_string(), "String"]);
+    });
+}
+
+/// Neither lander declares a constant (the test model's own table covers that row); the
+/// variables that are never settable are outputs and calculated parameters.
+#[test]
+fn a_variable_that_is_never_settable_is_refused_by_name() {
+    both(|fmu| {
+        let inst = fmu.instantiate("not-settable", false);
+        let output = an_output(fmu);
+        let status = inst.set_real_by_name(output, 1.0);
+        assert_refused(&inst, status, "fmi2SetReal", &[output, "output"]);
+        if fmu.lander() == Lander::Plant {
+            let status = inst.set_real_by_name("rcs_torque_limit", 1.0);
+            assert_refused(&inst, status, "fmi2SetReal", &["rcs_torque_limit", "calculated parameter"]);
+        }
+    });
+}
+
+#[test]
+fn a_fixed_parameter_after_initialization_is_refused_and_unchanged() {
+    both(|fmu| {
+        let inst = initialized(fmu);
+        let name = match fmu.lander() {
+            Lander::Gnc => "phi_cmd",
+            Lander::Plant => "m0",
+        };
+        let (_, before) = inst.get_reals(&[fmu.vr(name)]);
+        let status = inst.set_real_by_name(name, 0.5);
+        assert_refused(&inst, status, "fmi2SetReal", &[name, "fixed parameter"]);
+        let (_, after) = inst.get_reals(&[fmu.vr(name)]);
+        assert_eq!(before[0].to_bits(), after[0].to_bits());
+    });
+}
+
+#[test]
+fn non_finite_inputs_are_refused_naming_variable_and_value() {
+    both(|fmu| {
+        let inst = initialized(fmu);
+        let name = an_input(fmu);
+        for (value, shown) in [(f64::NAN, "NaN"), (f64::INFINITY, "inf"), (f64::NEG_INFINITY, "-inf")] {
+            let status = inst.set_real_by_name(name, value);
+            assert_refused(&inst, status, "fmi2SetReal", &[name, shown]);
+        }
+        // The instance goes on: the last finite value is still in place and a step works.
+        assert_eq!(inst.step(0.0, 0.01), OK, "{:?}", inst.take_log());
+    });
+}
+
+/// One call with harmless arguments, to probe the state machine.
+#[derive(Debug, Clone, Copy)]
+enum Call {
+    Setup,
+    EnterInit,
+    ExitInit,
+    Terminate,
+    DoStep,
+    SetReal,
+    GetReal,
+    LastSuccessfulTime,
+    CancelStep,
+}
+
+impl Call {
+    fn name(self) -> &'static str {
+        match self {
+            Call::Setup => "fmi2SetupExperiment",
+            Call::EnterInit => "fmi2EnterInitializationMode",
+            Call::ExitInit => "fmi2ExitInitializationMode",
+            Call::Terminate => "fmi2Terminate",
+            Call::DoStep => "fmi2DoStep",
+            Call::SetReal => "fmi2SetReal",
+            Call::GetReal => "fmi2GetReal",
+            Call::LastSuccessfulTime => "fmi2GetRealStatus",
+            Call::CancelStep => "fmi2CancelStep",
+        }
+    }
+
+    fn run(self, inst: &Instance, t: f64) -> fmi2Status {
+        let input = inst.fmu.vr(an_input(inst.fmu));
+        match self {
+            Call::Setup => inst.setup(0.0, None),
+            Call::EnterInit => inst.enter_init(),
+            Call::ExitInit => inst.exit_init(),
+            Call::Terminate => inst.terminate(),
+            Call::DoStep => inst.step(t, 0.01),
+            Call::SetReal => inst.set_reals(&[input], &[0.5]),
+            Call::GetReal => inst.get_reals(&[input]).0,
+            Call::LastSuccessfulTime => inst.real_status(LAST_SUCCESSFUL_TIME).0,
+            // SAFETY: a live component.
+            Call::CancelStep => unsafe { (inst.fmu.api.cancel_step)(inst.c) },
+        }
+    }
+}
+
+/// Puts a new instance in the named state; `None` where the FMU cannot reach it.
+fn in_state<'a>(fmu: &'a Fmu, state: &str) -> Option<(Instance<'a>, f64)> {
+    let inst = fmu.instantiate(state, false);
+    let t = match state {
+        "Instantiated" => 0.0,
+        "InitializationMode" => {
+            assert_eq!(inst.setup(0.0, None), OK);
+            assert_eq!(inst.enter_init(), OK);
+            0.0
+        }
+        "StepComplete" => {
+            assert_eq!(inst.init_at(0.0), OK);
+            0.0
+        }
+        "StepFailed" => {
+            // Only the plant ends a step early (touchdown); LanderGnc always completes.
+            if fmu.lander() != Lander::Plant {
+                return None;
+            }
+            assert_eq!(inst.setup(0.0, None), OK);
+            assert_eq!(inst.enter_init(), OK);
+            assert_eq!(inst.set_real_by_name("r0_nue[2]", 0.5), OK);
+            assert_eq!(inst.exit_init(), OK);
+            assert_eq!(inst.step(0.0, 2.0), DISCARD, "{:?}", inst.take_log());
+            inst.real_status(LAST_SUCCESSFUL_TIME).1
+        }
+        "Terminated" => {
+            assert_eq!(inst.init_at(0.0), OK);
+            assert_eq!(inst.terminate(), OK);
+            0.0
+        }
+        "Error" => {
+            // A model failure: exit initialization with a parameter the model refuses.
+            assert_eq!(inst.setup(0.0, None), OK);
+            assert_eq!(inst.enter_init(), OK);
+            let bad = match fmu.lander() {
+                Lander::Gnc => "control_bandwidth",
+                Lander::Plant => "m0",
+            };
+            assert_eq!(inst.set_real_by_name(bad, 0.0), OK);
+            assert_eq!(inst.exit_init(), ERROR);
+            0.0
+        }
+        other => panic!("unknown state {other}"),
+    };
+    inst.take_log();
+    Some((inst, t))
+}
+
+#[test]
+fn calls_in_each_illegal_state_are_refused_naming_the_function_and_the_state() {
+    use Call::*;
+    let table: [(&str, &[Call]); 6] = [
+        ("Instantiated", &[ExitInit, Terminate, DoStep, GetReal, LastSuccessfulTime, CancelStep]),
+        ("InitializationMode", &[Setup, EnterInit, Terminate, DoStep, LastSuccessfulTime]),
+        ("StepComplete", &[Setup, EnterInit, ExitInit, CancelStep]),
+        ("StepFailed", &[Setup, EnterInit, ExitInit, DoStep, SetReal]),
+        ("Terminated", &[Setup, EnterInit, ExitInit, Terminate, DoStep, SetReal]),
+        ("Error", &[Setup, EnterInit, ExitInit, Terminate, DoStep, SetReal, LastSuccessfulTime]),
+    ];
+    both(|fmu| {
+        for (state, calls) in table {
+            for call in calls {
+                let Some((inst, t)) = in_state(fmu, state) else { continue };
+                let status = call.run(&inst, t);
+                assert_refused(&inst, status, call.name(), &["illegal call in state", state]);
+            }
+        }
+    });
+}
+
+#[test]
+fn a_guid_mismatch_returns_null_and_says_why() {
+    let gnc = Fmu::load(Lander::Gnc).expect("packaged FMU");
+    let plant = Fmu::load(Lander::Plant).expect("packaged FMU");
+    for (fmu, foreign) in [(&gnc, &plant), (&plant, &gnc)] {
+        let sink = Box::<robustness_tests::logger::LogSink>::default();
+        let callbacks = sink.callbacks();
+        // SAFETY: valid strings and callbacks for the duration of the call.
+        let c = unsafe {
+            (fmu.api.instantiate)(c"wrong-guid".as_ptr(), CO_SIMULATION, foreign.guid().as_ptr(), ptr::null(), &callbacks, 0, 0)
+        };
+        assert!(c.is_null());
+        common::assert_refused_log(&sink.take(), ERROR, "fmi2Instantiate", &["fmuGUID", &foreign.package.guid]);
+    }
+}
+
+#[test]
+fn null_callbacks_or_a_null_logger_return_null() {
+    both(|fmu| {
+        let sink = Box::<robustness_tests::logger::LogSink>::default();
+        let mut no_logger = sink.callbacks();
+        no_logger.logger = None;
+        for functions in [ptr::null(), &no_logger as *const fmi2CallbackFunctions] {
+            // SAFETY: valid strings; the callbacks are NULL or a valid struct.
+            let c = unsafe {
+                (fmu.api.instantiate)(c"no-callbacks".as_ptr(), CO_SIMULATION, fmu.guid().as_ptr(), ptr::null(), functions, 0, 1)
+            };
+            assert!(c.is_null());
+        }
+        // Nothing could be logged, and nothing was sent to the sink behind the NULL logger.
+        assert!(sink.is_empty());
+    });
+}
+
+#[test]
+fn step_size_zero_negative_or_not_a_number_is_refused() {
+    both(|fmu| {
+        let inst = initialized(fmu);
+        for (h, shown) in [(0.0, "0"), (-0.01, "-0.01"), (f64::NAN, "NaN"), (f64::INFINITY, "inf")] {
+            let status = inst.step(0.0, h);
+            assert_refused(&inst, status, "fmi2DoStep", &["communicationStepSize", shown]);
+        }
+        // Refusals moved nothing: the step from 0 is still the next one.
+        assert_eq!(inst.step(0.0, 0.01), OK);
+    });
+}
+
+#[test]
+fn a_wrong_communication_point_is_refused_within_tolerance_accepted() {
+    both(|fmu| {
+        let inst = initialized(fmu);
+        assert_eq!(inst.step(0.0, 0.01), OK);
+        for t in [0.0, 0.02, 0.5, -1.0] {
+            let status = inst.step(t, 0.01);
+            assert_refused(&inst, status, "fmi2DoStep", &["currentCommunicationPoint", &t.to_string()]);
+        }
+        // A master's accumulated rounding (a few ulps) is not an error.
+        assert_eq!(inst.step(0.01 - 1e-15, 0.01), OK, "{:?}", inst.take_log());
+    });
+}
+
+#[test]
+fn truncated_corrupted_or_foreign_serialized_states_are_refused() {
+    let gnc = Fmu::load(Lander::Gnc).expect("packaged FMU");
+    let plant = Fmu::load(Lander::Plant).expect("packaged FMU");
+    for (fmu, other) in [(&gnc, &plant), (&plant, &gnc)] {
+        let inst = initialized(fmu);
+        assert_eq!(inst.step(0.0, 0.01), OK);
+        let (_, state) = inst.get_fmu_state();
+        let bytes = inst.serialize(state).expect("serialize");
+        let foreign = {
+            let o = initialized(other);
+            let (_, s) = o.get_fmu_state();
+            o.serialize(s).expect("serialize")
+        };
+        let mut bad_magic = bytes.clone();
+        bad_magic[0] ^= 0x20;
+        let mut flipped_payload = bytes.clone();
+        *flipped_payload.last_mut().unwrap() ^= 0x01;
+        let mut huge_length = bytes.clone();
+        huge_length[32..40].copy_from_slice(&u64::MAX.to_le_bytes());
+        let cases: [(&str, Vec<u8>, &str); 8] = [
+            ("empty", Vec::new(), "shorter than"),
+            ("header cut", bytes[..20].to_vec(), "shorter than"),
+            ("one byte short", bytes[..bytes.len() - 1].to_vec(), "header announces"),
+            ("one byte more", [bytes.as_slice(), &[0]].concat(), "header announces"),
+            ("bad magic", bad_magic, "magic"),
+            ("flipped payload bit", flipped_payload, "checksum"),
+            ("length field u64::MAX", huge_length, "header announces"),
+            ("the other FMU's state", foreign, "different FMU"),
+        ];
+        for (what, buffer, reason) in cases {
+            let (status, made) = inst.deserialize(&buffer);
+            assert!(made.is_null(), "{what}: a state was made");
+            assert_refused(&inst, status, "fmi2DeSerializeFMUstate", &[reason]);
+        }
+        // Still usable: the genuine buffer restores the state exactly.
+        let (status, restored) = inst.deserialize(&bytes);
+        assert_eq!(status, OK);
+        assert_eq!(inst.serialize(restored).expect("serialize"), bytes);
+    }
+}
+
+#[test]
+fn out_of_range_plant_parameters_are_refused_by_name_and_reset_recovers() {
+    let fmu = Fmu::load(Lander::Plant).expect("packaged FMU");
+    let expected = reference(&fmu);
+    let cases: [(&[(&str, f64)], &str, &str); 5] = [
+        (&[("m0", -5.0)], "m0", "-5"),
+        (&[("inertia_body[2]", -300.0)], "inertia_body[2]", "-300"),
+        (&[("inertia_body[1]", 0.0)], "inertia_body[1]", "0"),
+        (&[("engine_thrust_min", 900.0)], "engine_thrust_min", "900"),
+        (&[("dry_mass", 950.0)], "m0", "dry_mass"),
+    ];
+    for (sets, name, shown) in cases {
+        let inst = fmu.instantiate("plant-params", false);
+        assert_eq!(inst.setup(0.0, None), OK);
+        assert_eq!(inst.enter_init(), OK);
+        for (n, v) in sets {
+            assert_eq!(inst.set_real_by_name(n, *v), OK, "{n} = {v}");
+        }
+        let status = inst.exit_init();
+        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
+        // The instance is in state Error; fmi2Reset brings it back to a fresh one.
+        assert_eq!(inst.reset(), OK);
+        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
+    }
+}
+
+#[test]
+fn out_of_range_gnc_parameters_are_refused_by_name_and_reset_recovers() {
+    let fmu = Fmu::load(Lander::Gnc).expect("packaged FMU");
+    let expected = reference(&fmu);
+    // Below the declared min (0): refused by the set itself.
+    for (name, value, shown) in [("control_bandwidth", -1.0, "-1"), ("control_damping", -0.5, "-0.5"), ("inertia_body[2]", -300.0, "-300")] {
+        let inst = fmu.instantiate("gnc-params", false);
+        let status = inst.set_real_by_name(name, value);
+        assert_refused(&inst, status, "fmi2SetReal", &[name, shown]);
+    }
+    // Accepted by the set, refused as a whole by exit initialization.
+    let at_exit: [(&[(&str, f64)], &str, &str); 5] = [
+        (&[("control_bandwidth", 0.0)], "control_bandwidth", "0"),
+        (&[("control_damping", 0.0)], "control_damping", "0"),
+        (&[("guidance_bandwidth", 0.0)], "guidance_bandwidth", "0"),
+        (&[("inertia_body[3]", 0.0)], "inertia_body[3]", "0"),
+        (&[("thrust_min", 2000.0)], "thrust_max", "1600"),
+    ];
+    for (sets, name, shown) in at_exit {
+        let inst = fmu.instantiate("gnc-params", false);
+        assert_eq!(inst.setup(0.0, None), OK);
+        assert_eq!(inst.enter_init(), OK);
+        for (n, v) in sets {
+            assert_eq!(inst.set_real_by_name(n, *v), OK, "{n} = {v}");
+        }
+        let status = inst.exit_init();
+        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
+        assert_eq!(inst.reset(), OK);
+        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
+    }
+}
+
+#[test]
+fn a_non_finite_phi_cmd_is_refused_at_once() {
+    let fmu = Fmu::load(Lander::Gnc).expect("packaged FMU");
+    let inst = fmu.instantiate("phi-cmd", false);
+    assert_eq!(inst.setup(0.0, None), OK);
+    assert_eq!(inst.enter_init(), OK);
+    for (value, shown) in [(f64::NAN, "NaN"), (f64::INFINITY, "inf"), (f64::NEG_INFINITY, "-inf")] {
+        let status = inst.set_real_by_name("phi_cmd", value);
+        assert_refused(&inst, status, "fmi2SetReal", &["phi_cmd", shown]);
+    }
+    // The default (0) is untouched and initialization goes on.
+    assert_eq!(inst.get_reals(&[fmu.vr("phi_cmd")]).1, vec![0.0]);
+    assert_eq!(inst.exit_init(), OK);
+}
+
+/// INTERFACE.md: degenerate first inputs (a master that zeroes every input) give a warning
+/// and safe commands, never NaN and never an error.
+#[test]
+fn degenerate_gnc_inputs_give_a_warning_and_safe_commands() {
+    let fmu = Fmu::load(Lander::Gnc).expect("packaged FMU");
+    let inst = initialized(&fmu);
+    let wiring = Wiring::of(&fmu);
+    assert_eq!(inst.set_reals(&wiring.inputs, &vec![0.0; wiring.inputs.len()]), OK);
+    let commands: Vec<u32> = ["thrust_cmd", "torque_cmd_body[1]", "torque_cmd_body[2]", "torque_cmd_body[3]"]
+        .iter()
+        .map(|n| fmu.vr(n))
+        .collect();
+    let (status, values) = inst.get_reals(&commands);
+    assert_eq!(status, WARNING);
+    let (_, thrust_min) = inst.get_reals(&[fmu.vr("thrust_min")]);
+    assert_eq!(values, vec![thrust_min[0], 0.0, 0.0, 0.0]);
+    assert!(inst.take_log().iter().any(|r| r.status == WARNING && r.message().starts_with("fmi2GetReal")));
+    assert_eq!(inst.step(0.0, 0.01), WARNING);
+}
+
+#[test]
+fn null_arrays_with_a_count_are_refused() {
+    both(|fmu| {
+        let inst = initialized(fmu);
+        let vr = fmu.vr(an_input(fmu));
+        let value = 1.0f64;
+        // SAFETY: a live component; the NULL arrays are what is being tested.
+        let status = unsafe { (fmu.api.set_real)(inst.c, ptr::null(), 1, &value) };
+        assert_refused(&inst, status, "fmi2SetReal", &["vr", "NULL"]);
+        let status = unsafe { (fmu.api.get_real)(inst.c, &vr, 1, ptr::null_mut()) };
+        assert_refused(&inst, status, "fmi2GetReal", &["value", "NULL"]);
+        // A count of zero needs no arrays.
+        let status = unsafe { (fmu.api.get_real)(inst.c, ptr::null(), 0, ptr::null_mut()) };
+        assert_eq!(status, OK);
+    });
+}
+
+#[test]
+fn a_null_or_foreign_component_is_refused_without_a_crash() {
+    both(|fmu| {
+        let not_an_instance = Box::new([0u64; 16]);
+        let name = CString::new("x").unwrap();
+        for c in [ptr::null_mut(), not_an_instance.as_ptr() as fmi2Component] {
+            // SAFETY: NULL or readable memory that is not an instance: what is being tested.
+            unsafe {
+                assert_eq!((fmu.api.do_step)(c, 0.0, 0.01, 1), ERROR);
+                assert_eq!((fmu.api.reset)(c), ERROR);
+                assert_eq!((fmu.api.enter_initialization_mode)(c), ERROR);
+                (fmu.api.free_instance)(c);
+            }
+        }
+        drop(name);
+    });
+}
