@@ -15,6 +15,16 @@ use std::path::{Path, PathBuf};
 
 pub use system_tests::{fmu_dir, fmu_path, workspace_root};
 
+/// The plant's navigation outputs (INTERFACE.md): they do not depend on its inputs, so a
+/// read after an exchange gives what a read right after the step gave.
+pub const PLANT_NAVIGATION: [&str; 5] = [
+    "plant.r_nue[",
+    "plant.v_nue[",
+    "plant.q_body_to_nue[",
+    "plant.omega_body[",
+    "plant.mass",
+];
+
 /// The SSP package `cargo xtask fmus` writes beside the FMUs.
 pub fn ssp_path() -> PathBuf {
     let path = fmu_dir().join("LanderDescent.ssp");

@@ -11,8 +11,10 @@
 //! be bit-identical.
 use harness::master::Conventions;
 use harness::system::Ordering;
-use interop_tests::compare::compare;
-use interop_tests::{python, read_trajectory, run_harness, scratch, ssp_path, unpacked_ssp};
+use interop_tests::compare::{assert_identical_after_steps, compare};
+use interop_tests::{
+    python, read_trajectory, run_harness, scratch, ssp_path, unpacked_ssp, PLANT_NAVIGATION,
+};
 
 #[test]
 fn simulate_ssp_flies_the_packaged_system_bit_identically_to_the_harness_in_its_conventions() {
@@ -27,43 +29,29 @@ fn simulate_ssp_flies_the_packaged_system_bit_identically_to_the_harness_in_its_
     python::run("fmpy_ssp.py", [ssp_path().as_os_str(), csv.as_os_str()]);
     let fmpy = read_trajectory(&csv);
 
-    // THEN the same steps under the same accumulated time labels ...
-    // (the harness records a row of zeros before the first step and one at the end, fmpy
-    // one after each step under the label of the step's start)
+    // THEN one row after every step, under the same accumulated time labels, with
+    // bit-identical values (fmpy labels the row after the step from t_k with t_k, the
+    // harness records it at the next point; the helper pairs them)
     assert_eq!(
         fmpy.len(),
         17201,
         "fmpy steps while the accumulated t < 172"
     );
-    assert_eq!(reference.len(), fmpy.len() + 1);
     assert_eq!(fmpy.times[..], reference.times[..fmpy.len()]);
-    // ... and bit-identical values after every step. fmpy's row k holds the outputs after
-    // step k, the harness's row k + 1. The harness's very last row is taken after a final
-    // exchange (inputs set, then outputs read), which fmpy does not do: LanderGnc's outputs
-    // there answer newer inputs, the plant's (no feedthrough) are the same; so the last
-    // row is compared for the plant only.
-    let last = fmpy.len() - 1;
-    let mut head = fmpy.clone();
-    head.times.truncate(last);
-    head.values.truncate(last * head.names.len());
-    let comparison = compare(&reference, &head, 1, &fmpy.names);
-    println!("fmpy simulate_ssp vs harness (Jacobi, fmpy conventions):\n{comparison}");
-    assert!(
-        comparison.identical(),
-        "expected bit-identical trajectories:\n{comparison}"
+    let mut after_steps = fmpy.clone();
+    after_steps.times = reference.times[1..].to_vec();
+    assert_identical_after_steps(
+        "fmpy simulate_ssp vs harness (Jacobi, fmpy conventions)",
+        &reference,
+        &after_steps,
+        &PLANT_NAVIGATION,
     );
-    for (j, name) in fmpy.names.iter().enumerate() {
-        if name.starts_with("plant.") {
-            let harness_value = reference.row(last + 1)[reference.column_index(name).unwrap()];
-            assert_eq!(fmpy.row(last)[j], harness_value, "{name} at the end");
-        }
-    }
     let altitude = reference.column("plant.r_nue[2]").unwrap();
     assert!((altitude.last().unwrap() - 150.0).abs() < 0.5);
 
     // AND the conventions are what makes it so: the harness's own Jacobi run differs.
     let own = run_harness(system, Conventions::default());
-    let differs = compare(&own, &head, 1, &fmpy.names);
+    let differs = compare(&own, &after_steps, 1, &fmpy.names);
     println!(
         "for contrast, harness Jacobi with its own conventions vs simulate_ssp: largest \
          difference {:.3e}",
