@@ -569,12 +569,15 @@ pub unsafe fn get_real<M: Model>(
         call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice_mut(value, nvr, "value")?;
-            get_values(inst, f, BaseType::Real, vrs, values, |var, m| {
-                match &var.access {
-                    Access::Real { get, .. } => get(m),
-                    _ => f64::NAN,
-                }
-            })
+            let success = inst.refresh(f);
+            for (&vr, value) in vrs.iter().zip(values) {
+                let slot = inst
+                    .index
+                    .real(vr)
+                    .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
+                *value = (slot.get)(&inst.core.model);
+            }
+            Ok(success)
         })
     }
 }
@@ -686,22 +689,52 @@ pub unsafe fn set_real<M: Model>(
         call::<M>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
-            set_values(
-                inst,
-                BaseType::Real,
-                vrs,
-                values,
-                |var, v| match &var.access {
-                    Access::Real { min, max, .. } => check_real(var, v, *min, *max),
-                    _ => Ok(()),
-                },
-                |var, m, v| {
-                    if let Access::Real { set: Some(set), .. } = &var.access {
-                        set(m, v)
-                    }
-                },
-            )
+            let state = inst.core.state;
+            // Checks every value before writing any, so a refused call changes nothing. The
+            // setters found are kept for the writes (on the stack: a master sets a few
+            // dozen values at a time; more are looked up again).
+            let mut setters = [None; SETTERS_KEPT];
+            for (i, (&vr, &value)) in vrs.iter().zip(values).enumerate() {
+                let slot = inst
+                    .index
+                    .real(vr)
+                    .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
+                if !slot.accepts(value, state) {
+                    refuse_real(&M::variables()[slot.row], value, state)?;
+                }
+                if let Some(kept) = setters.get_mut(i) {
+                    *kept = slot.set;
+                }
+            }
+            for (i, (&vr, &value)) in vrs.iter().zip(values).enumerate() {
+                let set = match setters.get(i) {
+                    Some(&kept) => kept,
+                    None => inst.index.real(vr).and_then(|slot| slot.set),
+                };
+                if let Some(set) = set {
+                    set(&mut inst.core.model, value);
+                }
+            }
+            if !vrs.is_empty() {
+                inst.dirty = true;
+            }
+            Ok(Success::Ok)
         })
+    }
+}
+
+/// How many setters `fmi2SetReal` keeps between its check and write passes.
+const SETTERS_KEPT: usize = 32;
+
+/// Why `value` is refused for `var`, in the words of the checks `RealSlot::accepts` stands
+/// in for (which have the last word, should the two ever disagree).
+#[cold]
+#[inline(never)]
+fn refuse_real<M>(var: &Variable<M>, value: f64, state: State) -> Result<(), CallError> {
+    check_settable(var, state)?;
+    match &var.access {
+        Access::Real { min, max, .. } => check_real(var, value, *min, *max),
+        _ => Ok(()),
     }
 }
 

@@ -7,6 +7,11 @@
 //! costs a few bytes per unused slot. Sparse references (a model numbering its variables
 //! by hash, say) fall back to a binary search so that memory stays proportional to the
 //! table.
+//!
+//! Reals, the bulk of what a co-simulation exchanges, also get a [`RealSlot`] each: their
+//! accessors and the value checks in a form that needs no matching on the table row.
+use crate::rules::check_settable;
+use crate::state::{State, StateMask};
 use crate::variable::{Access, Variable};
 
 /// The four base types of the C API.
@@ -55,12 +60,6 @@ enum Lookup {
     Sorted(Box<[(u32, u32)]>),
 }
 
-impl Default for Lookup {
-    fn default() -> Lookup {
-        Lookup::Dense(Box::default())
-    }
-}
-
 impl Lookup {
     fn new(mut pairs: Vec<(u32, u32)>) -> Lookup {
         // A table with a reference used twice is refused by `check_table`; should one get
@@ -94,29 +93,98 @@ impl Lookup {
     }
 }
 
-/// Lookup built once per instance from the static table.
-#[derive(Debug, Default)]
-pub struct VariableIndex {
-    by_type: [Lookup; 4],
+/// What `fmi2GetReal` and `fmi2SetReal` need of one Real variable, taken from its table row.
+pub struct RealSlot<M> {
+    /// The row in the table, for the messages of a refused value.
+    pub row: usize,
+    pub get: fn(&M) -> f64,
+    pub set: Option<fn(&mut M, f64)>,
+    /// The declared bounds; infinite where the table declares none.
+    pub min: f64,
+    pub max: f64,
+    /// The states in which [`check_settable`] accepts the variable.
+    pub settable_in: StateMask,
 }
 
-impl VariableIndex {
-    pub fn new<M>(table: &[Variable<M>]) -> VariableIndex {
+impl<M> RealSlot<M> {
+    fn new(row: usize, var: &Variable<M>) -> Option<RealSlot<M>> {
+        let Access::Real {
+            min, max, get, set, ..
+        } = var.access
+        else {
+            return None;
+        };
+        let settable: Vec<State> = State::ALL
+            .into_iter()
+            .filter(|&state| check_settable(var, state).is_ok())
+            .collect();
+        Some(RealSlot {
+            row,
+            get,
+            set,
+            min: min.unwrap_or(f64::NEG_INFINITY),
+            max: max.unwrap_or(f64::INFINITY),
+            settable_in: StateMask::of(&settable),
+        })
+    }
+
+    /// Whether `value` may be set in `state`: exactly when [`check_settable`] and
+    /// `check_real` accept it, for bounds that are not NaN (a NaN bound sends every value
+    /// to those checks, which then decide).
+    #[inline]
+    pub fn accepts(&self, value: f64, state: State) -> bool {
+        self.settable_in.contains(state)
+            && value.is_finite()
+            && value >= self.min
+            && value <= self.max
+    }
+}
+
+/// Lookup built once per instance from the static table.
+pub struct VariableIndex<M> {
+    /// Maps to table rows, except `Real`, which maps to positions in `reals`.
+    by_type: [Lookup; 4],
+    reals: Box<[RealSlot<M>]>,
+}
+
+impl<M> VariableIndex<M> {
+    pub fn new(table: &[Variable<M>]) -> VariableIndex<M> {
         // Rows are stored as u32; no table comes near 4 billion variables.
         assert!(u32::try_from(table.len()).is_ok_and(|n| n < NO_ROW));
         let mut pairs: [Vec<(u32, u32)>; 4] = Default::default();
+        let mut reals = Vec::new();
         for (row, var) in table.iter().enumerate() {
-            pairs[BaseType::of(&var.access) as usize].push((var.value_reference, row as u32));
+            let base = BaseType::of(&var.access);
+            let entry = match RealSlot::new(row, var) {
+                Some(slot) => {
+                    reals.push(slot);
+                    reals.len() - 1
+                }
+                None => row,
+            };
+            pairs[base as usize].push((var.value_reference, entry as u32));
         }
         VariableIndex {
             by_type: pairs.map(Lookup::new),
+            reals: reals.into_boxed_slice(),
         }
     }
 
     /// The table row of `vr` among the variables of `base_type`.
     #[inline]
     pub fn row(&self, base_type: BaseType, vr: u32) -> Option<usize> {
-        self.by_type[base_type as usize].row(vr)
+        let entry = self.by_type[base_type as usize].row(vr)?;
+        Some(match base_type {
+            BaseType::Real => self.reals[entry].row,
+            _ => entry,
+        })
+    }
+
+    /// The Real variable `vr`.
+    #[inline]
+    pub fn real(&self, vr: u32) -> Option<&RealSlot<M>> {
+        let entry = self.by_type[BaseType::Real as usize].row(vr)?;
+        self.reals.get(entry)
     }
 }
 
@@ -148,6 +216,126 @@ mod tests {
                 assert_eq!(lookup.row(vr), linear, "vr {vr}");
             }
         }
+    }
+
+    /// `accepts` against the checks it stands in for, over every state, a grid of
+    /// variables (causality, variability, bounds) and awkward values.
+    #[test]
+    fn a_real_slot_accepts_exactly_what_the_checks_accept() {
+        use crate::rules::check_real;
+        use crate::variable::{Causality, Variability};
+        let bounds = [
+            (None, None),
+            (Some(-1.0), Some(2.0)),
+            (Some(0.0), None),
+            (None, Some(0.0)),
+            (Some(f64::NAN), Some(1.0)),
+        ];
+        let values = [
+            0.0,
+            -0.0,
+            -1.0,
+            2.0,
+            -1.0000000000000002,
+            2.0000000000000004,
+            1e308,
+            -1e308,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+        ];
+        let mut checked = 0;
+        for causality in [
+            Causality::Input,
+            Causality::Parameter,
+            Causality::Output,
+            Causality::Local,
+            Causality::CalculatedParameter,
+            Causality::Independent,
+        ] {
+            for variability in [
+                Variability::Constant,
+                Variability::Fixed,
+                Variability::Tunable,
+                Variability::Discrete,
+                Variability::Continuous,
+            ] {
+                for (min, max) in bounds {
+                    let var: Variable<()> = Variable {
+                        name: "x",
+                        value_reference: 0,
+                        causality,
+                        variability,
+                        initial: None,
+                        unit: None,
+                        description: "",
+                        access: Access::Real {
+                            start: None,
+                            min,
+                            max,
+                            get: |_| 0.0,
+                            set: Some(|_, _| {}),
+                        },
+                    };
+                    let slot = RealSlot::new(0, &var).unwrap();
+                    for state in State::ALL {
+                        for value in values {
+                            let checks = check_settable(&var, state).is_ok()
+                                && check_real(&var, value, min, max).is_ok();
+                            if !(min.is_some_and(f64::is_nan) && checks) {
+                                assert_eq!(
+                                    slot.accepts(value, state),
+                                    checks,
+                                    "{causality:?} {variability:?} [{min:?}, {max:?}] \
+                                     {state:?} {value}"
+                                );
+                            }
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(checked, 6 * 5 * 5 * 8 * 12);
+    }
+
+    #[test]
+    fn only_reals_get_a_real_slot_and_rows_stay_rows() {
+        let row = |vr, access| Variable::<()> {
+            name: "v",
+            value_reference: vr,
+            causality: crate::variable::Causality::Input,
+            variability: crate::variable::Variability::Discrete,
+            initial: None,
+            unit: None,
+            description: "",
+            access,
+        };
+        let real = || Access::Real {
+            start: None,
+            min: None,
+            max: None,
+            get: |_| 1.5,
+            set: None,
+        };
+        let integer = || Access::Integer {
+            start: None,
+            min: None,
+            max: None,
+            get: |_| 3,
+            set: None,
+        };
+        // Integer vr 1 at row 0, Reals vr 1 and 9 at rows 1 and 2.
+        let table = [row(1, integer()), row(1, real()), row(9, real())];
+        let index = VariableIndex::new(&table);
+        assert_eq!(index.row(BaseType::Integer, 1), Some(0));
+        assert_eq!(index.row(BaseType::Real, 1), Some(1));
+        assert_eq!(index.row(BaseType::Real, 9), Some(2));
+        assert_eq!(index.real(9).map(|s| s.row), Some(2));
+        assert_eq!(index.real(1).map(|s| (s.get)(&())), Some(1.5));
+        assert!(index.real(0).is_none() && index.real(2).is_none());
+        assert_eq!(index.row(BaseType::Boolean, 1), None);
     }
 
     #[test]

@@ -117,7 +117,7 @@ pub struct Instance<M: Model> {
     pub logger: Logger,
     pub guid: uuid::Uuid,
     pub resource_location: Option<CString>,
-    pub index: VariableIndex,
+    pub index: VariableIndex<M>,
     /// Keeps the strings returned by `fmi2GetString` alive until the next call of it.
     pub returned_strings: Vec<CString>,
     /// Addresses of the FMU states handed out by this instance and not yet freed.
