@@ -102,8 +102,13 @@ pub fn system_json(system: &SystemDescription) -> serde_json::Value {
 
 /// Writes [`system_json`] to `dir/system.json` and returns the path.
 pub fn write_system_json(system: &SystemDescription, dir: &Path) -> PathBuf {
+    write_json(&system_json(system), dir)
+}
+
+/// Writes a system's JSON to `dir/system.json` and returns the path.
+pub fn write_json(json: &serde_json::Value, dir: &Path) -> PathBuf {
     let path = dir.join("system.json");
-    let text = serde_json::to_string_pretty(&system_json(system)).expect("JSON of a system");
+    let text = serde_json::to_string_pretty(json).expect("JSON of a system");
     std::fs::write(&path, text).unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
     path
 }
