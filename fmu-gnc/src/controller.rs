@@ -122,6 +122,7 @@ pub fn gnc_sample(
         &GuidanceInputs {
             r_nue: Vector3::from(nav.r_nue_m),
             v_nue: Vector3::from(nav.v_nue_mps),
+            mass_kg: nav.mass_kg,
         },
     );
     let attitude = attitude_command(

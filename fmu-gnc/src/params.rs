@@ -211,6 +211,8 @@ impl GncParameters {
             guidance_cycle_s: self.guidance_cycle_s,
             gravity_mps2: self.gravity_mps2,
             pv_gains: PvGains::from_bandwidth(self.guidance_bandwidth_hz, self.guidance_damping),
+            thrust_min_n: self.thrust_min_n,
+            thrust_max_n: self.thrust_max_n,
         }
     }
 

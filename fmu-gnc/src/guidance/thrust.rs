@@ -22,9 +22,87 @@ pub fn thrust_magnitude_n(
     (mass_kg * a_thrust_nue.norm()).clamp(thrust_min_n, thrust_max_n)
 }
 
+/// Beyond the paper: the thrust acceleration the engines can actually deliver, closest to the
+/// command with priority to the vertical (Up) component, so that a lateral demand never costs
+/// altitude. Above `thrust_max_n / m` the Up component is kept (itself capped at the maximum)
+/// and the horizontal part shortened to fit; below `thrust_min_n / m` the vector is lengthened
+/// along its own direction (straight up when it has none).
+///
+/// Guidance stores this *achievable* command and the descent polynomial restarts from it
+/// (`a0`), which is the anti-windup: re-solving from an acceleration the engines could not
+/// give would make the command grow while the state falls behind it.
+pub fn achievable_thrust_acceleration_nue(
+    a_thrust_nue: &Vector3<f64>,
+    mass_kg: f64,
+    thrust_min_n: f64,
+    thrust_max_n: f64,
+) -> Vector3<f64> {
+    if !(mass_kg > 0.0) {
+        return *a_thrust_nue;
+    }
+    let (a_min, a_max) = (thrust_min_n / mass_kg, thrust_max_n / mass_kg);
+    let norm = a_thrust_nue.norm();
+    if norm > a_max {
+        let up = a_thrust_nue.y.clamp(-a_max, a_max);
+        let horizontal = Vector3::new(a_thrust_nue.x, 0.0, a_thrust_nue.z);
+        let room = (a_max * a_max - up * up).max(0.0).sqrt();
+        let h_norm = horizontal.norm();
+        let scale = if h_norm > room { room / h_norm } else { 1.0 };
+        Vector3::new(horizontal.x * scale, up, horizontal.z * scale)
+    } else if norm < a_min {
+        if norm > 0.0 {
+            a_thrust_nue * (a_min / norm)
+        } else {
+            Vector3::new(0.0, a_min, 0.0)
+        }
+    } else {
+        *a_thrust_nue
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_achievable_command_is_left_alone() {
+        let a = Vector3::new(0.3, 1.62, -0.2);
+        assert_eq!(
+            achievable_thrust_acceleration_nue(&a, 900.0, 720.0, 1600.0),
+            a
+        );
+    }
+
+    #[test]
+    fn above_the_maximum_the_vertical_is_kept_and_the_horizontal_shortened() {
+        // GIVEN a hover (1.62 up) with a 2 m/s^2 lateral demand: 2.58 m/s^2 > 1600/900
+        let a = Vector3::new(1.2, 1.62, -1.6);
+        let limited = achievable_thrust_acceleration_nue(&a, 900.0, 720.0, 1600.0);
+        // THEN the Up component is untouched, the magnitude is the maximum, the direction of
+        // the horizontal part unchanged
+        assert_eq!(limited.y, 1.62);
+        assert!((limited.norm() - 1600.0 / 900.0).abs() < 1e-12);
+        assert!((limited.x / limited.z - a.x / a.z).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_vertical_demand_beyond_the_maximum_becomes_full_thrust_straight_up() {
+        let limited =
+            achievable_thrust_acceleration_nue(&Vector3::new(0.5, 5.0, 0.0), 900.0, 720.0, 1600.0);
+        assert_eq!(limited, Vector3::new(0.0, 1600.0 / 900.0, 0.0));
+    }
+
+    #[test]
+    fn below_the_minimum_the_vector_is_lengthened_along_itself() {
+        let a = Vector3::new(0.1, 0.2, 0.0);
+        let limited = achievable_thrust_acceleration_nue(&a, 900.0, 720.0, 1600.0);
+        assert!((limited.norm() - 0.8).abs() < 1e-12);
+        assert!((limited.normalize() - a.normalize()).norm() < 1e-12);
+        assert_eq!(
+            achievable_thrust_acceleration_nue(&Vector3::zeros(), 900.0, 720.0, 1600.0),
+            Vector3::new(0.0, 0.8, 0.0)
+        );
+    }
 
     #[test]
     fn hovering_needs_thrust_equal_to_weight() {
