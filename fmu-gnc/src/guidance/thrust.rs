@@ -37,7 +37,7 @@ pub fn achievable_thrust_acceleration_nue(
     thrust_min_n: f64,
     thrust_max_n: f64,
 ) -> Vector3<f64> {
-    if !(mass_kg > 0.0) {
+    if mass_kg.is_nan() || mass_kg <= 0.0 {
         return *a_thrust_nue;
     }
     let (a_min, a_max) = (thrust_min_n / mass_kg, thrust_max_n / mass_kg);
