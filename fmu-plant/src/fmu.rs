@@ -92,6 +92,11 @@ impl LanderPlant {
     }
 }
 
+/// Most RK4 sub-steps one `fmi2DoStep` may take (about a second of CPU). Without a bound, a
+/// huge communication step never returns: 1e300 s in orbit about the spherical Moon, or 1 s
+/// with `integration_step` = 1e-12 s, would hang the master's call for minutes or forever.
+const MAX_SUB_STEPS_PER_STEP: f64 = 1e6;
+
 impl Model for LanderPlant {
     const MODEL_IDENTIFIER: &'static str = "LanderPlant";
     const MODEL_NAME: &'static str = "LanderPlant";
@@ -173,6 +178,15 @@ impl Model for LanderPlant {
                 terminated: true,
                 reason: "the lander is on the ground".into(),
             });
+        }
+        let sub_steps = h / plant.integration_step_s;
+        if sub_steps > MAX_SUB_STEPS_PER_STEP {
+            return Err(ModelError::Other(format!(
+                "communicationStepSize {h} s would take {sub_steps:e} RK4 sub-steps of \
+                 integration_step = {} s; at most {MAX_SUB_STEPS_PER_STEP:e} per fmi2DoStep: \
+                 use shorter communication steps",
+                plant.integration_step_s
+            )));
         }
         let before = *run;
         let advance = plant.advance(run, &self.commands, t, h);
@@ -586,6 +600,27 @@ mod tests {
             matches!(err, ModelError::InvalidParameter { name: "m0", .. }),
             "{err:?}"
         );
+    }
+
+    #[test]
+    fn a_step_needing_more_sub_steps_than_the_bound_is_refused_before_integrating() {
+        // GIVEN a lander climbing so fast that it stays aloft for 1.2e6 s
+        let mut m = LanderPlant::default();
+        m.parameters.v0_nue_mps.y = 1e6;
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        let before = m.running.as_ref().unwrap().1.state;
+        // WHEN a master asks for one step of 1e300 s (or just over the bound)
+        for h in [1e300, (MAX_SUB_STEPS_PER_STEP + 1.0) * 0.01] {
+            let err = m.do_step(0.0, h, &mut log).unwrap_err();
+            // THEN it is refused at once, naming the step size, and the state is untouched
+            assert!(err.to_string().contains("communicationStepSize"), "{err}");
+            assert_eq!(m.running.as_ref().unwrap().1.state, before);
+        }
+        // AND a step at the bound is still taken
+        assert!(m
+            .do_step(0.0, MAX_SUB_STEPS_PER_STEP * 0.01 * 1e-3, &mut log)
+            .is_ok());
     }
 
     #[test]
