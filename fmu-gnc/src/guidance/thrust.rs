@@ -19,7 +19,12 @@ pub fn thrust_magnitude_n(
     thrust_min_n: f64,
     thrust_max_n: f64,
 ) -> f64 {
-    (mass_kg * a_thrust_nue.norm()).clamp(thrust_min_n, thrust_max_n)
+    // Not `f64::clamp`: it panics when min > max, and parameters set in initialization mode
+    // may be so until fmi2ExitInitializationMode refuses them, while a get in that mode
+    // already evaluates this (found by the API fuzzer: fmi2GetReal answered fmi2Fatal).
+    (mass_kg * a_thrust_nue.norm())
+        .min(thrust_max_n)
+        .max(thrust_min_n)
 }
 
 /// Beyond the paper: the thrust acceleration the engines can actually deliver, closest to the
@@ -63,6 +68,22 @@ pub fn achievable_thrust_acceleration_nue(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn saturation_with_crossed_limits_does_not_panic() {
+        // GIVEN thrust_min > thrust_max, as a master may set them before the validation
+        let a = Vector3::new(0.0, 1.62, 0.0);
+        // WHEN the thrust is saturated THEN it is a finite value, not a panic
+        let thrust_n = thrust_magnitude_n(900.0, &a, 720.0, 489.0);
+        assert!(thrust_n.is_finite());
+        // AND with ordered limits it is the usual saturation
+        assert_eq!(thrust_magnitude_n(900.0, &a, 720.0, 1600.0), 900.0 * 1.62);
+        assert_eq!(
+            thrust_magnitude_n(900.0, &(a * 10.0), 720.0, 1600.0),
+            1600.0
+        );
+        assert_eq!(thrust_magnitude_n(900.0, &(a * 0.1), 720.0, 1600.0), 720.0);
+    }
 
     #[test]
     fn an_achievable_command_is_left_alone() {
