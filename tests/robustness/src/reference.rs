@@ -94,6 +94,15 @@ impl Wiring {
 /// patterns of all Real outputs read before each step and after the last. `Err` names the
 /// first call that did not return fmi2OK.
 pub fn legal_run(inst: &Instance, steps: usize) -> Result<Vec<u64>, String> {
+    legal_run_with(inst, steps, &[])
+}
+
+/// [`legal_run`] with `parameters` (name, value) set in initialization mode.
+pub fn legal_run_with(
+    inst: &Instance,
+    steps: usize,
+    parameters: &[(&str, f64)],
+) -> Result<Vec<u64>, String> {
     let wiring = Wiring::of(inst.fmu);
     let lander = inst.fmu.lander();
     let fail = |what: &str, status: fmi2Status| {
@@ -103,9 +112,23 @@ pub fn legal_run(inst: &Instance, steps: usize) -> Result<Vec<u64>, String> {
             inst.sink.all()
         ))
     };
-    let status = inst.init_at(0.0);
+    for (what, status) in [
+        ("fmi2SetupExperiment", inst.setup(0.0, None)),
+        ("fmi2EnterInitializationMode", inst.enter_init()),
+    ] {
+        if status != OK {
+            return fail(what, status);
+        }
+    }
+    for (name, value) in parameters {
+        let status = inst.set_real_by_name(name, *value);
+        if status != OK {
+            return fail(&format!("fmi2SetReal of {name}"), status);
+        }
+    }
+    let status = inst.exit_init();
     if status != OK {
-        return fail("initialization", status);
+        return fail("fmi2ExitInitializationMode", status);
     }
     let mut bits = Vec::with_capacity((steps + 1) * wiring.outputs.len());
     for k in 0..=steps {

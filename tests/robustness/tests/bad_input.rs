@@ -70,11 +70,26 @@ fn a_value_reference_of_another_type_is_refused() {
         let inst = initialized(fmu);
         // A Real input through the Integer and Boolean functions.
         let vr = fmu.vr(an_input(fmu));
-        if !fmu.package.variables.iter().any(|v| v.value_reference == vr && v.kind != model_description::VariableKind::Real) {
+        if !fmu
+            .package
+            .variables
+            .iter()
+            .any(|v| v.value_reference == vr && v.kind != model_description::VariableKind::Real)
+        {
             let status = inst.set_integers(&[vr], &[1]);
-            assert_refused(&inst, status, "fmi2SetInteger", &[&vr.to_string(), "Integer"]);
+            assert_refused(
+                &inst,
+                status,
+                "fmi2SetInteger",
+                &[&vr.to_string(), "Integer"],
+            );
             let (status, _) = inst.get_booleans(&[vr]);
-            assert_refused(&inst, status, "fmi2GetBoolean", &[&vr.to_string(), "Boolean"]);
+            assert_refused(
+                &inst,
+                status,
+                "fmi2GetBoolean",
+                &[&vr.to_string(), "Boolean"],
+            );
         }
         let status = inst.set_strings(&[vr], &[c"text"]);
         assert_refused(&inst, status, "fmi2SetString", &[&vr.to_string(), "String"]);
@@ -92,7 +107,12 @@ fn a_variable_that_is_never_settable_is_refused_by_name() {
         assert_refused(&inst, status, "fmi2SetReal", &[output, "output"]);
         if fmu.lander() == Lander::Plant {
             let status = inst.set_real_by_name("rcs_torque_limit", 1.0);
-            assert_refused(&inst, status, "fmi2SetReal", &["rcs_torque_limit", "calculated parameter"]);
+            assert_refused(
+                &inst,
+                status,
+                "fmi2SetReal",
+                &["rcs_torque_limit", "calculated parameter"],
+            );
         }
     });
 }
@@ -118,7 +138,11 @@ fn non_finite_inputs_are_refused_naming_variable_and_value() {
     both(|fmu| {
         let inst = initialized(fmu);
         let name = an_input(fmu);
-        for (value, shown) in [(f64::NAN, "NaN"), (f64::INFINITY, "inf"), (f64::NEG_INFINITY, "-inf")] {
+        for (value, shown) in [
+            (f64::NAN, "NaN"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
             let status = inst.set_real_by_name(name, value);
             assert_refused(&inst, status, "fmi2SetReal", &[name, shown]);
         }
@@ -226,19 +250,53 @@ fn in_state<'a>(fmu: &'a Fmu, state: &str) -> Option<(Instance<'a>, f64)> {
 fn calls_in_each_illegal_state_are_refused_naming_the_function_and_the_state() {
     use Call::*;
     let table: [(&str, &[Call]); 6] = [
-        ("Instantiated", &[ExitInit, Terminate, DoStep, GetReal, LastSuccessfulTime, CancelStep]),
-        ("InitializationMode", &[Setup, EnterInit, Terminate, DoStep, LastSuccessfulTime]),
+        (
+            "Instantiated",
+            &[
+                ExitInit,
+                Terminate,
+                DoStep,
+                GetReal,
+                LastSuccessfulTime,
+                CancelStep,
+            ],
+        ),
+        (
+            "InitializationMode",
+            &[Setup, EnterInit, Terminate, DoStep, LastSuccessfulTime],
+        ),
         ("StepComplete", &[Setup, EnterInit, ExitInit, CancelStep]),
         ("StepFailed", &[Setup, EnterInit, ExitInit, DoStep, SetReal]),
-        ("Terminated", &[Setup, EnterInit, ExitInit, Terminate, DoStep, SetReal]),
-        ("Error", &[Setup, EnterInit, ExitInit, Terminate, DoStep, SetReal, LastSuccessfulTime]),
+        (
+            "Terminated",
+            &[Setup, EnterInit, ExitInit, Terminate, DoStep, SetReal],
+        ),
+        (
+            "Error",
+            &[
+                Setup,
+                EnterInit,
+                ExitInit,
+                Terminate,
+                DoStep,
+                SetReal,
+                LastSuccessfulTime,
+            ],
+        ),
     ];
     both(|fmu| {
         for (state, calls) in table {
             for call in calls {
-                let Some((inst, t)) = in_state(fmu, state) else { continue };
+                let Some((inst, t)) = in_state(fmu, state) else {
+                    continue;
+                };
                 let status = call.run(&inst, t);
-                assert_refused(&inst, status, call.name(), &["illegal call in state", state]);
+                assert_refused(
+                    &inst,
+                    status,
+                    call.name(),
+                    &["illegal call in state", state],
+                );
             }
         }
     });
@@ -253,10 +311,23 @@ fn a_guid_mismatch_returns_null_and_says_why() {
         let callbacks = sink.callbacks();
         // SAFETY: valid strings and callbacks for the duration of the call.
         let c = unsafe {
-            (fmu.api.instantiate)(c"wrong-guid".as_ptr(), CO_SIMULATION, foreign.guid().as_ptr(), ptr::null(), &callbacks, 0, 0)
+            (fmu.api.instantiate)(
+                c"wrong-guid".as_ptr(),
+                CO_SIMULATION,
+                foreign.guid().as_ptr(),
+                ptr::null(),
+                &callbacks,
+                0,
+                0,
+            )
         };
         assert!(c.is_null());
-        common::assert_refused_log(&sink.take(), ERROR, "fmi2Instantiate", &["fmuGUID", &foreign.package.guid]);
+        common::assert_refused_log(
+            &sink.take(),
+            ERROR,
+            "fmi2Instantiate",
+            &["fmuGUID", &foreign.package.guid],
+        );
     }
 }
 
@@ -269,7 +340,15 @@ fn null_callbacks_or_a_null_logger_return_null() {
         for functions in [ptr::null(), &no_logger as *const fmi2CallbackFunctions] {
             // SAFETY: valid strings; the callbacks are NULL or a valid struct.
             let c = unsafe {
-                (fmu.api.instantiate)(c"no-callbacks".as_ptr(), CO_SIMULATION, fmu.guid().as_ptr(), ptr::null(), functions, 0, 1)
+                (fmu.api.instantiate)(
+                    c"no-callbacks".as_ptr(),
+                    CO_SIMULATION,
+                    fmu.guid().as_ptr(),
+                    ptr::null(),
+                    functions,
+                    0,
+                    1,
+                )
             };
             assert!(c.is_null());
         }
@@ -282,9 +361,19 @@ fn null_callbacks_or_a_null_logger_return_null() {
 fn step_size_zero_negative_or_not_a_number_is_refused() {
     both(|fmu| {
         let inst = initialized(fmu);
-        for (h, shown) in [(0.0, "0"), (-0.01, "-0.01"), (f64::NAN, "NaN"), (f64::INFINITY, "inf")] {
+        for (h, shown) in [
+            (0.0, "0"),
+            (-0.01, "-0.01"),
+            (f64::NAN, "NaN"),
+            (f64::INFINITY, "inf"),
+        ] {
             let status = inst.step(0.0, h);
-            assert_refused(&inst, status, "fmi2DoStep", &["communicationStepSize", shown]);
+            assert_refused(
+                &inst,
+                status,
+                "fmi2DoStep",
+                &["communicationStepSize", shown],
+            );
         }
         // Refusals moved nothing: the step from 0 is still the next one.
         assert_eq!(inst.step(0.0, 0.01), OK);
@@ -298,7 +387,12 @@ fn a_wrong_communication_point_is_refused_within_tolerance_accepted() {
         assert_eq!(inst.step(0.0, 0.01), OK);
         for t in [0.0, 0.02, 0.5, -1.0] {
             let status = inst.step(t, 0.01);
-            assert_refused(&inst, status, "fmi2DoStep", &["currentCommunicationPoint", &t.to_string()]);
+            assert_refused(
+                &inst,
+                status,
+                "fmi2DoStep",
+                &["currentCommunicationPoint", &t.to_string()],
+            );
         }
         // A master's accumulated rounding (a few ulps) is not an error.
         assert_eq!(inst.step(0.01 - 1e-15, 0.01), OK, "{:?}", inst.take_log());
@@ -328,8 +422,16 @@ fn truncated_corrupted_or_foreign_serialized_states_are_refused() {
         let cases: [(&str, Vec<u8>, &str); 8] = [
             ("empty", Vec::new(), "shorter than"),
             ("header cut", bytes[..20].to_vec(), "shorter than"),
-            ("one byte short", bytes[..bytes.len() - 1].to_vec(), "header announces"),
-            ("one byte more", [bytes.as_slice(), &[0]].concat(), "header announces"),
+            (
+                "one byte short",
+                bytes[..bytes.len() - 1].to_vec(),
+                "header announces",
+            ),
+            (
+                "one byte more",
+                [bytes.as_slice(), &[0]].concat(),
+                "header announces",
+            ),
             ("bad magic", bad_magic, "magic"),
             ("flipped payload bit", flipped_payload, "checksum"),
             ("length field u64::MAX", huge_length, "header announces"),
@@ -378,7 +480,11 @@ fn out_of_range_gnc_parameters_are_refused_by_name_and_reset_recovers() {
     let fmu = Fmu::load(Lander::Gnc).expect("packaged FMU");
     let expected = reference(&fmu);
     // Below the declared min (0): refused by the set itself.
-    for (name, value, shown) in [("control_bandwidth", -1.0, "-1"), ("control_damping", -0.5, "-0.5"), ("inertia_body[2]", -300.0, "-300")] {
+    for (name, value, shown) in [
+        ("control_bandwidth", -1.0, "-1"),
+        ("control_damping", -0.5, "-0.5"),
+        ("inertia_body[2]", -300.0, "-300"),
+    ] {
         let inst = fmu.instantiate("gnc-params", false);
         let status = inst.set_real_by_name(name, value);
         assert_refused(&inst, status, "fmi2SetReal", &[name, shown]);
@@ -411,7 +517,11 @@ fn a_non_finite_phi_cmd_is_refused_at_once() {
     let inst = fmu.instantiate("phi-cmd", false);
     assert_eq!(inst.setup(0.0, None), OK);
     assert_eq!(inst.enter_init(), OK);
-    for (value, shown) in [(f64::NAN, "NaN"), (f64::INFINITY, "inf"), (f64::NEG_INFINITY, "-inf")] {
+    for (value, shown) in [
+        (f64::NAN, "NaN"),
+        (f64::INFINITY, "inf"),
+        (f64::NEG_INFINITY, "-inf"),
+    ] {
         let status = inst.set_real_by_name("phi_cmd", value);
         assert_refused(&inst, status, "fmi2SetReal", &["phi_cmd", shown]);
     }
@@ -427,16 +537,27 @@ fn degenerate_gnc_inputs_give_a_warning_and_safe_commands() {
     let fmu = Fmu::load(Lander::Gnc).expect("packaged FMU");
     let inst = initialized(&fmu);
     let wiring = Wiring::of(&fmu);
-    assert_eq!(inst.set_reals(&wiring.inputs, &vec![0.0; wiring.inputs.len()]), OK);
-    let commands: Vec<u32> = ["thrust_cmd", "torque_cmd_body[1]", "torque_cmd_body[2]", "torque_cmd_body[3]"]
-        .iter()
-        .map(|n| fmu.vr(n))
-        .collect();
+    assert_eq!(
+        inst.set_reals(&wiring.inputs, &vec![0.0; wiring.inputs.len()]),
+        OK
+    );
+    let commands: Vec<u32> = [
+        "thrust_cmd",
+        "torque_cmd_body[1]",
+        "torque_cmd_body[2]",
+        "torque_cmd_body[3]",
+    ]
+    .iter()
+    .map(|n| fmu.vr(n))
+    .collect();
     let (status, values) = inst.get_reals(&commands);
     assert_eq!(status, WARNING);
     let (_, thrust_min) = inst.get_reals(&[fmu.vr("thrust_min")]);
     assert_eq!(values, vec![thrust_min[0], 0.0, 0.0, 0.0]);
-    assert!(inst.take_log().iter().any(|r| r.status == WARNING && r.message().starts_with("fmi2GetReal")));
+    assert!(inst
+        .take_log()
+        .iter()
+        .any(|r| r.status == WARNING && r.message().starts_with("fmi2GetReal")));
     assert_eq!(inst.step(0.0, 0.01), WARNING);
 }
 
@@ -473,4 +594,59 @@ fn a_null_or_foreign_component_is_refused_without_a_crash() {
         }
         drop(name);
     });
+}
+
+/// A huge communication step (1e300 s) must not hang the master's call. The plant, climbing
+/// at 1e6 m/s, would stay aloft for 1.2e6 s of RK4 sub-steps; it refuses the step instead.
+#[test]
+fn a_huge_communication_step_returns_at_once() {
+    let dog = robustness_tests::fuzz::Watchdog::start(std::time::Duration::from_secs(10));
+    both(|fmu| {
+        let inst = fmu.instantiate("huge-step", false);
+        assert_eq!(inst.setup(0.0, None), OK);
+        assert_eq!(inst.enter_init(), OK);
+        if fmu.lander() == Lander::Plant {
+            assert_eq!(inst.set_real_by_name("v0_nue[2]", 1e6), OK);
+        }
+        assert_eq!(inst.exit_init(), OK);
+        inst.take_log();
+        let status = dog.watch("fmi2DoStep(h = 1e300)", || inst.step(0.0, 1e300));
+        match fmu.lander() {
+            Lander::Plant => assert_refused(
+                &inst,
+                status,
+                "fmi2DoStep",
+                &["communicationStepSize", "sub-steps"],
+            ),
+            // The GNC's step costs the same whatever its size.
+            Lander::Gnc => assert_eq!(status, OK),
+        }
+    });
+}
+
+/// Parameters are validated at fmi2ExitInitializationMode, but a get in initialization mode
+/// already evaluates the model with them: crossed limits must not make it fail (found by the
+/// fuzzer: fmi2GetReal answered fmi2Fatal after thrust_max < thrust_min).
+#[test]
+fn a_get_in_initialization_mode_with_inconsistent_parameters_is_not_fatal() {
+    let fmu = Fmu::load(Lander::Gnc).expect("packaged FMU");
+    let inst = fmu.instantiate("crossed-limits", false);
+    assert_eq!(inst.setup(0.0, None), OK);
+    assert_eq!(inst.enter_init(), OK);
+    assert_eq!(inst.set_real_by_name("thrust_max", 489.0), OK);
+    let (status, values) = inst.get_reals(&[fmu.vr("thrust_cmd")]);
+    assert!(
+        status == OK || status == WARNING,
+        "{}: {:?}",
+        status_name(status),
+        inst.take_log()
+    );
+    assert!(values[0].is_finite());
+    let status = inst.exit_init();
+    assert_refused(
+        &inst,
+        status,
+        "fmi2ExitInitializationMode",
+        &["thrust_max", "489"],
+    );
 }
