@@ -46,6 +46,11 @@ pub fn achievable_thrust_acceleration_nue(
         return *a_thrust_nue;
     }
     let (a_min, a_max) = (thrust_min_n / mass_kg, thrust_max_n / mass_kg);
+    // A mass so small (1e-308 kg) that the limits overflow: no acceleration is out of reach,
+    // and shaping against infinite limits would output inf (found by the API fuzzer).
+    if !(a_min.is_finite() && a_max.is_finite()) {
+        return *a_thrust_nue;
+    }
     let norm = a_thrust_nue.norm();
     if norm > a_max {
         let up = a_thrust_nue.y.clamp(-a_max, a_max);
@@ -68,6 +73,17 @@ pub fn achievable_thrust_acceleration_nue(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_vanishing_mass_leaves_the_command_finite() {
+        // GIVEN a mass whose thrust limits overflow to infinity
+        let a = Vector3::new(0.1, 1.0, -0.2);
+        for mass_kg in [1e-308, 5e-324] {
+            // WHEN the command is shaped THEN it stays the (finite) command
+            let shaped = achievable_thrust_acceleration_nue(&a, mass_kg, 720.0, 1600.0);
+            assert_eq!(shaped, a);
+        }
+    }
 
     #[test]
     fn saturation_with_crossed_limits_does_not_panic() {
