@@ -7,12 +7,13 @@
 //! at `t` (guidance re-solve on a new guidance cycle, phase change) and advances to `t + h`.
 //!
 //! A master reads the outputs and then steps at the same point, so the sample evaluated for
-//! the get is kept and committed by `do_step` when its time and inputs are bit-identical
-//! (see [`Evaluated`]); otherwise `do_step` evaluates again. Either way the committed sample is
-//! `gnc_sample` of the same arguments: gets never change a trajectory.
+//! the get is kept and committed by `do_step` when its inputs are bit-identical and its time
+//! is the same sample time (see [`Evaluated`], [`SampleTime`]); otherwise `do_step` evaluates
+//! again. Either way the committed sample is bit-identical to `gnc_sample` at the master's
+//! `t`: gets never change a trajectory.
 use crate::attitude::ControlLaw;
 use crate::controller::{gnc_sample, GncOutputs, NavigationInputs, Sample};
-use crate::guidance::sequencer::GuidanceState;
+use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::GncParameters;
 use fmi2_export::{
     Access, Causality, EnumerationDecl, Experiment, Initial, Log, Model, ModelError, StepEnd,
@@ -42,9 +43,24 @@ pub struct LanderGnc {
 /// `fmi2SetFMUstate` replace the whole instance, this cache included.
 #[derive(Debug, Clone)]
 struct Evaluated {
-    time_bits: u64,
+    time: SampleTime,
     input_bits: [u64; 14],
     sample: Sample,
+}
+
+/// All that `gnc_sample` reads of its time `t` (for given parameters, start time and
+/// guidance state): whether phi_cmd applies, the guidance cycle `t` falls in and whether
+/// that opens a new cycle; `t` itself only when it opens one off the cycle's nominal start
+/// (a late sample, after degenerate inputs), which is the one case the sequencer solves at
+/// the sample's own time. Equal keys give bit-identical samples, so a master's `t` a few
+/// ulps off ours (`k h` against our `(k - 1) h + h`, a third of the steps of a 0.01 s grid)
+/// still commits the kept sample; tests below check the equivalence against `gnc_sample`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct SampleTime {
+    phi_cmd_applies: bool,
+    cycle: i64,
+    opens_cycle: bool,
+    off_nominal_bits: Option<u64>,
 }
 
 impl Default for LanderGnc {
@@ -63,6 +79,20 @@ impl Default for LanderGnc {
 }
 
 impl LanderGnc {
+    /// The [`SampleTime`] of the sample at `t_s`, mirroring how `gnc_sample` and the guidance
+    /// sequencer use the time.
+    fn sample_time(&self, t_s: f64) -> SampleTime {
+        let elapsed_s = t_s - self.start_time_s;
+        let (cycle, on_boundary) = guidance_cycle_index(elapsed_s, self.params.guidance_cycle_s);
+        let opens_cycle = self.guidance.last_cycle != Some(cycle);
+        SampleTime {
+            phi_cmd_applies: has_reached(t_s, self.params.phi_cmd_time_s),
+            cycle,
+            opens_cycle,
+            off_nominal_bits: (opens_cycle && !on_boundary).then_some(elapsed_s.to_bits()),
+        }
+    }
+
     fn evaluate(&self) -> Sample {
         gnc_sample(
             &self.params,
@@ -87,18 +117,18 @@ impl LanderGnc {
         let sample = self.evaluate();
         self.publish(&sample, log);
         self.evaluated = Some(Evaluated {
-            time_bits: self.time_s.to_bits(),
+            time: self.sample_time(self.time_s),
             input_bits: self.inputs.to_bits(),
             sample,
         });
     }
 
-    /// Commit the sample at the current time: the kept one if it was evaluated at this very
-    /// time with these very inputs, otherwise a fresh one.
+    /// Commit the sample at the current time: the kept one if it was evaluated at the same
+    /// sample time with these very inputs, otherwise a fresh one.
     fn commit(&mut self, log: &mut Log) {
         let sample = match self.evaluated.take() {
             Some(e)
-                if e.time_bits == self.time_s.to_bits()
+                if e.time == self.sample_time(self.time_s)
                     && e.input_bits == self.inputs.to_bits() =>
             {
                 e.sample
@@ -363,6 +393,7 @@ static VARIABLES: &[Variable<LanderGnc>] = &[
     parameter("descent_freeze_time_to_go", 225, S, "below this time-to-go the polynomial is no longer re-solved", 5.0, Some(0.0), |m| m.params.descent_freeze_time_to_go_s, |m, v| m.params.descent_freeze_time_to_go_s = v),
     parameter("target_hover_duration", 226, S, "phase 3 (PV hover at the descent target) duration; phase 4 holds there after it", 30.0, Some(0.0), |m| m.params.target_hover_duration_s, |m, v| m.params.target_hover_duration_s = v),
     parameter("reduced_yaw_weight", 227, ONE, "reduced law: weight of the rotation about the thrust axis, in [0, 1]", 0.4, Some(0.0), |m| m.params.reduced_yaw_weight, |m, v| m.params.reduced_yaw_weight = v),
+    parameter("rate_shaping_margin", 228, ONE, "share of the torque limit the attitude laws count on to brake a rotation; large angle errors are shaped so the rate demand can be stopped in time (beyond the paper, ArduPilot-style square-root controller); 0.5 is a good choice; 0 = the paper's pure PD (default), in [0, 1]", 0.0, Some(0.0), |m| m.params.rate_shaping_margin, |m, v| m.params.rate_shaping_margin = v),
 ];
 
 #[cfg(test)]

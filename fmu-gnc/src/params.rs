@@ -32,6 +32,7 @@ pub struct GncParameters {
     pub descent_freeze_time_to_go_s: f64,
     pub target_hover_duration_s: f64,
     pub reduced_yaw_weight: f64,
+    pub rate_shaping_margin: f64,
 }
 
 impl Default for GncParameters {
@@ -57,6 +58,7 @@ impl Default for GncParameters {
             descent_freeze_time_to_go_s: 5.0,
             target_hover_duration_s: 30.0,
             reduced_yaw_weight: 0.4,
+            rate_shaping_margin: 0.0,
         }
     }
 }
@@ -196,6 +198,12 @@ impl GncParameters {
             p.reduced_yaw_weight,
             "must be in [0, 1]",
         )?;
+        check(
+            (0.0..=1.0).contains(&p.rate_shaping_margin),
+            "rate_shaping_margin",
+            p.rate_shaping_margin,
+            "must be in [0, 1]",
+        )?;
         Ok(())
     }
 
@@ -225,6 +233,10 @@ impl GncParameters {
                 self.control_bandwidth_hz,
                 self.control_damping,
                 Vector3::from(self.inertia_body_kgm2),
+            )
+            .with_braking(
+                &Vector3::from(self.torque_limit_body_nm),
+                self.rate_shaping_margin,
             ),
             torque_limit_body_nm: Vector3::from(self.torque_limit_body_nm),
             reduced_yaw_weight: self.reduced_yaw_weight,
@@ -244,7 +256,7 @@ mod tests {
     #[test]
     fn bad_values_are_refused_by_name() {
         type Spoil = fn(&mut GncParameters);
-        let cases: [(&str, Spoil); 12] = [
+        let cases: [(&str, Spoil); 13] = [
             ("control_law", |p| p.control_law = 4),
             ("phi_cmd", |p| p.phi_cmd_rad = f64::NAN),
             ("control_bandwidth", |p| p.control_bandwidth_hz = 0.0),
@@ -258,6 +270,7 @@ mod tests {
                 p.descent_freeze_time_to_go_s = 0.0
             }),
             ("reduced_yaw_weight", |p| p.reduced_yaw_weight = 1.5),
+            ("rate_shaping_margin", |p| p.rate_shaping_margin = -0.1),
             ("hover_target_nue[2]", |p| {
                 p.hover_target_nue_m[1] = f64::INFINITY
             }),

@@ -11,6 +11,9 @@ pub struct AttitudeGains {
     pub kd_nms_per_rad: Vector3<f64>,
     /// Principal moments of inertia, kg m^2 (also used by the gyroscopic feed-forward).
     pub inertia_kgm2: Vector3<f64>,
+    /// Angular deceleration the law may count on to stop a rotation, rad/s^2, per axis;
+    /// infinite = no shaping (the paper's PD). See [`braking_limited_error`].
+    pub braking_radps2: Vector3<f64>,
 }
 
 impl AttitudeGains {
@@ -26,20 +29,67 @@ impl AttitudeGains {
             kp_nm_per_rad: inertia_kgm2 * (omega_c * omega_c),
             kd_nms_per_rad: inertia_kgm2 * (2.0 * damping * omega_c),
             inertia_kgm2,
+            braking_radps2: Vector3::repeat(f64::INFINITY),
         }
+    }
+
+    /// Enables braking-limited error shaping: the law may count on `margin` of the torque
+    /// limit to stop a rotation (`margin` in (0, 1]; 0 leaves the paper's pure PD).
+    pub fn with_braking(mut self, torque_limit_body_nm: &Vector3<f64>, margin: f64) -> Self {
+        if margin > 0.0 {
+            self.braking_radps2 = (torque_limit_body_nm * margin).component_div(&self.inertia_kgm2);
+        }
+        self
+    }
+}
+
+/// Beyond the paper (the square-root controller of ArduPilot's attitude library, for the same
+/// reason): the PD law `-Kp e - Kd omega` is `-Kd (omega - omega_cmd)` with the rate demand
+/// `omega_cmd = -(Kp / Kd) e`. With the paper's gains (0.5 Hz) and RCS (116 N m) a 15 deg error
+/// asks for ten times the torque limit; the saturated loop then builds up a rate it cannot
+/// brake in the remaining angle and overshoots by about as much again. Shaping the angle error
+/// so that `|omega_cmd| <= sqrt(2 a_brake |e|)`, the rate from which `a_brake` stops the
+/// rotation exactly at the target, removes that overshoot:
+/// `e' = sign(e) min(|e|, (Kd / Kp) sqrt(2 a_brake |e|))`.
+/// Below `|e| = 2 a_brake (Kd / Kp)^2` (4 deg on the pitch axis with the defaults and a margin of
+/// 0.5) `e' = e`: small errors see exactly the paper's law, and so does every law for which
+/// `braking_radps2` is infinite.
+pub fn braking_limited_error(
+    angle_error_rad: f64,
+    kp_nm_per_rad: f64,
+    kd_nms_per_rad: f64,
+    braking_radps2: f64,
+) -> f64 {
+    if !(braking_radps2.is_finite() && kp_nm_per_rad > 0.0) {
+        return angle_error_rad;
+    }
+    let limit =
+        kd_nms_per_rad / kp_nm_per_rad * (2.0 * braking_radps2 * angle_error_rad.abs()).sqrt();
+    if limit.is_nan() {
+        angle_error_rad
+    } else {
+        angle_error_rad.clamp(-limit, limit)
     }
 }
 
 /// Paper Sec. IV control law `tau = -Kp e - Kd omega_e + omega x I omega`, with `e` the angle
-/// error in body axes (ERRATA 9) and `omega_ref = 0` (ERRATA defaults), so `omega_e = omega`.
+/// error in body axes (ERRATA 9) and `omega_ref = 0` (ERRATA defaults), so `omega_e = omega`;
+/// `e` is braking-limited per axis when the gains ask for it ([`braking_limited_error`]).
 pub fn pd_torque_body(
     gains: &AttitudeGains,
     angle_error_body: &Vector3<f64>,
     omega_body: &Vector3<f64>,
 ) -> Vector3<f64> {
     let inertia_omega = gains.inertia_kgm2.component_mul(omega_body);
-    -gains.kp_nm_per_rad.component_mul(angle_error_body)
-        - gains.kd_nms_per_rad.component_mul(omega_body)
+    let shaped = Vector3::from_fn(|i, _| {
+        braking_limited_error(
+            angle_error_body[i],
+            gains.kp_nm_per_rad[i],
+            gains.kd_nms_per_rad[i],
+            gains.braking_radps2[i],
+        )
+    });
+    -gains.kp_nm_per_rad.component_mul(&shaped) - gains.kd_nms_per_rad.component_mul(omega_body)
         + omega_body.cross(&inertia_omega)
 }
 
@@ -61,6 +111,52 @@ pub fn saturate_torque_body(torque_body: &Vector3<f64>, limit_body: &Vector3<f64
 mod tests {
     use super::*;
     use nalgebra::Matrix2;
+
+    #[test]
+    fn small_errors_see_the_paper_law_large_ones_a_brakeable_rate_demand() {
+        // GIVEN the pitch axis with the default gains and half the 116 N m limit for braking
+        let gains = AttitudeGains::from_bandwidth(0.5, 0.8, Vector3::new(400.0, 300.0, 450.0))
+            .with_braking(&Vector3::repeat(116.0), 0.5);
+        let (kp, kd, a) = (
+            gains.kp_nm_per_rad.z,
+            gains.kd_nms_per_rad.z,
+            gains.braking_radps2.z,
+        );
+        assert!((a - 58.0 / 450.0).abs() < 1e-15);
+        let linear_up_to = 2.0 * a * (kd / kp).powi(2);
+        // THEN below the corner the error is untouched (the paper's PD)
+        for e in [0.0, 1e-6, -0.5 * linear_up_to, 0.999 * linear_up_to] {
+            assert_eq!(braking_limited_error(e, kp, kd, a), e);
+        }
+        // AND above it the implied rate demand is exactly the braking rate sqrt(2 a |e|)
+        for e in [0.1, -0.26, 1.0, -3.0] {
+            let shaped = braking_limited_error(e, kp, kd, a);
+            let rate_demand = kp / kd * shaped.abs();
+            assert!(
+                (rate_demand - (2.0 * a * e.abs()).sqrt()).abs() < 1e-12,
+                "e {e}"
+            );
+            assert_eq!(shaped.signum(), e.signum());
+            assert!(shaped.abs() < e.abs());
+        }
+        // AND without braking (the default gains) nothing is shaped
+        let plain = AttitudeGains::from_bandwidth(0.5, 0.8, Vector3::repeat(450.0));
+        assert_eq!(
+            braking_limited_error(1.0, kp, kd, plain.braking_radps2.z),
+            1.0
+        );
+        // AND a margin of 0 keeps the paper's law
+        let off = plain.with_braking(&Vector3::repeat(116.0), 0.0);
+        assert!(off.braking_radps2.iter().all(|b| b.is_infinite()));
+    }
+
+    #[test]
+    fn shaping_never_makes_a_nan_from_finite_input() {
+        for e in [f64::MAX, -f64::MAX, f64::MIN_POSITIVE, 0.0, -0.0] {
+            assert!(!braking_limited_error(e, 1e4, 2e3, 0.1).is_nan());
+            assert!(!braking_limited_error(e, 0.0, 2e3, 0.1).is_nan());
+        }
+    }
 
     #[test]
     fn each_axis_has_the_design_bandwidth_and_damping() {
