@@ -116,3 +116,35 @@ fn from_an_upright_start_the_laws_agree_for_every_roll_demand() {
         }
     }
 }
+
+#[test]
+fn braking_limited_shaping_keeps_a_dispersed_start_near_the_vertical() {
+    // GIVEN the tilted start 1 m North of the target vertical, no roll demand. With the paper's
+    // pure PD the saturated RCS (116 N m against ~1,100 N m asked) overshoots the tilt and the
+    // descent starts with metres per second of drift (~50 m excursion). With the rate demand
+    // shaped so it can be braked in time, the attitude follows guidance without overshoot and
+    // the excursion stays of the order of the offset itself: we allow 5 m.
+    let mut system = scenarios::load("paper").unwrap();
+    system.set_parameter("gnc", "phi_cmd", ParamValue::Real(0.0));
+    system.set_parameter("plant", "r0_nue[1]", ParamValue::Real(1.0));
+    system.set_parameter("gnc", "rate_shaping_margin", ParamValue::Real(0.5));
+    let mut sim = Simulation::new(system.clone(), &common::fmu_dir()).unwrap();
+    for law in Law::ALL {
+        let flight = fly(&mut sim, law).unwrap();
+        assert!(
+            flight.metrics.max_horizontal_deviation_m < 5.0,
+            "{law:?}: {:?}",
+            flight.metrics
+        );
+    }
+    // AND without the shaping (the paper's law, the default) the same start drifts far more,
+    // so the test above measures the shaping, not an easy case
+    system.set_parameter("gnc", "rate_shaping_margin", ParamValue::Real(0.0));
+    let mut paper_law = Simulation::new(system, &common::fmu_dir()).unwrap();
+    let flight = fly(&mut paper_law, Law::Decoupled).unwrap();
+    assert!(
+        flight.metrics.max_horizontal_deviation_m > 20.0,
+        "{:?}",
+        flight.metrics
+    );
+}
