@@ -12,10 +12,12 @@
 #![deny(unsafe_code)]
 
 pub mod api;
+pub mod cycles;
 pub mod ffi;
 pub mod fuzz;
 pub mod instance;
 pub mod logger;
+pub mod long_run;
 pub mod package;
 pub mod reference;
 pub mod rss;

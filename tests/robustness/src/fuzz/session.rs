@@ -828,6 +828,46 @@ impl<'a> Session<'a> {
         }
     }
 
+    fn name_of(&self, vr: u32) -> String {
+        self.fmu
+            .package
+            .variables
+            .iter()
+            .find(|v| v.value_reference == vr && v.kind == VariableKind::Real)
+            .map_or_else(|| format!("vr {vr}"), |v| v.name.clone())
+    }
+
+    /// For a violation report: the Real parameters and inputs of an instance that differ
+    /// from their start values.
+    fn describe(&self, i: usize) -> String {
+        let Some(slot) = &self.slots[i] else {
+            return String::new();
+        };
+        let changed: Vec<String> = self
+            .fmu
+            .package
+            .description
+            .variables()
+            .filter(|v| v.real.is_some())
+            .filter(|v| {
+                matches!(
+                    v.causality_or_default(),
+                    model_description::Causality::Parameter | model_description::Causality::Input
+                )
+            })
+            .filter_map(|v| {
+                let (_, value) = slot.inst.get_reals(&[v.value_reference]);
+                let start = v.real.as_ref().and_then(|r| r.start);
+                (start != Some(value[0])).then(|| format!("{} = {:e}", v.name, value[0]))
+            })
+            .collect();
+        slot.inst.take_log();
+        format!(
+            "values that differ from their start: {}",
+            changed.join(", ")
+        )
+    }
+
     fn slot_mut(&mut self, i: usize) -> &mut Slot<'a> {
         self.slots[i].as_mut().expect("a live slot")
     }
@@ -1041,7 +1081,11 @@ impl<'a> Session<'a> {
             match kind {
                 Kind::Real if !tainted => {
                     if let Some((vr, v)) = vrs.iter().zip(&reals).find(|(_, v)| !v.is_finite()) {
-                        return Err(format!("fmi2GetReal returned {v} for vr {vr}"));
+                        let described = index.map(|i| self.describe(i)).unwrap_or_default();
+                        return Err(format!(
+                            "fmi2GetReal returned {v} for {}; {described}",
+                            self.name_of(*vr)
+                        ));
                     }
                 }
                 Kind::Boolean => {
@@ -1267,14 +1311,18 @@ impl<'a> Session<'a> {
                 (api.set_real)(c, vrs.as_ptr(), vrs.len(), inputs.as_ptr())
             });
             self.finish("fmi2SetReal", Some(i), status, None)?;
-            let outputs = &self.base.wiring.outputs;
+            let outputs = self.base.wiring.outputs.clone();
             let mut values = vec![0.0; outputs.len()];
             let status = self.dog.watch("fmi2GetReal", || unsafe {
                 (api.get_real)(c, outputs.as_ptr(), outputs.len(), values.as_mut_ptr())
             });
             if (status == OK || status == WARNING) && !self.slot_mut(i).tainted {
-                if let Some(v) = values.iter().find(|v| !v.is_finite()) {
-                    return Err(format!("fmi2GetReal of the outputs returned {v}"));
+                if let Some((vr, v)) = outputs.iter().zip(&values).find(|(_, v)| !v.is_finite()) {
+                    return Err(format!(
+                        "fmi2GetReal of output {} returned {v}; {}",
+                        self.name_of(*vr),
+                        self.describe(i)
+                    ));
                 }
             }
             self.finish("fmi2GetReal", Some(i), status, None)?;

@@ -1,0 +1,52 @@
+//! The long run of issue 7 (10 million communication steps per FMU by default):
+//! `cargo run --release -p robustness-tests --bin long-run -- --steps 10000000`
+use clap::Parser;
+use robustness_tests::instance::Fmu;
+use robustness_tests::long_run;
+use robustness_tests::package::Lander;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(
+    about = "Millions of steps of the packaged lander FMUs with invariants and state restores"
+)]
+struct Args {
+    #[arg(long, default_value_t = 10_000_000)]
+    steps: usize,
+    /// Save/serialize/restore checks spread over the run.
+    #[arg(long, default_value_t = 20)]
+    checkpoints: usize,
+    /// LanderGnc or LanderPlant; both when absent.
+    #[arg(long)]
+    fmu: Option<String>,
+}
+
+fn main() -> anyhow::Result<()> {
+    let args = Args::parse();
+    let landers: Vec<Lander> = match &args.fmu {
+        Some(name) => {
+            vec![Lander::parse(name).ok_or_else(|| anyhow::anyhow!("unknown FMU {name}"))?]
+        }
+        None => Lander::BOTH.to_vec(),
+    };
+    for lander in landers {
+        let fmu = Fmu::load(lander)?;
+        let started = Instant::now();
+        let r =
+            long_run::run(&fmu, args.steps, args.checkpoints).map_err(|e| anyhow::anyhow!(e))?;
+        let rss_min = r.rss_kib.iter().min().copied().unwrap_or(0);
+        let rss_max = r.rss_kib.iter().max().copied().unwrap_or(0);
+        println!(
+            "{}: {} steps in {:.1} s, all outputs finite; max | |q| - 1 | = {:.3e}; \
+             max relative angular-momentum drift = {:.3e}; {} bit-exact restores; \
+             VmRSS at the checkpoints {rss_min}..{rss_max} KiB",
+            lander.model_identifier(),
+            r.steps,
+            started.elapsed().as_secs_f64(),
+            r.max_quaternion_norm_error,
+            r.max_angular_momentum_drift,
+            r.restores,
+        );
+    }
+    Ok(())
+}
