@@ -449,11 +449,15 @@ fn truncated_corrupted_or_foreign_serialized_states_are_refused() {
     }
 }
 
+/// Parameters set in initialization mode (name, value), then the variable the refusal must
+/// name and the value it must show.
+type ParameterCase = (&'static [(&'static str, f64)], &'static str, &'static str);
+
 #[test]
 fn out_of_range_plant_parameters_are_refused_by_name_and_reset_recovers() {
     let fmu = Fmu::load(Lander::Plant).expect("packaged FMU");
     let expected = reference(&fmu);
-    let cases: [(&[(&str, f64)], &str, &str); 5] = [
+    let cases: [ParameterCase; 5] = [
         (&[("m0", -5.0)], "m0", "-5"),
         (&[("inertia_body[2]", -300.0)], "inertia_body[2]", "-300"),
         (&[("inertia_body[1]", 0.0)], "inertia_body[1]", "0"),
@@ -490,7 +494,7 @@ fn out_of_range_gnc_parameters_are_refused_by_name_and_reset_recovers() {
         assert_refused(&inst, status, "fmi2SetReal", &[name, shown]);
     }
     // Accepted by the set, refused as a whole by exit initialization.
-    let at_exit: [(&[(&str, f64)], &str, &str); 5] = [
+    let at_exit: [ParameterCase; 5] = [
         (&[("control_bandwidth", 0.0)], "control_bandwidth", "0"),
         (&[("control_damping", 0.0)], "control_damping", "0"),
         (&[("guidance_bandwidth", 0.0)], "guidance_bandwidth", "0"),
