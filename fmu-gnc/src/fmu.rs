@@ -49,17 +49,15 @@ struct Evaluated {
 }
 
 /// All that `gnc_sample` reads of its time `t` (for given parameters, start time and
-/// guidance state): whether phi_cmd applies, the guidance cycle `t` falls in and whether
-/// that opens a new cycle; `t` itself only when it opens one off the cycle's nominal start
-/// (a late sample, after degenerate inputs), which is the one case the sequencer solves at
-/// the sample's own time. Equal keys give bit-identical samples, so a master's `t` a few
+/// guidance state): whether phi_cmd applies and the guidance cycle `t` falls in; `t` itself
+/// only when it opens that cycle off its nominal start (a late sample, after degenerate
+/// inputs), the one case in which the sequencer solves at the sample's own time. Equal keys give bit-identical samples, so a master's `t` a few
 /// ulps off ours (`k h` against our `(k - 1) h + h`, a third of the steps of a 0.01 s grid)
 /// still commits the kept sample; tests below check the equivalence against `gnc_sample`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct SampleTime {
     phi_cmd_applies: bool,
     cycle: i64,
-    opens_cycle: bool,
     off_nominal_bits: Option<u64>,
 }
 
@@ -88,7 +86,6 @@ impl LanderGnc {
         SampleTime {
             phi_cmd_applies: has_reached(t_s, self.params.phi_cmd_time_s),
             cycle,
-            opens_cycle,
             off_nominal_bits: (opens_cycle && !on_boundary).then_some(elapsed_s.to_bits()),
         }
     }
@@ -420,7 +417,9 @@ mod tests {
             omega_body_radps: [0.01, -0.02, 0.005],
             mass_kg: 880.0,
         };
-        if k == 777 {
+        // On guidance cycle boundaries (7.8 s in the hover, 15 s in the descent), so that the
+        // next sample opens the cycle late.
+        if k == 780 || k == 1500 {
             nav.q_body_to_nue = [0.0; 4];
         }
         nav
@@ -462,7 +461,7 @@ mod tests {
         let (mut kept_time, mut other_time) = (0, 0);
         for k in 0..2000 {
             // The master's time from an integer step counter: about a quarter of these
-            // differ in the last bits from our t + h, so a kept sample is then not used.
+            // differ in the last bits from our t + h (the same sample time all the same).
             let t = k as f64 * H;
             if read.time_s.to_bits() == t.to_bits() {
                 kept_time += 1;
@@ -500,6 +499,55 @@ mod tests {
             bare.outputs.guidance_phase, 2,
             "the run reaches the descent"
         );
+    }
+
+    /// The claim of `SampleTime`: equal keys, bit-identical samples. Probed along a run
+    /// with guidance states that have and have not solved the cycle, and late ones, at the
+    /// master's time, our accumulated time, times a few ulps and a few tolerances away, and
+    /// on both sides of phi_cmd_time (off the guidance cycle grid).
+    #[test]
+    fn equal_sample_times_give_bit_identical_samples() {
+        let phi_cmd_time_s = 12.345;
+        let mut gnc = initialized(GncParameters {
+            phi_cmd_time_s,
+            ..paper_params()
+        });
+        let (mut pairs, mut late) = (0, 0);
+        for k in 0..2000 {
+            let t = k as f64 * H;
+            gnc.inputs = navigation(k);
+            let mut times = vec![
+                t,
+                gnc.time_s,
+                t + 2e-9,
+                t - 2e-9,
+                f64::from_bits(t.to_bits() + 3),
+                f64::from_bits(t.to_bits().saturating_sub(3)),
+            ];
+            if (t - phi_cmd_time_s).abs() < H {
+                times.extend([phi_cmd_time_s - 2e-8, phi_cmd_time_s + 2e-8]);
+            }
+            late += usize::from(gnc.sample_time(t).off_nominal_bits.is_some());
+            let at = |time_s| {
+                let sample = LanderGnc {
+                    time_s,
+                    ..gnc.clone()
+                }
+                .evaluate();
+                (exact(&sample.outputs), exact(&sample.guidance))
+            };
+            for (i, &a) in times.iter().enumerate() {
+                for &b in &times[i + 1..] {
+                    if a.to_bits() != b.to_bits() && gnc.sample_time(a) == gnc.sample_time(b) {
+                        pairs += 1;
+                        assert_eq!(at(a), at(b), "{a} and {b}");
+                    }
+                }
+            }
+            gnc.do_step(t, H, &mut Log::default()).unwrap();
+        }
+        assert!(pairs > 10_000, "{pairs}");
+        assert!(late >= 2, "{late} late samples probed");
     }
 
     #[test]
