@@ -1,0 +1,56 @@
+//! The master refuses a broken system before anything runs, naming every problem, and ends a
+//! run the FMU refuses with the FMU's own log in the error.
+mod common;
+
+use harness::master::{MasterError, Simulation};
+use harness::scenarios;
+use harness::system::{Connection, ParamValue};
+
+#[test]
+fn unknown_names_and_type_mismatches_are_all_reported_before_the_run() {
+    // GIVEN the paper scenario with a misspelt source, a misspelt parameter and an Integer
+    // output wired to a Real input
+    let mut system = scenarios::load("paper").unwrap();
+    system.connections.push(Connection {
+        from: "plant.r_neu".into(),
+        to: "gnc.r_nue".into(),
+    });
+    system.connections.push(Connection {
+        from: "gnc.guidance_phase".into(),
+        to: "plant.thrust_cmd".into(),
+    });
+    system.set_parameter("gnc", "phi_cmdd", ParamValue::Real(1.0));
+    // WHEN it is resolved against the FMUs
+    let error = match Simulation::new(system, &common::fmu_dir()) {
+        Err(error @ MasterError::Resolve { .. }) => error.to_string(),
+        Err(other) => panic!("wrong error: {other}"),
+        Ok(_) => panic!("a broken system was accepted"),
+    };
+    // THEN one error names all three problems
+    assert!(
+        error.contains("'plant.r_neu'") && error.contains("r_neu"),
+        "{error}"
+    );
+    assert!(
+        error.contains("gnc.guidance_phase") && error.contains("plant.thrust_cmd"),
+        "{error}"
+    );
+    assert!(error.contains("type mismatch"), "{error}");
+    assert!(error.contains("phi_cmdd"), "{error}");
+}
+
+#[test]
+fn a_refused_parameter_ends_the_run_with_the_fmu_log() {
+    // GIVEN a control bandwidth the GNC must refuse at initialization
+    let mut system = scenarios::load("paper").unwrap();
+    system.set_parameter("gnc", "control_bandwidth", ParamValue::Real(0.0));
+    let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
+    // WHEN the run starts
+    let error = simulation
+        .run(&mut harness::master::Trajectory::default())
+        .unwrap_err();
+    // THEN the error chain carries the FMU's log line naming the parameter
+    let text = format!("{:#}", anyhow::Error::from(error));
+    assert!(text.contains("fmi2ExitInitializationMode"), "{text}");
+    assert!(text.contains("control_bandwidth"), "{text}");
+}
