@@ -125,8 +125,8 @@ fn bench_do_step(c: &mut Criterion) {
     }
 }
 
-/// The model's own share: one controller evaluation, no FMI layer (a step evaluates it twice:
-/// once for the get, once when do_step commits).
+/// The model's own share: one controller evaluation, no FMI layer (a master's step evaluates
+/// it once: for the get; do_step commits that same sample).
 fn bench_gnc_sample(c: &mut Criterion) {
     use fmu::controller::{gnc_sample, NavigationInputs};
     use fmu::guidance::sequencer::{GuidanceState, Phase};

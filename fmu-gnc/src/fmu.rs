@@ -100,41 +100,42 @@ impl LanderGnc {
         )
     }
 
-    /// Show `sample` as the outputs; its warning, if any, goes to this call's log.
-    fn publish(&mut self, sample: &Sample, log: &mut Log) {
-        if let Some(why) = sample.degenerate {
-            log.warning(format!("t = {} s: {why}", self.time_s));
-        }
-        self.outputs = sample.outputs;
-    }
-
-    /// Evaluate the sample at the current time without committing it, and keep it for the
-    /// `do_step` that usually follows.
+    /// Evaluate the sample at the current time without committing it, show its outputs and
+    /// keep it for the `do_step` that usually follows.
     fn preview(&mut self, log: &mut Log) {
-        let sample = self.evaluate();
-        self.publish(&sample, log);
-        self.evaluated = Some(Evaluated {
+        let evaluated = self.evaluated.insert(Evaluated {
             time: self.sample_time(self.time_s),
             input_bits: self.inputs.to_bits(),
-            sample,
+            sample: self.evaluate(),
         });
+        publish(&evaluated.sample, self.time_s, &mut self.outputs, log);
     }
 
     /// Commit the sample at the current time: the kept one if it was evaluated at the same
     /// sample time with these very inputs, otherwise a fresh one.
     fn commit(&mut self, log: &mut Log) {
-        let sample = match self.evaluated.take() {
-            Some(e)
-                if e.time == self.sample_time(self.time_s)
-                    && e.input_bits == self.inputs.to_bits() =>
-            {
-                e.sample
+        let (time, input_bits) = (self.sample_time(self.time_s), self.inputs.to_bits());
+        let fresh;
+        // Read in place: a sample is a few hundred bytes, worth not moving twice per step.
+        let sample = match &self.evaluated {
+            Some(e) if e.time == time && e.input_bits == input_bits => &e.sample,
+            _ => {
+                fresh = self.evaluate();
+                &fresh
             }
-            _ => self.evaluate(),
         };
-        self.publish(&sample, log);
+        publish(sample, self.time_s, &mut self.outputs, log);
         self.guidance = sample.guidance;
+        self.evaluated = None;
     }
+}
+
+/// Show `sample` as the outputs; its warning, if any, goes to this call's log.
+fn publish(sample: &Sample, time_s: f64, outputs: &mut GncOutputs, log: &mut Log) {
+    if let Some(why) = sample.degenerate {
+        log.warning(format!("t = {time_s} s: {why}"));
+    }
+    *outputs = sample.outputs;
 }
 
 impl Model for LanderGnc {
