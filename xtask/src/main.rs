@@ -3,6 +3,7 @@
 //! README's two commands and `.ci/run` stay one line each.
 #![deny(unsafe_code)]
 
+mod bench;
 mod demo;
 mod doc_page;
 mod fmu_zip;
@@ -37,6 +38,13 @@ enum Command {
     Demo,
     /// Create or update `.venv` with the pinned packages of tests/python/requirements.txt.
     PythonEnv,
+    /// Package the FMUs and print the side-by-side speed table (tests/speed): our FMUs,
+    /// the paper scenario, a 1,000-run Monte Carlo, fmpy's loop, a pythonfmu plant.
+    /// Arguments after `--` go to the measurement, e.g. `-- --quick` or `-- --runs 100`.
+    Bench {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -46,6 +54,7 @@ fn main() -> ExitCode {
         Command::Test => test::run_all(&ws),
         Command::Demo => demo::run(&ws),
         Command::PythonEnv => python_env::ensure(&ws),
+        Command::Bench { args } => bench::run(&ws, &args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,1 +1,15 @@
-//! See src/main.rs.
+//! Speed side by side, in one run: our FMUs through the C ABI, the paper scenario and a
+//! Monte Carlo campaign in our master, the same scenario in fmpy's master loop, and our
+//! plant against the same equations packaged with pythonfmu.
+//!
+//! `cargo xtask bench` packages the FMUs and runs the binary (src/main.rs), which prints
+//! the table; see the README there for what each row measures.
+#![deny(unsafe_code)]
+
+pub mod closed_loop;
+pub mod duel;
+pub mod python;
+pub mod record;
+pub mod replay;
+pub mod stats;
+pub mod table;
