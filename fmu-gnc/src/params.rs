@@ -142,9 +142,25 @@ impl GncParameters {
         for (name, value) in positive {
             check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
         }
+        // Guidance is held over its cycle: a loop faster than the cycle's Nyquist rate is not a
+        // loop any more (and absurd values overflow the gains to NaN).
+        check(
+            p.guidance_bandwidth_hz <= 0.5 / p.guidance_cycle_s,
+            "guidance_bandwidth",
+            p.guidance_bandwidth_hz,
+            "must be <= 0.5 / guidance_cycle (the Nyquist rate of the guidance cycle)",
+        )?;
         for (name, value) in INERTIA_NAMES.iter().zip(p.inertia_body_kgm2) {
             check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
         }
+        let gains = p.attitude_settings().gains;
+        check(
+            gains.kp_nm_per_rad.iter().all(|k| k.is_finite())
+                && gains.kd_nms_per_rad.iter().all(|k| k.is_finite()),
+            "control_bandwidth",
+            p.control_bandwidth_hz,
+            "gives non-finite gains with this inertia",
+        )?;
         for (name, value) in TORQUE_NAMES.iter().zip(p.torque_limit_body_nm) {
             check(
                 value >= 0.0 && value.is_finite(),
@@ -256,7 +272,7 @@ mod tests {
     #[test]
     fn bad_values_are_refused_by_name() {
         type Spoil = fn(&mut GncParameters);
-        let cases: [(&str, Spoil); 13] = [
+        let cases: [(&str, Spoil); 15] = [
             ("control_law", |p| p.control_law = 4),
             ("phi_cmd", |p| p.phi_cmd_rad = f64::NAN),
             ("control_bandwidth", |p| p.control_bandwidth_hz = 0.0),
@@ -271,6 +287,8 @@ mod tests {
             }),
             ("reduced_yaw_weight", |p| p.reduced_yaw_weight = 1.5),
             ("rate_shaping_margin", |p| p.rate_shaping_margin = -0.1),
+            ("guidance_bandwidth", |p| p.guidance_bandwidth_hz = 1.7e162),
+            ("control_bandwidth", |p| p.control_bandwidth_hz = 1e300),
             ("hover_target_nue[2]", |p| {
                 p.hover_target_nue_m[1] = f64::INFINITY
             }),
