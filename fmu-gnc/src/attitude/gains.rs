@@ -68,7 +68,8 @@ pub fn braking_limited_error(
     if limit.is_nan() {
         angle_error_rad
     } else {
-        angle_error_rad.clamp(-limit, limit)
+        // max/min rather than clamp: a restored state may carry gains of either sign.
+        angle_error_rad.max(-limit).min(limit)
     }
 }
 
@@ -102,7 +103,8 @@ pub fn saturate_torque_body(torque_body: &Vector3<f64>, limit_body: &Vector3<f64
         if tau.is_nan() {
             0.0
         } else {
-            tau.clamp(-limit, limit)
+            // max/min rather than clamp: never panics on a negative limit from a restored state.
+            tau.max(-limit).min(limit)
         }
     })
 }

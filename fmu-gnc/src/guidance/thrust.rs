@@ -53,7 +53,8 @@ pub fn achievable_thrust_acceleration_nue(
     }
     let norm = a_thrust_nue.norm();
     if norm > a_max {
-        let up = a_thrust_nue.y.clamp(-a_max, a_max);
+        // max/min rather than clamp: never panics on a negative a_max from a restored state.
+        let up = a_thrust_nue.y.max(-a_max).min(a_max);
         let horizontal = Vector3::new(a_thrust_nue.x, 0.0, a_thrust_nue.z);
         let room = (a_max * a_max - up * up).max(0.0).sqrt();
         let h_norm = horizontal.norm();

@@ -25,10 +25,11 @@ impl Engines {
             return 0.0;
         }
         let n = f64::from(self.count);
-        thrust_cmd_n.clamp(
-            n * self.min_thrust_per_engine_n,
-            n * self.max_thrust_per_engine_n,
-        )
+        // max/min rather than clamp: clamp panics on crossed bounds, and a restored FMU state
+        // carries parameters that initialization never validated.
+        thrust_cmd_n
+            .max(n * self.min_thrust_per_engine_n)
+            .min(n * self.max_thrust_per_engine_n)
     }
 }
 
@@ -50,7 +51,8 @@ impl Rcs {
     /// Torque delivered in steady state for a command, each axis clamped independently.
     pub fn saturate(&self, torque_cmd_body_nm: &Vector3<f64>) -> Vector3<f64> {
         let limit = self.torque_limit_nm();
-        torque_cmd_body_nm.map(|t| t.clamp(-limit, limit))
+        // max/min rather than clamp: never panics on a negative limit from a restored state.
+        torque_cmd_body_nm.map(|t| t.max(-limit).min(limit))
     }
 }
 
