@@ -6,46 +6,46 @@
 //! child, interleaved pass by pass with the Python one, makes the ratio a comparison under
 //! the same conditions rather than across two processes.
 use crate::record::PaperRecord;
-use crate::replay::{plant_cycles, plant_steps, BatchMeans};
+use crate::replay::{
+    plant_cycles, plant_steps, timer_cost, BatchMeans, BATCH_STEPS, TIMER_BATCHES,
+};
 use anyhow::{ensure, Result};
 use harness::loader::Fmu;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// Steps held per batch of the `fmi2DoStep`-only measurement.
-pub const HOLD_STEPS: usize = 10;
-/// Steps per batch of the master-cycle measurements.
-pub const CYCLE_BATCH: usize = 100;
-
 /// One plant's figures.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct PlantFigures {
-    /// Per-step time of `fmi2DoStep` alone (s), per batch of [`HOLD_STEPS`].
+    /// Per-step time of `fmi2DoStep` alone (s), per batch of [`BATCH_STEPS`].
     pub step_means: BatchMeans,
-    /// Per-step time of set 4 + `fmi2DoStep` + get 14 (s), per batch of [`CYCLE_BATCH`].
+    /// Per-step time of set 4 + `fmi2DoStep` + get 14 (s), per batch of [`BATCH_STEPS`].
     pub cycle_means: BatchMeans,
-    /// Whether the master-cycle pass retraced the recorded LanderPlant flight bit for bit.
+    /// Whether every pass retraced the recorded LanderPlant flight bit for bit.
     pub bit_identical: bool,
-    /// Largest distance from the recorded LanderPlant position over a master-cycle pass (m).
+    /// Largest distance from the recorded LanderPlant position over every pass (m).
     pub max_position_error_m: f64,
 }
 
 impl PlantFigures {
     fn measure(&mut self, fmu: &Fmu, record: &PaperRecord, steps: usize) -> Result<()> {
-        self.step_means
-            .extend(plant_steps(fmu, record, steps, HOLD_STEPS)?);
-        let (means, agreement) = plant_cycles(fmu, record, steps, CYCLE_BATCH)?;
-        ensure!(
-            agreement.max_position_error_m.is_finite(),
-            "{} left the finite numbers under the paper's commands",
-            fmu.model_name()
-        );
         let first_pass = self.cycle_means.is_empty();
-        self.cycle_means.extend(means);
-        self.bit_identical = agreement.bit_identical && (first_pass || self.bit_identical);
-        self.max_position_error_m = self
-            .max_position_error_m
-            .max(agreement.max_position_error_m);
+        let (step_means, step_agreement) = plant_steps(fmu, record, steps, BATCH_STEPS)?;
+        let (cycle_means, cycle_agreement) = plant_cycles(fmu, record, steps, BATCH_STEPS)?;
+        for agreement in [step_agreement, cycle_agreement] {
+            ensure!(
+                agreement.max_position_error_m.is_finite(),
+                "{} left the finite numbers under the paper's commands",
+                fmu.model_name()
+            );
+            self.max_position_error_m = self
+                .max_position_error_m
+                .max(agreement.max_position_error_m);
+        }
+        let identical = step_agreement.bit_identical && cycle_agreement.bit_identical;
+        self.bit_identical = identical && (first_pass || self.bit_identical);
+        self.step_means.extend(step_means);
+        self.cycle_means.extend(cycle_means);
         Ok(())
     }
 }
@@ -57,6 +57,8 @@ pub struct Duel {
     pub python: PlantFigures,
     /// Communication steps per pass.
     pub steps: usize,
+    /// The timer's own cost in each per-call `fmi2DoStep` time, measured in the child (s).
+    pub timer_cost_s: f64,
 }
 
 /// `ours_passes` passes of LanderPlant and `python_passes` of the pythonfmu plant over the
@@ -75,6 +77,7 @@ pub fn run(
         ours: PlantFigures::default(),
         python: PlantFigures::default(),
         steps,
+        timer_cost_s: timer_cost(TIMER_BATCHES, BATCH_STEPS),
     };
     for pass in 0..ours_passes.max(python_passes) {
         if pass < ours_passes {

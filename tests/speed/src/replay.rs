@@ -2,15 +2,22 @@
 //! calls it), fed the inputs it had in the recorded paper flight, timed in batches of
 //! consecutive steps.
 //!
-//! A batch is timed as a whole and divided by its length: one clock read per batch keeps
-//! the timer's own cost (tens of nanoseconds, comparable to a step of our FMUs) out of the
-//! figures. Instances are created and initialized outside the timed region, fresh for every
+//! A master cycle is timed per batch of consecutive steps, one clock read pair per batch,
+//! which keeps the timer's own cost (tens of nanoseconds, against about a microsecond for a
+//! cycle of our FMUs) out of the figures; `fmi2DoStep` alone must be timed call by call, and
+//! the timer's cost is measured beside it. Instances are created and initialized outside the timed region, fresh for every
 //! pass, so the measured work is the stepping alone.
 use crate::record::{PaperRecord, COMMANDS, GNC, NAVIGATION, PLANT};
 use anyhow::{bail, ensure, Context, Result};
 use harness::loader::{Fmu, Instance, StepStatus, VariableKind};
 use harness::system::ParamValue;
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// Steps per timed batch: one second of the flight.
+pub const BATCH_STEPS: usize = 100;
+
+/// Batches of empty timed regions behind [`timer_cost`]'s median.
+pub const TIMER_BATCHES: usize = 1000;
 
 /// Per-step time (s) of each batch of one pass.
 pub type BatchMeans = Vec<f64>;
@@ -24,27 +31,51 @@ pub struct Agreement {
     pub max_position_error_m: f64,
 }
 
-/// `fmi2DoStep` alone: the plant's commands are set before each batch (untimed) and held
-/// through it, so a batch times exactly `hold` consecutive steps.
+/// `fmi2DoStep` alone, through the same master cycle as [`plant_cycles`]: each step's
+/// call is timed on its own (the set and get around it are not), and a batch's mean is the
+/// sum of its steps' times over its length. Each clock read pair adds the timer's own cost,
+/// which [`timer_cost`] measures so it can be taken off.
 pub fn plant_steps(
     fmu: &Fmu,
     record: &PaperRecord,
     steps: usize,
-    hold: usize,
-) -> Result<BatchMeans> {
-    ensure!(hold > 0, "a batch holds at least one step");
+    batch: usize,
+) -> Result<(BatchMeans, Agreement)> {
+    ensure!(batch > 0, "a batch holds at least one step");
     let mut plant = Unit::start(fmu, PLANT, record, &COMMANDS, &record.commands[0])?;
-    let mut means = Vec::with_capacity(steps.div_ceil(hold));
-    for first in (0..steps).step_by(hold) {
-        let batch = first..(first + hold).min(steps);
-        plant.set(&record.commands[first])?;
-        let started = Instant::now();
-        for k in batch.clone() {
+    let output_vrs = value_references(&plant.instance, &NAVIGATION)?;
+    let mut outputs = vec![[0.0; 14]; steps];
+    let mut means = Vec::with_capacity(steps.div_ceil(batch));
+    for first in (0..steps).step_by(batch) {
+        let range = first..(first + batch).min(steps);
+        let mut stepping = Duration::ZERO;
+        for k in range.clone() {
+            plant.set(&record.commands[k])?;
+            let started = Instant::now();
             plant.step(record, k)?;
+            stepping += started.elapsed();
+            plant.instance.get_real(&output_vrs, &mut outputs[k])?;
         }
-        means.push(started.elapsed().as_secs_f64() / batch.len() as f64);
+        means.push(stepping.as_secs_f64() / range.len() as f64);
     }
-    Ok(means)
+    Ok((means, agreement(record, &outputs)))
+}
+
+/// What one timed region costs with nothing in it (s): the median over `batches` batches
+/// of `batch` empty regions, accumulated as [`plant_steps`] accumulates its steps.
+pub fn timer_cost(batches: usize, batch: usize) -> f64 {
+    let mut means: Vec<f64> = (0..batches)
+        .map(|_| {
+            let mut total = Duration::ZERO;
+            for _ in 0..batch {
+                let started = Instant::now();
+                total += std::hint::black_box(started).elapsed();
+            }
+            total.as_secs_f64() / batch as f64
+        })
+        .collect();
+    means.sort_by(f64::total_cmp);
+    means.get(means.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// What a master does with the plant at every communication point: set the 4 commands,

@@ -31,6 +31,16 @@ impl Summary {
         })
     }
 
+    /// The same figures less `cost` (a fixed overhead included in every sample).
+    pub fn less(self, cost: f64) -> Self {
+        Self {
+            median: self.median - cost,
+            p10: self.p10 - cost,
+            p90: self.p90 - cost,
+            count: self.count,
+        }
+    }
+
     /// The same figures multiplied by `factor` (a change of unit).
     pub fn scaled(self, factor: f64) -> Self {
         Self {
@@ -87,6 +97,13 @@ mod tests {
         let mut samples = vec![1.0; 20];
         samples.push(1e6);
         assert_eq!(Summary::of(&samples).unwrap().median, 1.0);
+    }
+
+    #[test]
+    fn an_overhead_is_taken_off_every_figure_but_not_the_count() {
+        let summary = Summary::of(&[1.0, 2.0, 3.0]).unwrap().less(0.5);
+        assert_eq!((summary.median, summary.p10, summary.p90), (1.5, 0.7, 2.3));
+        assert_eq!(summary.count, 3);
     }
 
     #[test]

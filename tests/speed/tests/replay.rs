@@ -61,10 +61,14 @@ fn the_controller_reproduces_the_recorded_commands_only_with_the_exchange_s_timi
 }
 
 #[test]
-fn step_only_batches_hold_the_command_and_cover_every_step() {
+fn step_only_batches_cover_every_step_and_keep_to_the_flight() {
+    // GIVEN a recorded flight and LanderPlant
     let record = short_flight();
     let plant = load("LanderPlant");
-    let means = plant_steps(&plant, &record, 95, 10).unwrap();
-    assert_eq!(means.len(), 10, "9 full batches and one of 5 steps");
+    // WHEN 95 steps are timed call by call in batches of 10
+    let (means, agreement) = plant_steps(&plant, &record, 95, 10).unwrap();
+    // THEN 9 full batches and one of 5, along the recorded flight
+    assert_eq!(means.len(), 10);
+    assert!(agreement.bit_identical);
     assert!(plant_steps(&plant, &record, 95, 0).is_err());
 }
