@@ -211,8 +211,14 @@ fn measure_all(fmu_dir: &Path, counts: Counts, workers: usize, with_python: bool
         1e6,
         "µs",
         format!("{} batches of {BATCH_STEPS} steps", gnc_means.len()),
-        "every phase of the flight (re-solve every 10th step of the descent); commands equal \
-         the closed loop's bit for bit",
+        format!(
+            "{}; commands equal the closed loop's bit for bit",
+            if counts.stop_time_s.is_none() {
+                "every phase of the flight (re-solve every 10th step of the descent)"
+            } else {
+                "the start of the flight only (hover, no re-solve)"
+            }
+        ),
     ));
 
     progress("3: the paper scenario in the harness");
@@ -286,6 +292,9 @@ fn measure_all(fmu_dir: &Path, counts: Counts, workers: usize, with_python: bool
          the start, {} at the end.\n",
         machine.cpu, machine.cores, load_before, load_after
     );
+    if counts.stop_time_s.is_some() {
+        println!("Quick mode: a short flight and tiny counts; nothing here is worth quoting.\n");
+    }
     print!("{}", table::markdown(&rows));
     if !with_python {
         println!("\nRows 5 and 6 (fmpy, pythonfmu) skipped: --no-python.");
