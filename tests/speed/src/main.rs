@@ -94,9 +94,11 @@ const FULL: Counts = Counts {
     replay_passes: 10,
     flights: 20,
     mc_runs: 1000,
-    fmpy_flights: 3,
+    fmpy_flights: 5,
     duel_ours_passes: 10,
-    duel_python_passes: 1,
+    // A pass of the Python plant takes seconds; three, interleaved with ours, keep one
+    // burst of load on a shared machine from setting the ratio.
+    duel_python_passes: 3,
 };
 
 const QUICK: Counts = Counts {
