@@ -4,11 +4,13 @@
 //! - Time: `t_k = start + k h` from an integer step counter, never accumulated, so every
 //!   communication point is exact to one rounding. The last step is shortened to land on the
 //!   stop time when `(stop - start) / h` is not an integer.
-//! - Ordering ([`Ordering`]): Gauss-Seidel (default) visits instances in declaration order,
-//!   setting each one's inputs from the freshest outputs and then reading its outputs, before
-//!   all step; with the controller declared first, the plant's command at `t_k` is computed
-//!   from the plant's state at `t_k` (no added delay). Jacobi reads outputs after the step,
-//!   so every connection carries one step of delay, as in fmpy's `simulate_ssp`.
+//! - Ordering ([`Ordering`]): every output is read after each step. Gauss-Seidel (default)
+//!   then visits instances in declaration order at the next communication point, setting each
+//!   one's inputs from the freshest outputs and reading its outputs again, before all step;
+//!   with the controller declared first, the plant's command over `[t_k, t_k+1]` is computed
+//!   from the plant's state at `t_k` (no added delay). Jacobi sets every input from the
+//!   outputs read after the previous step, so a direct-feedthrough controller's command lags
+//!   one step, as in fmpy's `simulate_ssp`.
 //! - Status: `fmi2Discard` with `fmi2Terminated` (touchdown) ends the run cleanly at
 //!   `fmi2LastSuccessfulTime`; `fmi2Error`/`fmi2Fatal` ends it with the FMU's log in the error.
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
@@ -429,10 +431,11 @@ impl Simulation {
                     }
                 }
             }
-            if ordering == Ordering::Jacobi {
-                for u in 0..self.units.len() {
-                    self.get_outputs(u)?;
-                }
+            // Both orderings read every output after the step: Jacobi exchanges exactly these
+            // at the next point; Gauss-Seidel refreshes them there in order, and without this
+            // read the first instance would see its sources as they were before they stepped.
+            for u in 0..self.units.len() {
+                self.get_outputs(u)?;
             }
         }
         for u in 0..self.units.len() {

@@ -8,7 +8,7 @@ bit-identical trajectories for the same FMU binaries:
   every output, then instance by instance in declaration order set its inputs from the
   freshest outputs and read its outputs, exitInitializationMode, read every output;
 - Gauss-Seidel at each communication point: instance by instance set inputs, read outputs;
-  record the row; then every instance steps from t_k to t_k + h_k;
+  record the row; then every instance steps from t_k to t_k + h_k and every output is read;
 - after the last step: set inputs and read outputs once more and record the row at the stop
   time.
 
@@ -133,6 +133,8 @@ def simulate(system: dict) -> tuple[list[str], list[float], list[list[float]]]:
         record(time)
         for unit in units:
             unit.fmu.doStep(currentCommunicationPoint=time, communicationStepSize=step)
+        for unit in units:
+            unit.get_outputs()
     for unit in units:
         unit.set_inputs()
         unit.get_outputs()

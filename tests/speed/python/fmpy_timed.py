@@ -69,6 +69,8 @@ def fly(system: dict) -> tuple[int, float, dict]:
         record(t)
         for unit in units:
             unit.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=step)
+        for unit in units:
+            unit.get_outputs()
     loop_seconds = time.perf_counter() - started
     for unit in units:
         unit.set_inputs()

@@ -107,12 +107,11 @@ impl PaperRecord {
 
     /// The navigation LanderGnc was given at step `k`.
     ///
-    /// In the harness's Gauss-Seidel exchange the controller comes first and reads the plant
-    /// outputs of the previous exchange, taken before the plant stepped: at `t_k` that is the
-    /// plant at `t_{k-1}` (at `t_0`, the initial state read during initialization). The
-    /// replay checks this bit for bit against the recorded commands.
+    /// In the harness's Gauss-Seidel exchange every output is read after the step and the
+    /// controller comes first: at `t_k` it reads the plant at `t_k`. The replay checks this bit
+    /// for bit against the recorded commands.
     pub fn gnc_inputs(&self, k: usize) -> &[f64; 14] {
-        &self.navigation[k.saturating_sub(1)]
+        &self.navigation[k]
     }
 }
 
