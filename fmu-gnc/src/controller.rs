@@ -69,6 +69,37 @@ pub struct GncOutputs {
     pub time_to_go_s: f64,
 }
 
+impl GncOutputs {
+    /// Replaces every non-finite value by 0 and says whether there was one. Validated
+    /// parameters never produce one; this is for outputs read in initialization mode, before
+    /// `fmi2ExitInitializationMode` has checked the parameters (a master may set an absurd
+    /// bandwidth and read the outputs first): never NaN out of the FMU.
+    pub fn zero_non_finite(&mut self) -> bool {
+        let mut found = false;
+        let mut fix = |x: &mut f64| {
+            if !x.is_finite() {
+                *x = 0.0;
+                found = true;
+            }
+        };
+        fix(&mut self.thrust_cmd_n);
+        self.torque_cmd_body_nm.iter_mut().for_each(&mut fix);
+        self.a_cmd_nue_mps2.iter_mut().for_each(&mut fix);
+        self.q_ref.iter_mut().for_each(&mut fix);
+        for x in [
+            &mut self.phi_b_rad,
+            &mut self.err_roll_rad,
+            &mut self.err_yaw_rad,
+            &mut self.err_pitch_rad,
+            &mut self.tilt_error_rad,
+            &mut self.time_to_go_s,
+        ] {
+            fix(x);
+        }
+        found
+    }
+}
+
 /// Why a sample's navigation inputs cannot be used (INTERFACE "Degenerate first inputs").
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum DegenerateInput {
@@ -252,5 +283,33 @@ mod tests {
         let at = gnc_sample(&params, 0.0, &initial(), &nav, 11.999999999999789);
         assert!((at.outputs.q_ref[2] - 0.5_f64.sin()).abs() < 1e-15);
         assert!((at.outputs.err_roll_rad + 1.0).abs() < 1e-15);
+    }
+}
+
+#[cfg(test)]
+mod non_finite_tests {
+    use super::GncOutputs;
+
+    #[test]
+    fn non_finite_outputs_are_zeroed_and_reported() {
+        let mut outputs = GncOutputs {
+            thrust_cmd_n: 1000.0,
+            torque_cmd_body_nm: [1.0, f64::NAN, 2.0],
+            a_cmd_nue_mps2: [0.0, f64::INFINITY, 0.0],
+            q_ref: [1.0, 0.0, 0.0, 0.0],
+            phi_b_rad: 0.1,
+            err_roll_rad: 0.0,
+            err_yaw_rad: 0.0,
+            err_pitch_rad: 0.0,
+            tilt_error_rad: f64::NEG_INFINITY,
+            guidance_phase: 1,
+            time_to_go_s: 0.0,
+        };
+        assert!(outputs.zero_non_finite());
+        assert_eq!(outputs.torque_cmd_body_nm, [1.0, 0.0, 2.0]);
+        assert_eq!(outputs.a_cmd_nue_mps2, [0.0, 0.0, 0.0]);
+        assert_eq!(outputs.tilt_error_rad, 0.0);
+        assert_eq!(outputs.thrust_cmd_n, 1000.0);
+        assert!(!outputs.zero_non_finite(), "a finite set is left alone");
     }
 }

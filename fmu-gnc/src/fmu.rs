@@ -136,6 +136,12 @@ fn publish(sample: &Sample, time_s: f64, outputs: &mut GncOutputs, log: &mut Log
         log.warning(format!("t = {time_s} s: {why}"));
     }
     *outputs = sample.outputs;
+    if outputs.zero_non_finite() {
+        log.warning(format!(
+            "t = {time_s} s: the parameters give non-finite outputs (shown as 0); \
+             fmi2ExitInitializationMode will name the parameter"
+        ));
+    }
 }
 
 impl Model for LanderGnc {
