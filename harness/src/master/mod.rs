@@ -4,9 +4,10 @@
 //! - Time: `t_k = start + k h` from an integer step counter, never accumulated, so every
 //!   communication point is exact to one rounding. The last step is shortened to land on the
 //!   stop time when `(stop - start) / h` is not an integer.
-//! - Ordering ([`Ordering`]): every output is read after each step. Gauss-Seidel (default)
-//!   then visits instances in declaration order at the next communication point, setting each
-//!   one's inputs from the freshest outputs and reading its outputs again, before all step;
+//! - Ordering ([`Ordering`]): Gauss-Seidel (default) visits instances in declaration order at
+//!   each communication point, setting each one's inputs from the freshest outputs (those an
+//!   earlier instance consumes are read right after the step) and reading its outputs, before
+//!   all step;
 //!   with the controller declared first, the plant's command over `[t_k, t_k+1]` is computed
 //!   from the plant's state at `t_k` (no added delay). Jacobi sets every input from the
 //!   outputs read after the previous step, so a direct-feedthrough controller's command lags
@@ -177,6 +178,8 @@ pub struct Simulation {
     connection_names: Vec<(String, String)>,
     connectors: Vec<crate::system::ssp::ConnectorDecl>,
     row: Vec<f64>,
+    /// Per unit: some instance earlier in the order consumes its outputs (Gauss-Seidel).
+    read_after_step: Vec<bool>,
     fresh: bool,
     conventions: Conventions,
 }
@@ -284,6 +287,12 @@ impl Simulation {
             }
         }
         let row = vec![0.0; columns.len()];
+        let mut read_after_step = vec![false; units.len()];
+        for link in &links {
+            if link.to_unit < link.from_unit {
+                read_after_step[link.from_unit] = true;
+            }
+        }
         Ok(Self {
             system,
             fmus,
@@ -294,6 +303,7 @@ impl Simulation {
             connection_names,
             connectors,
             row,
+            read_after_step,
             fresh: true,
             conventions: Conventions::default(),
         })
@@ -431,11 +441,16 @@ impl Simulation {
                     }
                 }
             }
-            // Both orderings read every output after the step: Jacobi exchanges exactly these
-            // at the next point; Gauss-Seidel refreshes them there in order, and without this
-            // read the first instance would see its sources as they were before they stepped.
+            // Jacobi exchanges exactly the outputs read after the step. Gauss-Seidel reads each
+            // instance's outputs again in its turn at the next point, so after the step it only
+            // needs those an earlier instance consumes (the plant's, for a controller declared
+            // first); without them that instance would see its sources as they were before
+            // they stepped. Reading a direct-feedthrough controller here as well would cost a
+            // whole evaluation at stale inputs for nothing.
             for u in 0..self.units.len() {
-                self.get_outputs(u)?;
+                if ordering == Ordering::Jacobi || self.read_after_step[u] {
+                    self.get_outputs(u)?;
+                }
             }
         }
         for u in 0..self.units.len() {
