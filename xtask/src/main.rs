@@ -10,6 +10,7 @@ mod fmu_zip;
 mod fmus;
 mod python_env;
 mod ssp;
+mod system_packages;
 mod test;
 mod workspace;
 

@@ -1,6 +1,6 @@
 //! `cargo xtask test`: every check, in order, stopping at the first failure.
 use crate::workspace::{self, Workspace};
-use crate::{fmus, python_env};
+use crate::{fmus, python_env, system_packages};
 use anyhow::Result;
 use std::time::{Duration, Instant};
 
@@ -9,7 +9,12 @@ struct Stage {
     run: fn(&Workspace) -> Result<()>,
 }
 
-const STAGES: [Stage; 5] = [
+const STAGES: [Stage; 6] = [
+    // First: a missing C library otherwise fails deep inside a build script.
+    Stage {
+        name: "system packages",
+        run: |_| system_packages::ensure(&system_packages::for_test()),
+    },
     Stage {
         name: "rustfmt",
         run: |ws| workspace::run(ws.cargo().args(["fmt", "--all", "--", "--check"])),
