@@ -39,6 +39,19 @@ pub struct InstanceDesc {
     pub fmu: PathBuf,
     /// Parameter and start values, applied in this order before initialization.
     pub parameters: Vec<(String, ParamValue)>,
+    /// The connectors an SSD declares for the component (`None` when the format has none,
+    /// as TOML): connections must use them, and they must match the FMU's variables.
+    pub connectors: Option<Vec<DeclaredConnector>>,
+}
+
+/// A connector as an SSD declares it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DeclaredConnector {
+    pub name: String,
+    /// SSP kind: `input`, `output`, `parameter`, `calculatedParameter`, `inout`.
+    pub kind: String,
+    /// `Real`, `Integer`, `Boolean`, `String`, `Enumeration` or `Binary`, when given.
+    pub type_name: Option<String>,
 }
 
 /// `from` and `to` are `instance.variable`; a variable may name a whole vector (`r_nue` for
@@ -61,6 +74,20 @@ pub struct SystemDescription {
     pub connections: Vec<Connection>,
     /// Columns to record (`instance.variable`, vectors allowed); `None` = every output.
     pub record: Option<Vec<String>>,
+    /// Keeps an unpacked `.ssp` on disk as long as the description refers to its FMUs.
+    pub package: Option<PackageDir>,
+}
+
+/// The temporary directory an `.ssp` archive was unpacked into; removed when the last
+/// description (or clone) that refers to it is dropped. Equal to every other: where a
+/// package was unpacked is not part of what a system is.
+#[derive(Debug, Clone)]
+pub struct PackageDir(pub std::sync::Arc<tempfile::TempDir>);
+
+impl PartialEq for PackageDir {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// A malformed system description; every variant names what is wrong and where.

@@ -72,6 +72,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             name: instance.name,
             fmu: instance.fmu.into(),
             parameters,
+            connectors: None,
         });
     }
     let system = SystemDescription {
@@ -90,6 +91,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             })
             .collect(),
         record: file.record,
+        package: None,
     };
     system.validate()?;
     Ok(system)
