@@ -106,59 +106,64 @@ pub enum SystemError {
 }
 
 impl SystemDescription {
-    /// Checks that do not need the FMUs: times, names, connection syntax.
+    /// Checks that do not need the FMUs: times, names, connection syntax. Every problem is
+    /// reported, in one error.
     pub fn validate(&self) -> Result<(), SystemError> {
-        let invalid = |message: String| SystemError::Invalid {
-            system: self.name.clone(),
-            message,
-        };
+        let mut problems = Vec::new();
         if !(self.step_size.is_finite() && self.step_size > 0.0) {
-            return Err(invalid(format!(
+            problems.push(format!(
                 "step_size must be a positive number, got {}",
                 self.step_size
-            )));
+            ));
         }
         if !(self.start_time.is_finite()
             && self.stop_time.is_finite()
             && self.stop_time > self.start_time)
         {
-            return Err(invalid(format!(
+            problems.push(format!(
                 "stop_time ({}) must be after start_time ({})",
                 self.stop_time, self.start_time
-            )));
+            ));
         }
         if self.instances.is_empty() {
-            return Err(invalid("no instances".into()));
+            problems.push("no instances".into());
         }
         for (i, instance) in self.instances.iter().enumerate() {
             if instance.name.is_empty() || instance.name.contains('.') {
-                return Err(invalid(format!(
+                problems.push(format!(
                     "instance name '{}' must be non-empty and contain no '.'",
                     instance.name
-                )));
+                ));
             }
             if self.instances[..i].iter().any(|o| o.name == instance.name) {
-                return Err(invalid(format!(
-                    "instance '{}' declared twice",
-                    instance.name
-                )));
+                problems.push(format!("instance '{}' declared twice", instance.name));
             }
         }
         for connection in &self.connections {
             for end in [&connection.from, &connection.to] {
-                let (instance, _) = split_path(end).ok_or_else(|| {
-                    invalid(format!(
+                let Some((instance, _)) = split_path(end) else {
+                    problems.push(format!(
                         "connection end '{end}' is not of the form instance.variable"
-                    ))
-                })?;
+                    ));
+                    continue;
+                };
                 if !self.instances.iter().any(|i| i.name == instance) {
-                    return Err(invalid(format!(
-                        "connection end '{end}' names unknown instance '{instance}'"
-                    )));
+                    let names = self.instances.iter().map(|i| i.name.as_str());
+                    problems.push(format!(
+                        "connection end '{end}' names unknown instance '{instance}'{}",
+                        crate::master::suggest::hint(instance, names)
+                    ));
                 }
             }
         }
-        Ok(())
+        if problems.is_empty() {
+            Ok(())
+        } else {
+            Err(SystemError::Invalid {
+                system: self.name.clone(),
+                message: problems.join("\n  "),
+            })
+        }
     }
 
     pub fn instance(&self, name: &str) -> Option<&InstanceDesc> {

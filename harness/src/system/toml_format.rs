@@ -153,6 +153,23 @@ mod tests {
     }
 
     #[test]
+    fn every_invalid_connection_end_and_time_is_reported_at_once() {
+        let text = SAMPLE
+            .replace("b.u", "bb.u")
+            .replace("a.y", "ay")
+            .replace("stop_time = 2.0", "stop_time = -1.0");
+        let error = parse(&text, Path::new("demo.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("'ay' is not of the form"), "{error}");
+        assert!(
+            error.contains("unknown instance 'bb' (did you mean 'b'?)"),
+            "{error}"
+        );
+        assert!(error.contains("stop_time (-1)"), "{error}");
+    }
+
+    #[test]
     fn an_unknown_key_is_a_syntax_error_naming_the_file() {
         let text = SAMPLE.replace("stop_time", "stop_tme");
         let error = parse(&text, Path::new("demo.toml"))
