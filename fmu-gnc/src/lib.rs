@@ -1,6 +1,6 @@
 //! LanderGnc: guidance and attitude control of a lunar lander after Rallapalli et al.,
 //! "Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3 Lunar Landing
-//! Mission", with the corrections of `shared/paper/ERRATA.md`, as an FMI 2.0 co-simulation FMU.
+//! Mission", with the corrections of `docs/paper-notes.md`, as an FMI 2.0 co-simulation FMU.
 //!
 //! * [`conventions`]: frames, axes, the scalar-first quaternion and its nalgebra boundary.
 //! * [`guidance`]: cubic-polynomial descent, PV hover, the phase sequencer, thrust magnitude.

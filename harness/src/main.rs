@@ -1,7 +1,7 @@
 //! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals).
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use harness::master::{RunEnd, Simulation, Trajectory};
+use harness::master::{MasterError, RunEnd, Simulation, Trajectory};
 use harness::scenarios::{self, Law};
 use harness::system::{split_path, ParamValue};
 use std::path::PathBuf;
@@ -29,11 +29,14 @@ struct Cli {
     command: Command,
 }
 
+// Every subcommand takes negative numbers as option values (`--phi-cmd-deg -30`), not only
+// in the `--phi-cmd-deg=-30` form.
 #[derive(Subcommand)]
 enum Command {
-    /// Run one scenario (built-in name, .toml or .ssd) and write its results as CSV.
+    /// Run one scenario (built-in name, .toml, .ssd or .ssp package) and write its results as CSV.
+    #[command(allow_negative_numbers = true)]
     Run {
-        /// paper, upright, descent-roll, or a path to a .toml/.ssd scenario.
+        /// paper, upright, descent-roll, or a path to a .toml/.ssd scenario or .ssp package.
         scenario: String,
         /// CSV output (header: time, instance.variable...).
         #[arg(long, short, default_value = "target/harness/run.csv")]
@@ -49,6 +52,7 @@ enum Command {
         ordering: Option<OrderingArg>,
     },
     /// Fly a scenario with the coupled, decoupled and reduced laws: table, CSVs and plots.
+    #[command(allow_negative_numbers = true)]
     Paper {
         /// Scenario (default: the paper's).
         #[arg(default_value = "paper")]
@@ -65,6 +69,7 @@ enum Command {
     /// and the paper's Monte Carlo figure.
     #[command(
         name = "monte-carlo",
+        allow_negative_numbers = true,
         long_about = "Flies the scenario for every phi_cmd of the grid, every law and --runs \
                       dispersed runs (initial position, velocity, attitude, body rates, mass, \
                       plant inertia, thrust misalignment; ranges below).\n\
@@ -76,10 +81,11 @@ enum Command {
     )]
     MonteCarlo(harness::montecarlo::cli::MonteCarloArgs),
     /// Merge `monte-carlo --shard k/N` directories, checking for duplicate and missing flights.
-    #[command(name = "merge-mc")]
+    #[command(name = "merge-mc", allow_negative_numbers = true)]
     MergeMc(harness::montecarlo::cli::MergeArgs),
     /// Re-fly one Monte Carlo flight from its seed (or a manifest row) and write its full
     /// trajectory; from a manifest, check its metrics bit for bit.
+    #[command(allow_negative_numbers = true)]
     Replay(harness::montecarlo::cli::ReplayArgs),
 }
 
@@ -107,8 +113,37 @@ fn parse_set(text: &str) -> anyhow::Result<(String, String, ParamValue)> {
     Ok((instance.to_owned(), variable.to_owned(), value))
 }
 
+/// Passes records on to env_logger, except the FMU errors: each one comes back in the error
+/// that ends the run, with the FMU's log, and printing it here too showed it twice.
+struct Logger(env_logger::Logger);
+
+impl log::Log for Logger {
+    fn enabled(&self, metadata: &log::Metadata) -> bool {
+        self.0.enabled(metadata)
+    }
+    fn log(&self, record: &log::Record) {
+        let carried_by_the_error =
+            record.target() == "harness::fmu" && record.level() == log::Level::Error;
+        if !carried_by_the_error {
+            self.0.log(record);
+        }
+    }
+    fn flush(&self) {
+        self.0.flush();
+    }
+}
+
+fn init_logging() {
+    let logger =
+        env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).build();
+    let max_level = logger.filter();
+    if log::set_boxed_logger(Box::new(Logger(logger))).is_ok() {
+        log::set_max_level(max_level);
+    }
+}
+
 fn main() -> anyhow::Result<()> {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    init_logging();
     let cli = Cli::parse();
     match cli.command {
         Command::Run {
@@ -119,13 +154,24 @@ fn main() -> anyhow::Result<()> {
             ordering,
         } => {
             let mut system = scenarios::load(&scenario)?;
+            // Every bad --set at once; names and types are checked against the FMUs when the
+            // simulation is built, with the rest of the scenario.
+            let mut problems = Vec::new();
             for set in &sets {
-                let (instance, variable, value) = parse_set(set)?;
-                anyhow::ensure!(
-                    system.set_parameter(&instance, &variable, value),
-                    "--set {set}: no instance '{instance}'"
-                );
+                match parse_set(set) {
+                    Ok((instance, variable, value)) => {
+                        if !system.set_parameter(&instance, &variable, value) {
+                            let names = system.instances.iter().map(|i| i.name.as_str());
+                            problems.push(format!(
+                                "--set {set}: no instance '{instance}'{}",
+                                harness::master::suggest::hint(&instance, names)
+                            ));
+                        }
+                    }
+                    Err(error) => problems.push(error.to_string()),
+                }
             }
+
             if !record.is_empty() {
                 system.record = Some(record);
             }
@@ -136,7 +182,14 @@ fn main() -> anyhow::Result<()> {
                 Some(OrderingArg::Jacobi) => system.ordering = harness::system::Ordering::Jacobi,
                 None => {}
             }
-            let mut simulation = Simulation::new(system, &cli.fmu_dir)?;
+            let simulation = Simulation::new(system, &cli.fmu_dir);
+            if !problems.is_empty() {
+                if let Err(MasterError::Resolve { problems: more, .. }) = &simulation {
+                    problems.extend(more.iter().cloned());
+                }
+                anyhow::bail!("{}", problems.join("\n"));
+            }
+            let mut simulation = simulation?;
             let mut trajectory = Trajectory {
                 names: simulation.column_names().to_vec(),
                 ..Default::default()
@@ -184,4 +237,35 @@ fn main() -> anyhow::Result<()> {
         Command::Replay(args) => harness::montecarlo::cli::replay(&args, &cli.fmu_dir)?,
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn negative_option_values_need_no_equals_sign() {
+        let cli = Cli::try_parse_from([
+            "harness",
+            "replay",
+            "--seed",
+            "1",
+            "--run",
+            "2",
+            "--phi-cmd-deg",
+            "-30",
+        ])
+        .unwrap_or_else(|e| panic!("{e}"));
+        let Command::Replay(args) = cli.command else {
+            panic!("not replay")
+        };
+        assert_eq!(args.phi_cmd_deg, -30.0);
+        let cli =
+            Cli::try_parse_from(["harness", "monte-carlo", "--phi-cmd-deg", "-30", "-n", "1"])
+                .unwrap_or_else(|e| panic!("{e}"));
+        let Command::MonteCarlo(args) = cli.command else {
+            panic!("not monte-carlo")
+        };
+        assert_eq!(args.campaign.phi_cmd_deg, [-30.0]);
+    }
 }

@@ -1,7 +1,7 @@
-//! The shipped scenarios (issue 5) and how a scenario argument is resolved: a built-in name,
-//! a TOML file or an SSP `.ssd`.
+//! The shipped scenarios and how a scenario argument is resolved: a built-in name,
+//! a TOML file, an SSP `.ssd` or an `.ssp` package.
 use crate::master::{MasterError, Simulation};
-use crate::system::{ssp, toml_format, ParamValue, SystemDescription, SystemError};
+use crate::system::{ssp, toml_format, PackageDir, ParamValue, SystemDescription, SystemError};
 use std::path::Path;
 
 /// Built-in scenarios: name, TOML text (the same files as `harness/scenarios/*.toml`).
@@ -17,32 +17,82 @@ pub const BUILT_IN: &[(&str, &str)] = &[
 /// The terminal hover target of the shipped timeline (LanderGnc's default descent target).
 pub const TERMINAL_TARGET_NUE: [f64; 3] = [0.0, 150.0, 0.0];
 
-/// A built-in scenario by name, or a `.toml`/`.ssd` file.
+/// A built-in scenario by name, a `.toml` or `.ssd` file, or an `.ssp` package.
 ///
 /// An SSD's component sources are relative to the SSD (`resources/X.fmu` in an SSP); where that
-/// file exists it is used, otherwise the bare file name is looked up in the master's FMU
-/// directory, so the shipped `harness/scenarios/paper.ssd` runs against `target/fmu`.
+/// file exists it is used (as an absolute path, so the scenario runs from any directory),
+/// otherwise the bare file name is looked up in the master's FMU directory, so the shipped
+/// `harness/scenarios/paper.ssd` runs against `target/fmu`. An `.ssp` is unpacked into a
+/// temporary directory that lives as long as the returned description.
 pub fn load(name_or_path: &str) -> Result<SystemDescription, SystemError> {
     if let Some((name, text)) = BUILT_IN.iter().find(|(name, _)| *name == name_or_path) {
         return toml_format::parse(text, Path::new(&format!("<built-in scenario {name}>")));
     }
     let path = Path::new(name_or_path);
     match path.extension().and_then(|e| e.to_str()) {
-        Some("ssd") => {
-            let mut system = ssp::read(path)?;
-            let base = path.parent().unwrap_or(Path::new("."));
-            for instance in &mut system.instances {
-                let beside = base.join(&instance.fmu);
-                instance.fmu = if beside.is_file() {
-                    beside
-                } else {
-                    instance.fmu.file_name().map(Into::into).unwrap_or_default()
-                };
-            }
-            Ok(system)
-        }
+        Some("ssd") => read_ssd(path),
+        Some("ssp") => read_package(path),
         _ => toml_format::read(path),
     }
+}
+
+fn read_ssd(path: &Path) -> Result<SystemDescription, SystemError> {
+    let mut system = ssp::read(path)?;
+    let absolute = std::path::absolute(path).map_err(|source| SystemError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let base = absolute.parent().unwrap_or(Path::new("/"));
+    for instance in &mut system.instances {
+        let beside = base.join(&instance.fmu);
+        instance.fmu = if beside.is_file() {
+            beside
+        } else {
+            instance.fmu.file_name().map(Into::into).unwrap_or_default()
+        };
+    }
+    Ok(system)
+}
+
+/// The SSD file an SSP package must hold at its top level (SSP 1.0, section 3).
+const PACKAGE_SSD: &str = "SystemStructure.ssd";
+
+fn read_package(path: &Path) -> Result<SystemDescription, SystemError> {
+    let io = |source| SystemError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let syntax = |message: String| SystemError::Syntax {
+        path: path.to_owned(),
+        message,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let mut archive = zip::ZipArchive::new(file)
+        .map_err(|e| syntax(format!("not an SSP package (a zip archive): {e}")))?;
+    if archive.index_for_name(PACKAGE_SSD).is_none() {
+        return Err(syntax(format!(
+            "the package has no {PACKAGE_SSD} at its top level"
+        )));
+    }
+    let dir = tempfile::Builder::new()
+        .prefix("harness-ssp-")
+        .tempdir()
+        .map_err(io)?;
+    archive
+        .extract(dir.path())
+        .map_err(|e| syntax(format!("cannot unpack: {e}")))?;
+    let mut system = read_ssd(&dir.path().join(PACKAGE_SSD))?;
+    for instance in &system.instances {
+        if !instance.fmu.is_absolute() {
+            return Err(syntax(format!(
+                "component '{}': the package holds no {}",
+                instance.name,
+                Path::new("resources").join(&instance.fmu).display()
+            )));
+        }
+    }
+    system.package = Some(PackageDir(std::sync::Arc::new(dir)));
+    Ok(system)
 }
 
 /// The SSP `SystemStructure.ssd` of a scenario: its connections expanded to scalars and

@@ -1,7 +1,15 @@
-//! `documentation/index.html`, rendered from the model description so that the page and
-//! the FMU's interface can never disagree.
+//! `documentation/index.html`: the repository's prose on the signal contract and on the paper
+//! (`docs/interface.md`, `docs/paper-notes.md`, compiled in), then the interface rendered from
+//! the model description, so that the variable table and the FMU can never disagree. An FMU
+//! handed on alone still carries how to wire it and what it implements.
 use model_description::{Causality, ModelDescription, ScalarVariable, StartValue, Variability};
 use std::fmt::Write;
+
+/// The prose every FMU's page carries: (anchor, Markdown), in reading order.
+const PROSE: [(&str, &str); 2] = [
+    ("interface", include_str!("../../docs/interface.md")),
+    ("paper-notes", include_str!("../../docs/paper-notes.md")),
+];
 
 /// The order in which a user reads an FMU's interface: what they set, then what they get.
 const CAUSALITY_ORDER: [Causality; 6] = [
@@ -30,10 +38,52 @@ pub fn render(md: &ModelDescription) -> String {
         let _ = writeln!(html, "<p>{}</p>", escape(description));
     }
     render_facts(&mut html, md);
+    html.push_str(
+        "<p>Contents: <a href=\"#interface\">signal contract</a>, \
+         <a href=\"#paper-notes\">the paper as implemented</a>, \
+         <a href=\"#variables\">variables</a>.</p>\n",
+    );
+    for (anchor, markdown) in PROSE {
+        render_markdown(&mut html, anchor, markdown);
+    }
     render_enumerations(&mut html, md);
     render_variables(&mut html, md);
     html.push_str("</body>\n</html>\n");
     html
+}
+
+/// One Markdown document as a section. Links between the docs become links within the page;
+/// links to repository files, which the FMU does not contain, stay as text.
+fn render_markdown(html: &mut String, anchor: &str, markdown: &str) {
+    use pulldown_cmark::{Event, Options, Parser, Tag, TagEnd};
+    let mut in_foreign_link = false;
+    let events =
+        Parser::new_ext(markdown, Options::ENABLE_TABLES).filter_map(|event| match event {
+            Event::Start(Tag::Link { dest_url, .. }) => {
+                let local = PROSE
+                    .iter()
+                    .map(|(a, _)| *a)
+                    .find(|a| dest_url.as_ref() == format!("{a}.md"));
+                match local {
+                    Some(a) => Some(Event::Html(format!("<a href=\"#{a}\">").into())),
+                    None => {
+                        in_foreign_link = true;
+                        None
+                    }
+                }
+            }
+            Event::End(TagEnd::Link) if in_foreign_link => {
+                in_foreign_link = false;
+                None
+            }
+            Event::End(TagEnd::Link) => Some(Event::Html("</a>".into())),
+            // Raw HTML in the docs is not ours to pass into the page.
+            Event::Html(text) | Event::InlineHtml(text) => Some(Event::Text(text)),
+            other => Some(other),
+        });
+    let _ = writeln!(html, "<section id=\"{anchor}\">");
+    pulldown_cmark::html::push_html(html, events);
+    html.push_str("</section>\n");
 }
 
 fn render_facts(html: &mut String, md: &ModelDescription) {
@@ -100,7 +150,7 @@ fn render_enumerations(html: &mut String, md: &ModelDescription) {
 
 fn render_variables(html: &mut String, md: &ModelDescription) {
     html.push_str(
-        "<h2>Variables</h2>\n<table>\n<tr><th>name</th><th>causality</th><th>variability</th>\
+        "<h2 id=\"variables\">Variables</h2>\n<table>\n<tr><th>name</th><th>causality</th><th>variability</th>\
          <th>type</th><th>start</th><th>unit</th><th>description</th></tr>\n",
     );
     let variables = &md.model_variables.variables;
@@ -204,6 +254,29 @@ mod tests {
 
     fn page() -> String {
         render(&ModelDescription::from_xml(XML).unwrap())
+    }
+
+    #[test]
+    fn the_page_carries_the_docs_prose_with_links_kept_inside_the_page() {
+        let html = page();
+        assert!(html.contains("<section id=\"interface\">"), "{html}");
+        assert!(html.contains("<section id=\"paper-notes\">"), "{html}");
+        // Headings, a table and a sentence of each document, rendered.
+        assert!(
+            html.contains("<h1>Wiring LanderGnc and LanderPlant"),
+            "{html}"
+        );
+        assert!(html.contains("<h1>The paper as implemented</h1>"), "{html}");
+        assert!(html.contains("<th>LanderGnc parameter</th>"), "{html}");
+        assert!(html.contains("scalar first"), "{html}");
+        assert!(
+            html.contains("<code>phi_b_of_q_phi_is_phi</code>"),
+            "{html}"
+        );
+        // A link from one document to the other points into the page, never to a file.
+        assert!(html.contains("<a href=\"#interface\">"), "{html}");
+        assert!(!html.contains("href=\"interface.md\""), "{html}");
+        assert!(!html.contains("ERRATA.md") && !html.contains("INTERFACE.md"));
     }
 
     #[test]

@@ -53,6 +53,10 @@ const TEST: &[Package] = &[
         name: "binutils",
         why: "nm (exported-symbol check) and strip (library size)",
     },
+    Package {
+        name: "libtbb12",
+        why: "Ecos (ecospy's libecosc.so links libtbb.so.12) for the SSP interop test",
+    },
 ];
 
 /// Needed only when the system Python cannot make a venv by itself (Debian splits

@@ -8,6 +8,7 @@
 //! | harness (default)      | either   | `Exchanged`    | `StepCounter` | yes                |
 //! | fmpy `simulate_ssp`    | Jacobi   | `Zero`         | `Accumulated` | no                 |
 //! | libcosim fixed step    | Jacobi   | `Exchanged`    | `Nanoseconds` | yes                |
+//! | Ecos fixed step        | Jacobi   | `Exchanged`    | `Accumulated` | no                 |
 
 /// A run's conventions; `Default` is the harness's own.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,6 +43,15 @@ impl Conventions {
         initial_inputs: InitialInputs::Exchanged,
         time_grid: TimeGrid::Nanoseconds,
         stop_time_declared: true,
+    };
+    /// Ecos's `fixed_step_algorithm` (with [`crate::system::Ordering::Jacobi`]): it exchanges
+    /// in initialization mode as libcosim does, but keeps time as a running sum of the step
+    /// (`step_until` steps while the sum is below the stop time), and knows no stop time
+    /// when it initializes the FMUs.
+    pub const ECOS: Self = Self {
+        initial_inputs: InitialInputs::Exchanged,
+        time_grid: TimeGrid::Accumulated,
+        stop_time_declared: false,
     };
 }
 

@@ -17,7 +17,9 @@
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
 mod conventions;
+mod loops;
 mod resolve;
+pub mod suggest;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use resolve::Port;
@@ -35,6 +37,17 @@ pub enum MasterError {
         path: PathBuf,
         #[source]
         source: Box<crate::loader::LoadError>,
+    },
+    #[error(
+        "FMU file(s) not found:\n  {}\nRelative FMU paths are looked up in the FMU directory, \
+         {}: set it with --fmu-dir or the LANDER_FMU_DIR environment variable (`cargo xtask \
+         fmus` builds ours into target/fmu).",
+        missing.join("\n  "),
+        fmu_dir.display()
+    )]
+    MissingFmus {
+        fmu_dir: PathBuf,
+        missing: Vec<String>,
     },
     #[error("system '{system}' does not match its FMUs:\n  {}", problems.join("\n  "))]
     Resolve {
@@ -196,6 +209,19 @@ pub fn fmu_path(fmu_dir: &Path, fmu: &Path) -> PathBuf {
 impl Simulation {
     /// Loads every FMU (relative paths against `fmu_dir`), instantiates, and resolves all names.
     pub fn new(system: SystemDescription, fmu_dir: &Path) -> Result<Self, MasterError> {
+        let missing: Vec<String> = system
+            .instances
+            .iter()
+            .map(|i| (i, fmu_path(fmu_dir, &i.fmu)))
+            .filter(|(_, path)| !path.exists())
+            .map(|(i, path)| format!("instance '{}': {}", i.name, path.display()))
+            .collect();
+        if !missing.is_empty() {
+            return Err(MasterError::MissingFmus {
+                fmu_dir: fmu_dir.to_owned(),
+                missing,
+            });
+        }
         let mut fmus = Vec::with_capacity(system.instances.len());
         for instance in &system.instances {
             let path = fmu_path(fmu_dir, &instance.fmu);
@@ -212,15 +238,25 @@ impl Simulation {
     /// As [`Simulation::new`], with FMUs already loaded (one per instance, in order).
     pub fn from_fmus(system: SystemDescription, fmus: Vec<Fmu>) -> Result<Self, MasterError> {
         let mut problems = Vec::new();
+        resolve::declared_connectors(&system, &fmus, &mut problems);
         let pairs = resolve::connections(&system, &fmus, &mut problems);
         let recorded = resolve::columns(&system, &fmus, &mut problems);
+        let path = |p: &Port| format!("{}.{}", system.instances[p.instance].name, p.name);
+        let connection_names: Vec<(String, String)> =
+            pairs.iter().map(|(s, d)| (path(s), path(d))).collect();
         for (i, instance) in system.instances.iter().enumerate() {
-            for (name, _) in &instance.parameters {
-                if let Err(error) = fmus[i].variable(name) {
-                    problems.push(format!("instance '{}': parameter {error}", instance.name));
-                }
+            for (name, value) in &instance.parameters {
+                problems.extend(resolve::parameter_problem(
+                    &system,
+                    &fmus,
+                    &connection_names,
+                    i,
+                    name,
+                    value,
+                ));
             }
         }
+        resolve::algebraic_loop(&system, &fmus, &pairs, &mut problems);
         if !problems.is_empty() {
             return Err(MasterError::Resolve {
                 system: system.name.clone(),
@@ -265,8 +301,6 @@ impl Simulation {
                 system.instances[port.instance].name, port.name
             ));
         }
-        let path = |p: &Port| format!("{}.{}", system.instances[p.instance].name, p.name);
-        let connection_names = pairs.iter().map(|(s, d)| (path(s), path(d))).collect();
         let mut connectors: Vec<crate::system::ssp::ConnectorDecl> = Vec::new();
         for (port, kind) in pairs
             .iter()
@@ -313,7 +347,8 @@ impl Simulation {
         &self.system
     }
 
-    /// Sets (or overrides) a parameter for the following runs; the name is checked now.
+    /// Sets (or overrides) a parameter for the following runs; name, type and that it is not
+    /// a connected input are checked now.
     pub fn set_parameter(
         &mut self,
         instance: &str,
@@ -329,10 +364,23 @@ impl Simulation {
             .instances
             .iter()
             .position(|i| i.name == instance)
-            .ok_or_else(|| resolve(format!("no instance named '{instance}'")))?;
-        self.fmus[index]
-            .variable(variable)
-            .map_err(|e| resolve(format!("instance '{instance}': parameter {e}")))?;
+            .ok_or_else(|| {
+                let names = self.system.instances.iter().map(|i| i.name.as_str());
+                resolve(format!(
+                    "no instance named '{instance}'{}",
+                    suggest::hint(instance, names)
+                ))
+            })?;
+        if let Some(problem) = resolve::parameter_problem(
+            &self.system,
+            &self.fmus,
+            &self.connection_names,
+            index,
+            variable,
+            &value,
+        ) {
+            return Err(resolve(problem));
+        }
         self.system.set_parameter(instance, variable, value);
         Ok(())
     }

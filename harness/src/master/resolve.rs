@@ -1,8 +1,10 @@
 //! Resolving a system against its FMUs before anything runs: vector shorthands expanded,
 //! every name looked up, every connection type-checked. All problems are reported together,
 //! with the names, so a user fixes a scenario in one pass.
+use super::loops::{self, Edge, Feedthrough};
+use super::suggest;
 use crate::loader::{Fmu, VariableKind};
-use crate::system::{split_path, SystemDescription};
+use crate::system::{split_path, ParamValue, SystemDescription};
 use model_description::Causality;
 
 /// A scalar variable of an instance, by value reference and exchange type.
@@ -51,15 +53,22 @@ pub fn ports(
         .iter()
         .position(|i| i.name == instance_name)
     else {
-        problems.push(format!("'{path}': no instance named '{instance_name}'"));
+        problems.push(format!(
+            "'{path}': no instance named '{instance_name}'{}",
+            suggest::hint(
+                instance_name,
+                system.instances.iter().map(|i| i.name.as_str())
+            )
+        ));
         return vec![];
     };
     let fmu = &fmus[instance];
     let names = expand(fmu, variable);
     if names.is_empty() {
         problems.push(format!(
-            "'{path}': model '{}' has no variable '{variable}' (nor '{variable}[1]')",
-            fmu.model_name()
+            "'{path}': model '{}' has no variable '{variable}' (nor '{variable}[1]'){}",
+            fmu.model_name(),
+            suggest::hint(variable, suggest::variable_names(fmu.model_description()))
         ));
         return vec![];
     }
@@ -168,5 +177,183 @@ pub fn columns(system: &SystemDescription, fmus: &[Fmu], problems: &mut Vec<Stri
             }
             out
         }
+    }
+}
+
+/// A parameter or start value the master would set on `instance`: the variable exists, the
+/// value has its type, and it is not an input a connection overwrites at every step.
+/// `connections` are the resolved scalar (`from`, `to`) paths.
+pub fn parameter_problem(
+    system: &SystemDescription,
+    fmus: &[Fmu],
+    connections: &[(String, String)],
+    instance: usize,
+    variable: &str,
+    value: &ParamValue,
+) -> Option<String> {
+    let name = &system.instances[instance].name;
+    let fmu = &fmus[instance];
+    let info = match fmu.variable(variable) {
+        Ok(info) => info,
+        Err(error) => {
+            return Some(format!(
+                "instance '{name}': cannot set '{variable}': {error}{}",
+                suggest::hint(variable, suggest::variable_names(fmu.model_description()))
+            ))
+        }
+    };
+    let fits = match (info.kind.accessed_as(), value) {
+        (VariableKind::Real, ParamValue::Real(_) | ParamValue::Integer(_)) => true,
+        (VariableKind::Integer, ParamValue::Integer(i)) => i32::try_from(*i).is_ok(),
+        (VariableKind::Boolean, ParamValue::Boolean(_)) => true,
+        (VariableKind::String, ParamValue::String(_)) => true,
+        _ => false,
+    };
+    if !fits {
+        let given = match value {
+            ParamValue::Real(x) => format!("the Real {x}"),
+            ParamValue::Integer(i) => format!("the Integer {i}"),
+            ParamValue::Boolean(b) => format!("the Boolean {b}"),
+            ParamValue::String(s) => format!("the String \"{s}\""),
+        };
+        let range = if info.kind.accessed_as() == VariableKind::Integer {
+            " (a 32-bit integer)"
+        } else {
+            ""
+        };
+        return Some(format!(
+            "instance '{name}': parameter '{variable}' is {:?}{range}, but the value given is {given}",
+            info.kind
+        ));
+    }
+    let path = format!("{name}.{variable}");
+    if let Some((from, _)) = connections.iter().find(|(_, to)| *to == path) {
+        return Some(format!(
+            "instance '{name}': '{variable}' is an input connected from '{from}'; a value set \
+             on it would be overwritten by the connection at every step"
+        ));
+    }
+    None
+}
+
+/// The SSD's declared connectors against the FMUs, and the connections against the declared
+/// connectors: both must agree, or some other tool reading the same SSD would wire a
+/// different system.
+pub fn declared_connectors(system: &SystemDescription, fmus: &[Fmu], problems: &mut Vec<String>) {
+    for (i, instance) in system.instances.iter().enumerate() {
+        let Some(declared) = &instance.connectors else {
+            continue;
+        };
+        let fmu = &fmus[i];
+        for connector in declared {
+            let info = match fmu.variable(&connector.name) {
+                Ok(info) => info,
+                Err(_) => {
+                    problems.push(format!(
+                        "component '{}': declared connector '{}' is not a variable of model \
+                         '{}'{}",
+                        instance.name,
+                        connector.name,
+                        fmu.model_name(),
+                        suggest::hint(
+                            &connector.name,
+                            suggest::variable_names(fmu.model_description())
+                        )
+                    ));
+                    continue;
+                }
+            };
+            let causality = match connector.kind.as_str() {
+                "input" => Some(Causality::Input),
+                "output" => Some(Causality::Output),
+                "parameter" => Some(Causality::Parameter),
+                "calculatedParameter" => Some(Causality::CalculatedParameter),
+                _ => None,
+            };
+            if causality.is_some_and(|c| c != info.causality) {
+                problems.push(format!(
+                    "component '{}': connector '{}' is declared {} but the FMU's variable has \
+                     causality {:?}",
+                    instance.name, connector.name, connector.kind, info.causality
+                ));
+            }
+            if let Some(type_name) = &connector.type_name {
+                if *type_name != format!("{:?}", info.kind) {
+                    problems.push(format!(
+                        "component '{}': connector '{}' is declared {type_name} but the FMU's \
+                         variable is {:?}",
+                        instance.name, connector.name, info.kind
+                    ));
+                }
+            }
+        }
+    }
+    for connection in &system.connections {
+        for (end, want) in [(&connection.from, "output"), (&connection.to, "input")] {
+            let Some((instance_name, variable)) = split_path(end) else {
+                continue;
+            };
+            let Some(declared) = system
+                .instance(instance_name)
+                .and_then(|i| i.connectors.as_ref())
+            else {
+                continue;
+            };
+            match declared.iter().find(|c| c.name == variable) {
+                None => problems.push(format!(
+                    "connection {} -> {}: '{variable}' is not a declared connector of \
+                     component '{instance_name}'{}",
+                    connection.from,
+                    connection.to,
+                    suggest::hint(variable, declared.iter().map(|c| c.name.as_str()))
+                )),
+                Some(c) if c.kind != want && c.kind != "inout" => problems.push(format!(
+                    "connection {} -> {}: connector '{instance_name}.{variable}' is declared \
+                     {}, but the {} of a connection must be an {want}",
+                    connection.from,
+                    connection.to,
+                    c.kind,
+                    if want == "output" { "start" } else { "end" }
+                )),
+                Some(_) => {}
+            }
+        }
+    }
+}
+
+/// Refuses an algebraic loop through the resolved connections, naming it.
+pub fn algebraic_loop(
+    system: &SystemDescription,
+    fmus: &[Fmu],
+    pairs: &[(Port, Port)],
+    problems: &mut Vec<String>,
+) {
+    let feedthrough: Vec<Feedthrough> = fmus
+        .iter()
+        .map(|fmu| Feedthrough::from_description(fmu.model_description()))
+        .collect();
+    let edges: Vec<Edge> = pairs
+        .iter()
+        .map(|(source, destination)| Edge {
+            from_instance: &system.instances[source.instance].name,
+            from_variable: &source.name,
+            to_instance: &system.instances[destination.instance].name,
+            to_variable: &destination.name,
+        })
+        .collect();
+    let lookup = |name: &str| {
+        system
+            .instances
+            .iter()
+            .position(|i| i.name == name)
+            .map(|i| &feedthrough[i])
+    };
+    if let Some(cycle) = loops::find_loop(&edges, &lookup) {
+        problems.push(format!(
+            "algebraic loop: {} ('->' a connection, '~>' an output that depends on the input \
+             before it, as the FMU's ModelStructure declares; a fixed-step master cannot solve \
+             it: break it with an FMU whose output does not depend on that input)",
+            loops::describe(&edges, &cycle)
+        ));
     }
 }

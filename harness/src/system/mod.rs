@@ -39,6 +39,19 @@ pub struct InstanceDesc {
     pub fmu: PathBuf,
     /// Parameter and start values, applied in this order before initialization.
     pub parameters: Vec<(String, ParamValue)>,
+    /// The connectors an SSD declares for the component (`None` when the format has none,
+    /// as TOML): connections must use them, and they must match the FMU's variables.
+    pub connectors: Option<Vec<DeclaredConnector>>,
+}
+
+/// A connector as an SSD declares it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DeclaredConnector {
+    pub name: String,
+    /// SSP kind: `input`, `output`, `parameter`, `calculatedParameter`, `inout`.
+    pub kind: String,
+    /// `Real`, `Integer`, `Boolean`, `String`, `Enumeration` or `Binary`, when given.
+    pub type_name: Option<String>,
 }
 
 /// `from` and `to` are `instance.variable`; a variable may name a whole vector (`r_nue` for
@@ -61,6 +74,20 @@ pub struct SystemDescription {
     pub connections: Vec<Connection>,
     /// Columns to record (`instance.variable`, vectors allowed); `None` = every output.
     pub record: Option<Vec<String>>,
+    /// Keeps an unpacked `.ssp` on disk as long as the description refers to its FMUs.
+    pub package: Option<PackageDir>,
+}
+
+/// The temporary directory an `.ssp` archive was unpacked into; removed when the last
+/// description (or clone) that refers to it is dropped. Equal to every other: where a
+/// package was unpacked is not part of what a system is.
+#[derive(Debug, Clone)]
+pub struct PackageDir(pub std::sync::Arc<tempfile::TempDir>);
+
+impl PartialEq for PackageDir {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// A malformed system description; every variant names what is wrong and where.
@@ -79,59 +106,64 @@ pub enum SystemError {
 }
 
 impl SystemDescription {
-    /// Checks that do not need the FMUs: times, names, connection syntax.
+    /// Checks that do not need the FMUs: times, names, connection syntax. Every problem is
+    /// reported, in one error.
     pub fn validate(&self) -> Result<(), SystemError> {
-        let invalid = |message: String| SystemError::Invalid {
-            system: self.name.clone(),
-            message,
-        };
+        let mut problems = Vec::new();
         if !(self.step_size.is_finite() && self.step_size > 0.0) {
-            return Err(invalid(format!(
+            problems.push(format!(
                 "step_size must be a positive number, got {}",
                 self.step_size
-            )));
+            ));
         }
         if !(self.start_time.is_finite()
             && self.stop_time.is_finite()
             && self.stop_time > self.start_time)
         {
-            return Err(invalid(format!(
+            problems.push(format!(
                 "stop_time ({}) must be after start_time ({})",
                 self.stop_time, self.start_time
-            )));
+            ));
         }
         if self.instances.is_empty() {
-            return Err(invalid("no instances".into()));
+            problems.push("no instances".into());
         }
         for (i, instance) in self.instances.iter().enumerate() {
             if instance.name.is_empty() || instance.name.contains('.') {
-                return Err(invalid(format!(
+                problems.push(format!(
                     "instance name '{}' must be non-empty and contain no '.'",
                     instance.name
-                )));
+                ));
             }
             if self.instances[..i].iter().any(|o| o.name == instance.name) {
-                return Err(invalid(format!(
-                    "instance '{}' declared twice",
-                    instance.name
-                )));
+                problems.push(format!("instance '{}' declared twice", instance.name));
             }
         }
         for connection in &self.connections {
             for end in [&connection.from, &connection.to] {
-                let (instance, _) = split_path(end).ok_or_else(|| {
-                    invalid(format!(
+                let Some((instance, _)) = split_path(end) else {
+                    problems.push(format!(
                         "connection end '{end}' is not of the form instance.variable"
-                    ))
-                })?;
+                    ));
+                    continue;
+                };
                 if !self.instances.iter().any(|i| i.name == instance) {
-                    return Err(invalid(format!(
-                        "connection end '{end}' names unknown instance '{instance}'"
-                    )));
+                    let names = self.instances.iter().map(|i| i.name.as_str());
+                    problems.push(format!(
+                        "connection end '{end}' names unknown instance '{instance}'{}",
+                        crate::master::suggest::hint(instance, names)
+                    ));
                 }
             }
         }
-        Ok(())
+        if problems.is_empty() {
+            Ok(())
+        } else {
+            Err(SystemError::Invalid {
+                system: self.name.clone(),
+                message: problems.join("\n  "),
+            })
+        }
     }
 
     pub fn instance(&self, name: &str) -> Option<&InstanceDesc> {

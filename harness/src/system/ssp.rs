@@ -1,17 +1,34 @@
 //! SSP 1.0 `SystemStructure.ssd`: read into a [`SystemDescription`] and written from one.
 //!
-//! What we read: one `ssd:System` of FMU components (`source` relative to the SSD), inline
-//! parameter bindings (`ssd:ParameterValues/ssv:ParameterSet`), component-to-component
-//! connections, and `ssd:DefaultExperiment`. SSP 1.0 has no place for the communication step
-//! or the exchange ordering, so we carry them in an `ssc:Annotation` of type
-//! [`ANNOTATION_TYPE`] (other tools ignore it; fmpy's `simulate_ssp` takes the step as an
+//! What we read: one `ssd:System` of FMU components (`source` relative to the SSD), their
+//! declared connectors, inline parameter bindings (`ssd:ParameterValues/ssv:ParameterSet`),
+//! component-to-component connections, and `ssd:DefaultExperiment`. SSP 1.0 has no place for
+//! the communication step or the exchange ordering, so we carry them in an `ssc:Annotation` of
+//! type [`ANNOTATION_TYPE`] (other tools ignore it; fmpy's `simulate_ssp` takes the step as an
 //! argument and always runs Jacobi).
-use super::{Connection, InstanceDesc, Ordering, ParamValue, SystemDescription, SystemError};
+//!
+//! What we write for other tools:
+//! - Every component's parameter set has the same name, [`PARAMETER_SET`]. Tools that group
+//!   parameter sets by name across components (Ecos applies one named set to the whole
+//!   system) then apply all of them with one choice; per-component names made Ecos apply none.
+//! - The system carries OMSimulator's `org.openmodelica` annotation (a fixed-step master with
+//!   our step), without which OMSimulator's importer cannot tell what kind of system it reads.
+//!   SSP 1.0 allows this: `ssd:System` may end with `ssd:Annotations`, each `ssc:Annotation`
+//!   has a required `type` and any content from another namespace, which other tools skip.
+use super::{
+    Connection, DeclaredConnector, InstanceDesc, Ordering, ParamValue, SystemDescription,
+    SystemError,
+};
 use serde::Deserialize;
 use std::fmt::Write as _;
 use std::path::Path;
 
 pub const ANNOTATION_TYPE: &str = "org.lander-fmi.master";
+/// The name of every component's parameter set in the SSDs we write (Ecos's convention).
+pub const PARAMETER_SET: &str = "initialValues";
+const OMS_ANNOTATION_TYPE: &str = "org.openmodelica";
+const NS_OMS: &str =
+    "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd";
 const NS_SSC: &str = "http://ssp-standard.org/SSP1/SystemStructureCommon";
 const NS_SSD: &str = "http://ssp-standard.org/SSP1/SystemStructureDescription";
 const NS_SSV: &str = "http://ssp-standard.org/SSP1/SystemStructureParameterValues";
@@ -46,9 +63,56 @@ struct Component {
     name: String,
     #[serde(rename = "@source")]
     source: String,
+    #[serde(rename = "ssd:Connectors", default)]
+    connectors: Option<Connectors>,
     #[serde(rename = "ssd:ParameterBindings", default)]
     bindings: Option<ParameterBindings>,
 }
+
+#[derive(Deserialize)]
+struct Connectors {
+    #[serde(rename = "ssd:Connector", default)]
+    connectors: Vec<SsdConnector>,
+}
+
+#[derive(Deserialize)]
+struct SsdConnector {
+    #[serde(rename = "@name")]
+    name: String,
+    #[serde(rename = "@kind")]
+    kind: String,
+    #[serde(rename = "ssc:Real", default)]
+    real: Option<Empty>,
+    #[serde(rename = "ssc:Integer", default)]
+    integer: Option<Empty>,
+    #[serde(rename = "ssc:Boolean", default)]
+    boolean: Option<Empty>,
+    #[serde(rename = "ssc:String", default)]
+    string: Option<Empty>,
+    #[serde(rename = "ssc:Enumeration", default)]
+    enumeration: Option<Empty>,
+    #[serde(rename = "ssc:Binary", default)]
+    binary: Option<Empty>,
+}
+
+impl SsdConnector {
+    fn type_name(&self) -> Option<String> {
+        [
+            (self.real.is_some(), "Real"),
+            (self.integer.is_some(), "Integer"),
+            (self.boolean.is_some(), "Boolean"),
+            (self.string.is_some(), "String"),
+            (self.enumeration.is_some(), "Enumeration"),
+            (self.binary.is_some(), "Binary"),
+        ]
+        .into_iter()
+        .find(|(given, _)| *given)
+        .map(|(_, name)| name.to_owned())
+    }
+}
+
+#[derive(Deserialize)]
+struct Empty {}
 
 #[derive(Deserialize)]
 struct ParameterBindings {
@@ -203,10 +267,21 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
                 parameters.push((parameter.name, value));
             }
         }
+        let connectors = component.connectors.map(|c| {
+            c.connectors
+                .into_iter()
+                .map(|c| DeclaredConnector {
+                    type_name: c.type_name(),
+                    name: c.name,
+                    kind: c.kind,
+                })
+                .collect()
+        });
         instances.push(InstanceDesc {
             name: component.name,
             fmu: component.source.into(),
             parameters,
+            connectors,
         });
     }
     let mut connections = Vec::new();
@@ -258,6 +333,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         instances,
         connections,
         record: None,
+        package: None,
     };
     system.validate()?;
     Ok(system)
@@ -295,7 +371,7 @@ pub fn write(
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<ssd:SystemStructureDescription xmlns:ssc="{NS_SSC}" xmlns:ssd="{NS_SSD}" xmlns:ssv="{NS_SSV}" version="1.0" name="{}">"#,
+        r#"<ssd:SystemStructureDescription xmlns:ssc="{NS_SSC}" xmlns:ssd="{NS_SSD}" xmlns:ssv="{NS_SSV}" xmlns:oms="{NS_OMS}" version="1.0" name="{}">"#,
         esc(&system.name)
     );
     let _ = writeln!(x, r#"  <ssd:System name="{}">"#, esc(&system.name));
@@ -335,8 +411,7 @@ pub fn write(
             let _ = writeln!(x, "            <ssd:ParameterValues>");
             let _ = writeln!(
                 x,
-                r#"              <ssv:ParameterSet version="1.0" name="{}">"#,
-                esc(&instance.name)
+                r#"              <ssv:ParameterSet version="1.0" name="{PARAMETER_SET}">"#
             );
             let _ = writeln!(x, "                <ssv:Parameters>");
             for (name, value) in &instance.parameters {
@@ -379,6 +454,13 @@ pub fn write(
         }
         let _ = writeln!(x, "    </ssd:Connections>");
     }
+    let _ = writeln!(x, "    <ssd:Annotations>");
+    let _ = writeln!(
+        x,
+        r#"      <ssc:Annotation type="{OMS_ANNOTATION_TYPE}"><oms:Annotations><oms:SimulationInformation><oms:FixedStepMaster description="oms-ma" stepSize="{:?}"/></oms:SimulationInformation></oms:Annotations></ssc:Annotation>"#,
+        system.step_size
+    );
+    let _ = writeln!(x, "    </ssd:Annotations>");
     let _ = writeln!(x, "  </ssd:System>");
     let ordering = match system.ordering {
         Ordering::GaussSeidel => "gauss-seidel",
@@ -437,11 +519,13 @@ mod tests {
                         ("on".into(), ParamValue::Boolean(true)),
                         ("label".into(), ParamValue::String("x\"y".into())),
                     ],
+                    connectors: None,
                 },
                 InstanceDesc {
                     name: "b".into(),
                     fmu: "B.fmu".into(),
                     parameters: vec![],
+                    connectors: None,
                 },
             ],
             connections: vec![Connection {
@@ -449,7 +533,16 @@ mod tests {
                 to: "b.u[1]".into(),
             }],
             record: None,
+            package: None,
         }
+    }
+
+    fn declared(name: &str, kind: &str) -> Option<Vec<DeclaredConnector>> {
+        Some(vec![DeclaredConnector {
+            name: name.into(),
+            kind: kind.into(),
+            type_name: Some("Real".into()),
+        }])
     }
 
     #[test]
@@ -474,7 +567,40 @@ mod tests {
         let mut expected = system;
         expected.instances[0].fmu = "resources/A.fmu".into();
         expected.instances[1].fmu = "resources/B.fmu".into();
+        expected.instances[0].connectors = declared("y[1]", "output");
+        expected.instances[1].connectors = declared("u[1]", "input");
         assert_eq!(back, expected);
+    }
+
+    #[test]
+    fn every_parameter_set_has_the_one_shared_name_and_omsimulator_finds_its_master() {
+        let mut system = sample();
+        system.instances[1]
+            .parameters
+            .push(("k".into(), ParamValue::Real(1.0)));
+        let text = write(&system, &[], &[]);
+        let names: Vec<&str> = text
+            .match_indices("<ssv:ParameterSet ")
+            .map(|(at, _)| {
+                let rest = &text[at..];
+                let start = rest.find(" name=\"").unwrap() + 7;
+                let end = start + rest[start..].find('"').unwrap();
+                &rest[start..end]
+            })
+            .collect();
+        assert_eq!(names, [PARAMETER_SET, PARAMETER_SET]);
+        // OMSimulator's annotation sits in the system's Annotations, the last child SSP 1.0
+        // allows there, and names the step.
+        let system_end = text.find("</ssd:System>").unwrap();
+        let annotation = text
+            .find(r#"<ssc:Annotation type="org.openmodelica">"#)
+            .unwrap();
+        assert!(
+            annotation < system_end && annotation > text.find("</ssd:Connections>").unwrap_or(0)
+        );
+        assert!(text[annotation..system_end].contains(r#"stepSize="0.01""#));
+        // and our own reader ignores it.
+        assert_eq!(parse(&text, Path::new("x.ssd")).unwrap().step_size, 0.01);
     }
 
     #[test]

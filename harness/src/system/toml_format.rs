@@ -72,6 +72,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             name: instance.name,
             fmu: instance.fmu.into(),
             parameters,
+            connectors: None,
         });
     }
     let system = SystemDescription {
@@ -90,6 +91,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             })
             .collect(),
         record: file.record,
+        package: None,
     };
     system.validate()?;
     Ok(system)
@@ -148,6 +150,23 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(error.contains("'c.u'") && error.contains("'c'"), "{error}");
+    }
+
+    #[test]
+    fn every_invalid_connection_end_and_time_is_reported_at_once() {
+        let text = SAMPLE
+            .replace("b.u", "bb.u")
+            .replace("a.y", "ay")
+            .replace("stop_time = 2.0", "stop_time = -1.0");
+        let error = parse(&text, Path::new("demo.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("'ay' is not of the form"), "{error}");
+        assert!(
+            error.contains("unknown instance 'bb' (did you mean 'b'?)"),
+            "{error}"
+        );
+        assert!(error.contains("stop_time (-1)"), "{error}");
     }
 
     #[test]

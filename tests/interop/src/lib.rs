@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 pub use system_tests::{fmu_dir, fmu_path, workspace_root};
 
-/// The plant's navigation outputs (INTERFACE.md): they do not depend on its inputs, so a
+/// The plant's navigation outputs (docs/interface.md): they do not depend on its inputs, so a
 /// read after an exchange gives what a read right after the step gave.
 pub const PLANT_NAVIGATION: [&str; 5] = [
     "plant.r_nue[",

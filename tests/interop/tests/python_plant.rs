@@ -1,6 +1,12 @@
-//! A third-party plant: a rigid-body lander written in Python from INTERFACE.md alone
+//! A third-party plant: a rigid-body lander written in Python from docs/interface.md alone
 //! (tests/interop/python/plant/LanderPlantPy.py), packaged by pythonfmu when the test runs,
 //! flown with LanderGnc in fmpy and in the harness.
+//!
+//! pythonfmu (0.7) lists the outputs in ModelStructure without a `dependencies` attribute,
+//! which in FMI 2.0 means every output depends on every input: with LanderGnc's direct
+//! feedthrough that is an algebraic loop, and the harness refuses it. Every output of this
+//! plant is a state, so the test declares `dependencies=""` for them, as the plant's author
+//! would if pythonfmu let them.
 //!
 //! Environment: pythonfmu's binary calls the Python C API without linking libpython. In
 //! fmpy the hosting interpreter provides it; the harness is a native process, so it runs in
@@ -8,6 +14,7 @@
 //! preloaded and PYTHONHOME set (tests/interop/python/embedding_env.py prints both).
 use interop_tests::compare::compare;
 use interop_tests::{python, read_trajectory, scenario, scratch, system_json, write_json};
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -28,7 +35,40 @@ fn build_plant(dir: &Path) -> PathBuf {
     );
     let fmu = dir.join("LanderPlantPy.fmu");
     assert!(fmu.is_file(), "pythonfmu wrote no {}", fmu.display());
+    declare_outputs_independent_of_inputs(&fmu);
     fmu
+}
+
+/// Rewrites the FMU's modelDescription.xml so that every output listed in ModelStructure
+/// depends on no input (see the module comment).
+fn declare_outputs_independent_of_inputs(fmu: &Path) {
+    let mut entries = Vec::new();
+    let mut archive = zip::ZipArchive::new(std::fs::File::open(fmu).unwrap()).unwrap();
+    for i in 0..archive.len() {
+        let mut entry = archive.by_index(i).unwrap();
+        let name = entry.name().to_owned();
+        let mut bytes = Vec::new();
+        entry.read_to_end(&mut bytes).unwrap();
+        if name == "modelDescription.xml" {
+            let text = String::from_utf8(bytes).unwrap();
+            assert!(
+                text.contains("<Unknown ") && !text.contains("dependencies="),
+                "pythonfmu's ModelStructure changed; revisit this rewrite:\n{text}"
+            );
+            bytes = text
+                .replace("<Unknown ", r#"<Unknown dependencies="" "#)
+                .into_bytes();
+        }
+        entries.push((name, bytes));
+    }
+    drop(archive);
+    let mut out = zip::ZipWriter::new(std::fs::File::create(fmu).unwrap());
+    for (name, bytes) in entries {
+        out.start_file(name, zip::write::SimpleFileOptions::default())
+            .unwrap();
+        out.write_all(&bytes).unwrap();
+    }
+    out.finish().unwrap();
 }
 
 fn embedding_env() -> Vec<(String, String)> {

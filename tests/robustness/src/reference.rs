@@ -49,7 +49,7 @@ pub fn inputs_at(lander: Lander, t_s: f64) -> Vec<f64> {
     }
 }
 
-/// The contract names of the inputs `inputs_at` feeds (shared/INTERFACE.md).
+/// The contract names of the inputs `inputs_at` feeds (docs/interface.md).
 pub fn input_names(lander: Lander) -> Vec<String> {
     let indexed = |base: &'static str, n: usize| (1..=n).map(move |k| format!("{base}[{k}]"));
     match lander {

@@ -7,7 +7,7 @@ use harness::master::{RunEnd, Simulation, Trajectory};
 use harness::system::{ParamValue, SystemDescription};
 use std::path::Path;
 
-/// LanderPlant's outputs = LanderGnc's inputs (shared/INTERFACE.md), in this order.
+/// LanderPlant's outputs = LanderGnc's inputs (docs/interface.md), in this order.
 pub const NAVIGATION: [&str; 14] = [
     "r_nue[1]",
     "r_nue[2]",

@@ -1,8 +1,8 @@
 """A third-party lunar lander plant: a rigid body over a flat Moon, written from
-shared/INTERFACE.md alone (no code shared with LanderPlant) and packaged as an FMI 2.0
+docs/interface.md alone (no code shared with LanderPlant) and packaged as an FMI 2.0
 Co-Simulation FMU with pythonfmu.
 
-Signal contract (INTERFACE.md): NUE frame (1 North, 2 Up, 3 East), gravity [0, -g, 0];
+Signal contract (docs/interface.md): NUE frame (1 North, 2 Up, 3 East), gravity [0, -g, 0];
 body axes 1 = x, 2 = y = thrust axis, 3 = z; quaternion Hamilton, scalar first,
 `q_body_to_nue` rotates body vectors into NUE; `omega_body` in body axes.
 
