@@ -5,8 +5,10 @@
 //!
 //! Which output depends on which input is read from the model description's
 //! `ModelStructure/Outputs`; FMI 2.0 says an output without a `dependencies` attribute (or not
-//! listed at all) depends on every input, so an FMU that declares nothing is treated as
-//! direct feedthrough everywhere.
+//! listed at all) depends on every input. Such an *implicit* dependency is only a worst case
+//! (pythonfmu and many exporters write no `dependencies` at all), so a loop is refused only
+//! when every hop in it is declared; a loop that needs an implicit hop is reported as a
+//! warning and the exchange order breaks it, as in every fixed-step master.
 use model_description::{Causality, ModelDescription};
 use std::collections::{HashMap, HashSet};
 
@@ -47,11 +49,12 @@ impl Feedthrough {
         Self { outputs }
     }
 
-    /// Whether `output` may change when `input` changes within one communication point.
-    pub fn depends(&self, output: &str, input: &str) -> bool {
+    /// Whether `output` may change when `input` changes within one communication point;
+    /// with `declared_only`, an output without a `dependencies` list counts as independent.
+    pub fn depends(&self, output: &str, input: &str, declared_only: bool) -> bool {
         match self.outputs.get(output) {
             Some(Some(inputs)) => inputs.contains(input),
-            Some(None) | None => true,
+            Some(None) | None => !declared_only,
         }
     }
 }
@@ -66,10 +69,11 @@ pub struct Edge<'a> {
 }
 
 /// The first algebraic loop found, as the connections it runs through, in order; `feedthrough`
-/// gives each instance's dependencies.
+/// gives each instance's dependencies (see [`Feedthrough::depends`] for `declared_only`).
 pub fn find_loop<'a>(
     edges: &[Edge<'a>],
     feedthrough: &dyn Fn(&str) -> Option<&'a Feedthrough>,
+    declared_only: bool,
 ) -> Option<Vec<usize>> {
     // Connection j follows connection i when j leaves the instance i enters, from an output
     // that depends on the input i sets.
@@ -81,8 +85,9 @@ pub fn find_loop<'a>(
                 .enumerate()
                 .filter(|(_, out)| out.from_instance == into.to_instance)
                 .filter(|(_, out)| {
-                    feedthrough(into.to_instance)
-                        .is_none_or(|f| f.depends(out.from_variable, into.to_variable))
+                    feedthrough(into.to_instance).is_none_or(|f| {
+                        f.depends(out.from_variable, into.to_variable, declared_only)
+                    })
                 })
                 .map(|(j, _)| j)
                 .collect()
@@ -179,7 +184,7 @@ mod tests {
     fn a_loop_through_two_feedthrough_units_is_found_and_named() {
         let edges = [edge("a.y", "b.u"), edge("b.z", "a.v")];
         let all = Feedthrough::default();
-        let cycle = find_loop(&edges, &|_| Some(&all)).expect("a loop");
+        let cycle = find_loop(&edges, &|_| Some(&all), false).expect("a loop");
         let text = describe(&edges, &cycle);
         assert!(
             text == "a.y -> b.u ~> b.z -> a.v ~> a.y" || text == "b.z -> a.v ~> a.y -> b.u ~> b.z",
@@ -193,7 +198,7 @@ mod tests {
         let plant = only(&[("r", &[])]);
         let gnc = only(&[("f", &["r"])]);
         let lookup = |instance: &str| Some(if instance == "plant" { &plant } else { &gnc });
-        assert!(find_loop(&edges, &lookup).is_none());
+        assert!(find_loop(&edges, &lookup, false).is_none());
         // The same wiring with a plant that declares direct feedthrough is a loop.
         let feedthrough_plant = only(&[("r", &["f"])]);
         let lookup = |instance: &str| {
@@ -203,15 +208,33 @@ mod tests {
                 &gnc
             })
         };
-        assert!(find_loop(&edges, &lookup).is_some());
+        assert!(find_loop(&edges, &lookup, true).is_some());
     }
 
     #[test]
     fn a_unit_wired_to_itself_is_a_loop_only_through_a_dependency() {
         let edges = [edge("gnc.f", "gnc.m")];
         let depends = only(&[("f", &["m"])]);
-        assert_eq!(find_loop(&edges, &|_| Some(&depends)), Some(vec![0]));
+        assert_eq!(find_loop(&edges, &|_| Some(&depends), true), Some(vec![0]));
         let independent = only(&[("f", &["r"])]);
-        assert_eq!(find_loop(&edges, &|_| Some(&independent)), None);
+        assert_eq!(find_loop(&edges, &|_| Some(&independent), false), None);
+    }
+
+    #[test]
+    fn an_implicit_dependency_makes_a_loop_possible_but_not_declared() {
+        // A plant that lists no dependencies (pythonfmu writes none) beside a feedthrough
+        // controller: a loop in the worst case, none that is declared.
+        let edges = [edge("plant.r", "gnc.r"), edge("gnc.f", "plant.f")];
+        let silent_plant = Feedthrough::default();
+        let gnc = only(&[("f", &["r"])]);
+        let lookup = |instance: &str| {
+            Some(if instance == "plant" {
+                &silent_plant
+            } else {
+                &gnc
+            })
+        };
+        assert!(find_loop(&edges, &lookup, false).is_some());
+        assert!(find_loop(&edges, &lookup, true).is_none());
     }
 }

@@ -321,7 +321,10 @@ pub fn declared_connectors(system: &SystemDescription, fmus: &[Fmu], problems: &
     }
 }
 
-/// Refuses an algebraic loop through the resolved connections, naming it.
+/// Refuses an algebraic loop through the resolved connections whose every hop is declared,
+/// naming it; a loop that exists only through outputs that declare no dependencies (FMI 2.0's
+/// worst case, "depends on every input") is a warning on stderr, and the exchange order
+/// breaks it.
 pub fn algebraic_loop(
     system: &SystemDescription,
     fmus: &[Fmu],
@@ -348,12 +351,19 @@ pub fn algebraic_loop(
             .position(|i| i.name == name)
             .map(|i| &feedthrough[i])
     };
-    if let Some(cycle) = loops::find_loop(&edges, &lookup) {
+    if let Some(cycle) = loops::find_loop(&edges, &lookup, true) {
         problems.push(format!(
             "algebraic loop: {} ('->' a connection, '~>' an output that depends on the input \
              before it, as the FMU's ModelStructure declares; a fixed-step master cannot solve \
              it: break it with an FMU whose output does not depend on that input)",
             loops::describe(&edges, &cycle)
         ));
+    } else if let Some(cycle) = loops::find_loop(&edges, &lookup, false) {
+        eprintln!(
+            "harness: warning: possible algebraic loop {}: an output on it declares no \
+             dependencies in ModelStructure, which FMI reads as 'depends on every input'; \
+             running with the exchange order breaking it",
+            loops::describe(&edges, &cycle)
+        );
     }
 }
