@@ -12,5 +12,6 @@ pub mod plots;
 pub mod results;
 pub mod scenarios;
 pub mod system;
+pub mod verdict;
 
 pub use loader::{Fmu, Instance};

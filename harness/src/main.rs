@@ -1,8 +1,8 @@
 //! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals).
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use harness::master::{RunEnd, Simulation, Trajectory};
-use harness::scenarios::{self, Law};
+use harness::master::{Simulation, Trajectory};
+use harness::scenarios::Law;
 use harness::system::{split_path, ParamValue};
 use std::path::PathBuf;
 
@@ -14,7 +14,12 @@ use std::path::PathBuf;
     long_about = "Loads FMI 2.0 Co-Simulation FMUs through their C ABI, connects them as a \
                   scenario describes (TOML or SSP .ssd), and flies the paper's powered descent.\n\
                   Built-in scenarios: paper (tilted start, phi_cmd = 150 deg at t = 0), upright \
-                  (Table II literally), descent-roll (tilted start, phi_cmd at the descent)."
+                  (Table II literally), descent-roll (tilted start, phi_cmd at the descent), \
+                  landing (the paper's descent, then a terminal descent to touchdown).",
+    after_help = "Exit codes: 0 every run ended as its scenario expects (the `[verdict]` table \
+                  of its TOML: completed, or landed inside the touchdown envelope); 1 error \
+                  (bad input, FMU failure); 2 usage error; 3 a run was flown but its verdict \
+                  failed (hard landing, touchdown when a hover was expected, ...)."
 )]
 struct Cli {
     /// Directory holding the FMUs named by the scenario (relative `fmu` paths).
@@ -33,7 +38,7 @@ struct Cli {
 enum Command {
     /// Run one scenario (built-in name, .toml or .ssd) and write its results as CSV.
     Run {
-        /// paper, upright, descent-roll, or a path to a .toml/.ssd scenario.
+        /// paper, upright, descent-roll, landing, or a path to a .toml/.ssd scenario.
         scenario: String,
         /// CSV output (header: time, instance.variable...).
         #[arg(long, short, default_value = "target/harness/run.csv")]
@@ -110,6 +115,9 @@ fn parse_set(text: &str) -> anyhow::Result<(String, String, ParamValue)> {
 fn main() -> anyhow::Result<()> {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
+    // 0, or harness::verdict::EXIT_FAILED_VERDICT when a run did not end as expected; errors
+    // return through `?` (exit code 1).
+    let mut exit_code = harness::verdict::EXIT_OK;
     match cli.command {
         Command::Run {
             scenario,
@@ -118,7 +126,7 @@ fn main() -> anyhow::Result<()> {
             record,
             ordering,
         } => {
-            let mut system = scenarios::load(&scenario)?;
+            let (mut system, spec) = harness::verdict::scenario::load(&scenario)?;
             for set in &sets {
                 let (instance, variable, value) = parse_set(set)?;
                 anyhow::ensure!(
@@ -144,29 +152,34 @@ fn main() -> anyhow::Result<()> {
             let end = simulation.run(&mut trajectory)?;
             harness::results::write_csv(&out, &trajectory)
                 .with_context(|| format!("writing {}", out.display()))?;
-            let how = match end {
-                RunEnd::Completed => "completed".to_owned(),
-                RunEnd::Terminated { instance, time } => {
-                    format!("terminated by '{instance}' at t = {time}")
-                }
-            };
+            let verdict = harness::verdict::judge(&trajectory, &end, &spec.envelope);
             println!(
-                "{}: {how}; {} rows x {} columns -> {}",
+                "{}: {} rows x {} columns -> {}\nverdict: {}",
                 simulation.system().name,
                 trajectory.len(),
                 trajectory.names.len() + 1,
-                out.display()
+                out.display(),
+                verdict.describe(spec.expect)
             );
+            exit_code = verdict.exit_code(spec.expect);
         }
         Command::Paper {
             scenario,
             out_dir,
             no_plots,
         } => {
-            let system = scenarios::load(&scenario)?;
+            let (system, spec) = harness::verdict::scenario::load(&scenario)?;
             let name = system.name.clone();
-            let flights = harness::paper::fly_all(system, &cli.fmu_dir, &Law::ALL)?;
+            let flights = harness::paper::fly_all(system, &cli.fmu_dir, &Law::ALL, &spec.envelope)?;
             println!("scenario '{name}'\n{}", harness::paper::table(&flights));
+            for flight in &flights {
+                println!(
+                    "{}: {}",
+                    flight.law.name(),
+                    flight.verdict.describe(spec.expect)
+                );
+                exit_code = exit_code.max(flight.verdict.exit_code(spec.expect));
+            }
             std::fs::create_dir_all(&out_dir)?;
             for flight in &flights {
                 let path = out_dir.join(format!("{name}-{}.csv", flight.law.name()));
@@ -182,6 +195,9 @@ fn main() -> anyhow::Result<()> {
         Command::MonteCarlo(args) => harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?,
         Command::MergeMc(args) => harness::montecarlo::cli::merge_mc(&args)?,
         Command::Replay(args) => harness::montecarlo::cli::replay(&args, &cli.fmu_dir)?,
+    }
+    if exit_code != harness::verdict::EXIT_OK {
+        std::process::exit(exit_code);
     }
     Ok(())
 }

@@ -139,20 +139,9 @@ impl Flyer {
     }
 }
 
-fn nan_metrics() -> Metrics {
-    Metrics {
-        max_horizontal_deviation_m: f64::NAN,
-        max_horizontal_deviation_descent_m: f64::NAN,
-        terminal_position_error_m: f64::NAN,
-        terminal_velocity_error_mps: f64::NAN,
-        final_altitude_m: f64::NAN,
-        max_body_rate_radps: f64::NAN,
-        propellant_used_kg: f64::NAN,
-        roll_settling_time_s: f64::NAN,
-        final_phi_b_rad: f64::NAN,
-        max_tilt_error_after_30s_rad: f64::NAN,
-        end_time_s: f64::NAN,
-    }
+/// Metrics of a flight that produced none.
+pub fn nan_metrics() -> Metrics {
+    super::manifest::metrics_from([f64::NAN; super::manifest::METRIC_COUNT])
 }
 
 /// The scenario of a campaign, recording only what the metrics need (`record_all` = false)

@@ -12,8 +12,11 @@ use std::path::Path;
 
 pub const FILE_NAME: &str = "manifest.csv";
 
+/// Number of metric columns.
+pub const METRIC_COUNT: usize = 22;
+
 /// The metric columns, named as the [`Metrics`] fields.
-pub const METRIC_NAMES: [&str; 11] = [
+pub const METRIC_NAMES: [&str; METRIC_COUNT] = [
     "max_horizontal_deviation_m",
     "max_horizontal_deviation_descent_m",
     "terminal_position_error_m",
@@ -25,9 +28,20 @@ pub const METRIC_NAMES: [&str; 11] = [
     "final_phi_b_rad",
     "max_tilt_error_after_30s_rad",
     "end_time_s",
+    "descent_end_position_error_m",
+    "descent_end_north_m",
+    "descent_end_east_m",
+    "max_lateral_speed_manoeuvre_mps",
+    "tilt_error_integral_rad_s",
+    "touchdown_vertical_speed_mps",
+    "touchdown_horizontal_speed_mps",
+    "touchdown_tilt_rad",
+    "touchdown_body_rate_radps",
+    "touchdown_north_m",
+    "touchdown_east_m",
 ];
 
-pub fn metric_values(m: &Metrics) -> [f64; 11] {
+pub fn metric_values(m: &Metrics) -> [f64; METRIC_COUNT] {
     [
         m.max_horizontal_deviation_m,
         m.max_horizontal_deviation_descent_m,
@@ -40,10 +54,21 @@ pub fn metric_values(m: &Metrics) -> [f64; 11] {
         m.final_phi_b_rad,
         m.max_tilt_error_after_30s_rad,
         m.end_time_s,
+        m.descent_end_position_error_m,
+        m.descent_end_north_m,
+        m.descent_end_east_m,
+        m.max_lateral_speed_manoeuvre_mps,
+        m.tilt_error_integral_rad_s,
+        m.touchdown_vertical_speed_mps,
+        m.touchdown_horizontal_speed_mps,
+        m.touchdown_tilt_rad,
+        m.touchdown_body_rate_radps,
+        m.touchdown_north_m,
+        m.touchdown_east_m,
     ]
 }
 
-fn metrics_from(v: [f64; 11]) -> Metrics {
+pub fn metrics_from(v: [f64; METRIC_COUNT]) -> Metrics {
     Metrics {
         max_horizontal_deviation_m: v[0],
         max_horizontal_deviation_descent_m: v[1],
@@ -56,6 +81,17 @@ fn metrics_from(v: [f64; 11]) -> Metrics {
         final_phi_b_rad: v[8],
         max_tilt_error_after_30s_rad: v[9],
         end_time_s: v[10],
+        descent_end_position_error_m: v[11],
+        descent_end_north_m: v[12],
+        descent_end_east_m: v[13],
+        max_lateral_speed_manoeuvre_mps: v[14],
+        tilt_error_integral_rad_s: v[15],
+        touchdown_vertical_speed_mps: v[16],
+        touchdown_horizontal_speed_mps: v[17],
+        touchdown_tilt_rad: v[18],
+        touchdown_body_rate_radps: v[19],
+        touchdown_north_m: v[20],
+        touchdown_east_m: v[21],
     }
 }
 
@@ -196,7 +232,7 @@ pub fn read(path: &Path) -> anyhow::Result<Vec<Row>> {
             *slot = real(IDENTITY.len() + k)?;
         }
         let base = IDENTITY.len() + fields.len();
-        let mut metrics = [0.0; 11];
+        let mut metrics = [0.0; METRIC_COUNT];
         for (k, slot) in metrics.iter_mut().enumerate() {
             *slot = real(base + k)?;
         }
