@@ -192,8 +192,10 @@ fn main() -> anyhow::Result<()> {
             }
             println!("CSVs in {}", out_dir.display());
         }
-        Command::MonteCarlo(args) => harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?,
-        Command::MergeMc(args) => harness::montecarlo::cli::merge_mc(&args)?,
+        Command::MonteCarlo(args) => {
+            exit_code = harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?
+        }
+        Command::MergeMc(args) => exit_code = harness::montecarlo::cli::merge_mc(&args)?,
         Command::Replay(args) => harness::montecarlo::cli::replay(&args, &cli.fmu_dir)?,
     }
     if exit_code != harness::verdict::EXIT_OK {

@@ -40,10 +40,10 @@ pub fn figure(rows: &[Row], dir: &Path, title: &str) -> anyhow::Result<PathBuf> 
     let path = dir.join("monte-carlo.png");
     let panels = [
         Panel {
-            title: "terminal position error",
-            y_label: "|r_final - target| (m)",
-            value: |r| r.metrics.terminal_position_error_m,
-            statistic: Statistic::TerminalPositionError,
+            title: "position error at the end of the descent",
+            y_label: "|r - target| at the end of the descent (m)",
+            value: |r| r.metrics.descent_end_position_error_m,
+            statistic: Statistic::DescentEndPositionError,
         },
         Panel {
             title: "maximum horizontal deviation over the flight",
