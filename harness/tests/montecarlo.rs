@@ -74,6 +74,10 @@ fn same_seed_same_rows_whatever_the_worker_count_and_sharding() {
         })
         .collect();
     let merged = merge::merge(&shards, false).unwrap();
+    assert_eq!(
+        merged.file.execution.workers, None,
+        "a merge ran no workers"
+    );
     let merged_dir = dir.path().join("merged");
     let path = merge::write(&merged, &merged_dir).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();

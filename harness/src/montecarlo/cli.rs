@@ -23,7 +23,8 @@ pub struct CampaignArgs {
     #[arg(
         long = "phi-cmd-deg",
         value_delimiter = ',',
-        num_args = 1..,
+        num_args = 1,
+        allow_hyphen_values = true,
         default_values_t = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]
     )]
     pub phi_cmd_deg: Vec<f64>,
@@ -124,7 +125,11 @@ pub struct ReplayArgs {
     #[arg(long, value_enum, default_value = "decoupled")]
     pub law: Law,
     /// phi_cmd to fly the run with (deg; without --manifest).
-    #[arg(long = "phi-cmd-deg", default_value_t = 150.0)]
+    #[arg(
+        long = "phi-cmd-deg",
+        default_value_t = 150.0,
+        allow_negative_numbers = true
+    )]
     pub phi_cmd_deg: f64,
     /// Scenario (without --manifest).
     #[arg(long, default_value = "paper")]

@@ -86,7 +86,7 @@ pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome>
             n: options.shard.n,
         }),
         execution: Execution {
-            workers: options.workers,
+            workers: Some(options.workers),
             merged_from: Vec::new(),
         },
         versions: config::versions(first.simulation()),

@@ -196,3 +196,87 @@ pub fn failed_lines(rows: &[Row]) -> Vec<String> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::montecarlo::campaign::Flight;
+    use crate::montecarlo::dispersion::{Dispersion, DispersionRanges};
+    use crate::montecarlo::flight::nan_metrics;
+    use crate::montecarlo::manifest::{End, Judged};
+
+    /// Run `j` of a landing cell: touchdown at (j, -j) m, vertical speed j/10 m/s; run 3
+    /// lands hard.
+    fn row(j: u64, law: Law) -> Row {
+        let mut metrics = nan_metrics();
+        metrics.touchdown_north_m = j as f64;
+        metrics.touchdown_east_m = -(j as f64) + if j % 2 == 0 { 0.5 } else { 0.0 };
+        metrics.touchdown_vertical_speed_mps = j as f64 / 10.0;
+        Row {
+            flight: Flight {
+                index: j,
+                run: j,
+                run_seed: j,
+                law,
+                phi_cmd_deg: 150.0,
+            },
+            dispersion: Dispersion::draw(j, &DispersionRanges::default()),
+            metrics,
+            end: End::Terminated {
+                instance: "plant".into(),
+            },
+            verdict: Judged {
+                word: if j == 3 { "hard landing" } else { "landed" }.into(),
+                as_expected: j != 3,
+                detail: String::new(),
+            },
+        }
+    }
+
+    #[test]
+    fn a_cell_row_holds_counts_confidence_ellipse_and_percentiles() {
+        let rows: Vec<Row> = (0..11).map(|j| row(j, Law::Decoupled)).collect();
+        let records = records(&rows, Expect::Landed);
+        assert_eq!(records.len(), 1);
+        let header = header();
+        let get = |name: &str| {
+            let k = header.iter().position(|h| h == name).unwrap();
+            records[0][k].clone()
+        };
+        assert_eq!(get("runs"), "11");
+        assert_eq!(get("failed_verdicts"), "1");
+        assert_eq!(get("errors"), "0");
+        let bound: f64 = get("reliability_lower_bound_at_90pct").parse().unwrap();
+        assert_eq!(bound, stats::reliability_lower_bound(1, 11, 0.9));
+        assert!(get("statement").starts_with("1 failures in 11 runs"));
+        assert_eq!(get("ellipse_of"), "touchdown");
+        assert_eq!(get("ellipse_points"), "11");
+        let azimuth: f64 = get("ellipse_major_azimuth_deg").parse().unwrap();
+        assert!(
+            (azimuth + 45.0).abs() < 2.0,
+            "points along North = -East: {azimuth}"
+        );
+        // vertical speeds 0.0 .. 1.0: p50 = 0.5, p95 = 0.95, p99.73 = 0.9973, max 1
+        assert_eq!(get("touchdown_vertical_speed_mps_p50"), "0.5");
+        assert_eq!(get("touchdown_vertical_speed_mps_max"), "1.0");
+        let p9973: f64 = get("touchdown_vertical_speed_mps_p99_73").parse().unwrap();
+        assert!((p9973 - 0.9973).abs() < 1e-12);
+        // a metric no run has is NaN, not zero
+        assert_eq!(get("descent_end_position_error_m_p50"), "NaN");
+    }
+
+    #[test]
+    fn without_touchdowns_the_ellipse_is_of_the_end_of_descent() {
+        let mut rows: Vec<Row> = (0..5).map(|j| row(j, Law::Coupled)).collect();
+        for r in &mut rows {
+            r.metrics.descent_end_north_m = r.metrics.touchdown_north_m;
+            r.metrics.descent_end_east_m = 0.1 * r.metrics.touchdown_north_m;
+            r.metrics.touchdown_north_m = f64::NAN;
+        }
+        let records = records(&rows, Expect::Completed);
+        let k = header().iter().position(|h| h == "ellipse_of").unwrap();
+        assert_eq!(records[0][k], "descent_end");
+        assert_eq!(failed_lines(&rows).len(), 1);
+        assert!(failed_lines(&rows)[0].starts_with("flight 3 (run 3, coupled"));
+    }
+}
