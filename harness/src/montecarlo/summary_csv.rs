@@ -210,7 +210,7 @@ mod tests {
     fn row(j: u64, law: Law) -> Row {
         let mut metrics = nan_metrics();
         metrics.touchdown_north_m = j as f64;
-        metrics.touchdown_east_m = -(j as f64) + if j % 2 == 0 { 0.5 } else { 0.0 };
+        metrics.touchdown_east_m = -(j as f64) + if j.is_multiple_of(2) { 0.5 } else { 0.0 };
         metrics.touchdown_vertical_speed_mps = j as f64 / 10.0;
         Row {
             flight: Flight {
