@@ -9,6 +9,7 @@ pub mod metrics;
 pub mod montecarlo;
 pub mod paper;
 pub mod plots;
+pub mod report;
 pub mod results;
 pub mod scenarios;
 pub mod system;

@@ -86,6 +86,12 @@ enum Command {
     /// Re-fly one Monte Carlo flight from its seed (or a manifest row) and write its full
     /// trajectory; from a manifest, check its metrics bit for bit.
     Replay(harness::montecarlo::cli::ReplayArgs),
+    /// Write DIR/report.html: one self-contained page with the figures, tables and verdicts
+    /// of a `paper` or `monte-carlo` output directory (merged or Dask campaigns too).
+    Report {
+        /// The output directory of `harness paper`, `monte-carlo` or `merge-mc`.
+        dir: PathBuf,
+    },
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -171,32 +177,25 @@ fn main() -> anyhow::Result<()> {
             let (system, spec) = harness::verdict::scenario::load(&scenario)?;
             let name = system.name.clone();
             let flights = harness::paper::fly_all(system, &cli.fmu_dir, &Law::ALL, &spec.envelope)?;
-            println!("scenario '{name}'\n{}", harness::paper::table(&flights));
+            let summary = harness::paper::summary(&name, &flights, spec.expect);
+            print!("{summary}");
             for flight in &flights {
-                println!(
-                    "{}: {}",
-                    flight.law.name(),
-                    flight.verdict.describe(spec.expect)
-                );
                 exit_code = exit_code.max(flight.verdict.exit_code(spec.expect));
             }
-            std::fs::create_dir_all(&out_dir)?;
-            for flight in &flights {
-                let path = out_dir.join(format!("{name}-{}.csv", flight.law.name()));
-                harness::results::write_csv(&path, &flight.trajectory)?;
+            for path in
+                harness::paper::write_outputs(&flights, &out_dir, &name, &summary, !no_plots)?
+            {
+                println!("wrote {}", path.display());
             }
-            if !no_plots {
-                for path in harness::plots::paper_figures(&flights, &out_dir, &name)? {
-                    println!("wrote {}", path.display());
-                }
-            }
-            println!("CSVs in {}", out_dir.display());
         }
         Command::MonteCarlo(args) => {
             exit_code = harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?
         }
         Command::MergeMc(args) => exit_code = harness::montecarlo::cli::merge_mc(&args)?,
         Command::Replay(args) => harness::montecarlo::cli::replay(&args, &cli.fmu_dir)?,
+        Command::Report { dir } => {
+            println!("wrote {}", harness::report::for_directory(&dir)?.display())
+        }
     }
     if exit_code != harness::verdict::EXIT_OK {
         std::process::exit(exit_code);

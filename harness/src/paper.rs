@@ -60,6 +60,50 @@ pub fn fly_judged(
     })
 }
 
+/// The text `harness paper` prints and keeps as `<name>-summary.txt`: the table, then one
+/// verdict line per law.
+pub fn summary(name: &str, flights: &[Flight], expect: verdict::Expect) -> String {
+    let mut text = format!("scenario '{name}'\n{}\n", table(flights));
+    for flight in flights {
+        text += &format!(
+            "{}: {}\n",
+            flight.law.name(),
+            flight.verdict.describe(expect)
+        );
+    }
+    text
+}
+
+/// Writes into `dir` each law's trajectory CSV, `<name>-summary.txt`, the figures (unless
+/// `plots` is false) and `report.html`; returns the paths written.
+pub fn write_outputs(
+    flights: &[Flight],
+    dir: &Path,
+    name: &str,
+    summary: &str,
+    plots: bool,
+) -> anyhow::Result<Vec<std::path::PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    let mut written = Vec::new();
+    for flight in flights {
+        let path = dir.join(format!("{name}-{}.csv", flight.law.name()));
+        crate::results::write_csv(&path, &flight.trajectory)?;
+        written.push(path);
+    }
+    let path = dir.join(format!("{name}-summary.txt"));
+    std::fs::write(&path, summary)?;
+    written.push(path);
+    if plots {
+        written.extend(crate::plots::paper_figures(flights, dir, name)?);
+    }
+    written.push(crate::report::write(
+        dir,
+        &format!("lander-fmi: scenario '{name}' flown with each control law"),
+        &[],
+    )?);
+    Ok(written)
+}
+
 const LABEL: usize = 46;
 const CELL: usize = 14;
 

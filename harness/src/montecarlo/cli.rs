@@ -182,6 +182,8 @@ fn report(
         let path = plots::figure(rows, dir, title)?;
         println!("wrote {}", path.display());
     }
+    let path = crate::report::write(dir, title, &failed)?;
+    println!("wrote {}", path.display());
     Ok(if failed.is_empty() {
         crate::verdict::EXIT_OK
     } else {
