@@ -184,11 +184,19 @@ fn trajectory_3d(path: &Path, title: &str, tracks: &[(Law, Vec<[f64; 3]>)]) -> a
         .bold_grid_style(BLACK.mix(0.12))
         .max_light_lines(0)
         .draw()?;
+    // Each axis's name at the middle of the edge that carries its tick labels (the East
+    // ticks run along North = max, the North ticks along East = max, the altitude ticks up
+    // the corner East = min, North = max).
     let label = ("sans-serif", 18).into_font().color(&BLACK);
+    let mid = |r: &Range<f64>| 0.5 * (r.start + r.end);
+    let outside = |r: &Range<f64>| r.end + 0.3 * (r.end - r.start);
     for (text, at) in [
-        ("East (m)", (e.end, u.start, n.start)),
-        ("altitude Up (m)", (e.start, u.end, n.start)),
-        ("North (m)", (e.start, u.start, n.end)),
+        ("East (m)", (mid(&e), u.start, outside(&n))),
+        (
+            "altitude Up (m)",
+            (e.start, u.end + 0.06 * (u.end - u.start), n.end),
+        ),
+        ("North (m)", (outside(&e), u.start, mid(&n))),
     ] {
         chart.draw_series(std::iter::once(Text::new(text, at, label.clone())))?;
     }
@@ -196,7 +204,7 @@ fn trajectory_3d(path: &Path, title: &str, tracks: &[(Law, Vec<[f64; 3]>)]) -> a
         let Some((_, points)) = tracks.iter().find(|(l, _)| *l == law) else {
             continue;
         };
-        let style = style::line(law, style::width(law));
+        let style = style::line(law, 2);
         let points = style::thin(points);
         let line = points.iter().map(|p| (p[2], p[1], p[0]));
         chart
