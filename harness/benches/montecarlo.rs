@@ -61,8 +61,6 @@ fn campaign(runs: u64, out: &Path) -> (runner::Outcome, f64) {
         workers: 2,
         shard: Shard::WHOLE,
         progress: false,
-        resume: false,
-        rerun: Vec::new(),
     };
     let cpu_before = cpu_seconds().unwrap_or(f64::NAN);
     let outcome = runner::run(&spec(runs), &options).expect("campaign runs");

@@ -28,8 +28,6 @@ fn run(spec: &CampaignSpec, out_dir: &Path, workers: usize, shard: Shard) -> run
         workers,
         shard,
         progress: false,
-        resume: false,
-        rerun: Vec::new(),
     };
     runner::run(spec, &options).unwrap()
 }
@@ -128,8 +126,6 @@ fn a_campaign_with_a_bad_definition_writes_nothing() {
         workers: 1,
         shard: Shard::WHOLE,
         progress: false,
-        resume: false,
-        rerun: Vec::new(),
     };
     assert!(runner::run(&spec, &options).is_err());
     assert!(!dir.path().join("out").exists());

@@ -199,10 +199,11 @@ pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32>
         workers: args.workers.unwrap_or_else(runner::default_workers),
         shard: args.shard.unwrap_or(Shard::WHOLE),
         progress: !args.quiet,
-        resume: args.resume,
-        rerun: args.rerun.clone(),
     };
-    let outcome = runner::run(&spec, &options)?;
+    let resume = args.resume.then(|| runner::Resume {
+        rerun: args.rerun.clone(),
+    });
+    let outcome = runner::run_resumed(&spec, &options, resume.as_ref())?;
     if outcome.kept > 0 {
         println!(
             "resumed: {} flights kept from the interrupted campaign",

@@ -30,9 +30,12 @@ pub struct RunOptions {
     pub shard: Shard,
     /// Show a progress bar (it still hides itself when stderr is not a terminal).
     pub progress: bool,
-    /// Continue the campaign in `out_dir`: keep its finished rows, fly only the others.
-    pub resume: bool,
-    /// Fly these flight indices again (replacing their rows) in a resumed campaign.
+}
+
+/// Continuing the campaign in `out_dir` ([`run_resumed`]): its finished rows are kept and
+/// only the other flights flown, and `rerun` flight indices flown again (their rows replaced).
+#[derive(Debug, Clone, Default)]
+pub struct Resume {
     pub rerun: Vec<u64>,
 }
 
@@ -58,6 +61,16 @@ impl Outcome {
 /// Runs `options.shard` of `spec`, writing `manifest.csv` and `campaign.toml` into
 /// `options.out_dir` (plots are the caller's choice: see [`super::plots`]).
 pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome> {
+    run_resumed(spec, options, None)
+}
+
+/// [`run`], continuing the campaign already in `options.out_dir` when `resume` is given (a
+/// fresh one when there is none there).
+pub fn run_resumed(
+    spec: &CampaignSpec,
+    options: &RunOptions,
+    resume: Option<&Resume>,
+) -> anyhow::Result<Outcome> {
     spec.validate().map_err(anyhow::Error::msg)?;
     anyhow::ensure!(options.workers > 0, "--workers must be at least 1");
     let started = Instant::now();
@@ -68,14 +81,9 @@ pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome>
     let manifest_path = options.out_dir.join(manifest::FILE_NAME);
     let total = spec.flight_count();
     let shard = options.shard;
-    let previous = if options.resume {
-        finished_rows(spec, options, &manifest_path)?
-    } else {
-        anyhow::ensure!(
-            options.rerun.is_empty(),
-            "--rerun re-flies flights of an existing campaign: give --resume too"
-        );
-        None
+    let previous = match resume {
+        Some(resume) => finished_rows(spec, options, &resume.rerun, &manifest_path)?,
+        None => None,
     };
     std::fs::create_dir_all(&options.out_dir)
         .with_context(|| format!("creating {}", options.out_dir.display()))?;
@@ -212,12 +220,13 @@ struct Kept {
 fn finished_rows(
     spec: &CampaignSpec,
     options: &RunOptions,
+    rerun: &[u64],
     manifest_path: &Path,
 ) -> anyhow::Result<Option<Kept>> {
     let config_path = options.out_dir.join(config::FILE_NAME);
     if !config_path.exists() || !manifest_path.exists() {
         anyhow::ensure!(
-            options.rerun.is_empty(),
+            rerun.is_empty(),
             "--rerun: no campaign in {} to re-fly flights of",
             options.out_dir.display()
         );
@@ -238,8 +247,7 @@ fn finished_rows(
         options.shard
     );
     let total = spec.flight_count();
-    let bad: Vec<String> = options
-        .rerun
+    let bad: Vec<String> = rerun
         .iter()
         .filter(|&&i| i >= total || i % options.shard.n != options.shard.k - 1)
         .map(u64::to_string)
@@ -266,7 +274,7 @@ fn finished_rows(
         );
     }
     let before = rows.len();
-    rows.retain(|r| !options.rerun.contains(&r.flight.index));
+    rows.retain(|r| !rerun.contains(&r.flight.index));
     let rewrite = rows.len() != before;
     Ok(Some(Kept {
         rows,
