@@ -355,8 +355,8 @@ static VARIABLES: &[Variable<LanderGnc>] = &[
         variability: Variability::Discrete,
         initial: Some(Initial::Calculated),
         unit: None,
-        description: "guidance phase: 1 hover, 2 polynomial descent, 3 hover at the descent target, 4 hold",
-        access: Access::Integer { start: None, min: Some(1), max: Some(4), get: |m| m.outputs.guidance_phase, set: None },
+        description: "guidance phase: 1 hover, 2 polynomial descent, 3 hover at the descent target, 4 hold, 5 terminal descent",
+        access: Access::Integer { start: None, min: Some(1), max: Some(5), get: |m| m.outputs.guidance_phase, set: None },
     },
     output("time_to_go", 123, S, "descent time-to-go at the last guidance sample (0 outside the descent)", |m| m.outputs.time_to_go_s),
     // parameters
@@ -398,6 +398,7 @@ static VARIABLES: &[Variable<LanderGnc>] = &[
     parameter("target_hover_duration", 226, S, "phase 3 (PV hover at the descent target) duration; phase 4 holds there after it", 30.0, Some(0.0), |m| m.params.target_hover_duration_s, |m, v| m.params.target_hover_duration_s = v),
     parameter("reduced_yaw_weight", 227, ONE, "reduced law: weight of the rotation about the thrust axis, in [0, 1]", 0.4, Some(0.0), |m| m.params.reduced_yaw_weight, |m, v| m.params.reduced_yaw_weight = v),
     parameter("rate_shaping_margin", 228, ONE, "share of the torque limit the attitude laws count on to brake a rotation; large angle errors are shaped so the rate demand can be stopped in time (beyond the paper, ArduPilot-style square-root controller); 0.5 is a good choice; 0 = the paper's pure PD (default), in [0, 1]", 0.0, Some(0.0), |m| m.params.rate_shaping_margin, |m, v| m.params.rate_shaping_margin = v),
+    parameter("terminal_descent_speed", 229, MPS, "phase 5 (beyond the paper): after the target hover, descend vertically over the descent target at this speed until touchdown; 0 = no terminal descent, hold the hover (default)", 0.0, Some(0.0), |m| m.params.terminal_descent_speed_mps, |m, v| m.params.terminal_descent_speed_mps = v),
 ];
 
 #[cfg(test)]

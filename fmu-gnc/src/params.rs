@@ -33,6 +33,8 @@ pub struct GncParameters {
     pub target_hover_duration_s: f64,
     pub reduced_yaw_weight: f64,
     pub rate_shaping_margin: f64,
+    /// Terminal-descent sink rate after the target hover; 0 = none (the paper).
+    pub terminal_descent_speed_mps: f64,
 }
 
 impl Default for GncParameters {
@@ -59,6 +61,7 @@ impl Default for GncParameters {
             target_hover_duration_s: 30.0,
             reduced_yaw_weight: 0.4,
             rate_shaping_margin: 0.0,
+            terminal_descent_speed_mps: 0.0,
         }
     }
 }
@@ -220,6 +223,12 @@ impl GncParameters {
             p.rate_shaping_margin,
             "must be in [0, 1]",
         )?;
+        check(
+            p.terminal_descent_speed_mps >= 0.0 && p.terminal_descent_speed_mps.is_finite(),
+            "terminal_descent_speed",
+            p.terminal_descent_speed_mps,
+            "must be finite and >= 0 (0 = no terminal descent)",
+        )?;
         Ok(())
     }
 
@@ -237,6 +246,7 @@ impl GncParameters {
             pv_gains: PvGains::from_bandwidth(self.guidance_bandwidth_hz, self.guidance_damping),
             thrust_min_n: self.thrust_min_n,
             thrust_max_n: self.thrust_max_n,
+            terminal_descent_speed_mps: self.terminal_descent_speed_mps,
         }
     }
 

@@ -9,8 +9,10 @@ pub mod metrics;
 pub mod montecarlo;
 pub mod paper;
 pub mod plots;
+pub mod report;
 pub mod results;
 pub mod scenarios;
 pub mod system;
+pub mod verdict;
 
 pub use loader::{Fmu, Instance};

@@ -1,8 +1,8 @@
 //! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals).
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use harness::master::{MasterError, RunEnd, Simulation, Trajectory};
-use harness::scenarios::{self, Law};
+use harness::master::{MasterError, Simulation, Trajectory};
+use harness::scenarios::Law;
 use harness::system::{split_path, ParamValue};
 use std::path::PathBuf;
 
@@ -14,7 +14,12 @@ use std::path::PathBuf;
     long_about = "Loads FMI 2.0 Co-Simulation FMUs through their C ABI, connects them as a \
                   scenario describes (TOML or SSP .ssd), and flies the paper's powered descent.\n\
                   Built-in scenarios: paper (tilted start, phi_cmd = 150 deg at t = 0), upright \
-                  (Table II literally), descent-roll (tilted start, phi_cmd at the descent)."
+                  (Table II literally), descent-roll (tilted start, phi_cmd at the descent), \
+                  landing (the paper's descent, then a terminal descent to touchdown).",
+    after_help = "Exit codes: 0 every run ended as its scenario expects (the `[verdict]` table \
+                  of its TOML: completed, or landed inside the touchdown envelope); 1 error \
+                  (bad input, FMU failure); 2 usage error; 3 a run was flown but its verdict \
+                  failed (hard landing, touchdown when a hover was expected, ...)."
 )]
 struct Cli {
     /// Directory holding the FMUs named by the scenario (relative `fmu` paths).
@@ -36,7 +41,7 @@ enum Command {
     /// Run one scenario (built-in name, .toml, .ssd or .ssp package) and write its results as CSV.
     #[command(allow_negative_numbers = true)]
     Run {
-        /// paper, upright, descent-roll, or a path to a .toml/.ssd scenario or .ssp package.
+        /// paper, upright, descent-roll, landing, or a path to a .toml/.ssd scenario or .ssp package.
         scenario: String,
         /// CSV output (header: time, instance.variable...).
         #[arg(long, short, default_value = "target/harness/run.csv")]
@@ -87,6 +92,12 @@ enum Command {
     /// trajectory; from a manifest, check its metrics bit for bit.
     #[command(allow_negative_numbers = true)]
     Replay(harness::montecarlo::cli::ReplayArgs),
+    /// Write DIR/report.html: one self-contained page with the figures, tables and verdicts
+    /// of a `paper` or `monte-carlo` output directory (merged or Dask campaigns too).
+    Report {
+        /// The output directory of `harness paper`, `monte-carlo` or `merge-mc`.
+        dir: PathBuf,
+    },
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -145,6 +156,9 @@ fn init_logging() {
 fn main() -> anyhow::Result<()> {
     init_logging();
     let cli = Cli::parse();
+    // 0, or harness::verdict::EXIT_FAILED_VERDICT when a run did not end as expected; errors
+    // return through `?` (exit code 1).
+    let mut exit_code = harness::verdict::EXIT_OK;
     match cli.command {
         Command::Run {
             scenario,
@@ -153,7 +167,7 @@ fn main() -> anyhow::Result<()> {
             record,
             ordering,
         } => {
-            let mut system = scenarios::load(&scenario)?;
+            let (mut system, spec) = harness::verdict::scenario::load(&scenario)?;
             // Every bad --set at once; names and types are checked against the FMUs when the
             // simulation is built, with the rest of the scenario.
             let mut problems = Vec::new();
@@ -197,44 +211,47 @@ fn main() -> anyhow::Result<()> {
             let end = simulation.run(&mut trajectory)?;
             harness::results::write_csv(&out, &trajectory)
                 .with_context(|| format!("writing {}", out.display()))?;
-            let how = match end {
-                RunEnd::Completed => "completed".to_owned(),
-                RunEnd::Terminated { instance, time } => {
-                    format!("terminated by '{instance}' at t = {time}")
-                }
-            };
+            let verdict = harness::verdict::judge(&trajectory, &end, &spec.envelope);
             println!(
-                "{}: {how}; {} rows x {} columns -> {}",
+                "{}: {} rows x {} columns -> {}\nverdict: {}",
                 simulation.system().name,
                 trajectory.len(),
                 trajectory.names.len() + 1,
-                out.display()
+                out.display(),
+                verdict.describe(spec.expect)
             );
+            exit_code = verdict.exit_code(spec.expect);
         }
         Command::Paper {
             scenario,
             out_dir,
             no_plots,
         } => {
-            let system = scenarios::load(&scenario)?;
+            let (system, spec) = harness::verdict::scenario::load(&scenario)?;
             let name = system.name.clone();
-            let flights = harness::paper::fly_all(system, &cli.fmu_dir, &Law::ALL)?;
-            println!("scenario '{name}'\n{}", harness::paper::table(&flights));
-            std::fs::create_dir_all(&out_dir)?;
+            let flights = harness::paper::fly_all(system, &cli.fmu_dir, &Law::ALL, &spec.envelope)?;
+            let summary = harness::paper::summary(&name, &flights, spec.expect);
+            print!("{summary}");
             for flight in &flights {
-                let path = out_dir.join(format!("{name}-{}.csv", flight.law.name()));
-                harness::results::write_csv(&path, &flight.trajectory)?;
+                exit_code = exit_code.max(flight.verdict.exit_code(spec.expect));
             }
-            if !no_plots {
-                for path in harness::plots::paper_figures(&flights, &out_dir, &name)? {
-                    println!("wrote {}", path.display());
-                }
+            for path in
+                harness::paper::write_outputs(&flights, &out_dir, &name, &summary, !no_plots)?
+            {
+                println!("wrote {}", path.display());
             }
-            println!("CSVs in {}", out_dir.display());
         }
-        Command::MonteCarlo(args) => harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?,
-        Command::MergeMc(args) => harness::montecarlo::cli::merge_mc(&args)?,
+        Command::MonteCarlo(args) => {
+            exit_code = harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?
+        }
+        Command::MergeMc(args) => exit_code = harness::montecarlo::cli::merge_mc(&args)?,
         Command::Replay(args) => harness::montecarlo::cli::replay(&args, &cli.fmu_dir)?,
+        Command::Report { dir } => {
+            println!("wrote {}", harness::report::for_directory(&dir)?.display())
+        }
+    }
+    if exit_code != harness::verdict::EXIT_OK {
+        std::process::exit(exit_code);
     }
     Ok(())
 }

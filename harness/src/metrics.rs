@@ -39,6 +39,26 @@ pub struct Metrics {
     /// Largest tilt of the thrust axis from the commanded direction after the first 30 s (rad).
     pub max_tilt_error_after_30s_rad: f64,
     pub end_time_s: f64,
+    /// |r - descent target| at the last sample of the polynomial descent (m): what the
+    /// controller leaves to the guidance, before any hover corrects it. NaN without a descent.
+    pub descent_end_position_error_m: f64,
+    /// North and East of the lander at that sample (m): the dispersion ellipse's points.
+    pub descent_end_north_m: f64,
+    pub descent_end_east_m: f64,
+    /// Largest horizontal speed while the thrust-axis manoeuvre is under way, i.e. until the
+    /// roll error settles within 2 deg (the whole run if it never does) (m/s).
+    pub max_lateral_speed_manoeuvre_mps: f64,
+    /// Time integral of the thrust axis's angle from its commanded direction, whole run
+    /// (rad s, trapezoidal).
+    pub tilt_error_integral_rad_s: f64,
+    /// Touchdown state as the plant reports it; NaN when the run did not touch down (or the
+    /// touchdown columns were not recorded).
+    pub touchdown_vertical_speed_mps: f64,
+    pub touchdown_horizontal_speed_mps: f64,
+    pub touchdown_tilt_rad: f64,
+    pub touchdown_body_rate_radps: f64,
+    pub touchdown_north_m: f64,
+    pub touchdown_east_m: f64,
 }
 
 /// Error naming the missing column.
@@ -84,6 +104,14 @@ pub fn compute(
         Some(_) => f64::NAN,
     };
     let t0 = trajectory.times.first().copied().unwrap_or(0.0);
+    let times = &trajectory.times;
+    let descent_end = (0..n).rev().find(|&k| phase[k] == 2.0);
+    let at_descent_end = |f: &dyn Fn(usize) -> f64| descent_end.map_or(f64::NAN, f);
+    let manoeuvre_end = settle_index.map_or(0, |k| k + 1);
+    let tilt_error_integral_rad_s = (1..n)
+        .map(|k| 0.5 * (tilt[k] + tilt[k - 1]) * (times[k] - times[k - 1]))
+        .sum();
+    let touchdown = touchdown_state(trajectory, p);
     Ok(Metrics {
         max_horizontal_deviation_m: max_over(&mut (0..n).map(horizontal)),
         max_horizontal_deviation_descent_m: max_over(
@@ -107,7 +135,50 @@ pub fn compute(
                 .map(|k| tilt[k]),
         ),
         end_time_s: trajectory.times.last().copied().unwrap_or(f64::NAN),
+        descent_end_position_error_m: at_descent_end(&|k| {
+            (0..3)
+                .map(|i| (r[i][k] - target_nue[i]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        }),
+        descent_end_north_m: at_descent_end(&|k| r[0][k]),
+        descent_end_east_m: at_descent_end(&|k| r[2][k]),
+        max_lateral_speed_manoeuvre_mps: max_over(
+            &mut (0..n.min(manoeuvre_end.max(1))).map(|k| v[0][k].hypot(v[2][k])),
+        ),
+        tilt_error_integral_rad_s,
+        touchdown_vertical_speed_mps: touchdown[0],
+        touchdown_horizontal_speed_mps: touchdown[1],
+        touchdown_tilt_rad: touchdown[2],
+        touchdown_body_rate_radps: touchdown[3],
+        touchdown_north_m: touchdown[4],
+        touchdown_east_m: touchdown[5],
     })
+}
+
+/// Vertical (down) and horizontal speed, tilt, body rate, North and East at touchdown, from
+/// the plant's touchdown outputs in the last row; NaN without a recorded touchdown.
+fn touchdown_state(trajectory: &Trajectory, plant: &str) -> [f64; 6] {
+    let last = |name: &str| {
+        let full = format!("{plant}.{name}");
+        trajectory
+            .column_index(&full)
+            .filter(|_| !trajectory.is_empty())
+            .map(|j| trajectory.row(trajectory.len() - 1)[j])
+    };
+    if last("touchdown").is_none_or(|flag| flag == 0.0) {
+        return [f64::NAN; 6];
+    }
+    let get = |name: &str| last(name).unwrap_or(f64::NAN);
+    let w = |i: usize| get(&format!("touchdown_omega_body[{i}]"));
+    [
+        -get("touchdown_v_nue[2]"),
+        get("touchdown_v_nue[1]").hypot(get("touchdown_v_nue[3]")),
+        get("touchdown_tilt"),
+        (w(1).powi(2) + w(2).powi(2) + w(3).powi(2)).sqrt(),
+        get("r_nue[1]"),
+        get("r_nue[3]"),
+    ]
 }
 
 #[cfg(test)]
@@ -163,6 +234,61 @@ mod tests {
         assert_eq!(m.roll_settling_time_s, 40.0);
         assert_eq!(m.final_phi_b_rad, 2.6);
         assert_eq!(m.max_tilt_error_after_30s_rad, 0.1);
+        // the descent (phase 2) ends at t = 40 at (6, 500, 8): |(6, 350, 8)|
+        assert_eq!(
+            m.descent_end_position_error_m,
+            (36.0f64 + 350.0 * 350.0 + 64.0).sqrt()
+        );
+        assert_eq!((m.descent_end_north_m, m.descent_end_east_m), (6.0, 8.0));
+        // the roll error settles at t = 40: only row 0 (at rest) is in the manoeuvre
+        assert_eq!(m.max_lateral_speed_manoeuvre_mps, 0.0);
+        // trapezoids: 40 (0.2 + 0.1) / 2 + 40 (0.1 + 0.05) / 2
+        assert!((m.tilt_error_integral_rad_s - 9.0).abs() < 1e-12);
+        assert!(
+            m.touchdown_vertical_speed_mps.is_nan(),
+            "no touchdown columns"
+        );
+    }
+
+    #[test]
+    fn the_lateral_speed_counts_only_while_the_manoeuvre_is_under_way() {
+        let mut t = sample();
+        // 0.6 m/s East in the last row: after the manoeuvre settled (t = 40), not counted
+        let m = compute(&t, &Columns::default(), [0.0, 150.0, 0.0]).unwrap();
+        assert_eq!(m.max_lateral_speed_manoeuvre_mps, 0.0);
+        // a roll error still large at the end: the whole run is the manoeuvre
+        t.values[2 * 14 + 11] = 1.0;
+        let m = compute(&t, &Columns::default(), [0.0, 150.0, 0.0]).unwrap();
+        assert_eq!(m.max_lateral_speed_manoeuvre_mps, 0.6);
+    }
+
+    #[test]
+    fn the_touchdown_state_is_read_from_the_plant_outputs() {
+        let mut t = sample();
+        let extra = [
+            ("plant.touchdown", 1.0),
+            ("plant.touchdown_v_nue[1]", 0.3),
+            ("plant.touchdown_v_nue[2]", -1.2),
+            ("plant.touchdown_v_nue[3]", 0.4),
+            ("plant.touchdown_tilt", 0.05),
+            ("plant.touchdown_omega_body[1]", 0.0),
+            ("plant.touchdown_omega_body[2]", 0.03),
+            ("plant.touchdown_omega_body[3]", 0.04),
+        ];
+        let width = t.names.len();
+        let mut values = Vec::new();
+        for k in 0..t.len() {
+            values.extend_from_slice(&t.values[k * width..(k + 1) * width]);
+            values.extend(extra.iter().map(|(_, x)| *x));
+        }
+        t.names.extend(extra.iter().map(|(n, _)| n.to_string()));
+        t.values = values;
+        let m = compute(&t, &Columns::default(), [0.0, 150.0, 0.0]).unwrap();
+        assert_eq!(m.touchdown_vertical_speed_mps, 1.2);
+        assert_eq!(m.touchdown_horizontal_speed_mps, 0.5);
+        assert_eq!(m.touchdown_tilt_rad, 0.05);
+        assert!((m.touchdown_body_rate_radps - 0.05).abs() < 1e-15);
+        assert_eq!((m.touchdown_north_m, m.touchdown_east_m), (0.0, 0.0));
     }
 
     #[test]

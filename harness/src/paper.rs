@@ -3,6 +3,7 @@ use crate::master::{MasterError, RunEnd, Simulation, Trajectory};
 use crate::metrics::{self, Metrics};
 use crate::scenarios::{Law, TERMINAL_TARGET_NUE};
 use crate::system::SystemDescription;
+use crate::verdict::{self, Envelope, Verdict};
 use std::path::Path;
 
 /// One law's flight.
@@ -12,21 +13,34 @@ pub struct Flight {
     pub end: RunEnd,
     pub trajectory: Trajectory,
     pub metrics: Metrics,
+    pub verdict: Verdict,
 }
 
 /// Flies `system` once per law (its `gnc.control_law` overridden), reusing one loaded
-/// simulation (the instances are reset between runs).
+/// simulation (the instances are reset between runs); touchdowns judged against `envelope`.
 pub fn fly_all(
     system: SystemDescription,
     fmu_dir: &Path,
     laws: &[Law],
+    envelope: &Envelope,
 ) -> anyhow::Result<Vec<Flight>> {
     let mut simulation = Simulation::new(system, fmu_dir)?;
-    laws.iter().map(|&law| fly(&mut simulation, law)).collect()
+    laws.iter()
+        .map(|&law| fly_judged(&mut simulation, law, envelope))
+        .collect()
 }
 
-/// Flies one law on a loaded simulation.
+/// Flies one law on a loaded simulation (touchdown judged against the default envelope).
 pub fn fly(simulation: &mut Simulation, law: Law) -> anyhow::Result<Flight> {
+    fly_judged(simulation, law, &Envelope::default())
+}
+
+/// Flies one law on a loaded simulation and judges its end against `envelope`.
+pub fn fly_judged(
+    simulation: &mut Simulation,
+    law: Law,
+    envelope: &Envelope,
+) -> anyhow::Result<Flight> {
     simulation.set_parameter("gnc", "control_law", law.parameter())?;
     let mut trajectory = Trajectory {
         names: simulation.column_names().to_vec(),
@@ -36,21 +50,71 @@ pub fn fly(simulation: &mut Simulation, law: Law) -> anyhow::Result<Flight> {
         .run(&mut trajectory)
         .map_err(|e: MasterError| anyhow::anyhow!(e))?;
     let metrics = metrics::compute(&trajectory, &Default::default(), TERMINAL_TARGET_NUE)?;
+    let verdict = verdict::judge(&trajectory, &end, envelope);
     Ok(Flight {
         law,
         end,
         trajectory,
         metrics,
+        verdict,
     })
 }
 
-/// The comparison table printed by `harness paper`.
+/// The text `harness paper` prints and keeps as `<name>-summary.txt`: the table, then one
+/// verdict line per law.
+pub fn summary(name: &str, flights: &[Flight], expect: verdict::Expect) -> String {
+    let mut text = format!("scenario '{name}'\n{}\n", table(flights));
+    for flight in flights {
+        text += &format!(
+            "{}: {}\n",
+            flight.law.name(),
+            flight.verdict.describe(expect)
+        );
+    }
+    text
+}
+
+/// Writes into `dir` each law's trajectory CSV, `<name>-summary.txt`, the figures (unless
+/// `plots` is false) and `report.html`; returns the paths written.
+pub fn write_outputs(
+    flights: &[Flight],
+    dir: &Path,
+    name: &str,
+    summary: &str,
+    plots: bool,
+) -> anyhow::Result<Vec<std::path::PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    let mut written = Vec::new();
+    for flight in flights {
+        let path = dir.join(format!("{name}-{}.csv", flight.law.name()));
+        crate::results::write_csv(&path, &flight.trajectory)?;
+        written.push(path);
+    }
+    let path = dir.join(format!("{name}-summary.txt"));
+    std::fs::write(&path, summary)?;
+    written.push(path);
+    if plots {
+        written.extend(crate::plots::paper_figures(flights, dir, name)?);
+    }
+    written.push(crate::report::write(
+        dir,
+        &format!("lander-fmi: scenario '{name}' flown with each control law"),
+        &[],
+    )?);
+    Ok(written)
+}
+
+const LABEL: usize = 46;
+const CELL: usize = 14;
+
+/// The comparison table printed by `harness paper`: metrics, then the verdict and the
+/// touchdown state ("-" where a law did not touch down).
 pub fn table(flights: &[Flight]) -> String {
     use std::fmt::Write;
     let mut out = String::new();
-    let _ = write!(out, "{:<44}", "");
+    let _ = write!(out, "{:<LABEL$}", "");
     for f in flights {
-        let _ = write!(out, "{:>12}", f.law.name());
+        let _ = write!(out, "{:>CELL$}", f.law.name());
     }
     let _ = writeln!(out);
     type Row = (&'static str, fn(&Metrics) -> f64);
@@ -81,20 +145,100 @@ pub fn table(flights: &[Flight]) -> String {
         }),
     ];
     for (label, get) in rows {
-        let _ = write!(out, "{label:<44}");
+        let _ = write!(out, "{label:<LABEL$}");
         for f in flights {
-            let _ = write!(out, "{:>12.3}", get(&f.metrics));
+            let _ = write!(out, "{:>CELL$.3}", get(&f.metrics));
         }
         let _ = writeln!(out);
     }
-    let _ = write!(out, "{:<44}", "end of run");
-    for f in flights {
-        let end = match &f.end {
-            RunEnd::Completed => "completed".to_owned(),
-            RunEnd::Terminated { time, .. } => format!("stop {time:.2}s"),
-        };
-        let _ = write!(out, "{end:>12}");
+    let line = |out: &mut String, label: &str, cell: &dyn Fn(&Flight) -> String| {
+        let _ = write!(out, "{label:<LABEL$}");
+        for f in flights {
+            let _ = write!(out, "{:>CELL$}", cell(f));
+        }
+        let _ = writeln!(out);
+    };
+    line(&mut out, "end of run (s)", &|f| match &f.end {
+        RunEnd::Completed => format!("{:.2}", f.metrics.end_time_s),
+        RunEnd::Terminated { time, .. } => format!("{time:.2}"),
+    });
+    line(&mut out, "verdict", &|f| f.verdict.word().to_owned());
+    type Touch = (&'static str, fn(&verdict::Touchdown) -> f64);
+    let touch: [Touch; 5] = [
+        ("touchdown vertical speed (m/s)", |t| t.vertical_speed_mps),
+        ("touchdown horizontal speed (m/s)", |t| {
+            t.horizontal_speed_mps
+        }),
+        ("touchdown tilt (deg)", |t| t.tilt_deg),
+        ("touchdown body rate (deg/s)", |t| t.body_rate_degps),
+        ("touchdown distance from the site (m)", |t| {
+            t.horizontal_position_m
+        }),
+    ];
+    for (label, get) in touch {
+        line(&mut out, label, &|f| match f.verdict.touchdown() {
+            Some(t) => format!("{:.3}", get(t)),
+            None => "-".to_owned(),
+        });
     }
-    let _ = writeln!(out);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::verdict::Touchdown;
+
+    fn flight(law: Law, verdict: Verdict, end: RunEnd) -> Flight {
+        let metrics = crate::montecarlo::flight::nan_metrics();
+        Flight {
+            law,
+            end,
+            trajectory: Trajectory::default(),
+            metrics,
+            verdict,
+        }
+    }
+
+    #[test]
+    fn every_row_of_the_table_is_aligned_and_the_verdict_row_legible() {
+        let touchdown = Touchdown {
+            time_s: 141.73,
+            vertical_speed_mps: 4.9,
+            horizontal_speed_mps: 0.1,
+            tilt_deg: 56.0,
+            body_rate_degps: 3.0,
+            horizontal_position_m: 1.0,
+        };
+        let flights = [
+            flight(
+                Law::Coupled,
+                Verdict::Completed { end_time_s: 142.01 },
+                RunEnd::Completed,
+            ),
+            flight(
+                Law::Decoupled,
+                Verdict::HardLanding {
+                    touchdown,
+                    broken: vec![],
+                },
+                RunEnd::Terminated {
+                    instance: "plant".into(),
+                    time: 141.73,
+                },
+            ),
+        ];
+        let text = table(&flights);
+        let width = LABEL + 2 * CELL;
+        for line in text.lines() {
+            assert_eq!(line.chars().count(), width, "{line:?}");
+        }
+        let verdict = text.lines().find(|l| l.starts_with("verdict")).unwrap();
+        assert!(
+            verdict.ends_with("     completed  hard landing"),
+            "{verdict:?}"
+        );
+        let tilt = text.lines().find(|l| l.contains("touchdown tilt")).unwrap();
+        assert!(tilt.ends_with("             -        56.000"), "{tilt:?}");
+    }
 }

@@ -1,7 +1,7 @@
 //! The shipped scenarios and how a scenario argument is resolved: a built-in name,
 //! a TOML file, an SSP `.ssd` or an `.ssp` package.
 use crate::master::{MasterError, Simulation};
-use crate::system::{ssp, toml_format, PackageDir, ParamValue, SystemDescription, SystemError};
+use crate::system::{ssp, PackageDir, ParamValue, SystemDescription, SystemError};
 use std::path::Path;
 
 /// Built-in scenarios: name, TOML text (the same files as `harness/scenarios/*.toml`).
@@ -12,6 +12,7 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         "descent-roll",
         include_str!("../scenarios/descent-roll.toml"),
     ),
+    ("landing", include_str!("../scenarios/landing.toml")),
 ];
 
 /// The terminal hover target of the shipped timeline (LanderGnc's default descent target).
@@ -26,13 +27,14 @@ pub const TERMINAL_TARGET_NUE: [f64; 3] = [0.0, 150.0, 0.0];
 /// temporary directory that lives as long as the returned description.
 pub fn load(name_or_path: &str) -> Result<SystemDescription, SystemError> {
     if let Some((name, text)) = BUILT_IN.iter().find(|(name, _)| *name == name_or_path) {
-        return toml_format::parse(text, Path::new(&format!("<built-in scenario {name}>")));
+        let origin = format!("<built-in scenario {name}>");
+        return crate::verdict::scenario::parse_toml(text, Path::new(&origin));
     }
     let path = Path::new(name_or_path);
     match path.extension().and_then(|e| e.to_str()) {
         Some("ssd") => read_ssd(path),
         Some("ssp") => read_package(path),
-        _ => toml_format::read(path),
+        _ => crate::verdict::scenario::read_toml(path),
     }
 }
 

@@ -53,6 +53,9 @@ fn same_seed_same_rows_whatever_the_worker_count_and_sharding() {
     let reference = sorted_lines(&one.join(manifest::FILE_NAME));
     assert_eq!(reference.len(), 8);
     assert_eq!(sorted_lines(&two.join(manifest::FILE_NAME)), reference);
+    // The finished manifest is sorted by index: the files are the same byte for byte.
+    let bytes = |dir: &Path| std::fs::read(dir.join(manifest::FILE_NAME)).unwrap();
+    assert_eq!(bytes(&one), bytes(&two));
 
     // Another seed draws other dispersions.
     let other = dir.path().join("other");
@@ -69,6 +72,10 @@ fn same_seed_same_rows_whatever_the_worker_count_and_sharding() {
         })
         .collect();
     let merged = merge::merge(&shards, false).unwrap();
+    assert_eq!(
+        merged.file.execution.workers, None,
+        "a merge ran no workers"
+    );
     let merged_dir = dir.path().join("merged");
     let path = merge::write(&merged, &merged_dir).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
@@ -78,6 +85,7 @@ fn same_seed_same_rows_whatever_the_worker_count_and_sharding() {
         lines[1..],
         reference.iter().map(String::as_str).collect::<Vec<_>>()
     );
+    assert_eq!(bytes(&merged_dir), bytes(&one));
 
     // A shard given twice, or one left out, is refused with the reason.
     let twice = [shards[0].clone(), shards[0].clone(), shards[1].clone()];

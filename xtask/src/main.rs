@@ -4,6 +4,7 @@
 #![deny(unsafe_code)]
 
 mod bench;
+mod campaign_dask;
 mod demo;
 mod doc_page;
 mod fmu_zip;
@@ -46,6 +47,10 @@ enum Command {
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
     },
+    /// A Monte Carlo campaign with its shards as Dask tasks (a LocalCluster of --workers
+    /// processes, or --scheduler's cluster), merged into the files `harness monte-carlo`
+    /// writes: `cargo xtask campaign-dask --workers 4 -- -n 100 --out-dir target/mc`.
+    CampaignDask(campaign_dask::Args),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +61,7 @@ fn main() -> ExitCode {
         Command::Demo => demo::run(&ws),
         Command::PythonEnv => python_env::ensure(&ws),
         Command::Bench { args } => bench::run(&ws, &args),
+        Command::CampaignDask(args) => campaign_dask::run(&ws, &args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,6 +3,8 @@
 //! Phases by default: (1) PV hover at 800 m for 12 s, (2) polynomial descent to 150 m with
 //! tgo = 130 s, (3) PV hover at 150 m for 30 s, (4) hold: PV hover at the descent target for
 //! ever. Targets, durations and tgo are parameters. The schedule counts from the start time.
+//! Optionally (beyond the paper, off by default) phase 4 is replaced by (5) a terminal descent:
+//! straight down over the descent target at a commanded constant speed until touchdown.
 //!
 //! Guidance is sampled: a new command is computed once per guidance cycle, at the first sample
 //! whose integer cycle index differs from the last one solved, and held in between. The index is
@@ -56,6 +58,9 @@ pub struct Scenario {
     /// Engine range, for the achievable command (see `achievable_thrust_acceleration_nue`).
     pub thrust_min_n: f64,
     pub thrust_max_n: f64,
+    /// Sink rate of the terminal descent after the target hover (m/s, > 0); 0 = no terminal
+    /// descent, hold the hover (the paper).
+    pub terminal_descent_speed_mps: f64,
 }
 
 /// Guidance phase, exchanged as the Integer output `guidance_phase`.
@@ -65,6 +70,7 @@ pub enum Phase {
     Descent = 2,
     TargetHover = 3,
     Hold = 4,
+    TerminalDescent = 5,
 }
 
 impl Scenario {
@@ -79,6 +85,8 @@ impl Scenario {
             Phase::Descent
         } else if !has_reached(elapsed_s, target_hover_end) {
             Phase::TargetHover
+        } else if self.terminal_descent_speed_mps > 0.0 {
+            Phase::TerminalDescent
         } else {
             Phase::Hold
         }
@@ -163,6 +171,9 @@ pub fn guidance_sample(
         Phase::TargetHover | Phase::Hold => {
             next.a_thrust_cmd_nue = hover(scenario, &scenario.descent_target_nue, nav);
         }
+        Phase::TerminalDescent => {
+            next.a_thrust_cmd_nue = terminal_descent(scenario, nav);
+        }
         Phase::Descent => {
             let descent_end_s = scenario.hover_duration_s + scenario.descent_time_to_go_s;
             let tgo_s = descent_end_s - sample_s;
@@ -218,6 +229,23 @@ fn hover(scenario: &Scenario, target_nue: &Vector3<f64>, nav: &GuidanceInputs) -
     )
 }
 
+/// PV law holding the descent target's North/East while tracking a constant sink rate: the
+/// reference altitude is the current one, so only the velocity error drives the vertical axis
+/// and the lander keeps sinking whatever the ground height.
+fn terminal_descent(scenario: &Scenario, nav: &GuidanceInputs) -> Vector3<f64> {
+    let target = scenario.descent_target_nue;
+    let r_ref_nue = Vector3::new(target.x, nav.r_nue.y, target.z);
+    let v_ref_nue = Vector3::new(0.0, -scenario.terminal_descent_speed_mps, 0.0);
+    pv_thrust_acceleration_nue(
+        &scenario.pv_gains,
+        scenario.gravity_mps2,
+        &r_ref_nue,
+        &v_ref_nue,
+        &nav.r_nue,
+        &nav.v_nue,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,6 +263,7 @@ mod tests {
             pv_gains: PvGains::from_bandwidth(0.06, 0.8),
             thrust_min_n: 720.0,
             thrust_max_n: 1600.0,
+            terminal_descent_speed_mps: 0.0,
         }
     }
 
@@ -373,5 +402,54 @@ mod tests {
         );
         assert_eq!(at_4_9.descent.unwrap(), solved);
         assert!(at_4_9.a_thrust_cmd_nue.iter().all(|a| a.is_finite()));
+    }
+
+    #[test]
+    fn terminal_descent_replaces_the_hold_only_when_enabled() {
+        let paper = paper_scenario();
+        assert_eq!(paper.phase_at(500.0), Phase::Hold);
+        let landing = Scenario {
+            terminal_descent_speed_mps: 1.0,
+            ..paper
+        };
+        assert_eq!(landing.phase_at(171.9), Phase::TargetHover);
+        assert_eq!(landing.phase_at(172.0), Phase::TerminalDescent);
+    }
+
+    #[test]
+    fn terminal_descent_sinks_at_the_commanded_speed_and_holds_north_east() {
+        // GIVEN a point mass hovering 3 m North of and 2 m East of the target, at 150 m
+        let s = Scenario {
+            terminal_descent_speed_mps: 1.2,
+            ..paper_scenario()
+        };
+        let mut state = GuidanceState::initial(s.gravity_mps2);
+        let mut r = Vector3::new(3.0, 150.0, 2.0);
+        let mut v = Vector3::zeros();
+        let dt = s.guidance_cycle_s;
+        // WHEN terminal descent guidance flies it for 100 s from 172 s (exact integration
+        // between samples)
+        for k in 0..1000 {
+            let elapsed = 172.0 + k as f64 * dt;
+            let nav = GuidanceInputs {
+                r_nue: r,
+                v_nue: v,
+                mass_kg: 820.0,
+            };
+            state = guidance_sample(&s, &state, elapsed, &nav);
+            assert_eq!(state.phase, Phase::TerminalDescent);
+            let a_net = net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2);
+            r += v * dt + a_net * (0.5 * dt * dt);
+            v += a_net * dt;
+        }
+        // THEN it sinks at the commanded 1.2 m/s over the target's North/East
+        assert!((v.y + 1.2).abs() < 1e-3, "v = {v}");
+        assert!(
+            r.x.hypot(r.z) < 0.05 && v.x.hypot(v.z) < 0.01,
+            "r = {r}, v = {v}"
+        );
+        // the altitude lost is the speed times the time, less the speed-up transient
+        let lost = 150.0 - r.y;
+        assert!(lost > 100.0 && lost < 120.0, "lost {lost} m");
     }
 }

@@ -3,7 +3,7 @@ use super::campaign::{CampaignSpec, Flight, Shard};
 use super::dispersion::DispersionRanges;
 use super::manifest::{self, Row};
 use super::seed::run_seed;
-use super::{merge, plots, replay, runner, summary};
+use super::{merge, plots, replay, runner, summary, summary_csv};
 use crate::scenarios::Law;
 use std::path::{Path, PathBuf};
 
@@ -23,7 +23,8 @@ pub struct CampaignArgs {
     #[arg(
         long = "phi-cmd-deg",
         value_delimiter = ',',
-        num_args = 1..,
+        num_args = 1,
+        allow_hyphen_values = true,
         default_values_t = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]
     )]
     pub phi_cmd_deg: Vec<f64>,
@@ -70,6 +71,18 @@ pub struct MonteCarloArgs {
     /// Skip the PNG figure.
     #[arg(long)]
     pub no_plots: bool,
+    /// Continue the campaign already in --out-dir (same definition and shard): keep its
+    /// finished flights, fly the others. Without a campaign there, start one.
+    #[arg(long)]
+    pub resume: bool,
+    /// With --resume: fly these flight indices again (comma-separated), replacing their rows.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        requires = "resume",
+        value_name = "INDEX,..."
+    )]
+    pub rerun: Vec<u64>,
 }
 
 #[derive(Debug, Clone, clap::Args)]
@@ -90,8 +103,14 @@ pub struct MergeArgs {
 #[derive(Debug, Clone, clap::Args)]
 pub struct ReplayArgs {
     /// Replay flight --index of this manifest (or campaign directory) and check its metrics
-    /// bit for bit; the campaign definition is read from the campaign.toml beside it.
-    #[arg(long, requires = "index", conflicts_with_all = ["seed", "run"])]
+    /// bit for bit; the campaign definition is read from the campaign.toml beside it, so
+    /// the options that define a flight (--seed, --run, --law, --phi-cmd-deg, --scenario,
+    /// --disp-*) are refused with it.
+    #[arg(
+        long,
+        requires = "index",
+        conflicts_with_all = ["seed", "run", "law", "phi_cmd_deg", "scenario", "DispersionRanges"]
+    )]
     pub manifest: Option<PathBuf>,
     /// The flight's index (the manifest's `index` column).
     #[arg(long, requires = "manifest")]
@@ -106,7 +125,11 @@ pub struct ReplayArgs {
     #[arg(long, value_enum, default_value = "decoupled")]
     pub law: Law,
     /// phi_cmd to fly the run with (deg; without --manifest).
-    #[arg(long = "phi-cmd-deg", default_value_t = 150.0)]
+    #[arg(
+        long = "phi-cmd-deg",
+        default_value_t = 150.0,
+        allow_negative_numbers = true
+    )]
     pub phi_cmd_deg: f64,
     /// Scenario (without --manifest).
     #[arg(long, default_value = "paper")]
@@ -118,19 +141,57 @@ pub struct ReplayArgs {
     pub out: PathBuf,
 }
 
-/// Summary table and figure of finished rows.
-fn report(rows: &[Row], dir: &Path, title: &str, quiet: bool, plots: bool) -> anyhow::Result<()> {
+/// At most this many failed flights are printed (all are in `summary.csv`'s counts and the
+/// manifest's `as_expected` column).
+const FAILED_SHOWN: usize = 20;
+
+/// Summary table, `summary.csv`, the failed flights and the figure of finished rows; returns
+/// the exit code ([`crate::verdict::EXIT_FAILED_VERDICT`] when a flight failed its verdict).
+fn report(
+    rows: &[Row],
+    scenario: &str,
+    dir: &Path,
+    title: &str,
+    quiet: bool,
+    plots: bool,
+) -> anyhow::Result<i32> {
+    let (_, spec) = crate::verdict::scenario::load(scenario)?;
     if !quiet {
         print!("{}", summary::table(&summary::summarise(rows)));
+    }
+    let path = summary_csv::write(rows, spec.expect, dir)?;
+    println!("wrote {}", path.display());
+    let failed = summary_csv::failed_lines(rows);
+    if !failed.is_empty() {
+        println!(
+            "{} flights did not end as the scenario expects ({}):",
+            failed.len(),
+            summary_csv::requirement(spec.expect)
+        );
+        for line in failed.iter().take(FAILED_SHOWN) {
+            println!("  {line}");
+        }
+        if failed.len() > FAILED_SHOWN {
+            println!(
+                "  ... and {} more (manifest.csv, column as_expected)",
+                failed.len() - FAILED_SHOWN
+            );
+        }
     }
     if plots {
         let path = plots::figure(rows, dir, title)?;
         println!("wrote {}", path.display());
     }
-    Ok(())
+    let path = crate::report::write(dir, title, &failed)?;
+    println!("wrote {}", path.display());
+    Ok(if failed.is_empty() {
+        crate::verdict::EXIT_OK
+    } else {
+        crate::verdict::EXIT_FAILED_VERDICT
+    })
 }
 
-pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<()> {
+pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32> {
     let spec = args.campaign.spec();
     let options = runner::RunOptions {
         fmu_dir: fmu_dir.to_owned(),
@@ -139,9 +200,18 @@ pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<()> 
         shard: args.shard.unwrap_or(Shard::WHOLE),
         progress: !args.quiet,
     };
-    let outcome = runner::run(&spec, &options)?;
+    let resume = args.resume.then(|| runner::Resume {
+        rerun: args.rerun.clone(),
+    });
+    let outcome = runner::run_resumed(&spec, &options, resume.as_ref())?;
+    if outcome.kept > 0 {
+        println!(
+            "resumed: {} flights kept from the interrupted campaign",
+            outcome.kept
+        );
+    }
     println!(
-        "{} flights ({} failed) in {:.1} s ({:.1} flights/s, {} workers) -> {}",
+        "{} flights flown ({} errors) in {:.1} s ({:.1} flights/s, {} workers) -> {}",
         outcome.flights,
         outcome.failed,
         outcome.elapsed.as_secs_f64(),
@@ -162,10 +232,17 @@ pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<()> 
             format!(", shard {}", options.shard)
         }
     );
-    report(&rows, &args.out_dir, &title, args.quiet, !args.no_plots)
+    report(
+        &rows,
+        &spec.scenario,
+        &args.out_dir,
+        &title,
+        args.quiet,
+        !args.no_plots,
+    )
 }
 
-pub fn merge_mc(args: &MergeArgs) -> anyhow::Result<()> {
+pub fn merge_mc(args: &MergeArgs) -> anyhow::Result<i32> {
     let merged = merge::merge(&args.inputs, args.allow_missing)?;
     let path = merge::write(&merged, &args.out_dir)?;
     println!(
@@ -182,7 +259,14 @@ pub fn merge_mc(args: &MergeArgs) -> anyhow::Result<()> {
         "Monte Carlo, scenario '{}', seed {}, {} runs per point",
         merged.spec.scenario, merged.spec.seed, merged.spec.runs_per_point
     );
-    report(&merged.rows, &args.out_dir, &title, false, !args.no_plots)
+    report(
+        &merged.rows,
+        &merged.spec.scenario,
+        &args.out_dir,
+        &title,
+        false,
+        !args.no_plots,
+    )
 }
 
 pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
@@ -222,15 +306,21 @@ pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
     crate::results::write_csv(&args.out, &trajectory)?;
     let m = &row.metrics;
     println!(
-        "run {} (seed {}), {} at phi_cmd {} deg: {:?}; max horizontal deviation {:.3} m, \
-         terminal position error {:.4} m; {verdict}; {} rows -> {}",
+        "run {} (seed {}), {} at phi_cmd {} deg: {:?}, verdict {}{}; max horizontal deviation \
+         {:.3} m, end-of-descent position error {:.4} m; {verdict}; {} rows -> {}",
         row.flight.run,
         row.flight.run_seed,
         row.flight.law.name(),
         row.flight.phi_cmd_deg,
         row.end,
+        row.verdict.word,
+        if row.verdict.detail.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", row.verdict.detail)
+        },
         m.max_horizontal_deviation_m,
-        m.terminal_position_error_m,
+        m.descent_end_position_error_m,
         trajectory.len(),
         args.out.display()
     );

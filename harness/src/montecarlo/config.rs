@@ -42,8 +42,9 @@ pub struct ShardSection {
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Execution {
-    /// Worker threads of this run (0 for a merge); results do not depend on it.
-    pub workers: usize,
+    /// Worker threads of this run (absent for a merge); results do not depend on it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub workers: Option<usize>,
     /// Shard directories or manifests merged into this one (empty unless merged).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub merged_from: Vec<String>,
@@ -170,7 +171,7 @@ mod tests {
             campaign: CampaignSection::from_spec(&spec),
             shard: Some(ShardSection { k: 2, n: 3 }),
             execution: Execution {
-                workers: 2,
+                workers: Some(2),
                 merged_from: vec![],
             },
             versions: Versions {

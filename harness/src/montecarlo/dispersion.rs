@@ -25,29 +25,30 @@ use std::f64::consts::TAU;
 #[serde(deny_unknown_fields)]
 pub struct DispersionRanges {
     /// Initial horizontal position: uniform over a disc of this radius (m).
-    #[arg(long = "disp-horizontal-m", default_value_t = Self::DEFAULT.horizontal_position_m, value_name = "M")]
+    #[arg(long = "disp-horizontal-m", default_value_t = Self::DEFAULT.horizontal_position_m, value_name = "M", allow_negative_numbers = true)]
     pub horizontal_position_m: f64,
     /// Initial altitude: uniform in +- this (m).
-    #[arg(long = "disp-vertical-m", default_value_t = Self::DEFAULT.vertical_position_m, value_name = "M")]
+    #[arg(long = "disp-vertical-m", default_value_t = Self::DEFAULT.vertical_position_m, value_name = "M", allow_negative_numbers = true)]
     pub vertical_position_m: f64,
     /// Initial velocity: each NUE component uniform in +- this (m/s).
-    #[arg(long = "disp-velocity-mps", default_value_t = Self::DEFAULT.velocity_mps, value_name = "M/S")]
+    #[arg(long = "disp-velocity-mps", default_value_t = Self::DEFAULT.velocity_mps, value_name = "M/S", allow_negative_numbers = true)]
     pub velocity_mps: f64,
     /// Extra tilt of the start attitude about a uniformly random horizontal axis: uniform
     /// over the cone of this half-angle (deg).
-    #[arg(long = "disp-tilt-deg", default_value_t = Self::DEFAULT.tilt_deg, value_name = "DEG")]
+    #[arg(long = "disp-tilt-deg", default_value_t = Self::DEFAULT.tilt_deg, value_name = "DEG", allow_negative_numbers = true)]
     pub tilt_deg: f64,
     /// Extra rotation of the start attitude about the thrust axis: uniform in +- this (deg).
-    #[arg(long = "disp-roll-deg", default_value_t = Self::DEFAULT.roll_deg, value_name = "DEG")]
+    #[arg(long = "disp-roll-deg", default_value_t = Self::DEFAULT.roll_deg, value_name = "DEG", allow_negative_numbers = true)]
     pub roll_deg: f64,
     /// Initial body rate: each body component uniform in +- this (deg/s).
-    #[arg(long = "disp-rate-degps", default_value_t = Self::DEFAULT.rate_degps, value_name = "DEG/S")]
+    #[arg(long = "disp-rate-degps", default_value_t = Self::DEFAULT.rate_degps, value_name = "DEG/S", allow_negative_numbers = true)]
     pub rate_degps: f64,
     /// Initial mass m0: scaled by 1 + uniform in +- this fraction.
     #[arg(
         long = "disp-mass-frac",
         default_value_t = Self::DEFAULT.mass_fraction,
-        value_name = "FRACTION"
+        value_name = "FRACTION",
+        allow_negative_numbers = true
     )]
     pub mass_fraction: f64,
     /// Plant principal inertia: each axis scaled by 1 + uniform in +- this fraction (the GNC
@@ -55,7 +56,8 @@ pub struct DispersionRanges {
     #[arg(
         long = "disp-inertia-frac",
         default_value_t = Self::DEFAULT.inertia_fraction,
-        value_name = "FRACTION"
+        value_name = "FRACTION",
+        allow_negative_numbers = true
     )]
     pub inertia_fraction: f64,
     /// Thrust misalignment from body +y: uniform over the cone of this half-angle, uniform
@@ -63,7 +65,8 @@ pub struct DispersionRanges {
     #[arg(
         long = "disp-misalignment-deg",
         default_value_t = Self::DEFAULT.misalignment_deg,
-        value_name = "DEG"
+        value_name = "DEG",
+        allow_negative_numbers = true
     )]
     pub misalignment_deg: f64,
 }
@@ -111,23 +114,37 @@ impl DispersionRanges {
     /// Refuses negative, non-finite and physically meaningless ranges, naming the option.
     pub fn validate(&self) -> Result<(), String> {
         let checks: [(&str, f64, f64); 9] = [
-            ("--disp-horizontal-m", self.horizontal_position_m, f64::MAX),
-            ("--disp-vertical-m", self.vertical_position_m, f64::MAX),
-            ("--disp-velocity-mps", self.velocity_mps, f64::MAX),
+            (
+                "--disp-horizontal-m",
+                self.horizontal_position_m,
+                f64::INFINITY,
+            ),
+            ("--disp-vertical-m", self.vertical_position_m, f64::INFINITY),
+            ("--disp-velocity-mps", self.velocity_mps, f64::INFINITY),
             ("--disp-tilt-deg", self.tilt_deg, 90.0),
             ("--disp-roll-deg", self.roll_deg, 180.0),
-            ("--disp-rate-degps", self.rate_degps, f64::MAX),
+            ("--disp-rate-degps", self.rate_degps, f64::INFINITY),
             // A scale of zero or less would make a mass or an inertia non-positive.
             ("--disp-mass-frac", self.mass_fraction, 0.5),
             ("--disp-inertia-frac", self.inertia_fraction, 0.5),
             ("--disp-misalignment-deg", self.misalignment_deg, 90.0),
         ];
-        for (option, value, max) in checks {
-            if !(value.is_finite() && (0.0..=max).contains(&value)) {
-                return Err(format!("{option} {value}: must be in [0, {max}]"));
-            }
+        let problems: Vec<String> = checks
+            .iter()
+            .filter(|(_, value, max)| !(value.is_finite() && (0.0..=*max).contains(value)))
+            .map(|(option, value, max)| {
+                if max.is_finite() {
+                    format!("{option} {value}: must be in [0, {max}]")
+                } else {
+                    format!("{option} {value}: must be a finite number >= 0")
+                }
+            })
+            .collect();
+        if problems.is_empty() {
+            Ok(())
+        } else {
+            Err(problems.join("; "))
         }
-        Ok(())
     }
 }
 

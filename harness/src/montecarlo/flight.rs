@@ -2,11 +2,12 @@
 //! phi_cmd to a loaded simulation, run it, and compute the metrics.
 use super::campaign::Flight;
 use super::dispersion::{Dispersion, DispersionRanges, Nominal};
-use super::manifest::{End, Row};
+use super::manifest::{End, Judged, Row};
 use crate::master::{RunEnd, Simulation, Trajectory};
 use crate::metrics::{self, Metrics};
 use crate::scenarios::TERMINAL_TARGET_NUE;
 use crate::system::{ParamValue, SystemDescription};
+use crate::verdict::{self, Spec};
 use model_description::StartValue;
 use std::path::Path;
 
@@ -30,14 +31,15 @@ pub const METRIC_COLUMNS: [&str; 8] = [
 /// One loaded FMU instance pair with its recording buffer, reused flight after flight.
 pub struct Flyer {
     simulation: Simulation,
+    spec: Spec,
     nominal: Nominal,
     trajectory: Trajectory,
 }
 
 impl Flyer {
     /// Loads the FMUs of `system` (as it is: set `system.record` before, see
-    /// [`METRIC_COLUMNS`]) and reads the plant's nominal start.
-    pub fn new(system: SystemDescription, fmu_dir: &Path) -> anyhow::Result<Self> {
+    /// [`METRIC_COLUMNS`]) and reads the plant's nominal start; flights are judged by `spec`.
+    pub fn new(system: SystemDescription, spec: Spec, fmu_dir: &Path) -> anyhow::Result<Self> {
         let gnc_present = system.instance(GNC).is_some();
         anyhow::ensure!(
             gnc_present,
@@ -70,6 +72,7 @@ impl Flyer {
         };
         Ok(Self {
             simulation,
+            spec,
             nominal,
             trajectory,
         })
@@ -92,13 +95,14 @@ impl Flyer {
     /// in [`Row::end`] with NaN metrics, and the campaign goes on.
     pub fn fly(&mut self, flight: &Flight, ranges: &DispersionRanges) -> Row {
         let dispersion = Dispersion::draw(flight.run_seed, ranges);
-        let (metrics, end) = match self.try_fly(flight, &dispersion) {
+        let (metrics, end, verdict) = match self.try_fly(flight, &dispersion) {
             Ok(result) => result,
             Err(error) => (
                 nan_metrics(),
                 End::Error {
                     message: format!("{error:#}"),
                 },
+                Judged::error(),
             ),
         };
         Row {
@@ -106,6 +110,7 @@ impl Flyer {
             dispersion,
             metrics,
             end,
+            verdict,
         }
     }
 
@@ -113,7 +118,7 @@ impl Flyer {
         &mut self,
         flight: &Flight,
         dispersion: &Dispersion,
-    ) -> anyhow::Result<(Metrics, End)> {
+    ) -> anyhow::Result<(Metrics, End, Judged)> {
         let sim = &mut self.simulation;
         sim.set_parameter(GNC, "control_law", flight.law.parameter())?;
         sim.set_parameter(
@@ -126,7 +131,9 @@ impl Flyer {
         }
         self.trajectory.times.clear();
         self.trajectory.values.clear();
-        let end = match sim.run(&mut self.trajectory)? {
+        let run_end = sim.run(&mut self.trajectory)?;
+        let judged = verdict::judge(&self.trajectory, &run_end, &self.spec.envelope);
+        let end = match run_end {
             RunEnd::Completed => End::Completed,
             RunEnd::Terminated { instance, .. } => End::Terminated { instance },
         };
@@ -135,34 +142,32 @@ impl Flyer {
             &metrics::Columns::default(),
             TERMINAL_TARGET_NUE,
         )?;
-        Ok((metrics, end))
+        Ok((metrics, end, Judged::of(&judged, self.spec.expect)))
     }
 }
 
-fn nan_metrics() -> Metrics {
-    Metrics {
-        max_horizontal_deviation_m: f64::NAN,
-        max_horizontal_deviation_descent_m: f64::NAN,
-        terminal_position_error_m: f64::NAN,
-        terminal_velocity_error_mps: f64::NAN,
-        final_altitude_m: f64::NAN,
-        max_body_rate_radps: f64::NAN,
-        propellant_used_kg: f64::NAN,
-        roll_settling_time_s: f64::NAN,
-        final_phi_b_rad: f64::NAN,
-        max_tilt_error_after_30s_rad: f64::NAN,
-        end_time_s: f64::NAN,
-    }
+/// Metrics of a flight that produced none.
+pub fn nan_metrics() -> Metrics {
+    super::manifest::metrics_from([f64::NAN; super::manifest::METRIC_COUNT])
 }
 
-/// The scenario of a campaign, recording only what the metrics need (`record_all` = false)
-/// or every output (replay).
-pub fn campaign_system(scenario: &str, record_all: bool) -> anyhow::Result<SystemDescription> {
-    let mut system = crate::scenarios::load(scenario)?;
+/// The scenario of a campaign and its verdict spec, recording only what the metrics and the
+/// verdict need (`record_all` = false) or every output (replay).
+pub fn campaign_system(
+    scenario: &str,
+    record_all: bool,
+) -> anyhow::Result<(SystemDescription, Spec)> {
+    let (mut system, spec) = verdict::scenario::load(scenario)?;
     system.record = if record_all {
         None
     } else {
-        Some(METRIC_COLUMNS.iter().map(|c| c.to_string()).collect())
+        let mut columns: Vec<String> = METRIC_COLUMNS.iter().map(|c| c.to_string()).collect();
+        for c in verdict::VERDICT_COLUMNS {
+            if !columns.iter().any(|k| k == c) {
+                columns.push(c.to_owned());
+            }
+        }
+        Some(columns)
     };
-    Ok(system)
+    Ok((system, spec))
 }

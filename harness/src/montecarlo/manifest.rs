@@ -12,8 +12,11 @@ use std::path::Path;
 
 pub const FILE_NAME: &str = "manifest.csv";
 
+/// Number of metric columns.
+pub const METRIC_COUNT: usize = 22;
+
 /// The metric columns, named as the [`Metrics`] fields.
-pub const METRIC_NAMES: [&str; 11] = [
+pub const METRIC_NAMES: [&str; METRIC_COUNT] = [
     "max_horizontal_deviation_m",
     "max_horizontal_deviation_descent_m",
     "terminal_position_error_m",
@@ -25,9 +28,20 @@ pub const METRIC_NAMES: [&str; 11] = [
     "final_phi_b_rad",
     "max_tilt_error_after_30s_rad",
     "end_time_s",
+    "descent_end_position_error_m",
+    "descent_end_north_m",
+    "descent_end_east_m",
+    "max_lateral_speed_manoeuvre_mps",
+    "tilt_error_integral_rad_s",
+    "touchdown_vertical_speed_mps",
+    "touchdown_horizontal_speed_mps",
+    "touchdown_tilt_rad",
+    "touchdown_body_rate_radps",
+    "touchdown_north_m",
+    "touchdown_east_m",
 ];
 
-pub fn metric_values(m: &Metrics) -> [f64; 11] {
+pub fn metric_values(m: &Metrics) -> [f64; METRIC_COUNT] {
     [
         m.max_horizontal_deviation_m,
         m.max_horizontal_deviation_descent_m,
@@ -40,10 +54,21 @@ pub fn metric_values(m: &Metrics) -> [f64; 11] {
         m.final_phi_b_rad,
         m.max_tilt_error_after_30s_rad,
         m.end_time_s,
+        m.descent_end_position_error_m,
+        m.descent_end_north_m,
+        m.descent_end_east_m,
+        m.max_lateral_speed_manoeuvre_mps,
+        m.tilt_error_integral_rad_s,
+        m.touchdown_vertical_speed_mps,
+        m.touchdown_horizontal_speed_mps,
+        m.touchdown_tilt_rad,
+        m.touchdown_body_rate_radps,
+        m.touchdown_north_m,
+        m.touchdown_east_m,
     ]
 }
 
-fn metrics_from(v: [f64; 11]) -> Metrics {
+pub fn metrics_from(v: [f64; METRIC_COUNT]) -> Metrics {
     Metrics {
         max_horizontal_deviation_m: v[0],
         max_horizontal_deviation_descent_m: v[1],
@@ -56,6 +81,17 @@ fn metrics_from(v: [f64; 11]) -> Metrics {
         final_phi_b_rad: v[8],
         max_tilt_error_after_30s_rad: v[9],
         end_time_s: v[10],
+        descent_end_position_error_m: v[11],
+        descent_end_north_m: v[12],
+        descent_end_east_m: v[13],
+        max_lateral_speed_manoeuvre_mps: v[14],
+        tilt_error_integral_rad_s: v[15],
+        touchdown_vertical_speed_mps: v[16],
+        touchdown_horizontal_speed_mps: v[17],
+        touchdown_tilt_rad: v[18],
+        touchdown_body_rate_radps: v[19],
+        touchdown_north_m: v[20],
+        touchdown_east_m: v[21],
     }
 }
 
@@ -99,6 +135,45 @@ impl End {
     }
 }
 
+/// A flight's verdict as the manifest keeps it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Judged {
+    /// [`crate::verdict::Verdict::word`].
+    pub word: String,
+    /// Whether the flight ended as its scenario expects (false for every error).
+    pub as_expected: bool,
+    /// The broken touchdown limits ("vertical speed 4.88 m/s > 2.00 m/s (by 2.88 m/s); ..."),
+    /// or why a flight that stopped did; empty otherwise.
+    pub detail: String,
+}
+
+impl Judged {
+    pub fn of(verdict: &crate::verdict::Verdict, expect: crate::verdict::Expect) -> Self {
+        use crate::verdict::Verdict;
+        Self {
+            word: verdict.word().to_owned(),
+            as_expected: verdict.meets(expect),
+            detail: match verdict {
+                Verdict::HardLanding { broken, .. } => broken
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join("; "),
+                Verdict::Stopped { reason, .. } => reason.clone(),
+                _ => String::new(),
+            },
+        }
+    }
+
+    pub fn error() -> Self {
+        Self {
+            word: "error".into(),
+            as_expected: false,
+            detail: String::new(),
+        }
+    }
+}
+
 /// One manifest row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
@@ -106,10 +181,11 @@ pub struct Row {
     pub dispersion: Dispersion,
     pub metrics: Metrics,
     pub end: End,
+    pub verdict: Judged,
 }
 
 const IDENTITY: [&str; 5] = ["index", "run", "run_seed", "law", "phi_cmd_deg"];
-const END: [&str; 2] = ["end", "error"];
+const END: [&str; 5] = ["end", "error", "verdict", "as_expected", "verdict_detail"];
 
 pub fn header() -> Vec<&'static str> {
     IDENTITY
@@ -141,6 +217,37 @@ impl Writer<std::fs::File> {
             std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
         Self::new(file)
     }
+
+    /// Appends rows to a manifest whose first `keep` bytes (header and whole rows) stay; the
+    /// rest (a row cut off by a kill) is cut away.
+    pub fn append(path: &Path, keep: u64) -> anyhow::Result<Self> {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .with_context(|| format!("opening {}", path.display()))?;
+        file.set_len(keep)?;
+        let mut file = file;
+        std::io::Seek::seek(&mut file, std::io::SeekFrom::End(0))?;
+        Ok(Self {
+            csv: csv::WriterBuilder::new()
+                .has_headers(false)
+                .from_writer(file),
+        })
+    }
+}
+
+/// Rewrites a manifest with `rows` sorted by flight index (through a temporary file, so a
+/// kill leaves either the old or the new file), so it does not depend on the order in which
+/// workers, shards or resumed runs finished.
+pub fn write_sorted(path: &Path, mut rows: Vec<Row>) -> anyhow::Result<()> {
+    rows.sort_by_key(|r| r.flight.index);
+    let tmp = path.with_extension("csv.tmp");
+    let mut writer = Writer::create(&tmp)?;
+    for row in &rows {
+        writer.write(row)?;
+    }
+    drop(writer);
+    std::fs::rename(&tmp, path).with_context(|| format!("replacing {}", path.display()))
 }
 
 impl<W: Write> Writer<W> {
@@ -165,6 +272,9 @@ impl<W: Write> Writer<W> {
         let (end, error) = row.end.columns();
         record.push(end);
         record.push(error.to_owned());
+        record.push(row.verdict.word.clone());
+        record.push(row.verdict.as_expected.to_string());
+        record.push(row.verdict.detail.clone());
         self.csv.write_record(&record)?;
         self.csv.flush()?;
         Ok(())
@@ -173,8 +283,34 @@ impl<W: Write> Writer<W> {
 
 /// Reads every row of a manifest, checking its header.
 pub fn read(path: &Path) -> anyhow::Result<Vec<Row>> {
-    let mut reader =
+    let reader =
         csv::Reader::from_path(path).with_context(|| format!("opening {}", path.display()))?;
+    read_from(reader, path)
+}
+
+/// The rows of a manifest that a killed campaign left, and the length in bytes of the part
+/// holding them: a last record not ended by a newline (cut off mid-write) is not counted.
+pub fn read_complete(path: &Path) -> anyhow::Result<(Vec<Row>, u64)> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut reader = csv::Reader::from_reader(bytes.as_slice());
+    reader.headers()?;
+    let mut complete = reader.position().byte();
+    let mut record = csv::StringRecord::new();
+    while let Ok(true) = reader.read_record(&mut record) {
+        let end = reader.position().byte();
+        if end == 0 || bytes.get(end as usize - 1) != Some(&b'\n') {
+            break;
+        }
+        complete = end;
+    }
+    let whole = csv::Reader::from_reader(&bytes[..complete as usize]);
+    Ok((read_from(whole, path)?, complete))
+}
+
+fn read_from<R: std::io::Read>(
+    mut reader: csv::Reader<R>,
+    path: &Path,
+) -> anyhow::Result<Vec<Row>> {
     let expected = header();
     let found: Vec<&str> = reader.headers()?.iter().collect();
     anyhow::ensure!(
@@ -196,7 +332,7 @@ pub fn read(path: &Path) -> anyhow::Result<Vec<Row>> {
             *slot = real(IDENTITY.len() + k)?;
         }
         let base = IDENTITY.len() + fields.len();
-        let mut metrics = [0.0; 11];
+        let mut metrics = [0.0; METRIC_COUNT];
         for (k, slot) in metrics.iter_mut().enumerate() {
             *slot = real(base + k)?;
         }
@@ -214,6 +350,13 @@ pub fn read(path: &Path) -> anyhow::Result<Vec<Row>> {
             dispersion: Dispersion::from_fields(&fields),
             metrics: metrics_from(metrics),
             end,
+            verdict: Judged {
+                word: field(end_at + 2).to_owned(),
+                as_expected: field(end_at + 3)
+                    .parse()
+                    .with_context(|| format!("{}: as_expected", at()))?,
+                detail: field(end_at + 4).to_owned(),
+            },
         });
     }
     Ok(rows)
@@ -260,6 +403,11 @@ mod tests {
                 dispersion,
                 metrics,
                 end: End::Completed,
+                verdict: Judged {
+                    word: "completed".into(),
+                    as_expected: true,
+                    detail: String::new(),
+                },
             },
             Row {
                 flight: Flight {
@@ -274,6 +422,7 @@ mod tests {
                 end: End::Error {
                     message: "instance 'plant', \"quoted\"\nsecond line".into(),
                 },
+                verdict: Judged::error(),
             },
             Row {
                 flight: Flight {
@@ -287,6 +436,11 @@ mod tests {
                 metrics,
                 end: End::Terminated {
                     instance: "plant".into(),
+                },
+                verdict: Judged {
+                    word: "hard landing".into(),
+                    as_expected: false,
+                    detail: "tilt 56.00 deg > 12.00 deg (by 44.00 deg); x, \"y\"".into(),
                 },
             },
         ];
@@ -310,6 +464,7 @@ mod tests {
             assert_eq!(a.dispersion, b.dispersion);
             assert!(metrics_bit_equal(&a.metrics, &b.metrics));
             assert_eq!(a.end, b.end);
+            assert_eq!(a.verdict, b.verdict);
         }
     }
 

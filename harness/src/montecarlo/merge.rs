@@ -113,7 +113,7 @@ pub fn merge(inputs: &[PathBuf], allow_missing: bool) -> anyhow::Result<Merged> 
     );
     file.shard = None;
     file.execution = config::Execution {
-        workers: 0,
+        workers: None,
         merged_from: inputs.iter().map(|p| p.display().to_string()).collect(),
     };
     Ok(Merged {

@@ -19,7 +19,9 @@ pub mod plots;
 pub mod replay;
 pub mod runner;
 pub mod seed;
+pub mod stats;
 pub mod summary;
+pub mod summary_csv;
 
 pub use campaign::{CampaignSpec, Flight, Shard};
 pub use dispersion::{Dispersion, DispersionRanges};

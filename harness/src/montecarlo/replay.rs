@@ -16,7 +16,8 @@ pub fn fly(
     flight: &Flight,
     fmu_dir: &Path,
 ) -> anyhow::Result<(Row, Trajectory)> {
-    let mut flyer = Flyer::new(campaign_system(scenario, true)?, fmu_dir)?;
+    let (system, spec) = campaign_system(scenario, true)?;
+    let mut flyer = Flyer::new(system, spec, fmu_dir)?;
     let row = flyer.fly(flight, ranges);
     Ok((row, flyer.trajectory().clone()))
 }
@@ -33,6 +34,7 @@ impl Replayed {
     /// Same end and every metric bit-identical.
     pub fn matches(&self) -> bool {
         self.recorded.end == self.replayed.end
+            && self.recorded.verdict == self.replayed.verdict
             && manifest::metrics_bit_equal(&self.recorded.metrics, &self.replayed.metrics)
             && self.recorded.dispersion == self.replayed.dispersion
     }

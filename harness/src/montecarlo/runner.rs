@@ -5,9 +5,11 @@
 //! and reuses it (reset) for every flight it takes. Flights are handed out through an atomic
 //! counter; each finished row goes through a bounded channel to one writer thread, which
 //! appends it to `manifest.csv` and advances the progress bar. Nothing accumulates per
-//! flight: peak memory depends on the number of workers, not of flights. Rows are written in
-//! completion order; every result is a function of its flight alone, so the set of rows
-//! does not depend on the worker count or the scheduling.
+//! flight: peak memory depends on the number of workers, not of flights. Rows are appended in
+//! completion order (a killed campaign keeps every finished row); at the end the manifest is
+//! rewritten sorted by flight index. Every result is a function of its flight alone, so the
+//! finished manifest does not depend on the worker count, the scheduling, sharding (after
+//! `merge-mc`) or interruptions (`resume`).
 use super::campaign::{CampaignSpec, Shard};
 use super::config::{self, CampaignFile, CampaignSection, Execution, ShardSection};
 use super::flight::{campaign_system, Flyer};
@@ -30,12 +32,23 @@ pub struct RunOptions {
     pub progress: bool,
 }
 
+/// Continuing the campaign in `out_dir` ([`run_resumed`]): its finished rows are kept and
+/// only the other flights flown, and `rerun` flight indices flown again (their rows replaced).
+#[derive(Debug, Clone, Default)]
+pub struct Resume {
+    pub rerun: Vec<u64>,
+}
+
 /// What a finished campaign run did.
 #[derive(Debug, Clone)]
 pub struct Outcome {
     pub manifest: PathBuf,
+    /// Flights flown by this invocation.
     pub flights: u64,
+    /// Of those, the ones that ended in an error.
     pub failed: u64,
+    /// Flights already in the manifest of a resumed campaign, kept.
+    pub kept: u64,
     pub elapsed: Duration,
 }
 
@@ -48,13 +61,30 @@ impl Outcome {
 /// Runs `options.shard` of `spec`, writing `manifest.csv` and `campaign.toml` into
 /// `options.out_dir` (plots are the caller's choice: see [`super::plots`]).
 pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome> {
+    run_resumed(spec, options, None)
+}
+
+/// [`run`], continuing the campaign already in `options.out_dir` when `resume` is given (a
+/// fresh one when there is none there).
+pub fn run_resumed(
+    spec: &CampaignSpec,
+    options: &RunOptions,
+    resume: Option<&Resume>,
+) -> anyhow::Result<Outcome> {
     spec.validate().map_err(anyhow::Error::msg)?;
     anyhow::ensure!(options.workers > 0, "--workers must be at least 1");
     let started = Instant::now();
-    let system = campaign_system(&spec.scenario, false)?;
+    let (system, verdict_spec) = campaign_system(&spec.scenario, false)?;
     // The first instance pair is loaded here, so a bad scenario or FMU directory fails before
     // any file is written; the first worker then takes it over.
-    let first = Flyer::new(system.clone(), &options.fmu_dir)?;
+    let first = Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?;
+    let manifest_path = options.out_dir.join(manifest::FILE_NAME);
+    let total = spec.flight_count();
+    let shard = options.shard;
+    let previous = match resume {
+        Some(resume) => finished_rows(spec, options, &resume.rerun, &manifest_path)?,
+        None => None,
+    };
     std::fs::create_dir_all(&options.out_dir)
         .with_context(|| format!("creating {}", options.out_dir.display()))?;
     let file = CampaignFile {
@@ -64,18 +94,30 @@ pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome>
             n: options.shard.n,
         }),
         execution: Execution {
-            workers: options.workers,
+            workers: Some(options.workers),
             merged_from: Vec::new(),
         },
         versions: config::versions(first.simulation()),
     };
     file.write(&options.out_dir.join(config::FILE_NAME))?;
-    let manifest_path = options.out_dir.join(manifest::FILE_NAME);
-    let mut writer = manifest::Writer::create(&manifest_path)?;
-
-    let total = spec.flight_count();
-    let shard = options.shard;
-    let count = shard.len(total);
+    let (mut writer, done) = match previous {
+        None => (
+            manifest::Writer::create(&manifest_path)?,
+            std::collections::BTreeSet::new(),
+        ),
+        Some(kept) => {
+            if kept.rewrite {
+                manifest::write_sorted(&manifest_path, kept.rows.clone())?;
+            }
+            let length = std::fs::metadata(&manifest_path)?.len();
+            let keep = if kept.rewrite { length } else { kept.bytes };
+            let done = kept.rows.iter().map(|r| r.flight.index).collect();
+            (manifest::Writer::append(&manifest_path, keep)?, done)
+        }
+    };
+    let todo: Vec<u64> = shard.indices(total).filter(|i| !done.contains(i)).collect();
+    let kept = done.len() as u64;
+    let count = todo.len() as u64;
     let progress = progress_bar(count, options.progress);
     let next = AtomicU64::new(0);
     let stop = AtomicBool::new(false);
@@ -104,7 +146,7 @@ pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome>
             let sender = sender.clone();
             let mut flyer = match spare.lock().map(|mut s| s.take()) {
                 Ok(Some(flyer)) => flyer,
-                _ => Flyer::new(system.clone(), &options.fmu_dir)?,
+                _ => Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?,
             };
             loop {
                 if stop.load(Ordering::Relaxed) {
@@ -114,7 +156,7 @@ pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome>
                 if j >= count {
                     return Ok(());
                 }
-                let flight = spec.flight(shard.k - 1 + j * shard.n);
+                let flight = spec.flight(todo[j as usize]);
                 let row = flyer.fly(&flight, &spec.dispersions);
                 let failed = row.end.is_error();
                 if sender.send(row).is_err() {
@@ -122,9 +164,10 @@ pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome>
                 }
                 if failed {
                     // After fmi2Error/fmi2Fatal the instances may not be reusable.
-                    flyer = Flyer::new(system.clone(), &options.fmu_dir).inspect_err(|_| {
-                        stop.store(true, Ordering::Relaxed);
-                    })?;
+                    flyer = Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)
+                        .inspect_err(|_| {
+                            stop.store(true, Ordering::Relaxed);
+                        })?;
                 }
             }
         });
@@ -144,12 +187,100 @@ pub fn run(spec: &CampaignSpec, options: &RunOptions) -> anyhow::Result<Outcome>
         "wrote {flights} of {count} flights to {}",
         manifest_path.display()
     );
+    drop(writer);
+    let rows = manifest::read(&manifest_path)?;
+    anyhow::ensure!(
+        rows.len() as u64 == shard.len(total),
+        "{} holds {} rows, the campaign (shard {shard}) {}",
+        manifest_path.display(),
+        rows.len(),
+        shard.len(total)
+    );
+    manifest::write_sorted(&manifest_path, rows)?;
     Ok(Outcome {
         manifest: manifest_path,
         flights,
         failed,
+        kept,
         elapsed: started.elapsed(),
     })
+}
+
+/// The finished rows a resumed campaign keeps.
+struct Kept {
+    rows: Vec<Row>,
+    /// Bytes of the manifest holding them (as found).
+    bytes: u64,
+    /// Rows were dropped for --rerun: the file is rewritten instead of cut.
+    rewrite: bool,
+}
+
+/// For `resume`: the rows of the campaign in `out_dir`, checked to be this campaign's and
+/// shard's; `None` when there is no campaign there yet (it starts from scratch).
+fn finished_rows(
+    spec: &CampaignSpec,
+    options: &RunOptions,
+    rerun: &[u64],
+    manifest_path: &Path,
+) -> anyhow::Result<Option<Kept>> {
+    let config_path = options.out_dir.join(config::FILE_NAME);
+    if !config_path.exists() || !manifest_path.exists() {
+        anyhow::ensure!(
+            rerun.is_empty(),
+            "--rerun: no campaign in {} to re-fly flights of",
+            options.out_dir.display()
+        );
+        return Ok(None);
+    }
+    let file = CampaignFile::read(&config_path)?;
+    anyhow::ensure!(
+        file.campaign == CampaignSection::from_spec(spec),
+        "--resume: {} defines another campaign than these options (seed, scenario, grid, \
+         laws, runs or dispersions differ)",
+        config_path.display()
+    );
+    anyhow::ensure!(
+        file.shard() == options.shard,
+        "--resume: {} is shard {}, not {}",
+        config_path.display(),
+        file.shard(),
+        options.shard
+    );
+    let total = spec.flight_count();
+    let bad: Vec<String> = rerun
+        .iter()
+        .filter(|&&i| i >= total || i % options.shard.n != options.shard.k - 1)
+        .map(u64::to_string)
+        .collect();
+    anyhow::ensure!(
+        bad.is_empty(),
+        "--rerun: flights {} are not in this campaign (0..{total}) and shard {}",
+        bad.join(", "),
+        options.shard
+    );
+    let (mut rows, bytes) = manifest::read_complete(manifest_path)?;
+    let mut seen = std::collections::BTreeSet::new();
+    for row in &rows {
+        let index = row.flight.index;
+        anyhow::ensure!(
+            index < total && row.flight == spec.flight(index),
+            "--resume: {} flight {index} is not this campaign's",
+            manifest_path.display()
+        );
+        anyhow::ensure!(
+            seen.insert(index),
+            "--resume: {} holds flight {index} twice",
+            manifest_path.display()
+        );
+    }
+    let before = rows.len();
+    rows.retain(|r| !rerun.contains(&r.flight.index));
+    let rewrite = rows.len() != before;
+    Ok(Some(Kept {
+        rows,
+        bytes,
+        rewrite,
+    }))
 }
 
 fn progress_bar(len: u64, show: bool) -> ProgressBar {

@@ -5,7 +5,7 @@ use crate::scenarios::Law;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Statistic {
-    TerminalPositionError,
+    DescentEndPositionError,
     MaxHorizontalDeviation,
 }
 
@@ -49,15 +49,19 @@ pub struct PointSummary {
     pub law: Law,
     pub phi_cmd_deg: f64,
     pub flights: usize,
+    /// Flights that ended in an error.
     pub failed: usize,
-    pub terminal_position_error_m: Moments,
+    /// Flights that did not end as the scenario expects (errors included).
+    pub failed_verdicts: usize,
+    /// |r - target| at the end of the polynomial descent, before the hover corrects it.
+    pub descent_end_position_error_m: Moments,
     pub max_horizontal_deviation_m: Moments,
 }
 
 impl PointSummary {
     pub fn get(&self, statistic: Statistic) -> Moments {
         match statistic {
-            Statistic::TerminalPositionError => self.terminal_position_error_m,
+            Statistic::DescentEndPositionError => self.descent_end_position_error_m,
             Statistic::MaxHorizontalDeviation => self.max_horizontal_deviation_m,
         }
     }
@@ -91,7 +95,8 @@ pub fn summarise(rows: &[Row]) -> Vec<PointSummary> {
                 phi_cmd_deg: phi,
                 flights: point.len(),
                 failed: point.len() - ok.len(),
-                terminal_position_error_m: metric(|r| r.metrics.terminal_position_error_m),
+                failed_verdicts: point.iter().filter(|r| !r.verdict.as_expected).count(),
+                descent_end_position_error_m: metric(|r| r.metrics.descent_end_position_error_m),
                 max_horizontal_deviation_m: metric(|r| r.metrics.max_horizontal_deviation_m),
             }
         })
@@ -106,8 +111,8 @@ pub fn table(summary: &[PointSummary]) -> String {
         "law",
         "phi(deg)",
         "flights",
-        "failed",
-        "terminal position error (m)",
+        "not ok",
+        "end-of-descent position error (m)",
         "max horizontal deviation (m)",
         "",
         "median",
@@ -118,14 +123,14 @@ pub fn table(summary: &[PointSummary]) -> String {
         "max",
     );
     for s in summary {
-        let (t, d) = (s.terminal_position_error_m, s.max_horizontal_deviation_m);
+        let (t, d) = (s.descent_end_position_error_m, s.max_horizontal_deviation_m);
         let _ = writeln!(
             out,
             "{:<10} {:>8.1} {:>7} {:>6}  {:>10.4} {:>10.4} {:>10.4}  {:>10.3} {:>10.3} {:>10.3}",
             s.law.name(),
             s.phi_cmd_deg,
             s.flights,
-            s.failed,
+            s.failed_verdicts,
             t.median,
             t.mean,
             t.max,

@@ -1,0 +1,195 @@
+//! The statistics a dispersion review reads: percentiles up to 3 sigma, the order-statistics
+//! (binomial) confidence statement, and the 3-sigma dispersion ellipse of a set of points.
+
+/// The two-sided 3-sigma probability of a normal variable, the percentile reviews quote.
+pub const THREE_SIGMA: f64 = 0.9973;
+
+/// Percentile `p` (in [0, 1]) of `values` (NaN left out) by linear interpolation between
+/// order statistics (Hyndman and Fan's definition 7, numpy's default, so a reader can check
+/// a `summary.csv` with `numpy.percentile`). NaN when no value is left.
+pub fn percentile(values: &[f64], p: f64) -> f64 {
+    let mut sorted: Vec<f64> = values.iter().copied().filter(|v| !v.is_nan()).collect();
+    sorted.sort_by(f64::total_cmp);
+    percentile_of_sorted(&sorted, p)
+}
+
+pub fn percentile_of_sorted(sorted: &[f64], p: f64) -> f64 {
+    match sorted.len() {
+        0 => f64::NAN,
+        n => {
+            let h = (n - 1) as f64 * p.clamp(0.0, 1.0);
+            let lo = h.floor() as usize;
+            let hi = (lo + 1).min(n - 1);
+            sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
+        }
+    }
+}
+
+/// P(X <= k) for X ~ Binomial(n, q), summed in logarithms (n up to millions).
+fn binomial_cdf(k: u64, n: u64, q: f64) -> f64 {
+    if q <= 0.0 {
+        return 1.0;
+    }
+    if q >= 1.0 {
+        return if k >= n { 1.0 } else { 0.0 };
+    }
+    let (ln_q, ln_p) = (q.ln(), (-q).ln_1p());
+    let mut ln_choose = 0.0;
+    let mut sum = 0.0;
+    for i in 0..=k.min(n) {
+        if i > 0 {
+            ln_choose += ((n - i + 1) as f64).ln() - (i as f64).ln();
+        }
+        sum += (ln_choose + i as f64 * ln_q + (n - i) as f64 * ln_p).exp();
+    }
+    sum.min(1.0)
+}
+
+/// The confidence with which `failures` in `runs` independent runs show a success
+/// probability of at least `reliability`: 1 - P(at most `failures` failures | failure
+/// probability 1 - reliability). With no failure this is `1 - reliability^runs` (Hanson and
+/// Beard, NASA/TP-2010-216447: 0 failures in 852 runs give 99.73 % with 90 % confidence).
+pub fn confidence(failures: u64, runs: u64, reliability: f64) -> f64 {
+    1.0 - binomial_cdf(failures, runs, 1.0 - reliability)
+}
+
+/// The one-sided Clopper-Pearson lower bound on the success probability at `confidence`:
+/// the smallest reliability R still shown with that confidence (`(1 - C)^(1/n)` with no
+/// failure). Found by bisection of [`confidence`], which decreases in R.
+pub fn reliability_lower_bound(failures: u64, runs: u64, confidence_level: f64) -> f64 {
+    if runs == 0 || failures >= runs {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if confidence(failures, runs, mid) >= confidence_level {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// The fewest failure-free runs that show `reliability` with `confidence_level`.
+pub fn runs_needed(reliability: f64, confidence_level: f64) -> u64 {
+    ((1.0 - confidence_level).ln() / reliability.ln()).ceil() as u64
+}
+
+/// A dispersion ellipse in the horizontal plane (North, East).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ellipse {
+    pub centre_north_m: f64,
+    pub centre_east_m: f64,
+    pub semi_major_m: f64,
+    pub semi_minor_m: f64,
+    /// Direction of the major axis, from North towards East (deg, in (-90, 90]).
+    pub major_azimuth_deg: f64,
+}
+
+/// The 3-sigma ellipse of the points: the contour of the fitted bivariate normal (sample mean
+/// and covariance) that holds 99.73 % of its probability, i.e. the covariance ellipse scaled
+/// by sqrt(-2 ln(1 - 0.9973)) = 3.44 (the chi-square quantile with 2 degrees of freedom; the
+/// 1-D "3 sigma" scaled to two dimensions). `None` with fewer than 3 finite points.
+pub fn three_sigma_ellipse(points: &[(f64, f64)]) -> Option<Ellipse> {
+    let finite: Vec<(f64, f64)> = points
+        .iter()
+        .copied()
+        .filter(|(n, e)| n.is_finite() && e.is_finite())
+        .collect();
+    if finite.len() < 3 {
+        return None;
+    }
+    let count = finite.len() as f64;
+    let mn = finite.iter().map(|p| p.0).sum::<f64>() / count;
+    let me = finite.iter().map(|p| p.1).sum::<f64>() / count;
+    let (mut snn, mut see, mut sne) = (0.0, 0.0, 0.0);
+    for (n, e) in &finite {
+        snn += (n - mn) * (n - mn);
+        see += (e - me) * (e - me);
+        sne += (n - mn) * (e - me);
+    }
+    let (snn, see, sne) = (
+        snn / (count - 1.0),
+        see / (count - 1.0),
+        sne / (count - 1.0),
+    );
+    // Eigenvalues of the symmetric 2x2 covariance, and the major axis's angle from North.
+    let mean = 0.5 * (snn + see);
+    let radius = (0.25 * (snn - see).powi(2) + sne * sne).sqrt();
+    let (major, minor) = (mean + radius, (mean - radius).max(0.0));
+    let angle = 0.5 * (2.0 * sne).atan2(snn - see);
+    let scale = (-2.0 * (1.0 - THREE_SIGMA).ln()).sqrt();
+    Some(Ellipse {
+        centre_north_m: mn,
+        centre_east_m: me,
+        semi_major_m: scale * major.sqrt(),
+        semi_minor_m: scale * minor.sqrt(),
+        major_azimuth_deg: angle.to_degrees(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_interpolate_order_statistics_like_numpy() {
+        let v = [4.0, 1.0, f64::NAN, 3.0, 2.0, 5.0];
+        assert_eq!(percentile(&v, 0.5), 3.0);
+        assert_eq!(percentile(&v, 0.95), 4.8); // numpy.percentile([1..5], 95) = 4.8
+        assert_eq!(percentile(&v, 1.0), 5.0);
+        assert_eq!(percentile(&v, 0.0), 1.0);
+        assert!(percentile(&[f64::NAN], 0.5).is_nan());
+        let hundred: Vec<f64> = (1..=100).map(f64::from).collect();
+        // numpy.percentile(range(1, 101), 99.73) = 99.7327
+        assert!((percentile(&hundred, THREE_SIGMA) - 99.7327).abs() < 1e-9);
+    }
+
+    #[test]
+    fn hanson_and_beard_852_failure_free_runs_give_99_73_percent_at_90_percent() {
+        assert_eq!(runs_needed(THREE_SIGMA, 0.90), 852);
+        assert!(confidence(0, 852, THREE_SIGMA) >= 0.90);
+        assert!(confidence(0, 851, THREE_SIGMA) < 0.90);
+        let bound = reliability_lower_bound(0, 852, 0.90);
+        assert!((THREE_SIGMA..0.99731).contains(&bound), "{bound}");
+        assert!((bound - 0.1f64.powf(1.0 / 852.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn with_failures_the_bound_is_clopper_pearson() {
+        // One failure in 10 runs at 90 %: the R with P(F <= 1 | 10, 1 - R) = 0.10 solves
+        // R^10 + 10 (1 - R) R^9 = 0.1, R = 0.6632 (tables of the binomial lower bound)
+        let r = reliability_lower_bound(1, 10, 0.90);
+        assert!((r.powi(10) + 10.0 * (1.0 - r) * r.powi(9) - 0.1).abs() < 1e-12);
+        assert!((r - 0.6632).abs() < 1e-4, "{r}");
+        // more failures, a lower bound; all failures, nothing shown
+        assert!(reliability_lower_bound(2, 10, 0.90) < r);
+        assert_eq!(reliability_lower_bound(10, 10, 0.90), 0.0);
+        // the binomial sum stays accurate for large n
+        assert!(
+            (confidence(0, 1_000_000, 0.999_999) - (1.0 - 0.999_999f64.powi(1_000_000))).abs()
+                < 1e-9
+        );
+    }
+
+    #[test]
+    fn the_ellipse_of_points_on_known_axes() {
+        // GIVEN points spread +-2 along the North-East diagonal and +-1 across it, around (5, -3)
+        let (c, s) = (45f64.to_radians().cos(), 45f64.to_radians().sin());
+        let mut points = Vec::new();
+        for (a, b) in [(2.0, 0.0), (-2.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
+            points.push((5.0 + a * c - b * s, -3.0 + a * s + b * c));
+        }
+        let e = three_sigma_ellipse(&points).unwrap();
+        // THEN the centre, the axis direction and the sample standard deviations (sqrt(8/3),
+        // sqrt(2/3)) scaled by 3.44 come out
+        let k = (-2.0 * 0.0027f64.ln()).sqrt();
+        assert!((e.centre_north_m - 5.0).abs() < 1e-12 && (e.centre_east_m + 3.0).abs() < 1e-12);
+        assert!((e.major_azimuth_deg - 45.0).abs() < 1e-9, "{e:?}");
+        assert!((e.semi_major_m - k * (8.0f64 / 3.0).sqrt()).abs() < 1e-12);
+        assert!((e.semi_minor_m - k * (2.0f64 / 3.0).sqrt()).abs() < 1e-12);
+        assert!(three_sigma_ellipse(&points[..2]).is_none());
+    }
+}

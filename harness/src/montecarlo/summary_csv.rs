@@ -1,0 +1,282 @@
+//! `summary.csv`: one row per cell (law x phi_cmd) of a campaign, what a dispersion review
+//! reads: runs, errors and failed verdicts, the order-statistics confidence statement for the
+//! scenario's requirement, the 3-sigma dispersion ellipse of the touchdown points (or, without
+//! touchdowns, of the end-of-descent points), and p50 / p95 / p99.73 / max of every metric.
+use super::manifest::{self, Row, METRIC_NAMES};
+use super::stats::{self, THREE_SIGMA};
+use crate::scenarios::Law;
+use crate::verdict::Expect;
+use std::path::Path;
+
+pub const FILE_NAME: &str = "summary.csv";
+
+/// The confidence level of the statement's reliability bound.
+pub const CONFIDENCE: f64 = 0.90;
+
+const PERCENTILES: [(&str, f64); 3] = [("p50", 0.5), ("p95", 0.95), ("p99_73", THREE_SIGMA)];
+
+/// The requirement the confidence statement is about.
+pub fn requirement(expect: Expect) -> &'static str {
+    match expect {
+        Expect::Landed => "touchdown inside the envelope",
+        Expect::Completed => "completes without touchdown or error",
+    }
+}
+
+pub fn header() -> Vec<String> {
+    let mut h: Vec<String> = [
+        "law",
+        "phi_cmd_deg",
+        "runs",
+        "errors",
+        "failed_verdicts",
+        "requirement",
+        "reliability_lower_bound_at_90pct",
+        "confidence_of_99_73pct",
+        "statement",
+        "ellipse_of",
+        "ellipse_points",
+        "ellipse_centre_north_m",
+        "ellipse_centre_east_m",
+        "ellipse_semi_major_m",
+        "ellipse_semi_minor_m",
+        "ellipse_major_azimuth_deg",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for name in METRIC_NAMES {
+        for (p, _) in PERCENTILES {
+            h.push(format!("{name}_{p}"));
+        }
+        h.push(format!("{name}_max"));
+    }
+    h
+}
+
+/// "0 failures in 852 runs: touchdown inside the envelope holds in >= 99.73 % of cases with
+/// 90 % confidence".
+pub fn statement(failures: u64, runs: u64, expect: Expect) -> String {
+    let bound = stats::reliability_lower_bound(failures, runs, CONFIDENCE);
+    let needed = stats::runs_needed(THREE_SIGMA, CONFIDENCE);
+    let mut text = format!(
+        "{failures} failures in {runs} runs: '{}' holds in >= {:.2} % of cases with {:.0} % \
+         confidence",
+        requirement(expect),
+        100.0 * bound,
+        100.0 * CONFIDENCE
+    );
+    if failures == 0 && runs < needed {
+        text += &format!(" (99.73 % at 90 % needs {needed} failure-free runs)");
+    }
+    text
+}
+
+fn number(x: f64) -> String {
+    if x.is_finite() {
+        ryu::Buffer::new().format_finite(x).to_owned()
+    } else {
+        x.to_string()
+    }
+}
+
+/// The cells present, ordered by law then phi_cmd.
+fn cells(rows: &[Row]) -> Vec<(Law, f64)> {
+    let mut keys: Vec<(Law, f64)> = Vec::new();
+    for row in rows {
+        let key = (row.flight.law, row.flight.phi_cmd_deg);
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    keys.sort_by(|a, b| (a.0 as i32).cmp(&(b.0 as i32)).then(a.1.total_cmp(&b.1)));
+    keys
+}
+
+/// The records of `summary.csv`, one per cell.
+pub fn records(rows: &[Row], expect: Expect) -> Vec<Vec<String>> {
+    cells(rows)
+        .into_iter()
+        .map(|(law, phi)| {
+            let cell: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.flight.law == law && r.flight.phi_cmd_deg == phi)
+                .collect();
+            let runs = cell.len() as u64;
+            let errors = cell.iter().filter(|r| r.end.is_error()).count() as u64;
+            let failures = cell.iter().filter(|r| !r.verdict.as_expected).count() as u64;
+            let touchdowns: Vec<(f64, f64)> = cell
+                .iter()
+                .map(|r| (r.metrics.touchdown_north_m, r.metrics.touchdown_east_m))
+                .filter(|(n, e)| n.is_finite() && e.is_finite())
+                .collect();
+            let (of, points) = if touchdowns.len() >= 3 {
+                ("touchdown", touchdowns)
+            } else {
+                let ends = cell
+                    .iter()
+                    .map(|r| (r.metrics.descent_end_north_m, r.metrics.descent_end_east_m))
+                    .filter(|(n, e)| n.is_finite() && e.is_finite())
+                    .collect();
+                ("descent_end", ends)
+            };
+            let ellipse = stats::three_sigma_ellipse(&points);
+            let e = |f: fn(&stats::Ellipse) -> f64| number(ellipse.as_ref().map_or(f64::NAN, f));
+            let mut record = vec![
+                law.name().to_owned(),
+                number(phi),
+                runs.to_string(),
+                errors.to_string(),
+                failures.to_string(),
+                requirement(expect).to_owned(),
+                number(stats::reliability_lower_bound(failures, runs, CONFIDENCE)),
+                number(stats::confidence(failures, runs, THREE_SIGMA)),
+                statement(failures, runs, expect),
+                of.to_owned(),
+                points.len().to_string(),
+                e(|x| x.centre_north_m),
+                e(|x| x.centre_east_m),
+                e(|x| x.semi_major_m),
+                e(|x| x.semi_minor_m),
+                e(|x| x.major_azimuth_deg),
+            ];
+            let values: Vec<[f64; manifest::METRIC_COUNT]> = cell
+                .iter()
+                .map(|r| manifest::metric_values(&r.metrics))
+                .collect();
+            for k in 0..METRIC_NAMES.len() {
+                let mut column: Vec<f64> = values
+                    .iter()
+                    .map(|v| v[k])
+                    .filter(|v| !v.is_nan())
+                    .collect();
+                column.sort_by(f64::total_cmp);
+                for (_, p) in PERCENTILES {
+                    record.push(number(stats::percentile_of_sorted(&column, p)));
+                }
+                record.push(number(column.last().copied().unwrap_or(f64::NAN)));
+            }
+            record
+        })
+        .collect()
+}
+
+/// Writes `summary.csv` into `dir`.
+pub fn write(rows: &[Row], expect: Expect, dir: &Path) -> anyhow::Result<std::path::PathBuf> {
+    let path = dir.join(FILE_NAME);
+    let mut out = csv::Writer::from_path(&path)?;
+    out.write_record(header())?;
+    for record in records(rows, expect) {
+        out.write_record(&record)?;
+    }
+    out.flush()?;
+    Ok(path)
+}
+
+/// The flights that did not end as expected, one line each (for the terminal and the report).
+pub fn failed_lines(rows: &[Row]) -> Vec<String> {
+    rows.iter()
+        .filter(|r| !r.verdict.as_expected)
+        .map(|r| {
+            let f = &r.flight;
+            let why = match &r.end {
+                manifest::End::Error { message } => message.clone(),
+                _ => r.verdict.detail.clone(),
+            };
+            format!(
+                "flight {} (run {}, {}, phi_cmd {} deg): {}{}{}",
+                f.index,
+                f.run,
+                f.law.name(),
+                f.phi_cmd_deg,
+                r.verdict.word,
+                if why.is_empty() { "" } else { ": " },
+                why
+            )
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::montecarlo::campaign::Flight;
+    use crate::montecarlo::dispersion::{Dispersion, DispersionRanges};
+    use crate::montecarlo::flight::nan_metrics;
+    use crate::montecarlo::manifest::{End, Judged};
+
+    /// Run `j` of a landing cell: touchdown at (j, -j) m, vertical speed j/10 m/s; run 3
+    /// lands hard.
+    fn row(j: u64, law: Law) -> Row {
+        let mut metrics = nan_metrics();
+        metrics.touchdown_north_m = j as f64;
+        metrics.touchdown_east_m = -(j as f64) + if j.is_multiple_of(2) { 0.5 } else { 0.0 };
+        metrics.touchdown_vertical_speed_mps = j as f64 / 10.0;
+        Row {
+            flight: Flight {
+                index: j,
+                run: j,
+                run_seed: j,
+                law,
+                phi_cmd_deg: 150.0,
+            },
+            dispersion: Dispersion::draw(j, &DispersionRanges::default()),
+            metrics,
+            end: End::Terminated {
+                instance: "plant".into(),
+            },
+            verdict: Judged {
+                word: if j == 3 { "hard landing" } else { "landed" }.into(),
+                as_expected: j != 3,
+                detail: String::new(),
+            },
+        }
+    }
+
+    #[test]
+    fn a_cell_row_holds_counts_confidence_ellipse_and_percentiles() {
+        let rows: Vec<Row> = (0..11).map(|j| row(j, Law::Decoupled)).collect();
+        let records = records(&rows, Expect::Landed);
+        assert_eq!(records.len(), 1);
+        let header = header();
+        let get = |name: &str| {
+            let k = header.iter().position(|h| h == name).unwrap();
+            records[0][k].clone()
+        };
+        assert_eq!(get("runs"), "11");
+        assert_eq!(get("failed_verdicts"), "1");
+        assert_eq!(get("errors"), "0");
+        let bound: f64 = get("reliability_lower_bound_at_90pct").parse().unwrap();
+        assert_eq!(bound, stats::reliability_lower_bound(1, 11, 0.9));
+        assert!(get("statement").starts_with("1 failures in 11 runs"));
+        assert_eq!(get("ellipse_of"), "touchdown");
+        assert_eq!(get("ellipse_points"), "11");
+        let azimuth: f64 = get("ellipse_major_azimuth_deg").parse().unwrap();
+        assert!(
+            (azimuth + 45.0).abs() < 2.0,
+            "points along North = -East: {azimuth}"
+        );
+        // vertical speeds 0.0 .. 1.0: p50 = 0.5, p95 = 0.95, p99.73 = 0.9973, max 1
+        assert_eq!(get("touchdown_vertical_speed_mps_p50"), "0.5");
+        assert_eq!(get("touchdown_vertical_speed_mps_max"), "1.0");
+        let p9973: f64 = get("touchdown_vertical_speed_mps_p99_73").parse().unwrap();
+        assert!((p9973 - 0.9973).abs() < 1e-12);
+        // a metric no run has is NaN, not zero
+        assert_eq!(get("descent_end_position_error_m_p50"), "NaN");
+    }
+
+    #[test]
+    fn without_touchdowns_the_ellipse_is_of_the_end_of_descent() {
+        let mut rows: Vec<Row> = (0..5).map(|j| row(j, Law::Coupled)).collect();
+        for r in &mut rows {
+            r.metrics.descent_end_north_m = r.metrics.touchdown_north_m;
+            r.metrics.descent_end_east_m = 0.1 * r.metrics.touchdown_north_m;
+            r.metrics.touchdown_north_m = f64::NAN;
+        }
+        let records = records(&rows, Expect::Completed);
+        let k = header().iter().position(|h| h == "ellipse_of").unwrap();
+        assert_eq!(records[0][k], "descent_end");
+        assert_eq!(failed_lines(&rows).len(), 1);
+        assert!(failed_lines(&rows)[0].starts_with("flight 3 (run 3, coupled"));
+    }
+}

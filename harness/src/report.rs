@@ -1,0 +1,167 @@
+//! One self-contained HTML page for a results directory: every PNG embedded (base64), the
+//! text tables and verdicts the commands wrote (`*-summary.txt`), and `summary.csv`'s
+//! per-cell statistics with the failed flights of a campaign. Written by `harness paper` and
+//! `harness monte-carlo` into their directory, and by `harness report DIR` for any directory
+//! (a merged or Dask campaign, say).
+use anyhow::Context;
+use base64::Engine;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+pub const FILE_NAME: &str = "report.html";
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn files(dir: &Path, suffix: &str) -> anyhow::Result<Vec<PathBuf>> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("reading {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.to_string_lossy().ends_with(suffix) && p.is_file())
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+/// The columns of `summary.csv` the page shows (all are in the file).
+const SUMMARY_COLUMNS: [&str; 11] = [
+    "law",
+    "phi_cmd_deg",
+    "runs",
+    "errors",
+    "failed_verdicts",
+    "statement",
+    "ellipse_of",
+    "ellipse_semi_major_m",
+    "ellipse_semi_minor_m",
+    "max_horizontal_deviation_descent_m_p99_73",
+    "max_lateral_speed_manoeuvre_mps_p99_73",
+];
+
+fn summary_table(path: &Path, html: &mut String) -> anyhow::Result<()> {
+    let mut reader = csv::Reader::from_path(path)?;
+    let header = reader.headers()?.clone();
+    let index: Vec<usize> = SUMMARY_COLUMNS
+        .iter()
+        .filter_map(|c| header.iter().position(|h| h == *c))
+        .collect();
+    let _ = writeln!(
+        html,
+        "<h2>Monte Carlo statistics</h2>\n<p>Per law and phi_cmd; every metric's p50, p95, \
+         p99.73 and max are in <code>summary.csv</code>. The statement is the binomial \
+         (Clopper-Pearson) lower bound on the share of runs meeting the scenario's \
+         requirement, at 90 % confidence; the ellipse holds 99.73 % of a fitted normal.</p>\
+         \n<table>\n<tr>"
+    );
+    for &i in &index {
+        let _ = write!(html, "<th>{}</th>", escape(&header[i]));
+    }
+    let _ = writeln!(html, "</tr>");
+    for record in reader.records() {
+        let record = record?;
+        let failed = record
+            .get(
+                header
+                    .iter()
+                    .position(|h| h == "failed_verdicts")
+                    .unwrap_or(0),
+            )
+            .is_some_and(|f| f != "0");
+        let _ = write!(html, "<tr{}>", if failed { " class=\"fail\"" } else { "" });
+        for &i in &index {
+            let cell = record.get(i).unwrap_or_default();
+            let shown = match cell.parse::<f64>() {
+                Ok(x) if cell.contains('.') => format!("{x:.4}"),
+                _ => cell.to_owned(),
+            };
+            let _ = write!(html, "<td>{}</td>", escape(&shown));
+        }
+        let _ = writeln!(html, "</tr>");
+    }
+    let _ = writeln!(html, "</table>");
+    Ok(())
+}
+
+/// Writes `report.html` into `dir` from the files there; `failed` lists failed flights.
+pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathBuf> {
+    let mut html = format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <title>{t}</title>\n<style>body{{font-family:sans-serif;max-width:1500px;\
+         margin:auto;padding:1em}} pre{{background:#f4f4f4;padding:.8em;overflow-x:auto}} \
+         table{{border-collapse:collapse;font-size:90%}} td,th{{border:1px solid #bbb;\
+         padding:.25em .5em;text-align:right}} tr.fail{{background:#fde2e2}} \
+         img{{max-width:100%;border:1px solid #ddd;margin:.5em 0}}</style></head><body>\n\
+         <h1>{t}</h1>\n",
+        t = escape(title)
+    );
+    for path in files(dir, "-summary.txt")? {
+        let text = std::fs::read_to_string(&path)?;
+        let _ = writeln!(
+            html,
+            "<h2>{}</h2>\n<pre>{}</pre>",
+            escape(&path.file_name().unwrap_or_default().to_string_lossy()),
+            escape(&text)
+        );
+    }
+    let summary = dir.join(crate::montecarlo::summary_csv::FILE_NAME);
+    if summary.is_file() {
+        summary_table(&summary, &mut html)?;
+        let _ = writeln!(
+            html,
+            "<h2>Flights that did not end as the scenario expects: {}</h2>",
+            failed.len()
+        );
+        if !failed.is_empty() {
+            let _ = writeln!(html, "<pre>{}</pre>", escape(&failed.join("\n")));
+        }
+    }
+    let _ = writeln!(html, "<h2>Figures</h2>");
+    for path in files(dir, ".png")? {
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let data = base64::engine::general_purpose::STANDARD.encode(std::fs::read(&path)?);
+        let _ = writeln!(
+            html,
+            "<h3>{n}</h3>\n<img alt=\"{n}\" src=\"data:image/png;base64,{data}\">",
+            n = escape(&name)
+        );
+    }
+    let _ = writeln!(html, "</body></html>");
+    let out = dir.join(FILE_NAME);
+    std::fs::write(&out, html).with_context(|| format!("writing {}", out.display()))?;
+    Ok(out)
+}
+
+/// `harness report DIR`: a campaign directory gets its summary and failed flights from its
+/// manifest; any other directory the files it holds.
+pub fn for_directory(dir: &Path) -> anyhow::Result<PathBuf> {
+    let manifest = dir.join(crate::montecarlo::manifest::FILE_NAME);
+    let failed = if manifest.is_file() {
+        let rows = crate::montecarlo::manifest::read(&manifest)?;
+        crate::montecarlo::summary_csv::failed_lines(&rows)
+    } else {
+        Vec::new()
+    };
+    let title = format!("lander-fmi results: {}", dir.display());
+    write(dir, &title, &failed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_page_embeds_images_and_escapes_text() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("a.png"), [0x89, b'P', b'N', b'G']).unwrap();
+        std::fs::write(dir.path().join("paper-summary.txt"), "verdict <hard> & x").unwrap();
+        let path = write(dir.path(), "t", &[]).unwrap();
+        let html = std::fs::read_to_string(path).unwrap();
+        assert!(html.contains("data:image/png;base64,iVBORw=="), "{html}");
+        assert!(html.contains("verdict &lt;hard&gt; &amp; x"));
+        assert!(!html.contains("src=\"a.png\""), "self-contained");
+    }
+}

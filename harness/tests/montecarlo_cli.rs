@@ -1,0 +1,86 @@
+//! The monte-carlo command line: negative values without `=`, every bad range named at once
+//! in a readable message, options that would be ignored refused.
+mod common;
+
+use std::process::{Command, Output};
+
+fn harness(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_harness"))
+        .arg("--fmu-dir")
+        .arg(common::fmu_dir())
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_negative_phi_cmd_grid_needs_no_equals_sign() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let output = harness(&[
+        "monte-carlo",
+        "--phi-cmd-deg",
+        "-30,0",
+        "--phi-cmd-deg",
+        "-10",
+        "--law",
+        "decoupled",
+        "-n",
+        "1",
+        "--out-dir",
+        out,
+        "--quiet",
+        "--no-plots",
+    ]);
+    assert!(output.status.success(), "{output:?}");
+    let campaign = std::fs::read_to_string(dir.path().join("campaign.toml")).unwrap();
+    assert!(
+        campaign.contains("-30.0") && campaign.contains("-10.0"),
+        "{campaign}"
+    );
+}
+
+#[test]
+fn bad_ranges_are_all_named_with_their_limits_in_short() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = harness(&[
+        "monte-carlo",
+        "--disp-horizontal-m",
+        "-3",
+        "--disp-mass-frac",
+        "-1",
+        "--out-dir",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    let text = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        text.contains("--disp-horizontal-m -3: must be a finite number >= 0"),
+        "{text}"
+    );
+    assert!(
+        text.contains("--disp-mass-frac -1: must be in [0, 0.5]"),
+        "{text}"
+    );
+    assert!(text.len() < 300, "{text}");
+}
+
+#[test]
+fn replay_from_a_manifest_refuses_the_options_it_would_ignore() {
+    for extra in [
+        ["--law", "reduced"],
+        ["--phi-cmd-deg", "30"],
+        ["--disp-tilt-deg", "3"],
+    ] {
+        let mut args = vec!["replay", "--manifest", "x", "--index", "0"];
+        args.extend(extra);
+        let output = harness(&args);
+        assert_eq!(output.status.code(), Some(2), "{extra:?}");
+        let text = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            text.contains("cannot be used with") && text.contains(extra[0]),
+            "{text}"
+        );
+    }
+}
