@@ -108,7 +108,10 @@ fn the_cli_runs_an_ssp_and_a_relative_ssd_from_another_directory() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(output.status.success(), "{scenario}: {stderr}");
         let stdout = String::from_utf8_lossy(&output.stdout);
-        assert!(stdout.contains("paper: completed"), "{scenario}: {stdout}");
+        assert!(
+            stdout.contains("verdict: completed at t = 172.00 s"),
+            "{scenario}: {stdout}"
+        );
     }
 }
 

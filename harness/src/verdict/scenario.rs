@@ -14,7 +14,10 @@ fn toml_text(name_or_path: &str) -> Result<Option<(String, String)>, SystemError
         )));
     }
     let path = Path::new(name_or_path);
-    if matches!(path.extension().and_then(|e| e.to_str()), Some("ssd" | "ssp")) {
+    if matches!(
+        path.extension().and_then(|e| e.to_str()),
+        Some("ssd" | "ssp")
+    ) {
         return Ok(None);
     }
     let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {
