@@ -220,6 +220,8 @@ impl<M> Declaration<M> {
             && !matches!(role.variability, Variability::Constant)
     }
 
+    /// The one constructor with all of a Real's facts; [`decl!`](crate::decl) fills it in.
+    #[allow(clippy::too_many_arguments)]
     pub const fn real(
         vr: u32,
         name: &'static str,
