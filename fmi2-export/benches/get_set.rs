@@ -96,14 +96,14 @@ fn get_set(c: &mut Criterion) {
         assert!(!inst.is_null());
         fmi2SetupExperiment(inst, fmi2False, 0.0, 0.0, fmi2False, 0.0);
         fmi2EnterInitializationMode(inst);
-        assert_eq!(fmi2ExitInitializationMode(inst), fmi2Status::fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(inst), fmi2OK);
         assert_eq!(
             fmi2SetReal(inst, inputs.as_ptr(), 14, values.as_ptr()),
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         assert_eq!(
             fmi2GetReal(inst, outputs.as_ptr(), 14, read.as_mut_ptr()),
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         assert_eq!(read.as_slice(), values.as_slice(), "y = u");
 

@@ -97,10 +97,10 @@ fn a_panic_becomes_fatal_and_never_unwinds() {
         abi::exit_initialization_mode::<Panicky>(c);
         assert_eq!(
             abi::do_step::<Panicky>(c, 0.0, 0.1, 0),
-            fmi2Status::fmi2Fatal
+            fmi2Fatal
         );
         let (status, category, message) = lines.lock().unwrap().last().cloned().unwrap();
-        assert_eq!(status, fmi2Status::fmi2Fatal);
+        assert_eq!(status, fmi2Fatal);
         assert_eq!(category, "logStatusFatal");
         assert_eq!(
             message,
@@ -109,13 +109,13 @@ fn a_panic_becomes_fatal_and_never_unwinds() {
         let mut y = 0.0;
         assert_eq!(
             abi::get_real::<Panicky>(c, &0, 1, &mut y),
-            fmi2Status::fmi2Error
+            fmi2Error
         );
         assert_eq!(
             lines.lock().unwrap().last().unwrap().2,
             "fmi2GetReal: illegal call in state Fatal"
         );
-        assert_eq!(abi::reset::<Panicky>(c), fmi2Status::fmi2Error);
+        assert_eq!(abi::reset::<Panicky>(c), fmi2Error);
         abi::free_instance::<Panicky>(c);
     }
 }
@@ -142,9 +142,9 @@ fn a_component_of_another_model_is_refused() {
             0,
             0,
         );
-        assert_eq!(abi::reset::<Small>(c), fmi2Status::fmi2Error);
+        assert_eq!(abi::reset::<Small>(c), fmi2Error);
         abi::free_instance::<Small>(c); // ignored: not a Small
-        assert_eq!(abi::reset::<Panicky>(c), fmi2Status::fmi2OK);
+        assert_eq!(abi::reset::<Panicky>(c), fmi2OK);
         abi::free_instance::<Panicky>(c);
     }
 }

@@ -84,18 +84,18 @@ fn bench_do_step(c: &mut Criterion) {
     unsafe {
         fmu::fmi2SetupExperiment(inst, fmi2False, 0.0, 0.0, fmi2False, 0.0);
         fmu::fmi2EnterInitializationMode(inst);
-        assert_eq!(fmu::fmi2ExitInitializationMode(inst), fmi2Status::fmi2OK);
+        assert_eq!(fmu::fmi2ExitInitializationMode(inst), fmi2OK);
         for k in 0..start_k {
             fmu::fmi2SetReal(inst, INPUTS.as_ptr(), 14, navigation(k).as_ptr());
             fmu::fmi2DoStep(inst, k as f64 * H, H, fmi2True);
         }
-        assert_eq!(fmu::fmi2GetFMUstate(inst, &mut state), fmi2Status::fmi2OK);
+        assert_eq!(fmu::fmi2GetFMUstate(inst, &mut state), fmi2OK);
     }
     let step = |k: usize, commands: &mut [f64; 4]| unsafe {
         fmu::fmi2SetReal(inst, INPUTS.as_ptr(), 14, navigation(k).as_ptr());
         fmu::fmi2GetReal(inst, COMMANDS.as_ptr(), 4, commands.as_mut_ptr());
         let status = fmu::fmi2DoStep(inst, k as f64 * H, H, fmi2True);
-        debug_assert_eq!(status, fmi2Status::fmi2OK);
+        debug_assert_eq!(status, fmi2OK);
     };
 
     c.bench_function(

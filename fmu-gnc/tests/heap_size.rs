@@ -101,10 +101,10 @@ fn one_instance_holds_less_than_64_kib_of_heap_and_frees_it_all() {
             assert!(!c.is_null());
             assert_eq!(
                 fmu::fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0),
-                fmi2Status::fmi2OK
+                fmi2OK
             );
-            assert_eq!(fmu::fmi2EnterInitializationMode(c), fmi2Status::fmi2OK);
-            assert_eq!(fmu::fmi2ExitInitializationMode(c), fmi2Status::fmi2OK);
+            assert_eq!(fmu::fmi2EnterInitializationMode(c), fmi2OK);
+            assert_eq!(fmu::fmi2ExitInitializationMode(c), fmi2OK);
             for k in 0..200 {
                 let t = k as f64 * 0.01;
                 // A lander at 800 m, slowly sinking, upright, at rest otherwise.
@@ -126,13 +126,13 @@ fn one_instance_holds_less_than_64_kib_of_heap_and_frees_it_all() {
                 ];
                 assert_eq!(
                     fmu::fmi2SetReal(c, inputs.as_ptr(), inputs.len(), navigation.as_ptr()),
-                    fmi2Status::fmi2OK
+                    fmi2OK
                 );
                 assert_eq!(
                     fmu::fmi2GetReal(c, outputs.as_ptr(), outputs.len(), values.as_mut_ptr()),
-                    fmi2Status::fmi2OK
+                    fmi2OK
                 );
-                assert_eq!(fmu::fmi2DoStep(c, t, 0.01, fmi2True), fmi2Status::fmi2OK);
+                assert_eq!(fmu::fmi2DoStep(c, t, 0.01, fmi2True), fmi2OK);
             }
             let held = LIVE_BYTES.load(Ordering::SeqCst) - before;
             fmu::fmi2FreeInstance(c);

@@ -8,7 +8,7 @@ mod common;
 
 use common::{navigation_vrs, vr, Plant};
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use fmi2_export::ffi::fmi2Status;
+use fmi2_export::ffi::*;
 
 /// A hovering plant whose state does not drift away over millions of steps: thrust exactly
 /// m g with the mass flow switched off, so every iteration does the same work.
@@ -17,7 +17,7 @@ fn hovering(translation_model: i32) -> Plant {
     fmu.enter_init();
     fmu.set("isp", 1e15);
     fmu.set_integer("translation_model", translation_model);
-    assert_eq!(fmu.exit_init(), fmi2Status::fmi2OK);
+    assert_eq!(fmu.exit_init(), fmi2OK);
     fmu.set("thrust_cmd", 900.0 * 1.62);
     fmu
 }

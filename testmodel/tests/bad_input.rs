@@ -9,9 +9,9 @@ use std::ffi::CString;
 use std::ptr::{null, null_mut};
 
 fn refused(fmu: &Fmu, status: fmi2Status, line: &str) {
-    assert_eq!(status, fmi2Status::fmi2Error, "{:?}", fmu.messages());
+    assert_eq!(status, fmi2Error, "{:?}", fmu.messages());
     let last = fmu.records().pop().expect("a log line");
-    assert_eq!(last.status, fmi2Status::fmi2Error);
+    assert_eq!(last.status, fmi2Error);
     assert_eq!(last.category, "logStatusError");
     assert_eq!(last.message, line);
 }
@@ -21,13 +21,13 @@ fn null_instance_is_an_error() {
     unsafe {
         assert_eq!(
             fmu::fmi2DoStep(null_mut(), 0.0, 0.1, 0),
-            fmi2Status::fmi2Error
+            fmi2Error
         );
         assert_eq!(
             fmu::fmi2SetReal(null_mut(), &0, 1, &1.0),
-            fmi2Status::fmi2Error
+            fmi2Error
         );
-        assert_eq!(fmu::fmi2Reset(null_mut()), fmi2Status::fmi2Error);
+        assert_eq!(fmu::fmi2Reset(null_mut()), fmi2Error);
     }
 }
 
@@ -53,11 +53,11 @@ fn null_arrays_with_nvr_above_zero_are_errors_and_nvr_zero_is_fine() {
     );
     assert_eq!(
         unsafe { fmu::fmi2GetReal(fmu.c, null(), 0, null_mut()) },
-        fmi2Status::fmi2OK
+        fmi2OK
     );
     assert_eq!(
         unsafe { fmu::fmi2SetInteger(fmu.c, null(), 0, null()) },
-        fmi2Status::fmi2OK
+        fmi2OK
     );
 }
 
@@ -101,8 +101,8 @@ fn variables_that_cannot_be_set_are_refused_by_causality_variability_and_state()
     );
     assert_eq!(fmu.get_real(vr::X0), 1.0);
     // Tunable parameters and inputs may change between steps.
-    assert_eq!(fmu.set_real(vr::K, 2.0), fmi2Status::fmi2OK);
-    assert_eq!(fmu.set_real(vr::U, 2.0), fmi2Status::fmi2OK);
+    assert_eq!(fmu.set_real(vr::K, 2.0), fmi2OK);
+    assert_eq!(fmu.set_real(vr::U, 2.0), fmi2OK);
     assert_eq!(
         fmu.get_real(vr::OMEGA_N),
         2f64.sqrt(),
@@ -157,7 +157,7 @@ fn bounds_of_the_table_are_enforced() {
     );
     assert_eq!(
         fmu.set_real(vr::K, 0.0),
-        fmi2Status::fmi2OK,
+        fmi2OK,
         "the bound itself is inside"
     );
 }
@@ -170,7 +170,7 @@ fn a_refused_batch_writes_nothing() {
     let refs = [vr::U, vr::K];
     let values = [5.0, -1.0];
     let status = unsafe { fmu::fmi2SetReal(fmu.c, refs.as_ptr(), 2, values.as_ptr()) };
-    assert_eq!(status, fmi2Status::fmi2Error);
+    assert_eq!(status, fmi2Error);
     assert_eq!(fmu.get_real(vr::U), 0.0);
     assert_eq!(fmu.get_real(vr::K), 1.0);
 }
@@ -219,7 +219,7 @@ fn bad_step_sizes_and_communication_points_are_refused() {
     );
     assert_eq!(
         fmu.step(1e-10, 0.01),
-        fmi2Status::fmi2OK,
+        fmi2OK,
         "inside the tolerance"
     );
     refused(
@@ -284,21 +284,21 @@ fn unsupported_functions_log_and_refuse() {
 fn status_queries_answer_what_they_can_and_discard_the_rest() {
     let fmu = Fmu::new(true);
     fmu.init();
-    let mut status = fmi2Status::fmi2OK;
+    let mut status = fmi2OK;
     let mut i = 0;
     let mut x = 0.0;
     assert_eq!(
         unsafe { fmu::fmi2GetStatus(fmu.c, fmi2DoStepStatus, &mut status) },
-        fmi2Status::fmi2Discard
+        fmi2Discard
     );
     assert_eq!(fmu.last_message(), "fmi2GetStatus: fmi2DoStepStatus is not available as an fmi2Status (no asynchronous steps here)");
     assert_eq!(
         unsafe { fmu::fmi2GetIntegerStatus(fmu.c, fmi2LastSuccessfulTime, &mut i) },
-        fmi2Status::fmi2Discard
+        fmi2Discard
     );
     assert_eq!(
         unsafe { fmu::fmi2GetRealStatus(fmu.c, fmi2Terminated, &mut x) },
-        fmi2Status::fmi2Discard
+        fmi2Discard
     );
     refused(
         &fmu,

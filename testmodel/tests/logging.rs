@@ -25,7 +25,7 @@ fn with_logging_off_only_warnings_errors_and_fatals_are_passed_on() {
     fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
     fmu.set_real(vr::THRESHOLD, 0.99999);
     fmu.init();
-    assert_eq!(fmu.step(0.0, 0.01), fmi2Status::fmi2Discard);
+    assert_eq!(fmu.step(0.0, 0.01), fmi2Discard);
     assert!(
         fmu.records().is_empty(),
         "no trace, info or discard: {:?}",
@@ -71,7 +71,7 @@ fn model_info_messages_are_logged_under_status_ok_when_on() {
         .into_iter()
         .find(|r| r.category == "logStatusOK")
         .expect("info");
-    assert_eq!(info.status, fmi2Status::fmi2OK);
+    assert_eq!(info.status, fmi2OK);
     assert_eq!(
         info.message,
         "fmi2ExitInitializationMode: osc-7: x0 = 1 m, k = 1 N/m, c = 0.1 N.s/m"
@@ -85,7 +85,7 @@ fn set_debug_logging_switches_the_named_categories() {
     let calls = [c"logCalls".as_ptr()];
     assert_eq!(
         unsafe { fmu::fmi2SetDebugLogging(fmu.c, fmi2True, 1, calls.as_ptr()) },
-        fmi2Status::fmi2OK
+        fmi2OK
     );
     fmu.clear();
     fmu.init();
@@ -94,7 +94,7 @@ fn set_debug_logging_switches_the_named_categories() {
 
     assert_eq!(
         unsafe { fmu::fmi2SetDebugLogging(fmu.c, fmi2False, 0, null()) },
-        fmi2Status::fmi2OK
+        fmi2OK
     );
     fmu.clear();
     fmu.step(0.0, 0.01);

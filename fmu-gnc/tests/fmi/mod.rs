@@ -107,9 +107,9 @@ impl Gnc {
         unsafe {
             assert_eq!(
                 fmu::fmi2SetupExperiment(self.c, fmi2False, 0.0, 0.0, fmi2False, 0.0),
-                fmi2Status::fmi2OK
+                fmi2OK
             );
-            assert_eq!(fmu::fmi2EnterInitializationMode(self.c), fmi2Status::fmi2OK);
+            assert_eq!(fmu::fmi2EnterInitializationMode(self.c), fmi2OK);
             fmu::fmi2ExitInitializationMode(self.c)
         }
     }
@@ -129,7 +129,7 @@ impl Gnc {
     pub fn get_integer(&self, vr: u32) -> i32 {
         let mut value = 0;
         let status = unsafe { fmu::fmi2GetInteger(self.c, &vr, 1, &mut value) };
-        assert_eq!(status, fmi2Status::fmi2OK);
+        assert_eq!(status, fmi2OK);
         value
     }
 

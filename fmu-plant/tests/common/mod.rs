@@ -99,11 +99,11 @@ impl Plant {
     pub fn enter_init(&self) {
         assert_eq!(
             unsafe { fmu::fmi2SetupExperiment(self.c, fmi2False, 0.0, 0.0, fmi2False, 0.0) },
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         assert_eq!(
             unsafe { fmu::fmi2EnterInitializationMode(self.c) },
-            fmi2Status::fmi2OK
+            fmi2OK
         );
     }
 
@@ -115,7 +115,7 @@ impl Plant {
         self.enter_init();
         assert_eq!(
             self.exit_init(),
-            fmi2Status::fmi2OK,
+            fmi2OK,
             "{:?}",
             self.messages()
         );
@@ -130,7 +130,7 @@ impl Plant {
         let status = unsafe { fmu::fmi2SetReal(self.c, &r, 1, &value) };
         assert_eq!(
             status,
-            fmi2Status::fmi2OK,
+            fmi2OK,
             "set {name}: {:?}",
             self.messages()
         );
@@ -141,7 +141,7 @@ impl Plant {
         let status = unsafe { fmu::fmi2SetInteger(self.c, &r, 1, &value) };
         assert_eq!(
             status,
-            fmi2Status::fmi2OK,
+            fmi2OK,
             "set {name}: {:?}",
             self.messages()
         );
@@ -152,7 +152,7 @@ impl Plant {
         let mut value = f64::NAN;
         let status = unsafe { fmu::fmi2GetReal(self.c, &r, 1, &mut value) };
         assert!(
-            status <= fmi2Status::fmi2Warning,
+            status <= fmi2Warning,
             "get {name}: {status:?} {:?}",
             self.messages()
         );
@@ -164,7 +164,7 @@ impl Plant {
         let status =
             unsafe { fmu::fmi2GetReal(self.c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) };
         assert!(
-            status <= fmi2Status::fmi2Warning,
+            status <= fmi2Warning,
             "{status:?} {:?}",
             self.messages()
         );
@@ -175,21 +175,21 @@ impl Plant {
         let r = vr(name);
         let mut value = -1;
         let status = unsafe { fmu::fmi2GetBoolean(self.c, &r, 1, &mut value) };
-        assert!(status <= fmi2Status::fmi2Warning, "get {name}: {status:?}");
+        assert!(status <= fmi2Warning, "get {name}: {status:?}");
         value == fmi2True
     }
 
     pub fn last_successful_time(&self) -> f64 {
         let mut t = f64::NAN;
         let status = unsafe { fmu::fmi2GetRealStatus(self.c, fmi2LastSuccessfulTime, &mut t) };
-        assert_eq!(status, fmi2Status::fmi2OK);
+        assert_eq!(status, fmi2OK);
         t
     }
 
     pub fn terminated(&self) -> bool {
         let mut b = -1;
         let status = unsafe { fmu::fmi2GetBooleanStatus(self.c, fmi2Terminated, &mut b) };
-        assert_eq!(status, fmi2Status::fmi2OK);
+        assert_eq!(status, fmi2OK);
         b == fmi2True
     }
 
@@ -197,7 +197,7 @@ impl Plant {
         let mut state: fmi2FMUstate = std::ptr::null_mut();
         assert_eq!(
             unsafe { fmu::fmi2GetFMUstate(self.c, &mut state) },
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         state
     }
@@ -205,14 +205,14 @@ impl Plant {
     pub fn set_state(&self, state: fmi2FMUstate) {
         assert_eq!(
             unsafe { fmu::fmi2SetFMUstate(self.c, state) },
-            fmi2Status::fmi2OK
+            fmi2OK
         );
     }
 
     pub fn free_state(&self, mut state: fmi2FMUstate) {
         assert_eq!(
             unsafe { fmu::fmi2FreeFMUstate(self.c, &mut state) },
-            fmi2Status::fmi2OK
+            fmi2OK
         );
     }
 
@@ -220,13 +220,13 @@ impl Plant {
         let mut size = 0usize;
         assert_eq!(
             unsafe { fmu::fmi2SerializedFMUstateSize(self.c, state, &mut size) },
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         let mut bytes = vec![0u8; size];
         let status = unsafe {
             fmu::fmi2SerializeFMUstate(self.c, state, bytes.as_mut_ptr() as *mut fmi2Byte, size)
         };
-        assert_eq!(status, fmi2Status::fmi2OK);
+        assert_eq!(status, fmi2OK);
         bytes
     }
 
@@ -240,7 +240,7 @@ impl Plant {
                 &mut state,
             )
         };
-        assert_eq!(status, fmi2Status::fmi2OK);
+        assert_eq!(status, fmi2OK);
         state
     }
 }

@@ -172,11 +172,11 @@ impl Fmu {
 
     /// Setup at t = 0 without stop time, enter and exit initialization mode.
     pub fn init(&self) {
-        assert_eq!(self.setup(0.0, None), fmi2Status::fmi2OK);
-        assert_eq!(self.enter_init(), fmi2Status::fmi2OK);
+        assert_eq!(self.setup(0.0, None), fmi2OK);
+        assert_eq!(self.enter_init(), fmi2OK);
         assert_eq!(
             self.exit_init(),
-            fmi2Status::fmi2OK,
+            fmi2OK,
             "{:?}",
             self.messages()
         );
@@ -209,7 +209,7 @@ impl Fmu {
         let mut value = f64::NAN;
         let status = unsafe { fmu::fmi2GetReal(self.c, &vr, 1, &mut value) };
         assert!(
-            status <= fmi2Status::fmi2Warning,
+            status <= fmi2Warning,
             "{status:?}: {:?}",
             self.messages()
         );
@@ -220,7 +220,7 @@ impl Fmu {
         let mut value = -1;
         let status = unsafe { fmu::fmi2GetInteger(self.c, &vr, 1, &mut value) };
         assert!(
-            status <= fmi2Status::fmi2Warning,
+            status <= fmi2Warning,
             "{status:?}: {:?}",
             self.messages()
         );
@@ -230,7 +230,7 @@ impl Fmu {
     pub fn get_string(&self, vr: u32) -> String {
         let mut value: fmi2String = std::ptr::null();
         let status = unsafe { fmu::fmi2GetString(self.c, &vr, 1, &mut value) };
-        assert_eq!(status, fmi2Status::fmi2OK, "{:?}", self.messages());
+        assert_eq!(status, fmi2OK, "{:?}", self.messages());
         unsafe { CStr::from_ptr(value) }
             .to_str()
             .unwrap()
@@ -240,33 +240,33 @@ impl Fmu {
     pub fn last_successful_time(&self) -> f64 {
         let mut t = f64::NAN;
         let status = unsafe { fmu::fmi2GetRealStatus(self.c, fmi2LastSuccessfulTime, &mut t) };
-        assert_eq!(status, fmi2Status::fmi2OK, "{:?}", self.messages());
+        assert_eq!(status, fmi2OK, "{:?}", self.messages());
         t
     }
 
     pub fn terminated(&self) -> bool {
         let mut b = -1;
         let status = unsafe { fmu::fmi2GetBooleanStatus(self.c, fmi2Terminated, &mut b) };
-        assert_eq!(status, fmi2Status::fmi2OK, "{:?}", self.messages());
+        assert_eq!(status, fmi2OK, "{:?}", self.messages());
         b == fmi2True
     }
 
     pub fn get_state(&self) -> fmi2FMUstate {
         let mut state: fmi2FMUstate = std::ptr::null_mut();
         let status = unsafe { fmu::fmi2GetFMUstate(self.c, &mut state) };
-        assert_eq!(status, fmi2Status::fmi2OK, "{:?}", self.messages());
+        assert_eq!(status, fmi2OK, "{:?}", self.messages());
         state
     }
 
     pub fn serialize(&self, state: fmi2FMUstate) -> Vec<u8> {
         let mut size = 0usize;
         let status = unsafe { fmu::fmi2SerializedFMUstateSize(self.c, state, &mut size) };
-        assert_eq!(status, fmi2Status::fmi2OK, "{:?}", self.messages());
+        assert_eq!(status, fmi2OK, "{:?}", self.messages());
         let mut bytes = vec![0u8; size];
         let status = unsafe {
             fmu::fmi2SerializeFMUstate(self.c, state, bytes.as_mut_ptr() as *mut fmi2Byte, size)
         };
-        assert_eq!(status, fmi2Status::fmi2OK, "{:?}", self.messages());
+        assert_eq!(status, fmi2OK, "{:?}", self.messages());
         bytes
     }
 
