@@ -40,6 +40,11 @@ pub const fmi2Fatal: fmi2Status = fmi2Status(4);
 pub const fmi2Pending: fmi2Status = fmi2Status(5);
 
 impl fmi2Status {
+    /// `fmi2OK` or `fmi2Warning`: the call's results are valid.
+    pub const fn is_success(self) -> bool {
+        self.0 == fmi2OK.0 || self.0 == fmi2Warning.0
+    }
+
     /// The header's name of the status, `None` for a value outside the enumeration.
     pub const fn name(self) -> Option<&'static str> {
         match self.0 {

@@ -83,8 +83,7 @@ unsafe fn call<M: Model>(
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if inst.logger.is_on(Category::Calls) {
-            inst.logger
-                .log(fmi2OK, Category::Calls, &trace());
+            inst.logger.log(fmi2OK, Category::Calls, &trace());
         }
         let state = inst.core.state;
         let result = if function.legal_states().contains(state) {

@@ -95,10 +95,7 @@ fn a_panic_becomes_fatal_and_never_unwinds() {
         abi::setup_experiment::<Panicky>(c, 0, 0.0, 0.0, 0, 0.0);
         abi::enter_initialization_mode::<Panicky>(c);
         abi::exit_initialization_mode::<Panicky>(c);
-        assert_eq!(
-            abi::do_step::<Panicky>(c, 0.0, 0.1, 0),
-            fmi2Fatal
-        );
+        assert_eq!(abi::do_step::<Panicky>(c, 0.0, 0.1, 0), fmi2Fatal);
         let (status, category, message) = lines.lock().unwrap().last().cloned().unwrap();
         assert_eq!(status, fmi2Fatal);
         assert_eq!(category, "logStatusFatal");
@@ -107,10 +104,7 @@ fn a_panic_becomes_fatal_and_never_unwinds() {
             "fmi2DoStep: internal error, instance unusable: boom"
         );
         let mut y = 0.0;
-        assert_eq!(
-            abi::get_real::<Panicky>(c, &0, 1, &mut y),
-            fmi2Error
-        );
+        assert_eq!(abi::get_real::<Panicky>(c, &0, 1, &mut y), fmi2Error);
         assert_eq!(
             lines.lock().unwrap().last().unwrap().2,
             "fmi2GetReal: illegal call in state Fatal"

@@ -3,21 +3,18 @@
 mod fmi;
 
 use fmi::{vr, Gnc};
-use fmi2_export::ffi::*;
 use fmi2_export::Causality;
+use fmi_testkit::fmi2::*;
 use fmu_gnc::LanderGnc;
 
 const UPRIGHT: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
 
 #[test]
 fn checked_in_model_description_matches_the_variable_table() {
-    let generated = fmi2_export::model_description_xml::<LanderGnc>();
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml");
-    let checked_in = std::fs::read_to_string(path).unwrap();
-    assert!(
-        generated == checked_in,
-        "fmu-gnc/modelDescription.xml is stale: regenerate with \
-         `cargo run -p fmu-gnc --example model_description > fmu-gnc/modelDescription.xml`"
+    fmi_testkit::assert_file_matches(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
+        &fmi2_export::model_description_xml::<LanderGnc>(),
+        "cargo run -p fmu-gnc --example model_description > fmu-gnc/modelDescription.xml",
     );
 }
 
@@ -184,55 +181,30 @@ fn bits(runs: &[Vec<f64>]) -> Vec<u64> {
 
 #[test]
 fn fmu_state_save_restore_and_serialization_are_bit_exact() {
-    use fmu_gnc::{
-        fmi2DeSerializeFMUstate, fmi2FreeFMUstate, fmi2GetFMUstate, fmi2SerializeFMUstate,
-        fmi2SerializedFMUstateSize, fmi2SetFMUstate,
-    };
     let gnc = Gnc::new();
     assert_eq!(gnc.set_integer(vr::CONTROL_LAW, 1), fmi2OK);
     assert_eq!(gnc.set_reals(&[vr::PHI_CMD], &[2.6]), fmi2OK);
     assert_eq!(gnc.initialize(), fmi2OK);
     // GIVEN a run up to just before the phase change and phi_cmd step at 12 s
     run(&gnc, 0, 1190);
-    let mut saved = std::ptr::null_mut();
-    assert_eq!(
-        unsafe { fmi2GetFMUstate(gnc.c, &mut saved) },
-        fmi2OK
-    );
+    let saved = gnc.get_state();
     // WHEN the run goes on across guidance cycles, the phase change and the phi_cmd step
     let first = run(&gnc, 1190, 1260);
     // AND the state is restored and the same inputs replayed
-    assert_eq!(unsafe { fmi2SetFMUstate(gnc.c, saved) }, fmi2OK);
+    assert_eq!(gnc.set_state(saved), fmi2OK);
     let second = run(&gnc, 1190, 1260);
     // THEN every output is bit-identical
     assert_eq!(bits(&first), bits(&second));
 
     // AND a serialized copy, restored into a fresh instance, replays bit-identically too
-    let mut size = 0;
-    assert_eq!(
-        unsafe { fmi2SerializedFMUstateSize(gnc.c, saved, &mut size) },
-        fmi2OK
-    );
-    let mut bytes = vec![0 as std::ffi::c_char; size];
-    assert_eq!(
-        unsafe { fmi2SerializeFMUstate(gnc.c, saved, bytes.as_mut_ptr(), size) },
-        fmi2OK
-    );
+    let bytes = gnc.serialize(saved);
     let other = Gnc::new();
     assert_eq!(other.initialize(), fmi2OK);
-    let mut restored = std::ptr::null_mut();
-    assert_eq!(
-        unsafe { fmi2DeSerializeFMUstate(other.c, bytes.as_ptr(), size, &mut restored) },
-        fmi2OK
-    );
-    assert_eq!(
-        unsafe { fmi2SetFMUstate(other.c, restored) },
-        fmi2OK
-    );
+    let (status, restored) = other.deserialize(&bytes);
+    assert_eq!(status, fmi2OK);
+    assert_eq!(other.set_state(restored), fmi2OK);
     let third = run(&other, 1190, 1260);
     assert_eq!(bits(&first), bits(&third));
-    unsafe {
-        fmi2FreeFMUstate(gnc.c, &mut saved);
-        fmi2FreeFMUstate(other.c, &mut restored);
-    }
+    assert_eq!(gnc.free_state(saved), fmi2OK);
+    assert_eq!(other.free_state(restored), fmi2OK);
 }

@@ -2,19 +2,16 @@
 mod common;
 
 use common::{navigation_vrs, Plant};
-use fmi2_export::ffi::*;
+use fmi_testkit::fmi2::*;
 
 const G: f64 = 1.62;
 
 #[test]
 fn checked_in_model_description_matches_the_table() {
-    let generated = fmi2_export::model_description_xml::<fmu_plant::LanderPlant>();
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml");
-    let checked_in = std::fs::read_to_string(path).expect("fmu-plant/modelDescription.xml");
-    assert!(
-        generated == checked_in,
-        "modelDescription.xml drifted from the variable table; regenerate it with\n\
-         cargo run -p fmu-plant --example model_description > fmu-plant/modelDescription.xml"
+    fmi_testkit::assert_file_matches(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
+        &fmi2_export::model_description_xml::<fmu_plant::LanderPlant>(),
+        "cargo run -p fmu-plant --example model_description > fmu-plant/modelDescription.xml",
     );
 }
 

@@ -35,17 +35,11 @@ fn restoring_a_state_continues_bit_exactly() {
     let fmu = started();
     let state = fmu.get_state();
     let first = run(&fmu, 200);
-    assert_eq!(
-        unsafe { fmu::fmi2SetFMUstate(fmu.c, state) },
-        fmi2OK
-    );
+    assert_eq!(unsafe { fmu::fmi2SetFMUstate(fmu.c, state) }, fmi2OK);
     assert_eq!(fmu.last_successful_time(), 100.0 * H);
     assert_eq!(run(&fmu, 200), first);
     let mut state = state;
-    assert_eq!(
-        unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut state) },
-        fmi2OK
-    );
+    assert_eq!(unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut state) }, fmi2OK);
     assert!(state.is_null());
 }
 
@@ -56,10 +50,7 @@ fn get_state_into_an_existing_state_updates_it() {
     let mut state = fmu.get_state();
     let kept = state;
     run(&fmu, 10);
-    assert_eq!(
-        unsafe { fmu::fmi2GetFMUstate(fmu.c, &mut state) },
-        fmi2OK
-    );
+    assert_eq!(unsafe { fmu::fmi2GetFMUstate(fmu.c, &mut state) }, fmi2OK);
     assert_eq!(state, kept);
     let later = run(&fmu, 5);
     unsafe { fmu::fmi2SetFMUstate(fmu.c, state) };
@@ -209,10 +200,7 @@ fn foreign_and_freed_state_pointers_are_refused() {
     let fmu = started();
     let other = started();
     let theirs = other.get_state();
-    assert_eq!(
-        unsafe { fmu::fmi2SetFMUstate(fmu.c, theirs) },
-        fmi2Error
-    );
+    assert_eq!(unsafe { fmu::fmi2SetFMUstate(fmu.c, theirs) }, fmi2Error);
     assert_eq!(
         fmu.last_message(),
         format!(
@@ -223,10 +211,7 @@ fn foreign_and_freed_state_pointers_are_refused() {
     let mut mine = fmu.get_state();
     let stale = mine;
     unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut mine) };
-    assert_eq!(
-        unsafe { fmu::fmi2SetFMUstate(fmu.c, stale) },
-        fmi2Error
-    );
+    assert_eq!(unsafe { fmu::fmi2SetFMUstate(fmu.c, stale) }, fmi2Error);
     let mut size = 0;
     assert_eq!(
         unsafe { fmu::fmi2SerializedFMUstateSize(fmu.c, stale, &mut size) },

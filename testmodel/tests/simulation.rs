@@ -121,11 +121,7 @@ fn coarse_sub_steps_give_a_warning() {
     assert!(last
         .message
         .starts_with("fmi2DoStep: sub-step 0.01 s is coarse"));
-    assert_eq!(
-        fmu.step(H, H),
-        fmi2Warning,
-        "a warning is not a failure"
-    );
+    assert_eq!(fmu.step(H, H), fmi2Warning, "a warning is not a failure");
 }
 
 /// A model error in ExitInitializationMode: fmi2Error, state Error, Reset recovers.
@@ -215,11 +211,7 @@ fn accumulated_rounding_in_the_communication_point_is_accepted() {
     }
     assert_ne!(t, 12.0, "the premise: accumulation drifts");
     assert_eq!(fmu.last_successful_time(), t);
-    assert_eq!(
-        fmu.step(12.0, H),
-        fmi2OK,
-        "within the tolerance"
-    );
+    assert_eq!(fmu.step(12.0, H), fmi2OK, "within the tolerance");
     assert_eq!(fmu.last_successful_time(), 12.0 + H);
 }
 

@@ -176,10 +176,7 @@ fn every_function_in_every_state_is_legal_or_refused_as_the_table_says() {
 fn an_illegal_call_changes_nothing() {
     let fmu = in_state(State::Instantiated);
     assert_eq!(call(&fmu, Function::DoStep), fmi2Error);
-    assert_eq!(
-        call(&fmu, Function::ExitInitializationMode),
-        fmi2Error
-    );
+    assert_eq!(call(&fmu, Function::ExitInitializationMode), fmi2Error);
     fmu.init();
     assert_eq!(fmu.step(0.0, 0.01), fmi2OK);
 }

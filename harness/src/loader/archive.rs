@@ -1,9 +1,9 @@
 //! Where an FMU's files are: the workspace's one unpacker (`fmi-abi`), its errors told in the
 //! loader's terms.
 use super::error::LoadError;
-pub(crate) use fmi_abi::unpack::FMI2_PLATFORM as PLATFORM;
 use fmi_abi::unpack::UnpackError;
 pub(crate) use fmi_abi::unpack::Unpacked;
+pub(crate) use fmi_abi::unpack::FMI2_PLATFORM as PLATFORM;
 
 impl From<UnpackError> for LoadError {
     fn from(e: UnpackError) -> LoadError {

@@ -174,12 +174,7 @@ impl Fmu {
     pub fn init(&self) {
         assert_eq!(self.setup(0.0, None), fmi2OK);
         assert_eq!(self.enter_init(), fmi2OK);
-        assert_eq!(
-            self.exit_init(),
-            fmi2OK,
-            "{:?}",
-            self.messages()
-        );
+        assert_eq!(self.exit_init(), fmi2OK, "{:?}", self.messages());
     }
 
     pub fn step(&self, t: f64, h: f64) -> fmi2Status {
@@ -208,22 +203,14 @@ impl Fmu {
     pub fn get_real(&self, vr: u32) -> f64 {
         let mut value = f64::NAN;
         let status = unsafe { fmu::fmi2GetReal(self.c, &vr, 1, &mut value) };
-        assert!(
-            status <= fmi2Warning,
-            "{status:?}: {:?}",
-            self.messages()
-        );
+        assert!(status <= fmi2Warning, "{status:?}: {:?}", self.messages());
         value
     }
 
     pub fn get_integer(&self, vr: u32) -> i32 {
         let mut value = -1;
         let status = unsafe { fmu::fmi2GetInteger(self.c, &vr, 1, &mut value) };
-        assert!(
-            status <= fmi2Warning,
-            "{status:?}: {:?}",
-            self.messages()
-        );
+        assert!(status <= fmi2Warning, "{status:?}: {:?}", self.messages());
         value
     }
 
