@@ -2,8 +2,8 @@
 //! value; a refused call changes nothing.
 mod common;
 
-use common::{callbacks, guid, vr, Fmu, Sink};
-use fmi2_export::ffi::*;
+use common::{callbacks, guid, records_of, vr, Fmu, Sink};
+use fmi_testkit::fmi2::*;
 use fmu_testmodel as fmu;
 use std::ffi::CString;
 use std::ptr::{null, null_mut};
@@ -334,9 +334,7 @@ fn instantiate_checks_type_guid_name_and_callbacks() {
         fmu::fmi2Instantiate(name, kind, guid, null(), functions, fmi2False, fmi2False)
     };
     let last = || {
-        sink.records
-            .lock()
-            .unwrap()
+        records_of(&sink)
             .last()
             .map(|r| r.message.clone())
             .unwrap_or_default()
@@ -362,14 +360,14 @@ fn instantiate_checks_type_guid_name_and_callbacks() {
     assert_eq!(last(), "fmi2Instantiate: instanceName is NULL or empty");
 
     // Without callbacks or logger there is nobody to tell: just NULL.
-    let before = sink.records.lock().unwrap().len();
+    let before = sink.len();
     assert!(try_instantiate(c"a".as_ptr(), fmi2CoSimulation, g.as_ptr(), null()).is_null());
     let no_logger = fmi2CallbackFunctions {
         logger: None,
         ..functions
     };
     assert!(try_instantiate(c"a".as_ptr(), fmi2CoSimulation, g.as_ptr(), &no_logger).is_null());
-    assert_eq!(sink.records.lock().unwrap().len(), before);
+    assert_eq!(sink.len(), before);
 
     // allocateMemory/freeMemory may be NULL: canNotUseMemoryManagementFunctions = true.
     let c = try_instantiate(c"a".as_ptr(), fmi2CoSimulation, g.as_ptr(), &functions);
@@ -398,7 +396,7 @@ fn instantiate_copies_the_strings_it_is_given() {
     drop(name);
     drop(g);
     unsafe { fmu::fmi2DoStep(c, 0.0, 1.0, 0) };
-    let record = sink.records.lock().unwrap().last().cloned().unwrap();
+    let record = records_of(&sink).pop().unwrap();
     assert_eq!(record.instance, "short-lived");
     unsafe { fmu::fmi2FreeInstance(c) };
 }

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{vr, Fmu};
-use fmi2_export::ffi::*;
+use fmi_testkit::fmi2::*;
 use fmu_testmodel as fmu;
 
 const H: f64 = 0.01;

@@ -6,8 +6,8 @@
 mod common;
 
 use common::{vr, Fmu};
-use fmi2_export::ffi::*;
 use fmi2_export::state::{Function, State};
+use fmi_testkit::fmi2::*;
 use fmu_testmodel as fmu;
 use std::ptr::{null, null_mut};
 
