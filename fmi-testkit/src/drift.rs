@@ -16,10 +16,7 @@ pub fn assert_file_matches(path: impl AsRef<Path>, generated: &str, regenerate: 
             .lines()
             .zip(generated.lines())
             .position(|(a, b)| a != b)
-            .map_or_else(
-                || checked_in.lines().count().min(generated.lines().count()),
-                |i| i,
-            );
+            .unwrap_or_else(|| checked_in.lines().count().min(generated.lines().count()));
         panic!(
             "{} is stale (first difference at line {}): regenerate with `{regenerate}`",
             path.display(),
