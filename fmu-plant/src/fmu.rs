@@ -372,7 +372,7 @@ mod tests {
     #[test]
     fn navigation_outputs_depend_on_no_input_even_in_initialization() {
         let vars = fmi2_export::variables::<LanderPlant>();
-        let index_of = |name: &str| 1 + vars.iter().position(|v| v.name == name).unwrap() as u32;
+        let index_of = |name: &str| 1 + vars.iter().position(|v| v.name() == name).unwrap() as u32;
         let inputs: Vec<u32> = vars
             .iter()
             .enumerate()
@@ -412,7 +412,7 @@ mod tests {
         let vars = fmi2_export::variables::<LanderPlant>();
         let find = |n: &str| {
             vars.iter()
-                .find(|v| v.name == n)
+                .find(|v| v.name() == n)
                 .unwrap_or_else(|| panic!("{n} missing"))
         };
         let mut contract = vec![
