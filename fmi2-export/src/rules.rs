@@ -60,18 +60,17 @@ pub fn check_real<M: Model>(
         });
     }
     if !real_in_range(value, min, max) {
-        let (open, close) = (
-            if matches!(min, Some(Limit::Exclusive(_))) {
-                "("
-            } else {
-                "["
-            },
-            if matches!(max, Some(Limit::Exclusive(_))) {
-                ")"
-            } else {
-                "]"
-            },
-        );
+        // An infinite end is open, as is an exclusive bound.
+        let open = if matches!(min, Some(Limit::Inclusive(_))) {
+            "["
+        } else {
+            "("
+        };
+        let close = if matches!(max, Some(Limit::Inclusive(_))) {
+            "]"
+        } else {
+            ")"
+        };
         return Err(CallError::OutOfRange {
             name: var.name().into_owned(),
             vr: var.value_reference,
@@ -98,7 +97,13 @@ pub fn check_integer<M: Model>(
             name: var.name().into_owned(),
             vr: var.value_reference,
             value: value.to_string(),
-            range: format!("[{}, {}]", bound(min, "-inf"), bound(max, "inf")),
+            range: format!(
+                "{}{}, {}{}",
+                if min.is_some() { "[" } else { "(" },
+                bound(min, "-inf"),
+                bound(max, "inf"),
+                if max.is_some() { "]" } else { ")" },
+            ),
         });
     }
     Ok(())
