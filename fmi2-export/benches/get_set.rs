@@ -5,11 +5,9 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use fmi2_export::ffi::*;
-use fmi2_export::{
-    Access, Causality, Experiment, Initial, Log, Model, ModelError, StepEnd, Variability, Variable,
-};
+use fmi2_export::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
 use serde::{Deserialize, Serialize};
-use std::ffi::{c_void, CString};
+use std::ffi::CString;
 
 /// 14 inputs `u[i]` and 14 outputs `y[i] = u[i]`, value references 1..=14 and 101..=114.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -28,8 +26,8 @@ impl Model for Exchange {
         step_size: 0.01,
         tolerance: None,
     };
-    fn variables() -> &'static [Variable<Self>] {
-        &VARIABLES
+    fn declarations() -> &'static [Declaration<Self>] {
+        &DECLARATIONS
     }
     fn calculate_values(&mut self, _: &mut Log) {
         self.y = self.u;
@@ -44,89 +42,17 @@ impl Model for Exchange {
 
 fmi2_export::export_fmi2!(Exchange);
 
-const fn input(
-    name: &'static str,
-    vr: u32,
-    get: fn(&Exchange) -> f64,
-    set: fn(&mut Exchange, f64),
-) -> Variable<Exchange> {
-    Variable {
-        name,
-        value_reference: vr,
-        causality: Causality::Input,
-        variability: Variability::Continuous,
-        initial: None,
-        unit: None,
-        description: "",
-        access: Access::Real {
-            start: Some(0.0),
-            min: None,
-            max: None,
-            get,
-            set: Some(set),
-        },
-    }
-}
-
-const fn output(name: &'static str, vr: u32, get: fn(&Exchange) -> f64) -> Variable<Exchange> {
-    Variable {
-        name,
-        value_reference: vr,
-        causality: Causality::Output,
-        variability: Variability::Continuous,
-        initial: Some(Initial::Calculated),
-        unit: None,
-        description: "",
-        access: Access::Real {
-            start: None,
-            min: None,
-            max: None,
-            get,
-            set: None,
-        },
-    }
-}
-
-macro_rules! table {
-    ($($i:literal),*) => {
-        [
-            $(input(concat!("u[", $i, "]"), $i + 1, |m| m.u[$i], |m, v| m.u[$i] = v),)*
-            $(output(concat!("y[", $i, "]"), $i + 101, |m| m.y[$i]),)*
-        ]
-    };
-}
-
-static VARIABLES: [Variable<Exchange>; 28] = table!(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13);
-
-extern "C" fn silent(
-    _: fmi2ComponentEnvironment,
-    _: fmi2String,
-    _: fmi2Status,
-    _: fmi2String,
-    _: fmi2String,
-    _: fmi2String,
-) {
-}
-
-type FixedLogger = extern "C" fn(
-    fmi2ComponentEnvironment,
-    fmi2String,
-    fmi2Status,
-    fmi2String,
-    fmi2String,
-    fmi2String,
-);
+/// Two vectors of 14: FMI 2.0 gives them the scalars `u[1]`.. (vr 1..=14) and `y[1]`..
+/// (vr 101..=114).
+static DECLARATIONS: [Declaration<Exchange>; 2] = [
+    decl!(1, input u[14]: u, "1", "copied to y"),
+    decl!(101, output y[14]: y, "1", "copy of u"),
+];
 
 fn get_set(c: &mut Criterion) {
     assert_eq!(fmi2_export::check_table::<Exchange>(), Ok(()));
-    let functions = fmi2CallbackFunctions {
-        // SAFETY: the logger reads none of the variadic arguments.
-        logger: unsafe { std::mem::transmute::<FixedLogger, fmi2CallbackLogger>(silent) },
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: std::ptr::null_mut::<c_void>(),
-    };
+    let logger = Box::<fmi_testkit::TestLogger>::default();
+    let functions = logger.callbacks();
     let guid = CString::new(fmi2_export::guid::<Exchange>()).unwrap();
     let inputs: Vec<u32> = (1..=14).collect();
     let outputs: Vec<u32> = (101..=114).collect();
@@ -145,14 +71,14 @@ fn get_set(c: &mut Criterion) {
         assert!(!inst.is_null());
         fmi2SetupExperiment(inst, fmi2False, 0.0, 0.0, fmi2False, 0.0);
         fmi2EnterInitializationMode(inst);
-        assert_eq!(fmi2ExitInitializationMode(inst), fmi2Status::fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(inst), fmi2OK);
         assert_eq!(
             fmi2SetReal(inst, inputs.as_ptr(), 14, values.as_ptr()),
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         assert_eq!(
             fmi2GetReal(inst, outputs.as_ptr(), 14, read.as_mut_ptr()),
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         assert_eq!(read.as_slice(), values.as_slice(), "y = u");
 

@@ -25,9 +25,9 @@ use crate::instance::{Core, Instance, Tag};
 use crate::logging::{Category, Logger};
 use crate::model::{Log, Model, StepEnd};
 use crate::rules::{check_enumeration, check_integer, check_real, check_settable};
-use crate::snapshot;
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
+use fmi_model::snapshot;
 use std::ffi::{CStr, CString};
 use std::fmt::Debug;
 use std::os::raw::c_char;
@@ -79,12 +79,11 @@ unsafe fn call<M: Model>(
     body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
 ) -> fmi2Status {
     let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
-        return fmi2Status::fmi2Error;
+        return fmi2Error;
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if inst.logger.is_on(Category::Calls) {
-            inst.logger
-                .log(fmi2Status::fmi2OK, Category::Calls, &trace());
+            inst.logger.log(fmi2OK, Category::Calls, &trace());
         }
         let state = inst.core.state;
         let result = if function.legal_states().contains(state) {
@@ -106,7 +105,7 @@ unsafe fn call<M: Model>(
         let _ = catch_unwind(AssertUnwindSafe(|| {
             inst.core.state = State::Fatal;
             inst.logger.status(
-                fmi2Status::fmi2Fatal,
+                fmi2Fatal,
                 &format!(
                     "{}: internal error, instance unusable: {}",
                     function.name(),
@@ -114,7 +113,7 @@ unsafe fn call<M: Model>(
                 ),
             );
         }));
-        fmi2Status::fmi2Fatal
+        fmi2Fatal
     })
 }
 
@@ -169,6 +168,14 @@ unsafe fn show<T: Debug>(ptr: *const T, n: usize) -> String {
     format!("{items:?}{more}")
 }
 
+/// A string argument as a user would write it: quoted, or NULL.
+fn shown(s: &Option<CString>) -> String {
+    match s {
+        Some(s) => format!("\"{}\"", s.to_string_lossy()),
+        None => "NULL".into(),
+    }
+}
+
 unsafe fn show_str(s: fmi2String) -> String {
     if s.is_null() {
         "NULL".into()
@@ -182,9 +189,10 @@ fn row<M: Model>(
     inst: &Instance<M>,
     base: BaseType,
     vr: fmi2ValueReference,
-) -> Result<&'static Variable<M>, CallError> {
+) -> Result<Variable<M>, CallError> {
     match inst.index.row(base, vr) {
-        Some(r) => Ok(&M::variables()[r]),
+        // A copy (a few words), so that the caller may go on to borrow the model mutably.
+        Some(r) => Ok(inst.table[r]),
         None => Err(unknown_value_reference(base, vr)),
     }
 }
@@ -246,11 +254,13 @@ pub unsafe fn instantiate<M: Model>(
     let outcome = catch_unwind(AssertUnwindSafe(move || {
         if logger.is_on(Category::Calls) {
             let trace = format!(
-                "fmi2Instantiate(instanceName={:?}, fmuType={fmu_type}, fmuGUID={:?}, \
-                 fmuResourceLocation={:?}, visible={visible}, loggingOn={logging_on})",
-                name, guid, resource_location
+                "fmi2Instantiate(instanceName={}, fmuType={fmu_type}, fmuGUID={}, \
+                 fmuResourceLocation={}, visible={visible}, loggingOn={logging_on})",
+                shown(&name),
+                shown(&guid),
+                shown(&resource_location)
             );
-            logger.log(fmi2Status::fmi2OK, Category::Calls, &trace);
+            logger.log(fmi2OK, Category::Calls, &trace);
         }
         let expected_guid = crate::guid::<M>();
         let refusal = if name.as_ref().is_none_or(|n| n.is_empty()) {
@@ -263,14 +273,14 @@ pub unsafe fn instantiate<M: Model>(
             ))
         } else if guid.as_ref().map(|g| g.to_bytes()) != Some(expected_guid.as_bytes()) {
             Some(format!(
-                "fmuGUID {:?} does not match this FMU's GUID {expected_guid}",
-                guid.as_ref().map(|g| g.to_string_lossy())
+                "fmuGUID {} does not match this FMU's GUID {expected_guid}",
+                shown(&guid)
             ))
         } else {
             None
         };
         if let Some(reason) = refusal {
-            logger.status(fmi2Status::fmi2Error, &format!("fmi2Instantiate: {reason}"));
+            logger.status(fmi2Error, &format!("fmi2Instantiate: {reason}"));
             return ptr::null_mut();
         }
         let instance = Box::new(Instance::<M>::new(
@@ -288,7 +298,7 @@ pub unsafe fn instantiate<M: Model>(
             false,
         );
         logger.status(
-            fmi2Status::fmi2Fatal,
+            fmi2Fatal,
             &format!(
                 "fmi2Instantiate: internal error: {}",
                 panic_text(payload.as_ref())
@@ -307,7 +317,7 @@ pub unsafe fn free_instance<M: Model>(c: fmi2Component) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         if inst.logger.is_on(Category::Calls) {
             inst.logger
-                .log(fmi2Status::fmi2OK, Category::Calls, "fmi2FreeInstance()");
+                .log(fmi2OK, Category::Calls, "fmi2FreeInstance()");
         }
         inst.tag = Tag::cleared();
         // SAFETY: `c` came from Box::into_raw in instantiate; `inst` is not used again.
@@ -337,8 +347,9 @@ pub unsafe fn set_debug_logging<M: Model>(
             .map(|s| s.iter().map(|&p| unsafe { show_str(p) }).collect())
             .unwrap_or_default();
         format!(
-            "{}(loggingOn={logging_on}, nCategories={n_categories}, categories={names:?})",
-            f.name()
+            "{}(loggingOn={logging_on}, nCategories={n_categories}, categories=[{}])",
+            f.name(),
+            names.join(", ")
         )
     };
     unsafe {
@@ -447,7 +458,7 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status
                 let start_time = inst.core.start_time;
                 let result = inst.core.model.exit_initialization(start_time, &mut log);
                 let success = inst.forward(f, &log);
-                result.map_err(|e| inst.fail(e))?;
+                result.map_err(|e| inst.model_failure(e))?;
                 inst.core.state = State::StepComplete;
                 inst.core.time = start_time;
                 inst.core.last_successful_time = start_time;
@@ -510,7 +521,7 @@ fn get_values<M: Model, V>(
 ) -> Result<Success, CallError> {
     let success = inst.refresh(f);
     for (&vr, value) in vrs.iter().zip(values) {
-        *value = read(row(inst, base, vr)?, &inst.core.model);
+        *value = read(&row(inst, base, vr)?, &inst.core.model);
     }
     Ok(success)
 }
@@ -526,12 +537,12 @@ fn set_values<M: Model, V: Copy>(
 ) -> Result<Success, CallError> {
     for (&vr, &value) in vrs.iter().zip(values) {
         let var = row(inst, base, vr)?;
-        check_settable(var, inst.core.state)?;
-        check(var, value)?;
+        check_settable(&var, inst.core.state)?;
+        check(&var, value)?;
     }
     for (&vr, &value) in vrs.iter().zip(values) {
         let var = row(inst, base, vr)?;
-        write(var, &mut inst.core.model, value);
+        write(&var, &mut inst.core.model, value);
     }
     if !vrs.is_empty() {
         inst.dirty = true;
@@ -575,7 +586,7 @@ pub unsafe fn get_real<M: Model>(
                     .index
                     .real(vr)
                     .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
-                *value = (slot.get)(&inst.core.model);
+                *value = slot.read(&inst.core.model);
             }
             Ok(success)
         })
@@ -700,19 +711,22 @@ pub unsafe fn set_real<M: Model>(
                     .real(vr)
                     .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
                 if !slot.accepts(value, state) {
-                    refuse_real(&M::variables()[slot.row], value, state)?;
+                    refuse_real(&inst.table[slot.row], value, state)?;
                 }
                 if let Some(kept) = setters.get_mut(i) {
-                    *kept = slot.set;
+                    *kept = slot.set.map(|set| (set, slot.element));
                 }
             }
             for (i, (&vr, &value)) in vrs.iter().zip(values).enumerate() {
                 let set = match setters.get(i) {
                     Some(&kept) => kept,
-                    None => inst.index.real(vr).and_then(|slot| slot.set),
+                    None => inst
+                        .index
+                        .real(vr)
+                        .and_then(|slot| slot.set.map(|set| (set, slot.element))),
                 };
-                if let Some(set) = set {
-                    set(&mut inst.core.model, value);
+                if let Some((set, element)) = set {
+                    set(&mut inst.core.model, element, value);
                 }
             }
             if !vrs.is_empty() {
@@ -730,7 +744,7 @@ const SETTERS_KEPT: usize = 32;
 /// in for (which have the last word, should the two ever disagree).
 #[cold]
 #[inline(never)]
-fn refuse_real<M>(var: &Variable<M>, value: f64, state: State) -> Result<(), CallError> {
+fn refuse_real<M: Model>(var: &Variable<M>, value: f64, state: State) -> Result<(), CallError> {
     check_settable(var, state)?;
     match &var.access {
         Access::Real { min, max, .. } => check_real(var, value, *min, *max),
@@ -758,9 +772,7 @@ pub unsafe fn set_integer<M: Model>(
                 values,
                 |var, v| match &var.access {
                     Access::Integer { min, max, .. } => check_integer(var, v, *min, *max),
-                    Access::Enumeration { type_name, .. } => {
-                        check_enumeration(var, v, type_name, M::enumeration_types())
-                    }
+                    Access::Enumeration { ty, .. } => check_enumeration(var, v, ty),
                     _ => Ok(()),
                 },
                 |var, m, v| match &var.access {
@@ -814,16 +826,21 @@ pub unsafe fn set_string<M: Model>(
 ) -> fmi2Status {
     let f = Function::SetString;
     let trace = || {
+        // Each string is shown quoted once (or NULL), as the master passed it.
         let shown: Vec<String> = unsafe { slice(value, nvr.min(16), "value") }
             .map(|s| s.iter().map(|&p| unsafe { show_str(p) }).collect())
             .unwrap_or_default();
-        format!("{}(nvr={nvr}, vr={}, value={shown:?})", f.name(), unsafe {
-            show(vr, nvr)
-        })
+        let more = if nvr > 16 { ", ..." } else { "" };
+        format!(
+            "{}(nvr={nvr}, vr={}, value=[{}{more}])",
+            f.name(),
+            unsafe { show(vr, nvr) },
+            shown.join(", ")
+        )
     };
     let text = |var: &Variable<M>, p: fmi2String| -> Result<&str, CallError> {
         let invalid = |reason: &str| CallError::InvalidValue {
-            name: var.name,
+            name: var.name().into_owned(),
             vr: var.value_reference,
             reason: reason.into(),
         };
@@ -945,6 +962,15 @@ pub unsafe fn free_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstat
     }
 }
 
+/// What identifies a serialized state of this FMU.
+fn snapshot_header<M: Model>(inst: &Instance<M>) -> snapshot::Header {
+    snapshot::Header {
+        magic: crate::SNAPSHOT_MAGIC,
+        state_version: M::STATE_VERSION,
+        guid: inst.guid,
+    }
+}
+
 /// # Safety
 /// See the module documentation.
 pub unsafe fn serialized_fmu_state_size<M: Model>(
@@ -957,7 +983,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
     unsafe {
         call::<M>(c, f, trace, |inst| {
             let size = out(size, "size")?;
-            *size = snapshot::encode(owned_state(inst, state)?, inst.guid)?.len();
+            *size = snapshot::encode(owned_state(inst, state)?, snapshot_header::<M>(inst))?.len();
             Ok(Success::Ok)
         })
     }
@@ -975,7 +1001,7 @@ pub unsafe fn serialize_fmu_state<M: Model>(
     let trace = || format!("{}(FMUstate={state:p}, size={size})", f.name());
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            let bytes = snapshot::encode(owned_state(inst, state)?, inst.guid)?;
+            let bytes = snapshot::encode(owned_state(inst, state)?, snapshot_header::<M>(inst))?;
             if size != bytes.len() {
                 return Err(CallError::InvalidArgument(format!(
                     "size {size} differs from fmi2SerializedFMUstateSize = {}",
@@ -1003,7 +1029,7 @@ pub unsafe fn de_serialize_fmu_state<M: Model>(
         call::<M>(c, f, trace, |inst| {
             let bytes = slice(serialized as *const u8, size, "serializedState")?;
             let slot = out(state, "FMUstate")?;
-            let core = snapshot::decode::<M>(bytes, inst.guid)?;
+            let core = snapshot::decode::<Core<M>>(bytes, snapshot_header::<M>(inst))?;
             store_state(inst, slot, core)
         })
     }
@@ -1125,7 +1151,7 @@ fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, Cal
     let result = inst.core.model.do_step(t, h, &mut log);
     inst.dirty = true;
     let success = inst.forward(f, &log);
-    match result.map_err(|e| inst.fail(e))? {
+    match result.map_err(|e| inst.model_failure(e))? {
         StepEnd::Complete => {
             inst.core.time = end;
             inst.core.last_successful_time = end;

@@ -1,9 +1,8 @@
 //! FMI status as a Rust `Result`: `Ok(Success)` is `fmi2OK`/`fmi2Warning`, `Err(CallError)`
 //! is `fmi2Discard`/`fmi2Error`/`fmi2Fatal` together with the one log line that explains it.
-use crate::ffi::fmi2Status;
-use crate::model::ModelError;
-use crate::snapshot::SnapshotError;
+use crate::ffi::{fmi2Discard, fmi2Error, fmi2OK, fmi2Status, fmi2Warning};
 use crate::state::State;
+use fmi_model::snapshot::SnapshotError;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Success {
@@ -14,8 +13,8 @@ pub enum Success {
 impl Success {
     pub fn status(self) -> fmi2Status {
         match self {
-            Success::Ok => fmi2Status::fmi2OK,
-            Success::Warning => fmi2Status::fmi2Warning,
+            Success::Ok => fmi2OK,
+            Success::Warning => fmi2Warning,
         }
     }
 }
@@ -31,27 +30,22 @@ pub enum CallError {
     UnknownValueReference { vr: u32, type_name: &'static str },
     #[error("variable {name} (vr {vr}) cannot be set: {reason}")]
     NotSettable {
-        name: &'static str,
+        name: String,
         vr: u32,
         reason: &'static str,
     },
     #[error("variable {name} (vr {vr}): value {value} is not finite")]
-    NonFinite {
-        name: &'static str,
-        vr: u32,
-        value: f64,
-    },
-    #[error("variable {name} (vr {vr}): value {value} is outside [{min}, {max}]")]
+    NonFinite { name: String, vr: u32, value: f64 },
+    #[error("variable {name} (vr {vr}): value {value} is outside {range}")]
     OutOfRange {
-        name: &'static str,
+        name: String,
         vr: u32,
         value: String,
-        min: String,
-        max: String,
+        range: String,
     },
     #[error("variable {name} (vr {vr}): {reason}")]
     InvalidValue {
-        name: &'static str,
+        name: String,
         vr: u32,
         reason: String,
     },
@@ -61,8 +55,9 @@ pub enum CallError {
     Unsupported(&'static str),
     #[error("FMU state: {0}")]
     Snapshot(#[from] SnapshotError),
+    /// A model's refusal, with the fields it names mapped to the declared variables.
     #[error("{0}")]
-    Model(#[from] ModelError),
+    Model(String),
     /// The standard's `fmi2Discard`: the request was valid but not (fully) served.
     #[error("{0}")]
     Discard(String),
@@ -71,8 +66,8 @@ pub enum CallError {
 impl CallError {
     pub fn status(&self) -> fmi2Status {
         match self {
-            CallError::Discard(_) => fmi2Status::fmi2Discard,
-            _ => fmi2Status::fmi2Error,
+            CallError::Discard(_) => fmi2Discard,
+            _ => fmi2Error,
         }
     }
 }

@@ -10,9 +10,9 @@
 //!
 //! Reals, the bulk of what a co-simulation exchanges, also get a [`RealSlot`] each: their
 //! accessors and the value checks in a form that needs no matching on the table row.
-use crate::rules::check_settable;
+use crate::rules::settable;
 use crate::state::{State, StateMask};
-use crate::variable::{Access, Variable};
+use crate::variable::{Access, Limit, Variable};
 
 /// The four base types of the C API.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -97,11 +97,16 @@ impl Lookup {
 pub struct RealSlot<M> {
     /// The row in the table, for the messages of a refused value.
     pub row: usize,
-    pub get: fn(&M) -> f64,
-    pub set: Option<fn(&mut M, f64)>,
+    pub get: fn(&M, usize) -> f64,
+    pub set: Option<fn(&mut M, usize, f64)>,
+    /// The element of the declaration, passed to `get` and `set`.
+    pub element: usize,
     /// The declared bounds; infinite where the table declares none.
     pub min: f64,
     pub max: f64,
+    /// Whether `min`/`max` themselves are refused (exclusive bounds).
+    pub min_open: bool,
+    pub max_open: bool,
     /// The states in which [`check_settable`] accepts the variable.
     pub settable_in: StateMask,
 }
@@ -109,34 +114,47 @@ pub struct RealSlot<M> {
 impl<M> RealSlot<M> {
     fn new(row: usize, var: &Variable<M>) -> Option<RealSlot<M>> {
         let Access::Real {
-            min, max, get, set, ..
+            min,
+            max,
+            get,
+            set,
+            element,
+            ..
         } = var.access
         else {
             return None;
         };
-        let settable: Vec<State> = State::ALL
+        let settable_in: Vec<State> = State::ALL
             .into_iter()
-            .filter(|&state| check_settable(var, state).is_ok())
+            .filter(|&state| settable(var.causality, var.variability, state).is_ok())
             .collect();
         Some(RealSlot {
             row,
             get,
             set,
-            min: min.unwrap_or(f64::NEG_INFINITY),
-            max: max.unwrap_or(f64::INFINITY),
-            settable_in: StateMask::of(&settable),
+            element,
+            min: min.map_or(f64::NEG_INFINITY, Limit::value),
+            max: max.map_or(f64::INFINITY, Limit::value),
+            min_open: matches!(min, Some(Limit::Exclusive(_))),
+            max_open: matches!(max, Some(Limit::Exclusive(_))),
+            settable_in: StateMask::of(&settable_in),
         })
     }
 
-    /// Whether `value` may be set in `state`: exactly when [`check_settable`] and
-    /// `check_real` accept it, for bounds that are not NaN (a NaN bound sends every value
+    /// Whether `value` may be set in `state`: exactly when [`settable`] and
+    /// `real_in_range` accept it, for bounds that are not NaN (a NaN bound sends every value
     /// to those checks, which then decide).
     #[inline]
     pub fn accepts(&self, value: f64, state: State) -> bool {
         self.settable_in.contains(state)
             && value.is_finite()
-            && value >= self.min
-            && value <= self.max
+            && (value > self.min || (value == self.min && !self.min_open))
+            && (value < self.max || (value == self.max && !self.max_open))
+    }
+
+    #[inline]
+    pub fn read(&self, model: &M) -> f64 {
+        (self.get)(model, self.element)
     }
 }
 
@@ -222,14 +240,17 @@ mod tests {
     /// variables (causality, variability, bounds) and awkward values.
     #[test]
     fn a_real_slot_accepts_exactly_what_the_checks_accept() {
-        use crate::rules::check_real;
+        use crate::rules::real_in_range;
         use crate::variable::{Causality, Variability};
+        use Limit::{Exclusive, Inclusive};
         let bounds = [
             (None, None),
-            (Some(-1.0), Some(2.0)),
-            (Some(0.0), None),
-            (None, Some(0.0)),
-            (Some(f64::NAN), Some(1.0)),
+            (Some(Inclusive(-1.0)), Some(Inclusive(2.0))),
+            (Some(Inclusive(0.0)), None),
+            (None, Some(Inclusive(0.0))),
+            (Some(Exclusive(0.0)), None),
+            (Some(Exclusive(-1.0)), Some(Exclusive(2.0))),
+            (Some(Inclusive(f64::NAN)), Some(Inclusive(1.0))),
         ];
         let values = [
             0.0,
@@ -263,27 +284,27 @@ mod tests {
             ] {
                 for (min, max) in bounds {
                     let var: Variable<()> = Variable {
-                        name: "x",
                         value_reference: 0,
                         causality,
                         variability,
                         initial: None,
                         unit: None,
-                        description: "",
+                        declaration: 0,
                         access: Access::Real {
                             start: None,
                             min,
                             max,
-                            get: |_| 0.0,
-                            set: Some(|_, _| {}),
+                            get: |_, _| 0.0,
+                            set: Some(|_, _, _| {}),
+                            element: 0,
                         },
                     };
                     let slot = RealSlot::new(0, &var).unwrap();
                     for state in State::ALL {
                         for value in values {
-                            let checks = check_settable(&var, state).is_ok()
-                                && check_real(&var, value, min, max).is_ok();
-                            if !(min.is_some_and(f64::is_nan) && checks) {
+                            let checks = settable(causality, variability, state).is_ok()
+                                && real_in_range(value, min, max);
+                            if !(min.is_some_and(|m| m.value().is_nan()) && checks) {
                                 assert_eq!(
                                     slot.accepts(value, state),
                                     checks,
@@ -297,27 +318,27 @@ mod tests {
                 }
             }
         }
-        assert_eq!(checked, 6 * 5 * 5 * 8 * 12);
+        assert_eq!(checked, 6 * 5 * 7 * 8 * 12);
     }
 
     #[test]
     fn only_reals_get_a_real_slot_and_rows_stay_rows() {
         let row = |vr, access| Variable::<()> {
-            name: "v",
             value_reference: vr,
             causality: crate::variable::Causality::Input,
             variability: crate::variable::Variability::Discrete,
             initial: None,
             unit: None,
-            description: "",
+            declaration: 0,
             access,
         };
         let real = || Access::Real {
             start: None,
             min: None,
             max: None,
-            get: |_| 1.5,
+            get: |_, _| 1.5,
             set: None,
+            element: 0,
         };
         let integer = || Access::Integer {
             start: None,
@@ -333,7 +354,7 @@ mod tests {
         assert_eq!(index.row(BaseType::Real, 1), Some(1));
         assert_eq!(index.row(BaseType::Real, 9), Some(2));
         assert_eq!(index.real(9).map(|s| s.row), Some(2));
-        assert_eq!(index.real(1).map(|s| (s.get)(&())), Some(1.5));
+        assert_eq!(index.real(1).map(|s| s.read(&())), Some(1.5));
         assert!(index.real(0).is_none() && index.real(2).is_none());
         assert_eq!(index.row(BaseType::Boolean, 1), None);
     }

@@ -1,16 +1,24 @@
-//! The single declaration of a model variable. Get/set dispatch and the model description
-//! are both produced from a `&'static [Variable<M>]` table.
-pub use model_description::{Causality, Initial, Variability};
+//! The FMI 2.0 view of a model's declarations: one scalar variable per element, `r_nue`
+//! becoming `r_nue[1]`, `r_nue[2]`, `r_nue[3]` with consecutive value references. Get/set
+//! dispatch and the model description both work on this table, built from
+//! [`Model::declarations`] by [`variables`] (each instance keeps its own copy: a table kept
+//! for the process would be leaked by every master that loads and unloads the library).
+use crate::model::Model;
+pub use fmi_model::{Causality, EnumType, Initial, Limit, Variability};
+use fmi_model::{Declaration, Kind, Shape};
+use std::borrow::Cow;
 
-/// Typed accessors (plain function pointers, so tables can be `static`). `set` is `None`
-/// for variables the master may never set (outputs, locals, calculated parameters).
+/// Typed accessors of one scalar. `set` is `None` for variables the master may never set;
+/// `start` is read from `M::default()` where the standard asks for a start value.
 pub enum Access<M> {
     Real {
         start: Option<f64>,
-        min: Option<f64>,
-        max: Option<f64>,
-        get: fn(&M) -> f64,
-        set: Option<fn(&mut M, f64)>,
+        min: Option<Limit>,
+        max: Option<Limit>,
+        get: fn(&M, usize) -> f64,
+        set: Option<fn(&mut M, usize, f64)>,
+        /// The element of the declaration this scalar is (0 for a scalar declaration).
+        element: usize,
     },
     Integer {
         start: Option<i32>,
@@ -19,36 +27,216 @@ pub enum Access<M> {
         get: fn(&M) -> i32,
         set: Option<fn(&mut M, i32)>,
     },
-    /// An enumeration, exchanged as an Integer through the API.
+    /// An enumeration, exchanged as an Integer through the API; `as_integer` also declares
+    /// it as an Integer in the model description (see `fmi_model::Kind::Enumeration`).
     Enumeration {
-        type_name: &'static str,
+        ty: &'static EnumType,
         start: Option<i32>,
         get: fn(&M) -> i32,
         set: Option<fn(&mut M, i32)>,
+        as_integer: bool,
     },
     Boolean {
         start: Option<bool>,
         get: fn(&M) -> bool,
         set: Option<fn(&mut M, bool)>,
     },
+    /// A String's start, where the standard asks for one, is `get(&M::default())`.
     String {
-        start: Option<&'static str>,
         get: fn(&M) -> &str,
         set: Option<fn(&mut M, &str)>,
     },
 }
 
-/// One row of the variable table.
+// Plain function pointers and numbers: copied whatever `M` is.
+impl<M> Clone for Access<M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<M> Copy for Access<M> {}
+
+/// One scalar variable of the FMI 2.0 model description; its name and description are
+/// composed from its declaration when asked for ([`name`](Variable::name)).
 pub struct Variable<M> {
-    /// FMI structured name, e.g. `r_nue[1]` (arrays 1-based).
-    pub name: &'static str,
     pub value_reference: u32,
     pub causality: Causality,
     pub variability: Variability,
-    /// `None` where the standard forbids the attribute (e.g. inputs) or uses the default.
     pub initial: Option<Initial>,
-    /// Unit symbol (Real only), declared in `UnitDefinitions` by the layer.
     pub unit: Option<&'static str>,
-    pub description: &'static str,
+    /// The declaration this scalar comes from (its position in `M::declarations()`).
+    pub declaration: usize,
     pub access: Access<M>,
+}
+
+impl<M> Clone for Variable<M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<M> Copy for Variable<M> {}
+
+impl<M: Model> Variable<M> {
+    pub fn declared(&self) -> &'static Declaration<M> {
+        &M::declarations()[self.declaration]
+    }
+
+    /// FMI structured name, e.g. `r_nue[1]` (arrays 1-based).
+    pub fn name(&self) -> Cow<'static, str> {
+        let d = self.declared();
+        match d.shape() {
+            Shape::Scalar => Cow::Borrowed(d.name),
+            Shape::Vector(_) => Cow::Owned(format!("{}[{}]", d.name, self.element() + 1)),
+        }
+    }
+
+    /// The declaration's description, with the element's component word for a vector
+    /// ("position, Up") and the items for an enumeration exchanged as an Integer.
+    pub fn description(&self) -> Cow<'static, str> {
+        let d = self.declared();
+        if let Access::Enumeration {
+            ty,
+            as_integer: true,
+            ..
+        } = &self.access
+        {
+            return Cow::Owned(format!("{}: {}", d.description, ty.listing()));
+        }
+        match d.shape() {
+            Shape::Scalar => Cow::Borrowed(d.description),
+            Shape::Vector(_) => {
+                let element = self.element();
+                Cow::Owned(match d.components.get(element) {
+                    Some(word) => format!("{}, {word}", d.description),
+                    None => format!("{} (element {})", d.description, element + 1),
+                })
+            }
+        }
+    }
+}
+
+impl<M> Variable<M> {
+    /// The value of a Real variable in `model`.
+    pub fn real(&self, model: &M) -> Option<f64> {
+        match &self.access {
+            Access::Real { get, element, .. } => Some(get(model, *element)),
+            _ => None,
+        }
+    }
+
+    /// The element index within its declaration (0 for scalars and non-Reals).
+    pub fn element(&self) -> usize {
+        match &self.access {
+            Access::Real { element, .. } => *element,
+            _ => 0,
+        }
+    }
+}
+
+/// The FMI 2.0 scalars of every declaration of `M`, in declaration order.
+pub fn variables<M: Model>() -> Vec<Variable<M>> {
+    let fresh = M::default();
+    let mut table = Vec::new();
+    for (index, d) in M::declarations().iter().enumerate() {
+        let with_start = needs_start(d.causality, d.variability, d.initial);
+        match (&d.kind, d.shape()) {
+            (
+                Kind::Real {
+                    min, max, get, set, ..
+                },
+                shape,
+            ) => {
+                for element in 0..shape.len() {
+                    table.push(Variable {
+                        value_reference: d.value_reference + element as u32,
+                        access: Access::Real {
+                            start: with_start.then(|| get(&fresh, element)),
+                            min: *min,
+                            max: *max,
+                            get: *get,
+                            set: *set,
+                            element,
+                        },
+                        ..scalar(d, index)
+                    });
+                }
+            }
+            (Kind::Integer { min, max, get, set }, _) => table.push(Variable {
+                access: Access::Integer {
+                    start: with_start.then(|| get(&fresh)),
+                    min: *min,
+                    max: *max,
+                    get: *get,
+                    set: *set,
+                },
+                ..scalar(d, index)
+            }),
+            (
+                Kind::Enumeration {
+                    ty,
+                    get,
+                    set,
+                    as_integer,
+                },
+                _,
+            ) => table.push(Variable {
+                access: Access::Enumeration {
+                    ty,
+                    start: with_start.then(|| get(&fresh)),
+                    get: *get,
+                    set: *set,
+                    as_integer: *as_integer,
+                },
+                ..scalar(d, index)
+            }),
+            (Kind::Boolean { get, set }, _) => table.push(Variable {
+                access: Access::Boolean {
+                    start: with_start.then(|| get(&fresh)),
+                    get: *get,
+                    set: *set,
+                },
+                ..scalar(d, index)
+            }),
+            (Kind::String { get, set }, _) => table.push(Variable {
+                access: Access::String {
+                    get: *get,
+                    set: *set,
+                },
+                ..scalar(d, index)
+            }),
+        }
+    }
+    table
+}
+
+/// The fields every scalar of `d` shares; `access` is a placeholder replaced by the caller.
+fn scalar<M>(d: &Declaration<M>, index: usize) -> Variable<M> {
+    Variable {
+        value_reference: d.value_reference,
+        causality: d.causality,
+        variability: d.variability,
+        initial: d.initial,
+        unit: d.unit,
+        declaration: index,
+        access: Access::Boolean {
+            start: None,
+            get: |_| false,
+            set: None,
+        },
+    }
+}
+
+/// Whether FMI 2.0 wants a start value (§2.2.7): inputs, and initial exact or approx.
+pub(crate) fn needs_start(
+    causality: Causality,
+    variability: Variability,
+    initial: Option<Initial>,
+) -> bool {
+    causality == Causality::Input
+        || matches!(
+            initial.or_else(|| {
+                crate::check::initial_rule(causality, variability).and_then(|(d, _)| d)
+            }),
+            Some(Initial::Exact | Initial::Approx)
+        )
 }

@@ -1,0 +1,30 @@
+//! The test kit: what every test of an FMU needs, written once.
+//!
+//! - [`Fmi2Functions`]: the FMI 2.0 entry points of an FMU, taken from a crate linked into
+//!   the test ([`fmi2_functions!`]) or from a shared library loaded at run time;
+//! - [`Instance`]: one instance driven through those entry points exactly as a C master
+//!   drives it, freed on drop;
+//! - [`TestLogger`]: records every message through the real variadic callback (the C shim
+//!   of `fmi-abi`), no transmuted function pointers;
+//! - [`CountingAllocator`]: a global allocator that counts live and peak bytes;
+//! - [`assert_file_matches`]: the drift check of a generated file kept under version control;
+//! - [`assert_declared_bounds_are_validated`]: declared bounds and a model's validation agree.
+//!
+//! It is a dev-dependency only; nothing here ends up in an FMU.
+#![allow(unsafe_code)]
+
+mod alloc;
+mod bounds;
+mod drift;
+mod functions;
+mod instance;
+mod logger;
+
+pub use alloc::{CountingAllocator, HeapUse};
+pub use bounds::assert_declared_bounds_are_validated;
+pub use drift::assert_file_matches;
+pub use fmi_abi::fmi2;
+pub use fmi_abi::unpack;
+pub use functions::Fmi2Functions;
+pub use instance::Instance;
+pub use logger::{Record, TestLogger};
