@@ -289,3 +289,22 @@ fn a_negative_seed_is_refused_naming_it() {
     assert_eq!(fmu.set_integer(vr("seed"), -3), fmi2Error);
     assert!(fmu.last_message().contains("seed"), "{:?}", fmu.messages());
 }
+
+#[test]
+fn initialization_mode_already_shows_the_errors_of_the_first_interval() {
+    // GIVEN noise and a bias set in initialization mode, and an input
+    let fmu = instance();
+    fmu.enter_init();
+    set_integer(&fmu, "seed", 9);
+    set_real(&fmu, "r_nue_noise_sigma", 0.5);
+    set_real(&fmu, "mass_bias", -2.0);
+    assert_eq!(fmu.set_reals(&true_vrs(), &truth(0)), fmi2OK);
+    // WHEN read before and after fmi2ExitInitializationMode
+    let before = get_all(&fmu);
+    assert_eq!(fmu.exit_initialization_mode(), fmi2OK);
+    let after = get_all(&fmu);
+    // THEN both show the same erroneous estimates
+    assert_eq!(before, after);
+    assert_eq!(f64::from_bits(after[13]), truth(0)[13] - 2.0);
+    assert_ne!(f64::from_bits(after[0]), truth(0)[0]);
+}
