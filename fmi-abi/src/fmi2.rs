@@ -45,6 +45,14 @@ impl fmi2Status {
         self.0 == fmi2OK.0 || self.0 == fmi2Warning.0
     }
 
+    /// The header's name of the status, or "not an fmi2Status".
+    pub const fn label(self) -> &'static str {
+        match self.name() {
+            Some(name) => name,
+            None => "not an fmi2Status",
+        }
+    }
+
     /// The header's name of the status, `None` for a value outside the enumeration.
     pub const fn name(self) -> Option<&'static str> {
         match self.0 {
@@ -56,6 +64,13 @@ impl fmi2Status {
             5 => Some("fmi2Pending"),
             _ => None,
         }
+    }
+}
+
+/// The C value, as a master that prints an `int` shows it.
+impl std::fmt::Display for fmi2Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.0)
     }
 }
 
@@ -224,6 +239,44 @@ pub type fmi2GetBooleanStatusTYPE =
     unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Boolean) -> fmi2Status;
 pub type fmi2GetStringStatusTYPE =
     unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2String) -> fmi2Status;
+
+/// The 34 functions of the FMI 2.0 Co-Simulation API (25 common + 9 co-simulation).
+pub const FUNCTION_NAMES: [&str; 34] = [
+    "fmi2GetTypesPlatform",
+    "fmi2GetVersion",
+    "fmi2SetDebugLogging",
+    "fmi2Instantiate",
+    "fmi2FreeInstance",
+    "fmi2SetupExperiment",
+    "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode",
+    "fmi2Terminate",
+    "fmi2Reset",
+    "fmi2GetReal",
+    "fmi2GetInteger",
+    "fmi2GetBoolean",
+    "fmi2GetString",
+    "fmi2SetReal",
+    "fmi2SetInteger",
+    "fmi2SetBoolean",
+    "fmi2SetString",
+    "fmi2GetFMUstate",
+    "fmi2SetFMUstate",
+    "fmi2FreeFMUstate",
+    "fmi2SerializedFMUstateSize",
+    "fmi2SerializeFMUstate",
+    "fmi2DeSerializeFMUstate",
+    "fmi2GetDirectionalDerivative",
+    "fmi2SetRealInputDerivatives",
+    "fmi2GetRealOutputDerivatives",
+    "fmi2DoStep",
+    "fmi2CancelStep",
+    "fmi2GetStatus",
+    "fmi2GetRealStatus",
+    "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus",
+    "fmi2GetStringStatus",
+];
 
 #[cfg(test)]
 mod tests {

@@ -7,18 +7,21 @@
 //! - [`TestLogger`]: records every message through the real variadic callback (the C shim
 //!   of `fmi-abi`), no transmuted function pointers;
 //! - [`CountingAllocator`]: a global allocator that counts live and peak bytes;
-//! - [`assert_file_matches`]: the drift check of a generated file kept under version control.
+//! - [`assert_file_matches`]: the drift check of a generated file kept under version control;
+//! - [`assert_declared_bounds_are_validated`]: declared bounds and a model's validation agree.
 //!
 //! It is a dev-dependency only; nothing here ends up in an FMU.
 #![allow(unsafe_code)]
 
 mod alloc;
+mod bounds;
 mod drift;
 mod functions;
 mod instance;
 mod logger;
 
 pub use alloc::{CountingAllocator, HeapUse};
+pub use bounds::assert_declared_bounds_are_validated;
 pub use drift::assert_file_matches;
 pub use fmi_abi::fmi2;
 pub use fmi_abi::unpack;

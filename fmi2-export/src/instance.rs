@@ -80,8 +80,8 @@ pub struct Instance<M: Model> {
     pub logger: Logger,
     pub guid: uuid::Uuid,
     pub resource_location: Option<CString>,
-    /// The FMI 2.0 scalars of `M`, shared by all its instances.
-    pub table: &'static [Variable<M>],
+    /// The FMI 2.0 scalars of `M`.
+    pub table: Box<[Variable<M>]>,
     pub index: VariableIndex<M>,
     /// Keeps the strings returned by `fmi2GetString` alive until the next call of it.
     pub returned_strings: Vec<CString>,
@@ -95,6 +95,7 @@ impl<M: Model> Instance<M> {
         guid: uuid::Uuid,
         resource_location: Option<CString>,
     ) -> Instance<M> {
+        let table = crate::variables::<M>().into_boxed_slice();
         Instance {
             tag: Tag::of::<M>(),
             core: Core::fresh(),
@@ -102,8 +103,8 @@ impl<M: Model> Instance<M> {
             logger,
             guid,
             resource_location,
-            table: crate::variables::<M>(),
-            index: VariableIndex::new(crate::variables::<M>()),
+            index: VariableIndex::new(&table),
+            table,
             returned_strings: Vec::new(),
             fmu_states: HashSet::new(),
         }
@@ -149,7 +150,7 @@ impl<M: Model> Instance<M> {
     /// A model's refusal, its field named as the variable declared for it.
     pub fn model_failure(&mut self, error: ModelError) -> CallError {
         self.core.state = State::Error;
-        CallError::Model(describe_model_error(self.table, &error))
+        CallError::Model(describe_model_error(&self.table, &error))
     }
 }
 
@@ -181,11 +182,11 @@ pub fn describe_model_error<M: Model>(table: &[Variable<M>], error: &ModelError)
             let scalars = table.iter().filter(|v| v.declaration == d);
             match index {
                 // The whole vector (e.g. a quaternion refused for its norm): its base name.
-                None if declarations[d].shape().len() > 1 => Some(declarations[d].name),
+                None if declarations[d].shape().len() > 1 => Some(declarations[d].name.into()),
                 _ => scalars
                     .into_iter()
                     .find(|v| v.element() == element)
-                    .map(|v| v.name),
+                    .map(|v| v.name()),
             }
         });
     let name = match declared {
