@@ -11,7 +11,7 @@ const H: f64 = 0.01;
 fn vr(name: &str) -> u32 {
     fmi2_export::variables::<LanderNav>()
         .iter()
-        .find(|v| v.name == name)
+        .find(|v| v.name() == name)
         .unwrap_or_else(|| panic!("no variable {name}"))
         .value_reference
 }
