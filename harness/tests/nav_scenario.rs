@@ -123,3 +123,20 @@ fn the_ssd_written_from_the_toml_flies_the_same_three_fmu_loop() {
     assert!(from_toml.names.iter().any(|n| n.starts_with("nav.")));
     assert_same_columns(&from_toml, &from_ssd);
 }
+
+#[test]
+fn under_jacobi_ordering_the_estimate_is_one_step_late() {
+    // GIVEN the three-FMU loop exchanged Jacobi-style (every input from the outputs read
+    // after the previous step)
+    let mut system = nav_scenario();
+    system.stop_time = 5.0;
+    system.ordering = harness::system::Ordering::Jacobi;
+    let (_, run) = fly(system);
+    // THEN what LanderNav shows at t_k+1 is the plant's state at t_k (up to the last
+    // point, which the master records after one more exchange)
+    let plant = run.column("plant.r_nue[2]").unwrap();
+    let nav = run.column("nav.r_nue[2]").unwrap();
+    let n = plant.len() - 1;
+    assert_eq!(bits(&nav[1..n]), bits(&plant[..n - 1]));
+    assert_ne!(bits(&nav[1..n]), bits(&plant[1..n]), "the lander moves");
+}
