@@ -80,13 +80,21 @@ impl Model for LanderNav {
         Ok(())
     }
 
-    fn do_step(&mut self, _t: f64, h: f64, _log: &mut Log) -> Result<StepEnd, ModelError> {
+    fn do_step(&mut self, t: f64, h: f64, _log: &mut Log) -> Result<StepEnd, ModelError> {
         let Some(errors) = self.running.as_mut() else {
             return Err(ModelError::Other(
                 "do_step before exit_initialization".into(),
             ));
         };
-        errors.step(&self.params, &self.truth, h);
+        errors.step(&self.params, &self.truth, h).map_err(|group| {
+            let g = group.name();
+            ModelError::Other(format!(
+                "the {g} error would overflow in the step from t = {t} s (communicationStepSize \
+                 {h} s): {g}_noise_sigma = {}, {g}_random_walk = {} are too large",
+                self.params.group(group).noise_sigma,
+                self.params.group(group).random_walk,
+            ))
+        })?;
         Ok(StepEnd::Complete)
     }
 }
@@ -284,6 +292,25 @@ mod tests {
             "{err:?}"
         );
         assert!(m.running.is_none());
+    }
+
+    #[test]
+    fn a_step_that_would_overflow_an_error_is_refused_by_name_and_changes_nothing() {
+        // GIVEN a random walk so wide that an enormous step overflows it
+        let mut m = LanderNav::default();
+        m.params.v_nue.random_walk = 1e200;
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        m.do_step(0.0, 0.01, &mut log).unwrap();
+        let before = m.running.clone();
+        // WHEN a master asks for a step of 1e300 s
+        let err = m.do_step(0.01, 1e300, &mut log).unwrap_err();
+        // THEN it is refused naming the parameter, and the state is untouched
+        assert!(err.to_string().contains("v_nue_random_walk"), "{err}");
+        assert_eq!(m.running, before);
+        // AND the outputs stay finite
+        m.calculate_values(&mut log);
+        assert!(m.estimate.v_nue_mps.iter().all(|v| v.is_finite()));
     }
 
     #[test]

@@ -41,7 +41,7 @@ fn fly(
     for k in 0..steps {
         let x = truth(k);
         out.push((x, errors.estimate(params, &x)));
-        errors.step(params, &x, h(k));
+        errors.step(params, &x, h(k)).unwrap();
     }
     out
 }
@@ -366,7 +366,7 @@ fn quantisation_rounds_the_noisy_value() {
         for ((y, x), noise) in y.r_nue_m.iter().zip(x.r_nue_m).zip(noise) {
             assert!((y - (x + noise)).abs() <= 0.05 * (1.0 + 1e-9), "step {k}");
         }
-        errors.step(&params, &x, H);
+        errors.step(&params, &x, H).unwrap();
     }
 }
 

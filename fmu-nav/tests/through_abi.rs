@@ -308,3 +308,23 @@ fn initialization_mode_already_shows_the_errors_of_the_first_interval() {
     assert_eq!(f64::from_bits(after[13]), truth(0)[13] - 2.0);
     assert_ne!(f64::from_bits(after[0]), truth(0)[0]);
 }
+
+#[test]
+fn degenerate_inputs_with_every_error_on_give_finite_outputs() {
+    // GIVEN every kind of error on, and inputs a master may pass: a zero quaternion, huge
+    // and subnormal values
+    let fmu = noisy();
+    let degenerate = [
+        1e300, -1e300, 5e-324, 0.0, -0.0, 1e-300, 0.0, 0.0, 0.0, 0.0, -1e300, 0.0, 1e300, 0.0,
+    ];
+    for k in 0..50 {
+        assert_eq!(fmu.set_reals(&true_vrs(), &degenerate), fmi2OK);
+        // THEN every read succeeds with finite values, the zero quaternion stays zero (no
+        // division by its norm), and every step succeeds
+        let (status, values) = fmu.get_reals(&estimate_vrs());
+        assert_eq!(status, fmi2OK, "{:?}", fmu.messages());
+        assert!(values.iter().all(|v| v.is_finite()), "step {k}: {values:?}");
+        assert_eq!(&values[6..10], &[0.0; 4], "step {k}");
+        assert_eq!(fmu.do_step(k as f64 * H, H), fmi2OK, "{:?}", fmu.messages());
+    }
+}

@@ -71,14 +71,28 @@ impl NavErrors {
     }
 
     /// The step from the communication point where the truth is `truth`, `h_s` seconds long.
-    pub fn step(&mut self, params: &NavParameters, truth: &Navigation, h_s: f64) {
-        self.history.record(*truth);
-        self.interval += 1;
-        let draws = Draws::of_interval(params.seed(), self.interval);
-        for g in Group::ALL {
-            let e = &mut self.errors[g as usize];
-            *e = e.next(params.group(g), g, &draws, h_s);
+    /// Refused, with nothing changed, when it would make a group's error overflow (sigmas
+    /// near the largest f64, or a walk over an enormous step): the group is returned.
+    pub fn step(
+        &mut self,
+        params: &NavParameters,
+        truth: &Navigation,
+        h_s: f64,
+    ) -> Result<(), Group> {
+        let interval = self.interval + 1;
+        let draws = Draws::of_interval(params.seed(), interval);
+        let next =
+            Group::ALL.map(|g| self.errors[g as usize].next(params.group(g), g, &draws, h_s));
+        if let Some(g) = Group::ALL.into_iter().find(|&g| {
+            let e = &next[g as usize];
+            !e.total(params.group(g)).iter().all(|v| v.is_finite())
+        }) {
+            return Err(g);
         }
+        self.history.record(*truth);
+        self.interval = interval;
+        self.errors = next;
+        Ok(())
     }
 
     /// The estimate at the current communication point, where the truth is `truth`.

@@ -42,6 +42,17 @@ impl Group {
         Group::Mass,
     ];
 
+    /// The group's name, as its parameters are prefixed.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Group::Position => "r_nue",
+            Group::Velocity => "v_nue",
+            Group::Attitude => "attitude",
+            Group::Rate => "omega_body",
+            Group::Mass => "mass",
+        }
+    }
+
     /// Number of axes the group's errors act on.
     pub const fn axes(self) -> usize {
         match self {

@@ -56,9 +56,16 @@ pub fn corrupt(value: f64, error: f64, quantum: f64) -> f64 {
     }
 }
 
-/// The multiple of `quantum` nearest to `value` (halves away from zero).
+/// The multiple of `quantum` nearest to `value` (halves away from zero). A quantum so fine
+/// that `value / quantum` overflows is below the resolution of `value` itself: the value is
+/// returned as it is rather than as infinity.
 pub fn quantise(value: f64, quantum: f64) -> f64 {
-    (value / quantum).round() * quantum
+    let steps = value / quantum;
+    if steps.is_finite() {
+        steps.round() * quantum
+    } else {
+        value
+    }
 }
 
 #[cfg(test)]
@@ -79,5 +86,16 @@ mod tests {
         assert_eq!(quantise(-0.74, 0.5), -0.5);
         assert_eq!(quantise(1.0, 0.25), 1.0);
         assert_eq!(corrupt(1.0, 0.3, 0.5), 1.5);
+    }
+
+    #[test]
+    fn a_quantum_finer_than_the_value_resolves_leaves_it_finite() {
+        for value in [800.0, -1e300, 5e-324] {
+            let q = quantise(value, 5e-324);
+            assert!(
+                q.is_finite() && (q - value).abs() <= 2.5e-324,
+                "{value}: {q}"
+            );
+        }
     }
 }
