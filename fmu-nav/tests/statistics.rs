@@ -226,12 +226,14 @@ fn walk_params(seed: i32) -> NavParameters {
 }
 
 #[test]
-fn random_walk_variance_grows_linearly_with_time() {
+fn random_walk_variance_grows_linearly_and_its_autocovariance_is_sigma_squared_min_s_t() {
     // GIVEN 1000 runs (seeds) of 1 s of random walk
     let (runs, steps) = (1000, 101);
     let checkpoints = [10, 25, 50, 100];
     let mut sum_sq = [[0.0; 4]; 5];
     let mut sum = [[0.0; 4]; 5];
+    // Sum of the products of the walk at 0.25 s and at 1 s.
+    let mut cross = [0.0; 5];
     for seed in 0..runs {
         let run = fly(&walk_params(seed), steps, |_| H, moving_truth);
         for g in Group::ALL {
@@ -241,6 +243,8 @@ fn random_walk_variance_grows_linearly_with_time() {
                 sum[g as usize][c] += e;
                 sum_sq[g as usize][c] += e * e;
             }
+            let at = |k: usize| error(g, &run[k].0, &run[k].1)[0];
+            cross[g as usize] += at(25) * at(100);
         }
     }
     // THEN at t = 0.1, 0.25, 0.5, 1 s the variance across runs is sigma^2 t (within 4
@@ -262,6 +266,19 @@ fn random_walk_variance_grows_linearly_with_time() {
                 "{g:?} mean {m}"
             );
         }
+    }
+    // AND the walk's autocovariance between 0.25 s and 1 s is its variance at 0.25 s
+    // (sigma^2 min(s, t)): the walk keeps what it had, it is not re-drawn. The standard
+    // error of that sample covariance is sigma^2 sqrt((0.25 * 1 + 0.25^2) / runs).
+    for g in Group::ALL {
+        let sigma2 = sigma_of(g).powi(2);
+        let covariance = cross[g as usize] / runs as f64;
+        let tolerance = 4.0 * sigma2 * ((0.25 + 0.0625) / runs as f64).sqrt();
+        assert!(
+            (covariance - 0.25 * sigma2).abs() < tolerance,
+            "{g:?}: {covariance} vs {}",
+            0.25 * sigma2
+        );
     }
     let first = fly(&walk_params(3), 1, |_| H, moving_truth);
     assert_eq!(error(Group::Position, &first[0].0, &first[0].1)[0], 0.0);
