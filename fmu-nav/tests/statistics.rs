@@ -153,6 +153,12 @@ fn white_noise_has_the_declared_sigma_zero_mean_and_no_autocorrelation() {
             // THEN each axis has mean 0, standard deviation sigma, and no correlation
             // between successive samples
             let (m, v) = (mean(&e), variance(&e));
+            println!(
+                "{g:?}[{axis}]: mean/sigma {:+.4}, std/sigma {:.4}, lag-1 autocorrelation {:+.4}",
+                m / sigma,
+                v.sqrt() / sigma,
+                autocorrelation(&e, 1)
+            );
             assert!(m.abs() < 4.0 * sigma / sqrt_n, "{g:?}[{axis}] mean {m}");
             let relative = (v / sigma.powi(2) - 1.0).abs();
             assert!(
@@ -256,6 +262,10 @@ fn random_walk_variance_grows_linearly_and_its_autocovariance_is_sigma_squared_m
             let m = sum[g as usize][c] / runs as f64;
             let v = sum_sq[g as usize][c] / runs as f64 - m * m;
             let expected = sigma * sigma * t;
+            println!(
+                "{g:?} t = {t} s: variance / (sigma^2 t) = {:.4}",
+                v / expected
+            );
             let tolerance = 4.0 * expected * (2.0 / runs as f64).sqrt();
             assert!(
                 (v - expected).abs() < tolerance,
