@@ -6,7 +6,7 @@
 //! Timing (see [`crate::errors::navigation`]): the outputs at a communication point are the
 //! inputs there (or `latency` steps earlier) with the error of the interval that starts
 //! there; `fmi2DoStep` records the inputs and draws the next interval's error.
-use crate::errors::{NavErrors, NavParameters, Navigation, LATENCY_CAP_STEPS};
+use crate::errors::{Group, NavErrors, NavParameters, Navigation, LATENCY_CAP_STEPS};
 use fmi_model::{
     decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, Shape, StepEnd,
 };
@@ -76,7 +76,11 @@ impl Model for LanderNav {
                 value: e.value,
                 reason: e.reason,
             })?;
-        self.running = Some(NavErrors::start(&self.params));
+        let errors = NavErrors::start(&self.params);
+        if let Some(group) = errors.overflowing(&self.params) {
+            return Err(overflow(&self.params, group, "at the start"));
+        }
+        self.running = Some(errors);
         Ok(())
     }
 
@@ -87,16 +91,21 @@ impl Model for LanderNav {
             ));
         };
         errors.step(&self.params, &self.truth, h).map_err(|group| {
-            let g = group.name();
-            ModelError::Other(format!(
-                "the {g} error would overflow in the step from t = {t} s (communicationStepSize \
-                 {h} s): {g}_noise_sigma = {}, {g}_random_walk = {} are too large",
-                self.params.group(group).noise_sigma,
-                self.params.group(group).random_walk,
-            ))
+            let when = format!("in the step from t = {t} s (communicationStepSize {h} s)");
+            overflow(&self.params, group, &when)
         })?;
         Ok(StepEnd::Complete)
     }
+}
+
+/// The refusal of an error that would not be finite, naming the group's parameters.
+fn overflow(params: &NavParameters, group: Group, when: &str) -> ModelError {
+    let (g, errors) = (group.name(), params.group(group));
+    ModelError::Other(format!(
+        "the {g} error would overflow {when}: {g}_noise_sigma = {}, {g}_random_walk = {} \
+         and the bias are too large",
+        errors.noise_sigma, errors.random_walk,
+    ))
 }
 
 const NUE: &[&str] = &["North", "Up", "East"];
@@ -311,6 +320,16 @@ mod tests {
         // AND the outputs stay finite
         m.calculate_values(&mut log);
         assert!(m.estimate.v_nue_mps.iter().all(|v| v.is_finite()));
+    }
+
+    #[test]
+    fn white_noise_that_would_overflow_is_refused_at_exit_initialization() {
+        // The largest sigma: seed 0 draws -2.44 for the second axis of the first interval.
+        let mut m = LanderNav::default();
+        m.params.r_nue.noise_sigma = f64::MAX;
+        let err = m.exit_initialization(0.0, &mut Log::default()).unwrap_err();
+        assert!(err.to_string().contains("r_nue_noise_sigma"), "{err}");
+        assert!(m.running.is_none());
     }
 
     #[test]

@@ -65,6 +65,11 @@ impl NavErrors {
         self.interval
     }
 
+    /// The first group whose current error is not finite (sigmas near the largest f64).
+    pub fn overflowing(&self, params: &NavParameters) -> Option<Group> {
+        overflowing(&self.errors, params)
+    }
+
     /// The random parts of `group`'s error in the current interval.
     pub fn error(&self, group: Group) -> &GroupError {
         &self.errors[group as usize]
@@ -83,10 +88,7 @@ impl NavErrors {
         let draws = Draws::of_interval(params.seed(), interval);
         let next =
             Group::ALL.map(|g| self.errors[g as usize].next(params.group(g), g, &draws, h_s));
-        if let Some(g) = Group::ALL.into_iter().find(|&g| {
-            let e = &next[g as usize];
-            !e.total(params.group(g)).iter().all(|v| v.is_finite())
-        }) {
+        if let Some(g) = overflowing(&next, params) {
             return Err(g);
         }
         self.history.record(*truth);
@@ -118,4 +120,11 @@ impl NavErrors {
             ),
         }
     }
+}
+
+fn overflowing(errors: &[GroupError; 5], params: &NavParameters) -> Option<Group> {
+    Group::ALL.into_iter().find(|&g| {
+        let total = errors[g as usize].total(params.group(g));
+        !total.iter().all(|v| v.is_finite())
+    })
 }
