@@ -1,6 +1,7 @@
 //! `cargo xtask fmus`: build the release cdylibs and package one `.fmu` per FMU crate.
 use crate::doc_page;
 use crate::fmu_zip::{self, Entry};
+use crate::platform::{FmiVersion, Platform};
 use crate::ssp;
 use crate::workspace::{self, Workspace};
 use anyhow::{bail, Context, Result};
@@ -37,15 +38,75 @@ const FMU_CRATES: [FmuCrate; 3] = [
 /// The example each FMU crate provides to print its generated modelDescription.xml.
 const DESCRIPTION_EXAMPLE: &str = "model_description";
 
-/// Build and package every FMU whose crate can describe itself, then the SSP of the paper
-/// scenario that holds two of them; returns the written files.
+/// Build and package every FMU whose crate can describe itself, for the host, then the SSP
+/// of the paper scenario that holds two of them; returns the written files.
 pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
-    let mut build = ws.cargo();
-    build.args(["build", "--release", "--lib"]);
-    for fmu in &FMU_CRATES {
-        build.args(["-p", fmu.package]);
+    package_for(ws, &[])
+}
+
+/// Where a build for one platform puts its libraries.
+struct Build {
+    platform: Platform,
+    release_dir: PathBuf,
+}
+
+/// Builds the release cdylibs for each target triple (the host when none is given).
+fn build_all(ws: &Workspace, triples: &[String]) -> Result<Vec<Build>> {
+    let mut problems = Vec::new();
+    let mut builds = Vec::new();
+    if triples.is_empty() {
+        builds.push(Build {
+            platform: Platform::host()?,
+            release_dir: ws.target_dir.join("release"),
+        });
     }
-    workspace::run(&mut build)?;
+    for triple in triples {
+        match Platform::from_triple(triple) {
+            Ok(platform) => builds.push(Build {
+                release_dir: ws.target_dir.join(triple).join("release"),
+                platform,
+            }),
+            Err(error) => problems.push(format!("--target {triple}: {error:#}")),
+        }
+    }
+    for build in &builds {
+        if let Err(error) = build.platform.folder(FmiVersion::V2) {
+            problems.push(format!("{error:#}"));
+        }
+    }
+    if !problems.is_empty() {
+        bail!("{}", problems.join("\n"));
+    }
+    for target in &builds {
+        let fmi3 = target.platform.folder(FmiVersion::V3)?;
+        let fmi2 = target.platform.folder(FmiVersion::V2)?;
+        println!(
+            "xtask fmus: {} -> binaries/{fmi2} (FMI 2.0), binaries/{fmi3} (FMI 3.0)",
+            target.platform.triple
+        );
+        let mut build = ws.cargo();
+        build.args(["build", "--release", "--lib"]);
+        if !triples.is_empty() {
+            build.args(["--target", &target.platform.triple]);
+        }
+        for fmu in &FMU_CRATES {
+            build.args(["-p", fmu.package]);
+        }
+        workspace::run(&mut build).with_context(|| {
+            format!(
+                "building for {} (is its standard library installed? \
+                 `rustup target add {0}`)",
+                target.platform.triple
+            )
+        })?;
+    }
+    Ok(builds)
+}
+
+/// As [`package_all`], with the binaries of every target triple in each FMU
+/// (`cargo xtask fmus --target T1 --target T2`).
+pub fn package_for(ws: &Workspace, triples: &[String]) -> Result<Vec<PathBuf>> {
+    let builds = build_all(ws, triples)?;
 
     let out_dir = ws.fmu_dir();
     std::fs::create_dir_all(&out_dir)
@@ -66,7 +127,7 @@ pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
             );
             continue;
         }
-        let path = package_one(ws, fmu, &out_dir)?;
+        let path = package_one(ws, fmu, &builds, &out_dir)?;
         println!("xtask fmus: wrote {}", path.display());
         written.push(path);
     }
@@ -79,7 +140,12 @@ pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
     Ok(written)
 }
 
-fn package_one(ws: &Workspace, fmu: &FmuCrate, out_dir: &Path) -> Result<PathBuf> {
+fn package_one(
+    ws: &Workspace,
+    fmu: &FmuCrate,
+    builds: &[Build],
+    out_dir: &Path,
+) -> Result<PathBuf> {
     let xml = workspace::output(ws.cargo().args([
         "run",
         "--release",
@@ -105,20 +171,31 @@ fn package_one(ws: &Workspace, fmu: &FmuCrate, out_dir: &Path) -> Result<PathBuf
     let identifier = model_identifier(&description)
         .with_context(|| format!("in the model description of {}", fmu.package))?;
 
-    let library = ws
-        .target_dir
-        .join("release")
-        .join(format!("lib{}.so", fmu.lib_name));
-    let binary = stripped_library(&library, out_dir, identifier)?;
-
-    let entries = vec![
-        Entry::file("modelDescription.xml", xml.into_bytes()),
-        Entry::executable(format!("binaries/linux64/{identifier}.so"), binary),
+    let host = Platform::host()?;
+    let mut entries = vec![
         Entry::file(
             "documentation/index.html",
             doc_page::render(&description).into_bytes(),
         ),
+        Entry::file("modelDescription.xml", xml.into_bytes()),
     ];
+    for build in builds {
+        let library = build
+            .release_dir
+            .join(build.platform.cargo_library_file(fmu.lib_name));
+        // The host's strip does not know a foreign object format.
+        let binary = if build.platform == host {
+            stripped_library(&library, out_dir, identifier)?
+        } else {
+            std::fs::read(&library).with_context(|| format!("cannot read {}", library.display()))?
+        };
+        let folder = build.platform.folder(FmiVersion::V2)?;
+        let file = build.platform.fmu_binary_file(identifier);
+        entries.push(Entry::executable(
+            format!("binaries/{folder}/{file}"),
+            binary,
+        ));
+    }
     let fmu_path = out_dir.join(format!("{identifier}.fmu"));
     fmu_zip::write(&fmu_path, entries)?;
     Ok(fmu_path)
