@@ -388,3 +388,22 @@ fn engine_lag_follows_the_same_exponential_as_co_simulation() {
     });
     assert!(worst < 1e-6, "relative difference {worst}");
 }
+
+#[test]
+fn published_attitude_is_unit_and_keeps_the_bits_of_a_unit_state() {
+    use fmu_plant::physics::continuous::unit_attitude;
+    let (plant, mut run) = start(&PlantParameters {
+        r0_nue_m: Vector3::new(0.0, 1e6, 0.0),
+        omega0_body_radps: Vector3::new(0.3, -0.7, 0.2),
+        ..Default::default()
+    });
+    for k in 0..100 {
+        plant.advance(&mut run, &thrust(0.0), k as f64 * 0.01, 0.01);
+        let q = run.state.q_body_to_nue;
+        assert_eq!(unit_attitude(&q), q, "a CS state is published as it is");
+    }
+    let drifted = run.state.q_body_to_nue * (1.0 + 1e-9);
+    let published = unit_attitude(&drifted);
+    assert!((published.norm() - 1.0).abs() < 4.0 * f64::EPSILON);
+    assert!((published - run.state.q_body_to_nue).norm() < 1e-15);
+}

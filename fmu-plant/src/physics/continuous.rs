@@ -231,6 +231,17 @@ impl Plant {
     }
 }
 
+/// The attitude to publish: `q` itself when it is a unit quaternion to round-off (every
+/// state the Co-Simulation step produces, so its outputs keep their bits), else `q / |q|` (a
+/// state set by a foreign integrator between two event updates).
+pub fn unit_attitude(q: &Quaternion<f64>) -> Quaternion<f64> {
+    if (q.norm_squared() - 1.0).abs() <= 4.0 * f64::EPSILON {
+        *q
+    } else {
+        q.normalize()
+    }
+}
+
 /// What an event update did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct EventOutcome {
