@@ -5,9 +5,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use fmi2_export::ffi::*;
-use fmi2_export::{
-    Access, Causality, Experiment, Initial, Log, Model, ModelError, StepEnd, Variability, Variable,
-};
+use fmi2_export::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
 use serde::{Deserialize, Serialize};
 use std::ffi::{c_void, CString};
 
@@ -28,8 +26,8 @@ impl Model for Exchange {
         step_size: 0.01,
         tolerance: None,
     };
-    fn variables() -> &'static [Variable<Self>] {
-        &VARIABLES
+    fn declarations() -> &'static [Declaration<Self>] {
+        &DECLARATIONS
     }
     fn calculate_values(&mut self, _: &mut Log) {
         self.y = self.u;
@@ -44,59 +42,12 @@ impl Model for Exchange {
 
 fmi2_export::export_fmi2!(Exchange);
 
-const fn input(
-    name: &'static str,
-    vr: u32,
-    get: fn(&Exchange) -> f64,
-    set: fn(&mut Exchange, f64),
-) -> Variable<Exchange> {
-    Variable {
-        name,
-        value_reference: vr,
-        causality: Causality::Input,
-        variability: Variability::Continuous,
-        initial: None,
-        unit: None,
-        description: "",
-        access: Access::Real {
-            start: Some(0.0),
-            min: None,
-            max: None,
-            get,
-            set: Some(set),
-        },
-    }
-}
-
-const fn output(name: &'static str, vr: u32, get: fn(&Exchange) -> f64) -> Variable<Exchange> {
-    Variable {
-        name,
-        value_reference: vr,
-        causality: Causality::Output,
-        variability: Variability::Continuous,
-        initial: Some(Initial::Calculated),
-        unit: None,
-        description: "",
-        access: Access::Real {
-            start: None,
-            min: None,
-            max: None,
-            get,
-            set: None,
-        },
-    }
-}
-
-macro_rules! table {
-    ($($i:literal),*) => {
-        [
-            $(input(concat!("u[", $i, "]"), $i + 1, |m| m.u[$i], |m, v| m.u[$i] = v),)*
-            $(output(concat!("y[", $i, "]"), $i + 101, |m| m.y[$i]),)*
-        ]
-    };
-}
-
-static VARIABLES: [Variable<Exchange>; 28] = table!(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13);
+/// Two vectors of 14: FMI 2.0 gives them the scalars `u[1]`.. (vr 1..=14) and `y[1]`..
+/// (vr 101..=114).
+static DECLARATIONS: [Declaration<Exchange>; 2] = [
+    decl!(1, input u[14]: u, "1", "copied to y"),
+    decl!(101, output y[14]: y, "1", "copy of u"),
+];
 
 extern "C" fn silent(
     _: fmi2ComponentEnvironment,

@@ -25,9 +25,9 @@ use crate::instance::{Core, Instance, Tag};
 use crate::logging::{Category, Logger};
 use crate::model::{Log, Model, StepEnd};
 use crate::rules::{check_enumeration, check_integer, check_real, check_settable};
-use crate::snapshot;
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
+use fmi_model::snapshot;
 use std::ffi::{CStr, CString};
 use std::fmt::Debug;
 use std::os::raw::c_char;
@@ -169,6 +169,14 @@ unsafe fn show<T: Debug>(ptr: *const T, n: usize) -> String {
     format!("{items:?}{more}")
 }
 
+/// A string argument as a user would write it: quoted, or NULL.
+fn shown(s: &Option<CString>) -> String {
+    match s {
+        Some(s) => format!("\"{}\"", s.to_string_lossy()),
+        None => "NULL".into(),
+    }
+}
+
 unsafe fn show_str(s: fmi2String) -> String {
     if s.is_null() {
         "NULL".into()
@@ -184,7 +192,7 @@ fn row<M: Model>(
     vr: fmi2ValueReference,
 ) -> Result<&'static Variable<M>, CallError> {
     match inst.index.row(base, vr) {
-        Some(r) => Ok(&M::variables()[r]),
+        Some(r) => Ok(&inst.table[r]),
         None => Err(unknown_value_reference(base, vr)),
     }
 }
@@ -246,9 +254,11 @@ pub unsafe fn instantiate<M: Model>(
     let outcome = catch_unwind(AssertUnwindSafe(move || {
         if logger.is_on(Category::Calls) {
             let trace = format!(
-                "fmi2Instantiate(instanceName={:?}, fmuType={fmu_type}, fmuGUID={:?}, \
-                 fmuResourceLocation={:?}, visible={visible}, loggingOn={logging_on})",
-                name, guid, resource_location
+                "fmi2Instantiate(instanceName={}, fmuType={fmu_type}, fmuGUID={}, \
+                 fmuResourceLocation={}, visible={visible}, loggingOn={logging_on})",
+                shown(&name),
+                shown(&guid),
+                shown(&resource_location)
             );
             logger.log(fmi2Status::fmi2OK, Category::Calls, &trace);
         }
@@ -263,8 +273,8 @@ pub unsafe fn instantiate<M: Model>(
             ))
         } else if guid.as_ref().map(|g| g.to_bytes()) != Some(expected_guid.as_bytes()) {
             Some(format!(
-                "fmuGUID {:?} does not match this FMU's GUID {expected_guid}",
-                guid.as_ref().map(|g| g.to_string_lossy())
+                "fmuGUID {} does not match this FMU's GUID {expected_guid}",
+                shown(&guid)
             ))
         } else {
             None
@@ -337,8 +347,9 @@ pub unsafe fn set_debug_logging<M: Model>(
             .map(|s| s.iter().map(|&p| unsafe { show_str(p) }).collect())
             .unwrap_or_default();
         format!(
-            "{}(loggingOn={logging_on}, nCategories={n_categories}, categories={names:?})",
-            f.name()
+            "{}(loggingOn={logging_on}, nCategories={n_categories}, categories=[{}])",
+            f.name(),
+            names.join(", ")
         )
     };
     unsafe {
@@ -447,7 +458,7 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status
                 let start_time = inst.core.start_time;
                 let result = inst.core.model.exit_initialization(start_time, &mut log);
                 let success = inst.forward(f, &log);
-                result.map_err(|e| inst.fail(e))?;
+                result.map_err(|e| inst.model_failure(e))?;
                 inst.core.state = State::StepComplete;
                 inst.core.time = start_time;
                 inst.core.last_successful_time = start_time;
@@ -575,7 +586,7 @@ pub unsafe fn get_real<M: Model>(
                     .index
                     .real(vr)
                     .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
-                *value = (slot.get)(&inst.core.model);
+                *value = slot.read(&inst.core.model);
             }
             Ok(success)
         })
@@ -700,19 +711,22 @@ pub unsafe fn set_real<M: Model>(
                     .real(vr)
                     .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
                 if !slot.accepts(value, state) {
-                    refuse_real(&M::variables()[slot.row], value, state)?;
+                    refuse_real(&inst.table[slot.row], value, state)?;
                 }
                 if let Some(kept) = setters.get_mut(i) {
-                    *kept = slot.set;
+                    *kept = slot.set.map(|set| (set, slot.element));
                 }
             }
             for (i, (&vr, &value)) in vrs.iter().zip(values).enumerate() {
                 let set = match setters.get(i) {
                     Some(&kept) => kept,
-                    None => inst.index.real(vr).and_then(|slot| slot.set),
+                    None => inst
+                        .index
+                        .real(vr)
+                        .and_then(|slot| slot.set.map(|set| (set, slot.element))),
                 };
-                if let Some(set) = set {
-                    set(&mut inst.core.model, value);
+                if let Some((set, element)) = set {
+                    set(&mut inst.core.model, element, value);
                 }
             }
             if !vrs.is_empty() {
@@ -758,9 +772,7 @@ pub unsafe fn set_integer<M: Model>(
                 values,
                 |var, v| match &var.access {
                     Access::Integer { min, max, .. } => check_integer(var, v, *min, *max),
-                    Access::Enumeration { type_name, .. } => {
-                        check_enumeration(var, v, type_name, M::enumeration_types())
-                    }
+                    Access::Enumeration { ty, .. } => check_enumeration(var, v, ty),
                     _ => Ok(()),
                 },
                 |var, m, v| match &var.access {
@@ -814,12 +826,17 @@ pub unsafe fn set_string<M: Model>(
 ) -> fmi2Status {
     let f = Function::SetString;
     let trace = || {
+        // Each string is shown quoted once (or NULL), as the master passed it.
         let shown: Vec<String> = unsafe { slice(value, nvr.min(16), "value") }
             .map(|s| s.iter().map(|&p| unsafe { show_str(p) }).collect())
             .unwrap_or_default();
-        format!("{}(nvr={nvr}, vr={}, value={shown:?})", f.name(), unsafe {
-            show(vr, nvr)
-        })
+        let more = if nvr > 16 { ", ..." } else { "" };
+        format!(
+            "{}(nvr={nvr}, vr={}, value=[{}{more}])",
+            f.name(),
+            unsafe { show(vr, nvr) },
+            shown.join(", ")
+        )
     };
     let text = |var: &Variable<M>, p: fmi2String| -> Result<&str, CallError> {
         let invalid = |reason: &str| CallError::InvalidValue {
@@ -945,6 +962,15 @@ pub unsafe fn free_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstat
     }
 }
 
+/// What identifies a serialized state of this FMU.
+fn snapshot_header<M: Model>(inst: &Instance<M>) -> snapshot::Header {
+    snapshot::Header {
+        magic: crate::SNAPSHOT_MAGIC,
+        state_version: M::STATE_VERSION,
+        guid: inst.guid,
+    }
+}
+
 /// # Safety
 /// See the module documentation.
 pub unsafe fn serialized_fmu_state_size<M: Model>(
@@ -957,7 +983,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
     unsafe {
         call::<M>(c, f, trace, |inst| {
             let size = out(size, "size")?;
-            *size = snapshot::encode(owned_state(inst, state)?, inst.guid)?.len();
+            *size = snapshot::encode(owned_state(inst, state)?, snapshot_header::<M>(inst))?.len();
             Ok(Success::Ok)
         })
     }
@@ -975,7 +1001,7 @@ pub unsafe fn serialize_fmu_state<M: Model>(
     let trace = || format!("{}(FMUstate={state:p}, size={size})", f.name());
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            let bytes = snapshot::encode(owned_state(inst, state)?, inst.guid)?;
+            let bytes = snapshot::encode(owned_state(inst, state)?, snapshot_header::<M>(inst))?;
             if size != bytes.len() {
                 return Err(CallError::InvalidArgument(format!(
                     "size {size} differs from fmi2SerializedFMUstateSize = {}",
@@ -1003,7 +1029,7 @@ pub unsafe fn de_serialize_fmu_state<M: Model>(
         call::<M>(c, f, trace, |inst| {
             let bytes = slice(serialized as *const u8, size, "serializedState")?;
             let slot = out(state, "FMUstate")?;
-            let core = snapshot::decode::<M>(bytes, inst.guid)?;
+            let core = snapshot::decode::<Core<M>>(bytes, snapshot_header::<M>(inst))?;
             store_state(inst, slot, core)
         })
     }
@@ -1125,7 +1151,7 @@ fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, Cal
     let result = inst.core.model.do_step(t, h, &mut log);
     inst.dirty = true;
     let success = inst.forward(f, &log);
-    match result.map_err(|e| inst.fail(e))? {
+    match result.map_err(|e| inst.model_failure(e))? {
         StepEnd::Complete => {
             inst.core.time = end;
             inst.core.last_successful_time = end;

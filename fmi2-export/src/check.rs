@@ -1,10 +1,10 @@
-//! `check_table`: the rules of FMI 2.0 §2.2.7 that a variable table must keep, checked in
-//! the model crates' tests and before any XML is written.
+//! `check_table`: the rules of FMI 2.0 §2.2.7 that the scalar view of a model's
+//! declarations must keep (plus the version-neutral checks of `fmi-model`), checked in the
+//! model crates' tests and before any XML is written.
 use crate::index::BaseType;
-use crate::instance::apply_start_values;
-use crate::model::{Dependencies, Model};
+use crate::model::Model;
 use crate::units::base_unit;
-use crate::variable::{Access, Causality, Initial, Variability, Variable};
+use crate::variable::{variables, Access, Causality, Initial, Variability, Variable};
 use std::collections::HashSet;
 
 /// Everything wrong with a table, one line per problem.
@@ -49,8 +49,10 @@ pub fn effective_initial<M>(var: &Variable<M>) -> Option<Initial> {
 
 /// Checks a model's table and declarations; `Ok` or every problem found.
 pub fn check_table<M: Model>() -> Result<(), TableError> {
-    let mut problems = Vec::new();
-    let table = M::variables();
+    let mut problems = fmi_model::check_declarations::<M>()
+        .err()
+        .unwrap_or_default();
+    let table = variables::<M>();
     let mut names = HashSet::new();
     let mut references = HashSet::new();
 
@@ -66,29 +68,13 @@ pub fn check_table<M: Model>() -> Result<(), TableError> {
             "DefaultExperiment {e:?} is not a forward time span with a positive step"
         ));
     }
-    for t in M::enumeration_types() {
-        let mut values = HashSet::new();
-        let mut item_names = HashSet::new();
-        if t.items.is_empty() {
-            problems.push(format!("enumeration {} has no items", t.name));
-        }
-        for (name, value, _) in t.items {
-            if !values.insert(value) || !item_names.insert(name) {
-                problems.push(format!(
-                    "enumeration {}: item {name} = {value} repeats a name or value",
-                    t.name
-                ));
-            }
-        }
-    }
-
     for var in table {
         let mut problem = |text: String| problems.push(format!("{}: {text}", var.name));
         if var.name.is_empty() || var.name.chars().any(char::is_whitespace) {
             problem("name is empty or contains white space".into());
         }
         if !names.insert(var.name) {
-            problem("name declared twice".into());
+            problem("FMI 2.0 name used twice".into());
         }
         let base = BaseType::of(&var.access);
         if !references.insert((base, var.value_reference)) {
@@ -97,9 +83,6 @@ pub fn check_table<M: Model>() -> Result<(), TableError> {
                 var.value_reference,
                 base.name()
             ));
-        }
-        if base != BaseType::Real && var.variability == Variability::Continuous {
-            problem("only Real variables can be continuous".into());
         }
 
         let Some((_, allowed)) = initial_rule(var.causality, var.variability) else {
@@ -128,6 +111,7 @@ pub fn check_table<M: Model>() -> Result<(), TableError> {
             Access::Boolean { start, .. } => start.is_some(),
             Access::String { start, .. } => start.is_some(),
         };
+        // Start values are read from `M::default()` exactly where the standard asks for one.
         if needs_start != has_start {
             problem(format!(
                 "start value {} (causality {:?}, initial {:?})",
@@ -140,86 +124,28 @@ pub fn check_table<M: Model>() -> Result<(), TableError> {
                 effective_initial(var)
             ));
         }
-        let settable = matches!(var.causality, Causality::Parameter | Causality::Input)
-            && var.variability != Variability::Constant;
-        let has_set = match &var.access {
-            Access::Real { set, .. } => set.is_some(),
-            Access::Integer { set, .. } | Access::Enumeration { set, .. } => set.is_some(),
-            Access::Boolean { set, .. } => set.is_some(),
-            Access::String { set, .. } => set.is_some(),
-        };
-        if settable != has_set {
-            problem(format!(
-                "a setter must be present exactly for non-constant parameters and inputs (has one: {has_set})"
-            ));
-        }
         match &var.access {
-            Access::Real {
-                start, min, max, ..
-            } => {
-                if let (Some(lo), Some(hi)) = (min, max) {
-                    if lo > hi {
-                        problem(format!("min {lo} > max {hi}"));
-                    }
-                }
-                if let Some(s) = start {
-                    if !s.is_finite() || min.is_some_and(|m| *s < m) || max.is_some_and(|m| *s > m)
-                    {
-                        problem(format!("start {s} is not finite within [min, max]"));
-                    }
-                }
-                match var.unit {
-                    Some(u) if base_unit(u).is_none() => problem(format!(
-                        "unit {u:?} is not in the unit table of fmi2-export (src/units.rs)"
-                    )),
-                    _ => {}
-                }
-            }
-            Access::Integer {
-                start, min, max, ..
-            } => {
-                if let (Some(lo), Some(hi)) = (min, max) {
-                    if lo > hi {
-                        problem(format!("min {lo} > max {hi}"));
-                    }
-                }
-                if let Some(s) = start {
-                    if min.is_some_and(|m| *s < m) || max.is_some_and(|m| *s > m) {
-                        problem(format!("start {s} is outside [min, max]"));
-                    }
-                }
-            }
-            Access::Enumeration {
-                type_name, start, ..
-            } => match M::enumeration_types().iter().find(|t| t.name == *type_name) {
-                None => problem(format!("enumeration type {type_name} is not declared")),
-                Some(t) => {
-                    if let Some(s) = start {
-                        if !t.items.iter().any(|&(_, v, _)| v == *s) {
-                            problem(format!("start {s} is not an item of {type_name}"));
-                        }
-                    }
-                }
+            Access::Real { .. } => match var.unit {
+                Some(u) if base_unit(u).is_none() => problem(format!(
+                    "unit {u:?} is not in the unit table of fmi2-export (src/units.rs)"
+                )),
+                _ => {}
             },
-            Access::Boolean { .. } | Access::String { .. } => {}
-        }
-        if base != BaseType::Real && var.unit.is_some() {
-            problem("only Real variables have a unit".into());
-        }
-        if var.causality == Causality::Output {
-            if let Dependencies::Inputs(inputs) = M::output_dependencies(var.name) {
-                for input in inputs {
-                    if !table
-                        .iter()
-                        .any(|v| v.name == *input && v.causality == Causality::Input)
-                    {
-                        problem(format!("depends on {input}, which is not an input"));
-                    }
+            Access::Enumeration { ty, .. } => {
+                let same_name = table.iter().any(|v| {
+                    matches!(&v.access, Access::Enumeration { ty: other, .. }
+                        if other.name == ty.name && other != ty)
+                });
+                if same_name {
+                    problem(format!(
+                        "two different enumeration types are named {}",
+                        ty.name
+                    ));
                 }
             }
+            Access::Integer { .. } | Access::Boolean { .. } | Access::String { .. } => {}
         }
     }
-    problems.extend(start_values_round_trip::<M>());
 
     if problems.is_empty() {
         Ok(())
@@ -229,52 +155,6 @@ pub fn check_table<M: Model>() -> Result<(), TableError> {
             problems,
         })
     }
-}
-
-/// After the start values are applied to `M::default()`, every getter returns its start
-/// value: setters write where getters read, and variables without a setter (constants)
-/// hold their start in `Default`.
-fn start_values_round_trip<M: Model>() -> Vec<String> {
-    let mut model = M::default();
-    apply_start_values(&mut model);
-    let mut problems = Vec::new();
-    for var in M::variables() {
-        let (start, got) = match &var.access {
-            Access::Real {
-                start: Some(s),
-                get,
-                ..
-            } => (s.to_string(), get(&model).to_string()),
-            Access::Integer {
-                start: Some(s),
-                get,
-                ..
-            }
-            | Access::Enumeration {
-                start: Some(s),
-                get,
-                ..
-            } => (s.to_string(), get(&model).to_string()),
-            Access::Boolean {
-                start: Some(s),
-                get,
-                ..
-            } => (s.to_string(), get(&model).to_string()),
-            Access::String {
-                start: Some(s),
-                get,
-                ..
-            } => (s.to_string(), get(&model).to_string()),
-            _ => continue,
-        };
-        if start != got {
-            problems.push(format!(
-                "{}: start {start} but the getter returns {got} after the start values are applied",
-                var.name
-            ));
-        }
-    }
-    problems
 }
 
 fn is_c_identifier(s: &str) -> bool {

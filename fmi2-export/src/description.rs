@@ -3,7 +3,7 @@ use crate::check::{check_table, effective_initial};
 use crate::logging::Category;
 use crate::model::{Dependencies, Model};
 use crate::units::base_unit;
-use crate::variable::{Access, Causality, Initial, Variable};
+use crate::variable::{variables, Access, Causality, EnumType, Initial, Variability, Variable};
 use model_description as md;
 use std::collections::BTreeSet;
 use std::fmt::Write;
@@ -19,20 +19,19 @@ pub fn interface_uuid<M: Model>() -> Uuid {
         b"urn:lander-fmi:fmi2-export:interface",
     );
     let mut text = format!("modelIdentifier={}\n", M::MODEL_IDENTIFIER);
-    for var in M::variables() {
+    for var in variables::<M>() {
         let type_name = match &var.access {
             Access::Real { .. } => "Real".to_string(),
             Access::Integer { .. } => "Integer".to_string(),
             Access::Boolean { .. } => "Boolean".to_string(),
             Access::String { .. } => "String".to_string(),
-            Access::Enumeration { type_name, .. } => {
-                let items = M::enumeration_types()
+            Access::Enumeration { ty, .. } => {
+                let items: Vec<String> = ty
+                    .items
                     .iter()
-                    .find(|t| t.name == *type_name)
-                    .map(|t| t.items)
-                    .unwrap_or(&[]);
-                let items: Vec<String> = items.iter().map(|(n, v, _)| format!("{n}={v}")).collect();
-                format!("Enumeration {type_name} [{}]", items.join(","))
+                    .map(|i| format!("{}={}", i.name, i.value))
+                    .collect();
+                format!("Enumeration {} [{}]", ty.name, items.join(","))
             }
         };
         let _ = writeln!(
@@ -51,7 +50,7 @@ pub fn guid<M: Model>() -> String {
 
 /// The model description, as a struct.
 pub fn model_description<M: Model>() -> md::ModelDescription {
-    let table = M::variables();
+    let table = variables::<M>();
     let e = M::DEFAULT_EXPERIMENT;
     md::ModelDescription {
         fmi_version: "2.0".into(),
@@ -133,8 +132,21 @@ fn unit_definitions<M>(table: &[Variable<M>]) -> Option<md::UnitDefinitions> {
     })
 }
 
+/// The enumeration types the declarations use, each once, in order of first use.
+fn enumeration_types<M: Model>() -> Vec<&'static EnumType> {
+    let mut types: Vec<&'static EnumType> = Vec::new();
+    for var in variables::<M>() {
+        if let Access::Enumeration { ty, .. } = &var.access {
+            if !types.iter().any(|t| t.name == ty.name) {
+                types.push(ty);
+            }
+        }
+    }
+    types
+}
+
 fn type_definitions<M: Model>() -> Option<md::TypeDefinitions> {
-    let types = M::enumeration_types();
+    let types = enumeration_types::<M>();
     (!types.is_empty()).then(|| md::TypeDefinitions {
         simple_types: types
             .iter()
@@ -146,10 +158,10 @@ fn type_definitions<M: Model>() -> Option<md::TypeDefinitions> {
                     items: t
                         .items
                         .iter()
-                        .map(|&(name, value, description)| md::EnumerationItem {
-                            name: name.into(),
-                            value,
-                            description: (!description.is_empty()).then(|| description.into()),
+                        .map(|i| md::EnumerationItem {
+                            name: i.name.into(),
+                            value: i.value,
+                            description: (!i.description.is_empty()).then(|| i.description.into()),
                         })
                         .collect(),
                 }),
@@ -164,9 +176,9 @@ fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
         name: var.name.into(),
         value_reference: var.value_reference,
         description: (!var.description.is_empty()).then(|| var.description.into()),
-        causality: Some(var.causality),
-        variability: Some(var.variability),
-        initial: var.initial,
+        causality: Some(causality(var.causality)),
+        variability: Some(variability(var.variability)),
+        initial: var.initial.map(initial),
         ..md::ScalarVariable::default()
     };
     match &var.access {
@@ -175,8 +187,11 @@ fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
         } => {
             sv.real = Some(md::RealVariable {
                 unit: var.unit.map(Into::into),
-                min: *min,
-                max: *max,
+                // FMI 2.0 bounds are inclusive: an exclusive bound is written as its value
+                // (the closest statement the standard allows); the layer refuses the value
+                // itself on set.
+                min: min.map(|m| m.value()),
+                max: max.map(|m| m.value()),
                 start: *start,
                 ..md::RealVariable::default()
             })
@@ -191,11 +206,9 @@ fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
                 ..md::IntegerVariable::default()
             })
         }
-        Access::Enumeration {
-            type_name, start, ..
-        } => {
+        Access::Enumeration { ty, start, .. } => {
             sv.enumeration = Some(md::EnumerationVariable {
-                declared_type: (*type_name).into(),
+                declared_type: ty.name.into(),
                 start: *start,
                 ..md::EnumerationVariable::default()
             })
@@ -208,7 +221,7 @@ fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
         }
         Access::String { start, .. } => {
             sv.string = Some(md::StringVariable {
-                start: start.map(Into::into),
+                start: start.clone(),
                 ..md::StringVariable::default()
             })
         }
@@ -221,24 +234,28 @@ fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
 /// calculated parameter; their dependencies are left out, meaning "all knowns", which is
 /// always correct.
 fn model_structure<M: Model>() -> md::ModelStructure {
-    let table = M::variables();
+    let table = variables::<M>();
+    let declarations = M::declarations();
     let index = |i: usize| i as u32 + 1;
-    let inputs: Vec<(usize, &str)> = table
-        .iter()
-        .enumerate()
-        .filter(|(_, v)| v.causality == Causality::Input)
-        .map(|(i, v)| (i, v.name))
-        .collect();
-    let dependencies = |output: &str| -> String {
-        let chosen: Vec<String> = match M::output_dependencies(output) {
-            Dependencies::AllInputs => inputs.iter().map(|&(i, _)| index(i).to_string()).collect(),
-            Dependencies::NoInputs => Vec::new(),
-            Dependencies::Inputs(names) => inputs
-                .iter()
-                .filter(|(_, n)| names.contains(n))
-                .map(|&(i, _)| index(i).to_string())
-                .collect(),
-        };
+    let dependencies = |output: &Variable<M>| -> String {
+        let declared = declarations[output.declaration].name;
+        let chosen: Vec<String> = table
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.causality == Causality::Input)
+            .filter(|(_, input)| {
+                let input_name = declarations[input.declaration].name;
+                match M::output_dependencies(declared) {
+                    Dependencies::AllInputs => true,
+                    Dependencies::NoInputs => false,
+                    Dependencies::Inputs(names) => names.contains(&input_name),
+                    Dependencies::SameElementOf(name) => {
+                        name == input_name && input.element() == output.element()
+                    }
+                }
+            })
+            .map(|(i, _)| index(i).to_string())
+            .collect();
         chosen.join(" ")
     };
     let outputs: Vec<md::Unknown> = table
@@ -247,7 +264,7 @@ fn model_structure<M: Model>() -> md::ModelStructure {
         .filter(|(_, v)| v.causality == Causality::Output)
         .map(|(i, v)| md::Unknown {
             index: index(i),
-            dependencies: Some(dependencies(v.name)),
+            dependencies: Some(dependencies(v)),
             dependencies_kind: None,
         })
         .collect();
@@ -270,5 +287,34 @@ fn model_structure<M: Model>() -> md::ModelStructure {
         initial_unknowns: (!initial_unknowns.is_empty()).then_some(md::UnknownList {
             unknowns: initial_unknowns,
         }),
+    }
+}
+
+fn causality(c: Causality) -> md::Causality {
+    match c {
+        Causality::Parameter => md::Causality::Parameter,
+        Causality::CalculatedParameter => md::Causality::CalculatedParameter,
+        Causality::Input => md::Causality::Input,
+        Causality::Output => md::Causality::Output,
+        Causality::Local => md::Causality::Local,
+        Causality::Independent => md::Causality::Independent,
+    }
+}
+
+fn variability(v: Variability) -> md::Variability {
+    match v {
+        Variability::Constant => md::Variability::Constant,
+        Variability::Fixed => md::Variability::Fixed,
+        Variability::Tunable => md::Variability::Tunable,
+        Variability::Discrete => md::Variability::Discrete,
+        Variability::Continuous => md::Variability::Continuous,
+    }
+}
+
+fn initial(i: Initial) -> md::Initial {
+    match i {
+        Initial::Exact => md::Initial::Exact,
+        Initial::Approx => md::Initial::Approx,
+        Initial::Calculated => md::Initial::Calculated,
     }
 }

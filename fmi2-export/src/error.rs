@@ -1,9 +1,8 @@
 //! FMI status as a Rust `Result`: `Ok(Success)` is `fmi2OK`/`fmi2Warning`, `Err(CallError)`
 //! is `fmi2Discard`/`fmi2Error`/`fmi2Fatal` together with the one log line that explains it.
 use crate::ffi::fmi2Status;
-use crate::model::ModelError;
-use crate::snapshot::SnapshotError;
 use crate::state::State;
+use fmi_model::snapshot::SnapshotError;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Success {
@@ -41,13 +40,12 @@ pub enum CallError {
         vr: u32,
         value: f64,
     },
-    #[error("variable {name} (vr {vr}): value {value} is outside [{min}, {max}]")]
+    #[error("variable {name} (vr {vr}): value {value} is outside {range}")]
     OutOfRange {
         name: &'static str,
         vr: u32,
         value: String,
-        min: String,
-        max: String,
+        range: String,
     },
     #[error("variable {name} (vr {vr}): {reason}")]
     InvalidValue {
@@ -61,8 +59,9 @@ pub enum CallError {
     Unsupported(&'static str),
     #[error("FMU state: {0}")]
     Snapshot(#[from] SnapshotError),
+    /// A model's refusal, with the fields it names mapped to the declared variables.
     #[error("{0}")]
-    Model(#[from] ModelError),
+    Model(String),
     /// The standard's `fmi2Discard`: the request was valid but not (fully) served.
     #[error("{0}")]
     Discard(String),

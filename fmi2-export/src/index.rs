@@ -12,7 +12,7 @@
 //! accessors and the value checks in a form that needs no matching on the table row.
 use crate::rules::check_settable;
 use crate::state::{State, StateMask};
-use crate::variable::{Access, Variable};
+use crate::variable::{Access, Limit, Variable};
 
 /// The four base types of the C API.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -97,11 +97,16 @@ impl Lookup {
 pub struct RealSlot<M> {
     /// The row in the table, for the messages of a refused value.
     pub row: usize,
-    pub get: fn(&M) -> f64,
-    pub set: Option<fn(&mut M, f64)>,
+    pub get: fn(&M, usize) -> f64,
+    pub set: Option<fn(&mut M, usize, f64)>,
+    /// The element of the declaration, passed to `get` and `set`.
+    pub element: usize,
     /// The declared bounds; infinite where the table declares none.
     pub min: f64,
     pub max: f64,
+    /// Whether `min`/`max` themselves are refused (exclusive bounds).
+    pub min_open: bool,
+    pub max_open: bool,
     /// The states in which [`check_settable`] accepts the variable.
     pub settable_in: StateMask,
 }
@@ -109,7 +114,12 @@ pub struct RealSlot<M> {
 impl<M> RealSlot<M> {
     fn new(row: usize, var: &Variable<M>) -> Option<RealSlot<M>> {
         let Access::Real {
-            min, max, get, set, ..
+            min,
+            max,
+            get,
+            set,
+            element,
+            ..
         } = var.access
         else {
             return None;
@@ -122,8 +132,11 @@ impl<M> RealSlot<M> {
             row,
             get,
             set,
-            min: min.unwrap_or(f64::NEG_INFINITY),
-            max: max.unwrap_or(f64::INFINITY),
+            element,
+            min: min.map_or(f64::NEG_INFINITY, Limit::value),
+            max: max.map_or(f64::INFINITY, Limit::value),
+            min_open: matches!(min, Some(Limit::Exclusive(_))),
+            max_open: matches!(max, Some(Limit::Exclusive(_))),
             settable_in: StateMask::of(&settable),
         })
     }
@@ -135,8 +148,13 @@ impl<M> RealSlot<M> {
     pub fn accepts(&self, value: f64, state: State) -> bool {
         self.settable_in.contains(state)
             && value.is_finite()
-            && value >= self.min
-            && value <= self.max
+            && (value > self.min || (value == self.min && !self.min_open))
+            && (value < self.max || (value == self.max && !self.max_open))
+    }
+
+    #[inline]
+    pub fn read(&self, model: &M) -> f64 {
+        (self.get)(model, self.element)
     }
 }
 
@@ -224,12 +242,15 @@ mod tests {
     fn a_real_slot_accepts_exactly_what_the_checks_accept() {
         use crate::rules::check_real;
         use crate::variable::{Causality, Variability};
+        use Limit::{Exclusive, Inclusive};
         let bounds = [
             (None, None),
-            (Some(-1.0), Some(2.0)),
-            (Some(0.0), None),
-            (None, Some(0.0)),
-            (Some(f64::NAN), Some(1.0)),
+            (Some(Inclusive(-1.0)), Some(Inclusive(2.0))),
+            (Some(Inclusive(0.0)), None),
+            (None, Some(Inclusive(0.0))),
+            (Some(Exclusive(0.0)), None),
+            (Some(Exclusive(-1.0)), Some(Exclusive(2.0))),
+            (Some(Inclusive(f64::NAN)), Some(Inclusive(1.0))),
         ];
         let values = [
             0.0,
@@ -270,12 +291,14 @@ mod tests {
                         initial: None,
                         unit: None,
                         description: "",
+                        declaration: 0,
                         access: Access::Real {
                             start: None,
                             min,
                             max,
-                            get: |_| 0.0,
-                            set: Some(|_, _| {}),
+                            get: |_, _| 0.0,
+                            set: Some(|_, _, _| {}),
+                            element: 0,
                         },
                     };
                     let slot = RealSlot::new(0, &var).unwrap();
@@ -283,7 +306,7 @@ mod tests {
                         for value in values {
                             let checks = check_settable(&var, state).is_ok()
                                 && check_real(&var, value, min, max).is_ok();
-                            if !(min.is_some_and(f64::is_nan) && checks) {
+                            if !(min.is_some_and(|m| m.value().is_nan()) && checks) {
                                 assert_eq!(
                                     slot.accepts(value, state),
                                     checks,
@@ -297,7 +320,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(checked, 6 * 5 * 5 * 8 * 12);
+        assert_eq!(checked, 6 * 5 * 7 * 8 * 12);
     }
 
     #[test]
@@ -310,14 +333,16 @@ mod tests {
             initial: None,
             unit: None,
             description: "",
+            declaration: 0,
             access,
         };
         let real = || Access::Real {
             start: None,
             min: None,
             max: None,
-            get: |_| 1.5,
+            get: |_, _| 1.5,
             set: None,
+            element: 0,
         };
         let integer = || Access::Integer {
             start: None,
@@ -333,7 +358,7 @@ mod tests {
         assert_eq!(index.row(BaseType::Real, 1), Some(1));
         assert_eq!(index.row(BaseType::Real, 9), Some(2));
         assert_eq!(index.real(9).map(|s| s.row), Some(2));
-        assert_eq!(index.real(1).map(|s| (s.get)(&())), Some(1.5));
+        assert_eq!(index.real(1).map(|s| s.read(&())), Some(1.5));
         assert!(index.real(0).is_none() && index.real(2).is_none());
         assert_eq!(index.row(BaseType::Boolean, 1), None);
     }

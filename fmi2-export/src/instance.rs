@@ -3,9 +3,9 @@ use crate::error::{CallError, Success};
 use crate::ffi::fmi2Status;
 use crate::index::VariableIndex;
 use crate::logging::{Category, Logger};
-use crate::model::{Level, Log, Model};
+use crate::model::{Level, Log, Model, ModelError};
 use crate::state::{Function, State};
-use crate::variable::Access;
+use crate::variable::Variable;
 use serde::{Deserialize, Serialize};
 use std::any::TypeId;
 use std::collections::HashSet;
@@ -29,53 +29,16 @@ pub struct Core<M> {
 }
 
 impl<M: Model> Core<M> {
-    /// A freshly instantiated model: `M::default()` with the table's start values applied.
+    /// A freshly instantiated model: `M::default()`, which holds every start value.
     pub fn fresh() -> Core<M> {
-        let mut model = M::default();
-        apply_start_values(&mut model);
         Core {
-            model,
+            model: M::default(),
             state: State::Instantiated,
             time: 0.0,
             start_time: 0.0,
             stop_time: None,
             last_successful_time: 0.0,
             terminated: false,
-        }
-    }
-}
-
-/// Writes every start value through its setter. Variables without a setter (constants,
-/// outputs) must already hold their start value in `M::default()`; `check_table` proves it.
-pub fn apply_start_values<M: Model>(model: &mut M) {
-    for var in M::variables() {
-        match &var.access {
-            Access::Real {
-                start: Some(s),
-                set: Some(set),
-                ..
-            } => set(model, *s),
-            Access::Integer {
-                start: Some(s),
-                set: Some(set),
-                ..
-            }
-            | Access::Enumeration {
-                start: Some(s),
-                set: Some(set),
-                ..
-            } => set(model, *s),
-            Access::Boolean {
-                start: Some(s),
-                set: Some(set),
-                ..
-            } => set(model, *s),
-            Access::String {
-                start: Some(s),
-                set: Some(set),
-                ..
-            } => set(model, s),
-            _ => {}
         }
     }
 }
@@ -117,6 +80,8 @@ pub struct Instance<M: Model> {
     pub logger: Logger,
     pub guid: uuid::Uuid,
     pub resource_location: Option<CString>,
+    /// The FMI 2.0 scalars of `M`, shared by all its instances.
+    pub table: &'static [Variable<M>],
     pub index: VariableIndex<M>,
     /// Keeps the strings returned by `fmi2GetString` alive until the next call of it.
     pub returned_strings: Vec<CString>,
@@ -137,7 +102,8 @@ impl<M: Model> Instance<M> {
             logger,
             guid,
             resource_location,
-            index: VariableIndex::new(M::variables()),
+            table: crate::variables::<M>(),
+            index: VariableIndex::new(crate::variables::<M>()),
             returned_strings: Vec::new(),
             fmu_states: HashSet::new(),
         }
@@ -179,4 +145,55 @@ impl<M: Model> Instance<M> {
         self.core.state = State::Error;
         error.into()
     }
+
+    /// A model's refusal, its field named as the variable declared for it.
+    pub fn model_failure(&mut self, error: ModelError) -> CallError {
+        self.core.state = State::Error;
+        CallError::Model(describe_model_error(self.table, &error))
+    }
+}
+
+/// `error` in the master's words: the field it names becomes the declared variable (FMI 2.0
+/// scalar name of the element, e.g. `inertia_body[2]`). A name that is no declared field is
+/// kept as the model wrote it.
+pub fn describe_model_error<M: Model>(table: &[Variable<M>], error: &ModelError) -> String {
+    let (kind, field, index, value, reason) = match error {
+        ModelError::InvalidParameter {
+            field,
+            index,
+            value,
+            reason,
+        } => ("parameter", field, index, value, reason),
+        ModelError::InvalidInput {
+            field,
+            index,
+            value,
+            reason,
+        } => ("input", field, index, value, reason),
+        ModelError::Other(text) => return text.clone(),
+    };
+    let declarations = M::declarations();
+    let declared = declarations
+        .iter()
+        .position(|d| d.has_field(field))
+        .and_then(|d| {
+            let element = index.unwrap_or(0);
+            let scalars = table.iter().filter(|v| v.declaration == d);
+            match index {
+                // The whole vector (e.g. a quaternion refused for its norm): its base name.
+                None if declarations[d].shape().len() > 1 => Some(declarations[d].name),
+                _ => scalars
+                    .into_iter()
+                    .find(|v| v.element() == element)
+                    .map(|v| v.name),
+            }
+        });
+    let name = match declared {
+        Some(name) => name.to_string(),
+        None => match index {
+            Some(i) => format!("{field}[{i}]"),
+            None => field.to_string(),
+        },
+    };
+    format!("{kind} {name} = {value}: {reason}")
 }

@@ -3,8 +3,7 @@
 //! applied before anything is written.
 use crate::error::CallError;
 use crate::state::State;
-use crate::variable::{Causality, Variability, Variable};
-use crate::EnumerationDecl;
+use crate::variable::{Causality, EnumType, Limit, Variability, Variable};
 
 /// `Ok` if `var` may be set in `state` (a state in which `fmi2Set*` is legal at all).
 pub fn check_settable<M>(var: &Variable<M>, state: State) -> Result<(), CallError> {
@@ -35,8 +34,8 @@ pub fn check_settable<M>(var: &Variable<M>, state: State) -> Result<(), CallErro
 pub fn check_real<M>(
     var: &Variable<M>,
     value: f64,
-    min: Option<f64>,
-    max: Option<f64>,
+    min: Option<Limit>,
+    max: Option<Limit>,
 ) -> Result<(), CallError> {
     if !value.is_finite() {
         return Err(CallError::NonFinite {
@@ -45,10 +44,31 @@ pub fn check_real<M>(
             value,
         });
     }
-    let below = min.is_some_and(|m| value < m);
-    let above = max.is_some_and(|m| value > m);
+    let below = min.is_some_and(|m| !m.admits_above(value));
+    let above = max.is_some_and(|m| !m.admits_below(value));
     if below || above {
-        return Err(out_of_range(var, value, min, max));
+        let (open, close) = (
+            if matches!(min, Some(Limit::Exclusive(_))) {
+                "("
+            } else {
+                "["
+            },
+            if matches!(max, Some(Limit::Exclusive(_))) {
+                ")"
+            } else {
+                "]"
+            },
+        );
+        return Err(CallError::OutOfRange {
+            name: var.name,
+            vr: var.value_reference,
+            value: value.to_string(),
+            range: format!(
+                "{open}{}, {}{close}",
+                min.map_or("-inf".to_string(), |m| m.value().to_string()),
+                max.map_or("inf".to_string(), |m| m.value().to_string()),
+            ),
+        });
     }
     Ok(())
 }
@@ -60,27 +80,28 @@ pub fn check_integer<M>(
     max: Option<i32>,
 ) -> Result<(), CallError> {
     if min.is_some_and(|m| value < m) || max.is_some_and(|m| value > m) {
-        return Err(out_of_range(var, value, min, max));
+        let bound = |b: Option<i32>, open: &str| b.map_or(open.to_string(), |b| b.to_string());
+        return Err(CallError::OutOfRange {
+            name: var.name,
+            vr: var.value_reference,
+            value: value.to_string(),
+            range: format!("[{}, {}]", bound(min, "-inf"), bound(max, "inf")),
+        });
     }
     Ok(())
 }
 
 /// An enumeration value must be one of the items of its type.
-pub fn check_enumeration<M>(
-    var: &Variable<M>,
-    value: i32,
-    type_name: &str,
-    types: &[EnumerationDecl],
-) -> Result<(), CallError> {
-    let items = types
-        .iter()
-        .find(|t| t.name == type_name)
-        .map(|t| t.items)
-        .unwrap_or(&[]);
-    if items.iter().any(|&(_, v, _)| v == value) {
+pub fn check_enumeration<M>(var: &Variable<M>, value: i32, ty: &EnumType) -> Result<(), CallError> {
+    if ty.item(value).is_some() {
         return Ok(());
     }
-    let allowed: Vec<String> = items.iter().map(|(n, v, _)| format!("{v} ({n})")).collect();
+    let type_name = ty.name;
+    let allowed: Vec<String> = ty
+        .items
+        .iter()
+        .map(|i| format!("{} ({})", i.value, i.name))
+        .collect();
     Err(CallError::InvalidValue {
         name: var.name,
         vr: var.value_reference,
@@ -89,20 +110,4 @@ pub fn check_enumeration<M>(
             allowed.join(", ")
         ),
     })
-}
-
-fn out_of_range<M, T: std::fmt::Display>(
-    var: &Variable<M>,
-    value: T,
-    min: Option<T>,
-    max: Option<T>,
-) -> CallError {
-    let bound = |b: Option<T>, open: &str| b.map_or(open.to_string(), |b| b.to_string());
-    CallError::OutOfRange {
-        name: var.name,
-        vr: var.value_reference,
-        value: value.to_string(),
-        min: bound(min, "-inf"),
-        max: bound(max, "inf"),
-    }
 }

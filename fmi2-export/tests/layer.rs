@@ -5,6 +5,7 @@
 
 use fmi2_export::ffi::*;
 use fmi2_export::*;
+use fmi_model::Kind;
 use serde::{Deserialize, Serialize};
 use std::ffi::{c_void, CStr, CString};
 use std::sync::Mutex;
@@ -16,22 +17,7 @@ struct Panicky {
     y: f64,
 }
 
-static PANICKY: [Variable<Panicky>; 1] = [Variable {
-    name: "y",
-    value_reference: 0,
-    causality: Causality::Output,
-    variability: Variability::Continuous,
-    initial: None,
-    unit: None,
-    description: "",
-    access: Access::Real {
-        start: None,
-        min: None,
-        max: None,
-        get: |m| m.y,
-        set: None,
-    },
-}];
+static PANICKY: [Declaration<Panicky>; 1] = [decl!(0, output y: y, "1", "")];
 
 impl Model for Panicky {
     const MODEL_IDENTIFIER: &'static str = "Panicky";
@@ -43,7 +29,7 @@ impl Model for Panicky {
         step_size: 0.1,
         tolerance: None,
     };
-    fn variables() -> &'static [Variable<Self>] {
+    fn declarations() -> &'static [Declaration<Self>] {
         &PANICKY
     }
     fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
@@ -166,12 +152,17 @@ fn a_component_of_another_model_is_refused() {
 // ---- GUID: interface only ----------------------------------------------------------------
 
 macro_rules! small_model {
-    ($name:ident, $table:ident, $var:expr) => {
-        #[derive(Debug, Clone, Default, Serialize, Deserialize)]
+    ($name:ident, $table:ident, $start:expr, $var:expr) => {
+        #[derive(Debug, Clone, Serialize, Deserialize)]
         struct $name {
             a: f64,
         }
-        static $table: [Variable<$name>; 1] = [$var];
+        impl Default for $name {
+            fn default() -> Self {
+                $name { a: $start }
+            }
+        }
+        static $table: [Declaration<$name>; 1] = [$var];
         impl Model for $name {
             const MODEL_IDENTIFIER: &'static str = "Small";
             const MODEL_NAME: &'static str = "Small";
@@ -182,7 +173,7 @@ macro_rules! small_model {
                 step_size: 0.1,
                 tolerance: None,
             };
-            fn variables() -> &'static [Variable<Self>] {
+            fn declarations() -> &'static [Declaration<Self>] {
                 &$table
             }
             fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
@@ -195,55 +186,16 @@ macro_rules! small_model {
     };
 }
 
-macro_rules! input {
-    ($model:ident, name: $n:expr, vr: $vr:expr, causality: $c:expr, unit: $u:expr, start: $s:expr, desc: $d:expr) => {
-        Variable {
-            name: $n,
-            value_reference: $vr,
-            causality: $c,
-            variability: Variability::Continuous,
-            initial: None,
-            unit: $u,
-            description: $d,
-            access: Access::Real {
-                start: $s,
-                min: None,
-                max: None,
-                get: |m: &$model| m.a,
-                set: Some(|m: &mut $model, v| m.a = v),
-            },
-        }
-    };
-}
-
-small_model!(
-    Small,
-    SMALL,
-    input!(Small, name: "a", vr: 0, causality: Causality::Input, unit: Some("m"), start: Some(0.0), desc: "")
-);
+small_model!(Small, SMALL, 0.0, decl!(0, input a: a, "m", ""));
 small_model!(
     Cosmetic,
     COSMETIC,
-    input!(Cosmetic, name: "a", vr: 0, causality: Causality::Input, unit: Some("N"), start: Some(5.0), desc: "documented")
+    5.0,
+    decl!(0, input a: a, "N", "documented")
 );
-small_model!(
-    Renamed,
-    RENAMED,
-    input!(Renamed, name: "b", vr: 0, causality: Causality::Input, unit: Some("m"), start: Some(0.0), desc: "")
-);
-small_model!(
-    Renumbered,
-    RENUMBERED,
-    input!(Renumbered, name: "a", vr: 1, causality: Causality::Input, unit: Some("m"), start: Some(0.0), desc: "")
-);
-small_model!(
-    Parameter,
-    PARAMETER,
-    Variable {
-        variability: Variability::Tunable,
-        ..input!(Parameter, name: "a", vr: 0, causality: Causality::Parameter, unit: Some("m"), start: Some(0.0), desc: "")
-    }
-);
+small_model!(Renamed, RENAMED, 0.0, decl!(0, input b: a, "m", ""));
+small_model!(Renumbered, RENUMBERED, 0.0, decl!(1, input a: a, "m", ""));
+small_model!(Parameter, PARAMETER, 0.0, decl!(0, tunable a: a, "m", ""));
 
 #[test]
 fn guid_changes_with_the_interface_and_only_then() {
@@ -274,123 +226,34 @@ struct Broken {
     n: i32,
 }
 
-static BROKEN: [Variable<Broken>; 7] = [
-    // an input with an initial attribute and no start
-    Variable {
-        name: "a",
-        value_reference: 0,
-        causality: Causality::Input,
-        variability: Variability::Continuous,
+static BROKEN: [Declaration<Broken>; 5] = [
+    // an input with an initial attribute and an unknown unit
+    Declaration {
         initial: Some(Initial::Exact),
-        unit: Some("furlong"),
-        description: "",
-        access: Access::Real {
-            start: None,
-            min: None,
-            max: None,
-            get: |m| m.a,
-            set: Some(|m, v| m.a = v),
-        },
+        ..decl!(0, input a: a, "furlong", "")
     },
     // same name, same vr; an output with a setter
-    Variable {
-        name: "a",
-        value_reference: 0,
-        causality: Causality::Output,
-        variability: Variability::Continuous,
-        initial: None,
-        unit: None,
-        description: "",
-        access: Access::Real {
-            start: None,
+    Declaration {
+        kind: Kind::Real {
+            shape: Shape::Scalar,
             min: None,
             max: None,
-            get: |m| m.a,
-            set: Some(|m, v| m.a = v),
+            get: |m, _| m.a,
+            set: Some(|m, _, v| m.a = v),
         },
+        ..decl!(0, output a: a, "1", "")
     },
-    // start outside [min, max], min > max
-    Variable {
-        name: "p",
-        value_reference: 2,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        initial: None,
-        unit: None,
-        description: "",
-        access: Access::Real {
-            start: Some(5.0),
-            min: Some(1.0),
-            max: Some(0.0),
-            get: |m| m.a,
-            set: Some(|m, v| m.a = v),
-        },
-    },
+    // start (0) outside [min, max], min > max
+    decl!(2, parameter p: a, "1", "", min = 1.0, max = -1.0),
     // a continuous Integer
-    Variable {
-        name: "n",
-        value_reference: 0,
-        causality: Causality::Output,
+    Declaration {
         variability: Variability::Continuous,
-        initial: None,
-        unit: None,
-        description: "",
-        access: Access::Integer {
-            start: None,
-            min: None,
-            max: None,
-            get: |m| m.n,
-            set: None,
-        },
+        ..decl!(0, output n: n as i32, "")
     },
-    // an undeclared enumeration type
-    Variable {
-        name: "e",
-        value_reference: 1,
-        causality: Causality::Parameter,
+    // a fixed output
+    Declaration {
         variability: Variability::Fixed,
-        initial: None,
-        unit: None,
-        description: "",
-        access: Access::Enumeration {
-            type_name: "Nope",
-            start: Some(1),
-            get: |m| m.n,
-            set: Some(|m, v| m.n = v),
-        },
-    },
-    // a constant whose getter disagrees with its start, a fixed output
-    Variable {
-        name: "k",
-        value_reference: 3,
-        causality: Causality::Local,
-        variability: Variability::Constant,
-        initial: None,
-        unit: None,
-        description: "",
-        access: Access::Real {
-            start: Some(2.0),
-            min: None,
-            max: None,
-            get: |_| 3.0,
-            set: None,
-        },
-    },
-    Variable {
-        name: "o",
-        value_reference: 4,
-        causality: Causality::Output,
-        variability: Variability::Fixed,
-        initial: None,
-        unit: None,
-        description: "",
-        access: Access::Real {
-            start: None,
-            min: None,
-            max: None,
-            get: |m| m.a,
-            set: None,
-        },
+        ..decl!(4, output o: a, "1", "")
     },
 ];
 
@@ -404,7 +267,7 @@ impl Model for Broken {
         step_size: 0.1,
         tolerance: None,
     };
-    fn variables() -> &'static [Variable<Self>] {
+    fn declarations() -> &'static [Declaration<Self>] {
         &BROKEN
     }
     fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
@@ -422,17 +285,18 @@ fn check_table_reports_every_problem() {
         "modelIdentifier \"Broken-1\" is not a C identifier",
         "DefaultExperiment",
         "a: initial Exact is not allowed for Input/Continuous",
-        "a: start value required",
         "a: unit \"furlong\" is not in the unit table",
-        "a: name declared twice",
+        "a: declared twice",
+        "a: FMI 2.0 name used twice",
         "a: value reference 0 used twice among Real variables",
-        "a: a setter must be present exactly for non-constant parameters and inputs (has one: true)",
-        "p: min 1 > max 0",
-        "p: start 5 is not finite within [min, max]",
+        "a: a setter exactly for what may be set (has one: true)",
+        "p: min 1 > max -1",
+        "p: start 0 (element 0) is not finite within the bounds",
         "n: only Real variables can be continuous",
-        "e: enumeration type Nope is not declared",
-        "k: start 2 but the getter returns 3",
         "o: causality Output with variability Fixed is not allowed",
+        "a: field a is declared by two variables",
+        "p: field a is declared by two variables",
+        "o: field a is declared by two variables",
     ];
     for e in expected {
         assert!(

@@ -15,9 +15,8 @@ use crate::attitude::ControlLaw;
 use crate::controller::{gnc_sample, GncOutputs, NavigationInputs, Sample};
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::GncParameters;
-use fmi2_export::{
-    Access, Causality, EnumerationDecl, Experiment, Initial, Log, Model, ModelError, StepEnd,
-    Variability, Variable,
+use fmi_model::{
+    decl, Declaration, EnumItem, EnumType, Enumeration, Experiment, Log, Model, ModelError, StepEnd,
 };
 use serde::{Deserialize, Serialize};
 
@@ -158,32 +157,8 @@ impl Model for LanderGnc {
         tolerance: None,
     };
 
-    fn variables() -> &'static [Variable<Self>] {
-        VARIABLES
-    }
-
-    fn enumeration_types() -> &'static [EnumerationDecl] {
-        &[EnumerationDecl {
-            name: "ControlLaw",
-            description: "Attitude control law",
-            items: &[
-                (
-                    "coupled",
-                    ControlLaw::Coupled as i32,
-                    "classical quaternion PD on q_ref",
-                ),
-                (
-                    "decoupled",
-                    ControlLaw::Decoupled as i32,
-                    "decoupled thrust-axis control (the paper)",
-                ),
-                (
-                    "reduced",
-                    ControlLaw::Reduced as i32,
-                    "PX4-style reduced attitude (Brescianini et al. 2013)",
-                ),
-            ],
-        }]
+    fn declarations() -> &'static [Declaration<Self>] {
+        DECLARATIONS
     }
 
     fn calculate_values(&mut self, log: &mut Log) {
@@ -194,7 +169,8 @@ impl Model for LanderGnc {
         self.params
             .validate()
             .map_err(|e| ModelError::InvalidParameter {
-                name: e.name,
+                field: e.field,
+                index: e.index,
                 value: e.value,
                 reason: e.reason.to_string(),
             })?;
@@ -215,189 +191,98 @@ impl Model for LanderGnc {
     }
 }
 
-// ---- the variable table ----------------------------------------------------------------
+// ---- the declarations ------------------------------------------------------------------
 
-const fn input(
-    name: &'static str,
-    value_reference: u32,
-    unit: Option<&'static str>,
-    description: &'static str,
-    start: f64,
-    get: fn(&LanderGnc) -> f64,
-    set: fn(&mut LanderGnc, f64),
-) -> Variable<LanderGnc> {
-    Variable {
-        name,
-        value_reference,
-        causality: Causality::Input,
-        variability: Variability::Continuous,
-        initial: None,
-        unit,
-        description,
-        access: Access::Real {
-            start: Some(start),
-            min: None,
-            max: None,
-            get,
-            set: Some(set),
-        },
+impl Enumeration for ControlLaw {
+    const TYPE: &'static EnumType = &EnumType {
+        name: "ControlLaw",
+        description: "Attitude control law",
+        items: &[
+            EnumItem {
+                name: "coupled",
+                value: ControlLaw::Coupled as i32,
+                description: "classical quaternion PD on q_ref",
+            },
+            EnumItem {
+                name: "decoupled",
+                value: ControlLaw::Decoupled as i32,
+                description: "decoupled thrust-axis control (the paper)",
+            },
+            EnumItem {
+                name: "reduced",
+                value: ControlLaw::Reduced as i32,
+                description: "PX4-style reduced attitude (Brescianini et al. 2013)",
+            },
+        ],
+    };
+
+    fn value(self) -> i32 {
+        self as i32
+    }
+
+    fn from_value(value: i32) -> Option<Self> {
+        ControlLaw::from_index(value)
     }
 }
 
-const fn output(
-    name: &'static str,
-    value_reference: u32,
-    unit: Option<&'static str>,
-    description: &'static str,
-    get: fn(&LanderGnc) -> f64,
-) -> Variable<LanderGnc> {
-    Variable {
-        name,
-        value_reference,
-        causality: Causality::Output,
-        variability: Variability::Continuous,
-        initial: Some(Initial::Calculated),
-        unit,
-        description,
-        access: Access::Real {
-            start: None,
-            min: None,
-            max: None,
-            get,
-            set: None,
-        },
-    }
-}
+const NUE: &[&str] = &["North", "Up", "East"];
+const BODY: &[&str] = &[
+    "about body x (yaw)",
+    "about body y (roll, thrust axis)",
+    "about body z (pitch)",
+];
+const QUATERNION: &[&str] = &[
+    "scalar part",
+    "vector part x",
+    "vector part y",
+    "vector part z",
+];
 
-#[allow(clippy::too_many_arguments)]
-const fn parameter(
-    name: &'static str,
-    value_reference: u32,
-    unit: Option<&'static str>,
-    description: &'static str,
-    start: f64,
-    min: Option<f64>,
-    get: fn(&LanderGnc) -> f64,
-    set: fn(&mut LanderGnc, f64),
-) -> Variable<LanderGnc> {
-    Variable {
-        name,
-        value_reference,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        initial: Some(Initial::Exact),
-        unit,
-        description,
-        access: Access::Real {
-            start: Some(start),
-            min,
-            max: None,
-            get,
-            set: Some(set),
-        },
-    }
-}
-
-const M: Option<&str> = Some("m");
-const MPS: Option<&str> = Some("m/s");
-const MPS2: Option<&str> = Some("m/s2");
-const RAD: Option<&str> = Some("rad");
-const RADPS: Option<&str> = Some("rad/s");
-const KG: Option<&str> = Some("kg");
-const N: Option<&str> = Some("N");
-const NM: Option<&str> = Some("N.m");
-const S: Option<&str> = Some("s");
-const HZ: Option<&str> = Some("Hz");
-const KGM2: Option<&str> = Some("kg.m2");
-const ONE: Option<&str> = None;
-
-// Defaults repeated as literals here are checked against `GncParameters::default()` and
-// `NavigationInputs::default()` by a test.
+// Start values are those of `LanderGnc::default()`; bounds are those `GncParameters::validate`
+// enforces on a single value (relations between parameters are checked there only).
 #[rustfmt::skip]
-static VARIABLES: &[Variable<LanderGnc>] = &[
-    // inputs: the plant's navigation state (INTERFACE.md)
-    input("r_nue[1]", 1, M, "position North", 0.0, |m| m.inputs.r_nue_m[0], |m, v| m.inputs.r_nue_m[0] = v),
-    input("r_nue[2]", 2, M, "position Up (altitude)", 800.0, |m| m.inputs.r_nue_m[1], |m, v| m.inputs.r_nue_m[1] = v),
-    input("r_nue[3]", 3, M, "position East", 0.0, |m| m.inputs.r_nue_m[2], |m, v| m.inputs.r_nue_m[2] = v),
-    input("v_nue[1]", 4, MPS, "velocity North", 0.0, |m| m.inputs.v_nue_mps[0], |m, v| m.inputs.v_nue_mps[0] = v),
-    input("v_nue[2]", 5, MPS, "velocity Up", 0.0, |m| m.inputs.v_nue_mps[1], |m, v| m.inputs.v_nue_mps[1] = v),
-    input("v_nue[3]", 6, MPS, "velocity East", 0.0, |m| m.inputs.v_nue_mps[2], |m, v| m.inputs.v_nue_mps[2] = v),
-    input("q_body_to_nue[1]", 7, ONE, "attitude quaternion, scalar part (Hamilton, body to NUE)", 1.0, |m| m.inputs.q_body_to_nue[0], |m, v| m.inputs.q_body_to_nue[0] = v),
-    input("q_body_to_nue[2]", 8, ONE, "attitude quaternion, vector part x", 0.0, |m| m.inputs.q_body_to_nue[1], |m, v| m.inputs.q_body_to_nue[1] = v),
-    input("q_body_to_nue[3]", 9, ONE, "attitude quaternion, vector part y", 0.0, |m| m.inputs.q_body_to_nue[2], |m, v| m.inputs.q_body_to_nue[2] = v),
-    input("q_body_to_nue[4]", 10, ONE, "attitude quaternion, vector part z", 0.0, |m| m.inputs.q_body_to_nue[3], |m, v| m.inputs.q_body_to_nue[3] = v),
-    input("omega_body[1]", 11, RADPS, "body rate about x (yaw)", 0.0, |m| m.inputs.omega_body_radps[0], |m, v| m.inputs.omega_body_radps[0] = v),
-    input("omega_body[2]", 12, RADPS, "body rate about y (roll, thrust axis)", 0.0, |m| m.inputs.omega_body_radps[1], |m, v| m.inputs.omega_body_radps[1] = v),
-    input("omega_body[3]", 13, RADPS, "body rate about z (pitch)", 0.0, |m| m.inputs.omega_body_radps[2], |m, v| m.inputs.omega_body_radps[2] = v),
-    input("mass", 14, KG, "current mass", 900.0, |m| m.inputs.mass_kg, |m, v| m.inputs.mass_kg = v),
-    // outputs: the commands (INTERFACE.md)
-    output("thrust_cmd", 100, N, "commanded total engine thrust along body +y", |m| m.outputs.thrust_cmd_n),
-    output("torque_cmd_body[1]", 101, NM, "commanded control torque about body x (yaw)", |m| m.outputs.torque_cmd_body_nm[0]),
-    output("torque_cmd_body[2]", 102, NM, "commanded control torque about body y (roll)", |m| m.outputs.torque_cmd_body_nm[1]),
-    output("torque_cmd_body[3]", 103, NM, "commanded control torque about body z (pitch)", |m| m.outputs.torque_cmd_body_nm[2]),
+static DECLARATIONS: &[Declaration<LanderGnc>] = &[
+    // inputs: the plant's navigation state
+    decl!(1, input r_nue[3]: inputs.r_nue_m, "m", "position", components = NUE),
+    decl!(4, input v_nue[3]: inputs.v_nue_mps, "m/s", "velocity", components = NUE),
+    decl!(7, input q_body_to_nue[4]: inputs.q_body_to_nue, "1", "attitude quaternion (Hamilton, body to NUE)", components = QUATERNION),
+    decl!(11, input omega_body[3]: inputs.omega_body_radps, "rad/s", "body rate", components = BODY),
+    decl!(14, input mass: inputs.mass_kg, "kg", "current mass"),
+    // outputs: the commands
+    decl!(100, output thrust_cmd: outputs.thrust_cmd_n, "N", "commanded total engine thrust along body +y"),
+    decl!(101, output torque_cmd_body[3]: outputs.torque_cmd_body_nm, "N.m", "commanded control torque", components = BODY),
     // diagnostic outputs
-    output("a_cmd_nue[1]", 110, MPS2, "commanded thrust acceleration (guidance net acceleration minus gravity), North", |m| m.outputs.a_cmd_nue_mps2[0]),
-    output("a_cmd_nue[2]", 111, MPS2, "commanded thrust acceleration, Up", |m| m.outputs.a_cmd_nue_mps2[1]),
-    output("a_cmd_nue[3]", 112, MPS2, "commanded thrust acceleration, East", |m| m.outputs.a_cmd_nue_mps2[2]),
-    output("q_ref[1]", 113, ONE, "reference attitude q_guid * q_phicmd, scalar part", |m| m.outputs.q_ref[0]),
-    output("q_ref[2]", 114, ONE, "reference attitude, vector part x", |m| m.outputs.q_ref[1]),
-    output("q_ref[3]", 115, ONE, "reference attitude, vector part y", |m| m.outputs.q_ref[2]),
-    output("q_ref[4]", 116, ONE, "reference attitude, vector part z", |m| m.outputs.q_ref[3]),
-    output("phi_b", 117, RAD, "achieved rotation about the thrust axis (third 1-3-2 Euler angle)", |m| m.outputs.phi_b_rad),
-    output("err_roll", 118, RAD, "thrust-axis (roll, body y) error the active law acts on", |m| m.outputs.err_roll_rad),
-    output("err_yaw", 119, RAD, "yaw (body x) error the active law acts on", |m| m.outputs.err_yaw_rad),
-    output("err_pitch", 120, RAD, "pitch (body z) error the active law acts on", |m| m.outputs.err_pitch_rad),
-    output("tilt_error", 121, RAD, "angle between the body thrust axis and the commanded thrust direction", |m| m.outputs.tilt_error_rad),
-    Variable {
-        name: "guidance_phase",
-        value_reference: 122,
-        causality: Causality::Output,
-        variability: Variability::Discrete,
-        initial: Some(Initial::Calculated),
-        unit: None,
-        description: "guidance phase: 1 hover, 2 polynomial descent, 3 hover at the descent target, 4 hold",
-        access: Access::Integer { start: None, min: Some(1), max: Some(4), get: |m| m.outputs.guidance_phase, set: None },
-    },
-    output("time_to_go", 123, S, "descent time-to-go at the last guidance sample (0 outside the descent)", |m| m.outputs.time_to_go_s),
+    decl!(110, output a_cmd_nue[3]: outputs.a_cmd_nue_mps2, "m/s2", "commanded thrust acceleration (guidance net acceleration minus gravity)", components = NUE),
+    decl!(113, output q_ref[4]: outputs.q_ref, "1", "reference attitude q_guid * q_phicmd", components = QUATERNION),
+    decl!(117, output phi_b: outputs.phi_b_rad, "rad", "achieved rotation about the thrust axis (third 1-3-2 Euler angle)"),
+    decl!(118, output err_roll: outputs.err_roll_rad, "rad", "thrust-axis (roll, body y) error the active law acts on"),
+    decl!(119, output err_yaw: outputs.err_yaw_rad, "rad", "yaw (body x) error the active law acts on"),
+    decl!(120, output err_pitch: outputs.err_pitch_rad, "rad", "pitch (body z) error the active law acts on"),
+    decl!(121, output tilt_error: outputs.tilt_error_rad, "rad", "angle between the body thrust axis and the commanded thrust direction"),
+    decl!(122, discrete_output guidance_phase: outputs.guidance_phase as i32, "guidance phase: 1 hover, 2 polynomial descent, 3 hover at the descent target, 4 hold", int_min = 1, int_max = 4),
+    decl!(123, output time_to_go: outputs.time_to_go_s, "s", "descent time-to-go at the last guidance sample (0 outside the descent)"),
     // parameters
-    Variable {
-        name: "control_law",
-        value_reference: 200,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
-        initial: Some(Initial::Exact),
-        unit: None,
-        description: "attitude control law: 1 coupled, 2 decoupled (the paper), 3 reduced (PX4-style)",
-        access: Access::Enumeration { type_name: "ControlLaw", start: Some(2), get: |m| m.params.control_law, set: Some(|m, v| m.params.control_law = v) },
-    },
-    parameter("phi_cmd", 201, RAD, "commanded rotation about the thrust axis (mission constraint)", 0.0, None, |m| m.params.phi_cmd_rad, |m, v| m.params.phi_cmd_rad = v),
-    parameter("phi_cmd_time", 202, S, "time at which phi_cmd is applied (before it: 0)", 12.0, None, |m| m.params.phi_cmd_time_s, |m, v| m.params.phi_cmd_time_s = v),
-    parameter("control_bandwidth", 203, HZ, "attitude control bandwidth f_c (omega_c = 2 pi f_c)", 0.5, Some(0.0), |m| m.params.control_bandwidth_hz, |m, v| m.params.control_bandwidth_hz = v),
-    parameter("control_damping", 204, ONE, "attitude control damping ratio", 0.8, Some(0.0), |m| m.params.control_damping, |m, v| m.params.control_damping = v),
-    parameter("guidance_bandwidth", 205, HZ, "hover (PV) guidance bandwidth f_g (omega_g = 2 pi f_g)", 0.06, Some(0.0), |m| m.params.guidance_bandwidth_hz, |m, v| m.params.guidance_bandwidth_hz = v),
-    parameter("guidance_damping", 206, ONE, "hover (PV) guidance damping ratio", 0.8, Some(0.0), |m| m.params.guidance_damping, |m, v| m.params.guidance_damping = v),
-    parameter("guidance_cycle", 207, S, "guidance cycle time (zero-order hold between solves)", 0.1, Some(0.0), |m| m.params.guidance_cycle_s, |m, v| m.params.guidance_cycle_s = v),
-    parameter("inertia_body[1]", 208, KGM2, "moment of inertia about body x used for the gains", 400.0, Some(0.0), |m| m.params.inertia_body_kgm2[0], |m, v| m.params.inertia_body_kgm2[0] = v),
-    parameter("inertia_body[2]", 209, KGM2, "moment of inertia about body y used for the gains", 300.0, Some(0.0), |m| m.params.inertia_body_kgm2[1], |m, v| m.params.inertia_body_kgm2[1] = v),
-    parameter("inertia_body[3]", 210, KGM2, "moment of inertia about body z used for the gains", 450.0, Some(0.0), |m| m.params.inertia_body_kgm2[2], |m, v| m.params.inertia_body_kgm2[2] = v),
-    parameter("thrust_min", 211, N, "lowest commanded thrust (two engines at minimum throttle)", 720.0, Some(0.0), |m| m.params.thrust_min_n, |m, v| m.params.thrust_min_n = v),
-    parameter("thrust_max", 212, N, "highest commanded thrust (two engines at full throttle)", 1600.0, Some(0.0), |m| m.params.thrust_max_n, |m, v| m.params.thrust_max_n = v),
-    parameter("torque_limit_body[1]", 213, NM, "RCS torque limit about body x", 116.0, Some(0.0), |m| m.params.torque_limit_body_nm[0], |m, v| m.params.torque_limit_body_nm[0] = v),
-    parameter("torque_limit_body[2]", 214, NM, "RCS torque limit about body y", 116.0, Some(0.0), |m| m.params.torque_limit_body_nm[1], |m, v| m.params.torque_limit_body_nm[1] = v),
-    parameter("torque_limit_body[3]", 215, NM, "RCS torque limit about body z", 116.0, Some(0.0), |m| m.params.torque_limit_body_nm[2], |m, v| m.params.torque_limit_body_nm[2] = v),
-    parameter("gravity", 216, MPS2, "lunar gravity magnitude g (gravity vector [0, -g, 0] NUE)", 1.62, Some(0.0), |m| m.params.gravity_mps2, |m, v| m.params.gravity_mps2 = v),
-    parameter("hover_target_nue[1]", 217, M, "phase 1 hover target, North", 0.0, None, |m| m.params.hover_target_nue_m[0], |m, v| m.params.hover_target_nue_m[0] = v),
-    parameter("hover_target_nue[2]", 218, M, "phase 1 hover target, Up", 800.0, None, |m| m.params.hover_target_nue_m[1], |m, v| m.params.hover_target_nue_m[1] = v),
-    parameter("hover_target_nue[3]", 219, M, "phase 1 hover target, East", 0.0, None, |m| m.params.hover_target_nue_m[2], |m, v| m.params.hover_target_nue_m[2] = v),
-    parameter("hover_duration", 220, S, "phase 1 (PV hover) duration from the start time", 12.0, Some(0.0), |m| m.params.hover_duration_s, |m, v| m.params.hover_duration_s = v),
-    parameter("descent_target_nue[1]", 221, M, "phase 2 descent target and phase 3-4 hover point, North", 0.0, None, |m| m.params.descent_target_nue_m[0], |m, v| m.params.descent_target_nue_m[0] = v),
-    parameter("descent_target_nue[2]", 222, M, "descent target, Up", 150.0, None, |m| m.params.descent_target_nue_m[1], |m, v| m.params.descent_target_nue_m[1] = v),
-    parameter("descent_target_nue[3]", 223, M, "descent target, East", 0.0, None, |m| m.params.descent_target_nue_m[2], |m, v| m.params.descent_target_nue_m[2] = v),
-    parameter("descent_time_to_go", 224, S, "phase 2 (polynomial descent) time-to-go at its start", 130.0, Some(0.0), |m| m.params.descent_time_to_go_s, |m, v| m.params.descent_time_to_go_s = v),
-    parameter("descent_freeze_time_to_go", 225, S, "below this time-to-go the polynomial is no longer re-solved", 5.0, Some(0.0), |m| m.params.descent_freeze_time_to_go_s, |m, v| m.params.descent_freeze_time_to_go_s = v),
-    parameter("target_hover_duration", 226, S, "phase 3 (PV hover at the descent target) duration; phase 4 holds there after it", 30.0, Some(0.0), |m| m.params.target_hover_duration_s, |m, v| m.params.target_hover_duration_s = v),
-    parameter("reduced_yaw_weight", 227, ONE, "reduced law: weight of the rotation about the thrust axis, in [0, 1]", 0.4, Some(0.0), |m| m.params.reduced_yaw_weight, |m, v| m.params.reduced_yaw_weight = v),
-    parameter("rate_shaping_margin", 228, ONE, "share of the torque limit the attitude laws count on to brake a rotation; large angle errors are shaped so the rate demand can be stopped in time (beyond the paper, ArduPilot-style square-root controller); 0.5 is a good choice; 0 = the paper's pure PD (default), in [0, 1]", 0.0, Some(0.0), |m| m.params.rate_shaping_margin, |m, v| m.params.rate_shaping_margin = v),
+    decl!(200, parameter control_law: params.control_law as enum ControlLaw, "attitude control law: 1 coupled, 2 decoupled (the paper), 3 reduced (PX4-style)"),
+    decl!(201, parameter phi_cmd: params.phi_cmd_rad, "rad", "commanded rotation about the thrust axis (mission constraint)"),
+    decl!(202, parameter phi_cmd_time: params.phi_cmd_time_s, "s", "time at which phi_cmd is applied (before it: 0)"),
+    decl!(203, parameter control_bandwidth: params.control_bandwidth_hz, "Hz", "attitude control bandwidth f_c (omega_c = 2 pi f_c), > 0", above = 0.0),
+    decl!(204, parameter control_damping: params.control_damping, "1", "attitude control damping ratio, > 0", above = 0.0),
+    decl!(205, parameter guidance_bandwidth: params.guidance_bandwidth_hz, "Hz", "hover (PV) guidance bandwidth f_g (omega_g = 2 pi f_g), > 0 and <= 0.5 / guidance_cycle", above = 0.0),
+    decl!(206, parameter guidance_damping: params.guidance_damping, "1", "hover (PV) guidance damping ratio, > 0", above = 0.0),
+    decl!(207, parameter guidance_cycle: params.guidance_cycle_s, "s", "guidance cycle time (zero-order hold between solves), > 0", above = 0.0),
+    decl!(208, parameter inertia_body[3]: params.inertia_body_kgm2, "kg.m2", "moment of inertia used for the gains, > 0", above = 0.0, components = BODY),
+    decl!(211, parameter thrust_min: params.thrust_min_n, "N", "lowest commanded thrust (two engines at minimum throttle)", min = 0.0),
+    decl!(212, parameter thrust_max: params.thrust_max_n, "N", "highest commanded thrust (two engines at full throttle), >= thrust_min", min = 0.0),
+    decl!(213, parameter torque_limit_body[3]: params.torque_limit_body_nm, "N.m", "RCS torque limit", min = 0.0, components = BODY),
+    decl!(216, parameter gravity: params.gravity_mps2, "m/s2", "lunar gravity magnitude g (gravity vector [0, -g, 0] NUE), > 0", above = 0.0),
+    decl!(217, parameter hover_target_nue[3]: params.hover_target_nue_m, "m", "phase 1 hover target", components = NUE),
+    decl!(220, parameter hover_duration: params.hover_duration_s, "s", "phase 1 (PV hover) duration from the start time", min = 0.0),
+    decl!(221, parameter descent_target_nue[3]: params.descent_target_nue_m, "m", "phase 2 descent target and phase 3-4 hover point", components = NUE),
+    decl!(224, parameter descent_time_to_go: params.descent_time_to_go_s, "s", "phase 2 (polynomial descent) time-to-go at its start, > 0", above = 0.0),
+    decl!(225, parameter descent_freeze_time_to_go: params.descent_freeze_time_to_go_s, "s", "below this time-to-go the polynomial is no longer re-solved; >= guidance_cycle", above = 0.0),
+    decl!(226, parameter target_hover_duration: params.target_hover_duration_s, "s", "phase 3 (PV hover at the descent target) duration; phase 4 holds there after it", min = 0.0),
+    decl!(227, parameter reduced_yaw_weight: params.reduced_yaw_weight, "1", "reduced law: weight of the rotation about the thrust axis, in [0, 1]", min = 0.0, max = 1.0),
+    decl!(228, parameter rate_shaping_margin: params.rate_shaping_margin, "1", "share of the torque limit the attitude laws count on to brake a rotation; large angle errors are shaped so the rate demand can be stopped in time (beyond the paper, ArduPilot-style square-root controller); 0.5 is a good choice; 0 = the paper's pure PD (default), in [0, 1]", min = 0.0, max = 1.0),
 ];
 
 #[cfg(test)]

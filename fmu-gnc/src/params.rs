@@ -63,18 +63,30 @@ impl Default for GncParameters {
     }
 }
 
-/// A parameter value the GNC refuses, naming the FMI variable.
+/// A parameter value the GNC refuses, naming the field of [`GncParameters`] (and the element
+/// of a vector, 0-based); an interface layer names it as its users know it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("parameter {name} = {value}: {reason}")]
+#[error("parameter {field}{} = {value}: {reason}", index.map(|i| format!("[{i}]")).unwrap_or_default())]
 pub struct InvalidParameter {
-    pub name: &'static str,
+    pub field: &'static str,
+    pub index: Option<usize>,
     pub value: String,
     pub reason: &'static str,
 }
 
 fn check(
     ok: bool,
-    name: &'static str,
+    field: &'static str,
+    value: f64,
+    reason: &'static str,
+) -> Result<(), InvalidParameter> {
+    check_at(ok, field, None, value, reason)
+}
+
+fn check_at(
+    ok: bool,
+    field: &'static str,
+    index: Option<usize>,
     value: f64,
     reason: &'static str,
 ) -> Result<(), InvalidParameter> {
@@ -82,62 +94,47 @@ fn check(
         Ok(())
     } else {
         Err(InvalidParameter {
-            name,
+            field,
+            index,
             value: format!("{value}"),
             reason,
         })
     }
 }
 
-const INERTIA_NAMES: [&str; 3] = ["inertia_body[1]", "inertia_body[2]", "inertia_body[3]"];
-const TORQUE_NAMES: [&str; 3] = [
-    "torque_limit_body[1]",
-    "torque_limit_body[2]",
-    "torque_limit_body[3]",
-];
-const HOVER_NAMES: [&str; 3] = [
-    "hover_target_nue[1]",
-    "hover_target_nue[2]",
-    "hover_target_nue[3]",
-];
-const DESCENT_NAMES: [&str; 3] = [
-    "descent_target_nue[1]",
-    "descent_target_nue[2]",
-    "descent_target_nue[3]",
-];
-
 impl GncParameters {
-    /// Refuse values the laws cannot work with; the error names the FMI variable.
+    /// Refuse values the laws cannot work with; the error names the field.
     /// Non-finite values are refused everywhere (the layer already refuses them on set).
     pub fn validate(&self) -> Result<(), InvalidParameter> {
         let p = self;
         if ControlLaw::from_index(p.control_law).is_none() {
             return Err(InvalidParameter {
-                name: "control_law",
+                field: "control_law",
+                index: None,
                 value: p.control_law.to_string(),
                 reason: "must be 1 (coupled), 2 (decoupled) or 3 (reduced)",
             });
         }
         check(
             p.phi_cmd_rad.is_finite(),
-            "phi_cmd",
+            "phi_cmd_rad",
             p.phi_cmd_rad,
             "must be finite",
         )?;
         check(
             p.phi_cmd_time_s.is_finite(),
-            "phi_cmd_time",
+            "phi_cmd_time_s",
             p.phi_cmd_time_s,
             "must be finite",
         )?;
         let positive = [
-            ("control_bandwidth", p.control_bandwidth_hz),
+            ("control_bandwidth_hz", p.control_bandwidth_hz),
             ("control_damping", p.control_damping),
-            ("guidance_bandwidth", p.guidance_bandwidth_hz),
+            ("guidance_bandwidth_hz", p.guidance_bandwidth_hz),
             ("guidance_damping", p.guidance_damping),
-            ("guidance_cycle", p.guidance_cycle_s),
-            ("descent_time_to_go", p.descent_time_to_go_s),
-            ("gravity", p.gravity_mps2),
+            ("guidance_cycle_s", p.guidance_cycle_s),
+            ("descent_time_to_go_s", p.descent_time_to_go_s),
+            ("gravity_mps2", p.gravity_mps2),
         ];
         for (name, value) in positive {
             check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
@@ -146,57 +143,55 @@ impl GncParameters {
         // loop any more (and absurd values overflow the gains to NaN).
         check(
             p.guidance_bandwidth_hz <= 0.5 / p.guidance_cycle_s,
-            "guidance_bandwidth",
+            "guidance_bandwidth_hz",
             p.guidance_bandwidth_hz,
             "must be <= 0.5 / guidance_cycle (the Nyquist rate of the guidance cycle)",
         )?;
-        for (name, value) in INERTIA_NAMES.iter().zip(p.inertia_body_kgm2) {
-            check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
+        for (k, value) in p.inertia_body_kgm2.into_iter().enumerate() {
+            let ok = value > 0.0 && value.is_finite();
+            check_at(ok, "inertia_body_kgm2", Some(k), value, "must be > 0")?;
         }
         let gains = p.attitude_settings().gains;
         check(
             gains.kp_nm_per_rad.iter().all(|k| k.is_finite())
                 && gains.kd_nms_per_rad.iter().all(|k| k.is_finite()),
-            "control_bandwidth",
+            "control_bandwidth_hz",
             p.control_bandwidth_hz,
             "gives non-finite gains with this inertia",
         )?;
-        for (name, value) in TORQUE_NAMES.iter().zip(p.torque_limit_body_nm) {
-            check(
-                value >= 0.0 && value.is_finite(),
-                name,
-                value,
-                "must be >= 0",
-            )?;
+        for (k, value) in p.torque_limit_body_nm.into_iter().enumerate() {
+            let ok = value >= 0.0 && value.is_finite();
+            check_at(ok, "torque_limit_body_nm", Some(k), value, "must be >= 0")?;
         }
-        for (name, value) in HOVER_NAMES
-            .iter()
-            .chain(&DESCENT_NAMES)
-            .zip(p.hover_target_nue_m.iter().chain(&p.descent_target_nue_m))
-        {
-            check(value.is_finite(), name, *value, "must be finite")?;
+        for (field, target) in [
+            ("hover_target_nue_m", p.hover_target_nue_m),
+            ("descent_target_nue_m", p.descent_target_nue_m),
+        ] {
+            for (k, value) in target.into_iter().enumerate() {
+                check_at(value.is_finite(), field, Some(k), value, "must be finite")?;
+            }
         }
         check(
             p.thrust_min_n >= 0.0,
-            "thrust_min",
+            "thrust_min_n",
             p.thrust_min_n,
             "must be >= 0",
         )?;
         check(
             p.thrust_max_n >= p.thrust_min_n && p.thrust_max_n.is_finite(),
-            "thrust_max",
+            "thrust_max_n",
             p.thrust_max_n,
             "must be finite and >= thrust_min",
         )?;
         check(
             p.hover_duration_s >= 0.0 && p.hover_duration_s.is_finite(),
-            "hover_duration",
+            "hover_duration_s",
             p.hover_duration_s,
             "must be >= 0",
         )?;
         check(
             p.target_hover_duration_s >= 0.0 && p.target_hover_duration_s.is_finite(),
-            "target_hover_duration",
+            "target_hover_duration_s",
             p.target_hover_duration_s,
             "must be >= 0",
         )?;
@@ -204,7 +199,7 @@ impl GncParameters {
         check(
             p.descent_freeze_time_to_go_s >= p.guidance_cycle_s
                 && p.descent_freeze_time_to_go_s.is_finite(),
-            "descent_freeze_time_to_go",
+            "descent_freeze_time_to_go_s",
             p.descent_freeze_time_to_go_s,
             "must be >= guidance_cycle",
         )?;
@@ -274,22 +269,26 @@ mod tests {
         type Spoil = fn(&mut GncParameters);
         let cases: [(&str, Spoil); 15] = [
             ("control_law", |p| p.control_law = 4),
-            ("phi_cmd", |p| p.phi_cmd_rad = f64::NAN),
-            ("control_bandwidth", |p| p.control_bandwidth_hz = 0.0),
+            ("phi_cmd_rad", |p| p.phi_cmd_rad = f64::NAN),
+            ("control_bandwidth_hz", |p| p.control_bandwidth_hz = 0.0),
             ("control_damping", |p| p.control_damping = -0.1),
-            ("guidance_bandwidth", |p| p.guidance_bandwidth_hz = -1.0),
-            ("guidance_cycle", |p| p.guidance_cycle_s = 0.0),
-            ("inertia_body[2]", |p| p.inertia_body_kgm2[1] = -300.0),
-            ("torque_limit_body[3]", |p| p.torque_limit_body_nm[2] = -1.0),
-            ("thrust_max", |p| p.thrust_min_n = 2000.0),
-            ("descent_freeze_time_to_go", |p| {
+            ("guidance_bandwidth_hz", |p| p.guidance_bandwidth_hz = -1.0),
+            ("guidance_cycle_s", |p| p.guidance_cycle_s = 0.0),
+            ("inertia_body_kgm2[1]", |p| p.inertia_body_kgm2[1] = -300.0),
+            ("torque_limit_body_nm[2]", |p| {
+                p.torque_limit_body_nm[2] = -1.0
+            }),
+            ("thrust_max_n", |p| p.thrust_min_n = 2000.0),
+            ("descent_freeze_time_to_go_s", |p| {
                 p.descent_freeze_time_to_go_s = 0.0
             }),
             ("reduced_yaw_weight", |p| p.reduced_yaw_weight = 1.5),
             ("rate_shaping_margin", |p| p.rate_shaping_margin = -0.1),
-            ("guidance_bandwidth", |p| p.guidance_bandwidth_hz = 1.7e162),
-            ("control_bandwidth", |p| p.control_bandwidth_hz = 1e300),
-            ("hover_target_nue[2]", |p| {
+            ("guidance_bandwidth_hz", |p| {
+                p.guidance_bandwidth_hz = 1.7e162
+            }),
+            ("control_bandwidth_hz", |p| p.control_bandwidth_hz = 1e300),
+            ("hover_target_nue_m[1]", |p| {
                 p.hover_target_nue_m[1] = f64::INFINITY
             }),
         ];
@@ -297,7 +296,11 @@ mod tests {
             let mut p = GncParameters::default();
             spoil(&mut p);
             let err = p.validate().unwrap_err();
-            assert_eq!(err.name, name, "{err}");
+            let named = match err.index {
+                Some(k) => format!("{}[{k}]", err.field),
+                None => err.field.to_string(),
+            };
+            assert_eq!(named, name, "{err}");
         }
     }
 }

@@ -4,7 +4,7 @@ mod fmi;
 
 use fmi::{vr, Gnc};
 use fmi2_export::ffi::fmi2Status;
-use fmi2_export::{Access, Causality, Model};
+use fmi2_export::Causality;
 use fmu_gnc::LanderGnc;
 
 const UPRIGHT: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
@@ -22,28 +22,11 @@ fn checked_in_model_description_matches_the_variable_table() {
 }
 
 #[test]
-fn table_start_values_equal_the_rust_defaults() {
-    // The table repeats the defaults as literals; a fresh model holds the Rust defaults.
-    let model = LanderGnc::default();
-    for v in LanderGnc::variables() {
-        if let Access::Real {
-            start: Some(start),
-            get,
-            ..
-        } = &v.access
-        {
-            assert_eq!(get(&model), *start, "{}", v.name);
-        }
-        if let Access::Enumeration {
-            start: Some(start),
-            get,
-            ..
-        } = &v.access
-        {
-            assert_eq!(get(&model), *start, "{}", v.name);
-        }
-    }
-    let names: Vec<_> = LanderGnc::variables().iter().map(|v| v.name).collect();
+fn the_interface_names_are_all_declared() {
+    let names: Vec<_> = fmi2_export::variables::<LanderGnc>()
+        .iter()
+        .map(|v| v.name)
+        .collect();
     for required in [
         "r_nue[1]",
         "v_nue[3]",
@@ -70,7 +53,7 @@ fn table_start_values_equal_the_rust_defaults() {
             "INTERFACE name {required} missing"
         );
     }
-    let inputs = LanderGnc::variables()
+    let inputs = fmi2_export::variables::<LanderGnc>()
         .iter()
         .filter(|v| v.causality == Causality::Input)
         .count();
@@ -137,17 +120,34 @@ fn degenerate_first_inputs_warn_and_command_safe_outputs() {
 }
 
 #[test]
-fn bad_parameters_are_refused_at_initialization_naming_them() {
+fn a_value_outside_the_declared_bounds_is_refused_on_set_naming_it() {
+    // GIVEN control_bandwidth, declared > 0
     let gnc = Gnc::new();
-    assert_eq!(
-        gnc.set_reals(&[vr::CONTROL_BANDWIDTH], &[0.0]),
-        fmi2Status::fmi2OK
+    // WHEN a master sets it to 0
+    let status = gnc.set_reals(&[vr::CONTROL_BANDWIDTH], &[0.0]);
+    // THEN the set is refused, naming the variable and its open bound
+    assert_eq!(status, fmi2Status::fmi2Error);
+    assert!(
+        gnc.messages()
+            .iter()
+            .any(|m| m.contains("control_bandwidth") && m.contains("(0, inf]")),
+        "{:?}",
+        gnc.messages()
     );
+}
+
+#[test]
+fn bad_parameters_are_refused_at_initialization_naming_them() {
+    // GIVEN thrust_min above thrust_max, each within its own bounds
+    let gnc = Gnc::new();
+    let thrust_min = 211;
+    assert_eq!(gnc.set_reals(&[thrust_min], &[2000.0]), fmi2Status::fmi2OK);
+    // THEN initialization refuses it, naming the declared variable (not the Rust field)
     assert_eq!(gnc.initialize(), fmi2Status::fmi2Error);
     assert!(
         gnc.messages()
             .iter()
-            .any(|m| m.contains("control_bandwidth")),
+            .any(|m| m.contains("parameter thrust_max = 1600")),
         "{:?}",
         gnc.messages()
     );

@@ -5,7 +5,6 @@
 #![allow(unsafe_code)]
 
 use fmi2_export::ffi::*;
-use fmi2_export::Model;
 use fmu_gnc as fmu;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::ffi::{c_void, CString};
@@ -62,13 +61,13 @@ type Fixed = extern "C" fn(
 #[test]
 fn one_instance_holds_less_than_64_kib_of_heap_and_frees_it_all() {
     let guid = CString::new(fmi2_export::guid::<fmu::LanderGnc>()).unwrap();
-    let inputs: Vec<u32> = fmu::LanderGnc::variables()
+    let inputs: Vec<u32> = fmi2_export::variables::<fmu::LanderGnc>()
         .iter()
         .filter(|v| v.causality == fmi2_export::Causality::Input)
         .map(|v| v.value_reference)
         .collect();
     assert_eq!(inputs.len(), 14);
-    let outputs: Vec<u32> = fmu::LanderGnc::variables()
+    let outputs: Vec<u32> = fmi2_export::variables::<fmu::LanderGnc>()
         .iter()
         .filter(|v| v.causality == fmi2_export::Causality::Output)
         .filter(|v| matches!(v.access, fmi2_export::Access::Real { .. }))

@@ -5,7 +5,6 @@
 #![allow(unsafe_code)]
 
 use fmi2_export::ffi::*;
-use fmi2_export::Model;
 use fmu_plant as fmu;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::ffi::{c_void, CString};
@@ -60,7 +59,7 @@ type Fixed = extern "C" fn(
 );
 
 fn vr(name: &str) -> u32 {
-    fmu::LanderPlant::variables()
+    fmi2_export::variables::<fmu::LanderPlant>()
         .iter()
         .find(|v| v.name == name)
         .expect(name)
@@ -78,7 +77,7 @@ fn one_instance_holds_less_than_64_kib_of_heap_and_frees_it_all() {
     ]
     .map(vr)
     .to_vec();
-    let outputs: Vec<u32> = fmu::LanderPlant::variables()
+    let outputs: Vec<u32> = fmi2_export::variables::<fmu::LanderPlant>()
         .iter()
         .filter(|v| v.causality == fmi2_export::Causality::Output)
         .filter(|v| matches!(v.access, fmi2_export::Access::Real { .. }))

@@ -1,6 +1,9 @@
 //! The model: parameters, state, and the `fmi2_export::Model` implementation.
 use crate::dynamics::{Coefficients, State};
-use fmi2_export::{EnumerationDecl, Experiment, Log, Model, ModelError, StepEnd, Variable};
+use fmi_model::{
+    Declaration, Dependencies, EnumItem, EnumType, Enumeration, Experiment, Log, Model, ModelError,
+    StepEnd,
+};
 use serde::{Deserialize, Serialize};
 
 /// The constant mass (kg) of the oscillator.
@@ -18,26 +21,41 @@ pub enum Crossing {
     Rising = 3,
 }
 
-impl Crossing {
-    pub const DECL: EnumerationDecl = EnumerationDecl {
+impl Enumeration for Crossing {
+    const TYPE: &'static EnumType = &EnumType {
         name: "Oscillator.Crossing",
         description: "Direction of a threshold crossing that stops the simulation",
         items: &[
-            ("either", 1, "x crosses the threshold in either direction"),
-            ("falling", 2, "x falls through the threshold"),
-            ("rising", 3, "x rises through the threshold"),
+            EnumItem {
+                name: "either",
+                value: Crossing::Either as i32,
+                description: "x crosses the threshold in either direction",
+            },
+            EnumItem {
+                name: "falling",
+                value: Crossing::Falling as i32,
+                description: "x falls through the threshold",
+            },
+            EnumItem {
+                name: "rising",
+                value: Crossing::Rising as i32,
+                description: "x rises through the threshold",
+            },
         ],
     };
 
-    /// The layer has checked that `value` is an item of [`Crossing::DECL`].
-    pub fn from_item(value: i32) -> Crossing {
-        match value {
-            2 => Crossing::Falling,
-            3 => Crossing::Rising,
-            _ => Crossing::Either,
-        }
+    fn value(self) -> i32 {
+        self as i32
     }
 
+    fn from_value(value: i32) -> Option<Crossing> {
+        [Crossing::Either, Crossing::Falling, Crossing::Rising]
+            .into_iter()
+            .find(|c| *c as i32 == value)
+    }
+}
+
+impl Crossing {
     /// Whether going from `before` to `after` (offsets from the threshold) is a crossing.
     fn crossed(self, before: f64, after: f64) -> bool {
         let falling = before > 0.0 && after <= 0.0;
@@ -51,7 +69,7 @@ impl Crossing {
 }
 
 /// m x'' = -k x - c x' + u with m = 1 kg.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Oscillator {
     pub(crate) x0_m: f64,
     pub(crate) k_n_per_m: f64,
@@ -67,6 +85,28 @@ pub struct Oscillator {
     pub(crate) step_count: i32,
     pub(crate) omega_n_rad_per_s: f64,
     initialized: bool,
+}
+
+impl Default for Oscillator {
+    /// The start values of every variable.
+    fn default() -> Self {
+        Oscillator {
+            x0_m: 1.0,
+            k_n_per_m: 1.0,
+            c_ns_per_m: 0.1,
+            substeps: 8,
+            stop_at_threshold: false,
+            threshold_m: 0.0,
+            crossing: Crossing::Either,
+            label: "oscillator".into(),
+            u_n: 0.0,
+            x_m: 0.0,
+            v_m_per_s: 0.0,
+            step_count: 0,
+            omega_n_rad_per_s: 0.0,
+            initialized: false,
+        }
+    }
 }
 
 impl Oscillator {
@@ -119,17 +159,13 @@ impl Model for Oscillator {
         tolerance: None,
     };
 
-    fn variables() -> &'static [Variable<Self>] {
-        &crate::variables::VARIABLES
+    fn declarations() -> &'static [Declaration<Self>] {
+        &crate::variables::DECLARATIONS
     }
 
-    fn enumeration_types() -> &'static [EnumerationDecl] {
-        &[Crossing::DECL]
-    }
-
-    fn output_dependencies(_output: &str) -> fmi2_export::Dependencies {
+    fn output_dependencies(_output: &str) -> Dependencies {
         // x, v and step_count are state: the input acts through the integration only.
-        fmi2_export::Dependencies::NoInputs
+        Dependencies::NoInputs
     }
 
     fn calculate_values(&mut self, _log: &mut Log) {
@@ -144,7 +180,8 @@ impl Model for Oscillator {
     fn exit_initialization(&mut self, _start_time: f64, log: &mut Log) -> Result<(), ModelError> {
         if self.stop_at_threshold && self.x0_m == self.threshold_m {
             return Err(ModelError::InvalidParameter {
-                name: "threshold",
+                field: "threshold_m",
+                index: None,
                 value: self.threshold_m.to_string(),
                 reason: "equals x0 while stop_at_threshold is set: the model would stop at once"
                     .into(),

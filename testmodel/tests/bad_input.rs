@@ -361,10 +361,10 @@ fn instantiate_checks_type_guid_name_and_callbacks() {
     assert!(try_instantiate(c"a".as_ptr(), fmi2CoSimulation, wrong.as_ptr(), &functions).is_null());
     assert_eq!(
         last(),
-        format!("fmi2Instantiate: fmuGUID Some(\"{{00000000-0000-0000-0000-000000000000}}\") does not match this FMU's GUID {}", g.to_str().unwrap())
+        format!("fmi2Instantiate: fmuGUID \"{{00000000-0000-0000-0000-000000000000}}\" does not match this FMU's GUID {}", g.to_str().unwrap())
     );
     assert!(try_instantiate(c"a".as_ptr(), fmi2CoSimulation, null(), &functions).is_null());
-    assert!(last().starts_with("fmi2Instantiate: fmuGUID None does not match"));
+    assert!(last().starts_with("fmi2Instantiate: fmuGUID NULL does not match"));
 
     assert!(try_instantiate(c"".as_ptr(), fmi2CoSimulation, g.as_ptr(), &functions).is_null());
     assert_eq!(last(), "fmi2Instantiate: instanceName is NULL or empty");

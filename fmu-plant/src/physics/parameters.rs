@@ -1,7 +1,7 @@
 //! Plant parameters as the user sets them, their defaults and their validation.
 //!
-//! Each error names the parameter by its FMI variable name, so that the message a master
-//! shows points at the field to fix.
+//! Each error names the field of [`PlantParameters`] to fix (and the element of a vector);
+//! an interface layer names it as its users know it.
 use super::actuators::{Engines, Rcs, ThrustLine};
 use nalgebra::{Quaternion, Vector3};
 use serde::{Deserialize, Serialize};
@@ -106,62 +106,62 @@ impl Default for PlantParameters {
     }
 }
 
-/// A parameter value the plant refuses.
+/// A parameter value the plant refuses: the field (a path in [`PlantParameters`], e.g.
+/// `engines.count`) and, for a vector, the 0-based element.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("parameter {name} = {value}: {reason}")]
+#[error("parameter {field}{} = {value}: {reason}", index.map(|i| format!("[{i}]")).unwrap_or_default())]
 pub struct ParameterError {
-    pub name: &'static str,
+    pub field: &'static str,
+    pub index: Option<usize>,
     pub value: String,
     pub reason: String,
 }
 
-fn refuse(name: &'static str, value: impl ToString, reason: impl Into<String>) -> ParameterError {
+/// One field (or one element of a vector field, `index`).
+type Field = (&'static str, Option<usize>);
+
+fn refuse(
+    (field, index): Field,
+    value: impl ToString,
+    reason: impl Into<String>,
+) -> ParameterError {
     ParameterError {
-        name,
+        field,
+        index,
         value: value.to_string(),
         reason: reason.into(),
     }
 }
 
-fn require(ok: bool, name: &'static str, value: f64, reason: &str) -> Result<(), ParameterError> {
+fn require(ok: bool, field: Field, value: f64, reason: &str) -> Result<(), ParameterError> {
     if ok {
         Ok(())
     } else {
-        Err(refuse(name, value, reason))
+        Err(refuse(field, value, reason))
     }
 }
 
-fn positive(name: &'static str, value: f64) -> Result<(), ParameterError> {
+fn positive(field: Field, value: f64) -> Result<(), ParameterError> {
     require(
         value.is_finite() && value > 0.0,
-        name,
+        field,
         value,
         "must be finite and > 0",
     )
 }
 
-fn non_negative(name: &'static str, value: f64) -> Result<(), ParameterError> {
+fn non_negative(field: Field, value: f64) -> Result<(), ParameterError> {
     require(
         value.is_finite() && value >= 0.0,
-        name,
+        field,
         value,
         "must be finite and >= 0",
     )
 }
 
-fn finite(name: &'static str, value: f64) -> Result<(), ParameterError> {
-    require(value.is_finite(), name, value, "must be finite")
+fn finite(field: Field, value: f64) -> Result<(), ParameterError> {
+    require(value.is_finite(), field, value, "must be finite")
 }
-
-const R0_NAMES: [&str; 3] = ["r0_nue[1]", "r0_nue[2]", "r0_nue[3]"];
-const V0_NAMES: [&str; 3] = ["v0_nue[1]", "v0_nue[2]", "v0_nue[3]"];
-const OMEGA0_NAMES: [&str; 3] = ["omega0_body[1]", "omega0_body[2]", "omega0_body[3]"];
-const INERTIA_NAMES: [&str; 3] = ["inertia_body[1]", "inertia_body[2]", "inertia_body[3]"];
-const POINT_NAMES: [&str; 3] = [
-    "thrust_point_body[1]",
-    "thrust_point_body[2]",
-    "thrust_point_body[3]",
-];
 
 impl PlantParameters {
     pub fn translation_model_kind(&self) -> Result<TranslationModelKind, ParameterError> {
@@ -169,7 +169,7 @@ impl PlantParameters {
             1 => Ok(TranslationModelKind::Flat),
             2 => Ok(TranslationModelKind::Spherical),
             other => Err(refuse(
-                "translation_model",
+                ("translation_model", None),
                 other,
                 "must be 1 (flat) or 2 (spherical)",
             )),
@@ -184,7 +184,7 @@ impl PlantParameters {
         let norm = q.norm();
         let shown = format!("[{w}, {x}, {y}, {z}]");
         if !norm.is_finite() {
-            return Err(refuse("q0_body_to_nue", shown, "must be finite"));
+            return Err(refuse(("q0_body_to_nue", None), shown, "must be finite"));
         }
         let deviation = (norm - 1.0).abs();
         if deviation <= Q0_SILENT_NORM_TOLERANCE {
@@ -198,7 +198,7 @@ impl PlantParameters {
             ))
         } else {
             Err(refuse(
-                "q0_body_to_nue",
+                ("q0_body_to_nue", None),
                 shown,
                 format!("norm {norm} is not 1 (|norm - 1| must be <= {Q0_WARN_NORM_TOLERANCE})"),
             ))
@@ -208,11 +208,15 @@ impl PlantParameters {
     /// Checks every parameter; the first offending one is named.
     pub fn validate(&self) -> Result<(), ParameterError> {
         for k in 0..3 {
-            finite(R0_NAMES[k], self.r0_nue_m[k])?;
-            finite(V0_NAMES[k], self.v0_nue_mps[k])?;
-            finite(OMEGA0_NAMES[k], self.omega0_body_radps[k])?;
-            positive(INERTIA_NAMES[k], self.inertia_body_kgm2[k])?;
-            finite(POINT_NAMES[k], self.thrust_line.point_body_m[k])?;
+            let at = |field| (field, Some(k));
+            finite(at("r0_nue_m"), self.r0_nue_m[k])?;
+            finite(at("v0_nue_mps"), self.v0_nue_mps[k])?;
+            finite(at("omega0_body_radps"), self.omega0_body_radps[k])?;
+            positive(at("inertia_body_kgm2"), self.inertia_body_kgm2[k])?;
+            finite(
+                at("thrust_line.point_body_m"),
+                self.thrust_line.point_body_m[k],
+            )?;
         }
         // A rigid body's principal moments obey the triangle inequality (equality for a
         // flat plate); a violation means a typo, not a vehicle.
@@ -221,61 +225,70 @@ impl PlantParameters {
             let others = i[(k + 1) % 3] + i[(k + 2) % 3];
             require(
                 i[k] <= others * (1.0 + 1e-12),
-                INERTIA_NAMES[k],
+                ("inertia_body_kgm2", Some(k)),
                 i[k],
                 "exceeds the sum of the other two principal moments: no rigid body has it",
             )?;
         }
-        positive("m0", self.m0_kg)?;
-        positive("dry_mass", self.dry_mass_kg)?;
+        positive(("m0_kg", None), self.m0_kg)?;
+        positive(("dry_mass_kg", None), self.dry_mass_kg)?;
         require(
             self.m0_kg > self.dry_mass_kg,
-            "m0",
+            ("m0_kg", None),
             self.m0_kg,
             &format!("must exceed dry_mass = {}", self.dry_mass_kg),
         )?;
-        positive("g", self.gravity_mps2)?;
-        positive("isp", self.isp_s)?;
-        positive("g0", self.g0_mps2)?;
+        positive(("gravity_mps2", None), self.gravity_mps2)?;
+        positive(("isp_s", None), self.isp_s)?;
+        positive(("g0_mps2", None), self.g0_mps2)?;
         let e = &self.engines;
         if e.count == 0 {
-            return Err(refuse("engine_count", e.count, "must be >= 1"));
+            return Err(refuse(("engines.count", None), e.count, "must be >= 1"));
         }
-        non_negative("engine_thrust_min", e.min_thrust_per_engine_n)?;
-        non_negative("engine_thrust_max", e.max_thrust_per_engine_n)?;
+        non_negative(
+            ("engines.min_thrust_per_engine_n", None),
+            e.min_thrust_per_engine_n,
+        )?;
+        non_negative(
+            ("engines.max_thrust_per_engine_n", None),
+            e.max_thrust_per_engine_n,
+        )?;
         require(
             e.min_thrust_per_engine_n <= e.max_thrust_per_engine_n,
-            "engine_thrust_min",
+            ("engines.min_thrust_per_engine_n", None),
             e.min_thrust_per_engine_n,
             &format!(
                 "must not exceed engine_thrust_max = {}",
                 e.max_thrust_per_engine_n
             ),
         )?;
-        non_negative("engine_off_threshold", e.off_threshold_n)?;
-        non_negative("engine_time_constant", e.time_constant_s)?;
-        non_negative("rcs_thruster_force", self.rcs.thruster_force_n)?;
-        non_negative("rcs_moment_arm", self.rcs.moment_arm_m)?;
-        non_negative("rcs_time_constant", self.rcs.time_constant_s)?;
+        non_negative(("engines.off_threshold_n", None), e.off_threshold_n)?;
+        non_negative(("engines.time_constant_s", None), e.time_constant_s)?;
+        non_negative(("rcs.thruster_force_n", None), self.rcs.thruster_force_n)?;
+        non_negative(("rcs.moment_arm_m", None), self.rcs.moment_arm_m)?;
+        non_negative(("rcs.time_constant_s", None), self.rcs.time_constant_s)?;
         let misalignment = self.thrust_line.misalignment_rad;
         require(
             misalignment.is_finite() && misalignment.abs() < std::f64::consts::FRAC_PI_2,
-            "thrust_misalignment",
+            ("thrust_line.misalignment_rad", None),
             misalignment,
             "must be finite and below pi/2 in magnitude",
         )?;
         finite(
-            "thrust_misalignment_azimuth",
+            ("thrust_line.misalignment_azimuth_rad", None),
             self.thrust_line.misalignment_azimuth_rad,
         )?;
-        positive("integration_step", self.integration_step_s)?;
+        positive(("integration_step_s", None), self.integration_step_s)?;
         let kind = self.translation_model_kind()?;
-        positive("moon_radius", self.moon_radius_m)?;
-        finite("moon_rotation_rate", self.moon_rotation_rate_radps)?;
-        finite("site_longitude", self.site_longitude_rad)?;
+        positive(("moon_radius_m", None), self.moon_radius_m)?;
+        finite(
+            ("moon_rotation_rate_radps", None),
+            self.moon_rotation_rate_radps,
+        )?;
+        finite(("site_longitude_rad", None), self.site_longitude_rad)?;
         require(
             self.site_latitude_rad.abs() <= MAX_SITE_LATITUDE_RAD,
-            "site_latitude",
+            ("site_latitude_rad", None),
             self.site_latitude_rad,
             "must be within +-85 deg (1.4835 rad): eq. 1 is singular at the poles",
         )?;
@@ -283,7 +296,7 @@ impl PlantParameters {
         if kind == TranslationModelKind::Flat {
             require(
                 self.r0_nue_m.y > 0.0,
-                "r0_nue[2]",
+                ("r0_nue_m", Some(1)),
                 self.r0_nue_m.y,
                 "the altitude must be > 0: the plant starts in flight (ground contact is not modelled)",
             )?;
@@ -301,50 +314,58 @@ mod tests {
         assert_eq!(PlantParameters::default().validate(), Ok(()));
     }
 
-    fn refused_name(p: PlantParameters) -> &'static str {
-        p.validate().expect_err("must be refused").name
+    /// The refused field, with its element if any (`inertia_body_kgm2[1]`).
+    fn refused_name(p: PlantParameters) -> String {
+        let e = p.validate().expect_err("must be refused");
+        match e.index {
+            Some(k) => format!("{}[{k}]", e.field),
+            None => e.field.to_string(),
+        }
     }
 
     #[test]
     fn each_bad_value_is_refused_under_its_own_name() {
         let d = PlantParameters::default;
-        assert_eq!(refused_name(PlantParameters { m0_kg: -1.0, ..d() }), "m0");
+        assert_eq!(
+            refused_name(PlantParameters { m0_kg: -1.0, ..d() }),
+            "m0_kg"
+        );
         assert_eq!(
             refused_name(PlantParameters {
                 m0_kg: 600.0,
                 ..d()
             }),
-            "m0"
+            "m0_kg"
         );
         assert_eq!(
             refused_name(PlantParameters {
                 dry_mass_kg: 0.0,
                 ..d()
             }),
-            "dry_mass"
+            "dry_mass_kg"
         );
         let mut p = d();
         p.inertia_body_kgm2.y = -300.0;
-        assert_eq!(refused_name(p), "inertia_body[2]");
+        assert_eq!(refused_name(p), "inertia_body_kgm2[1]");
         let mut p = d();
         p.inertia_body_kgm2.z = 900.0;
-        assert_eq!(refused_name(p), "inertia_body[3]");
+        assert_eq!(refused_name(p), "inertia_body_kgm2[2]");
         let mut p = d();
         p.engines.min_thrust_per_engine_n = 900.0;
-        assert_eq!(refused_name(p), "engine_thrust_min");
+        assert_eq!(refused_name(p), "engines.min_thrust_per_engine_n");
         assert_eq!(
             refused_name(PlantParameters {
                 integration_step_s: 0.0,
                 ..d()
             }),
-            "integration_step"
+            "integration_step_s"
         );
         assert_eq!(
             refused_name(PlantParameters {
                 integration_step_s: f64::NAN,
                 ..d()
             }),
-            "integration_step"
+            "integration_step_s"
         );
         assert_eq!(
             refused_name(PlantParameters {
@@ -369,13 +390,13 @@ mod tests {
         );
         let mut p = d();
         p.r0_nue_m.y = 0.0;
-        assert_eq!(refused_name(p), "r0_nue[2]");
+        assert_eq!(refused_name(p), "r0_nue_m[1]");
         assert_eq!(
             refused_name(PlantParameters {
                 site_latitude_rad: 1.5,
                 ..d()
             }),
-            "site_latitude"
+            "site_latitude_rad"
         );
     }
 

@@ -159,7 +159,8 @@ impl Plant {
         let altitude = translation.altitude(&translation_state);
         if altitude.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Err(ParameterError {
-                name: "r0_nue[2]",
+                field: "r0_nue_m",
+                index: Some(1),
                 value: p.r0_nue_m.y.to_string(),
                 reason: format!(
                     "the altitude above the surface is {altitude} m; it must be > 0: \

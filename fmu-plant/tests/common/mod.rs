@@ -14,8 +14,7 @@ use std::sync::Mutex;
 
 /// Looks a value reference up by name in the variable table (the single declaration).
 pub fn vr(name: &str) -> u32 {
-    use fmi2_export::Model;
-    fmu::LanderPlant::variables()
+    fmi2_export::variables::<fmu::LanderPlant>()
         .iter()
         .find(|v| v.name == name)
         .unwrap_or_else(|| panic!("no variable {name}"))

@@ -2,22 +2,20 @@
 //!
 //! ```text
 //! offset size field
-//!      0    8 magic "FMI2SNAP"
+//!      0    8 magic, chosen by the layer (FMI 2.0: "FMI2SNAP")
 //!      8    2 format version (this layout) = 1
 //!     10    2 reserved, 0
 //!     12    4 Model::STATE_VERSION
 //!     16   16 interface GUID of the model (binary UUID): a foreign FMU's buffer is refused
 //!     32    8 payload length in bytes
 //!     40    4 CRC-32 (IEEE) of the payload
-//!     44    n payload: postcard encoding of `Core<M>` (f64 as raw bits: round trip is exact)
+//!     44    n payload: postcard encoding of the layer's state (f64 as raw bits: exact)
 //! ```
 //! Every field is checked before the payload is decoded, and the buffer length must equal
 //! header + payload exactly; reads go through bounds-checked slices only.
-use crate::instance::Core;
-use crate::model::Model;
+use serde::{de::DeserializeOwned, Serialize};
 use uuid::Uuid;
 
-const MAGIC: [u8; 8] = *b"FMI2SNAP";
 const FORMAT_VERSION: u16 = 1;
 pub const HEADER_LEN: usize = 44;
 
@@ -43,13 +41,27 @@ pub enum SnapshotError {
     Encode(String),
 }
 
-pub fn encode<M: Model>(core: &Core<M>, guid: Uuid) -> Result<Vec<u8>, SnapshotError> {
-    let payload = postcard::to_allocvec(core).map_err(|e| SnapshotError::Encode(e.to_string()))?;
+/// What identifies a buffer as ours: the layer's magic bytes, the model's state version and
+/// the interface GUID.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Header {
+    pub magic: [u8; 8],
+    pub state_version: u32,
+    pub guid: Uuid,
+}
+
+pub fn encode<T: Serialize>(state: &T, header: Header) -> Result<Vec<u8>, SnapshotError> {
+    let Header {
+        magic,
+        state_version,
+        guid,
+    } = header;
+    let payload = postcard::to_allocvec(state).map_err(|e| SnapshotError::Encode(e.to_string()))?;
     let mut bytes = Vec::with_capacity(HEADER_LEN + payload.len());
-    bytes.extend_from_slice(&MAGIC);
+    bytes.extend_from_slice(&magic);
     bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
     bytes.extend_from_slice(&0u16.to_le_bytes());
-    bytes.extend_from_slice(&M::STATE_VERSION.to_le_bytes());
+    bytes.extend_from_slice(&state_version.to_le_bytes());
     bytes.extend_from_slice(guid.as_bytes());
     bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
     bytes.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
@@ -58,12 +70,17 @@ pub fn encode<M: Model>(core: &Core<M>, guid: Uuid) -> Result<Vec<u8>, SnapshotE
     Ok(bytes)
 }
 
-pub fn decode<M: Model>(bytes: &[u8], guid: Uuid) -> Result<Core<M>, SnapshotError> {
+pub fn decode<T: DeserializeOwned>(bytes: &[u8], header: Header) -> Result<T, SnapshotError> {
+    let Header {
+        magic,
+        state_version: expected_version,
+        guid,
+    } = header;
     let header = bytes
         .get(..HEADER_LEN)
         .ok_or(SnapshotError::TooShort { len: bytes.len() })?;
     let field = |at: usize, n: usize| &header[at..at + n];
-    if field(0, 8) != MAGIC {
+    if field(0, 8) != magic {
         return Err(SnapshotError::BadMagic);
     }
     let format = u16::from_le_bytes(field(8, 2).try_into().expect("2 bytes"));
@@ -71,10 +88,10 @@ pub fn decode<M: Model>(bytes: &[u8], guid: Uuid) -> Result<Core<M>, SnapshotErr
         return Err(SnapshotError::FormatVersion { found: format });
     }
     let state_version = u32::from_le_bytes(field(12, 4).try_into().expect("4 bytes"));
-    if state_version != M::STATE_VERSION {
+    if state_version != expected_version {
         return Err(SnapshotError::StateVersion {
             found: state_version,
-            expected: M::STATE_VERSION,
+            expected: expected_version,
         });
     }
     let found = Uuid::from_slice(field(16, 16)).expect("16 bytes");
@@ -97,7 +114,7 @@ pub fn decode<M: Model>(bytes: &[u8], guid: Uuid) -> Result<Core<M>, SnapshotErr
     if crc32fast::hash(payload) != crc {
         return Err(SnapshotError::Checksum);
     }
-    let (core, rest) = postcard::take_from_bytes::<Core<M>>(payload)
+    let (state, rest) = postcard::take_from_bytes::<T>(payload)
         .map_err(|e| SnapshotError::Payload(e.to_string()))?;
     if !rest.is_empty() {
         return Err(SnapshotError::Payload(format!(
@@ -105,5 +122,5 @@ pub fn decode<M: Model>(bytes: &[u8], guid: Uuid) -> Result<Core<M>, SnapshotErr
             rest.len()
         )));
     }
-    Ok(core)
+    Ok(state)
 }

@@ -1,0 +1,44 @@
+//! The hook for Model Exchange: a model whose state is continuous exposes it, its
+//! derivatives and its events, and a layer lets the master's solver integrate it.
+//!
+//! Declared here so that the FMI 2.0 and 3.0 layers (and a test driver with a fixed-step
+//! integrator of its own) program against one interface; the plant implements it. A model
+//! without it is exported for Co-Simulation only, and the layers answer the Model Exchange
+//! functions with an error status and a log line.
+use crate::model::{Log, Model, ModelError};
+
+/// What an event update found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct EventUpdate {
+    /// The model asks to end the simulation (e.g. touchdown).
+    pub terminate: bool,
+    /// The continuous states were changed by the update (the master must re-read them).
+    pub states_changed: bool,
+    /// The nominals changed.
+    pub nominals_changed: bool,
+}
+
+/// Continuous states, derivatives and event indicators of a [`Model`].
+///
+/// Vectors have fixed lengths for a given set of parameters, known after
+/// `exit_initialization` (e.g. actuator lag states only when a lag is configured).
+pub trait ContinuousModel: Model {
+    /// Number of continuous states.
+    fn state_count(&self) -> usize;
+    /// Number of event indicators.
+    fn event_indicator_count(&self) -> usize;
+    /// Set the time of the model (between solver steps).
+    fn set_time(&mut self, t: f64);
+    /// Copy the states into `x` (`x.len() == state_count()`).
+    fn states(&self, x: &mut [f64]);
+    /// Take the states from the solver.
+    fn set_states(&mut self, x: &[f64]) -> Result<(), ModelError>;
+    /// Nominal magnitudes of the states (for the solver's error control).
+    fn nominals(&self, nominal: &mut [f64]);
+    /// Time derivatives of the states at the current time, states and inputs.
+    fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), ModelError>;
+    /// Event indicators (an event is where one changes sign).
+    fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), ModelError>;
+    /// Handle an event at the current time (e.g. freeze the touchdown outputs).
+    fn update_discrete_states(&mut self, log: &mut Log) -> Result<EventUpdate, ModelError>;
+}

@@ -1,0 +1,31 @@
+//! The version-neutral core of our FMUs.
+//!
+//! A model crate implements [`Model`] and declares each variable once, in a table of
+//! [`Declaration`]s (usually written with [`decl!`]). An FMI layer (`fmi2-export`, and the
+//! FMI 3.0 layer built on the same declarations) turns that table into its variables, its
+//! get/set dispatch and its `modelDescription.xml`:
+//!
+//! ```text
+//! declarations (this crate) -> FMI 2.0 layer / FMI 3.0 layer -> model crates
+//! ```
+//!
+//! Nothing here knows an FMI version: a vector is one declaration with a [`Shape`] (FMI 2.0
+//! expands it to scalars `r_nue[1]`.., FMI 3.0 writes one array), start values are read
+//! from the model's `Default`, bounds are the ones the layer enforces on every set, and an
+//! enumeration comes from its Rust enum ([`Enumeration`]). No `unsafe` here.
+#![deny(unsafe_code)]
+
+mod check;
+pub mod continuous;
+mod declaration;
+mod enumeration;
+mod model;
+pub mod snapshot;
+
+pub use check::check_declarations;
+pub use continuous::{ContinuousModel, EventUpdate};
+pub use declaration::{
+    role, Causality, Declaration, Dependencies, Initial, Kind, Limit, Role, Shape, Variability,
+};
+pub use enumeration::{EnumItem, EnumType, EnumValue, Enumeration};
+pub use model::{Experiment, Level, Log, Model, ModelError, StepEnd};

@@ -1,0 +1,120 @@
+//! What a model implements. A model never sees a pointer, a C string, an FMI version or an
+//! FMI state; the layers do all of that.
+use crate::declaration::{Declaration, Dependencies};
+use serde::{de::DeserializeOwned, Serialize};
+
+/// Severity of a message a model reports; a layer maps it to a status and a log category.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Level {
+    /// Informational; logged when debug logging is on.
+    Info,
+    /// Always logged; the call returns a warning status.
+    Warning,
+}
+
+/// Messages a model produces during a call; the layer forwards them to the master's logger
+/// after the call and turns a warning into a warning status.
+#[derive(Debug, Default)]
+pub struct Log {
+    pub entries: Vec<(Level, String)>,
+}
+
+impl Log {
+    pub fn info(&mut self, msg: impl Into<String>) {
+        self.entries.push((Level::Info, msg.into()));
+    }
+    pub fn warning(&mut self, msg: impl Into<String>) {
+        self.entries.push((Level::Warning, msg.into()));
+    }
+    pub fn has_warning(&self) -> bool {
+        self.entries.iter().any(|(l, _)| *l == Level::Warning)
+    }
+}
+
+/// How a successful `do_step` ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StepEnd {
+    /// The step reached `t + h`.
+    Complete,
+    /// The model stopped early at `time` (`t <= time <= t + h`), e.g. on touchdown; the
+    /// layer reports it as the standard says (FMI 2.0: `fmi2Discard` and
+    /// `fmi2LastSuccessfulTime`); `terminated` ends the simulation; `reason` is logged.
+    Stopped {
+        time: f64,
+        terminated: bool,
+        reason: String,
+    },
+}
+
+/// A model's refusal. The layer logs it (naming the function and, for a field, the
+/// variable declared for it) and returns an error status.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModelError {
+    /// The parameter stored in `field` (a path as in the declaration's `field`, e.g.
+    /// `inertia_body_kgm2`; `index` is the 0-based element of a vector) is refused.
+    #[error("parameter {field}{} = {value}: {reason}", index.map(|i| format!("[{i}]")).unwrap_or_default())]
+    InvalidParameter {
+        field: &'static str,
+        index: Option<usize>,
+        value: String,
+        reason: String,
+    },
+    /// As [`ModelError::InvalidParameter`], for an input.
+    #[error("input {field}{} = {value}: {reason}", index.map(|i| format!("[{i}]")).unwrap_or_default())]
+    InvalidInput {
+        field: &'static str,
+        index: Option<usize>,
+        value: String,
+        reason: String,
+    },
+    #[error("{0}")]
+    Other(String),
+}
+
+/// Default experiment written to the model description.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Experiment {
+    pub start_time: f64,
+    pub stop_time: f64,
+    pub step_size: f64,
+    pub tolerance: Option<f64>,
+}
+
+/// A model, for every FMI version and interface type. `Default` is a fresh instance and
+/// holds every start value (layers read start values from it, never from a second
+/// literal); `Clone` + serde give FMU-state copies and serialization.
+///
+/// Model Exchange is the optional [`ContinuousModel`](crate::ContinuousModel) on top.
+pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static {
+    /// `modelIdentifier` (also the shared-library name in the FMU).
+    const MODEL_IDENTIFIER: &'static str;
+    const MODEL_NAME: &'static str;
+    const DESCRIPTION: &'static str;
+    const DEFAULT_EXPERIMENT: Experiment;
+    /// Bumped by hand when the serialized state of the model changes shape.
+    const STATE_VERSION: u32 = 1;
+
+    /// Every variable, declared once.
+    fn declarations() -> &'static [Declaration<Self>];
+
+    /// The inputs `output` (a declaration name) depends on within one step. The default,
+    /// every input, is always safe; a model whose outputs are functions of its state says
+    /// `NoInputs`, which lets a master close a loop through it without an algebraic loop.
+    fn output_dependencies(_output: &str) -> Dependencies {
+        Dependencies::AllInputs
+    }
+
+    /// Recompute outputs (and calculated parameters) from the current parameters, inputs and
+    /// state, so that a get sees consistent values. The layer calls it before a get
+    /// whenever something changed since the last call. Must not fail; a warning in `log`
+    /// turns the get's status into a warning.
+    fn calculate_values(&mut self, _log: &mut Log) {}
+
+    /// End of initialization: check parameters (naming the offending field) and set up the
+    /// state from them. `start_time` is the simulation's start time.
+    fn exit_initialization(&mut self, start_time: f64, log: &mut Log) -> Result<(), ModelError>;
+
+    /// Co-Simulation: advance from `t` to `t + h` (`h > 0`, inputs finite, checked by the
+    /// layer).
+    fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError>;
+}
