@@ -23,6 +23,14 @@ pub struct EventUpdate {
 /// Vectors have fixed lengths for a given set of parameters, known after
 /// `exit_initialization` (e.g. actuator lag states only when a lag is configured).
 pub trait ContinuousModel: Model {
+    /// The continuous states as declarations, in state-vector order, each with the
+    /// declaration of its derivative (same shape): `(state, derivative)` names. A layer
+    /// writes them into its model description (FMI 2.0 `derivative` attributes and
+    /// `ModelStructure/Derivatives`); their element count is the state count.
+    const STATE_DERIVATIVES: &'static [(&'static str, &'static str)];
+    /// Number of event indicators, fixed for the model description.
+    const EVENT_INDICATORS: usize;
+
     /// Number of continuous states.
     fn state_count(&self) -> usize;
     /// Number of event indicators.

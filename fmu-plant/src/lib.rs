@@ -10,4 +10,4 @@ pub mod physics;
 
 pub use fmu::LanderPlant;
 
-fmi2_export::export_fmi2!(crate::LanderPlant);
+fmi2_export::export_fmi2!(crate::LanderPlant, model_exchange);
