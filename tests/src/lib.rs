@@ -100,6 +100,23 @@ impl UnpackedFmu {
     }
 }
 
+/// The shipped FMUs that also declare Model Exchange (and export its 10 functions).
+pub const MODEL_EXCHANGE_FMUS: [&str; 1] = ["LanderPlant"];
+
+/// The 10 functions FMI 2.0 Model Exchange adds to the common ones.
+pub const FMI2_ME_FUNCTIONS: [&str; 10] = [
+    "fmi2EnterEventMode",
+    "fmi2NewDiscreteStates",
+    "fmi2EnterContinuousTimeMode",
+    "fmi2CompletedIntegratorStep",
+    "fmi2SetTime",
+    "fmi2SetContinuousStates",
+    "fmi2GetDerivatives",
+    "fmi2GetEventIndicators",
+    "fmi2GetContinuousStates",
+    "fmi2GetNominalsOfContinuousStates",
+];
+
 /// The 34 functions of the FMI 2.0 Co-Simulation API (25 common + 9 co-simulation).
 pub const FMI2_CS_FUNCTIONS: [&str; 34] = [
     "fmi2GetTypesPlatform",

@@ -1,9 +1,11 @@
 //! C ABI conformance of the packaged FMUs, checked the way a C master sees them.
 //!
 //! 1. `nm -D --defined-only` on each packaged library lists exactly the 34 `fmi2*`
-//!    functions of FMI 2.0 Co-Simulation: nothing missing, nothing of ours leaking.
+//!    functions of FMI 2.0 Co-Simulation, plus the 10 of Model Exchange for LanderPlant:
+//!    nothing missing, nothing of ours leaking.
 //! 2. cbindgen writes a C header of the functions the export macro generates (from the
-//!    macro-expanded test-model crate; the landers use the same macro), and
+//!    macro-expanded plant crate, whose export adds Model Exchange to the macro's
+//!    Co-Simulation functions that every FMU uses), and
 //!    `tests/c/abi_check.c` is compiled against it *and* the official FMI 2.0 headers with
 //!    `-std=c99 -Wall -Wextra -Werror -pedantic`: a signature that differs from the
 //!    standard's `fmi2XxxTYPE` is a conflicting redeclaration, i.e. a compile error.
@@ -12,7 +14,10 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use system_tests::{target_dir, workspace_root, UnpackedFmu, FMI2_CS_FUNCTIONS, SHIPPED_FMUS};
+use system_tests::{
+    target_dir, workspace_root, UnpackedFmu, FMI2_CS_FUNCTIONS, FMI2_ME_FUNCTIONS,
+    MODEL_EXCHANGE_FMUS, SHIPPED_FMUS,
+};
 
 /// Communication steps of the C program's simulation: enough for a state round trip in
 /// the second half, short enough to stay far from any lander touchdown.
@@ -22,8 +27,17 @@ fn fmi2_function_names() -> BTreeSet<String> {
     FMI2_CS_FUNCTIONS.iter().map(|s| s.to_string()).collect()
 }
 
+/// The 34 Co-Simulation functions, plus the 10 of Model Exchange for an FMU that offers it.
+fn expected_exports(fmu: &str) -> BTreeSet<String> {
+    let mut names = fmi2_function_names();
+    if MODEL_EXCHANGE_FMUS.contains(&fmu) {
+        names.extend(FMI2_ME_FUNCTIONS.iter().map(|s| s.to_string()));
+    }
+    names
+}
+
 #[test]
-fn each_library_exports_exactly_the_34_fmi2_functions() {
+fn each_library_exports_exactly_the_fmi2_functions_of_its_interfaces() {
     for fmu in SHIPPED_FMUS {
         let unpacked = UnpackedFmu::open(fmu);
         let output = Command::new("nm")
@@ -40,7 +54,7 @@ fn each_library_exports_exactly_the_34_fmi2_functions() {
             .collect();
         assert_eq!(
             exported,
-            fmi2_function_names(),
+            expected_exports(fmu),
             "dynamic symbols of {}",
             fmu
         );
@@ -51,11 +65,13 @@ fn each_library_exports_exactly_the_34_fmi2_functions() {
 fn c_master_binds_every_function_through_the_official_typedefs_and_simulates() {
     let work = tempfile::tempdir().unwrap();
     let header = work.path().join("fmi2_exports.h");
-    generate_exports_header("fmu-testmodel", &header);
+    // The plant's crate: its export is the Co-Simulation one plus Model Exchange, so the
+    // header declares all 44 functions and each is checked against the official typedefs.
+    generate_exports_header("fmu-plant", &header);
     let declared = declared_functions(&std::fs::read_to_string(&header).unwrap());
     assert_eq!(
         declared,
-        fmi2_function_names(),
+        expected_exports("LanderPlant"),
         "functions declared in the cbindgen header"
     );
 

@@ -59,6 +59,15 @@ pub struct Plant {
 
 impl Plant {
     pub fn new() -> Plant {
+        Plant::instantiate(fmi2CoSimulation)
+    }
+
+    /// An instance for Model Exchange.
+    pub fn model_exchange() -> Plant {
+        Plant::instantiate(fmi2ModelExchange)
+    }
+
+    fn instantiate(fmu_type: fmi2Type) -> Plant {
         let sink = Box::<Sink>::default();
         // SAFETY: see the module documentation.
         let logger = unsafe { std::mem::transmute::<FixedLogger, fmi2CallbackLogger>(record) };
@@ -73,7 +82,7 @@ impl Plant {
         let c = unsafe {
             fmu::fmi2Instantiate(
                 c"plant".as_ptr(),
-                fmi2CoSimulation,
+                fmu_type,
                 guid.as_ptr(),
                 c"file:///nowhere".as_ptr(),
                 &functions,
