@@ -6,3 +6,4 @@
 //! `fmi-sys`: a crate that links into our FMUs must not drag a foreign library (or its
 //! symbols) along. The system tests compare these types with the official headers.
 pub mod fmi2;
+pub mod fmi3;

@@ -30,6 +30,9 @@ pub trait ContinuousModel: Model {
     const STATE_DERIVATIVES: &'static [(&'static str, &'static str)];
     /// Number of event indicators, fixed for the model description.
     const EVENT_INDICATORS: usize;
+    /// The scalar declarations that publish the event indicators (FMI 3.0 declares each
+    /// indicator as a variable), in indicator order.
+    const EVENT_INDICATOR_VARIABLES: &'static [&'static str];
 
     /// Number of continuous states.
     fn state_count(&self) -> usize;

@@ -72,6 +72,8 @@ pub mod role {
     pub const continuous_state: Role = r(C::Local, V::Continuous, Some(I::Calculated));
     /// The time derivative of a continuous state.
     pub const derivative: Role = r(C::Local, V::Continuous, Some(I::Calculated));
+    /// Computed by the model for inspection (e.g. an event indicator), not an output.
+    pub const local: Role = r(C::Local, V::Continuous, Some(I::Calculated));
 }
 
 /// A scalar or a vector of `n` elements (an FMI 3.0 array with one `Dimension`).

@@ -340,6 +340,8 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(233, derivative der_mass: get |m, _| m.derivative_element(model_exchange::THRUST_LAG - 1), "kg/s", "Mass flow (negative while the engines burn)"),
     decl!(234, derivative der_thrust_lag_state: get |m, _| m.derivative_element(model_exchange::THRUST_LAG), "N/s", "Time derivative of thrust_lag_state"),
     decl!(235, derivative der_torque_lag_state_body[3]: get |m, i| m.derivative_element(model_exchange::TORQUE_LAG + i), "N.m/s", "Time derivative of torque_lag_state_body", components = BODY_AXES),
+    decl!(240, local touchdown_indicator: get |m, _| m.event_indicator(0), "m", "Event indicator of touchdown: the altitude until touchdown, -1 after it"),
+    decl!(241, local exhaustion_indicator: get |m, _| m.event_indicator(1), "kg", "Event indicator of propellant exhaustion: mass - dry_mass until exhaustion, -1 after it"),
 ];
 
 #[cfg(test)]

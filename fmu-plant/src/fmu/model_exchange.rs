@@ -44,6 +44,12 @@ impl LanderPlant {
         x[i]
     }
 
+    /// Event indicator `i` (0 while the parameters are invalid).
+    pub(super) fn event_indicator(&self, i: usize) -> f64 {
+        self.continuous_view()
+            .map_or(0.0, |view| view.0.event_indicators(&view.1)[i])
+    }
+
     /// Element `i` of the state derivative at the current state and inputs.
     pub(super) fn derivative_element(&self, i: usize) -> f64 {
         let mut dx = [0.0; STATE_COUNT];
@@ -65,6 +71,8 @@ impl ContinuousModel for LanderPlant {
         ("torque_lag_state_body", "der_torque_lag_state_body"),
     ];
     const EVENT_INDICATORS: usize = EVENT_INDICATOR_COUNT;
+    const EVENT_INDICATOR_VARIABLES: &'static [&'static str] =
+        &["touchdown_indicator", "exhaustion_indicator"];
 
     fn state_count(&self) -> usize {
         STATE_COUNT
