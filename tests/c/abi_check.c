@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "fmi2Functions.h"
+#include "fmi3Functions.h"
 #include "fmi2_exports.h"
 
 /* The platform "default" of fmi2TypesPlatform.h, which a Rust FMU must match bit for bit. */

@@ -100,6 +100,10 @@ impl UnpackedFmu {
     }
 }
 
+/// The shipped FMUs whose library also carries the FMI 3.0 layer (75 `fmi3*` functions;
+/// packaged as target/fmu/fmi3/<id>.fmu).
+pub const FMI3_FMUS: [&str; 2] = ["LanderGnc", "LanderPlant"];
+
 /// The shipped FMUs that also declare Model Exchange (and export its 10 functions).
 pub const MODEL_EXCHANGE_FMUS: [&str; 1] = ["LanderPlant"];
 
