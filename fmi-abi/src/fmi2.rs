@@ -1,10 +1,10 @@
 //! The FMI 2.0 C types, written by hand after `fmi2TypesPlatform.h` and
-//! `fmi2FunctionTypes.h` (platform "default").
+//! `fmi2FunctionTypes.h` (platform "default"), with the names of the headers.
 //!
-//! Enumerations the master *passes in* (`fmi2Type`, `fmi2StatusKind`) are plain `c_int`s
-//! with constants, because a C caller can hand us any integer and a Rust enum holding an
-//! undeclared value is undefined behaviour. `fmi2Status` is only ever produced by us (and
-//! written through `fmi2GetStatus`), so it is a `#[repr(C)]` enum.
+//! Every C enumeration is a plain `c_int` (or a transparent wrapper of one) with constants:
+//! whichever side of the ABI we are on, the other side can hand us any integer (a master an
+//! undeclared `fmi2Type`, a broken FMU an undeclared `fmi2Status`), and a Rust enum holding
+//! an undeclared value would be undefined behaviour.
 #![allow(non_camel_case_types, non_upper_case_globals, non_snake_case)]
 
 use std::os::raw::{c_char, c_int, c_void};
@@ -27,15 +27,60 @@ pub const fmi2False: fmi2Boolean = 0;
 pub const TYPES_PLATFORM: &std::ffi::CStr = c"default";
 pub const VERSION: &std::ffi::CStr = c"2.0";
 
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum fmi2Status {
-    fmi2OK = 0,
-    fmi2Warning = 1,
-    fmi2Discard = 2,
-    fmi2Error = 3,
-    fmi2Fatal = 4,
-    fmi2Pending = 5,
+/// `fmi2Status`: a C `int`; the values are the constants below.
+#[repr(transparent)]
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct fmi2Status(pub c_int);
+
+pub const fmi2OK: fmi2Status = fmi2Status(0);
+pub const fmi2Warning: fmi2Status = fmi2Status(1);
+pub const fmi2Discard: fmi2Status = fmi2Status(2);
+pub const fmi2Error: fmi2Status = fmi2Status(3);
+pub const fmi2Fatal: fmi2Status = fmi2Status(4);
+pub const fmi2Pending: fmi2Status = fmi2Status(5);
+
+impl fmi2Status {
+    /// `fmi2OK` or `fmi2Warning`: the call's results are valid.
+    pub const fn is_success(self) -> bool {
+        self.0 == fmi2OK.0 || self.0 == fmi2Warning.0
+    }
+
+    /// The header's name of the status, or "not an fmi2Status".
+    pub const fn label(self) -> &'static str {
+        match self.name() {
+            Some(name) => name,
+            None => "not an fmi2Status",
+        }
+    }
+
+    /// The header's name of the status, `None` for a value outside the enumeration.
+    pub const fn name(self) -> Option<&'static str> {
+        match self.0 {
+            0 => Some("fmi2OK"),
+            1 => Some("fmi2Warning"),
+            2 => Some("fmi2Discard"),
+            3 => Some("fmi2Error"),
+            4 => Some("fmi2Fatal"),
+            5 => Some("fmi2Pending"),
+            _ => None,
+        }
+    }
+}
+
+/// The C value, as a master that prints an `int` shows it.
+impl std::fmt::Display for fmi2Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.0)
+    }
+}
+
+impl std::fmt::Debug for fmi2Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.name() {
+            Some(name) => f.write_str(name),
+            None => write!(f, "fmi2Status({})", self.0),
+        }
+    }
 }
 
 pub type fmi2Type = c_int;
@@ -89,6 +134,179 @@ pub struct fmi2EventInfo {
     pub nextEventTime: fmi2Real,
 }
 
+// Function types of the FMI 2.0 Co-Simulation entry points (`fmi2XxxTYPE`), for masters.
+pub type fmi2GetTypesPlatformTYPE = unsafe extern "C" fn() -> *const c_char;
+pub type fmi2GetVersionTYPE = unsafe extern "C" fn() -> *const c_char;
+pub type fmi2SetDebugLoggingTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2Boolean, usize, *const fmi2String) -> fmi2Status;
+pub type fmi2InstantiateTYPE = unsafe extern "C" fn(
+    fmi2String,
+    fmi2Type,
+    fmi2String,
+    fmi2String,
+    *const fmi2CallbackFunctions,
+    fmi2Boolean,
+    fmi2Boolean,
+) -> fmi2Component;
+pub type fmi2FreeInstanceTYPE = unsafe extern "C" fn(fmi2Component);
+pub type fmi2SetupExperimentTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    fmi2Boolean,
+    fmi2Real,
+    fmi2Real,
+    fmi2Boolean,
+    fmi2Real,
+) -> fmi2Status;
+pub type fmi2ComponentOnlyTYPE = unsafe extern "C" fn(fmi2Component) -> fmi2Status;
+pub type fmi2GetRealTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *mut fmi2Real,
+) -> fmi2Status;
+pub type fmi2GetIntegerTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *mut fmi2Integer,
+) -> fmi2Status;
+pub type fmi2GetBooleanTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *mut fmi2Boolean,
+) -> fmi2Status;
+pub type fmi2GetStringTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *mut fmi2String,
+) -> fmi2Status;
+pub type fmi2SetRealTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Real,
+) -> fmi2Status;
+pub type fmi2SetIntegerTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+) -> fmi2Status;
+pub type fmi2SetBooleanTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Boolean,
+) -> fmi2Status;
+pub type fmi2SetStringTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2String,
+) -> fmi2Status;
+pub type fmi2GetFMUstateTYPE = unsafe extern "C" fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status;
+pub type fmi2SetFMUstateTYPE = unsafe extern "C" fn(fmi2Component, fmi2FMUstate) -> fmi2Status;
+pub type fmi2FreeFMUstateTYPE =
+    unsafe extern "C" fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status;
+pub type fmi2SerializedFMUstateSizeTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut usize) -> fmi2Status;
+pub type fmi2SerializeFMUstateTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut fmi2Byte, usize) -> fmi2Status;
+pub type fmi2DeSerializeFMUstateTYPE =
+    unsafe extern "C" fn(fmi2Component, *const fmi2Byte, usize, *mut fmi2FMUstate) -> fmi2Status;
+pub type fmi2GetDirectionalDerivativeTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Real,
+    *mut fmi2Real,
+) -> fmi2Status;
+pub type fmi2SetRealInputDerivativesTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+    *const fmi2Real,
+) -> fmi2Status;
+pub type fmi2GetRealOutputDerivativesTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+    *mut fmi2Real,
+) -> fmi2Status;
+pub type fmi2DoStepTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status;
+pub type fmi2GetStatusTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Status) -> fmi2Status;
+pub type fmi2GetRealStatusTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Real) -> fmi2Status;
+pub type fmi2GetIntegerStatusTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Integer) -> fmi2Status;
+pub type fmi2GetBooleanStatusTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Boolean) -> fmi2Status;
+pub type fmi2GetStringStatusTYPE =
+    unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2String) -> fmi2Status;
+
+// Function types of the 10 Model Exchange entry points.
+pub type fmi2NewDiscreteStatesTYPE =
+    unsafe extern "C" fn(fmi2Component, *mut fmi2EventInfo) -> fmi2Status;
+pub type fmi2CompletedIntegratorStepTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    fmi2Boolean,
+    *mut fmi2Boolean,
+    *mut fmi2Boolean,
+) -> fmi2Status;
+pub type fmi2SetTimeTYPE = unsafe extern "C" fn(fmi2Component, fmi2Real) -> fmi2Status;
+pub type fmi2SetContinuousStatesTYPE =
+    unsafe extern "C" fn(fmi2Component, *const fmi2Real, usize) -> fmi2Status;
+/// `fmi2GetDerivatives`, `fmi2GetEventIndicators`, `fmi2GetContinuousStates` and
+/// `fmi2GetNominalsOfContinuousStates`.
+pub type fmi2GetRealVectorTYPE =
+    unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
+
+/// The 34 functions of the FMI 2.0 Co-Simulation API (25 common + 9 co-simulation).
+pub const FUNCTION_NAMES: [&str; 34] = [
+    "fmi2GetTypesPlatform",
+    "fmi2GetVersion",
+    "fmi2SetDebugLogging",
+    "fmi2Instantiate",
+    "fmi2FreeInstance",
+    "fmi2SetupExperiment",
+    "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode",
+    "fmi2Terminate",
+    "fmi2Reset",
+    "fmi2GetReal",
+    "fmi2GetInteger",
+    "fmi2GetBoolean",
+    "fmi2GetString",
+    "fmi2SetReal",
+    "fmi2SetInteger",
+    "fmi2SetBoolean",
+    "fmi2SetString",
+    "fmi2GetFMUstate",
+    "fmi2SetFMUstate",
+    "fmi2FreeFMUstate",
+    "fmi2SerializedFMUstateSize",
+    "fmi2SerializeFMUstate",
+    "fmi2DeSerializeFMUstate",
+    "fmi2GetDirectionalDerivative",
+    "fmi2SetRealInputDerivatives",
+    "fmi2GetRealOutputDerivatives",
+    "fmi2DoStep",
+    "fmi2CancelStep",
+    "fmi2GetStatus",
+    "fmi2GetRealStatus",
+    "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus",
+    "fmi2GetStringStatus",
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -115,15 +333,18 @@ mod tests {
     #[test]
     fn status_values_follow_the_header_order() {
         let all = [
-            fmi2Status::fmi2OK,
-            fmi2Status::fmi2Warning,
-            fmi2Status::fmi2Discard,
-            fmi2Status::fmi2Error,
-            fmi2Status::fmi2Fatal,
-            fmi2Status::fmi2Pending,
+            fmi2OK,
+            fmi2Warning,
+            fmi2Discard,
+            fmi2Error,
+            fmi2Fatal,
+            fmi2Pending,
         ];
         for (i, s) in all.iter().enumerate() {
-            assert_eq!(*s as c_int, i as c_int);
+            assert_eq!(s.0, i as c_int);
+            assert!(s.name().is_some());
         }
+        assert_eq!(format!("{:?}", fmi2Status(7)), "fmi2Status(7)");
+        assert_eq!(format!("{fmi2Discard:?}"), "fmi2Discard");
     }
 }

@@ -152,6 +152,10 @@ pub enum Kind<M> {
         ty: &'static EnumType,
         get: fn(&M) -> i32,
         set: Option<fn(&mut M, i32)>,
+        /// Exchange it as a plain Integer: bounds from the items, the items listed in the
+        /// description. For a selector every master must be able to set: some (libcosim,
+        /// Ecos) ignore FMI 2.0 Enumeration variables altogether.
+        as_integer: bool,
     },
     Boolean {
         get: fn(&M) -> bool,
@@ -226,6 +230,8 @@ impl<M> Declaration<M> {
             && !matches!(role.variability, Variability::Constant)
     }
 
+    /// The one constructor with all of a Real's facts; [`decl!`](crate::decl) fills it in.
+    #[allow(clippy::too_many_arguments)]
     pub const fn real(
         vr: u32,
         name: &'static str,
@@ -295,13 +301,13 @@ impl<M> Declaration<M> {
         } else {
             None
         };
-        Self::base(
-            vr,
-            name,
-            role,
-            description,
-            Kind::Enumeration { ty, get, set },
-        )
+        let kind = Kind::Enumeration {
+            ty,
+            get,
+            set,
+            as_integer: false,
+        };
+        Self::base(vr, name, role, description, kind)
     }
 
     pub const fn boolean(
@@ -387,6 +393,16 @@ impl<M> Declaration<M> {
         self
     }
 
+    /// Exchange an enumeration as a plain Integer (see [`Kind::Enumeration`]).
+    pub const fn as_integer(mut self, on: bool) -> Self {
+        if let Kind::Enumeration { as_integer, .. } = &mut self.kind {
+            *as_integer = on;
+        } else {
+            panic!("as_integer applies to enumeration declarations");
+        }
+        self
+    }
+
     pub const fn int_min(mut self, new: i32) -> Self {
         if let Kind::Integer { min, .. } = &mut self.kind {
             *min = Some(new);
@@ -429,7 +445,8 @@ impl<M> Declaration<M> {
 }
 
 /// Declares one variable in one line. The forms (options `key = value` may follow any of
-/// them: `min`, `above`, `max`, `below`, `int_min`, `int_max`, `components`, `initial`):
+/// them: `min`, `above`, `max`, `below`, `int_min`, `int_max`, `components`, `initial`,
+/// `as_integer`):
 ///
 /// ```text
 /// decl!(vr, role name: field.path, "unit", "description")            Real scalar

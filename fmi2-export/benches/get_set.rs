@@ -7,7 +7,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use fmi2_export::ffi::*;
 use fmi2_export::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
 use serde::{Deserialize, Serialize};
-use std::ffi::{c_void, CString};
+use std::ffi::CString;
 
 /// 14 inputs `u[i]` and 14 outputs `y[i] = u[i]`, value references 1..=14 and 101..=114.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -49,35 +49,10 @@ static DECLARATIONS: [Declaration<Exchange>; 2] = [
     decl!(101, output y[14]: y, "1", "copy of u"),
 ];
 
-extern "C" fn silent(
-    _: fmi2ComponentEnvironment,
-    _: fmi2String,
-    _: fmi2Status,
-    _: fmi2String,
-    _: fmi2String,
-    _: fmi2String,
-) {
-}
-
-type FixedLogger = extern "C" fn(
-    fmi2ComponentEnvironment,
-    fmi2String,
-    fmi2Status,
-    fmi2String,
-    fmi2String,
-    fmi2String,
-);
-
 fn get_set(c: &mut Criterion) {
     assert_eq!(fmi2_export::check_table::<Exchange>(), Ok(()));
-    let functions = fmi2CallbackFunctions {
-        // SAFETY: the logger reads none of the variadic arguments.
-        logger: unsafe { std::mem::transmute::<FixedLogger, fmi2CallbackLogger>(silent) },
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: std::ptr::null_mut::<c_void>(),
-    };
+    let logger = Box::<fmi_testkit::TestLogger>::default();
+    let functions = logger.callbacks();
     let guid = CString::new(fmi2_export::guid::<Exchange>()).unwrap();
     let inputs: Vec<u32> = (1..=14).collect();
     let outputs: Vec<u32> = (101..=114).collect();
@@ -96,14 +71,14 @@ fn get_set(c: &mut Criterion) {
         assert!(!inst.is_null());
         fmi2SetupExperiment(inst, fmi2False, 0.0, 0.0, fmi2False, 0.0);
         fmi2EnterInitializationMode(inst);
-        assert_eq!(fmi2ExitInitializationMode(inst), fmi2Status::fmi2OK);
+        assert_eq!(fmi2ExitInitializationMode(inst), fmi2OK);
         assert_eq!(
             fmi2SetReal(inst, inputs.as_ptr(), 14, values.as_ptr()),
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         assert_eq!(
             fmi2GetReal(inst, outputs.as_ptr(), 14, read.as_mut_ptr()),
-            fmi2Status::fmi2OK
+            fmi2OK
         );
         assert_eq!(read.as_slice(), values.as_slice(), "y = u");
 

@@ -79,12 +79,11 @@ pub(crate) unsafe fn call<M: Model>(
     body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
 ) -> fmi2Status {
     let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
-        return fmi2Status::fmi2Error;
+        return fmi2Error;
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if inst.logger.is_on(Category::Calls) {
-            inst.logger
-                .log(fmi2Status::fmi2OK, Category::Calls, &trace());
+            inst.logger.log(fmi2OK, Category::Calls, &trace());
         }
         let state = inst.core.state;
         let result = if function.legal_states().contains(state) {
@@ -106,7 +105,7 @@ pub(crate) unsafe fn call<M: Model>(
         let _ = catch_unwind(AssertUnwindSafe(|| {
             inst.core.state = State::Fatal;
             inst.logger.status(
-                fmi2Status::fmi2Fatal,
+                fmi2Fatal,
                 &format!(
                     "{}: internal error, instance unusable: {}",
                     function.name(),
@@ -114,7 +113,7 @@ pub(crate) unsafe fn call<M: Model>(
                 ),
             );
         }));
-        fmi2Status::fmi2Fatal
+        fmi2Fatal
     })
 }
 
@@ -293,7 +292,7 @@ pub unsafe fn instantiate_as<M: Model>(
                 shown(&guid),
                 shown(&resource_location)
             );
-            logger.log(fmi2Status::fmi2OK, Category::Calls, &trace);
+            logger.log(fmi2OK, Category::Calls, &trace);
         }
         let expected_guid = crate::guid::<M>();
         let refusal = if name.as_ref().is_none_or(|n| n.is_empty()) {
@@ -318,7 +317,7 @@ pub unsafe fn instantiate_as<M: Model>(
             None
         };
         if let Some(reason) = refusal {
-            logger.status(fmi2Status::fmi2Error, &format!("fmi2Instantiate: {reason}"));
+            logger.status(fmi2Error, &format!("fmi2Instantiate: {reason}"));
             return ptr::null_mut();
         }
         let instance = Box::new(Instance::<M>::new(
@@ -337,7 +336,7 @@ pub unsafe fn instantiate_as<M: Model>(
             false,
         );
         logger.status(
-            fmi2Status::fmi2Fatal,
+            fmi2Fatal,
             &format!(
                 "fmi2Instantiate: internal error: {}",
                 panic_text(payload.as_ref())
@@ -356,7 +355,7 @@ pub unsafe fn free_instance<M: Model>(c: fmi2Component) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         if inst.logger.is_on(Category::Calls) {
             inst.logger
-                .log(fmi2Status::fmi2OK, Category::Calls, "fmi2FreeInstance()");
+                .log(fmi2OK, Category::Calls, "fmi2FreeInstance()");
         }
         inst.tag = Tag::cleared();
         // SAFETY: `c` came from Box::into_raw in instantiate; `inst` is not used again.

@@ -25,6 +25,9 @@ pub fn interface_uuid<M: Model>() -> Uuid {
             Access::Integer { .. } => "Integer".to_string(),
             Access::Boolean { .. } => "Boolean".to_string(),
             Access::String { .. } => "String".to_string(),
+            Access::Enumeration {
+                as_integer: true, ..
+            } => "Integer".to_string(),
             Access::Enumeration { ty, .. } => {
                 let items: Vec<String> = ty
                     .items
@@ -136,7 +139,12 @@ fn unit_definitions<M>(table: &[Variable<M>]) -> Option<md::UnitDefinitions> {
 fn enumeration_types<M: Model>() -> Vec<&'static EnumType> {
     let mut types: Vec<&'static EnumType> = Vec::new();
     for var in variables::<M>() {
-        if let Access::Enumeration { ty, .. } = &var.access {
+        if let Access::Enumeration {
+            ty,
+            as_integer: false,
+            ..
+        } = &var.access
+        {
             if !types.iter().any(|t| t.name == ty.name) {
                 types.push(ty);
             }
@@ -206,6 +214,19 @@ fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
                 ..md::IntegerVariable::default()
             })
         }
+        Access::Enumeration {
+            ty,
+            start,
+            as_integer: true,
+            ..
+        } => {
+            sv.integer = Some(md::IntegerVariable {
+                min: ty.min(),
+                max: ty.max(),
+                start: *start,
+                ..md::IntegerVariable::default()
+            })
+        }
         Access::Enumeration { ty, start, .. } => {
             sv.enumeration = Some(md::EnumerationVariable {
                 declared_type: ty.name.into(),
@@ -231,15 +252,19 @@ fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
 
 /// Outputs: every output, with its direct-feedthrough inputs. InitialUnknowns (FMI 2.0
 /// §2.2.8, co-simulation): outputs whose initial is approx or calculated, and every
-/// calculated parameter; their dependencies are left out, meaning "all knowns", which is
-/// always correct.
+/// calculated parameter, each with what it may depend on in initialization mode: its
+/// direct-feedthrough inputs and the parameters with initial exact (all of them: a safe
+/// superset, which never makes a master see a loop through an input that is not there).
 fn model_structure<M: Model>() -> md::ModelStructure {
     let table = variables::<M>();
     let declarations = M::declarations();
     let index = |i: usize| i as u32 + 1;
-    let dependencies = |output: &Variable<M>| -> String {
+    let inputs_of = |output: &Variable<M>| -> Vec<u32> {
+        if output.causality != Causality::Output {
+            return Vec::new();
+        }
         let declared = declarations[output.declaration].name;
-        let chosen: Vec<String> = table
+        table
             .iter()
             .enumerate()
             .filter(|(_, v)| v.causality == Causality::Input)
@@ -254,9 +279,22 @@ fn model_structure<M: Model>() -> md::ModelStructure {
                     }
                 }
             })
-            .map(|(i, _)| index(i).to_string())
-            .collect();
-        chosen.join(" ")
+            .map(|(i, _)| index(i))
+            .collect()
+    };
+    let exact_parameters: Vec<u32> = table
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| {
+            v.causality == Causality::Parameter && effective_initial(v) == Some(Initial::Exact)
+        })
+        .map(|(i, _)| index(i))
+        .collect();
+    let listed = |mut indices: Vec<u32>| -> String {
+        indices.sort_unstable();
+        indices.dedup();
+        let indices: Vec<String> = indices.iter().map(u32::to_string).collect();
+        indices.join(" ")
     };
     let outputs: Vec<md::Unknown> = table
         .iter()
@@ -264,7 +302,7 @@ fn model_structure<M: Model>() -> md::ModelStructure {
         .filter(|(_, v)| v.causality == Causality::Output)
         .map(|(i, v)| md::Unknown {
             index: index(i),
-            dependencies: Some(dependencies(v)),
+            dependencies: Some(listed(inputs_of(v))),
             dependencies_kind: None,
         })
         .collect();
@@ -276,9 +314,15 @@ fn model_structure<M: Model>() -> md::ModelStructure {
             Causality::CalculatedParameter => true,
             _ => false,
         })
-        .map(|(i, _)| md::Unknown {
+        .map(|(i, v)| md::Unknown {
             index: index(i),
-            ..md::Unknown::default()
+            dependencies: Some(listed(
+                inputs_of(v)
+                    .into_iter()
+                    .chain(exact_parameters.iter().copied())
+                    .collect(),
+            )),
+            dependencies_kind: None,
         })
         .collect();
     md::ModelStructure {

@@ -1,6 +1,6 @@
 //! FMI status as a Rust `Result`: `Ok(Success)` is `fmi2OK`/`fmi2Warning`, `Err(CallError)`
 //! is `fmi2Discard`/`fmi2Error`/`fmi2Fatal` together with the one log line that explains it.
-use crate::ffi::fmi2Status;
+use crate::ffi::{fmi2Discard, fmi2Error, fmi2OK, fmi2Status, fmi2Warning};
 use crate::state::State;
 use fmi_model::snapshot::SnapshotError;
 
@@ -13,8 +13,8 @@ pub enum Success {
 impl Success {
     pub fn status(self) -> fmi2Status {
         match self {
-            Success::Ok => fmi2Status::fmi2OK,
-            Success::Warning => fmi2Status::fmi2Warning,
+            Success::Ok => fmi2OK,
+            Success::Warning => fmi2Warning,
         }
     }
 }
@@ -70,8 +70,8 @@ pub enum CallError {
 impl CallError {
     pub fn status(&self) -> fmi2Status {
         match self {
-            CallError::Discard(_) => fmi2Status::fmi2Discard,
-            _ => fmi2Status::fmi2Error,
+            CallError::Discard(_) => fmi2Discard,
+            _ => fmi2Error,
         }
     }
 }

@@ -1,6 +1,6 @@
 //! What an `fmi2Component` points to.
 use crate::error::{CallError, Success};
-use crate::ffi::fmi2Status;
+use crate::ffi::{fmi2OK, fmi2Warning};
 use crate::index::VariableIndex;
 use crate::logging::{Category, Logger};
 use crate::model::{Level, Log, Model, ModelError};
@@ -129,8 +129,8 @@ impl<M: Model> Instance<M> {
     pub fn forward(&self, function: Function, log: &Log) -> Success {
         for (level, message) in &log.entries {
             let (status, category) = match level {
-                Level::Info => (fmi2Status::fmi2OK, Category::StatusOk),
-                Level::Warning => (fmi2Status::fmi2Warning, Category::StatusWarning),
+                Level::Info => (fmi2OK, Category::StatusOk),
+                Level::Warning => (fmi2Warning, Category::StatusWarning),
             };
             if self.logger.is_on(category) {
                 self.logger

@@ -245,7 +245,7 @@ pub unsafe fn new_discrete_states<M: ContinuousModel>(
                     inst.core.terminated = true;
                     if inst.logger.is_on(Category::StatusOk) {
                         inst.logger.log(
-                            fmi2Status::fmi2OK,
+                            fmi2OK,
                             Category::StatusOk,
                             &format!("{}: the model ends the simulation", f.name()),
                         );

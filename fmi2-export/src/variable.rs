@@ -28,12 +28,14 @@ pub enum Access<M> {
         get: fn(&M) -> i32,
         set: Option<fn(&mut M, i32)>,
     },
-    /// An enumeration, exchanged as an Integer through the API.
+    /// An enumeration, exchanged as an Integer through the API; `as_integer` also declares
+    /// it as an Integer in the model description (see `fmi_model::Kind::Enumeration`).
     Enumeration {
         ty: &'static EnumType,
         start: Option<i32>,
         get: fn(&M) -> i32,
         set: Option<fn(&mut M, i32)>,
+        as_integer: bool,
     },
     Boolean {
         start: Option<bool>,
@@ -140,12 +142,27 @@ fn expand<M: Model>() -> Vec<Variable<M>> {
                 },
                 ..scalar(d, index)
             }),
-            (Kind::Enumeration { ty, get, set }, _) => table.push(Variable {
+            (
+                Kind::Enumeration {
+                    ty,
+                    get,
+                    set,
+                    as_integer,
+                },
+                _,
+            ) => table.push(Variable {
+                // As an Integer, the description says what the values mean.
+                description: if *as_integer {
+                    Box::leak(format!("{}: {}", d.description, ty.listing()).into_boxed_str())
+                } else {
+                    d.description
+                },
                 access: Access::Enumeration {
                     ty,
                     start: with_start.then(|| get(&fresh)),
                     get: *get,
                     set: *set,
+                    as_integer: *as_integer,
                 },
                 ..scalar(d, index)
             }),

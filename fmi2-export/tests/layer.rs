@@ -6,9 +6,9 @@
 use fmi2_export::ffi::*;
 use fmi2_export::*;
 use fmi_model::Kind;
+use fmi_testkit::TestLogger;
 use serde::{Deserialize, Serialize};
-use std::ffi::{c_void, CStr, CString};
-use std::sync::Mutex;
+use std::ffi::CString;
 
 // ---- a model that panics in do_step ----------------------------------------------------
 
@@ -40,46 +40,12 @@ impl Model for Panicky {
     }
 }
 
-type Lines = Mutex<Vec<(fmi2Status, String, String)>>;
-
-extern "C" fn record(
-    env: fmi2ComponentEnvironment,
-    _name: fmi2String,
-    status: fmi2Status,
-    category: fmi2String,
-    _format: fmi2String,
-    message: fmi2String,
-) {
-    let text = |p| unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned();
-    let lines = unsafe { &*(env as *const Lines) };
-    lines
-        .lock()
-        .unwrap()
-        .push((status, text(category), text(message)));
-}
-
-type FixedLogger = extern "C" fn(
-    fmi2ComponentEnvironment,
-    fmi2String,
-    fmi2Status,
-    fmi2String,
-    fmi2String,
-    fmi2String,
-);
-
 /// A panic inside a model call is caught: fmi2Fatal, a fatal log line, state Fatal (only
 /// FreeInstance is accepted afterwards), and nothing unwinds into the caller.
 #[test]
 fn a_panic_becomes_fatal_and_never_unwinds() {
-    let lines = Lines::default();
-    let functions = fmi2CallbackFunctions {
-        // Same argument registers as the variadic call with "%s" + one pointer (SysV, AAPCS64).
-        logger: unsafe { std::mem::transmute::<FixedLogger, fmi2CallbackLogger>(record) },
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: &lines as *const Lines as *mut c_void,
-    };
+    let logger = Box::<TestLogger>::default();
+    let functions = logger.callbacks();
     let guid = CString::new(guid::<Panicky>()).unwrap();
     unsafe {
         let c = abi::instantiate::<Panicky>(
@@ -95,27 +61,21 @@ fn a_panic_becomes_fatal_and_never_unwinds() {
         abi::setup_experiment::<Panicky>(c, 0, 0.0, 0.0, 0, 0.0);
         abi::enter_initialization_mode::<Panicky>(c);
         abi::exit_initialization_mode::<Panicky>(c);
+        assert_eq!(abi::do_step::<Panicky>(c, 0.0, 0.1, 0), fmi2Fatal);
+        let last = logger.all().pop().unwrap();
+        assert_eq!(last.status, fmi2Fatal);
+        assert_eq!(last.category.as_deref(), Some("logStatusFatal"));
         assert_eq!(
-            abi::do_step::<Panicky>(c, 0.0, 0.1, 0),
-            fmi2Status::fmi2Fatal
-        );
-        let (status, category, message) = lines.lock().unwrap().last().cloned().unwrap();
-        assert_eq!(status, fmi2Status::fmi2Fatal);
-        assert_eq!(category, "logStatusFatal");
-        assert_eq!(
-            message,
+            last.message(),
             "fmi2DoStep: internal error, instance unusable: boom"
         );
         let mut y = 0.0;
+        assert_eq!(abi::get_real::<Panicky>(c, &0, 1, &mut y), fmi2Error);
         assert_eq!(
-            abi::get_real::<Panicky>(c, &0, 1, &mut y),
-            fmi2Status::fmi2Error
-        );
-        assert_eq!(
-            lines.lock().unwrap().last().unwrap().2,
+            logger.messages().pop().unwrap(),
             "fmi2GetReal: illegal call in state Fatal"
         );
-        assert_eq!(abi::reset::<Panicky>(c), fmi2Status::fmi2Error);
+        assert_eq!(abi::reset::<Panicky>(c), fmi2Error);
         abi::free_instance::<Panicky>(c);
     }
 }
@@ -123,14 +83,8 @@ fn a_panic_becomes_fatal_and_never_unwinds() {
 /// A component of another model type is refused, not used.
 #[test]
 fn a_component_of_another_model_is_refused() {
-    let lines = Lines::default();
-    let functions = fmi2CallbackFunctions {
-        logger: unsafe { std::mem::transmute::<FixedLogger, fmi2CallbackLogger>(record) },
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: &lines as *const Lines as *mut c_void,
-    };
+    let logger = Box::<TestLogger>::default();
+    let functions = logger.callbacks();
     let guid = CString::new(guid::<Panicky>()).unwrap();
     unsafe {
         let c = abi::instantiate::<Panicky>(
@@ -142,9 +96,9 @@ fn a_component_of_another_model_is_refused() {
             0,
             0,
         );
-        assert_eq!(abi::reset::<Small>(c), fmi2Status::fmi2Error);
+        assert_eq!(abi::reset::<Small>(c), fmi2Error);
         abi::free_instance::<Small>(c); // ignored: not a Small
-        assert_eq!(abi::reset::<Panicky>(c), fmi2Status::fmi2OK);
+        assert_eq!(abi::reset::<Panicky>(c), fmi2OK);
         abi::free_instance::<Panicky>(c);
     }
 }

@@ -262,7 +262,9 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(122, discrete_output guidance_phase: outputs.guidance_phase as i32, "guidance phase: 1 hover, 2 polynomial descent, 3 hover at the descent target, 4 hold", int_min = 1, int_max = 4),
     decl!(123, output time_to_go: outputs.time_to_go_s, "s", "descent time-to-go at the last guidance sample (0 outside the descent)"),
     // parameters
-    decl!(200, parameter control_law: params.control_law as enum ControlLaw, "attitude control law: 1 coupled, 2 decoupled (the paper), 3 reduced (PX4-style)"),
+    // An Integer in the model description, so that every master can select the law (libcosim
+    // and Ecos ignore FMI 2.0 Enumerations); the values are listed from ControlLaw.
+    decl!(200, parameter control_law: params.control_law as enum ControlLaw, "attitude control law", as_integer = true),
     decl!(201, parameter phi_cmd: params.phi_cmd_rad, "rad", "commanded rotation about the thrust axis (mission constraint)"),
     decl!(202, parameter phi_cmd_time: params.phi_cmd_time_s, "s", "time at which phi_cmd is applied (before it: 0)"),
     decl!(203, parameter control_bandwidth: params.control_bandwidth_hz, "Hz", "attitude control bandwidth f_c (omega_c = 2 pi f_c), > 0", above = 0.0),
@@ -288,6 +290,49 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fmi_model::{Kind, Limit};
+
+    /// The declared bounds are the ones validation enforces: a value just past a declared
+    /// bound is refused by `GncParameters::validate`, naming the declared field.
+    #[test]
+    fn declared_bounds_agree_with_the_validation() {
+        let mut probed = 0;
+        for d in LanderGnc::declarations() {
+            let Kind::Real {
+                shape,
+                min,
+                max,
+                set: Some(set),
+                ..
+            } = d.kind
+            else {
+                continue;
+            };
+            let past = |limit: Limit, direction: f64| match limit {
+                Limit::Inclusive(b) => b + direction * (b.abs() * 1e-9).max(1e-9),
+                Limit::Exclusive(b) => b,
+            };
+            let probes = min
+                .map(|m| past(m, -1.0))
+                .into_iter()
+                .chain(max.map(|m| past(m, 1.0)));
+            for value in probes {
+                for i in 0..shape.len() {
+                    let mut m = LanderGnc::default();
+                    set(&mut m, i, value);
+                    let e = m.params.validate().expect_err(d.name);
+                    assert!(d.has_field(e.field), "{}: refused as {e}", d.name);
+                    probed += 1;
+                }
+            }
+        }
+        assert!(probed >= 20, "{probed}");
+    }
+
+    #[test]
+    fn the_export_layer_accepts_the_declarations() {
+        assert_eq!(fmi2_export::check_table::<LanderGnc>(), Ok(()));
+    }
 
     const H: f64 = 0.01;
 

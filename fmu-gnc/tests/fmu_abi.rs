@@ -3,21 +3,18 @@
 mod fmi;
 
 use fmi::{vr, Gnc};
-use fmi2_export::ffi::fmi2Status;
 use fmi2_export::Causality;
+use fmi_testkit::fmi2::*;
 use fmu_gnc::LanderGnc;
 
 const UPRIGHT: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
 
 #[test]
 fn checked_in_model_description_matches_the_variable_table() {
-    let generated = fmi2_export::model_description_xml::<LanderGnc>();
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml");
-    let checked_in = std::fs::read_to_string(path).unwrap();
-    assert!(
-        generated == checked_in,
-        "fmu-gnc/modelDescription.xml is stale: regenerate with \
-         `cargo run -p fmu-gnc --example model_description > fmu-gnc/modelDescription.xml`"
+    fmi_testkit::assert_file_matches(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
+        &fmi2_export::model_description_xml::<LanderGnc>(),
+        "cargo run -p fmu-gnc --example model_description > fmu-gnc/modelDescription.xml",
     );
 }
 
@@ -63,11 +60,11 @@ fn the_interface_names_are_all_declared() {
 #[test]
 fn hover_then_descent_with_direct_feedthrough() {
     let gnc = Gnc::new();
-    assert_eq!(gnc.initialize(), fmi2Status::fmi2OK);
+    assert_eq!(gnc.initialize(), fmi2OK);
     // GIVEN upright at rest on the hover target
     gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);
     let (status, out) = gnc.get_reals(&[vr::THRUST_CMD]);
-    assert_eq!(status, fmi2Status::fmi2OK);
+    assert_eq!(status, fmi2OK);
     assert!(
         (out[0] - 900.0 * 1.62).abs() < 1e-9,
         "hover thrust {}",
@@ -85,7 +82,7 @@ fn hover_then_descent_with_direct_feedthrough() {
     let mut t = 0.0;
     for _ in 0..1200 {
         gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);
-        assert_eq!(gnc.do_step(t, 0.01), fmi2Status::fmi2OK);
+        assert_eq!(gnc.do_step(t, 0.01), fmi2OK);
         t += 0.01;
     }
     // THEN at t = 11.99999999999979 the descent has started, with tgo = 130 s
@@ -102,20 +99,20 @@ fn hover_then_descent_with_direct_feedthrough() {
 #[test]
 fn degenerate_first_inputs_warn_and_command_safe_outputs() {
     let gnc = Gnc::new();
-    assert_eq!(gnc.initialize(), fmi2Status::fmi2OK);
+    assert_eq!(gnc.initialize(), fmi2OK);
     // GIVEN a master that zeroes every input before the first exchange
     gnc.set_navigation([0.0; 3], [0.0; 3], [0.0; 4], [0.0; 3], 0.0);
     let (status, out) = gnc.get_reals(&[vr::THRUST_CMD, 101, 102, 103]);
     // THEN the get warns, and the outputs are minimum thrust and zero torque
-    assert_eq!(status, fmi2Status::fmi2Warning);
+    assert_eq!(status, fmi2Warning);
     assert_eq!(out, vec![720.0, 0.0, 0.0, 0.0]);
-    assert_eq!(gnc.do_step(0.0, 0.01), fmi2Status::fmi2Warning);
+    assert_eq!(gnc.do_step(0.0, 0.01), fmi2Warning);
     assert!(gnc.messages().iter().any(|m| m.contains("q_body_to_nue")));
     // AND with real inputs the next step is fine
     gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);
-    assert_eq!(gnc.do_step(0.01, 0.01), fmi2Status::fmi2OK);
+    assert_eq!(gnc.do_step(0.01, 0.01), fmi2OK);
     let (status, out) = gnc.get_reals(&vr::ALL_REAL_OUTPUTS);
-    assert_eq!(status, fmi2Status::fmi2OK);
+    assert_eq!(status, fmi2OK);
     assert!(out.iter().all(|x| x.is_finite()));
 }
 
@@ -126,7 +123,7 @@ fn a_value_outside_the_declared_bounds_is_refused_on_set_naming_it() {
     // WHEN a master sets it to 0
     let status = gnc.set_reals(&[vr::CONTROL_BANDWIDTH], &[0.0]);
     // THEN the set is refused, naming the variable and its open bound
-    assert_eq!(status, fmi2Status::fmi2Error);
+    assert_eq!(status, fmi2Error);
     assert!(
         gnc.messages()
             .iter()
@@ -141,9 +138,9 @@ fn bad_parameters_are_refused_at_initialization_naming_them() {
     // GIVEN thrust_min above thrust_max, each within its own bounds
     let gnc = Gnc::new();
     let thrust_min = 211;
-    assert_eq!(gnc.set_reals(&[thrust_min], &[2000.0]), fmi2Status::fmi2OK);
+    assert_eq!(gnc.set_reals(&[thrust_min], &[2000.0]), fmi2OK);
     // THEN initialization refuses it, naming the declared variable (not the Rust field)
-    assert_eq!(gnc.initialize(), fmi2Status::fmi2Error);
+    assert_eq!(gnc.initialize(), fmi2Error);
     assert!(
         gnc.messages()
             .iter()
@@ -171,9 +168,9 @@ fn run(gnc: &Gnc, from: usize, to: usize) -> Vec<Vec<f64>> {
         let (r, v, q, w) = scenario_inputs(k);
         gnc.set_navigation(r, v, q, w, 900.0 - k as f64 * 0.01);
         let (status, out) = gnc.get_reals(&vr::ALL_REAL_OUTPUTS);
-        assert_eq!(status, fmi2Status::fmi2OK);
+        assert_eq!(status, fmi2OK);
         outputs.push(out);
-        assert_eq!(gnc.do_step(k as f64 * 0.01, 0.01), fmi2Status::fmi2OK);
+        assert_eq!(gnc.do_step(k as f64 * 0.01, 0.01), fmi2OK);
     }
     outputs
 }
@@ -184,55 +181,30 @@ fn bits(runs: &[Vec<f64>]) -> Vec<u64> {
 
 #[test]
 fn fmu_state_save_restore_and_serialization_are_bit_exact() {
-    use fmu_gnc::{
-        fmi2DeSerializeFMUstate, fmi2FreeFMUstate, fmi2GetFMUstate, fmi2SerializeFMUstate,
-        fmi2SerializedFMUstateSize, fmi2SetFMUstate,
-    };
     let gnc = Gnc::new();
-    assert_eq!(gnc.set_integer(vr::CONTROL_LAW, 1), fmi2Status::fmi2OK);
-    assert_eq!(gnc.set_reals(&[vr::PHI_CMD], &[2.6]), fmi2Status::fmi2OK);
-    assert_eq!(gnc.initialize(), fmi2Status::fmi2OK);
+    assert_eq!(gnc.set_integer(vr::CONTROL_LAW, 1), fmi2OK);
+    assert_eq!(gnc.set_reals(&[vr::PHI_CMD], &[2.6]), fmi2OK);
+    assert_eq!(gnc.initialize(), fmi2OK);
     // GIVEN a run up to just before the phase change and phi_cmd step at 12 s
     run(&gnc, 0, 1190);
-    let mut saved = std::ptr::null_mut();
-    assert_eq!(
-        unsafe { fmi2GetFMUstate(gnc.c, &mut saved) },
-        fmi2Status::fmi2OK
-    );
+    let saved = gnc.get_state();
     // WHEN the run goes on across guidance cycles, the phase change and the phi_cmd step
     let first = run(&gnc, 1190, 1260);
     // AND the state is restored and the same inputs replayed
-    assert_eq!(unsafe { fmi2SetFMUstate(gnc.c, saved) }, fmi2Status::fmi2OK);
+    assert_eq!(gnc.set_state(saved), fmi2OK);
     let second = run(&gnc, 1190, 1260);
     // THEN every output is bit-identical
     assert_eq!(bits(&first), bits(&second));
 
     // AND a serialized copy, restored into a fresh instance, replays bit-identically too
-    let mut size = 0;
-    assert_eq!(
-        unsafe { fmi2SerializedFMUstateSize(gnc.c, saved, &mut size) },
-        fmi2Status::fmi2OK
-    );
-    let mut bytes = vec![0 as std::ffi::c_char; size];
-    assert_eq!(
-        unsafe { fmi2SerializeFMUstate(gnc.c, saved, bytes.as_mut_ptr(), size) },
-        fmi2Status::fmi2OK
-    );
+    let bytes = gnc.serialize(saved);
     let other = Gnc::new();
-    assert_eq!(other.initialize(), fmi2Status::fmi2OK);
-    let mut restored = std::ptr::null_mut();
-    assert_eq!(
-        unsafe { fmi2DeSerializeFMUstate(other.c, bytes.as_ptr(), size, &mut restored) },
-        fmi2Status::fmi2OK
-    );
-    assert_eq!(
-        unsafe { fmi2SetFMUstate(other.c, restored) },
-        fmi2Status::fmi2OK
-    );
+    assert_eq!(other.initialize(), fmi2OK);
+    let (status, restored) = other.deserialize(&bytes);
+    assert_eq!(status, fmi2OK);
+    assert_eq!(other.set_state(restored), fmi2OK);
     let third = run(&other, 1190, 1260);
     assert_eq!(bits(&first), bits(&third));
-    unsafe {
-        fmi2FreeFMUstate(gnc.c, &mut saved);
-        fmi2FreeFMUstate(other.c, &mut restored);
-    }
+    assert_eq!(gnc.free_state(saved), fmi2OK);
+    assert_eq!(other.free_state(restored), fmi2OK);
 }

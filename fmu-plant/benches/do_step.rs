@@ -8,7 +8,7 @@ mod common;
 
 use common::{navigation_vrs, vr, Plant};
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use fmi2_export::ffi::fmi2Status;
+use fmi_testkit::fmi2::*;
 
 /// A hovering plant whose state does not drift away over millions of steps: thrust exactly
 /// m g with the mass flow switched off, so every iteration does the same work.
@@ -17,7 +17,7 @@ fn hovering(translation_model: i32) -> Plant {
     fmu.enter_init();
     fmu.set("isp", 1e15);
     fmu.set_integer("translation_model", translation_model);
-    assert_eq!(fmu.exit_init(), fmi2Status::fmi2OK);
+    assert_eq!(fmu.exit_init(), fmi2OK);
     fmu.set("thrust_cmd", 900.0 * 1.62);
     fmu
 }
@@ -51,9 +51,19 @@ fn do_step(c: &mut Criterion) {
         "set 4 inputs + fmi2DoStep 0.01 s + get 14 outputs (flat)",
         |b| {
             b.iter(|| unsafe {
-                fmu_plant::fmi2SetReal(fmu.c, inputs.as_ptr(), inputs.len(), values.as_ptr());
+                fmu_plant::fmi2SetReal(
+                    fmu.component(),
+                    inputs.as_ptr(),
+                    inputs.len(),
+                    values.as_ptr(),
+                );
                 let status = fmu.step(t, 0.01);
-                fmu_plant::fmi2GetReal(fmu.c, outputs.as_ptr(), outputs.len(), read.as_mut_ptr());
+                fmu_plant::fmi2GetReal(
+                    fmu.component(),
+                    outputs.as_ptr(),
+                    outputs.len(),
+                    read.as_mut_ptr(),
+                );
                 t += 0.01;
                 black_box((status, read[1]))
             })

@@ -322,7 +322,9 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(142, parameter rcs_time_constant: parameters.rcs.time_constant_s, "s", "First-order lag of the delivered RCS torque (0 = none)", min = 0.0),
     decl!(143, calculated_parameter rcs_torque_limit: get |m, _| m.parameters.rcs.torque_limit_nm(), "N.m", "Per-axis RCS torque limit: one couple, 2 x rcs_thruster_force x rcs_moment_arm"),
     // Translation model.
-    decl!(150, parameter translation_model: parameters.translation_model as enum TranslationModelKind, "Translational equations of motion: 1 = flat Moon (paper eq. 2), 2 = spherical rotating Moon (eq. 1)"),
+    // An Integer in the model description, so that every master can select it (libcosim and
+    // Ecos ignore FMI 2.0 Enumerations); the values are listed from TranslationModelKind.
+    decl!(150, parameter translation_model: parameters.translation_model as enum TranslationModelKind, "Translational equations of motion (flat: paper eq. 2; spherical rotating Moon: eq. 1)", as_integer = true),
     decl!(151, parameter moon_radius: parameters.moon_radius_m, "m", "Mean radius of the Moon (spherical model)", above = 0.0),
     decl!(152, parameter moon_rotation_rate: parameters.moon_rotation_rate_radps, "rad/s", "Sidereal rotation rate of the Moon (spherical model)"),
     decl!(153, parameter site_latitude: parameters.site_latitude_rad, "rad", "Latitude of the landing site (spherical model; default Chandrayaan-3, 69.373 deg S); within +-85 deg", min = -MAX_SITE_LATITUDE_RAD, max = MAX_SITE_LATITUDE_RAD),
@@ -389,6 +391,48 @@ mod tests {
             }
         }
         assert!(probed >= 20, "{probed}");
+    }
+
+    /// Exact ModelStructure: in initialization mode and during the run, the navigation
+    /// outputs depend on parameters only, never on an input (a master closing the loop
+    /// through LanderGnc then sees no algebraic loop); the delivered thrust does depend on
+    /// its command.
+    #[test]
+    fn navigation_outputs_depend_on_no_input_even_in_initialization() {
+        let vars = fmi2_export::variables::<LanderPlant>();
+        let index_of = |name: &str| 1 + vars.iter().position(|v| v.name == name).unwrap() as u32;
+        let inputs: Vec<u32> = vars
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.causality == Causality::Input)
+            .map(|(i, _)| i as u32 + 1)
+            .collect();
+        let structure = fmi2_export::model_description::<LanderPlant>().model_structure;
+        let dependencies = |list: &Option<model_description::UnknownList>, name: &str| {
+            let unknown = list
+                .as_ref()
+                .unwrap()
+                .unknowns
+                .iter()
+                .find(|u| u.index == index_of(name))
+                .unwrap_or_else(|| panic!("{name} is not listed"));
+            let text = unknown.dependencies.clone().expect("dependencies declared");
+            text.split_whitespace()
+                .map(|i| i.parse::<u32>().unwrap())
+                .collect::<Vec<u32>>()
+        };
+        for name in ["r_nue[2]", "q_body_to_nue[1]", "omega_body[3]", "mass"] {
+            for list in [&structure.outputs, &structure.initial_unknowns] {
+                let deps = dependencies(list, name);
+                assert!(deps.iter().all(|d| !inputs.contains(d)), "{name}: {deps:?}");
+            }
+        }
+        let initial = dependencies(&structure.initial_unknowns, "r_nue[2]");
+        assert!(initial.contains(&index_of("r0_nue[2]")), "{initial:?}");
+        let thrust = dependencies(&structure.outputs, "thrust_actual");
+        assert_eq!(thrust, vec![index_of("thrust_cmd")]);
+        let torque = dependencies(&structure.outputs, "torque_actual_body[2]");
+        assert_eq!(torque, vec![index_of("torque_cmd_body[2]")]);
     }
 
     #[test]

@@ -2,143 +2,51 @@
 //! this test binary drives its own exported C functions: instantiate, initialize, step,
 //! read outputs. Issue 7 bounds it at 64 KiB. One test in this binary, so that no other test
 //! allocates at the same time.
-#![allow(unsafe_code)]
-
-use fmi2_export::ffi::*;
-use fmu_plant as fmu;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::ffi::{c_void, CString};
-use std::sync::atomic::{AtomicIsize, Ordering};
-
-struct Counting;
-
-static LIVE_BYTES: AtomicIsize = AtomicIsize::new(0);
-static PEAK_BYTES: AtomicIsize = AtomicIsize::new(0);
-
-// SAFETY: forwards to the system allocator and only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            let live = LIVE_BYTES.fetch_add(layout.size() as isize, Ordering::SeqCst)
-                + layout.size() as isize;
-            PEAK_BYTES.fetch_max(live, Ordering::SeqCst);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(p, layout) };
-        LIVE_BYTES.fetch_sub(layout.size() as isize, Ordering::SeqCst);
-    }
-}
+use fmi_testkit::fmi2::*;
+use fmi_testkit::{fmi2_functions, CountingAllocator, Fmi2Functions, Instance};
 
 #[global_allocator]
-static ALLOCATOR: Counting = Counting;
+static ALLOCATOR: CountingAllocator = CountingAllocator::new();
+
+static FUNCTIONS: Fmi2Functions = fmi2_functions!(fmu_plant);
 
 const LIMIT_BYTES: isize = 64 * 1024;
 
-/// The layer always calls the logger with "%s" and one string; a non-variadic callee with
-/// those arguments reads them where a variadic call puts them (x86-64 and AArch64 Linux).
-extern "C" fn quiet(
-    _: fmi2ComponentEnvironment,
-    _: fmi2String,
-    _: fmi2Status,
-    _: fmi2String,
-    _: fmi2String,
-    _: fmi2String,
-) {
-}
-
-type Fixed = extern "C" fn(
-    fmi2ComponentEnvironment,
-    fmi2String,
-    fmi2Status,
-    fmi2String,
-    fmi2String,
-    fmi2String,
-);
-
-fn vr(name: &str) -> u32 {
-    fmi2_export::variables::<fmu::LanderPlant>()
-        .iter()
-        .find(|v| v.name == name)
-        .expect(name)
-        .value_reference
-}
-
 #[test]
 fn one_instance_holds_less_than_64_kib_of_heap_and_frees_it_all() {
-    let guid = CString::new(fmi2_export::guid::<fmu::LanderPlant>()).unwrap();
-    let inputs: Vec<u32> = [
-        "thrust_cmd",
-        "torque_cmd_body[1]",
-        "torque_cmd_body[2]",
-        "torque_cmd_body[3]",
-    ]
-    .map(vr)
-    .to_vec();
-    let outputs: Vec<u32> = fmi2_export::variables::<fmu::LanderPlant>()
-        .iter()
-        .filter(|v| v.causality == fmi2_export::Causality::Output)
-        .filter(|v| matches!(v.access, fmi2_export::Access::Real { .. }))
-        .map(|v| v.value_reference)
-        .collect();
-    let mut values = vec![0.0; outputs.len()];
-    let functions = fmi2CallbackFunctions {
-        // SAFETY: see `quiet`.
-        logger: unsafe { std::mem::transmute::<Fixed, fmi2CallbackLogger>(quiet) },
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: std::ptr::null_mut::<c_void>(),
+    use fmu_plant::LanderPlant;
+    let guid = fmi2_export::guid::<LanderPlant>();
+    let reals = |causality| -> Vec<u32> {
+        fmi2_export::variables::<LanderPlant>()
+            .iter()
+            .filter(|v| v.causality == causality && v.real(&LanderPlant::default()).is_some())
+            .map(|v| v.value_reference)
+            .collect()
     };
-    // Twice: the first time also counts what the process sets up once (the test harness's
-    // output capture, the standard library's thread data), which is not the instance's.
+    let (inputs, outputs) = (
+        reals(fmi2_export::Causality::Input),
+        reals(fmi2_export::Causality::Output),
+    );
+    assert_eq!(inputs.len(), 4);
     for round in 0..2 {
-        let before = LIVE_BYTES.load(Ordering::SeqCst);
-        PEAK_BYTES.store(before, Ordering::SeqCst);
-        // SAFETY: valid arguments throughout, as a master passes them.
-        let held = unsafe {
-            let c = fmu::fmi2Instantiate(
-                c"heap".as_ptr(),
-                fmi2CoSimulation,
-                guid.as_ptr(),
-                c"file:///tmp".as_ptr(),
-                &functions,
-                fmi2False,
-                fmi2False,
-            );
-            assert!(!c.is_null());
-            assert_eq!(
-                fmu::fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0),
-                fmi2Status::fmi2OK
-            );
-            assert_eq!(fmu::fmi2EnterInitializationMode(c), fmi2Status::fmi2OK);
-            assert_eq!(fmu::fmi2ExitInitializationMode(c), fmi2Status::fmi2OK);
-            for k in 0..200 {
-                let t = k as f64 * 0.01;
-                let commands = [1300.0, 1.0, -2.0, 0.5];
-                assert_eq!(
-                    fmu::fmi2SetReal(c, inputs.as_ptr(), inputs.len(), commands.as_ptr()),
-                    fmi2Status::fmi2OK
-                );
-                assert_eq!(
-                    fmu::fmi2GetReal(c, outputs.as_ptr(), outputs.len(), values.as_mut_ptr()),
-                    fmi2Status::fmi2OK
-                );
-                assert_eq!(fmu::fmi2DoStep(c, t, 0.01, fmi2True), fmi2Status::fmi2OK);
-            }
-            let held = LIVE_BYTES.load(Ordering::SeqCst) - before;
-            fmu::fmi2FreeInstance(c);
-            held
-        };
-        let peak = PEAK_BYTES.load(Ordering::SeqCst) - before;
-        let after = LIVE_BYTES.load(Ordering::SeqCst) - before;
-        println!("LanderPlant instance heap (round {round}): {held} bytes held while stepping, {peak} bytes at peak, {after} after free");
-        assert!(held > 0, "the counter must see the instance");
-        assert!(peak < LIMIT_BYTES, "{peak} bytes at peak");
+        let heap = ALLOCATOR.measure(
+            || Instance::instantiate(&FUNCTIONS, "heap", &guid),
+            |plant| {
+                assert_eq!(plant.initialize(), fmi2OK);
+                for k in 0..200 {
+                    let t = k as f64 * 0.01;
+                    let commands = [1300.0, 1.0, -2.0, 0.5];
+                    assert_eq!(plant.set_reals(&inputs, &commands), fmi2OK);
+                    assert_eq!(plant.get_reals(&outputs).0, fmi2OK);
+                    assert_eq!(plant.do_step(t, 0.01), fmi2OK);
+                }
+            },
+        );
+        println!("LanderPlant instance heap (round {round}): {heap:?}");
+        assert!(heap.held > 0, "the counter must see the instance");
+        assert!(heap.peak < LIMIT_BYTES, "{} bytes at peak", heap.peak);
         if round == 1 {
-            assert_eq!(after, 0, "fmi2FreeInstance left {after} bytes");
+            assert_eq!(heap.after, 0, "fmi2FreeInstance left {} bytes", heap.after);
         }
     }
 }

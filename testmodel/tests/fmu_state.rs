@@ -3,7 +3,7 @@
 mod common;
 
 use common::{vr, Fmu};
-use fmi2_export::ffi::*;
+use fmi_testkit::fmi2::*;
 use fmu_testmodel as fmu;
 
 const H: f64 = 0.01;
@@ -15,7 +15,7 @@ fn run(fmu: &Fmu, n: usize) -> Vec<u64> {
         .map(|i| {
             let t = t0 + i as f64 * H;
             fmu.set_real(vr::U, (3.0 * t).cos());
-            assert_eq!(fmu.step(t, H), fmi2Status::fmi2OK);
+            assert_eq!(fmu.step(t, H), fmi2OK);
             let (x, v) = (fmu.get_real(vr::X), fmu.get_real(vr::V));
             x.to_bits() ^ v.to_bits().rotate_left(1) ^ fmu.get_integer(vr::STEP_COUNT) as u64
         })
@@ -35,17 +35,11 @@ fn restoring_a_state_continues_bit_exactly() {
     let fmu = started();
     let state = fmu.get_state();
     let first = run(&fmu, 200);
-    assert_eq!(
-        unsafe { fmu::fmi2SetFMUstate(fmu.c, state) },
-        fmi2Status::fmi2OK
-    );
+    assert_eq!(unsafe { fmu::fmi2SetFMUstate(fmu.c, state) }, fmi2OK);
     assert_eq!(fmu.last_successful_time(), 100.0 * H);
     assert_eq!(run(&fmu, 200), first);
     let mut state = state;
-    assert_eq!(
-        unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut state) },
-        fmi2Status::fmi2OK
-    );
+    assert_eq!(unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut state) }, fmi2OK);
     assert!(state.is_null());
 }
 
@@ -56,10 +50,7 @@ fn get_state_into_an_existing_state_updates_it() {
     let mut state = fmu.get_state();
     let kept = state;
     run(&fmu, 10);
-    assert_eq!(
-        unsafe { fmu::fmi2GetFMUstate(fmu.c, &mut state) },
-        fmi2Status::fmi2OK
-    );
+    assert_eq!(unsafe { fmu::fmi2GetFMUstate(fmu.c, &mut state) }, fmi2OK);
     assert_eq!(state, kept);
     let later = run(&fmu, 5);
     unsafe { fmu::fmi2SetFMUstate(fmu.c, state) };
@@ -74,14 +65,14 @@ fn serialized_states_round_trip_bit_exactly_also_into_another_instance() {
     let first = run(&fmu, 150);
 
     let (status, copy) = fmu.deserialize(&bytes);
-    assert_eq!(status, fmi2Status::fmi2OK);
+    assert_eq!(status, fmi2OK);
     assert_eq!(fmu.serialize(copy), bytes, "serialize(deserialize(b)) == b");
     unsafe { fmu::fmi2SetFMUstate(fmu.c, copy) };
     assert_eq!(run(&fmu, 150), first);
 
     let other = Fmu::named("other", false);
     let (status, foreign_copy) = other.deserialize(&bytes);
-    assert_eq!(status, fmi2Status::fmi2OK);
+    assert_eq!(status, fmi2OK);
     unsafe { fmu::fmi2SetFMUstate(other.c, foreign_copy) };
     assert_eq!(run(&other, 150), first);
 }
@@ -94,14 +85,14 @@ fn the_state_includes_the_simulation_status() {
     fmu.set_real(vr::THRESHOLD, 0.99999);
     fmu.init();
     let before = fmu.get_state();
-    assert_eq!(fmu.step(0.0, H), fmi2Status::fmi2Discard);
+    assert_eq!(fmu.step(0.0, H), fmi2Discard);
     let after = fmu.get_state();
     let stop = fmu.last_successful_time();
     unsafe { fmu::fmi2SetFMUstate(fmu.c, before) };
     assert!(!fmu.terminated());
     assert_eq!(
         fmu.step(0.0, H),
-        fmi2Status::fmi2Discard,
+        fmi2Discard,
         "StepComplete again: the step runs"
     );
     unsafe { fmu::fmi2SetFMUstate(fmu.c, after) };
@@ -112,7 +103,7 @@ fn the_state_includes_the_simulation_status() {
 fn refused_with(fmu: &Fmu, bytes: &[u8], line: &str) {
     fmu.clear();
     let (status, state) = fmu.deserialize(bytes);
-    assert_eq!(status, fmi2Status::fmi2Error);
+    assert_eq!(status, fmi2Error);
     assert!(state.is_null());
     assert_eq!(fmu.last_message(), line);
 }
@@ -124,7 +115,7 @@ fn truncated_extended_and_corrupted_buffers_are_refused() {
     let n = bytes.len();
     for len in 0..n {
         let (status, state) = fmu.deserialize(&bytes[..len]);
-        assert_eq!(status, fmi2Status::fmi2Error, "prefix of {len} bytes");
+        assert_eq!(status, fmi2Error, "prefix of {len} bytes");
         assert!(state.is_null());
     }
     refused_with(
@@ -171,7 +162,7 @@ fn truncated_extended_and_corrupted_buffers_are_refused() {
         &flipped(12),
         "fmi2DeSerializeFMUstate: FMU state: model state version 65, this FMU has version 1",
     );
-    assert!(fmu.deserialize(&flipped(20)).0 == fmi2Status::fmi2Error);
+    assert!(fmu.deserialize(&flipped(20)).0 == fmi2Error);
     assert!(fmu
         .last_message()
         .starts_with("fmi2DeSerializeFMUstate: FMU state: state of a different FMU (GUID {"));
@@ -193,7 +184,7 @@ fn serialize_needs_the_exact_size() {
     let status = unsafe {
         fmu::fmi2SerializeFMUstate(fmu.c, state, buffer.as_mut_ptr() as *mut fmi2Byte, n - 1)
     };
-    assert_eq!(status, fmi2Status::fmi2Error);
+    assert_eq!(status, fmi2Error);
     assert_eq!(
         fmu.last_message(),
         format!(
@@ -209,10 +200,7 @@ fn foreign_and_freed_state_pointers_are_refused() {
     let fmu = started();
     let other = started();
     let theirs = other.get_state();
-    assert_eq!(
-        unsafe { fmu::fmi2SetFMUstate(fmu.c, theirs) },
-        fmi2Status::fmi2Error
-    );
+    assert_eq!(unsafe { fmu::fmi2SetFMUstate(fmu.c, theirs) }, fmi2Error);
     assert_eq!(
         fmu.last_message(),
         format!(
@@ -223,24 +211,21 @@ fn foreign_and_freed_state_pointers_are_refused() {
     let mut mine = fmu.get_state();
     let stale = mine;
     unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut mine) };
-    assert_eq!(
-        unsafe { fmu::fmi2SetFMUstate(fmu.c, stale) },
-        fmi2Status::fmi2Error
-    );
+    assert_eq!(unsafe { fmu::fmi2SetFMUstate(fmu.c, stale) }, fmi2Error);
     let mut size = 0;
     assert_eq!(
         unsafe { fmu::fmi2SerializedFMUstateSize(fmu.c, stale, &mut size) },
-        fmi2Status::fmi2Error
+        fmi2Error
     );
     let mut stale_again = stale;
     assert_eq!(
         unsafe { fmu::fmi2FreeFMUstate(fmu.c, &mut stale_again) },
-        fmi2Status::fmi2Error,
+        fmi2Error,
         "double free refused"
     );
     assert_eq!(
         unsafe { fmu::fmi2SetFMUstate(fmu.c, std::ptr::null_mut()) },
-        fmi2Status::fmi2Error
+        fmi2Error
     );
     assert_eq!(
         fmu.last_message(),

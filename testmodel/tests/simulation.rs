@@ -3,7 +3,7 @@
 mod common;
 
 use common::{analytic_x, vr, Fmu};
-use fmi2_export::ffi::*;
+use fmi_testkit::fmi2::*;
 use fmu_testmodel as fmu;
 
 const H: f64 = 0.01;
@@ -13,14 +13,14 @@ const H: f64 = 0.01;
 #[test]
 fn outputs_follow_the_analytic_solution() {
     let fmu = Fmu::new(false);
-    assert_eq!(fmu.set_real(vr::X0, 0.5), fmi2Status::fmi2OK);
-    assert_eq!(fmu.set_real(vr::K, 4.0), fmi2Status::fmi2OK);
-    assert_eq!(fmu.set_real(vr::C, 0.4), fmi2Status::fmi2OK);
+    assert_eq!(fmu.set_real(vr::X0, 0.5), fmi2OK);
+    assert_eq!(fmu.set_real(vr::K, 4.0), fmi2OK);
+    assert_eq!(fmu.set_real(vr::C, 0.4), fmi2OK);
     fmu.init();
-    assert_eq!(fmu.set_real(vr::U, 2.0), fmi2Status::fmi2OK);
+    assert_eq!(fmu.set_real(vr::U, 2.0), fmi2OK);
     let mut t = 0.0;
     for _ in 0..500 {
-        assert_eq!(fmu.step(t, H), fmi2Status::fmi2OK);
+        assert_eq!(fmu.step(t, H), fmi2OK);
         t += H;
         let expected = analytic_x(t, 0.5, 4.0, 0.4, 2.0);
         assert!((fmu.get_real(vr::X) - expected).abs() < 1e-9, "t = {t}");
@@ -36,8 +36,8 @@ fn initial_unknowns_follow_parameters_in_initialization_mode() {
     let fmu = Fmu::new(false);
     fmu.setup(0.0, None);
     fmu.enter_init();
-    assert_eq!(fmu.set_real(vr::X0, -3.0), fmi2Status::fmi2OK);
-    assert_eq!(fmu.set_real(vr::K, 9.0), fmi2Status::fmi2OK);
+    assert_eq!(fmu.set_real(vr::X0, -3.0), fmi2OK);
+    assert_eq!(fmu.set_real(vr::K, 9.0), fmi2OK);
     assert_eq!(fmu.get_real(vr::X), -3.0);
     assert_eq!(fmu.get_real(vr::OMEGA_N), 3.0);
 }
@@ -54,14 +54,14 @@ fn threshold_crossing_stops_with_discard_at_the_crossing_time() {
     let mut t = 0.0;
     let status = loop {
         let status = fmu.step(t, H);
-        if status != fmi2Status::fmi2OK {
+        if status != fmi2OK {
             break status;
         }
         t += H;
         assert!(!fmu.terminated());
         assert_eq!(fmu.last_successful_time(), t);
     };
-    assert_eq!(status, fmi2Status::fmi2Discard);
+    assert_eq!(status, fmi2Discard);
     let stop = fmu.last_successful_time();
     assert!(
         (stop - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
@@ -73,17 +73,17 @@ fn threshold_crossing_stops_with_discard_at_the_crossing_time() {
     let discard = fmu
         .records()
         .into_iter()
-        .find(|r| r.status == fmi2Status::fmi2Discard)
+        .find(|r| r.status == fmi2Discard)
         .expect("discard logged with debug logging on");
     assert_eq!(discard.category, "logStatusDiscard");
     assert!(discard
         .message
         .starts_with("fmi2DoStep: step ended early at t = "));
-    assert_eq!(fmu.step(stop, H), fmi2Status::fmi2Error);
+    assert_eq!(fmu.step(stop, H), fmi2Error);
     assert!(fmu
         .last_message()
         .contains("illegal call in state StepFailed"));
-    assert_eq!(unsafe { fmu::fmi2Terminate(fmu.c) }, fmi2Status::fmi2OK);
+    assert_eq!(unsafe { fmu::fmi2Terminate(fmu.c) }, fmi2OK);
 }
 
 /// A falling-only crossing ignores the first (rising) crossing of a negative threshold.
@@ -94,10 +94,10 @@ fn crossing_direction_selects_the_crossing() {
     fmu.set_real(vr::C, 0.0);
     fmu.set_real(vr::THRESHOLD, 0.5);
     fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
-    assert_eq!(fmu.set_integer(vr::CROSSING, 2), fmi2Status::fmi2OK);
+    assert_eq!(fmu.set_integer(vr::CROSSING, 2), fmi2OK);
     fmu.init();
     let mut t = 0.0;
-    while fmu.step(t, H) == fmi2Status::fmi2OK {
+    while fmu.step(t, H) == fmi2OK {
         t += H;
     }
     // x = -cos t rises through 0.5 at 2pi/3 and falls through it at 4pi/3.
@@ -114,18 +114,14 @@ fn coarse_sub_steps_give_a_warning() {
     fmu.set_real(vr::K, 1e4);
     fmu.set_integer(vr::SUBSTEPS, 1);
     fmu.init();
-    assert_eq!(fmu.step(0.0, H), fmi2Status::fmi2Warning);
+    assert_eq!(fmu.step(0.0, H), fmi2Warning);
     let last = fmu.records().pop().unwrap();
-    assert_eq!(last.status, fmi2Status::fmi2Warning);
+    assert_eq!(last.status, fmi2Warning);
     assert_eq!(last.category, "logStatusWarning");
     assert!(last
         .message
         .starts_with("fmi2DoStep: sub-step 0.01 s is coarse"));
-    assert_eq!(
-        fmu.step(H, H),
-        fmi2Status::fmi2Warning,
-        "a warning is not a failure"
-    );
+    assert_eq!(fmu.step(H, H), fmi2Warning, "a warning is not a failure");
 }
 
 /// A model error in ExitInitializationMode: fmi2Error, state Error, Reset recovers.
@@ -136,17 +132,17 @@ fn invalid_parameter_fails_initialization_and_reset_recovers() {
     fmu.set_real(vr::THRESHOLD, 1.0);
     fmu.setup(0.0, None);
     fmu.enter_init();
-    assert_eq!(fmu.exit_init(), fmi2Status::fmi2Error);
+    assert_eq!(fmu.exit_init(), fmi2Error);
     assert_eq!(
         fmu.last_message(),
         "fmi2ExitInitializationMode: parameter threshold = 1: equals x0 while \
          stop_at_threshold is set: the model would stop at once"
     );
-    assert_eq!(fmu.step(0.0, H), fmi2Status::fmi2Error);
+    assert_eq!(fmu.step(0.0, H), fmi2Error);
     assert!(fmu.last_message().contains("illegal call in state Error"));
-    assert_eq!(unsafe { fmu::fmi2Reset(fmu.c) }, fmi2Status::fmi2OK);
+    assert_eq!(unsafe { fmu::fmi2Reset(fmu.c) }, fmi2OK);
     fmu.init();
-    assert_eq!(fmu.step(0.0, H), fmi2Status::fmi2OK);
+    assert_eq!(fmu.step(0.0, H), fmi2OK);
 }
 
 /// A model error in DoStep (the state overflows): fmi2Error, state Error.
@@ -156,11 +152,11 @@ fn diverging_state_is_a_step_error() {
     fmu.set_real(vr::X0, 1e10);
     fmu.init();
     fmu.set_real(vr::K, 1e300);
-    assert_eq!(fmu.step(0.0, H), fmi2Status::fmi2Error);
+    assert_eq!(fmu.step(0.0, H), fmi2Error);
     assert!(fmu
         .last_message()
         .starts_with("fmi2DoStep: state diverged at t = 0 s"));
-    assert_eq!(fmu.set_real(vr::K, 1.0), fmi2Status::fmi2Error);
+    assert_eq!(fmu.set_real(vr::K, 1.0), fmi2Error);
     assert!(fmu.last_message().contains("illegal call in state Error"));
 }
 
@@ -172,7 +168,7 @@ fn reset_returns_to_the_freshly_instantiated_state() {
         fmu.init();
         (0..50)
             .map(|i| {
-                assert_eq!(fmu.step(i as f64 * H, H), fmi2Status::fmi2OK);
+                assert_eq!(fmu.step(i as f64 * H, H), fmi2OK);
                 fmu.get_real(vr::X).to_bits()
             })
             .collect()
@@ -186,9 +182,9 @@ fn reset_returns_to_the_freshly_instantiated_state() {
     fmu.set_real(vr::K, 3.0);
     fmu.step(0.0, H);
     unsafe { fmu::fmi2Terminate(fmu.c) };
-    assert_eq!(unsafe { fmu::fmi2Reset(fmu.c) }, fmi2Status::fmi2OK);
+    assert_eq!(unsafe { fmu::fmi2Reset(fmu.c) }, fmi2OK);
     // Get is illegal in Instantiated: prove the state, then look in initialization mode.
-    assert_eq!(fmu.step(0.0, H), fmi2Status::fmi2Error);
+    assert_eq!(fmu.step(0.0, H), fmi2Error);
     assert!(fmu
         .last_message()
         .contains("illegal call in state Instantiated"));
@@ -210,16 +206,12 @@ fn accumulated_rounding_in_the_communication_point_is_accepted() {
     fmu.init();
     let mut t = 0.0;
     for _ in 0..1200 {
-        assert_eq!(fmu.step(t, H), fmi2Status::fmi2OK);
+        assert_eq!(fmu.step(t, H), fmi2OK);
         t += H;
     }
     assert_ne!(t, 12.0, "the premise: accumulation drifts");
     assert_eq!(fmu.last_successful_time(), t);
-    assert_eq!(
-        fmu.step(12.0, H),
-        fmi2Status::fmi2OK,
-        "within the tolerance"
-    );
+    assert_eq!(fmu.step(12.0, H), fmi2OK, "within the tolerance");
     assert_eq!(fmu.last_successful_time(), 12.0 + H);
 }
 
@@ -231,10 +223,10 @@ fn stop_time_is_honoured_with_tolerance() {
     fmu.exit_init();
     let mut t = 0.0;
     for _ in 0..3 {
-        assert_eq!(fmu.step(t, H), fmi2Status::fmi2OK);
+        assert_eq!(fmu.step(t, H), fmi2OK);
         t += H;
     }
-    assert_eq!(fmu.step(t, H), fmi2Status::fmi2Error);
+    assert_eq!(fmu.step(t, H), fmi2Error);
     assert_eq!(
         fmu.last_message(),
         format!(
@@ -255,7 +247,7 @@ fn instances_on_two_threads_match_serial_runs() {
         (0..2000)
             .map(|i| {
                 fmu.set_real(vr::U, (i as f64 * 0.01).sin());
-                assert_eq!(fmu.step(i as f64 * H, H), fmi2Status::fmi2OK);
+                assert_eq!(fmu.step(i as f64 * H, H), fmi2OK);
                 fmu.get_real(vr::X).to_bits()
             })
             .collect()
@@ -273,7 +265,7 @@ fn instances_on_two_threads_match_serial_runs() {
 #[test]
 fn strings_are_copied_in_and_out() {
     let fmu = Fmu::new(false);
-    assert_eq!(fmu.set_string(vr::LABEL, "lander ü"), fmi2Status::fmi2OK);
+    assert_eq!(fmu.set_string(vr::LABEL, "lander ü"), fmi2OK);
     fmu.init();
     assert_eq!(fmu.get_string(vr::LABEL), "lander ü");
 }

@@ -6,8 +6,8 @@
 mod common;
 
 use common::{vr, Fmu};
-use fmi2_export::ffi::*;
 use fmi2_export::state::{Function, State};
+use fmi_testkit::fmi2::*;
 use fmu_testmodel as fmu;
 use std::ptr::{null, null_mut};
 
@@ -25,18 +25,18 @@ fn in_state(state: State) -> Fmu {
             fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
             fmu.set_real(vr::THRESHOLD, 0.99999);
             fmu.init();
-            assert_eq!(fmu.step(0.0, 0.01), fmi2Status::fmi2Discard);
+            assert_eq!(fmu.step(0.0, 0.01), fmi2Discard);
         }
         State::Terminated => {
             fmu.init();
-            assert_eq!(unsafe { fmu::fmi2Terminate(fmu.c) }, fmi2Status::fmi2OK);
+            assert_eq!(unsafe { fmu::fmi2Terminate(fmu.c) }, fmi2OK);
         }
         State::Error => {
             fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
             fmu.set_real(vr::THRESHOLD, 1.0);
             fmu.setup(0.0, None);
             fmu.enter_init();
-            assert_eq!(fmu.exit_init(), fmi2Status::fmi2Error);
+            assert_eq!(fmu.exit_init(), fmi2Error);
         }
         State::StepCanceled | State::Fatal => unreachable!("not reachable with this model"),
     }
@@ -51,7 +51,7 @@ fn call(fmu: &Fmu, f: Function) -> fmi2Status {
     let mut real = 0.0;
     let mut int = 0;
     let mut string: fmi2String = null();
-    let mut status = fmi2Status::fmi2OK;
+    let mut status = fmi2OK;
     unsafe {
         match f {
             Function::SetDebugLogging => fmu::fmi2SetDebugLogging(c, fmi2True, 0, null()),
@@ -84,7 +84,7 @@ fn call(fmu: &Fmu, f: Function) -> fmi2Status {
                 let mut state = null_mut();
                 let got = fmu::fmi2GetFMUstate(c, &mut state);
                 let mut bytes = vec![];
-                if got == fmi2Status::fmi2OK {
+                if got == fmi2OK {
                     bytes = fmu.serialize(state);
                 }
                 fmu.clear();
@@ -162,7 +162,7 @@ fn every_function_in_every_state_is_legal_or_refused_as_the_table_says() {
                 fmu.messages()
             );
             if refused {
-                assert_eq!(status, fmi2Status::fmi2Error);
+                assert_eq!(status, fmi2Error);
                 assert_eq!(fmu.messages().len(), 1, "one line: {:?}", fmu.messages());
             }
             checked += 1;
@@ -175,13 +175,10 @@ fn every_function_in_every_state_is_legal_or_refused_as_the_table_says() {
 #[test]
 fn an_illegal_call_changes_nothing() {
     let fmu = in_state(State::Instantiated);
-    assert_eq!(call(&fmu, Function::DoStep), fmi2Status::fmi2Error);
-    assert_eq!(
-        call(&fmu, Function::ExitInitializationMode),
-        fmi2Status::fmi2Error
-    );
+    assert_eq!(call(&fmu, Function::DoStep), fmi2Error);
+    assert_eq!(call(&fmu, Function::ExitInitializationMode), fmi2Error);
     fmu.init();
-    assert_eq!(fmu.step(0.0, 0.01), fmi2Status::fmi2OK);
+    assert_eq!(fmu.step(0.0, 0.01), fmi2OK);
 }
 
 #[test]

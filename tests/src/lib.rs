@@ -5,6 +5,7 @@
 //! These helpers panic with a message saying what to run: they serve tests only.
 #![deny(unsafe_code)]
 
+use fmi_abi::unpack::Unpacked;
 use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
@@ -44,9 +45,10 @@ pub fn fmu_path(model_identifier: &str) -> PathBuf {
     path
 }
 
-/// An FMU unzipped into a temporary folder that is removed on drop.
+/// An FMU unzipped (by the workspace's one unpacker) into a temporary folder that is
+/// removed on drop.
 pub struct UnpackedFmu {
-    dir: tempfile::TempDir,
+    unpacked: Unpacked,
     pub description: ModelDescription,
     pub model_identifier: String,
 }
@@ -54,18 +56,8 @@ pub struct UnpackedFmu {
 impl UnpackedFmu {
     pub fn open(model_identifier: &str) -> Self {
         let archive_path = fmu_path(model_identifier);
-        let file = std::fs::File::open(&archive_path)
-            .unwrap_or_else(|e| panic!("cannot open {}: {e}", archive_path.display()));
-        let mut archive = zip::ZipArchive::new(file)
-            .unwrap_or_else(|e| panic!("{} is not a zip archive: {e}", archive_path.display()));
-        let dir = tempfile::Builder::new()
-            .prefix(&format!("{model_identifier}-"))
-            .tempdir()
-            .expect("cannot create a temporary folder");
-        archive
-            .extract(dir.path())
-            .unwrap_or_else(|e| panic!("cannot unzip {}: {e}", archive_path.display()));
-        let description = ModelDescription::from_file(dir.path().join("modelDescription.xml"))
+        let unpacked = Unpacked::open(&archive_path).unwrap_or_else(|e| panic!("{e}"));
+        let description = ModelDescription::from_file(unpacked.model_description_path())
             .unwrap_or_else(|e| panic!("modelDescription.xml of {}: {e}", archive_path.display()));
         let identifier = description
             .co_simulation_identifier()
@@ -78,25 +70,23 @@ impl UnpackedFmu {
             archive_path.display()
         );
         Self {
-            dir,
+            unpacked,
             description,
             model_identifier: identifier,
         }
     }
 
     pub fn root(&self) -> &Path {
-        self.dir.path()
+        self.unpacked.root()
     }
 
     pub fn library(&self) -> PathBuf {
-        self.root()
-            .join("binaries/linux64")
-            .join(format!("{}.so", self.model_identifier))
+        self.unpacked.binary_path(&self.model_identifier)
     }
 
     /// `fmuResourceLocation` as a master passes it: a file URI of the `resources` folder.
     pub fn resource_uri(&self) -> String {
-        format!("file://{}/resources", self.root().display())
+        self.unpacked.resource_uri()
     }
 }
 
@@ -122,39 +112,4 @@ pub const FMI2_ME_FUNCTIONS: [&str; 10] = [
 ];
 
 /// The 34 functions of the FMI 2.0 Co-Simulation API (25 common + 9 co-simulation).
-pub const FMI2_CS_FUNCTIONS: [&str; 34] = [
-    "fmi2GetTypesPlatform",
-    "fmi2GetVersion",
-    "fmi2SetDebugLogging",
-    "fmi2Instantiate",
-    "fmi2FreeInstance",
-    "fmi2SetupExperiment",
-    "fmi2EnterInitializationMode",
-    "fmi2ExitInitializationMode",
-    "fmi2Terminate",
-    "fmi2Reset",
-    "fmi2GetReal",
-    "fmi2GetInteger",
-    "fmi2GetBoolean",
-    "fmi2GetString",
-    "fmi2SetReal",
-    "fmi2SetInteger",
-    "fmi2SetBoolean",
-    "fmi2SetString",
-    "fmi2GetFMUstate",
-    "fmi2SetFMUstate",
-    "fmi2FreeFMUstate",
-    "fmi2SerializedFMUstateSize",
-    "fmi2SerializeFMUstate",
-    "fmi2DeSerializeFMUstate",
-    "fmi2GetDirectionalDerivative",
-    "fmi2SetRealInputDerivatives",
-    "fmi2GetRealOutputDerivatives",
-    "fmi2DoStep",
-    "fmi2CancelStep",
-    "fmi2GetStatus",
-    "fmi2GetRealStatus",
-    "fmi2GetIntegerStatus",
-    "fmi2GetBooleanStatus",
-    "fmi2GetStringStatus",
-];
+pub const FMI2_CS_FUNCTIONS: [&str; 34] = fmi_abi::fmi2::FUNCTION_NAMES;

@@ -1,14 +1,12 @@
-//! Driver for LanderGnc's exported C functions (the same calls a master makes).
-//!
-//! The logger: a C-variadic callback cannot be defined in stable Rust, so the recorder is
-//! declared with the fixed arguments the layer passes (`"%s"` and one `const char*`) and
-//! transmuted into the variadic pointer type, as in the export layer's own tests.
-#![allow(dead_code, unsafe_code)]
+//! LanderGnc driven through its exported C functions (the same calls a master makes), on
+//! the workspace's test kit.
+#![allow(dead_code)]
 
-use fmi2_export::ffi::*;
-use fmu_gnc as fmu;
-use std::ffi::{c_char, c_void, CStr, CString};
-use std::sync::Mutex;
+use fmi_testkit::fmi2::*;
+use fmi_testkit::{fmi2_functions, Fmi2Functions, Instance};
+use std::ops::Deref;
+
+pub static FUNCTIONS: Fmi2Functions = fmi2_functions!(fmu_gnc);
 
 pub mod vr {
     pub const R_NUE: [u32; 3] = [1, 2, 3];
@@ -29,112 +27,20 @@ pub mod vr {
     ];
 }
 
-#[derive(Debug, Default)]
-pub struct Sink {
-    pub messages: Mutex<Vec<(fmi2Status, String)>>,
-}
+/// One instance, freed on drop; every call of the test kit's [`Instance`] is available.
+pub struct Gnc(Instance);
 
-extern "C" fn record(
-    environment: fmi2ComponentEnvironment,
-    _instance: fmi2String,
-    status: fmi2Status,
-    _category: fmi2String,
-    _format: fmi2String,
-    message: fmi2String,
-) {
-    let text = unsafe { CStr::from_ptr(message as *const c_char) }
-        .to_string_lossy()
-        .into_owned();
-    let sink = unsafe { &*(environment as *const Sink) };
-    sink.messages.lock().unwrap().push((status, text));
-}
-
-type FixedLogger = extern "C" fn(
-    fmi2ComponentEnvironment,
-    fmi2String,
-    fmi2Status,
-    fmi2String,
-    fmi2String,
-    fmi2String,
-);
-
-/// One instance, freed on drop.
-pub struct Gnc {
-    pub c: fmi2Component,
-    pub sink: Box<Sink>,
+impl Deref for Gnc {
+    type Target = Instance;
+    fn deref(&self) -> &Instance {
+        &self.0
+    }
 }
 
 impl Gnc {
     pub fn new() -> Gnc {
-        let sink = Box::<Sink>::default();
-        // SAFETY: see the module documentation.
-        let logger = unsafe { std::mem::transmute::<FixedLogger, fmi2CallbackLogger>(record) };
-        let functions = fmi2CallbackFunctions {
-            logger,
-            allocateMemory: None,
-            freeMemory: None,
-            stepFinished: None,
-            componentEnvironment: &*sink as *const Sink as *mut c_void,
-        };
-        let guid = CString::new(fmi2_export::guid::<fmu::LanderGnc>()).unwrap();
-        let c = unsafe {
-            fmu::fmi2Instantiate(
-                c"gnc".as_ptr(),
-                fmi2CoSimulation,
-                guid.as_ptr(),
-                c"file:///nowhere".as_ptr(),
-                &functions,
-                fmi2False,
-                fmi2False,
-            )
-        };
-        assert!(!c.is_null(), "instantiate failed: {:?}", sink.messages);
-        Gnc { c, sink }
-    }
-
-    pub fn messages(&self) -> Vec<String> {
-        self.sink
-            .messages
-            .lock()
-            .unwrap()
-            .iter()
-            .map(|(_, m)| m.clone())
-            .collect()
-    }
-
-    /// Set up at t = 0 and enter and leave initialization mode.
-    pub fn initialize(&self) -> fmi2Status {
-        unsafe {
-            assert_eq!(
-                fmu::fmi2SetupExperiment(self.c, fmi2False, 0.0, 0.0, fmi2False, 0.0),
-                fmi2Status::fmi2OK
-            );
-            assert_eq!(fmu::fmi2EnterInitializationMode(self.c), fmi2Status::fmi2OK);
-            fmu::fmi2ExitInitializationMode(self.c)
-        }
-    }
-
-    pub fn set_reals(&self, vrs: &[u32], values: &[f64]) -> fmi2Status {
-        assert_eq!(vrs.len(), values.len());
-        unsafe { fmu::fmi2SetReal(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr()) }
-    }
-
-    pub fn get_reals(&self, vrs: &[u32]) -> (fmi2Status, Vec<f64>) {
-        let mut values = vec![0.0; vrs.len()];
-        let status =
-            unsafe { fmu::fmi2GetReal(self.c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) };
-        (status, values)
-    }
-
-    pub fn get_integer(&self, vr: u32) -> i32 {
-        let mut value = 0;
-        let status = unsafe { fmu::fmi2GetInteger(self.c, &vr, 1, &mut value) };
-        assert_eq!(status, fmi2Status::fmi2OK);
-        value
-    }
-
-    pub fn set_integer(&self, vr: u32, value: i32) -> fmi2Status {
-        unsafe { fmu::fmi2SetInteger(self.c, &vr, 1, &value) }
+        let guid = fmi2_export::guid::<fmu_gnc::LanderGnc>();
+        Gnc(Instance::instantiate(&FUNCTIONS, "gnc", &guid))
     }
 
     /// Set the navigation inputs: r, v, q (scalar first), omega, mass.
@@ -163,15 +69,5 @@ impl Gnc {
             .copied()
             .collect();
         self.set_reals(&vrs, &values)
-    }
-
-    pub fn do_step(&self, t: f64, h: f64) -> fmi2Status {
-        unsafe { fmu::fmi2DoStep(self.c, t, h, fmi2True) }
-    }
-}
-
-impl Drop for Gnc {
-    fn drop(&mut self) {
-        unsafe { fmu::fmi2FreeInstance(self.c) };
     }
 }

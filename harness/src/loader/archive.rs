@@ -1,125 +1,18 @@
-//! Where an FMU's files are: a `.fmu` zip unpacked into a temporary directory, or a directory
-//! that already holds the unpacked layout (`modelDescription.xml`, `binaries/`, `resources/`).
+//! Where an FMU's files are: the workspace's one unpacker (`fmi-abi`), its errors told in the
+//! loader's terms.
 use super::error::LoadError;
-use std::fs::File;
-use std::path::{Path, PathBuf};
-use tempfile::TempDir;
+use fmi_abi::unpack::UnpackError;
+pub(crate) use fmi_abi::unpack::Unpacked;
+pub(crate) use fmi_abi::unpack::FMI2_PLATFORM as PLATFORM;
 
-/// Platform folder and shared-library extension of the FMI 2.0 binary layout.
-#[cfg(target_os = "linux")]
-pub(crate) const PLATFORM: (&str, &str) = ("linux64", "so");
-#[cfg(target_os = "macos")]
-pub(crate) const PLATFORM: (&str, &str) = ("darwin64", "dylib");
-#[cfg(target_os = "windows")]
-pub(crate) const PLATFORM: (&str, &str) = ("win64", "dll");
-
-#[derive(Debug)]
-pub(crate) struct Unpacked {
-    root: PathBuf,
-    /// Deleted on drop, so it lives as long as the loaded library that was read from it.
-    _temp_dir: Option<TempDir>,
-}
-
-impl Unpacked {
-    pub(crate) fn open(path: &Path) -> Result<Self, LoadError> {
-        let unpacked = if path.is_dir() {
-            Self {
-                root: path.to_path_buf(),
-                _temp_dir: None,
+impl From<UnpackError> for LoadError {
+    fn from(e: UnpackError) -> LoadError {
+        match e {
+            UnpackError::Io { path, source } => LoadError::Io { path, source },
+            UnpackError::Zip { path, source } => LoadError::Zip { path, source },
+            UnpackError::MissingModelDescription { path } => {
+                LoadError::MissingModelDescription { path }
             }
-        } else {
-            unzip(path)?
-        };
-        if !unpacked.model_description_path().is_file() {
-            return Err(LoadError::MissingModelDescription {
-                path: path.to_path_buf(),
-            });
         }
-        Ok(unpacked)
-    }
-
-    pub(crate) fn root(&self) -> &Path {
-        &self.root
-    }
-
-    pub(crate) fn model_description_path(&self) -> PathBuf {
-        self.root.join("modelDescription.xml")
-    }
-
-    pub(crate) fn binary_path(&self, model_identifier: &str) -> PathBuf {
-        let (platform, extension) = PLATFORM;
-        self.root
-            .join("binaries")
-            .join(platform)
-            .join(format!("{model_identifier}.{extension}"))
-    }
-
-    /// The `fmi2Instantiate` resource location: a `file:` URI of the `resources` folder.
-    pub(crate) fn resource_uri(&self) -> String {
-        file_uri(&self.root.join("resources"))
-    }
-}
-
-fn unzip(path: &Path) -> Result<Unpacked, LoadError> {
-    let io_error = |source| LoadError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let zip_error = |source| LoadError::Zip {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file = File::open(path).map_err(io_error)?;
-    let mut archive = zip::ZipArchive::new(file).map_err(zip_error)?;
-    let temp_dir = tempfile::Builder::new()
-        .prefix("fmu-")
-        .tempdir()
-        .map_err(io_error)?;
-    // `extract` refuses entries whose names escape the target directory (zip slip).
-    archive.extract(temp_dir.path()).map_err(zip_error)?;
-    Ok(Unpacked {
-        root: temp_dir.path().to_path_buf(),
-        _temp_dir: Some(temp_dir),
-    })
-}
-
-/// `file://` + the absolute path, percent-encoding every byte outside RFC 3986's unreserved
-/// set and `/`, so paths with spaces or non-ASCII names survive the FMU's URI parser.
-fn file_uri(path: &Path) -> String {
-    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    let mut uri = String::from("file://");
-    let text = absolute.to_string_lossy().replace('\\', "/");
-    if !text.starts_with('/') {
-        uri.push('/');
-    }
-    for byte in text.bytes() {
-        match byte {
-            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'-' | b'.' | b'_' | b'~' | b'/' => {
-                uri.push(byte as char)
-            }
-            // A Windows drive letter's colon stays literal in file URIs.
-            b':' => uri.push(':'),
-            _ => uri.push_str(&format!("%{byte:02X}")),
-        }
-    }
-    uri
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn resource_uri_percent_encodes_spaces_and_non_ascii() {
-        let uri = file_uri(Path::new("/tmp/my fmu/été/resources"));
-        assert_eq!(uri, "file:///tmp/my%20fmu/%C3%A9t%C3%A9/resources");
-    }
-
-    #[test]
-    fn resource_uri_of_a_plain_path_is_unchanged() {
-        assert_eq!(
-            file_uri(Path::new("/a/b_c-d.e~f/resources")),
-            "file:///a/b_c-d.e~f/resources"
-        );
     }
 }

@@ -93,11 +93,11 @@ impl Instance {
         let component = unsafe {
             (fmu.functions.instantiate)(
                 instance_name.as_ptr(),
-                ffi::FMI2_CO_SIMULATION,
+                ffi::fmi2CoSimulation,
                 guid.as_ptr(),
                 resource_uri.as_ptr(),
                 &*callbacks,
-                ffi::FMI2_FALSE,
+                ffi::fmi2False,
                 fmi2_bool(logging_on),
             )
         };
@@ -276,7 +276,7 @@ impl Instance {
         let mark = self.log.mark();
         // SAFETY: plain values only.
         let raw = unsafe {
-            (self.functions().do_step)(self.c(), current_time, step_size, ffi::FMI2_FALSE)
+            (self.functions().do_step)(self.c(), current_time, step_size, ffi::fmi2False)
         };
         match Status::from_raw(raw).into_result() {
             Ok(success) => Ok(StepStatus::Complete(success)),
@@ -299,7 +299,7 @@ impl Instance {
         let mark = self.log.mark();
         // SAFETY: `time` is a valid out-pointer.
         let raw = unsafe {
-            (self.functions().get_real_status)(self.c(), ffi::FMI2_LAST_SUCCESSFUL_TIME, &mut time)
+            (self.functions().get_real_status)(self.c(), ffi::fmi2LastSuccessfulTime, &mut time)
         };
         self.check("fmi2GetRealStatus(fmi2LastSuccessfulTime)", mark, raw)?;
         Ok(time)
@@ -307,14 +307,14 @@ impl Instance {
 
     /// `fmi2GetBooleanStatus(fmi2Terminated)`: the FMU wants the simulation to end.
     pub fn terminated(&mut self) -> Result<bool, FmiError> {
-        let mut terminated = ffi::FMI2_FALSE;
+        let mut terminated = ffi::fmi2False;
         let mark = self.log.mark();
         // SAFETY: `terminated` is a valid out-pointer.
         let raw = unsafe {
-            (self.functions().get_boolean_status)(self.c(), ffi::FMI2_TERMINATED, &mut terminated)
+            (self.functions().get_boolean_status)(self.c(), ffi::fmi2Terminated, &mut terminated)
         };
         self.check("fmi2GetBooleanStatus(fmi2Terminated)", mark, raw)?;
-        Ok(terminated != ffi::FMI2_FALSE)
+        Ok(terminated != ffi::fmi2False)
     }
 
     // ---- values by value reference ----
@@ -405,7 +405,7 @@ impl Instance {
     pub fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<Success, CallError> {
         const F: &str = "fmi2GetBoolean";
         self.check_lengths(F, vrs.len(), values.len())?;
-        let mut raw_values = vec![ffi::FMI2_FALSE; vrs.len()];
+        let mut raw_values = vec![ffi::fmi2False; vrs.len()];
         let mark = self.log.mark();
         // SAFETY: both arrays hold `vrs.len()` elements; `raw_values` is writable.
         let raw = unsafe {
@@ -418,7 +418,7 @@ impl Instance {
         };
         let success = self.check(F, mark, raw)?;
         for (value, raw_value) in values.iter_mut().zip(raw_values) {
-            *value = raw_value != ffi::FMI2_FALSE;
+            *value = raw_value != ffi::fmi2False;
         }
         Ok(success)
     }
@@ -678,9 +678,9 @@ impl Drop for Instance {
 
 fn fmi2_bool(value: bool) -> ffi::fmi2Boolean {
     if value {
-        ffi::FMI2_TRUE
+        ffi::fmi2True
     } else {
-        ffi::FMI2_FALSE
+        ffi::fmi2False
     }
 }
 

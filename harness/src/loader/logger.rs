@@ -5,7 +5,7 @@
 use super::ffi::{self, fmi2String};
 use super::status::Status;
 use std::collections::VecDeque;
-use std::ffi::{c_char, c_int, CStr};
+use std::ffi::c_char;
 use std::fmt;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -46,13 +46,11 @@ impl fmt::Display for FmuLog {
     }
 }
 
-type ForwardFn = extern "C" fn(*const LogEnv, fmi2String, c_int, fmi2String, fmi2String);
-
-/// What `componentEnvironment` points to. `#[repr(C)]` with `forward` first, because
-/// `csrc/logger.c` reads that member to reach Rust without a global symbol.
+/// What `componentEnvironment` points to. `#[repr(C)]` with the sink first, because the C
+/// shim of `fmi-abi` reads it to reach Rust without a global symbol.
 #[repr(C)]
 pub(crate) struct LogEnv {
-    forward: ForwardFn,
+    sink: ffi::LogSink,
     /// Sequence number of the next message; read without the lock on every FMI call.
     next_sequence: AtomicU64,
     buffer: Mutex<VecDeque<(u64, LogMessage)>>,
@@ -65,7 +63,9 @@ pub(crate) struct LogMark(u64);
 impl LogEnv {
     pub(crate) fn new() -> Self {
         Self {
-            forward: forward_log_message,
+            sink: ffi::LogSink {
+                forward: forward_log_message,
+            },
             next_sequence: AtomicU64::new(0),
             buffer: Mutex::new(VecDeque::new()),
         }
@@ -74,13 +74,7 @@ impl LogEnv {
     /// The callback struct handed to `fmi2Instantiate`, with this sink as its environment.
     /// The caller keeps `self` alive (and at a fixed address) as long as the FMU may log.
     pub(crate) fn callbacks(&self) -> ffi::fmi2CallbackFunctions {
-        ffi::fmi2CallbackFunctions {
-            logger: Some(ffi::harness_fmi2_logger),
-            allocate_memory: Some(ffi::harness_fmi2_allocate_memory),
-            free_memory: Some(ffi::harness_fmi2_free_memory),
-            step_finished: None,
-            component_environment: self as *const Self as *mut std::ffi::c_void,
-        }
+        ffi::LogSink::callbacks(self)
     }
 
     fn lock(&self) -> MutexGuard<'_, VecDeque<(u64, LogMessage)>> {
@@ -138,12 +132,14 @@ fn level_of(status: Status) -> log::Level {
 /// # Safety (of the C caller)
 /// `env` is the `LogEnv` given to `fmi2Instantiate`; the strings are NUL-terminated or null.
 extern "C" fn forward_log_message(
-    env: *const LogEnv,
+    sink: *const ffi::LogSink,
     instance_name: fmi2String,
-    status: c_int,
+    status: ffi::fmi2Status,
     category: fmi2String,
     message: fmi2String,
 ) {
+    // The sink is the first field of a LogEnv (repr(C)), the environment we handed out.
+    let env = sink as *const LogEnv;
     // Nothing may unwind into the FMU's C code.
     let _ = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: the shim passes back the environment pointer we gave fmi2Instantiate, and
@@ -169,19 +165,15 @@ extern "C" fn forward_log_message(
 }
 
 fn text(pointer: *const c_char) -> String {
-    if pointer.is_null() {
-        return String::new();
-    }
-    // SAFETY: non-null strings from the FMU and the shim are NUL-terminated C strings that
+    // SAFETY: strings from the FMU and the shim are NULL or NUL-terminated C strings that
     // stay valid for the duration of the callback.
-    unsafe { CStr::from_ptr(pointer) }
-        .to_string_lossy()
-        .into_owned()
+    unsafe { ffi::text(pointer) }.unwrap_or_default()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::ffi::CStr;
     use std::ffi::CString;
 
     fn call_shim(env: &LogEnv, format: &CStr, argument: &CStr) {
@@ -193,9 +185,9 @@ mod tests {
         // consumes exactly one `char *` argument, which is passed.
         unsafe {
             logger(
-                callbacks.component_environment,
+                callbacks.componentEnvironment,
                 name.as_ptr(),
-                ffi::FMI2_ERROR,
+                ffi::fmi2Error,
                 category.as_ptr(),
                 format.as_ptr(),
                 argument.as_ptr(),
@@ -261,14 +253,14 @@ mod tests {
             logger(
                 std::ptr::null_mut(),
                 std::ptr::null(),
-                0,
+                ffi::fmi2OK,
                 std::ptr::null(),
                 std::ptr::null(),
             );
             logger(
-                callbacks.component_environment,
+                callbacks.componentEnvironment,
                 std::ptr::null(),
-                0,
+                ffi::fmi2OK,
                 std::ptr::null(),
                 std::ptr::null(),
             );

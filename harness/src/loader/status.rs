@@ -37,15 +37,16 @@ pub enum Status {
 }
 
 impl Status {
+    #[allow(non_upper_case_globals)] // the header's names, used as patterns
     pub(crate) fn from_raw(raw: ffi::fmi2Status) -> Self {
         match raw {
-            ffi::FMI2_OK => Self::Ok,
-            ffi::FMI2_WARNING => Self::Warning,
-            ffi::FMI2_DISCARD => Self::Discard,
-            ffi::FMI2_ERROR => Self::Error,
-            ffi::FMI2_FATAL => Self::Fatal,
-            ffi::FMI2_PENDING => Self::Pending,
-            other => Self::Unknown(other),
+            ffi::fmi2OK => Self::Ok,
+            ffi::fmi2Warning => Self::Warning,
+            ffi::fmi2Discard => Self::Discard,
+            ffi::fmi2Error => Self::Error,
+            ffi::fmi2Fatal => Self::Fatal,
+            ffi::fmi2Pending => Self::Pending,
+            other => Self::Unknown(other.0),
         }
     }
 
@@ -121,7 +122,7 @@ mod tests {
             Status::Pending,
         ];
         for (raw, status) in expected.into_iter().enumerate() {
-            assert_eq!(Status::from_raw(raw as i32), status);
+            assert_eq!(Status::from_raw(ffi::fmi2Status(raw as i32)), status);
         }
     }
 
@@ -137,7 +138,10 @@ mod tests {
 
     #[test]
     fn an_out_of_range_status_is_fatal_not_success() {
-        assert_eq!(Status::from_raw(6), Status::Unknown(6));
-        assert_eq!(Status::from_raw(-1).into_result(), Err(Failure::Fatal));
+        assert_eq!(Status::from_raw(ffi::fmi2Status(6)), Status::Unknown(6));
+        assert_eq!(
+            Status::from_raw(ffi::fmi2Status(-1)).into_result(),
+            Err(Failure::Fatal)
+        );
     }
 }

@@ -1,6 +1,6 @@
 //! Instantiate/initialize/step/free cycles, the unit of the leak check: whatever one cycle
 //! allocates, the next must find freed.
-use crate::ffi::OK;
+use crate::ffi::fmi2OK;
 use crate::instance::Fmu;
 use crate::reference::{inputs_at, Wiring, STEP_S};
 
@@ -12,7 +12,7 @@ pub const STEPS: usize = 10;
 pub fn cycle(fmu: &Fmu, wiring: &Wiring, k: usize) -> Result<(), String> {
     let inst = fmu.instantiate(&format!("cycle{k}"), k.is_multiple_of(2));
     let check = |what: &str, status| {
-        if status == OK {
+        if status == fmi2OK {
             Ok(())
         } else {
             Err(format!(

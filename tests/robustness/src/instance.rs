@@ -61,7 +61,7 @@ impl Fmu {
         let c = unsafe {
             (self.api.instantiate)(
                 name_c.as_ptr(),
-                CO_SIMULATION,
+                fmi2CoSimulation,
                 self.guid().as_ptr(),
                 c"file:///nowhere".as_ptr(),
                 &callbacks,
@@ -158,11 +158,11 @@ impl Instance<'_> {
     /// the first call that is not fmi2OK, or fmi2OK.
     pub fn init_at(&self, start: f64) -> fmi2Status {
         for status in [self.setup(start, None), self.enter_init(), self.exit_init()] {
-            if status != OK {
+            if status != fmi2OK {
                 return status;
             }
         }
-        OK
+        fmi2OK
     }
 
     pub fn terminate(&self) -> fmi2Status {
@@ -246,12 +246,12 @@ impl Instance<'_> {
     pub fn serialize(&self, state: fmi2FMUstate) -> Result<Vec<u8>, fmi2Status> {
         let mut size = 0usize;
         let status = call!(self.serialized_fmu_state_size(state, &mut size));
-        if status != OK {
+        if status != fmi2OK {
             return Err(status);
         }
         let mut bytes = vec![0u8; size];
         let status = call!(self.serialize_fmu_state(state, bytes.as_mut_ptr().cast(), size));
-        if status != OK {
+        if status != fmi2OK {
             return Err(status);
         }
         Ok(bytes)

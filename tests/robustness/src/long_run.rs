@@ -94,7 +94,7 @@ impl Probe {
         let status = inst.set_reals(&self.inputs, &self.inputs(lander, t));
         let (get, outputs) = inst.get_reals(&self.outputs);
         let step = inst.step(t, STEP_S);
-        if status != OK || get != OK || step != OK {
+        if status != fmi2OK || get != fmi2OK || step != fmi2OK {
             return Err(format!(
                 "step {k}: set {status}, get {get}, step {step}: {:?}",
                 inst.take_log()
@@ -133,18 +133,18 @@ pub fn run(fmu: &Fmu, steps: usize, checkpoints: usize) -> Result<Report, String
     let probe = Probe::new(fmu);
     let inst = fmu.instantiate("long-run", false);
     for status in [inst.setup(0.0, None), inst.enter_init()] {
-        if status != OK {
+        if status != fmi2OK {
             return Err(format!("initialization: {status}"));
         }
     }
     if fmu.lander() == Lander::Plant {
         for (name, value) in plant_parameters() {
-            if inst.set_real_by_name(&name, value) != OK {
+            if inst.set_real_by_name(&name, value) != fmi2OK {
                 return Err(format!("cannot set {name}: {:?}", inst.take_log()));
             }
         }
     }
-    if inst.exit_init() != OK {
+    if inst.exit_init() != fmi2OK {
         return Err(format!("fmi2ExitInitializationMode: {:?}", inst.take_log()));
     }
     let every = (steps / checkpoints.max(1)).max(REPLAY_STEPS + 1);
@@ -179,14 +179,14 @@ pub fn run(fmu: &Fmu, steps: usize, checkpoints: usize) -> Result<Report, String
 /// runs them again: both runs must agree bit for bit.
 fn replay(probe: &Probe, inst: &Instance, k: usize) -> Result<(), String> {
     let (status, mut saved) = inst.get_fmu_state();
-    if status != OK {
+    if status != fmi2OK {
         return Err(format!("fmi2GetFMUstate at step {k}: {status}"));
     }
     let bytes = inst
         .serialize(saved)
         .map_err(|s| format!("serialize at step {k}: {s}"))?;
     let (status, mut copy) = inst.deserialize(&bytes);
-    if status != OK {
+    if status != fmi2OK {
         return Err(format!("fmi2DeSerializeFMUstate at step {k}: {status}"));
     }
     let run = |from: usize| -> Result<Vec<u64>, String> {
@@ -197,7 +197,7 @@ fn replay(probe: &Probe, inst: &Instance, k: usize) -> Result<(), String> {
         Ok(bits)
     };
     let first = run(k)?;
-    if inst.set_fmu_state(copy) != OK {
+    if inst.set_fmu_state(copy) != fmi2OK {
         return Err(format!(
             "fmi2SetFMUstate at step {k}: {:?}",
             inst.take_log()
@@ -210,7 +210,7 @@ fn replay(probe: &Probe, inst: &Instance, k: usize) -> Result<(), String> {
         ));
     }
     for state in [&mut saved, &mut copy] {
-        if inst.free_fmu_state(state) != OK {
+        if inst.free_fmu_state(state) != fmi2OK {
             return Err(format!("fmi2FreeFMUstate at step {k}"));
         }
     }

@@ -50,7 +50,7 @@ pub struct VariableInfo {
 /// An FMU unzipped into a temporary folder (removed on drop).
 #[derive(Debug)]
 pub struct Unpacked {
-    _dir: tempfile::TempDir,
+    _files: fmi_testkit::unpack::Unpacked,
     pub lander: Lander,
     pub library: PathBuf,
     pub guid: String,
@@ -64,20 +64,12 @@ impl Unpacked {
         if !path.is_file() {
             return Err(PackageError::Missing { path });
         }
-        let unpack = |reason: String| PackageError::Unpack {
-            path: path.clone(),
-            reason,
-        };
-        let file = std::fs::File::open(&path).map_err(|e| unpack(e.to_string()))?;
-        let mut archive = zip::ZipArchive::new(file).map_err(|e| unpack(e.to_string()))?;
-        let dir = tempfile::Builder::new()
-            .prefix(&format!("robust-{}-", lander.model_identifier()))
-            .tempdir()
-            .map_err(|e| unpack(e.to_string()))?;
-        archive
-            .extract(dir.path())
-            .map_err(|e| unpack(e.to_string()))?;
-        let description = ModelDescription::from_file(dir.path().join("modelDescription.xml"))
+        let files =
+            fmi_testkit::unpack::Unpacked::open(&path).map_err(|e| PackageError::Unpack {
+                path: path.clone(),
+                reason: e.to_string(),
+            })?;
+        let description = ModelDescription::from_file(files.model_description_path())
             .map_err(|e| PackageError::Description {
                 path: path.clone(),
                 reason: e.to_string(),
@@ -93,13 +85,10 @@ impl Unpacked {
                 })
             })
             .collect();
-        let library = dir
-            .path()
-            .join("binaries/linux64")
-            .join(format!("{}.so", lander.model_identifier()));
+        let library = files.binary_path(lander.model_identifier());
         Ok(Unpacked {
             guid: description.guid.clone(),
-            _dir: dir,
+            _files: files,
             lander,
             library,
             description,

@@ -108,7 +108,7 @@ pub fn legal_run_with(
     let fail = |what: &str, status: fmi2Status| {
         Err(format!(
             "{what} returned {}: {:?}",
-            status_name(status),
+            status.label(),
             inst.sink.all()
         ))
     };
@@ -116,18 +116,18 @@ pub fn legal_run_with(
         ("fmi2SetupExperiment", inst.setup(0.0, None)),
         ("fmi2EnterInitializationMode", inst.enter_init()),
     ] {
-        if status != OK {
+        if status != fmi2OK {
             return fail(what, status);
         }
     }
     for (name, value) in parameters {
         let status = inst.set_real_by_name(name, *value);
-        if status != OK {
+        if status != fmi2OK {
             return fail(&format!("fmi2SetReal of {name}"), status);
         }
     }
     let status = inst.exit_init();
-    if status != OK {
+    if status != fmi2OK {
         return fail("fmi2ExitInitializationMode", status);
     }
     let mut bits = Vec::with_capacity((steps + 1) * wiring.outputs.len());
@@ -135,17 +135,17 @@ pub fn legal_run_with(
         // An integer step counter: the communication points are exactly k h.
         let t = k as f64 * STEP_S;
         let status = inst.set_reals(&wiring.inputs, &inputs_at(lander, t));
-        if status != OK {
+        if status != fmi2OK {
             return fail(&format!("fmi2SetReal at t = {t}"), status);
         }
         let (status, outputs) = inst.get_reals(&wiring.outputs);
-        if status != OK {
+        if status != fmi2OK {
             return fail(&format!("fmi2GetReal at t = {t}"), status);
         }
         bits.extend(outputs.iter().map(|v| v.to_bits()));
         if k < steps {
             let status = inst.step(t, STEP_S);
-            if status != OK {
+            if status != fmi2OK {
                 return fail(&format!("fmi2DoStep at t = {t}"), status);
             }
         }

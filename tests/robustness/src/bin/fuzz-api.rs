@@ -52,7 +52,7 @@ fn main() -> anyhow::Result<()> {
         let [ok, warning, discard, error, fatal] = stats.statuses;
         println!(
             "{}: seed {}, {} fuzz calls in {} sequences ({:.1} s), {} check calls; statuses: \
-             OK {ok}, Warning {warning}, Discard {discard}, Error {error}, Fatal {fatal}; \
+             fmi2OK {ok}, Warning {warning}, Discard {discard}, Error {error}, Fatal {fatal}; \
              {} predicted refusals confirmed, {} NULL instances, {} crafted states accepted, \
              {} instances beyond reset after a crafted state; no crash, no hang (limit {:?}), \
              no invariant violated",

@@ -44,12 +44,12 @@ impl Baseline {
         let inst = fmu.instantiate("reference", false);
         let reference = legal_run(&inst, CHECK_STEPS)?;
         let (status, state) = inst.get_fmu_state();
-        if status != OK {
-            return Err(format!("fmi2GetFMUstate: {}", status_name(status)));
+        if status != fmi2OK {
+            return Err(format!("fmi2GetFMUstate: {}", status.label()));
         }
         let buffers = vec![inst
             .serialize(state)
-            .map_err(|s| format!("serialize: {}", status_name(s)))?];
+            .map_err(|s| format!("serialize: {}", s.label()))?];
         let kinds = [
             VariableKind::Real,
             VariableKind::Integer,
@@ -249,18 +249,18 @@ impl<'a> Session<'a> {
         must_fail: Option<&str>,
     ) -> Outcome {
         self.stats.fuzz_calls += 1;
-        if !(OK..=FATAL).contains(&status) {
+        if !(fmi2OK..=fmi2Fatal).contains(&status) {
             return Err(format!(
                 "{function} returned {status} ({})",
-                status_name(status)
+                status.label()
             ));
         }
-        self.stats.statuses[status as usize] += 1;
+        self.stats.statuses[status.0 as usize] += 1;
         if let Some(reason) = must_fail {
-            if status != ERROR {
+            if status != fmi2Error {
                 return Err(format!(
                     "{function} returned {} although {reason}",
-                    status_name(status)
+                    status.label()
                 ));
             }
             self.stats.predicted_refusals += 1;
@@ -278,9 +278,9 @@ impl<'a> Session<'a> {
             }
         }
         match target {
-            None if status != ERROR => Err(format!(
+            None if status != fmi2Error => Err(format!(
                 "{function} without an instance returned {}",
-                status_name(status)
+                status.label()
             )),
             _ => Ok(()),
         }
@@ -326,7 +326,7 @@ impl<'a> Session<'a> {
                     let sink = dog.watch("fmi2FreeInstance", || slot.inst.free());
                     self.stats.fuzz_calls += 1;
                     let records = sink.take();
-                    match records.iter().find(|r| r.status >= WARNING) {
+                    match records.iter().find(|r| r.status >= fmi2Warning) {
                         Some(r) => Err(format!("fmi2FreeInstance logged {r:?}")),
                         None => Ok(()),
                     }
@@ -414,7 +414,7 @@ impl<'a> Session<'a> {
                 } else {
                     None
                 };
-                if status == OK {
+                if status == fmi2OK {
                     if let Some(i) = slot {
                         self.slot_mut(i).time = *start;
                     }
@@ -583,7 +583,7 @@ impl<'a> Session<'a> {
                 };
                 let (s, must_fail) = self.state_arg(*state);
                 let status = dog.watch("fmi2SetFMUstate", || unsafe { (api.set_fmu_state)(c, s) });
-                if let (OK, Some(i)) = (status, index) {
+                if let (fmi2OK, Some(i)) = (status, index) {
                     let crafted = self.crafted.contains(&(s as usize));
                     let slot = self.slot_mut(i);
                     slot.tainted |= crafted;
@@ -610,7 +610,7 @@ impl<'a> Session<'a> {
                         })
                     }
                 };
-                if status == OK && !after.is_null() {
+                if status == fmi2OK && !after.is_null() {
                     return Err(
                         "fmi2FreeFMUstate returned fmi2OK without setting the state to NULL".into(),
                     );
@@ -644,7 +644,7 @@ impl<'a> Session<'a> {
                 let status = dog.watch("fmi2SerializedFMUstateSize", || unsafe {
                     (api.serialized_fmu_state_size)(c, s, out)
                 });
-                if status == OK && size < HEADER_LEN {
+                if status == fmi2OK && size < HEADER_LEN {
                     return Err(format!("serialized size {size} is shorter than the header"));
                 }
                 self.finish("fmi2SerializedFMUstateSize", index, status, must_fail)
@@ -662,7 +662,7 @@ impl<'a> Session<'a> {
                 let mut true_size = 0usize;
                 let sized = unsafe { (api.serialized_fmu_state_size)(c, s, &mut true_size) };
                 self.stats.check_calls += 1;
-                let size = if sized == OK { true_size } else { 64 }
+                let size = if sized == fmi2OK { true_size } else { 64 }
                     .saturating_add_signed(*size_error as isize);
                 if *size_error != 0 {
                     must_fail =
@@ -680,7 +680,7 @@ impl<'a> Session<'a> {
                 let status = dog.watch("fmi2SerializeFMUstate", || unsafe {
                     (api.serialize_fmu_state)(c, s, buffer, size)
                 });
-                if status == OK && !*buffer_null {
+                if status == fmi2OK && !*buffer_null {
                     if self.buffers.len() >= 16 {
                         self.buffers.swap_remove(0);
                     }
@@ -797,8 +797,8 @@ impl<'a> Session<'a> {
                 };
                 if let Some(i) = index {
                     match status {
-                        OK | WARNING => self.slot_mut(i).time = t + h,
-                        DISCARD => self.refresh_time(i),
+                        fmi2OK | fmi2Warning => self.slot_mut(i).time = t + h,
+                        fmi2Discard => self.refresh_time(i),
                         _ => {}
                     }
                 }
@@ -877,10 +877,10 @@ impl<'a> Session<'a> {
     fn refresh_time(&mut self, i: usize) {
         let slot = self.slots[i].as_mut().expect("a live slot");
         let (status, t) = self.dog.watch("fmi2GetRealStatus", || {
-            slot.inst.real_status(LAST_SUCCESSFUL_TIME)
+            slot.inst.real_status(fmi2LastSuccessfulTime)
         });
         self.stats.check_calls += 1;
-        if status == OK {
+        if status == fmi2OK {
             slot.time = t;
         }
         // The query's own log (a refusal when the state does not allow it) is not the
@@ -959,7 +959,7 @@ impl<'a> Session<'a> {
         });
         self.stats.fuzz_calls += 1;
         let valid = matches!(name, NameArg::Valid)
-            && fmu_type == CO_SIMULATION
+            && fmu_type == fmi2CoSimulation
             && matches!(guid, GuidArg::Valid)
             && matches!(callbacks, CallbacksArg::Valid);
         if c.is_null() {
@@ -974,7 +974,7 @@ impl<'a> Session<'a> {
                 let records = sink.take();
                 if !records
                     .iter()
-                    .any(|r| r.status == ERROR && r.message().starts_with("fmi2Instantiate"))
+                    .any(|r| r.status == fmi2Error && r.message().starts_with("fmi2Instantiate"))
                 {
                     return Err(format!(
                         "fmi2Instantiate returned NULL without an error message: {records:?}"
@@ -990,7 +990,7 @@ impl<'a> Session<'a> {
             return Err("fmi2Instantiate accepted invalid arguments".into());
         }
         let records = inst.take_log();
-        check_log("fmi2Instantiate", OK, &inst.name, false, &records)?;
+        check_log("fmi2Instantiate", fmi2OK, &inst.name, false, &records)?;
         self.slots[i] = Some(Slot {
             inst,
             time: 0.0,
@@ -1075,7 +1075,7 @@ impl<'a> Session<'a> {
         };
         let must_fail = Self::null_reason(nulls, n)
             .or((unknown && n > 0).then_some("a value reference is unknown for the type"));
-        let succeeded = status == OK || status == WARNING;
+        let succeeded = status == fmi2OK || status == fmi2Warning;
         if succeeded && !nulls.value {
             let tainted = index.is_some_and(|i| self.slot_mut(i).tainted);
             match kind {
@@ -1152,7 +1152,7 @@ impl<'a> Session<'a> {
             _ => &mut state,
         };
         let status = self.dog.watch(what, || f(p));
-        let made = (status == OK && !state.is_null()).then_some(state);
+        let made = (status == fmi2OK && !state.is_null()).then_some(state);
         (status, made)
     }
 
@@ -1232,7 +1232,7 @@ impl<'a> Session<'a> {
     ) -> Outcome {
         let api = &self.fmu.api;
         let dog = self.dog;
-        let mut status_value: fmi2Status = -1;
+        let mut status_value = fmi2Status(-1);
         let mut real = 0.0f64;
         let mut int = 0i32;
         let mut string: fmi2String = ptr::null();
@@ -1253,14 +1253,14 @@ impl<'a> Session<'a> {
             3 => query!(get_boolean_status, "fmi2GetBooleanStatus", &mut int),
             _ => query!(get_string_status, "fmi2GetStringStatus", &mut string),
         };
-        if status == OK && which == 4 && !value_null {
+        if status == fmi2OK && which == 4 && !value_null {
             if string.is_null() {
                 return Err("fmi2GetStringStatus returned a NULL string".into());
             }
             // SAFETY: a string the FMU returned as valid.
             let _ = unsafe { CStr::from_ptr(string) }.to_bytes().len();
         }
-        if status == OK && which == 1 && !value_null && !real.is_finite() {
+        if status == fmi2OK && which == 1 && !value_null && !real.is_finite() {
             return Err(format!("fmi2LastSuccessfulTime is {real}"));
         }
         let must_fail = if value_null {
@@ -1282,7 +1282,7 @@ impl<'a> Session<'a> {
         let status = self.dog.watch("fmi2SetupExperiment", || unsafe {
             (api.setup_experiment)(c, 0, 0.0, 0.0, 0, 0.0)
         });
-        if status == OK {
+        if status == fmi2OK {
             self.slot_mut(i).time = 0.0;
         }
         self.finish("fmi2SetupExperiment", Some(i), status, None)?;
@@ -1316,7 +1316,7 @@ impl<'a> Session<'a> {
             let status = self.dog.watch("fmi2GetReal", || unsafe {
                 (api.get_real)(c, outputs.as_ptr(), outputs.len(), values.as_mut_ptr())
             });
-            if (status == OK || status == WARNING) && !self.slot_mut(i).tainted {
+            if (status == fmi2OK || status == fmi2Warning) && !self.slot_mut(i).tainted {
                 if let Some((vr, v)) = outputs.iter().zip(&values).find(|(_, v)| !v.is_finite()) {
                     return Err(format!(
                         "fmi2GetReal of output {} returned {v}; {}",
@@ -1330,12 +1330,12 @@ impl<'a> Session<'a> {
                 .dog
                 .watch("fmi2DoStep", || unsafe { (api.do_step)(c, t, STEP_S, 1) });
             match status {
-                OK | WARNING => self.slot_mut(i).time = t + STEP_S,
-                DISCARD => self.refresh_time(i),
+                fmi2OK | fmi2Warning => self.slot_mut(i).time = t + STEP_S,
+                fmi2Discard => self.refresh_time(i),
                 _ => {}
             }
             self.finish("fmi2DoStep", Some(i), status, None)?;
-            if status != OK {
+            if status != fmi2OK {
                 break;
             }
         }
@@ -1353,16 +1353,16 @@ impl<'a> Session<'a> {
             slot.inst.take_log();
             let status = self.dog.watch("fmi2Reset", || slot.inst.reset());
             self.stats.check_calls += 1;
-            let inst = if status == OK {
+            let inst = if status == fmi2OK {
                 slot.inst
-            } else if slot.tainted && status == ERROR {
+            } else if slot.tainted && status == fmi2Error {
                 self.stats.fatal_after_crafted += 1;
                 slot.inst.free();
                 self.fmu.instantiate("fresh", false)
             } else {
                 return Err(format!(
                     "fmi2Reset on instance {i} returned {}: {:?}",
-                    status_name(status),
+                    status.label(),
                     slot.inst.take_log()
                 ));
             };
@@ -1434,30 +1434,30 @@ fn check_log(
         if !category_known || r.message.is_none() {
             return Err(format!("{function}: malformed message {r:?}"));
         }
-        let severe = r.category.as_deref() != Some("logCalls") && r.status >= WARNING;
+        let severe = r.category.as_deref() != Some("logCalls") && r.status >= fmi2Warning;
         if severe && r.status > status {
             return Err(format!(
                 "{function} returned {} but logged {r:?}",
-                status_name(status)
+                status.label()
             ));
         }
     }
-    if status == FATAL && !tainted {
+    if status == fmi2Fatal && !tainted {
         return Err(format!("{function} returned fmi2Fatal: {records:?}"));
     }
     let needs = match status {
-        ERROR | FATAL => Some(status),
-        WARNING => Some(WARNING),
+        fmi2Error | fmi2Fatal => Some(status),
+        fmi2Warning => Some(fmi2Warning),
         _ => None,
     };
     if let Some(level) = needs {
         let explained = records
             .iter()
-            .any(|r| r.status == level && (level == WARNING || r.message().starts_with(function)));
+            .any(|r| r.status == level && (level == fmi2Warning || r.message().starts_with(function)));
         if !explained {
             return Err(format!(
                 "{function} returned {} without a message naming it: {records:?}",
-                status_name(status)
+                status.label()
             ));
         }
     }
@@ -1479,57 +1479,57 @@ mod tests {
 
     #[test]
     fn an_error_without_a_message_naming_the_function_is_a_violation() {
-        assert!(check_log("fmi2DoStep", ERROR, "i", false, &[]).is_err());
+        assert!(check_log("fmi2DoStep", fmi2Error, "i", false, &[]).is_err());
         let other = record(
-            ERROR,
+            fmi2Error,
             "logStatusError",
             "fmi2SetReal: unknown value reference 7",
         );
-        assert!(check_log("fmi2DoStep", ERROR, "i", false, &[other]).is_err());
+        assert!(check_log("fmi2DoStep", fmi2Error, "i", false, &[other]).is_err());
         let named = record(
-            ERROR,
+            fmi2Error,
             "logStatusError",
             "fmi2DoStep: communicationStepSize 0",
         );
-        assert!(check_log("fmi2DoStep", ERROR, "i", false, &[named]).is_ok());
+        assert!(check_log("fmi2DoStep", fmi2Error, "i", false, &[named]).is_ok());
     }
 
     #[test]
     fn a_message_more_severe_than_the_status_is_a_violation() {
-        let error = record(ERROR, "logStatusError", "fmi2GetReal: something");
-        assert!(check_log("fmi2GetReal", OK, "i", false, &[error]).is_err());
+        let error = record(fmi2Error, "logStatusError", "fmi2GetReal: something");
+        assert!(check_log("fmi2GetReal", fmi2OK, "i", false, &[error]).is_err());
         // The call trace is logged with status OK and never counts as severe.
-        let trace = record(OK, "logCalls", "fmi2GetReal(nvr=0)");
-        assert!(check_log("fmi2GetReal", OK, "i", false, &[trace]).is_ok());
+        let trace = record(fmi2OK, "logCalls", "fmi2GetReal(nvr=0)");
+        assert!(check_log("fmi2GetReal", fmi2OK, "i", false, &[trace]).is_ok());
     }
 
     #[test]
     fn messages_must_carry_the_instance_name_and_a_declared_category() {
-        let mut wrong_name = record(OK, "logCalls", "fmi2Reset()");
+        let mut wrong_name = record(fmi2OK, "logCalls", "fmi2Reset()");
         wrong_name.instance_name = Some("other".into());
-        assert!(check_log("fmi2Reset", OK, "i", false, &[wrong_name]).is_err());
-        let unknown = record(OK, "logEverything", "fmi2Reset()");
-        assert!(check_log("fmi2Reset", OK, "i", false, &[unknown]).is_err());
+        assert!(check_log("fmi2Reset", fmi2OK, "i", false, &[wrong_name]).is_err());
+        let unknown = record(fmi2OK, "logEverything", "fmi2Reset()");
+        assert!(check_log("fmi2Reset", fmi2OK, "i", false, &[unknown]).is_err());
     }
 
     #[test]
     fn fatal_is_tolerated_only_after_a_crafted_state() {
-        let fatal = record(FATAL, "logStatusFatal", "fmi2DoStep: internal error");
+        let fatal = record(fmi2Fatal, "logStatusFatal", "fmi2DoStep: internal error");
         assert!(check_log(
             "fmi2DoStep",
-            FATAL,
+            fmi2Fatal,
             "i",
             false,
             std::slice::from_ref(&fatal)
         )
         .is_err());
-        assert!(check_log("fmi2DoStep", FATAL, "i", true, &[fatal]).is_ok());
+        assert!(check_log("fmi2DoStep", fmi2Fatal, "i", true, &[fatal]).is_ok());
     }
 
     #[test]
     fn a_warning_status_needs_a_warning_message() {
-        assert!(check_log("fmi2DoStep", WARNING, "i", false, &[]).is_err());
-        let warning = record(WARNING, "logStatusWarning", "fmi2DoStep: degenerate inputs");
-        assert!(check_log("fmi2DoStep", WARNING, "i", false, &[warning]).is_ok());
+        assert!(check_log("fmi2DoStep", fmi2Warning, "i", false, &[]).is_err());
+        let warning = record(fmi2Warning, "logStatusWarning", "fmi2DoStep: degenerate inputs");
+        assert!(check_log("fmi2DoStep", fmi2Warning, "i", false, &[warning]).is_ok());
     }
 }

@@ -1,30 +1,32 @@
 /*
- * The C side of the FMI 2.0 callbacks the harness hands to an FMU.
+ * The C side of the FMI 2.0 callbacks a master hands to an FMU (the harness loader and the
+ * test crates; never linked into an FMU).
  *
  * fmi2CallbackLogger is variadic and stable Rust cannot define a variadic function, so this
- * shim formats the message with vsnprintf and passes the finished text to a plain Rust
- * function. The Rust function is not a global symbol: componentEnvironment points to a
- * harness_log_env whose first member is that function, so no global state is needed and
- * each instance's messages reach its own sink.
+ * shim formats the message with vsnprintf exactly as a C master would (a format string that
+ * does not match its arguments shows up, under valgrind, as a read of garbage) and passes the
+ * finished text to a plain Rust function. That function is not a global symbol:
+ * componentEnvironment points to a struct whose first member is an fmi_abi_log_sink, so no
+ * global state is needed and each instance's messages reach its own sink.
  */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 
-/* Mirrors `LogEnv` in src/loader/logger.rs (#[repr(C)], forward function first). */
-typedef struct harness_log_env {
-    void (*forward)(const struct harness_log_env *env, const char *instance_name, int status,
+/* Mirrors `LogSink` in src/callbacks.rs (#[repr(C)], forward function first). */
+typedef struct fmi_abi_log_sink {
+    void (*forward)(const struct fmi_abi_log_sink *sink, const char *instance_name, int status,
                     const char *category, const char *message);
-} harness_log_env;
+} fmi_abi_log_sink;
 
 /* Messages up to this size are formatted on the stack; longer ones go to the heap. */
-enum { HARNESS_STACK_MESSAGE_BYTES = 1024 };
+enum { FMI_ABI_STACK_MESSAGE_BYTES = 1024 };
 
-void harness_fmi2_logger(void *component_environment, const char *instance_name, int status,
+void fmi_abi_fmi2_logger(void *component_environment, const char *instance_name, int status,
                          const char *category, const char *message, ...) {
-    const harness_log_env *env = (const harness_log_env *)component_environment;
-    char stack_buffer[HARNESS_STACK_MESSAGE_BYTES];
+    const fmi_abi_log_sink *env = (const fmi_abi_log_sink *)component_environment;
+    char stack_buffer[FMI_ABI_STACK_MESSAGE_BYTES];
     char *text = stack_buffer;
     va_list args;
     int needed;
@@ -33,7 +35,8 @@ void harness_fmi2_logger(void *component_environment, const char *instance_name,
         return;
     }
     if (message == NULL) {
-        env->forward(env, instance_name, status, category, "");
+        /* Passed on as NULL: a test may want to see that an FMU logged no text at all. */
+        env->forward(env, instance_name, status, category, NULL);
         return;
     }
 
@@ -63,10 +66,10 @@ void harness_fmi2_logger(void *component_environment, const char *instance_name,
 }
 
 /* FMI 2.0 requires allocateMemory with calloc semantics and a matching freeMemory. */
-void *harness_fmi2_allocate_memory(size_t n_objects, size_t size) {
+void *fmi_abi_fmi2_allocate_memory(size_t n_objects, size_t size) {
     return calloc(n_objects, size);
 }
 
-void harness_fmi2_free_memory(void *object) {
+void fmi_abi_fmi2_free_memory(void *object) {
     free(object);
 }

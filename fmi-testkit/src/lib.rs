@@ -1,0 +1,31 @@
+//! The test kit: what every test of an FMU needs, written once.
+//!
+//! - [`Fmi2Functions`]: the FMI 2.0 entry points of an FMU, taken from a crate linked into
+//!   the test ([`fmi2_functions!`]) or from a shared library loaded at run time;
+//! - [`Instance`]: one instance driven through those entry points exactly as a C master
+//!   drives it, freed on drop;
+//! - [`TestLogger`]: records every message through the real variadic callback (the C shim
+//!   of `fmi-abi`), no transmuted function pointers;
+//! - [`MeSolver`]: a Model Exchange master of the kit's own (fixed-step RK4, events by
+//!   bisection on the indicators) over an FMU's ME entry points ([`fmi2_me_functions!`]);
+//! - [`CountingAllocator`]: a global allocator that counts live and peak bytes;
+//! - [`assert_file_matches`]: the drift check of a generated file kept under version control.
+//!
+//! It is a dev-dependency only; nothing here ends up in an FMU.
+#![allow(unsafe_code)]
+
+mod alloc;
+mod drift;
+mod functions;
+mod instance;
+mod logger;
+mod model_exchange;
+
+pub use alloc::{CountingAllocator, HeapUse};
+pub use drift::assert_file_matches;
+pub use fmi_abi::fmi2;
+pub use fmi_abi::unpack;
+pub use functions::Fmi2Functions;
+pub use instance::Instance;
+pub use logger::{Record, TestLogger};
+pub use model_exchange::{Fmi2MeFunctions, MeSolver};
