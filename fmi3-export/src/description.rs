@@ -237,14 +237,28 @@ fn write_units<M: Model>(x: &mut String) {
     x.push_str("  </UnitDefinitions>\n");
 }
 
+/// Units reach a variable through a `Float64Type` named after its symbol (`declaredType`):
+/// equivalent to a `unit` attribute on the variable, and the form every FMI 3.0 reader we
+/// test accepts (the `fmi` crate's schema reader refuses `unit` on the variable itself).
 fn write_types<M: Model>(x: &mut String) {
+    let units: BTreeSet<&str> = M::declarations().iter().filter_map(|d| d.unit).collect();
+    if !units.is_empty() {
+        x.push_str("  <TypeDefinitions>\n");
+    }
+    for unit in &units {
+        let _ = writeln!(
+            x,
+            r#"    <Float64Type name="{0}" unit="{0}"/>"#,
+            escape(unit)
+        );
+    }
     let mut written: Vec<&str> = Vec::new();
     for d in M::declarations() {
         if let Kind::Enumeration { ty, .. } = &d.kind {
             if written.contains(&ty.name) {
                 continue;
             }
-            if written.is_empty() {
+            if written.is_empty() && units.is_empty() {
                 x.push_str("  <TypeDefinitions>\n");
             }
             written.push(ty.name);
@@ -266,7 +280,7 @@ fn write_types<M: Model>(x: &mut String) {
             x.push_str("    </EnumerationType>\n");
         }
     }
-    if !written.is_empty() {
+    if !written.is_empty() || !units.is_empty() {
         x.push_str("  </TypeDefinitions>\n");
     }
 }
@@ -302,7 +316,7 @@ fn write_variable<M>(x: &mut String, d: &Declaration<M>, fresh: &M, derivative: 
             ..
         } => {
             if let Some(unit) = d.unit {
-                let _ = write!(x, r#" unit="{}""#, escape(unit));
+                let _ = write!(x, r#" declaredType="{}""#, escape(unit));
             }
             if let Some(m) = min {
                 let _ = write!(x, r#" min="{}""#, real(m.value()));

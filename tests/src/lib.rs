@@ -35,6 +35,19 @@ pub fn fmu_dir() -> PathBuf {
 }
 
 /// Path of a packaged FMU; panics, naming the command that makes it, when it is missing.
+/// `target/fmu/fmi3/<id>.fmu`, the FMI 3.0 FMU `cargo xtask fmus` packages.
+pub fn fmi3_fmu_path(model_identifier: &str) -> PathBuf {
+    let path = fmu_dir()
+        .join("fmi3")
+        .join(format!("{model_identifier}.fmu"));
+    assert!(
+        path.is_file(),
+        "{} is missing: run `cargo xtask fmus` first (or `cargo xtask test`, which does)",
+        path.display()
+    );
+    path
+}
+
 pub fn fmu_path(model_identifier: &str) -> PathBuf {
     let path = fmu_dir().join(format!("{model_identifier}.fmu"));
     assert!(

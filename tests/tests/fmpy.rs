@@ -3,7 +3,9 @@
 //! `cargo xtask test` runs first).
 use std::path::PathBuf;
 use std::process::Command;
-use system_tests::{fmu_path, workspace_root, MODEL_EXCHANGE_FMUS, SHIPPED_FMUS};
+use system_tests::{
+    fmi3_fmu_path, fmu_path, workspace_root, FMI3_FMUS, MODEL_EXCHANGE_FMUS, SHIPPED_FMUS,
+};
 
 /// Every script in tests/python, each run by one test below.
 const SCRIPTS: [&str; 3] = [
@@ -28,7 +30,10 @@ fn run_script(script: &str) {
 }
 
 fn run_script_on(script: &str, fmus: &[&str]) {
-    let fmus: Vec<PathBuf> = fmus.iter().copied().map(fmu_path).collect();
+    run_script_on_paths(script, fmus.iter().copied().map(fmu_path).collect());
+}
+
+fn run_script_on_paths(script: &str, fmus: Vec<PathBuf>) {
     let script_path = workspace_root().join("tests/python").join(script);
     let output = Command::new(venv_python())
         .arg(&script_path)
@@ -56,8 +61,20 @@ fn fmpy_simulate_runs_every_fmu_and_the_oscillator_matches_the_closed_form() {
 }
 
 #[test]
+fn fmpy_validate_finds_no_problem_in_the_fmi3_fmus() {
+    run_script_on_paths(
+        "fmpy_validate.py",
+        FMI3_FMUS.into_iter().map(fmi3_fmu_path).collect(),
+    );
+}
+
+/// FMI 2.0 and FMI 3.0: CVode through Model Exchange against the analytic free fall and
+/// against the same FMU's Co-Simulation.
+#[test]
 fn fmpy_cvode_integrates_the_model_exchange_plant_like_the_analytic_and_cs_solutions() {
-    run_script_on("fmpy_model_exchange.py", &MODEL_EXCHANGE_FMUS);
+    let mut fmus: Vec<PathBuf> = MODEL_EXCHANGE_FMUS.into_iter().map(fmu_path).collect();
+    fmus.extend(MODEL_EXCHANGE_FMUS.into_iter().map(fmi3_fmu_path));
+    run_script_on_paths("fmpy_model_exchange.py", fmus);
 }
 
 #[test]
