@@ -3,7 +3,6 @@
 //! them, read the array outputs, and run the plant as Model Exchange.
 use fmi::fmi3::import::Fmi3Import;
 use fmi::fmi3::{CoSimulation, Common, Fmi3Model, Fmi3Res, GetSet, ModelExchange};
-use fmi::schema::fmi3::AbstractVariableTrait;
 use fmi::traits::FmiImport;
 use system_tests::{fmi3_fmu_path, FMI3_FMUS};
 
