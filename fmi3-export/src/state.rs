@@ -136,6 +136,7 @@ macro_rules! functions {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Refusal {
     Unsupported(&'static str),
+    /// A function of the other interface than this instance's (given).
     WrongInterface(Interface),
     IllegalState(State),
 }
@@ -144,11 +145,11 @@ impl std::fmt::Display for Refusal {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Refusal::Unsupported(feature) => write!(f, "not supported: this FMU has no {feature}"),
-            Refusal::WrongInterface(Interface::ModelExchange) => {
-                f.write_str("not a Model Exchange function; this instance is Co-Simulation")
-            }
             Refusal::WrongInterface(Interface::CoSimulation) => {
-                f.write_str("not a Co-Simulation function; this instance is Model Exchange")
+                f.write_str("not a Co-Simulation function; this instance is Co-Simulation")
+            }
+            Refusal::WrongInterface(Interface::ModelExchange) => {
+                f.write_str("not a Model Exchange function; this instance is Model Exchange")
             }
             Refusal::IllegalState(state) => write!(f, "not allowed in state {state:?}"),
         }
