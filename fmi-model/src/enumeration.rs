@@ -82,3 +82,42 @@ impl<E: Enumeration> EnumValue<E> for i32 {
         *self = value;
     }
 }
+
+/// Implements [`Enumeration`] for a fieldless Rust enum with explicit discriminants, its
+/// items written once:
+///
+/// ```text
+/// fmi_model::enumeration! {
+///     ControlLaw = "ControlLaw", "Attitude control law" {
+///         Coupled: "coupled", "classical quaternion PD on q_ref";
+///         Decoupled: "decoupled", "decoupled thrust-axis control (the paper)";
+///     }
+/// }
+/// ```
+/// The FMI value of an item is the enum's discriminant.
+#[macro_export]
+macro_rules! enumeration {
+    ($enum:ty = $type_name:literal, $description:literal {
+        $($variant:ident : $name:literal, $item_description:literal;)+
+    }) => {
+        impl $crate::Enumeration for $enum {
+            const TYPE: &'static $crate::EnumType = &$crate::EnumType {
+                name: $type_name,
+                description: $description,
+                items: &[$($crate::EnumItem {
+                    name: $name,
+                    value: <$enum>::$variant as i32,
+                    description: $item_description,
+                },)+],
+            };
+
+            fn value(self) -> i32 {
+                self as i32
+            }
+
+            fn from_value(value: i32) -> Option<Self> {
+                [$(<$enum>::$variant,)+].into_iter().find(|item| *item as i32 == value)
+            }
+        }
+    };
+}

@@ -9,12 +9,14 @@
 //! - [`MeSolver`]: a Model Exchange master of the kit's own (fixed-step RK4, events by
 //!   bisection on the indicators) over an FMU's ME entry points ([`fmi2_me_functions!`]);
 //! - [`CountingAllocator`]: a global allocator that counts live and peak bytes;
-//! - [`assert_file_matches`]: the drift check of a generated file kept under version control.
+//! - [`assert_file_matches`]: the drift check of a generated file kept under version control;
+//! - [`assert_declared_bounds_are_validated`]: declared bounds and a model's validation agree.
 //!
 //! It is a dev-dependency only; nothing here ends up in an FMU.
 #![allow(unsafe_code)]
 
 mod alloc;
+mod bounds;
 mod drift;
 mod functions;
 mod instance;
@@ -22,6 +24,7 @@ mod logger;
 mod model_exchange;
 
 pub use alloc::{CountingAllocator, HeapUse};
+pub use bounds::assert_declared_bounds_are_validated;
 pub use drift::assert_file_matches;
 pub use fmi_abi::fmi2;
 pub use fmi_abi::unpack;

@@ -193,9 +193,10 @@ fn row<M: Model>(
     inst: &Instance<M>,
     base: BaseType,
     vr: fmi2ValueReference,
-) -> Result<&'static Variable<M>, CallError> {
+) -> Result<Variable<M>, CallError> {
     match inst.index.row(base, vr) {
-        Some(r) => Ok(&inst.table[r]),
+        // A copy (a few words), so that the caller may go on to borrow the model mutably.
+        Some(r) => Ok(inst.table[r]),
         None => Err(unknown_value_reference(base, vr)),
     }
 }
@@ -563,7 +564,7 @@ fn get_values<M: Model, V>(
 ) -> Result<Success, CallError> {
     let success = inst.refresh(f);
     for (&vr, value) in vrs.iter().zip(values) {
-        *value = read(row(inst, base, vr)?, &inst.core.model);
+        *value = read(&row(inst, base, vr)?, &inst.core.model);
     }
     Ok(success)
 }
@@ -579,12 +580,12 @@ fn set_values<M: Model, V: Copy>(
 ) -> Result<Success, CallError> {
     for (&vr, &value) in vrs.iter().zip(values) {
         let var = row(inst, base, vr)?;
-        check_settable(var, inst.core.state)?;
-        check(var, value)?;
+        check_settable(&var, inst.core.state)?;
+        check(&var, value)?;
     }
     for (&vr, &value) in vrs.iter().zip(values) {
         let var = row(inst, base, vr)?;
-        write(var, &mut inst.core.model, value);
+        write(&var, &mut inst.core.model, value);
     }
     if !vrs.is_empty() {
         inst.dirty = true;
@@ -786,7 +787,7 @@ const SETTERS_KEPT: usize = 32;
 /// in for (which have the last word, should the two ever disagree).
 #[cold]
 #[inline(never)]
-fn refuse_real<M>(var: &Variable<M>, value: f64, state: State) -> Result<(), CallError> {
+fn refuse_real<M: Model>(var: &Variable<M>, value: f64, state: State) -> Result<(), CallError> {
     check_settable(var, state)?;
     match &var.access {
         Access::Real { min, max, .. } => check_real(var, value, *min, *max),
@@ -882,7 +883,7 @@ pub unsafe fn set_string<M: Model>(
     };
     let text = |var: &Variable<M>, p: fmi2String| -> Result<&str, CallError> {
         let invalid = |reason: &str| CallError::InvalidValue {
-            name: var.name,
+            name: var.name().into_owned(),
             vr: var.value_reference,
             reason: reason.into(),
         };

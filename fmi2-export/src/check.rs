@@ -68,12 +68,13 @@ pub fn check_table<M: Model>() -> Result<(), TableError> {
             "DefaultExperiment {e:?} is not a forward time span with a positive step"
         ));
     }
-    for var in table {
-        let mut problem = |text: String| problems.push(format!("{}: {text}", var.name));
-        if var.name.is_empty() || var.name.chars().any(char::is_whitespace) {
+    for var in &table {
+        let name = var.name();
+        let mut problem = |text: String| problems.push(format!("{name}: {text}"));
+        if name.is_empty() || name.chars().any(char::is_whitespace) {
             problem("name is empty or contains white space".into());
         }
-        if !names.insert(var.name) {
+        if !names.insert(name.clone()) {
             problem("FMI 2.0 name used twice".into());
         }
         let base = BaseType::of(&var.access);
@@ -109,7 +110,8 @@ pub fn check_table<M: Model>() -> Result<(), TableError> {
             Access::Real { start, .. } => start.is_some(),
             Access::Integer { start, .. } | Access::Enumeration { start, .. } => start.is_some(),
             Access::Boolean { start, .. } => start.is_some(),
-            Access::String { start, .. } => start.is_some(),
+            // A String's start is read from `M::default()` exactly where one is needed.
+            Access::String { .. } => needs_start,
         };
         // Start values are read from `M::default()` exactly where the standard asks for one.
         if needs_start != has_start {

@@ -40,7 +40,10 @@ pub fn interface_uuid<M: Model>() -> Uuid {
         let _ = writeln!(
             text,
             "{}\t{}\t{type_name}\t{:?}\t{:?}",
-            var.name, var.value_reference, var.causality, var.variability
+            var.name(),
+            var.value_reference,
+            var.causality,
+            var.variability
         );
     }
     Uuid::new_v5(&namespace, text.as_bytes())
@@ -78,7 +81,7 @@ pub fn model_description<M: Model>() -> md::ModelDescription {
             can_serialize_fmu_state: Some(true),
             provides_directional_derivative: Some(false),
         }),
-        unit_definitions: unit_definitions(table),
+        unit_definitions: unit_definitions(&table),
         type_definitions: type_definitions::<M>(),
         log_categories: Some(md::LogCategories {
             categories: Category::ALL
@@ -179,11 +182,12 @@ fn type_definitions<M: Model>() -> Option<md::TypeDefinitions> {
     })
 }
 
-fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
+fn scalar_variable<M: Model>(var: &Variable<M>) -> md::ScalarVariable {
+    let description = var.description();
     let mut sv = md::ScalarVariable {
-        name: var.name.into(),
+        name: var.name().into_owned(),
         value_reference: var.value_reference,
-        description: (!var.description.is_empty()).then(|| var.description.into()),
+        description: (!description.is_empty()).then(|| description.into_owned()),
         causality: Some(causality(var.causality)),
         variability: Some(variability(var.variability)),
         initial: var.initial.map(initial),
@@ -240,9 +244,11 @@ fn scalar_variable<M>(var: &Variable<M>) -> md::ScalarVariable {
                 ..md::BooleanVariable::default()
             })
         }
-        Access::String { start, .. } => {
+        Access::String { get, .. } => {
+            let start = crate::variable::needs_start(var.causality, var.variability, var.initial)
+                .then(|| get(&M::default()).to_string());
             sv.string = Some(md::StringVariable {
-                start: start.clone(),
+                start,
                 ..md::StringVariable::default()
             })
         }

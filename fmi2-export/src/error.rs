@@ -30,26 +30,22 @@ pub enum CallError {
     UnknownValueReference { vr: u32, type_name: &'static str },
     #[error("variable {name} (vr {vr}) cannot be set: {reason}")]
     NotSettable {
-        name: &'static str,
+        name: String,
         vr: u32,
         reason: &'static str,
     },
     #[error("variable {name} (vr {vr}): value {value} is not finite")]
-    NonFinite {
-        name: &'static str,
-        vr: u32,
-        value: f64,
-    },
+    NonFinite { name: String, vr: u32, value: f64 },
     #[error("variable {name} (vr {vr}): value {value} is outside {range}")]
     OutOfRange {
-        name: &'static str,
+        name: String,
         vr: u32,
         value: String,
         range: String,
     },
     #[error("variable {name} (vr {vr}): {reason}")]
     InvalidValue {
-        name: &'static str,
+        name: String,
         vr: u32,
         reason: String,
     },

@@ -10,7 +10,7 @@
 //!
 //! Reals, the bulk of what a co-simulation exchanges, also get a [`RealSlot`] each: their
 //! accessors and the value checks in a form that needs no matching on the table row.
-use crate::rules::check_settable;
+use crate::rules::settable;
 use crate::state::{State, StateMask};
 use crate::variable::{Access, Limit, Variable};
 
@@ -124,9 +124,9 @@ impl<M> RealSlot<M> {
         else {
             return None;
         };
-        let settable: Vec<State> = State::ALL
+        let settable_in: Vec<State> = State::ALL
             .into_iter()
-            .filter(|&state| check_settable(var, state).is_ok())
+            .filter(|&state| settable(var.causality, var.variability, state).is_ok())
             .collect();
         Some(RealSlot {
             row,
@@ -137,12 +137,12 @@ impl<M> RealSlot<M> {
             max: max.map_or(f64::INFINITY, Limit::value),
             min_open: matches!(min, Some(Limit::Exclusive(_))),
             max_open: matches!(max, Some(Limit::Exclusive(_))),
-            settable_in: StateMask::of(&settable),
+            settable_in: StateMask::of(&settable_in),
         })
     }
 
-    /// Whether `value` may be set in `state`: exactly when [`check_settable`] and
-    /// `check_real` accept it, for bounds that are not NaN (a NaN bound sends every value
+    /// Whether `value` may be set in `state`: exactly when [`settable`] and
+    /// `real_in_range` accept it, for bounds that are not NaN (a NaN bound sends every value
     /// to those checks, which then decide).
     #[inline]
     pub fn accepts(&self, value: f64, state: State) -> bool {
@@ -240,7 +240,7 @@ mod tests {
     /// variables (causality, variability, bounds) and awkward values.
     #[test]
     fn a_real_slot_accepts_exactly_what_the_checks_accept() {
-        use crate::rules::check_real;
+        use crate::rules::real_in_range;
         use crate::variable::{Causality, Variability};
         use Limit::{Exclusive, Inclusive};
         let bounds = [
@@ -284,13 +284,11 @@ mod tests {
             ] {
                 for (min, max) in bounds {
                     let var: Variable<()> = Variable {
-                        name: "x",
                         value_reference: 0,
                         causality,
                         variability,
                         initial: None,
                         unit: None,
-                        description: "",
                         declaration: 0,
                         access: Access::Real {
                             start: None,
@@ -304,8 +302,8 @@ mod tests {
                     let slot = RealSlot::new(0, &var).unwrap();
                     for state in State::ALL {
                         for value in values {
-                            let checks = check_settable(&var, state).is_ok()
-                                && check_real(&var, value, min, max).is_ok();
+                            let checks = settable(causality, variability, state).is_ok()
+                                && real_in_range(value, min, max);
                             if !(min.is_some_and(|m| m.value().is_nan()) && checks) {
                                 assert_eq!(
                                     slot.accepts(value, state),
@@ -326,13 +324,11 @@ mod tests {
     #[test]
     fn only_reals_get_a_real_slot_and_rows_stay_rows() {
         let row = |vr, access| Variable::<()> {
-            name: "v",
             value_reference: vr,
             causality: crate::variable::Causality::Input,
             variability: crate::variable::Variability::Discrete,
             initial: None,
             unit: None,
-            description: "",
             declaration: 0,
             access,
         };

@@ -80,8 +80,8 @@ pub struct Instance<M: Model> {
     pub logger: Logger,
     pub guid: uuid::Uuid,
     pub resource_location: Option<CString>,
-    /// The FMI 2.0 scalars of `M`, shared by all its instances.
-    pub table: &'static [Variable<M>],
+    /// The FMI 2.0 scalars of `M`.
+    pub table: Box<[Variable<M>]>,
     pub index: VariableIndex<M>,
     /// Keeps the strings returned by `fmi2GetString` alive until the next call of it.
     pub returned_strings: Vec<CString>,
@@ -99,6 +99,7 @@ impl<M: Model> Instance<M> {
         resource_location: Option<CString>,
         model_exchange: bool,
     ) -> Instance<M> {
+        let table = crate::variables::<M>().into_boxed_slice();
         Instance {
             tag: Tag::of::<M>(),
             core: Core::fresh(),
@@ -106,8 +107,8 @@ impl<M: Model> Instance<M> {
             logger,
             guid,
             resource_location,
-            table: crate::variables::<M>(),
-            index: VariableIndex::new(crate::variables::<M>()),
+            index: VariableIndex::new(&table),
+            table,
             returned_strings: Vec::new(),
             fmu_states: HashSet::new(),
             model_exchange,
@@ -154,7 +155,7 @@ impl<M: Model> Instance<M> {
     /// A model's refusal, its field named as the variable declared for it.
     pub fn model_failure(&mut self, error: ModelError) -> CallError {
         self.core.state = State::Error;
-        CallError::Model(describe_model_error(self.table, &error))
+        CallError::Model(describe_model_error(&self.table, &error))
     }
 }
 
@@ -186,11 +187,11 @@ pub fn describe_model_error<M: Model>(table: &[Variable<M>], error: &ModelError)
             let scalars = table.iter().filter(|v| v.declaration == d);
             match index {
                 // The whole vector (e.g. a quaternion refused for its norm): its base name.
-                None if declarations[d].shape().len() > 1 => Some(declarations[d].name),
+                None if declarations[d].shape().len() > 1 => Some(declarations[d].name.into()),
                 _ => scalars
                     .into_iter()
                     .find(|v| v.element() == element)
-                    .map(|v| v.name),
+                    .map(|v| v.name()),
             }
         });
     let name = match declared {

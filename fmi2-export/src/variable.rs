@@ -1,13 +1,12 @@
 //! The FMI 2.0 view of a model's declarations: one scalar variable per element, `r_nue`
 //! becoming `r_nue[1]`, `r_nue[2]`, `r_nue[3]` with consecutive value references. Get/set
-//! dispatch and the model description both work on this table, built once per model type
-//! from [`Model::declarations`] (see [`variables`]).
+//! dispatch and the model description both work on this table, built from
+//! [`Model::declarations`] by [`variables`] (each instance keeps its own copy: a table kept
+//! for the process would be leaked by every master that loads and unloads the library).
 use crate::model::Model;
 pub use fmi_model::{Causality, EnumType, Initial, Limit, Variability};
 use fmi_model::{Declaration, Kind, Shape};
-use std::any::{Any, TypeId};
-use std::collections::HashMap;
-use std::sync::{Mutex, OnceLock};
+use std::borrow::Cow;
 
 /// Typed accessors of one scalar. `set` is `None` for variables the master may never set;
 /// `start` is read from `M::default()` where the standard asks for a start value.
@@ -42,26 +41,78 @@ pub enum Access<M> {
         get: fn(&M) -> bool,
         set: Option<fn(&mut M, bool)>,
     },
+    /// A String's start, where the standard asks for one, is `get(&M::default())`.
     String {
-        start: Option<String>,
         get: fn(&M) -> &str,
         set: Option<fn(&mut M, &str)>,
     },
 }
 
-/// One scalar variable of the FMI 2.0 model description.
+// Plain function pointers and numbers: copied whatever `M` is.
+impl<M> Clone for Access<M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<M> Copy for Access<M> {}
+
+/// One scalar variable of the FMI 2.0 model description; its name and description are
+/// composed from its declaration when asked for ([`name`](Variable::name)).
 pub struct Variable<M> {
-    /// FMI structured name, e.g. `r_nue[1]` (arrays 1-based).
-    pub name: &'static str,
     pub value_reference: u32,
     pub causality: Causality,
     pub variability: Variability,
     pub initial: Option<Initial>,
     pub unit: Option<&'static str>,
-    pub description: &'static str,
     /// The declaration this scalar comes from (its position in `M::declarations()`).
     pub declaration: usize,
     pub access: Access<M>,
+}
+
+impl<M> Clone for Variable<M> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<M> Copy for Variable<M> {}
+
+impl<M: Model> Variable<M> {
+    pub fn declared(&self) -> &'static Declaration<M> {
+        &M::declarations()[self.declaration]
+    }
+
+    /// FMI structured name, e.g. `r_nue[1]` (arrays 1-based).
+    pub fn name(&self) -> Cow<'static, str> {
+        let d = self.declared();
+        match d.shape() {
+            Shape::Scalar => Cow::Borrowed(d.name),
+            Shape::Vector(_) => Cow::Owned(format!("{}[{}]", d.name, self.element() + 1)),
+        }
+    }
+
+    /// The declaration's description, with the element's component word for a vector
+    /// ("position, Up") and the items for an enumeration exchanged as an Integer.
+    pub fn description(&self) -> Cow<'static, str> {
+        let d = self.declared();
+        if let Access::Enumeration {
+            ty,
+            as_integer: true,
+            ..
+        } = &self.access
+        {
+            return Cow::Owned(format!("{}: {}", d.description, ty.listing()));
+        }
+        match d.shape() {
+            Shape::Scalar => Cow::Borrowed(d.description),
+            Shape::Vector(_) => {
+                let element = self.element();
+                Cow::Owned(match d.components.get(element) {
+                    Some(word) => format!("{}, {word}", d.description),
+                    None => format!("{} (element {})", d.description, element + 1),
+                })
+            }
+        }
+    }
 }
 
 impl<M> Variable<M> {
@@ -82,27 +133,8 @@ impl<M> Variable<M> {
     }
 }
 
-/// The FMI 2.0 scalar table of `M`, built from its declarations on first use and kept for
-/// the life of the process (one small table per model type: the names and descriptions of
-/// vector elements are composed once, and every instance then shares them).
-pub fn variables<M: Model>() -> &'static [Variable<M>] {
-    type Tables = Mutex<HashMap<TypeId, &'static (dyn Any + Send + Sync)>>;
-    static TABLES: OnceLock<Tables> = OnceLock::new();
-    let tables = TABLES.get_or_init(Default::default);
-    // A poisoned lock only means another thread panicked while building a table; the map
-    // itself is consistent (an insert either happened or not).
-    let mut tables = tables.lock().unwrap_or_else(|e| e.into_inner());
-    let table = *tables.entry(TypeId::of::<M>()).or_insert_with(|| {
-        let table: &'static Vec<Variable<M>> = Box::leak(Box::new(expand::<M>()));
-        table
-    });
-    table
-        .downcast_ref::<Vec<Variable<M>>>()
-        .expect("the table stored under M's TypeId is M's")
-}
-
-/// The scalars of every declaration, in declaration order.
-fn expand<M: Model>() -> Vec<Variable<M>> {
+/// The FMI 2.0 scalars of every declaration of `M`, in declaration order.
+pub fn variables<M: Model>() -> Vec<Variable<M>> {
     let fresh = M::default();
     let mut table = Vec::new();
     for (index, d) in M::declarations().iter().enumerate() {
@@ -115,11 +147,8 @@ fn expand<M: Model>() -> Vec<Variable<M>> {
                 shape,
             ) => {
                 for element in 0..shape.len() {
-                    let (name, description) = element_name(d, shape, element);
                     table.push(Variable {
-                        name,
                         value_reference: d.value_reference + element as u32,
-                        description,
                         access: Access::Real {
                             start: with_start.then(|| get(&fresh, element)),
                             min: *min,
@@ -151,12 +180,6 @@ fn expand<M: Model>() -> Vec<Variable<M>> {
                 },
                 _,
             ) => table.push(Variable {
-                // As an Integer, the description says what the values mean.
-                description: if *as_integer {
-                    Box::leak(format!("{}: {}", d.description, ty.listing()).into_boxed_str())
-                } else {
-                    d.description
-                },
                 access: Access::Enumeration {
                     ty,
                     start: with_start.then(|| get(&fresh)),
@@ -176,7 +199,6 @@ fn expand<M: Model>() -> Vec<Variable<M>> {
             }),
             (Kind::String { get, set }, _) => table.push(Variable {
                 access: Access::String {
-                    start: with_start.then(|| get(&fresh).to_string()),
                     get: *get,
                     set: *set,
                 },
@@ -190,41 +212,17 @@ fn expand<M: Model>() -> Vec<Variable<M>> {
 /// The fields every scalar of `d` shares; `access` is a placeholder replaced by the caller.
 fn scalar<M>(d: &Declaration<M>, index: usize) -> Variable<M> {
     Variable {
-        name: d.name,
         value_reference: d.value_reference,
         causality: d.causality,
         variability: d.variability,
         initial: d.initial,
         unit: d.unit,
-        description: d.description,
         declaration: index,
         access: Access::Boolean {
             start: None,
             get: |_| false,
             set: None,
         },
-    }
-}
-
-/// `r_nue[2]` and "position, Up" for element 1 of a vector; the declaration's own for a scalar.
-fn element_name<M>(
-    d: &Declaration<M>,
-    shape: Shape,
-    element: usize,
-) -> (&'static str, &'static str) {
-    match shape {
-        Shape::Scalar => (d.name, d.description),
-        Shape::Vector(_) => {
-            let name = format!("{}[{}]", d.name, element + 1);
-            let description = match d.components.get(element) {
-                Some(word) => format!("{}, {word}", d.description),
-                None => format!("{} (element {})", d.description, element + 1),
-            };
-            (
-                Box::leak(name.into_boxed_str()),
-                Box::leak(description.into_boxed_str()),
-            )
-        }
     }
 }
 

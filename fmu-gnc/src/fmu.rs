@@ -15,9 +15,7 @@ use crate::attitude::ControlLaw;
 use crate::controller::{gnc_sample, GncOutputs, NavigationInputs, Sample};
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::GncParameters;
-use fmi_model::{
-    decl, Declaration, EnumItem, EnumType, Enumeration, Experiment, Log, Model, ModelError, StepEnd,
-};
+use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
 use serde::{Deserialize, Serialize};
 
 /// The GNC FMU instance: parameters, latest inputs and outputs, guidance memory, time.
@@ -193,35 +191,11 @@ impl Model for LanderGnc {
 
 // ---- the declarations ------------------------------------------------------------------
 
-impl Enumeration for ControlLaw {
-    const TYPE: &'static EnumType = &EnumType {
-        name: "ControlLaw",
-        description: "Attitude control law",
-        items: &[
-            EnumItem {
-                name: "coupled",
-                value: ControlLaw::Coupled as i32,
-                description: "classical quaternion PD on q_ref",
-            },
-            EnumItem {
-                name: "decoupled",
-                value: ControlLaw::Decoupled as i32,
-                description: "decoupled thrust-axis control (the paper)",
-            },
-            EnumItem {
-                name: "reduced",
-                value: ControlLaw::Reduced as i32,
-                description: "PX4-style reduced attitude (Brescianini et al. 2013)",
-            },
-        ],
-    };
-
-    fn value(self) -> i32 {
-        self as i32
-    }
-
-    fn from_value(value: i32) -> Option<Self> {
-        ControlLaw::from_index(value)
+fmi_model::enumeration! {
+    ControlLaw = "ControlLaw", "Attitude control law" {
+        Coupled: "coupled", "classical quaternion PD on q_ref";
+        Decoupled: "decoupled", "decoupled thrust-axis control (the paper)";
+        Reduced: "reduced", "PX4-style reduced attitude (Brescianini et al. 2013)";
     }
 }
 
@@ -290,42 +264,14 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fmi_model::{Kind, Limit};
 
     /// The declared bounds are the ones validation enforces: a value just past a declared
-    /// bound is refused by `GncParameters::validate`, naming the declared field.
+    /// bound is refused by the model's own validation, naming the declared field.
     #[test]
     fn declared_bounds_agree_with_the_validation() {
-        let mut probed = 0;
-        for d in LanderGnc::declarations() {
-            let Kind::Real {
-                shape,
-                min,
-                max,
-                set: Some(set),
-                ..
-            } = d.kind
-            else {
-                continue;
-            };
-            let past = |limit: Limit, direction: f64| match limit {
-                Limit::Inclusive(b) => b + direction * (b.abs() * 1e-9).max(1e-9),
-                Limit::Exclusive(b) => b,
-            };
-            let probes = min
-                .map(|m| past(m, -1.0))
-                .into_iter()
-                .chain(max.map(|m| past(m, 1.0)));
-            for value in probes {
-                for i in 0..shape.len() {
-                    let mut m = LanderGnc::default();
-                    set(&mut m, i, value);
-                    let e = m.params.validate().expect_err(d.name);
-                    assert!(d.has_field(e.field), "{}: refused as {e}", d.name);
-                    probed += 1;
-                }
-            }
-        }
+        let probed = fmi_testkit::assert_declared_bounds_are_validated::<LanderGnc>(|m| {
+            m.params.validate().err().map(|e| e.field)
+        });
         assert!(probed >= 20, "{probed}");
     }
 

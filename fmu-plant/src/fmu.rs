@@ -7,8 +7,7 @@ use crate::physics::frames::quaternion_to_scalar_first;
 use crate::physics::parameters::{PlantParameters, TranslationModelKind, MAX_SITE_LATITUDE_RAD};
 use crate::physics::plant::{Advance, Commands, Plant, PlantRun};
 use fmi_model::{
-    decl, role, Declaration, Dependencies, EnumItem, EnumType, Enumeration, Experiment, Log, Model,
-    ModelError, StepEnd,
+    decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
 };
 use serde::{Deserialize, Serialize};
 
@@ -205,35 +204,10 @@ impl Model for LanderPlant {
     }
 }
 
-impl Enumeration for TranslationModelKind {
-    const TYPE: &'static EnumType = &EnumType {
-        name: "TranslationModel",
-        description: "Translational equations of motion",
-        items: &[
-            EnumItem {
-                name: "flat",
-                value: TranslationModelKind::Flat as i32,
-                description: "Flat, non-rotating Moon, uniform gravity (paper eq. 2)",
-            },
-            EnumItem {
-                name: "spherical",
-                value: TranslationModelKind::Spherical as i32,
-                description:
-                    "Spherical Moon with rotation and central gravity (paper eq. 1, corrected)",
-            },
-        ],
-    };
-
-    fn value(self) -> i32 {
-        self as i32
-    }
-
-    fn from_value(value: i32) -> Option<Self> {
-        match value {
-            1 => Some(TranslationModelKind::Flat),
-            2 => Some(TranslationModelKind::Spherical),
-            _ => None,
-        }
+fmi_model::enumeration! {
+    TranslationModelKind = "TranslationModel", "Translational equations of motion" {
+        Flat: "flat", "Flat, non-rotating Moon, uniform gravity (paper eq. 2)";
+        Spherical: "spherical", "Spherical Moon with rotation and central gravity (paper eq. 1, corrected)";
     }
 }
 
@@ -349,7 +323,7 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fmi_model::{Causality, Kind, Limit};
+    use fmi_model::Causality;
 
     #[test]
     fn the_export_layer_accepts_the_declarations() {
@@ -357,50 +331,19 @@ mod tests {
     }
 
     /// The declared bounds are the ones validation enforces: a value just past a declared
-    /// bound is refused by `PlantParameters::validate`, naming the declared field.
+    /// bound is refused by the model's own validation, naming the declared field.
     #[test]
     fn declared_bounds_agree_with_the_validation() {
-        let mut probed = 0;
-        for d in LanderPlant::declarations() {
-            let Kind::Real {
-                shape,
-                min,
-                max,
-                set: Some(set),
-                ..
-            } = d.kind
-            else {
-                continue;
-            };
-            let past = |limit: Limit, direction: f64| match limit {
-                Limit::Inclusive(b) => b + direction * (b.abs() * 1e-9).max(1e-9),
-                Limit::Exclusive(b) => b,
-            };
-            let probes = min
-                .map(|m| past(m, -1.0))
-                .into_iter()
-                .chain(max.map(|m| past(m, 1.0)));
-            for value in probes {
-                for i in 0..shape.len() {
-                    let mut m = LanderPlant::default();
-                    set(&mut m, i, value);
-                    let e = m.parameters.validate().expect_err(d.name);
-                    assert!(d.has_field(e.field), "{}: refused as {e}", d.name);
-                    probed += 1;
-                }
-            }
-        }
+        let probed = fmi_testkit::assert_declared_bounds_are_validated::<LanderPlant>(|m| {
+            m.parameters.validate().err().map(|e| e.field)
+        });
         assert!(probed >= 20, "{probed}");
     }
 
-    /// Exact ModelStructure: in initialization mode and during the run, the navigation
-    /// outputs depend on parameters only, never on an input (a master closing the loop
-    /// through LanderGnc then sees no algebraic loop); the delivered thrust does depend on
-    /// its command.
     #[test]
     fn navigation_outputs_depend_on_no_input_even_in_initialization() {
         let vars = fmi2_export::variables::<LanderPlant>();
-        let index_of = |name: &str| 1 + vars.iter().position(|v| v.name == name).unwrap() as u32;
+        let index_of = |name: &str| 1 + vars.iter().position(|v| v.name() == name).unwrap() as u32;
         let inputs: Vec<u32> = vars
             .iter()
             .enumerate()
@@ -440,7 +383,7 @@ mod tests {
         let vars = fmi2_export::variables::<LanderPlant>();
         let find = |n: &str| {
             vars.iter()
-                .find(|v| v.name == n)
+                .find(|v| v.name() == n)
                 .unwrap_or_else(|| panic!("{n} missing"))
         };
         let mut contract = vec![

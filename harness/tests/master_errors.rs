@@ -41,9 +41,10 @@ fn unknown_names_and_type_mismatches_are_all_reported_before_the_run() {
 
 #[test]
 fn a_refused_parameter_ends_the_run_with_the_fmu_log() {
-    // GIVEN a control bandwidth the GNC must refuse at initialization
+    // GIVEN a thrust range the GNC must refuse at initialization (each bound is within its
+    // declared range; together they are not)
     let mut system = scenarios::load("paper").unwrap();
-    system.set_parameter("gnc", "control_bandwidth", ParamValue::Real(0.0));
+    system.set_parameter("gnc", "thrust_min", ParamValue::Real(2000.0));
     let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
     // WHEN the run starts
     let error = simulation
@@ -52,5 +53,5 @@ fn a_refused_parameter_ends_the_run_with_the_fmu_log() {
     // THEN the error chain carries the FMU's log line naming the parameter
     let text = format!("{:#}", anyhow::Error::from(error));
     assert!(text.contains("fmi2ExitInitializationMode"), "{text}");
-    assert!(text.contains("control_bandwidth"), "{text}");
+    assert!(text.contains("thrust_max"), "{text}");
 }

@@ -1,9 +1,6 @@
 //! The model: parameters, state, and the `fmi2_export::Model` implementation.
 use crate::dynamics::{Coefficients, State};
-use fmi_model::{
-    Declaration, Dependencies, EnumItem, EnumType, Enumeration, Experiment, Log, Model, ModelError,
-    StepEnd,
-};
+use fmi_model::{Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd};
 use serde::{Deserialize, Serialize};
 
 /// The constant mass (kg) of the oscillator.
@@ -21,37 +18,11 @@ pub enum Crossing {
     Rising = 3,
 }
 
-impl Enumeration for Crossing {
-    const TYPE: &'static EnumType = &EnumType {
-        name: "Oscillator.Crossing",
-        description: "Direction of a threshold crossing that stops the simulation",
-        items: &[
-            EnumItem {
-                name: "either",
-                value: Crossing::Either as i32,
-                description: "x crosses the threshold in either direction",
-            },
-            EnumItem {
-                name: "falling",
-                value: Crossing::Falling as i32,
-                description: "x falls through the threshold",
-            },
-            EnumItem {
-                name: "rising",
-                value: Crossing::Rising as i32,
-                description: "x rises through the threshold",
-            },
-        ],
-    };
-
-    fn value(self) -> i32 {
-        self as i32
-    }
-
-    fn from_value(value: i32) -> Option<Crossing> {
-        [Crossing::Either, Crossing::Falling, Crossing::Rising]
-            .into_iter()
-            .find(|c| *c as i32 == value)
+fmi_model::enumeration! {
+    Crossing = "Oscillator.Crossing", "Direction of a threshold crossing that stops the simulation" {
+        Either: "either", "x crosses the threshold in either direction";
+        Falling: "falling", "x falls through the threshold";
+        Rising: "rising", "x rises through the threshold";
     }
 }
 

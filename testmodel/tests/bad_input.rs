@@ -131,7 +131,7 @@ fn bounds_of_the_table_are_enforced() {
     refused(
         &fmu,
         fmu.set_real(vr::K, -1.0),
-        "fmi2SetReal: variable k (vr 1): value -1 is outside [0, inf]",
+        "fmi2SetReal: variable k (vr 1): value -1 is outside [0, inf)",
     );
     refused(
         &fmu,

@@ -12,7 +12,7 @@ pub static FUNCTIONS: Fmi2Functions = fmi2_functions!(fmu_plant);
 pub fn vr(name: &str) -> u32 {
     fmi2_export::variables::<fmu_plant::LanderPlant>()
         .iter()
-        .find(|v| v.name == name)
+        .find(|v| v.name() == name)
         .unwrap_or_else(|| panic!("no variable {name}"))
         .value_reference
 }

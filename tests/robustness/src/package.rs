@@ -69,10 +69,12 @@ impl Unpacked {
                 path: path.clone(),
                 reason: e.to_string(),
             })?;
-        let description = ModelDescription::from_file(files.model_description_path())
-            .map_err(|e| PackageError::Description {
-                path: path.clone(),
-                reason: e.to_string(),
+        let description =
+            ModelDescription::from_file(files.model_description_path()).map_err(|e| {
+                PackageError::Description {
+                    path: path.clone(),
+                    reason: e.to_string(),
+                }
             })?;
         let variables = description
             .variables()

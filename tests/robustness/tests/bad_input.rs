@@ -396,7 +396,12 @@ fn a_wrong_communication_point_is_refused_within_tolerance_accepted() {
             );
         }
         // A master's accumulated rounding (a few ulps) is not an error.
-        assert_eq!(inst.step(0.01 - 1e-15, 0.01), fmi2OK, "{:?}", inst.take_log());
+        assert_eq!(
+            inst.step(0.01 - 1e-15, 0.01),
+            fmi2OK,
+            "{:?}",
+            inst.take_log()
+        );
     });
 }
 
@@ -510,7 +515,11 @@ fn out_of_range_gnc_parameters_are_refused_by_name_and_reset_recovers() {
     // Accepted by the set, refused as a whole by exit initialization.
     let at_exit: [ParameterCase; 3] = [
         (&[("guidance_bandwidth", 6.0)], "guidance_bandwidth", "6"),
-        (&[("control_bandwidth", 1e300)], "control_bandwidth", "non-finite gains"),
+        (
+            &[("control_bandwidth", 1e300)],
+            "control_bandwidth",
+            "non-finite gains",
+        ),
         (&[("thrust_min", 2000.0)], "thrust_max", "1600"),
     ];
     for (sets, name, shown) in at_exit {

@@ -250,10 +250,7 @@ impl<'a> Session<'a> {
     ) -> Outcome {
         self.stats.fuzz_calls += 1;
         if !(fmi2OK..=fmi2Fatal).contains(&status) {
-            return Err(format!(
-                "{function} returned {status} ({})",
-                status.label()
-            ));
+            return Err(format!("{function} returned {status} ({})", status.label()));
         }
         self.stats.statuses[status.0 as usize] += 1;
         if let Some(reason) = must_fail {
@@ -1451,9 +1448,9 @@ fn check_log(
         _ => None,
     };
     if let Some(level) = needs {
-        let explained = records
-            .iter()
-            .any(|r| r.status == level && (level == fmi2Warning || r.message().starts_with(function)));
+        let explained = records.iter().any(|r| {
+            r.status == level && (level == fmi2Warning || r.message().starts_with(function))
+        });
         if !explained {
             return Err(format!(
                 "{function} returned {} without a message naming it: {records:?}",
@@ -1529,7 +1526,11 @@ mod tests {
     #[test]
     fn a_warning_status_needs_a_warning_message() {
         assert!(check_log("fmi2DoStep", fmi2Warning, "i", false, &[]).is_err());
-        let warning = record(fmi2Warning, "logStatusWarning", "fmi2DoStep: degenerate inputs");
+        let warning = record(
+            fmi2Warning,
+            "logStatusWarning",
+            "fmi2DoStep: degenerate inputs",
+        );
         assert!(check_log("fmi2DoStep", fmi2Warning, "i", false, &[warning]).is_ok());
     }
 }
