@@ -66,12 +66,11 @@ pub(crate) unsafe fn call<M: Model>(
     body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
 ) -> fmi3Status {
     let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
-        return fmi3Status::fmi3Error;
+        return fmi3Error;
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if inst.logger.is_on(Category::Calls) {
-            inst.logger
-                .log(fmi3Status::fmi3OK, Category::Calls, &trace());
+            inst.logger.log(fmi3OK, Category::Calls, &trace());
         }
         let result = match function.admit(inst.interface, inst.core.state) {
             Ok(()) => body(inst),
@@ -91,7 +90,7 @@ pub(crate) unsafe fn call<M: Model>(
         let _ = catch_unwind(AssertUnwindSafe(|| {
             inst.core.state = State::Fatal;
             inst.logger.status(
-                fmi3Status::fmi3Fatal,
+                fmi3Fatal,
                 &format!(
                     "{}: internal error, instance unusable: {}",
                     function.name(),
@@ -99,7 +98,7 @@ pub(crate) unsafe fn call<M: Model>(
                 ),
             );
         }));
-        fmi3Status::fmi3Fatal
+        fmi3Fatal
     })
 }
 
@@ -203,7 +202,7 @@ pub(crate) unsafe fn instantiate<M: Model>(
         let resources = owned(resource_path);
         if logger.is_on(Category::Calls) {
             logger.log(
-                fmi3Status::fmi3OK,
+                fmi3OK,
                 Category::Calls,
                 &format!(
                     "{function}(instanceName={}, instantiationToken={}, resourcePath={}, \
@@ -228,7 +227,7 @@ pub(crate) unsafe fn instantiate<M: Model>(
             None
         };
         if let Some(reason) = refusal {
-            logger.status(fmi3Status::fmi3Error, &format!("{function}: {reason}"));
+            logger.status(fmi3Error, &format!("{function}: {reason}"));
             return ptr::null_mut();
         }
         Box::into_raw(Box::new(Instance::<M>::new(logger, interface))) as fmi3Instance
@@ -236,7 +235,7 @@ pub(crate) unsafe fn instantiate<M: Model>(
     outcome.unwrap_or_else(|payload| {
         let logger = Logger::new(log_message, environment, false);
         logger.status(
-            fmi3Status::fmi3Fatal,
+            fmi3Fatal,
             &format!(
                 "{function}: internal error: {}",
                 panic_text(payload.as_ref())
@@ -313,7 +312,7 @@ pub unsafe fn instantiate_scheduled_execution<M: Model>(
 ) -> fmi3Instance {
     let _ = catch_unwind(|| {
         Logger::new(log_message, environment, false).status(
-            fmi3Status::fmi3Error,
+            fmi3Error,
             &format!(
                 "fmi3InstantiateScheduledExecution: {} offers Co-Simulation{}, not Scheduled \
                  Execution",
@@ -334,7 +333,7 @@ pub unsafe fn free_instance<M: Model>(c: fmi3Instance) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         if inst.logger.is_on(Category::Calls) {
             inst.logger
-                .log(fmi3Status::fmi3OK, Category::Calls, "fmi3FreeInstance()");
+                .log(fmi3OK, Category::Calls, "fmi3FreeInstance()");
         }
         inst.tag = Tag::cleared();
         // SAFETY: `c` came from Box::into_raw in instantiate; `inst` is not used again.

@@ -1,6 +1,6 @@
 //! FMI 3.0 status as a Rust `Result`: `Ok(Success)` is `fmi3OK`/`fmi3Warning`,
 //! `Err(CallError)` is `fmi3Discard`/`fmi3Error` with the one log line that explains it.
-use crate::ffi::fmi3Status;
+use crate::ffi::*;
 use crate::state::Refusal;
 use fmi_model::snapshot::SnapshotError;
 
@@ -13,8 +13,8 @@ pub enum Success {
 impl Success {
     pub fn status(self) -> fmi3Status {
         match self {
-            Success::Ok => fmi3Status::fmi3OK,
-            Success::Warning => fmi3Status::fmi3Warning,
+            Success::Ok => fmi3OK,
+            Success::Warning => fmi3Warning,
         }
     }
 }
@@ -54,8 +54,8 @@ pub enum CallError {
 impl CallError {
     pub fn status(&self) -> fmi3Status {
         match self {
-            CallError::Discard(_) => fmi3Status::fmi3Discard,
-            _ => fmi3Status::fmi3Error,
+            CallError::Discard(_) => fmi3Discard,
+            _ => fmi3Error,
         }
     }
 }

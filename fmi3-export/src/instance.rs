@@ -1,6 +1,6 @@
 //! What an `fmi3Instance` points to.
 use crate::error::{CallError, Success};
-use crate::ffi::fmi3Status;
+use crate::ffi::*;
 use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, State};
 use crate::variables::Index;
@@ -109,8 +109,8 @@ impl<M: Model> Instance<M> {
     pub fn forward(&self, function: Function, log: &Log) -> Success {
         for (level, message) in &log.entries {
             let (status, category) = match level {
-                Level::Info => (fmi3Status::fmi3OK, Category::StatusOk),
-                Level::Warning => (fmi3Status::fmi3Warning, Category::StatusWarning),
+                Level::Info => (fmi3OK, Category::StatusOk),
+                Level::Warning => (fmi3Warning, Category::StatusWarning),
             };
             if self.logger.is_on(category) {
                 self.logger

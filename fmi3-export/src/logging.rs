@@ -4,6 +4,8 @@
 //! `fmi3OK`/`fmi3Discard` messages, events and the call trace only when their category is
 //! on (`loggingOn` of the instantiation, or `fmi3SetDebugLogging`). FMI 3.0's callback is not
 //! variadic and carries no instance name: the message is complete text.
+#[cfg(test)]
+use crate::ffi::{fmi3Error, fmi3OK};
 use crate::ffi::{fmi3InstanceEnvironment, fmi3LogMessageCallback, fmi3Status};
 use std::ffi::{CStr, CString};
 
@@ -60,12 +62,12 @@ impl Category {
 
     /// The category a message of this status is filed under.
     pub const fn for_status(status: fmi3Status) -> Category {
-        match status {
-            fmi3Status::fmi3OK => Category::StatusOk,
-            fmi3Status::fmi3Warning => Category::StatusWarning,
-            fmi3Status::fmi3Discard => Category::StatusDiscard,
-            fmi3Status::fmi3Error => Category::StatusError,
-            fmi3Status::fmi3Fatal => Category::StatusFatal,
+        match status.0 {
+            1 => Category::StatusWarning,
+            2 => Category::StatusDiscard,
+            3 => Category::StatusError,
+            4 => Category::StatusFatal,
+            _ => Category::StatusOk,
         }
     }
 
@@ -191,24 +193,20 @@ mod tests {
     #[test]
     fn errors_always_reach_the_master_debug_messages_only_when_on() {
         let mut logger = Logger::new(Some(record), std::ptr::null_mut(), false);
-        logger.status(fmi3Status::fmi3OK, "quiet");
-        logger.status(fmi3Status::fmi3Error, "fmi3DoStep: bad\0step");
+        logger.status(fmi3OK, "quiet");
+        logger.status(fmi3Error, "fmi3DoStep: bad\0step");
         logger.set(Category::Events, true);
-        logger.log(fmi3Status::fmi3OK, Category::Events, "touchdown");
+        logger.log(fmi3OK, Category::Events, "touchdown");
         let seen = SEEN.lock().unwrap().clone();
         assert_eq!(
             seen,
             [
                 (
-                    fmi3Status::fmi3Error,
+                    fmi3Error,
                     "logStatusError".to_owned(),
                     "fmi3DoStep: bad\u{FFFD}step".to_owned()
                 ),
-                (
-                    fmi3Status::fmi3OK,
-                    "logEvents".to_owned(),
-                    "touchdown".to_owned()
-                ),
+                (fmi3OK, "logEvents".to_owned(), "touchdown".to_owned()),
             ]
         );
     }

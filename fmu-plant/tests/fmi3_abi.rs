@@ -79,7 +79,7 @@ impl Plant {
         let vr = Plant::vr(name);
         // SAFETY: a live instance, n values for an n-element variable.
         let status = unsafe { fmu::fmi3GetFloat64(self.c, &vr, 1, values.as_mut_ptr(), n) };
-        assert_eq!(status, fmi3Status::fmi3OK, "{}", self.log());
+        assert_eq!(status, fmi3OK, "{}", self.log());
         values
     }
 
@@ -94,9 +94,9 @@ impl Plant {
         unsafe {
             assert_eq!(
                 fmu::fmi3EnterInitializationMode(self.c, false, 0.0, 0.0, false, 0.0),
-                fmi3Status::fmi3OK
+                fmi3OK
             );
-            assert_eq!(fmu::fmi3ExitInitializationMode(self.c), fmi3Status::fmi3OK);
+            assert_eq!(fmu::fmi3ExitInitializationMode(self.c), fmi3OK);
         }
     }
 
@@ -130,16 +130,13 @@ impl Drop for Plant {
 #[test]
 fn vectors_are_arrays_and_the_plant_falls() {
     let plant = Plant::co_simulation();
-    assert_eq!(
-        plant.set("r0_nue", &[10.0, 500.0, -20.0]),
-        fmi3Status::fmi3OK
-    );
+    assert_eq!(plant.set("r0_nue", &[10.0, 500.0, -20.0]), fmi3OK);
     plant.init();
     assert_eq!(plant.get("r_nue", 3), [10.0, 500.0, -20.0]);
     assert_eq!(plant.get("q_body_to_nue", 4), [1.0, 0.0, 0.0, 0.0]);
     for k in 0..10 {
         let (status, terminate, last) = plant.step(k as f64 * 0.1, 0.1);
-        assert_eq!((status, terminate), (fmi3Status::fmi3OK, false));
+        assert_eq!((status, terminate), (fmi3OK, false));
         assert!((last - (k + 1) as f64 * 0.1).abs() < 1e-12);
     }
     let r = plant.get("r_nue", 3);
@@ -153,7 +150,7 @@ fn touchdown_ends_the_step_early_with_terminate_and_the_touchdown_time() {
     plant.init();
     // free fall from 0.81 m reaches the ground at t = 1 s
     let (status, terminate, last) = plant.step(0.0, 2.0);
-    assert_eq!(status, fmi3Status::fmi3Discard);
+    assert_eq!(status, fmi3Discard);
     assert!(terminate);
     assert!((last - 1.0).abs() < 1e-9, "{last}");
 }
@@ -162,14 +159,14 @@ fn touchdown_ends_the_step_early_with_terminate_and_the_touchdown_time() {
 fn refused_values_name_the_variable_and_change_nothing() {
     let plant = Plant::co_simulation();
     // length of the values does not match the array
-    assert_eq!(plant.set("r0_nue", &[1.0, 2.0]), fmi3Status::fmi3Error);
+    assert_eq!(plant.set("r0_nue", &[1.0, 2.0]), fmi3Error);
     // a bound the parameter check enforces
-    assert_eq!(plant.set("m0", &[-5.0]), fmi3Status::fmi3Error);
-    assert_eq!(plant.set("m0", &[f64::NAN]), fmi3Status::fmi3Error);
+    assert_eq!(plant.set("m0", &[-5.0]), fmi3Error);
+    assert_eq!(plant.set("m0", &[f64::NAN]), fmi3Error);
     plant.init();
     // a fixed parameter after initialization, an output at any time
-    assert_eq!(plant.set("m0", &[800.0]), fmi3Status::fmi3Error);
-    assert_eq!(plant.set("mass", &[800.0]), fmi3Status::fmi3Error);
+    assert_eq!(plant.set("m0", &[800.0]), fmi3Error);
+    assert_eq!(plant.set("mass", &[800.0]), fmi3Error);
     assert_eq!(plant.get("mass", 1), [900.0], "nothing was written");
     let log = plant.log();
     for expected in [
@@ -194,16 +191,13 @@ fn missing_features_and_the_other_interface_answer_error_with_a_reason() {
     unsafe {
         assert_eq!(
             fmu::fmi3GetClock(plant.c, &vr, 1, active.as_mut_ptr()),
-            fmi3Status::fmi3Error
+            fmi3Error
         );
         assert_eq!(
             fmu::fmi3SetContinuousStates(plant.c, x.as_ptr(), 18),
-            fmi3Status::fmi3Error
+            fmi3Error
         );
-        assert_eq!(
-            fmu::fmi3EnterConfigurationMode(plant.c),
-            fmi3Status::fmi3Error
-        );
+        assert_eq!(fmu::fmi3EnterConfigurationMode(plant.c), fmi3Error);
     }
     let log = plant.log();
     assert!(
@@ -234,23 +228,17 @@ fn a_serialized_fmu_state_restores_the_run_bit_for_bit_and_a_corrupt_one_is_refu
     let mut size = 0usize;
     // SAFETY: a live instance; buffers of the announced size.
     let bytes = unsafe {
-        assert_eq!(
-            fmu::fmi3GetFMUState(plant.c, &mut state),
-            fmi3Status::fmi3OK
-        );
+        assert_eq!(fmu::fmi3GetFMUState(plant.c, &mut state), fmi3OK);
         assert_eq!(
             fmu::fmi3SerializedFMUStateSize(plant.c, state, &mut size),
-            fmi3Status::fmi3OK
+            fmi3OK
         );
         let mut bytes = vec![0u8; size];
         assert_eq!(
             fmu::fmi3SerializeFMUState(plant.c, state, bytes.as_mut_ptr(), size),
-            fmi3Status::fmi3OK
+            fmi3OK
         );
-        assert_eq!(
-            fmu::fmi3FreeFMUState(plant.c, &mut state),
-            fmi3Status::fmi3OK
-        );
+        assert_eq!(fmu::fmi3FreeFMUState(plant.c, &mut state), fmi3OK);
         bytes
     };
     assert_eq!(&bytes[..8], b"FMI3SNAP");
@@ -263,9 +251,9 @@ fn a_serialized_fmu_state_restores_the_run_bit_for_bit_and_a_corrupt_one_is_refu
         let mut restored: fmi3FMUState = std::ptr::null_mut();
         assert_eq!(
             fmu::fmi3DeserializeFMUState(plant.c, bytes.as_ptr(), bytes.len(), &mut restored),
-            fmi3Status::fmi3OK
+            fmi3OK
         );
-        assert_eq!(fmu::fmi3SetFMUState(plant.c, restored), fmi3Status::fmi3OK);
+        assert_eq!(fmu::fmi3SetFMUState(plant.c, restored), fmi3OK);
         fmu::fmi3FreeFMUState(plant.c, &mut restored);
         let mut corrupt = bytes.clone();
         let last = corrupt.len() - 1;
@@ -273,7 +261,7 @@ fn a_serialized_fmu_state_restores_the_run_bit_for_bit_and_a_corrupt_one_is_refu
         let mut refused: fmi3FMUState = std::ptr::null_mut();
         assert_eq!(
             fmu::fmi3DeserializeFMUState(plant.c, corrupt.as_ptr(), corrupt.len(), &mut refused),
-            fmi3Status::fmi3Error
+            fmi3Error
         );
     }
     for k in 5..10 {
