@@ -178,6 +178,22 @@ functions! {
     GetNominalsOfContinuousStates => CONTINUOUS_READS,
 }
 
+impl Function {
+    /// The 10 functions of Model Exchange only (a Co-Simulation-only FMU does not export them).
+    pub const MODEL_EXCHANGE: &'static [Function] = &[
+        Function::EnterEventMode,
+        Function::NewDiscreteStates,
+        Function::EnterContinuousTimeMode,
+        Function::CompletedIntegratorStep,
+        Function::SetTime,
+        Function::SetContinuousStates,
+        Function::GetDerivatives,
+        Function::GetEventIndicators,
+        Function::GetContinuousStates,
+        Function::GetNominalsOfContinuousStates,
+    ];
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -19,9 +19,9 @@ use crate::instance::{Core, Instance, Tag};
 use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Type};
+pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
 use fmi_model::{snapshot, Declaration, Kind, Log, Model, StepEnd};
 use std::ffi::{CStr, CString};
-use std::fmt::Debug;
 use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
@@ -48,14 +48,6 @@ unsafe fn instance_mut<'a, M: Model>(c: fmi3Instance) -> Option<&'a mut Instance
         return None;
     }
     Some(unsafe { &mut *(c as *mut Instance<M>) })
-}
-
-fn panic_text(payload: &(dyn std::any::Any + Send)) -> &str {
-    payload
-        .downcast_ref::<&str>()
-        .copied()
-        .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
-        .unwrap_or("unknown panic")
 }
 
 /// Runs one FMI call on an instance; see the module documentation.
@@ -100,60 +92,6 @@ pub(crate) unsafe fn call<M: Model>(
         }));
         fmi3Fatal
     })
-}
-
-/// `n` elements at `ptr`; NULL is an error unless `n == 0`.
-pub(crate) unsafe fn slice<'a, T>(
-    ptr: *const T,
-    n: usize,
-    name: &'static str,
-) -> Result<&'a [T], CallError> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if ptr.is_null() {
-        return Err(CallError::NullArgument(name));
-    }
-    if n > isize::MAX as usize / std::mem::size_of::<T>().max(1) {
-        return Err(CallError::InvalidArgument(format!(
-            "{n} elements for {name} cannot exist"
-        )));
-    }
-    // SAFETY: non-null, size checked; the master guarantees n readable elements.
-    Ok(unsafe { std::slice::from_raw_parts(ptr, n) })
-}
-
-pub(crate) unsafe fn slice_mut<'a, T>(
-    ptr: *mut T,
-    n: usize,
-    name: &'static str,
-) -> Result<&'a mut [T], CallError> {
-    unsafe { slice(ptr as *const T, n, name) }?;
-    if n == 0 {
-        return Ok(&mut []);
-    }
-    // SAFETY: as in `slice`; the master guarantees n writable elements.
-    Ok(unsafe { std::slice::from_raw_parts_mut(ptr, n) })
-}
-
-pub(crate) unsafe fn out<'a, T>(ptr: *mut T, name: &'static str) -> Result<&'a mut T, CallError> {
-    // SAFETY: the master guarantees a writable T when non-null.
-    unsafe { ptr.as_mut() }.ok_or(CallError::NullArgument(name))
-}
-
-/// For the call trace: up to 16 elements of an input array.
-pub(crate) unsafe fn show<T: Debug>(ptr: *const T, n: usize) -> String {
-    if n == 0 {
-        return "[]".into();
-    }
-    if ptr.is_null() {
-        return "NULL".into();
-    }
-    let shown = n.min(16);
-    // SAFETY: as in `slice`.
-    let items = unsafe { std::slice::from_raw_parts(ptr, shown) };
-    let more = if n > shown { ", ..." } else { "" };
-    format!("{items:?}{more}")
 }
 
 fn owned(s: fmi3String) -> Option<CString> {
