@@ -508,20 +508,38 @@ pub unsafe fn get_float64<M: Model>(
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
-            if let [time_vr] = vrs {
-                if *time_vr == crate::variables::TIME_VR && n_values == 1 {
-                    values[0] = inst.core.time;
-                    return Ok(success);
-                }
+            // `time` may stand anywhere in the list, as one element.
+            let decls = vrs
+                .iter()
+                .map(|&vr| {
+                    if vr == crate::variables::TIME_VR {
+                        Ok(None)
+                    } else {
+                        lookup(inst, vr, Type::Float64).map(Some)
+                    }
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            let total: usize = decls.iter().map(|d| d.map_or(1, |d| d.shape().len())).sum();
+            if total != n_values {
+                return Err(CallError::InvalidArgument(format!(
+                    "nValues = {n_values}, the {} variables asked for have {total} elements",
+                    vrs.len()
+                )));
             }
-            let decls = check_count(inst, vrs, Type::Float64, n_values)?;
             let mut k = 0;
             for d in decls {
-                if let Kind::Real { shape, get, .. } = &d.kind {
-                    for i in 0..shape.len() {
-                        values[k] = get(&inst.core.model, i);
+                match d.map(|d| &d.kind) {
+                    None => {
+                        values[k] = inst.core.time;
                         k += 1;
                     }
+                    Some(Kind::Real { shape, get, .. }) => {
+                        for i in 0..shape.len() {
+                            values[k] = get(&inst.core.model, i);
+                            k += 1;
+                        }
+                    }
+                    Some(_) => {}
                 }
             }
             Ok(success)

@@ -141,6 +141,18 @@ fn vectors_are_arrays_and_the_plant_falls() {
     }
     let r = plant.get("r_nue", 3);
     assert!((r[1] - (500.0 - 0.81)).abs() < 1e-9, "{r:?}");
+    // `time` (the independent variable) reads beside the others, as one element
+    let vrs = [
+        Plant::vr("mass"),
+        fmi3_export::variables::TIME_VR,
+        Plant::vr("r_nue"),
+    ];
+    let mut values = [f64::NAN; 5];
+    // SAFETY: a live instance, 1 + 1 + 3 values.
+    let status = unsafe { fmu::fmi3GetFloat64(plant.c, vrs.as_ptr(), 3, values.as_mut_ptr(), 5) };
+    assert_eq!(status, fmi3OK, "{}", plant.log());
+    assert!((values[1] - 1.0).abs() < 1e-12, "{values:?}");
+    assert_eq!((values[0], values[3]), (900.0, r[1]));
 }
 
 #[test]
