@@ -53,3 +53,29 @@ pub trait ContinuousModel: Model {
     /// Handle an event at the current time (e.g. freeze the touchdown outputs).
     fn update_discrete_states(&mut self, log: &mut Log) -> Result<EventUpdate, ModelError>;
 }
+
+/// A vector from a solver has the length the model expects: else the refusal to log.
+pub fn check_length<M: ContinuousModel>(
+    what: &str,
+    given: usize,
+    expected: usize,
+) -> Result<(), String> {
+    if given == expected {
+        Ok(())
+    } else {
+        Err(format!(
+            "{given} {what} given, {} has {expected}",
+            M::MODEL_IDENTIFIER
+        ))
+    }
+}
+
+/// A state vector a solver sets: the model's length, every element finite; else the
+/// refusal to log (the model then never sees it).
+pub fn check_states<M: ContinuousModel>(model: &M, x: &[f64]) -> Result<(), String> {
+    check_length::<M>("states", x.len(), model.state_count())?;
+    match x.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(format!("state {i} is {}: not finite", x[i])),
+        None => Ok(()),
+    }
+}

@@ -11,22 +11,8 @@ use crate::error::{CallError, Success};
 use crate::ffi::*;
 use crate::instance::Instance;
 use crate::state::{Function, Interface, State};
+use fmi_model::continuous::{check_length, check_states};
 use fmi_model::{ContinuousModel, Log};
-
-fn check_length<M: ContinuousModel>(
-    what: &str,
-    given: usize,
-    expected: usize,
-) -> Result<(), CallError> {
-    if given == expected {
-        Ok(())
-    } else {
-        Err(CallError::InvalidArgument(format!(
-            "{given} {what} given, {} has {expected}",
-            M::MODEL_IDENTIFIER
-        )))
-    }
-}
 
 /// # Safety
 /// See the module documentation.
@@ -183,13 +169,7 @@ pub unsafe fn set_continuous_states<M: ContinuousModel>(
             || format!("{}(nx={nx}, x={})", f.name(), show(x, nx)),
             |inst| {
                 let x = slice(x, nx, "continuousStates")?;
-                check_length::<M>("states", nx, inst.core.model.state_count())?;
-                if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-                    return Err(CallError::InvalidArgument(format!(
-                        "state {i} is {}: not finite",
-                        x[i]
-                    )));
-                }
+                check_states(&inst.core.model, x).map_err(CallError::InvalidArgument)?;
                 inst.core
                     .model
                     .set_states(x)
@@ -216,7 +196,8 @@ unsafe fn read_vector<M: ContinuousModel>(
             || format!("{}(n={n})", f.name()),
             |inst| {
                 let values = slice_mut(ptr, n, "values")?;
-                check_length::<M>("values", n, count(&inst.core.model))?;
+                check_length::<M>("values", n, count(&inst.core.model))
+                    .map_err(CallError::InvalidArgument)?;
                 let success = inst.refresh(f);
                 read(inst, values)?;
                 Ok(success)
