@@ -657,26 +657,29 @@ fn bounds(min: Option<fmi_model::Limit>, max: Option<fmi_model::Limit>) -> Strin
     format!("{low}, {high}")
 }
 
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_int32<M: Model>(
+/// The shared body of the gets of one-element types: look every value reference up as
+/// `ty`, check `nValues`, and let `read` give each declaration's value.
+#[allow(clippy::too_many_arguments)]
+unsafe fn get_scalars<M: Model, V>(
     c: fmi3Instance,
+    f: Function,
+    ty: Type,
     vrs: *const fmi3ValueReference,
     n_vrs: usize,
-    values: *mut fmi3Int32,
+    values: *mut V,
     n_values: usize,
+    read: fn(&Kind<M>, &M) -> Option<V>,
 ) -> fmi3Status {
-    let f = Function::GetInt32;
     let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
     unsafe {
         call::<M>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
-            let decls = check_count(inst, vrs, Type::Int32, n_values)?;
+            let decls = check_count(inst, vrs, ty, n_values)?;
             for (d, value) in decls.into_iter().zip(values) {
-                if let Kind::Integer { get, .. } = &d.kind {
-                    *value = get(&inst.core.model);
+                if let Some(v) = read(&d.kind, &inst.core.model) {
+                    *value = v;
                 }
             }
             Ok(success)
@@ -684,16 +687,20 @@ pub unsafe fn get_int32<M: Model>(
     }
 }
 
-/// # Safety
-/// See the module documentation.
-pub unsafe fn set_int32<M: Model>(
+/// The shared body of the sets of one-element types: every value checked by `check` (after
+/// the settable rule) before `write` writes any, so a refused call changes nothing.
+#[allow(clippy::too_many_arguments)]
+unsafe fn set_scalars<M: Model, V: Copy + std::fmt::Debug>(
     c: fmi3Instance,
+    f: Function,
+    ty: Type,
     vrs: *const fmi3ValueReference,
     n_vrs: usize,
-    values: *const fmi3Int32,
+    values: *const V,
     n_values: usize,
+    check: fn(&Kind<M>, V) -> Result<(), String>,
+    write: fn(&Kind<M>, &mut M, V),
 ) -> fmi3Status {
-    let f = Function::SetInt32;
     let trace = || unsafe {
         format!(
             "{}(vr={}, values={})",
@@ -706,27 +713,91 @@ pub unsafe fn set_int32<M: Model>(
         call::<M>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
-            let decls = check_count(inst, vrs, Type::Int32, n_values)?;
+            let decls = check_count(inst, vrs, ty, n_values)?;
             for (d, &v) in decls.iter().zip(values) {
                 settable(d, initializing(inst.core.state)).map_err(|r| refuse_set(d, r))?;
-                if let Kind::Integer { min, max, .. } = &d.kind {
-                    if min.is_some_and(|m| v < m) || max.is_some_and(|m| v > m) {
-                        return Err(CallError::InvalidValue {
-                            name: d.name,
-                            vr: d.value_reference,
-                            reason: format!("value {v} is outside [{min:?}, {max:?}]"),
-                        });
-                    }
-                }
+                check(&d.kind, v).map_err(|reason| CallError::InvalidValue {
+                    name: d.name,
+                    vr: d.value_reference,
+                    reason,
+                })?;
             }
             for (d, &v) in decls.iter().zip(values) {
-                if let Kind::Integer { set: Some(set), .. } = &d.kind {
-                    set(&mut inst.core.model, v);
-                }
+                write(&d.kind, &mut inst.core.model, v);
             }
             inst.dirty |= !vrs.is_empty();
             Ok(Success::Ok)
         })
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn get_int32<M: Model>(
+    c: fmi3Instance,
+    vrs: *const fmi3ValueReference,
+    n_vrs: usize,
+    values: *mut fmi3Int32,
+    n_values: usize,
+) -> fmi3Status {
+    let read = |kind: &Kind<M>, m: &M| match kind {
+        Kind::Integer { get, .. } | Kind::Enumeration { get, .. } => Some(get(m)),
+        _ => None,
+    };
+    unsafe {
+        get_scalars(
+            c,
+            Function::GetInt32,
+            Type::Int32,
+            vrs,
+            n_vrs,
+            values,
+            n_values,
+            read,
+        )
+    }
+}
+
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_int32<M: Model>(
+    c: fmi3Instance,
+    vrs: *const fmi3ValueReference,
+    n_vrs: usize,
+    values: *const fmi3Int32,
+    n_values: usize,
+) -> fmi3Status {
+    let check = |kind: &Kind<M>, v: i32| match kind {
+        Kind::Integer { min, max, .. }
+            if min.is_some_and(|m| v < m) || max.is_some_and(|m| v > m) =>
+        {
+            let low = min.map_or("(-inf".to_string(), |m| format!("[{m}"));
+            let high = max.map_or("inf)".to_string(), |m| format!("{m}]"));
+            Err(format!("value {v} is outside {low}, {high}"))
+        }
+        Kind::Enumeration { ty, .. } if ty.item(v).is_none() => {
+            Err(format!("{v} is not one of {}", ty.listing()))
+        }
+        _ => Ok(()),
+    };
+    let write = |kind: &Kind<M>, m: &mut M, v: i32| match kind {
+        Kind::Integer { set: Some(set), .. } | Kind::Enumeration { set: Some(set), .. } => {
+            set(m, v)
+        }
+        _ => {}
+    };
+    unsafe {
+        set_scalars(
+            c,
+            Function::SetInt32,
+            Type::Int32,
+            vrs,
+            n_vrs,
+            values,
+            n_values,
+            check,
+            write,
+        )
     }
 }
 
@@ -741,21 +812,21 @@ pub unsafe fn get_int64<M: Model>(
     values: *mut fmi3Int64,
     n_values: usize,
 ) -> fmi3Status {
-    let f = Function::GetInt64;
-    let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
+    let read = |kind: &Kind<M>, m: &M| match kind {
+        Kind::Enumeration { get, .. } => Some(i64::from(get(m))),
+        _ => None,
+    };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let vrs = slice(vrs, n_vrs, "valueReferences")?;
-            let values = slice_mut(values, n_values, "values")?;
-            let success = inst.refresh(f);
-            let decls = check_count(inst, vrs, Type::Enumeration, n_values)?;
-            for (d, value) in decls.into_iter().zip(values) {
-                if let Kind::Enumeration { get, .. } = &d.kind {
-                    *value = i64::from(get(&inst.core.model));
-                }
-            }
-            Ok(success)
-        })
+        get_scalars(
+            c,
+            Function::GetInt64,
+            Type::Enumeration,
+            vrs,
+            n_vrs,
+            values,
+            n_values,
+            read,
+        )
     }
 }
 
@@ -768,47 +839,37 @@ pub unsafe fn set_int64<M: Model>(
     values: *const fmi3Int64,
     n_values: usize,
 ) -> fmi3Status {
-    let f = Function::SetInt64;
-    let trace = || unsafe {
-        format!(
-            "{}(vr={}, values={})",
-            f.name(),
-            show(vrs, n_vrs),
-            show(values, n_values)
-        )
+    let check = |kind: &Kind<M>, v: i64| match kind {
+        Kind::Enumeration { ty, .. } => i32::try_from(v)
+            .ok()
+            .filter(|&v| ty.item(v).is_some())
+            .map(|_| ())
+            .ok_or_else(|| format!("{v} is not an item of {}", ty.listing())),
+        _ => Ok(()),
+    };
+    let write = |kind: &Kind<M>, m: &mut M, v: i64| {
+        if let (Kind::Enumeration { set: Some(set), .. }, Ok(v)) = (kind, i32::try_from(v)) {
+            set(m, v);
+        }
     };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let vrs = slice(vrs, n_vrs, "valueReferences")?;
-            let values = slice(values, n_values, "values")?;
-            let decls = check_count(inst, vrs, Type::Enumeration, n_values)?;
-            let mut checked = Vec::with_capacity(decls.len());
-            for (d, &v) in decls.iter().zip(values) {
-                settable(d, initializing(inst.core.state)).map_err(|r| refuse_set(d, r))?;
-                if let Kind::Enumeration { ty, .. } = &d.kind {
-                    match i32::try_from(v).ok().filter(|&v| ty.item(v).is_some()) {
-                        Some(v) => checked.push(v),
-                        None => {
-                            return Err(CallError::InvalidValue {
-                                name: d.name,
-                                vr: d.value_reference,
-                                reason: format!("{v} is not an item of {}", ty.listing()),
-                            })
-                        }
-                    }
-                }
-            }
-            for (d, v) in decls.iter().zip(checked) {
-                if let Kind::Enumeration { set: Some(set), .. } = &d.kind {
-                    set(&mut inst.core.model, v);
-                }
-            }
-            inst.dirty |= !vrs.is_empty();
-            Ok(Success::Ok)
-        })
+        set_scalars(
+            c,
+            Function::SetInt64,
+            Type::Enumeration,
+            vrs,
+            n_vrs,
+            values,
+            n_values,
+            check,
+            write,
+        )
     }
 }
 
+/// Booleans cross as bytes (C's `bool`): written 0/1, and a value other than 0/1 from a
+/// careless master is read as true, never as an invalid Rust `bool`.
+///
 /// # Safety
 /// See the module documentation.
 pub unsafe fn get_boolean<M: Model>(
@@ -818,22 +879,22 @@ pub unsafe fn get_boolean<M: Model>(
     values: *mut fmi3Boolean,
     n_values: usize,
 ) -> fmi3Status {
-    let f = Function::GetBoolean;
-    let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
+    let read = |kind: &Kind<M>, m: &M| match kind {
+        Kind::Boolean { get, .. } => Some(u8::from(get(m))),
+        _ => None,
+    };
+    let values = values as *mut u8;
     unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let vrs = slice(vrs, n_vrs, "valueReferences")?;
-            // Written as bytes 0/1: what C's bool holds.
-            let values = slice_mut(values as *mut u8, n_values, "values")?;
-            let success = inst.refresh(f);
-            let decls = check_count(inst, vrs, Type::Boolean, n_values)?;
-            for (d, value) in decls.into_iter().zip(values) {
-                if let Kind::Boolean { get, .. } = &d.kind {
-                    *value = u8::from(get(&inst.core.model));
-                }
-            }
-            Ok(success)
-        })
+        get_scalars(
+            c,
+            Function::GetBoolean,
+            Type::Boolean,
+            vrs,
+            n_vrs,
+            values,
+            n_values,
+            read,
+        )
     }
 }
 
@@ -846,25 +907,24 @@ pub unsafe fn set_boolean<M: Model>(
     values: *const fmi3Boolean,
     n_values: usize,
 ) -> fmi3Status {
-    let f = Function::SetBoolean;
-    let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
+    let write = |kind: &Kind<M>, m: &mut M, v: u8| {
+        if let Kind::Boolean { set: Some(set), .. } = kind {
+            set(m, v != 0);
+        }
+    };
+    let values = values as *const u8;
     unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let vrs = slice(vrs, n_vrs, "valueReferences")?;
-            // Read as bytes: a value other than 0/1 from a careless master is no UB here.
-            let values = slice(values as *const u8, n_values, "values")?;
-            let decls = check_count(inst, vrs, Type::Boolean, n_values)?;
-            for d in &decls {
-                settable(d, initializing(inst.core.state)).map_err(|r| refuse_set(d, r))?;
-            }
-            for (d, &v) in decls.iter().zip(values) {
-                if let Kind::Boolean { set: Some(set), .. } = &d.kind {
-                    set(&mut inst.core.model, v != 0);
-                }
-            }
-            inst.dirty |= !vrs.is_empty();
-            Ok(Success::Ok)
-        })
+        set_scalars(
+            c,
+            Function::SetBoolean,
+            Type::Boolean,
+            vrs,
+            n_vrs,
+            values,
+            n_values,
+            |_, _| Ok(()),
+            write,
+        )
     }
 }
 

@@ -254,7 +254,12 @@ fn write_types<M: Model>(x: &mut String) {
     }
     let mut written: Vec<&str> = Vec::new();
     for d in M::declarations() {
-        if let Kind::Enumeration { ty, .. } = &d.kind {
+        if let Kind::Enumeration {
+            ty,
+            as_integer: false,
+            ..
+        } = &d.kind
+        {
             if written.contains(&ty.name) {
                 continue;
             }
@@ -346,8 +351,19 @@ fn write_variable<M>(x: &mut String, d: &Declaration<M>, fresh: &M, derivative: 
                 let _ = write!(x, r#" start="{}""#, get(fresh));
             }
         }
-        Kind::Enumeration { ty, get, .. } => {
-            let _ = write!(x, r#" declaredType="{}""#, escape(ty.name));
+        Kind::Enumeration {
+            ty,
+            get,
+            as_integer,
+            ..
+        } => {
+            if *as_integer {
+                if let (Some(min), Some(max)) = (ty.min(), ty.max()) {
+                    let _ = write!(x, r#" min="{min}" max="{max}""#);
+                }
+            } else {
+                let _ = write!(x, r#" declaredType="{}""#, escape(ty.name));
+            }
             if start {
                 let _ = write!(x, r#" start="{}""#, get(fresh));
             }

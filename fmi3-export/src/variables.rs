@@ -23,6 +23,10 @@ impl Type {
         match d.kind {
             Kind::Real { .. } => Type::Float64,
             Kind::Integer { .. } => Type::Int32,
+            // A selector every master must be able to set is exchanged as a plain Int32.
+            Kind::Enumeration {
+                as_integer: true, ..
+            } => Type::Int32,
             Kind::Enumeration { .. } => Type::Enumeration,
             Kind::Boolean { .. } => Type::Boolean,
             Kind::String { .. } => Type::String,

@@ -307,3 +307,57 @@ fn a_wrong_instantiation_token_gives_null_and_says_why() {
         "{log:?}"
     );
 }
+
+#[test]
+fn integers_and_booleans_cross_with_their_checks() {
+    let plant = Plant::co_simulation();
+    let (count, model) = (Plant::vr("engine_count"), Plant::vr("translation_model"));
+    let touchdown = Plant::vr("touchdown");
+    // SAFETY: a live instance; one value per variable.
+    unsafe {
+        // engine_count >= 1: 0 is refused, and nothing is written by the refused pair;
+        // translation_model (a selector exchanged as Int32) accepts only its items
+        assert_eq!(
+            fmu::fmi3SetInt32(plant.c, [model, count].as_ptr(), 2, [2, 0].as_ptr(), 2),
+            fmi3Error
+        );
+        assert_eq!(fmu::fmi3SetInt32(plant.c, &model, 1, &3, 1), fmi3Error);
+        let mut got = [0i32; 2];
+        assert_eq!(
+            fmu::fmi3GetInt32(plant.c, [model, count].as_ptr(), 2, got.as_mut_ptr(), 2),
+            fmi3Error,
+            "no get before initialization mode"
+        );
+        plant.init();
+        assert_eq!(
+            fmu::fmi3GetInt32(plant.c, [model, count].as_ptr(), 2, got.as_mut_ptr(), 2),
+            fmi3OK
+        );
+        assert_eq!(got, [1, 2], "flat model, two engines: the start values");
+        let mut down = [true];
+        assert_eq!(
+            fmu::fmi3GetBoolean(plant.c, &touchdown, 1, down.as_mut_ptr(), 1),
+            fmi3OK
+        );
+        assert_eq!(down, [false]);
+        assert_eq!(
+            fmu::fmi3SetBoolean(plant.c, &touchdown, 1, [true].as_ptr(), 1),
+            fmi3Error
+        );
+        // a Float64 value reference asked for as Int32
+        assert_eq!(
+            fmu::fmi3GetInt32(plant.c, &Plant::vr("mass"), 1, got.as_mut_ptr(), 1),
+            fmi3Error
+        );
+    }
+    let log = plant.log();
+    for expected in [
+        "fmi3SetInt32: variable engine_count (vr 130): value 0 is outside [1, inf)",
+        "fmi3GetInt32: not allowed in state Instantiated",
+        "fmi3SetInt32: variable translation_model (vr 150): 3 is not one of 1 flat, 2 spherical",
+        "fmi3SetBoolean: variable touchdown (vr 34) cannot be set: an output is computed by the FMU",
+        "fmi3GetInt32: unknown value reference 23 for Int32",
+    ] {
+        assert!(log.contains(expected), "missing {expected:?} in\n{log}");
+    }
+}
