@@ -122,6 +122,18 @@ pub struct fmi2CallbackFunctions {
     pub componentEnvironment: fmi2ComponentEnvironment,
 }
 
+/// What `fmi2NewDiscreteStates` reports (Model Exchange).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct fmi2EventInfo {
+    pub newDiscreteStatesNeeded: fmi2Boolean,
+    pub terminateSimulation: fmi2Boolean,
+    pub nominalsOfContinuousStatesChanged: fmi2Boolean,
+    pub valuesOfContinuousStatesChanged: fmi2Boolean,
+    pub nextEventTimeDefined: fmi2Boolean,
+    pub nextEventTime: fmi2Real,
+}
+
 // Function types of the FMI 2.0 Co-Simulation entry points (`fmi2XxxTYPE`), for masters.
 pub type fmi2GetTypesPlatformTYPE = unsafe extern "C" fn() -> *const c_char;
 pub type fmi2GetVersionTYPE = unsafe extern "C" fn() -> *const c_char;
@@ -239,6 +251,23 @@ pub type fmi2GetBooleanStatusTYPE =
     unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Boolean) -> fmi2Status;
 pub type fmi2GetStringStatusTYPE =
     unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2String) -> fmi2Status;
+
+// Function types of the 10 Model Exchange entry points.
+pub type fmi2NewDiscreteStatesTYPE =
+    unsafe extern "C" fn(fmi2Component, *mut fmi2EventInfo) -> fmi2Status;
+pub type fmi2CompletedIntegratorStepTYPE = unsafe extern "C" fn(
+    fmi2Component,
+    fmi2Boolean,
+    *mut fmi2Boolean,
+    *mut fmi2Boolean,
+) -> fmi2Status;
+pub type fmi2SetTimeTYPE = unsafe extern "C" fn(fmi2Component, fmi2Real) -> fmi2Status;
+pub type fmi2SetContinuousStatesTYPE =
+    unsafe extern "C" fn(fmi2Component, *const fmi2Real, usize) -> fmi2Status;
+/// `fmi2GetDerivatives`, `fmi2GetEventIndicators`, `fmi2GetContinuousStates` and
+/// `fmi2GetNominalsOfContinuousStates`.
+pub type fmi2GetRealVectorTYPE =
+    unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
 
 /// The 34 functions of the FMI 2.0 Co-Simulation API (25 common + 9 co-simulation).
 pub const FUNCTION_NAMES: [&str; 34] = [

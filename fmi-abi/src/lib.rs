@@ -8,7 +8,10 @@
 //!
 //! Features (off by default, so an FMU gets only the types): `callbacks`, the master's
 //! logger shim and memory functions; `unpack`, unpacking a `.fmu` archive.
+#[allow(unsafe_code)]
+pub mod args;
 pub mod fmi2;
+pub mod fmi3;
 
 #[cfg(feature = "callbacks")]
 pub mod callbacks;

@@ -23,6 +23,17 @@ pub struct EventUpdate {
 /// Vectors have fixed lengths for a given set of parameters, known after
 /// `exit_initialization` (e.g. actuator lag states only when a lag is configured).
 pub trait ContinuousModel: Model {
+    /// The continuous states as declarations, in state-vector order, each with the
+    /// declaration of its derivative (same shape): `(state, derivative)` names. A layer
+    /// writes them into its model description (FMI 2.0 `derivative` attributes and
+    /// `ModelStructure/Derivatives`); their element count is the state count.
+    const STATE_DERIVATIVES: &'static [(&'static str, &'static str)];
+    /// Number of event indicators, fixed for the model description.
+    const EVENT_INDICATORS: usize;
+    /// The scalar declarations that publish the event indicators (FMI 3.0 declares each
+    /// indicator as a variable), in indicator order.
+    const EVENT_INDICATOR_VARIABLES: &'static [&'static str];
+
     /// Number of continuous states.
     fn state_count(&self) -> usize;
     /// Number of event indicators.
@@ -41,4 +52,30 @@ pub trait ContinuousModel: Model {
     fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), ModelError>;
     /// Handle an event at the current time (e.g. freeze the touchdown outputs).
     fn update_discrete_states(&mut self, log: &mut Log) -> Result<EventUpdate, ModelError>;
+}
+
+/// A vector from a solver has the length the model expects: else the refusal to log.
+pub fn check_length<M: ContinuousModel>(
+    what: &str,
+    given: usize,
+    expected: usize,
+) -> Result<(), String> {
+    if given == expected {
+        Ok(())
+    } else {
+        Err(format!(
+            "{given} {what} given, {} has {expected}",
+            M::MODEL_IDENTIFIER
+        ))
+    }
+}
+
+/// A state vector a solver sets: the model's length, every element finite; else the
+/// refusal to log (the model then never sees it).
+pub fn check_states<M: ContinuousModel>(model: &M, x: &[f64]) -> Result<(), String> {
+    check_length::<M>("states", x.len(), model.state_count())?;
+    match x.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(format!("state {i} is {}: not finite", x[i])),
+        None => Ok(()),
+    }
 }

@@ -68,6 +68,12 @@ pub mod role {
     pub const calculated_tunable: Role = r(C::CalculatedParameter, V::Tunable, Some(I::Calculated));
     /// A constant the master may read.
     pub const constant: Role = r(C::Local, V::Constant, Some(I::Exact));
+    /// A continuous state the model computes internally (Model Exchange integrates it).
+    pub const continuous_state: Role = r(C::Local, V::Continuous, Some(I::Calculated));
+    /// The time derivative of a continuous state.
+    pub const derivative: Role = r(C::Local, V::Continuous, Some(I::Calculated));
+    /// Computed by the model for inspection (e.g. an event indicator), not an output.
+    pub const local: Role = r(C::Local, V::Continuous, Some(I::Calculated));
 }
 
 /// A scalar or a vector of `n` elements (an FMI 3.0 array with one `Dimension`).

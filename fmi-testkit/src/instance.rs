@@ -27,6 +27,18 @@ impl Instance {
         guid: &str,
         logging_on: bool,
     ) -> Result<Instance, Vec<Record>> {
+        Instance::new_as(functions, instance_name, guid, logging_on, fmi2CoSimulation)
+    }
+
+    /// As [`new`](Self::new) for the interface `fmu_type` (`fmi2ModelExchange` or
+    /// `fmi2CoSimulation`).
+    pub fn new_as(
+        functions: &Fmi2Functions,
+        instance_name: &str,
+        guid: &str,
+        logging_on: bool,
+        fmu_type: fmi2Type,
+    ) -> Result<Instance, Vec<Record>> {
         let logger = Box::<TestLogger>::default();
         let callbacks = Box::new(logger.callbacks());
         let name = CString::new(instance_name).expect("no NUL in the instance name");
@@ -35,7 +47,7 @@ impl Instance {
         let c = unsafe {
             (functions.instantiate)(
                 name.as_ptr(),
-                fmi2CoSimulation,
+                fmu_type,
                 guid.as_ptr(),
                 c"file:///nowhere".as_ptr(),
                 &*callbacks,

@@ -6,6 +6,8 @@
 //!   drives it, freed on drop;
 //! - [`TestLogger`]: records every message through the real variadic callback (the C shim
 //!   of `fmi-abi`), no transmuted function pointers;
+//! - [`MeSolver`]: a Model Exchange master of the kit's own (fixed-step RK4, events by
+//!   bisection on the indicators) over an FMU's ME entry points ([`fmi2_me_functions!`]);
 //! - [`CountingAllocator`]: a global allocator that counts live and peak bytes;
 //! - [`assert_file_matches`]: the drift check of a generated file kept under version control;
 //! - [`assert_declared_bounds_are_validated`]: declared bounds and a model's validation agree.
@@ -19,6 +21,7 @@ mod drift;
 mod functions;
 mod instance;
 mod logger;
+mod model_exchange;
 
 pub use alloc::{CountingAllocator, HeapUse};
 pub use bounds::assert_declared_bounds_are_validated;
@@ -28,3 +31,4 @@ pub use fmi_abi::unpack;
 pub use functions::Fmi2Functions;
 pub use instance::Instance;
 pub use logger::{Record, TestLogger};
+pub use model_exchange::{Fmi2MeFunctions, MeSolver};

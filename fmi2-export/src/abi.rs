@@ -27,9 +27,9 @@ use crate::model::{Log, Model, StepEnd};
 use crate::rules::{check_enumeration, check_integer, check_real, check_settable};
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
+pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
 use fmi_model::snapshot;
 use std::ffi::{CStr, CString};
-use std::fmt::Debug;
 use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
@@ -63,16 +63,8 @@ unsafe fn instance_mut<'a, M: Model>(c: fmi2Component) -> Option<&'a mut Instanc
     Some(unsafe { &mut *(c as *mut Instance<M>) })
 }
 
-fn panic_text(payload: &(dyn std::any::Any + Send)) -> &str {
-    payload
-        .downcast_ref::<&str>()
-        .copied()
-        .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
-        .unwrap_or("unknown panic")
-}
-
 /// Runs one FMI call on an instance; see the module documentation.
-unsafe fn call<M: Model>(
+pub(crate) unsafe fn call<M: Model>(
     c: fmi2Component,
     function: Function,
     trace: impl FnOnce() -> String,
@@ -115,57 +107,6 @@ unsafe fn call<M: Model>(
         }));
         fmi2Fatal
     })
-}
-
-/// `n` elements at `ptr`; NULL is an error unless `n == 0`.
-unsafe fn slice<'a, T>(ptr: *const T, n: usize, name: &'static str) -> Result<&'a [T], CallError> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if ptr.is_null() {
-        return Err(CallError::NullArgument(name));
-    }
-    if n > isize::MAX as usize / std::mem::size_of::<T>().max(1) {
-        return Err(CallError::InvalidArgument(format!(
-            "{n} elements for {name} cannot exist"
-        )));
-    }
-    // SAFETY: non-null, size checked; the master guarantees n readable elements.
-    Ok(unsafe { std::slice::from_raw_parts(ptr, n) })
-}
-
-unsafe fn slice_mut<'a, T>(
-    ptr: *mut T,
-    n: usize,
-    name: &'static str,
-) -> Result<&'a mut [T], CallError> {
-    unsafe { slice(ptr as *const T, n, name) }?;
-    if n == 0 {
-        return Ok(&mut []);
-    }
-    // SAFETY: as in `slice`; the master guarantees n writable elements.
-    Ok(unsafe { std::slice::from_raw_parts_mut(ptr, n) })
-}
-
-/// `*ptr` as an out-parameter; NULL is an error.
-unsafe fn out<'a, T>(ptr: *mut T, name: &'static str) -> Result<&'a mut T, CallError> {
-    // SAFETY: the master guarantees a writable T when non-null.
-    unsafe { ptr.as_mut() }.ok_or(CallError::NullArgument(name))
-}
-
-/// For the call trace: up to 16 elements of an input array.
-unsafe fn show<T: Debug>(ptr: *const T, n: usize) -> String {
-    if n == 0 {
-        return "[]".into();
-    }
-    if ptr.is_null() {
-        return "NULL".into();
-    }
-    let shown = n.min(16);
-    // SAFETY: as in `slice`.
-    let items = unsafe { std::slice::from_raw_parts(ptr, shown) };
-    let more = if n > shown { ", ..." } else { "" };
-    format!("{items:?}{more}")
 }
 
 /// A string argument as a user would write it: quoted, or NULL.
@@ -230,6 +171,35 @@ pub unsafe fn instantiate<M: Model>(
     visible: fmi2Boolean,
     logging_on: fmi2Boolean,
 ) -> fmi2Component {
+    unsafe {
+        instantiate_as::<M>(
+            instance_name,
+            fmu_type,
+            fmu_guid,
+            fmu_resource_location,
+            functions,
+            visible,
+            logging_on,
+            false,
+        )
+    }
+}
+
+/// [`instantiate`] for a model that also supports Model Exchange (`with_model_exchange`).
+///
+/// # Safety
+/// See the module documentation.
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn instantiate_as<M: Model>(
+    instance_name: fmi2String,
+    fmu_type: fmi2Type,
+    fmu_guid: fmi2String,
+    fmu_resource_location: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    visible: fmi2Boolean,
+    logging_on: fmi2Boolean,
+    with_model_exchange: bool,
+) -> fmi2Component {
     // Without callbacks there is no way to say what went wrong: NULL is the whole answer.
     // SAFETY: the master passes a readable struct when non-null; we copy it.
     let Some(callbacks) = (unsafe { functions.as_ref() }).copied() else {
@@ -265,11 +235,16 @@ pub unsafe fn instantiate<M: Model>(
         let expected_guid = crate::guid::<M>();
         let refusal = if name.as_ref().is_none_or(|n| n.is_empty()) {
             Some("instanceName is NULL or empty".to_string())
-        } else if fmu_type != fmi2CoSimulation {
+        } else if fmu_type == fmi2ModelExchange && !with_model_exchange {
             Some(format!(
-                "fmuType {fmu_type} is not supported: {} implements Co-Simulation \
+                "fmuType fmi2ModelExchange is not supported: {} implements Co-Simulation \
                  (fmi2CoSimulation = {fmi2CoSimulation}) only",
                 M::MODEL_IDENTIFIER
+            ))
+        } else if fmu_type != fmi2CoSimulation && fmu_type != fmi2ModelExchange {
+            Some(format!(
+                "fmuType {fmu_type} is neither fmi2ModelExchange ({fmi2ModelExchange}) nor \
+                 fmi2CoSimulation ({fmi2CoSimulation})"
             ))
         } else if guid.as_ref().map(|g| g.to_bytes()) != Some(expected_guid.as_bytes()) {
             Some(format!(
@@ -287,6 +262,7 @@ pub unsafe fn instantiate<M: Model>(
             logger,
             crate::interface_uuid::<M>(),
             resource_location,
+            fmu_type == fmi2ModelExchange,
         ));
         Box::into_raw(instance) as fmi2Component
     }));
@@ -459,7 +435,11 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status
                 let result = inst.core.model.exit_initialization(start_time, &mut log);
                 let success = inst.forward(f, &log);
                 result.map_err(|e| inst.model_failure(e))?;
-                inst.core.state = State::StepComplete;
+                inst.core.state = if inst.model_exchange {
+                    State::EventMode
+                } else {
+                    State::StepComplete
+                };
                 inst.core.time = start_time;
                 inst.core.last_successful_time = start_time;
                 inst.dirty = true;

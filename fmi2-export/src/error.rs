@@ -71,3 +71,12 @@ impl CallError {
         }
     }
 }
+
+impl From<fmi_abi::args::ArgError> for CallError {
+    fn from(error: fmi_abi::args::ArgError) -> Self {
+        match error {
+            fmi_abi::args::ArgError::Null(name) => CallError::NullArgument(name),
+            other => CallError::InvalidArgument(other.to_string()),
+        }
+    }
+}

@@ -1,6 +1,8 @@
-//! `export_fmi2!`: the 34 C symbols of an FMU.
+//! `export_fmi2!`: the 34 C symbols of a Co-Simulation FMU, 44 with Model Exchange.
 
-/// Exports the 34 FMI 2.0 Co-Simulation functions for `$model` from the invoking crate,
+/// Exports the 34 FMI 2.0 Co-Simulation functions for `$model` from the invoking crate
+/// (`export_fmi2!(crate::M, model_exchange)` adds the 10 of Model Exchange for a model that
+/// implements `fmi_model::ContinuousModel`),
 /// each a one-line call into [`crate::abi`]. Invoke it once, at the root of a `cdylib`
 /// crate whose model implements [`crate::Model`]:
 ///
@@ -29,6 +31,65 @@ macro_rules! export_fmi2 {
         )*
     };
     ($model:ty) => {
+        $crate::export_fmi2! { @co_simulation $model, false }
+    };
+    // A model that implements `fmi_model::ContinuousModel`: Co-Simulation and Model Exchange.
+    ($model:ty, model_exchange) => {
+        $crate::export_fmi2! { @co_simulation $model, true }
+        $crate::export_fmi2! { @export
+            fmi2EnterEventMode(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::enter_event_mode::<$model>(c);
+            fmi2NewDiscreteStates(
+                c: $crate::ffi::fmi2Component,
+                fmi2eventInfo: *mut $crate::ffi::fmi2EventInfo
+            ) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::new_discrete_states::<$model>(c, fmi2eventInfo);
+            fmi2EnterContinuousTimeMode(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::enter_continuous_time_mode::<$model>(c);
+            fmi2CompletedIntegratorStep(
+                c: $crate::ffi::fmi2Component,
+                noSetFMUStatePriorToCurrentPoint: $crate::ffi::fmi2Boolean,
+                enterEventMode: *mut $crate::ffi::fmi2Boolean,
+                terminateSimulation: *mut $crate::ffi::fmi2Boolean
+            ) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::completed_integrator_step::<$model>(
+                    c, noSetFMUStatePriorToCurrentPoint, enterEventMode, terminateSimulation,
+                );
+            fmi2SetTime(c: $crate::ffi::fmi2Component, time: $crate::ffi::fmi2Real) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::set_time::<$model>(c, time);
+            fmi2SetContinuousStates(
+                c: $crate::ffi::fmi2Component,
+                x: *const $crate::ffi::fmi2Real,
+                nx: usize
+            ) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::set_continuous_states::<$model>(c, x, nx);
+            fmi2GetDerivatives(
+                c: $crate::ffi::fmi2Component,
+                derivatives: *mut $crate::ffi::fmi2Real,
+                nx: usize
+            ) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::get_derivatives::<$model>(c, derivatives, nx);
+            fmi2GetEventIndicators(
+                c: $crate::ffi::fmi2Component,
+                eventIndicators: *mut $crate::ffi::fmi2Real,
+                ni: usize
+            ) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::get_event_indicators::<$model>(c, eventIndicators, ni);
+            fmi2GetContinuousStates(
+                c: $crate::ffi::fmi2Component,
+                x: *mut $crate::ffi::fmi2Real,
+                nx: usize
+            ) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::get_continuous_states::<$model>(c, x, nx);
+            fmi2GetNominalsOfContinuousStates(
+                c: $crate::ffi::fmi2Component,
+                x_nominal: *mut $crate::ffi::fmi2Real,
+                nx: usize
+            ) -> $crate::ffi::fmi2Status
+                => $crate::model_exchange::get_nominals_of_continuous_states::<$model>(c, x_nominal, nx);
+        }
+    };
+    (@co_simulation $model:ty, $model_exchange:literal) => {
         $crate::export_fmi2! { @export
             fmi2GetTypesPlatform() -> *const ::std::os::raw::c_char
                 => $crate::abi::get_types_platform();
@@ -50,9 +111,9 @@ macro_rules! export_fmi2 {
                 visible: $crate::ffi::fmi2Boolean,
                 loggingOn: $crate::ffi::fmi2Boolean
             ) -> $crate::ffi::fmi2Component
-                => $crate::abi::instantiate::<$model>(
+                => $crate::abi::instantiate_as::<$model>(
                     instanceName, fmuType, fmuGUID, fmuResourceLocation, functions, visible,
-                    loggingOn,
+                    loggingOn, $model_exchange,
                 );
             fmi2FreeInstance(c: $crate::ffi::fmi2Component) -> ()
                 => $crate::abi::free_instance::<$model>(c);

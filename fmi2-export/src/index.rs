@@ -318,7 +318,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(checked, 6 * 5 * 7 * 8 * 12);
+        assert_eq!(checked, 6 * 5 * 7 * State::ALL.len() * 12);
     }
 
     #[test]

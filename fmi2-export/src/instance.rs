@@ -87,6 +87,9 @@ pub struct Instance<M: Model> {
     pub returned_strings: Vec<CString>,
     /// Addresses of the FMU states handed out by this instance and not yet freed.
     pub fmu_states: HashSet<usize>,
+    /// Instantiated as `fmi2ModelExchange` (else Co-Simulation): decides where
+    /// `fmi2ExitInitializationMode` leads.
+    pub model_exchange: bool,
 }
 
 impl<M: Model> Instance<M> {
@@ -94,6 +97,7 @@ impl<M: Model> Instance<M> {
         logger: Logger,
         guid: uuid::Uuid,
         resource_location: Option<CString>,
+        model_exchange: bool,
     ) -> Instance<M> {
         let table = crate::variables::<M>().into_boxed_slice();
         Instance {
@@ -107,6 +111,7 @@ impl<M: Model> Instance<M> {
             table,
             returned_strings: Vec::new(),
             fmu_states: HashSet::new(),
+            model_exchange,
         }
     }
 

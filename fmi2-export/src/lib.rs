@@ -16,6 +16,8 @@ mod export;
 mod index;
 mod instance;
 pub mod logging;
+pub mod model_exchange;
+mod model_exchange_description;
 mod rules;
 pub mod state;
 mod units;
@@ -31,6 +33,7 @@ pub use fmi_model::{
 
 pub use check::{check_table, effective_initial, initial_rule, TableError};
 pub use description::{guid, interface_uuid, model_description, model_description_xml};
+pub use model_exchange_description::{model_description_me, model_description_xml_me};
 pub use units::base_unit;
 pub use variable::{variables, Access, Variable};
 

@@ -1,5 +1,9 @@
-//! The co-simulation state machine of FMI 2.0.4 §4.2.4 as a table: each function has a
-//! mask of the states in which it may be called.
+//! The state machines of FMI 2.0.4 Co-Simulation (§4.2.4) and Model Exchange (§3.2.3) as one
+//! table: each function has a mask of the states in which it may be called. The two
+//! machines share Instantiated, InitializationMode, Terminated, Error and Fatal; a
+//! Co-Simulation instance never enters EventMode or ContinuousTimeMode, a Model Exchange
+//! instance never a Step* state, so each interface's functions are refused on the other's
+//! instances by the same table.
 //!
 //! `StepInProgress` does not exist here: `fmi2DoStep` always runs synchronously, so it can
 //! never be observed. `Fatal` has an empty row everywhere (the standard allows no further
@@ -19,10 +23,14 @@ pub enum State {
     Terminated = 1 << 5,
     Error = 1 << 6,
     Fatal = 1 << 7,
+    /// Model Exchange only.
+    EventMode = 1 << 8,
+    /// Model Exchange only.
+    ContinuousTimeMode = 1 << 9,
 }
 
 impl State {
-    pub const ALL: [State; 8] = [
+    pub const ALL: [State; 10] = [
         State::Instantiated,
         State::InitializationMode,
         State::StepComplete,
@@ -31,6 +39,8 @@ impl State {
         State::Terminated,
         State::Error,
         State::Fatal,
+        State::EventMode,
+        State::ContinuousTimeMode,
     ];
 }
 
@@ -65,6 +75,8 @@ const ANY_BUT_FATAL: StateMask = StateMask::of(&[
     StepCanceled,
     Terminated,
     Error,
+    EventMode,
+    ContinuousTimeMode,
 ]);
 const GETTERS: StateMask = StateMask::of(&[
     InitializationMode,
@@ -73,8 +85,25 @@ const GETTERS: StateMask = StateMask::of(&[
     StepCanceled,
     Terminated,
     Error,
+    EventMode,
+    ContinuousTimeMode,
 ]);
-const SETTERS: StateMask = StateMask::of(&[Instantiated, InitializationMode, StepComplete]);
+/// Which variables may be set in which state is the per-variable rule of `rules`.
+const SETTERS: StateMask = StateMask::of(&[
+    Instantiated,
+    InitializationMode,
+    StepComplete,
+    EventMode,
+    ContinuousTimeMode,
+]);
+/// Model Exchange reads of the continuous part (§3.2.3).
+const CONTINUOUS_READS: StateMask = StateMask::of(&[
+    InitializationMode,
+    EventMode,
+    ContinuousTimeMode,
+    Terminated,
+    Error,
+]);
 const STATUS_QUERIES: StateMask = StateMask::of(&[StepComplete, StepFailed, Terminated]);
 
 macro_rules! functions {
@@ -105,12 +134,12 @@ functions! {
     SetDebugLogging => ANY_BUT_FATAL,
     FreeInstance => StateMask::of(&[
         Instantiated, InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated,
-        Error, Fatal,
+        Error, Fatal, EventMode, ContinuousTimeMode,
     ]),
     SetupExperiment => StateMask::of(&[Instantiated]),
     EnterInitializationMode => StateMask::of(&[Instantiated]),
     ExitInitializationMode => StateMask::of(&[InitializationMode]),
-    Terminate => StateMask::of(&[StepComplete, StepFailed]),
+    Terminate => StateMask::of(&[StepComplete, StepFailed, EventMode, ContinuousTimeMode]),
     Reset => ANY_BUT_FATAL,
     GetReal => GETTERS,
     GetInteger => GETTERS,
@@ -136,6 +165,33 @@ functions! {
     GetIntegerStatus => STATUS_QUERIES,
     GetBooleanStatus => STATUS_QUERIES,
     GetStringStatus => STATUS_QUERIES,
+    // Model Exchange
+    EnterEventMode => StateMask::of(&[EventMode, ContinuousTimeMode]),
+    NewDiscreteStates => StateMask::of(&[EventMode]),
+    EnterContinuousTimeMode => StateMask::of(&[EventMode]),
+    CompletedIntegratorStep => StateMask::of(&[ContinuousTimeMode]),
+    SetTime => StateMask::of(&[EventMode, ContinuousTimeMode]),
+    SetContinuousStates => StateMask::of(&[ContinuousTimeMode]),
+    GetDerivatives => CONTINUOUS_READS,
+    GetEventIndicators => CONTINUOUS_READS,
+    GetContinuousStates => CONTINUOUS_READS,
+    GetNominalsOfContinuousStates => CONTINUOUS_READS,
+}
+
+impl Function {
+    /// The 10 functions of Model Exchange only (a Co-Simulation-only FMU does not export them).
+    pub const MODEL_EXCHANGE: &'static [Function] = &[
+        Function::EnterEventMode,
+        Function::NewDiscreteStates,
+        Function::EnterContinuousTimeMode,
+        Function::CompletedIntegratorStep,
+        Function::SetTime,
+        Function::SetContinuousStates,
+        Function::GetDerivatives,
+        Function::GetEventIndicators,
+        Function::GetContinuousStates,
+        Function::GetNominalsOfContinuousStates,
+    ];
 }
 
 #[cfg(test)]
@@ -143,9 +199,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn thirty_one_functions_take_an_instance() {
-        // 34 exported functions minus GetTypesPlatform, GetVersion and Instantiate.
-        assert_eq!(Function::ALL.len(), 31);
+    fn forty_one_functions_take_an_instance() {
+        // 34 Co-Simulation functions minus GetTypesPlatform, GetVersion and Instantiate,
+        // plus the 10 of Model Exchange.
+        assert_eq!(Function::ALL.len(), 41);
         assert_eq!(Function::DoStep.name(), "fmi2DoStep");
         assert_eq!(
             Function::DeSerializeFMUstate.name(),
@@ -162,6 +219,29 @@ mod tests {
                 "{}",
                 f.name()
             );
+        }
+    }
+
+    #[test]
+    fn model_exchange_functions_are_refused_in_co_simulation_states_and_back() {
+        let cs_states = [StepComplete, StepFailed, StepCanceled];
+        for f in [
+            Function::SetContinuousStates,
+            Function::NewDiscreteStates,
+            Function::EnterContinuousTimeMode,
+            Function::CompletedIntegratorStep,
+            Function::SetTime,
+        ] {
+            for state in cs_states {
+                assert!(
+                    !f.legal_states().contains(state),
+                    "{} in {state:?}",
+                    f.name()
+                );
+            }
+        }
+        for state in [EventMode, ContinuousTimeMode] {
+            assert!(!Function::DoStep.legal_states().contains(state));
         }
     }
 

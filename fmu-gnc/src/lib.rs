@@ -20,3 +20,4 @@ pub mod params;
 pub use fmu::LanderGnc;
 
 fmi2_export::export_fmi2!(crate::LanderGnc);
+fmi3_export::export_fmi3!(crate::LanderGnc);

@@ -3,6 +3,6 @@
 fn main() {
     print!(
         "{}",
-        fmi2_export::model_description_xml::<fmu_plant::LanderPlant>()
+        fmi2_export::model_description_xml_me::<fmu_plant::LanderPlant>()
     );
 }

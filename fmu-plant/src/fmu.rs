@@ -1,5 +1,8 @@
 //! The FMI face of the plant: the variable table (each variable declared once) and the
 //! [`Model`] implementation. Names follow `shared/INTERFACE.md` to the letter.
+mod model_exchange;
+
+use crate::physics::continuous::unit_attitude;
 use crate::physics::frames::quaternion_to_scalar_first;
 use crate::physics::parameters::{PlantParameters, TranslationModelKind, MAX_SITE_LATITUDE_RAD};
 use crate::physics::plant::{Advance, Commands, Plant, PlantRun};
@@ -31,6 +34,9 @@ pub struct LanderPlant {
     /// Set by `exit_initialization` from the validated parameters.
     running: Option<(Plant, PlantRun)>,
     outputs: Outputs,
+    /// Model Exchange: the time the master's solver set last (the time of an event update).
+    #[serde(default)]
+    time_s: f64,
 }
 
 impl LanderPlant {
@@ -70,7 +76,7 @@ impl LanderPlant {
         self.outputs = Outputs {
             r_nue: r_nue.into(),
             v_nue: v_nue.into(),
-            q_body_to_nue: quaternion_to_scalar_first(&x.q_body_to_nue),
+            q_body_to_nue: quaternion_to_scalar_first(&unit_attitude(&x.q_body_to_nue)),
             omega_body: x.omega_body.into(),
             mass: x.mass_kg,
             altitude: plant.altitude(x),
@@ -229,6 +235,14 @@ const QUATERNION: &[&str] = &[
 ];
 const Q_NUE: &[&str] = &["scalar part", NUE_AXES[0], NUE_AXES[1], NUE_AXES[2]];
 const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
+const TRANSLATION_STATE: &[&str] = &[
+    "1 (flat: r_nue North; spherical: radius)",
+    "2 (flat: r_nue Up; spherical: longitude)",
+    "3 (flat: r_nue East; spherical: latitude)",
+    "4 (flat: v_nue North; spherical: East velocity)",
+    "5 (flat: v_nue Up; spherical: North velocity)",
+    "6 (flat: v_nue East; spherical: Up velocity)",
+];
 
 /// The declarations, one line each so that they read as a table. Start values are those of
 /// `LanderPlant::default()`; bounds are those `PlantParameters::validate` enforces on a single
@@ -290,6 +304,20 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(153, parameter site_latitude: parameters.site_latitude_rad, "rad", "Latitude of the landing site (spherical model; default Chandrayaan-3, 69.373 deg S); within +-85 deg", min = -MAX_SITE_LATITUDE_RAD, max = MAX_SITE_LATITUDE_RAD),
     decl!(154, parameter site_longitude: parameters.site_longitude_rad, "rad", "Longitude of the landing site (spherical model; default Chandrayaan-3, 32.319 deg E)"),
     decl!(160, parameter integration_step: parameters.integration_step_s, "s", "Maximum RK4 sub-step; a communication step is split into sub-steps of this size, the last one shortened", above = 0.0),
+    // Model Exchange: the states a foreign solver integrates (with omega_body and mass above)
+    // and their derivatives, in state-vector order.
+    decl!(200, continuous_state translation_state[6]: get |m, i| m.state_element(model_exchange::TRANSLATION + i), "1", "Translational state of the selected model: flat r_nue (m), v_nue (m/s); spherical radius (m), longitude, latitude (rad), East, North, Up velocity (m/s)", components = TRANSLATION_STATE),
+    decl!(206, continuous_state attitude_state[4]: get |m, i| m.state_element(model_exchange::ATTITUDE + i), "1", "Attitude quaternion body to NUE as integrated (q_body_to_nue is its normalisation)", components = QUATERNION),
+    decl!(210, continuous_state thrust_lag_state: get |m, _| m.state_element(model_exchange::THRUST_LAG), "N", "State of the engine thrust lag (constant while engine_time_constant = 0)"),
+    decl!(211, continuous_state torque_lag_state_body[3]: get |m, i| m.state_element(model_exchange::TORQUE_LAG + i), "N.m", "State of the RCS torque lag (constant while rcs_time_constant = 0)", components = BODY_AXES),
+    decl!(220, derivative der_translation_state[6]: get |m, i| m.derivative_element(model_exchange::TRANSLATION + i), "1", "Time derivative of translation_state", components = TRANSLATION_STATE),
+    decl!(226, derivative der_attitude_state[4]: get |m, i| m.derivative_element(model_exchange::ATTITUDE + i), "1/s", "Time derivative of attitude_state, with the term that pulls |q| back to 1", components = QUATERNION),
+    decl!(230, derivative der_omega_body[3]: get |m, i| m.derivative_element(model_exchange::ATTITUDE + 4 + i), "rad/s2", "Body angular acceleration", components = BODY_AXES),
+    decl!(233, derivative der_mass: get |m, _| m.derivative_element(model_exchange::THRUST_LAG - 1), "kg/s", "Mass flow (negative while the engines burn)"),
+    decl!(234, derivative der_thrust_lag_state: get |m, _| m.derivative_element(model_exchange::THRUST_LAG), "N/s", "Time derivative of thrust_lag_state"),
+    decl!(235, derivative der_torque_lag_state_body[3]: get |m, i| m.derivative_element(model_exchange::TORQUE_LAG + i), "N.m/s", "Time derivative of torque_lag_state_body", components = BODY_AXES),
+    decl!(240, local touchdown_indicator: get |m, _| m.event_indicator(0), "m", "Event indicator of touchdown: the altitude until touchdown, -1 after it"),
+    decl!(241, local exhaustion_indicator: get |m, _| m.event_indicator(1), "kg", "Event indicator of propellant exhaustion: mass - dry_mass until exhaustion, -1 after it"),
 ];
 
 #[cfg(test)]

@@ -10,4 +10,5 @@ pub mod physics;
 
 pub use fmu::LanderPlant;
 
-fmi2_export::export_fmi2!(crate::LanderPlant);
+fmi2_export::export_fmi2!(crate::LanderPlant, model_exchange);
+fmi3_export::export_fmi3!(crate::LanderPlant, model_exchange);

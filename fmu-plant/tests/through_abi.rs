@@ -10,7 +10,7 @@ const G: f64 = 1.62;
 fn checked_in_model_description_matches_the_table() {
     fmi_testkit::assert_file_matches(
         concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
-        &fmi2_export::model_description_xml::<fmu_plant::LanderPlant>(),
+        &fmi2_export::model_description_xml_me::<fmu_plant::LanderPlant>(),
         "cargo run -p fmu-plant --example model_description > fmu-plant/modelDescription.xml",
     );
 }

@@ -98,11 +98,53 @@ pub struct ModelDescription {
     pub model_structure: ModelStructure,
 }
 
-/// `<ModelExchange>`: only its identifier matters to us (we read, never write it).
+/// `<ModelExchange>` capability flags.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct ModelExchange {
     #[serde(rename = "@modelIdentifier")]
     pub model_identifier: String,
+    #[serde(
+        rename = "@needsExecutionTool",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub needs_execution_tool: Option<bool>,
+    #[serde(
+        rename = "@completedIntegratorStepNotNeeded",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub completed_integrator_step_not_needed: Option<bool>,
+    #[serde(
+        rename = "@canBeInstantiatedOnlyOncePerProcess",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub can_be_instantiated_only_once_per_process: Option<bool>,
+    #[serde(
+        rename = "@canNotUseMemoryManagementFunctions",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub can_not_use_memory_management_functions: Option<bool>,
+    #[serde(
+        rename = "@canGetAndSetFMUstate",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub can_get_and_set_fmu_state: Option<bool>,
+    #[serde(
+        rename = "@canSerializeFMUstate",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub can_serialize_fmu_state: Option<bool>,
+    #[serde(
+        rename = "@providesDirectionalDerivative",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub provides_directional_derivative: Option<bool>,
 }
 
 /// `<CoSimulation>` capability flags.

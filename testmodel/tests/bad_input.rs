@@ -343,7 +343,12 @@ fn instantiate_checks_type_guid_name_and_callbacks() {
 
     let c = try_instantiate(c"a".as_ptr(), fmi2ModelExchange, g.as_ptr(), &functions);
     assert!(c.is_null());
-    assert_eq!(last(), "fmi2Instantiate: fmuType 0 is not supported: Oscillator implements Co-Simulation (fmi2CoSimulation = 1) only");
+    assert_eq!(last(), "fmi2Instantiate: fmuType fmi2ModelExchange is not supported: Oscillator implements Co-Simulation (fmi2CoSimulation = 1) only");
+    assert!(try_instantiate(c"a".as_ptr(), 7, g.as_ptr(), &functions).is_null());
+    assert_eq!(
+        last(),
+        "fmi2Instantiate: fmuType 7 is neither fmi2ModelExchange (0) nor fmi2CoSimulation (1)"
+    );
 
     let wrong = CString::new("{00000000-0000-0000-0000-000000000000}").unwrap();
     assert!(try_instantiate(c"a".as_ptr(), fmi2CoSimulation, wrong.as_ptr(), &functions).is_null());

@@ -35,6 +35,19 @@ pub fn fmu_dir() -> PathBuf {
 }
 
 /// Path of a packaged FMU; panics, naming the command that makes it, when it is missing.
+/// `target/fmu/fmi3/<id>.fmu`, the FMI 3.0 FMU `cargo xtask fmus` packages.
+pub fn fmi3_fmu_path(model_identifier: &str) -> PathBuf {
+    let path = fmu_dir()
+        .join("fmi3")
+        .join(format!("{model_identifier}.fmu"));
+    assert!(
+        path.is_file(),
+        "{} is missing: run `cargo xtask fmus` first (or `cargo xtask test`, which does)",
+        path.display()
+    );
+    path
+}
+
 pub fn fmu_path(model_identifier: &str) -> PathBuf {
     let path = fmu_dir().join(format!("{model_identifier}.fmu"));
     assert!(
@@ -89,6 +102,27 @@ impl UnpackedFmu {
         self.unpacked.resource_uri()
     }
 }
+
+/// The shipped FMUs whose library also carries the FMI 3.0 layer (75 `fmi3*` functions;
+/// packaged as target/fmu/fmi3/<id>.fmu).
+pub const FMI3_FMUS: [&str; 2] = ["LanderGnc", "LanderPlant"];
+
+/// The shipped FMUs that also declare Model Exchange (and export its 10 functions).
+pub const MODEL_EXCHANGE_FMUS: [&str; 1] = ["LanderPlant"];
+
+/// The 10 functions FMI 2.0 Model Exchange adds to the common ones.
+pub const FMI2_ME_FUNCTIONS: [&str; 10] = [
+    "fmi2EnterEventMode",
+    "fmi2NewDiscreteStates",
+    "fmi2EnterContinuousTimeMode",
+    "fmi2CompletedIntegratorStep",
+    "fmi2SetTime",
+    "fmi2SetContinuousStates",
+    "fmi2GetDerivatives",
+    "fmi2GetEventIndicators",
+    "fmi2GetContinuousStates",
+    "fmi2GetNominalsOfContinuousStates",
+];
 
 /// The 34 functions of the FMI 2.0 Co-Simulation API (25 common + 9 co-simulation).
 pub const FMI2_CS_FUNCTIONS: [&str; 34] = fmi_abi::fmi2::FUNCTION_NAMES;

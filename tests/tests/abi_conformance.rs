@@ -1,18 +1,25 @@
 //! C ABI conformance of the packaged FMUs, checked the way a C master sees them.
 //!
 //! 1. `nm -D --defined-only` on each packaged library lists exactly the 34 `fmi2*`
-//!    functions of FMI 2.0 Co-Simulation: nothing missing, nothing of ours leaking.
+//!    functions of FMI 2.0 Co-Simulation, plus the 10 of Model Exchange for LanderPlant and
+//!    the 75 `fmi3*` functions for the landers (one library serves both standards):
+//!    nothing missing, nothing of ours leaking.
 //! 2. cbindgen writes a C header of the functions the export macro generates (from the
-//!    macro-expanded test-model crate; the landers use the same macro), and
-//!    `tests/c/abi_check.c` is compiled against it *and* the official FMI 2.0 headers with
-//!    `-std=c99 -Wall -Wextra -Werror -pedantic`: a signature that differs from the
-//!    standard's `fmi2XxxTYPE` is a conflicting redeclaration, i.e. a compile error.
+//!    macro-expanded plant crate, whose export adds Model Exchange to the macro's
+//!    Co-Simulation functions that every FMU uses), and
+//!    `tests/c/abi_check.c` is compiled against it *and* the official FMI 2.0 and 3.0
+//!    headers with `-std=c99 -Wall -Wextra -Werror -pedantic`: a signature that differs
+//!    from the standard's `fmi2XxxTYPE` or `fmi3XxxTYPE` is a conflicting redeclaration,
+//!    i.e. a compile error.
 //! 3. The compiled program dlopens each packaged library, binds all 34 functions through
 //!    their typedefs and runs a short simulation with its checks (see abi_check.c).
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use system_tests::{target_dir, workspace_root, UnpackedFmu, FMI2_CS_FUNCTIONS, SHIPPED_FMUS};
+use system_tests::{
+    target_dir, workspace_root, UnpackedFmu, FMI2_CS_FUNCTIONS, FMI2_ME_FUNCTIONS, FMI3_FMUS,
+    MODEL_EXCHANGE_FMUS, SHIPPED_FMUS,
+};
 
 /// Communication steps of the C program's simulation: enough for a state round trip in
 /// the second half, short enough to stay far from any lander touchdown.
@@ -22,8 +29,35 @@ fn fmi2_function_names() -> BTreeSet<String> {
     FMI2_CS_FUNCTIONS.iter().map(|s| s.to_string()).collect()
 }
 
+/// The 34 Co-Simulation functions, plus the 10 of Model Exchange for an FMU that offers it,
+/// plus every function of the official FMI 3.0 header for an FMU with the FMI 3.0 layer.
+fn expected_exports(fmu: &str) -> BTreeSet<String> {
+    let mut names = fmi2_function_names();
+    if MODEL_EXCHANGE_FMUS.contains(&fmu) {
+        names.extend(FMI2_ME_FUNCTIONS.iter().map(|s| s.to_string()));
+    }
+    if FMI3_FMUS.contains(&fmu) {
+        names.extend(fmi3_function_names());
+    }
+    names
+}
+
+/// The functions `fmi3Functions.h` declares (`FMI3_Export fmi3XxxTYPE fmi3Xxx;`).
+fn fmi3_function_names() -> BTreeSet<String> {
+    let header = official_headers("fmi-standard3").join("fmi3Functions.h");
+    let text = std::fs::read_to_string(&header).unwrap();
+    let names: BTreeSet<String> = text
+        .lines()
+        .filter_map(|line| line.trim().strip_prefix("FMI3_Export "))
+        .filter_map(|rest| rest.split_whitespace().nth(1))
+        .map(|name| name.trim_end_matches(';').to_owned())
+        .collect();
+    assert_eq!(names.len(), 75, "functions of {}", header.display());
+    names
+}
+
 #[test]
-fn each_library_exports_exactly_the_34_fmi2_functions() {
+fn each_library_exports_exactly_the_fmi2_functions_of_its_interfaces() {
     for fmu in SHIPPED_FMUS {
         let unpacked = UnpackedFmu::open(fmu);
         let output = Command::new("nm")
@@ -40,7 +74,7 @@ fn each_library_exports_exactly_the_34_fmi2_functions() {
             .collect();
         assert_eq!(
             exported,
-            fmi2_function_names(),
+            expected_exports(fmu),
             "dynamic symbols of {}",
             fmu
         );
@@ -51,11 +85,13 @@ fn each_library_exports_exactly_the_34_fmi2_functions() {
 fn c_master_binds_every_function_through_the_official_typedefs_and_simulates() {
     let work = tempfile::tempdir().unwrap();
     let header = work.path().join("fmi2_exports.h");
-    generate_exports_header("fmu-testmodel", &header);
+    // The plant's crate: its export is the Co-Simulation one plus Model Exchange, so the
+    // header declares all 44 functions and each is checked against the official typedefs.
+    generate_exports_header("fmu-plant", &header);
     let declared = declared_functions(&std::fs::read_to_string(&header).unwrap());
     assert_eq!(
         declared,
-        fmi2_function_names(),
+        expected_exports("LanderPlant"),
         "functions declared in the cbindgen header"
     );
 
@@ -151,7 +187,7 @@ fn declared_functions(header: &str) -> BTreeSet<String> {
                 .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
                 .map_or(0, |i| i + 1);
             let name = &before[name_start..];
-            name.starts_with("fmi2").then(|| name.to_owned())
+            (name.starts_with("fmi2") || name.starts_with("fmi3")).then(|| name.to_owned())
         })
         .collect()
 }
@@ -162,6 +198,8 @@ fn compile_abi_check(include_dir: &Path, program: &Path) {
         .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"])
         .arg("-I")
         .arg(official_fmi2_headers())
+        .arg("-I")
+        .arg(official_headers("fmi-standard3"))
         .arg("-I")
         .arg(include_dir)
         .arg(&source)
@@ -180,6 +218,11 @@ fn compile_abi_check(include_dir: &Path, program: &Path) {
 /// `fmi-standard2/headers` of the fmi-sys crate in the cargo registry (a dev-dependency of
 /// this crate, so cargo has downloaded it), found through `cargo metadata`.
 fn official_fmi2_headers() -> PathBuf {
+    official_headers("fmi-standard2")
+}
+
+/// `<folder>/headers` of the fmi-sys crate in the cargo registry.
+fn official_headers(folder: &str) -> PathBuf {
     let output = Command::new(env!("CARGO"))
         .current_dir(workspace_root())
         .args(["metadata", "--format-version", "1"])
@@ -197,12 +240,9 @@ fn official_fmi2_headers() -> PathBuf {
     let headers = Path::new(manifest)
         .parent()
         .unwrap()
-        .join("fmi-standard2/headers");
-    assert!(
-        headers.join("fmi2Functions.h").is_file(),
-        "no fmi2Functions.h in {}",
-        headers.display()
-    );
+        .join(folder)
+        .join("headers");
+    assert!(headers.is_dir(), "no {}", headers.display());
     headers
 }
 

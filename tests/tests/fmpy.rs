@@ -3,10 +3,16 @@
 //! `cargo xtask test` runs first).
 use std::path::PathBuf;
 use std::process::Command;
-use system_tests::{fmu_path, workspace_root, SHIPPED_FMUS};
+use system_tests::{
+    fmi3_fmu_path, fmu_path, workspace_root, FMI3_FMUS, MODEL_EXCHANGE_FMUS, SHIPPED_FMUS,
+};
 
 /// Every script in tests/python, each run by one test below.
-const SCRIPTS: [&str; 2] = ["fmpy_validate.py", "fmpy_simulate.py"];
+const SCRIPTS: [&str; 3] = [
+    "fmpy_validate.py",
+    "fmpy_simulate.py",
+    "fmpy_model_exchange.py",
+];
 
 fn venv_python() -> PathBuf {
     let python = workspace_root().join(".venv/bin/python");
@@ -20,7 +26,14 @@ fn venv_python() -> PathBuf {
 
 /// Runs a script with the path of every shipped FMU as arguments; it must exit 0.
 fn run_script(script: &str) {
-    let fmus: Vec<PathBuf> = SHIPPED_FMUS.into_iter().map(fmu_path).collect();
+    run_script_on(script, &SHIPPED_FMUS);
+}
+
+fn run_script_on(script: &str, fmus: &[&str]) {
+    run_script_on_paths(script, fmus.iter().copied().map(fmu_path).collect());
+}
+
+fn run_script_on_paths(script: &str, fmus: Vec<PathBuf>) {
     let script_path = workspace_root().join("tests/python").join(script);
     let output = Command::new(venv_python())
         .arg(&script_path)
@@ -45,6 +58,23 @@ fn fmpy_validate_finds_no_problem_in_any_fmu() {
 #[test]
 fn fmpy_simulate_runs_every_fmu_and_the_oscillator_matches_the_closed_form() {
     run_script("fmpy_simulate.py");
+}
+
+#[test]
+fn fmpy_validate_finds_no_problem_in_the_fmi3_fmus() {
+    run_script_on_paths(
+        "fmpy_validate.py",
+        FMI3_FMUS.into_iter().map(fmi3_fmu_path).collect(),
+    );
+}
+
+/// FMI 2.0 and FMI 3.0: CVode through Model Exchange against the analytic free fall and
+/// against the same FMU's Co-Simulation.
+#[test]
+fn fmpy_cvode_integrates_the_model_exchange_plant_like_the_analytic_and_cs_solutions() {
+    let mut fmus: Vec<PathBuf> = MODEL_EXCHANGE_FMUS.into_iter().map(fmu_path).collect();
+    fmus.extend(MODEL_EXCHANGE_FMUS.into_iter().map(fmi3_fmu_path));
+    run_script_on_paths("fmpy_model_exchange.py", fmus);
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! `cargo xtask fmus`: build the release cdylibs and package one `.fmu` per FMU crate.
 use crate::doc_page;
 use crate::fmu_zip::{self, Entry};
+use crate::platform::{FmiVersion, Platform};
 use crate::ssp;
 use crate::workspace::{self, Workspace};
 use anyhow::{bail, Context, Result};
@@ -42,15 +43,82 @@ const FMU_CRATES: [FmuCrate; 4] = [
 /// The example each FMU crate provides to print its generated modelDescription.xml.
 const DESCRIPTION_EXAMPLE: &str = "model_description";
 
-/// Build and package every FMU whose crate can describe itself, then the SSP of the paper
-/// scenario that holds two of them; returns the written files.
+/// Build and package every FMU whose crate can describe itself, for the host, then the SSP
+/// of the paper scenario that holds two of them; returns the written files.
 pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
-    let mut build = ws.cargo();
-    build.args(["build", "--release", "--lib"]);
-    for fmu in &FMU_CRATES {
-        build.args(["-p", fmu.package]);
+    package_for(ws, &[])
+}
+
+/// Where a build for one platform puts its libraries.
+struct Build {
+    platform: Platform,
+    release_dir: PathBuf,
+}
+
+/// Builds the release cdylibs for each target triple (the host when none is given).
+fn build_all(ws: &Workspace, triples: &[String]) -> Result<Vec<Build>> {
+    let mut problems = Vec::new();
+    let mut builds = Vec::new();
+    if triples.is_empty() {
+        builds.push(Build {
+            platform: Platform::host()?,
+            release_dir: ws.target_dir.join("release"),
+        });
     }
-    workspace::run(&mut build)?;
+    for triple in triples {
+        match Platform::from_triple(triple) {
+            Ok(platform) => builds.push(Build {
+                release_dir: ws.target_dir.join(triple).join("release"),
+                platform,
+            }),
+            Err(error) => problems.push(format!("--target {triple}: {error:#}")),
+        }
+    }
+    if !builds.is_empty()
+        && builds
+            .iter()
+            .all(|b| b.platform.folder(FmiVersion::V2).is_err())
+    {
+        problems.push(
+            "no target has an FMI 2.0 binaries folder: the FMI 2.0 FMUs would be empty".into(),
+        );
+    }
+    if !problems.is_empty() {
+        bail!("{}", problems.join("\n"));
+    }
+    for target in &builds {
+        let fmi3 = target.platform.folder(FmiVersion::V3)?;
+        let fmi2 = target
+            .platform
+            .folder(FmiVersion::V2)
+            .map_or_else(|_| "(none)".to_owned(), |f| format!("binaries/{f}"));
+        println!(
+            "xtask fmus: {} -> {fmi2} (FMI 2.0), binaries/{fmi3} (FMI 3.0)",
+            target.platform.triple
+        );
+        let mut build = ws.cargo();
+        build.args(["build", "--release", "--lib"]);
+        if !triples.is_empty() {
+            build.args(["--target", &target.platform.triple]);
+        }
+        for fmu in &FMU_CRATES {
+            build.args(["-p", fmu.package]);
+        }
+        workspace::run(&mut build).with_context(|| {
+            format!(
+                "building for {} (is its standard library installed? \
+                 `rustup target add {0}`)",
+                target.platform.triple
+            )
+        })?;
+    }
+    Ok(builds)
+}
+
+/// As [`package_all`], with the binaries of every target triple in each FMU
+/// (`cargo xtask fmus --target T1 --target T2`).
+pub fn package_for(ws: &Workspace, triples: &[String]) -> Result<Vec<PathBuf>> {
+    let builds = build_all(ws, triples)?;
 
     let out_dir = ws.fmu_dir();
     std::fs::create_dir_all(&out_dir)
@@ -71,9 +139,13 @@ pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
             );
             continue;
         }
-        let path = package_one(ws, fmu, &out_dir)?;
+        let path = package_one(ws, fmu, &builds, &out_dir)?;
         println!("xtask fmus: wrote {}", path.display());
         written.push(path);
+        if let Some(path) = package_one_fmi3(ws, fmu, &builds, &out_dir.join("fmi3"))? {
+            println!("xtask fmus: wrote {}", path.display());
+            written.push(path);
+        }
     }
     if written.is_empty() {
         bail!("no FMU crate has a `{DESCRIPTION_EXAMPLE}` example: nothing was packaged");
@@ -84,7 +156,12 @@ pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
     Ok(written)
 }
 
-fn package_one(ws: &Workspace, fmu: &FmuCrate, out_dir: &Path) -> Result<PathBuf> {
+fn package_one(
+    ws: &Workspace,
+    fmu: &FmuCrate,
+    builds: &[Build],
+    out_dir: &Path,
+) -> Result<PathBuf> {
     let xml = workspace::output(ws.cargo().args([
         "run",
         "--release",
@@ -110,23 +187,128 @@ fn package_one(ws: &Workspace, fmu: &FmuCrate, out_dir: &Path) -> Result<PathBuf
     let identifier = model_identifier(&description)
         .with_context(|| format!("in the model description of {}", fmu.package))?;
 
-    let library = ws
-        .target_dir
-        .join("release")
-        .join(format!("lib{}.so", fmu.lib_name));
-    let binary = stripped_library(&library, out_dir, identifier)?;
-
-    let entries = vec![
-        Entry::file("modelDescription.xml", xml.into_bytes()),
-        Entry::executable(format!("binaries/linux64/{identifier}.so"), binary),
+    let mut entries = vec![
         Entry::file(
             "documentation/index.html",
             doc_page::render(&description).into_bytes(),
         ),
+        Entry::file("modelDescription.xml", xml.into_bytes()),
     ];
+    entries.extend(binaries(fmu, builds, out_dir, identifier, FmiVersion::V2)?);
     let fmu_path = out_dir.join(format!("{identifier}.fmu"));
     fmu_zip::write(&fmu_path, entries)?;
     Ok(fmu_path)
+}
+
+/// The example of an FMU crate that prints its FMI 3.0 modelDescription.xml.
+const DESCRIPTION_EXAMPLE_FMI3: &str = "model_description_fmi3";
+
+/// `binaries/<folder>/<identifier>.<ext>` for every build that has a folder in `version`;
+/// a platform FMI 2.0 has no folder for is left out of the FMI 2.0 FMU with a note.
+fn binaries(
+    fmu: &FmuCrate,
+    builds: &[Build],
+    scratch_dir: &Path,
+    identifier: &str,
+    version: FmiVersion,
+) -> Result<Vec<Entry>> {
+    let host = Platform::host()?;
+    let mut entries = Vec::new();
+    for build in builds {
+        let folder = match build.platform.folder(version) {
+            Ok(folder) => folder,
+            Err(error) => {
+                println!("xtask fmus: {identifier}: {error:#}");
+                continue;
+            }
+        };
+        let library = build
+            .release_dir
+            .join(build.platform.cargo_library_file(fmu.lib_name));
+        // The host's strip does not know a foreign object format.
+        let binary = if build.platform == host {
+            stripped_library(&library, scratch_dir, identifier)?
+        } else {
+            std::fs::read(&library).with_context(|| format!("cannot read {}", library.display()))?
+        };
+        let file = build.platform.fmu_binary_file(identifier);
+        entries.push(Entry::executable(
+            format!("binaries/{folder}/{file}"),
+            binary,
+        ));
+    }
+    Ok(entries)
+}
+
+/// The FMI 3.0 FMU of a crate that can print an FMI 3.0 model description (the same library:
+/// it exports the `fmi3*` functions beside the `fmi2*` ones); `None` when it cannot yet.
+fn package_one_fmi3(
+    ws: &Workspace,
+    fmu: &FmuCrate,
+    builds: &[Build],
+    out_dir: &Path,
+) -> Result<Option<PathBuf>> {
+    let example = ws
+        .root
+        .join(fmu.dir)
+        .join("examples")
+        .join(format!("{DESCRIPTION_EXAMPLE_FMI3}.rs"));
+    if !example.is_file() {
+        return Ok(None);
+    }
+    std::fs::create_dir_all(out_dir)
+        .with_context(|| format!("cannot create {}", out_dir.display()))?;
+    let xml = workspace::output(ws.cargo().args([
+        "run",
+        "--release",
+        "-q",
+        "-p",
+        fmu.package,
+        "--example",
+        DESCRIPTION_EXAMPLE_FMI3,
+    ]))?;
+    let identifier = fmi3_model_identifier(&xml)
+        .with_context(|| format!("in the FMI 3.0 model description of {}", fmu.package))?;
+    let mut entries = vec![Entry::file(
+        "modelDescription.xml",
+        xml.clone().into_bytes(),
+    )];
+    entries.extend(binaries(fmu, builds, out_dir, &identifier, FmiVersion::V3)?);
+    let fmu_path = out_dir.join(format!("{identifier}.fmu"));
+    fmu_zip::write(&fmu_path, entries)?;
+    Ok(Some(fmu_path))
+}
+
+/// The `modelIdentifier` of an FMI 3.0 description: every interface element must name the
+/// same one (one library serves them all), and it must be a C identifier.
+fn fmi3_model_identifier(xml: &str) -> Result<String> {
+    if !xml.contains("fmiVersion=\"3.0\"") {
+        bail!("not an FMI 3.0 model description (no fmiVersion=\"3.0\")");
+    }
+    let mut found: Vec<&str> = xml
+        .split("modelIdentifier=\"")
+        .skip(1)
+        .filter_map(|rest| rest.split('"').next())
+        .collect();
+    found.dedup();
+    match found.as_slice() {
+        [] => bail!("no modelIdentifier"),
+        [id] => {
+            check_identifier(id)?;
+            Ok((*id).to_owned())
+        }
+        more => bail!("the interfaces name different modelIdentifiers: {more:?}"),
+    }
+}
+
+fn check_identifier(id: &str) -> Result<()> {
+    let valid = !id.is_empty()
+        && id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && !id.starts_with(|c: char| c.is_ascii_digit());
+    if !valid {
+        bail!("modelIdentifier {id:?} is not a valid C identifier");
+    }
+    Ok(())
 }
 
 /// The co-simulation `modelIdentifier`, checked to be usable as a file name.
@@ -136,12 +318,7 @@ fn model_identifier(description: &ModelDescription) -> Result<&str> {
         .as_ref()
         .context("no <CoSimulation> element")?;
     let id = cs.model_identifier.as_str();
-    let valid = !id.is_empty()
-        && id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        && !id.starts_with(|c: char| c.is_ascii_digit());
-    if !valid {
-        bail!("modelIdentifier {id:?} is not a valid C identifier");
-    }
+    check_identifier(id)?;
     Ok(id)
 }
 
@@ -201,6 +378,20 @@ mod tests {
         for bad in ["", "1abc", "a-b", "../x", "a b"] {
             assert!(model_identifier(&with_identifier(bad)).is_err(), "{bad:?}");
         }
+    }
+
+    #[test]
+    fn fmi3_identifier_is_the_one_every_interface_names() {
+        let both = r#"<fmiModelDescription fmiVersion="3.0" modelName="M">
+            <ModelExchange modelIdentifier="LanderPlant"/>
+            <CoSimulation modelIdentifier="LanderPlant"/></fmiModelDescription>"#;
+        assert_eq!(fmi3_model_identifier(both).unwrap(), "LanderPlant");
+        let clash = both.replacen("LanderPlant", "Other", 1);
+        assert!(fmi3_model_identifier(&clash).is_err());
+        let fmi2 = both.replace("3.0", "2.0");
+        assert!(fmi3_model_identifier(&fmi2).is_err());
+        let bad = both.replace("LanderPlant", "1x");
+        assert!(fmi3_model_identifier(&bad).is_err());
     }
 
     #[test]

@@ -9,6 +9,7 @@ mod demo;
 mod doc_page;
 mod fmu_zip;
 mod fmus;
+mod platform;
 mod python_env;
 mod ssp;
 mod system_packages;
@@ -32,7 +33,23 @@ struct Cli {
 enum Command {
     /// Build the release cdylibs and write target/fmu/<modelIdentifier>.fmu for each FMU,
     /// and target/fmu/LanderDescent.ssp (the paper scenario with both lander FMUs).
-    Fmus,
+    Fmus {
+        /// Build for this Rust target triple instead of the host (repeat the option to put
+        /// the binaries of several targets into each FMU); its standard library must be
+        /// installed (`rustup target add TRIPLE`).
+        #[arg(long = "target", value_name = "TRIPLE")]
+        targets: Vec<String>,
+    },
+    /// Merge FMUs of one model built on different platforms into one FMU with all their
+    /// binaries (everything outside binaries/ must be identical).
+    MergeFmus {
+        /// The merged FMU to write.
+        #[arg(long, value_name = "FMU")]
+        out: std::path::PathBuf,
+        /// The FMUs to merge.
+        #[arg(required = true, value_name = "FMU")]
+        inputs: Vec<std::path::PathBuf>,
+    },
     /// Run every check in order (fmt, clippy, FMUs, Python venv, cargo tests), stopping at
     /// the first failure.
     Test,
@@ -56,7 +73,8 @@ enum Command {
 fn main() -> ExitCode {
     let command = Cli::parse().command;
     let result = workspace::Workspace::locate().and_then(|ws| match command {
-        Command::Fmus => fmus::package_all(&ws).map(|_| ()),
+        Command::Fmus { targets } => fmus::package_for(&ws, &targets).map(|_| ()),
+        Command::MergeFmus { out, inputs } => platform::merge_files(&out, &inputs),
         Command::Test => test::run_all(&ws),
         Command::Demo => demo::run(&ws),
         Command::PythonEnv => python_env::ensure(&ws),

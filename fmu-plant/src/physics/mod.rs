@@ -1,5 +1,6 @@
 //! The lander physics, free of FMI: usable on its own and tested on its own.
 pub mod actuators;
+pub mod continuous;
 pub mod events;
 pub mod frames;
 pub mod integrator;

@@ -113,6 +113,12 @@ pub struct Plant {
     pub integration_step_s: f64,
 }
 
+/// The actuator set-points before any lag.
+struct Targets {
+    thrust_n: f64,
+    rcs_torque_body_nm: Vector3<f64>,
+}
+
 /// Which event ended an RK4 piece.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Event {
@@ -178,27 +184,42 @@ impl Plant {
         Ok((plant, run, warning))
     }
 
-    /// Engine thrust the engines aim at (saturated command; 0 once the propellant is gone).
-    fn thrust_target_n(&self, commands: &Commands, exhausted: bool) -> f64 {
-        if exhausted {
-            0.0
-        } else {
-            self.engines.saturate(commands.thrust_cmd_n)
+    /// The steady-state actuator targets: each command saturated once per evaluation.
+    fn targets(&self, commands: &Commands, exhausted: bool) -> Targets {
+        Targets {
+            thrust_n: if exhausted {
+                0.0
+            } else {
+                self.engines.saturate(commands.thrust_cmd_n)
+            },
+            rcs_torque_body_nm: self.rcs.saturate(&commands.torque_cmd_body_nm),
         }
+    }
+
+    /// Whether the actuator lag states take part in the dynamics (either time constant > 0).
+    pub fn has_actuator_lags(&self) -> bool {
+        self.engines.time_constant_s > 0.0 || self.rcs.time_constant_s > 0.0
     }
 
     /// What the actuators deliver at state `x` under `commands`.
     pub fn delivered(&self, x: &PlantState, commands: &Commands, exhausted: bool) -> Delivered {
-        let target = self.thrust_target_n(commands, exhausted);
+        self.delivered_from(x, &self.targets(commands, exhausted), exhausted)
+    }
+
+    fn delivered_from(&self, x: &PlantState, targets: &Targets, exhausted: bool) -> Delivered {
         let thrust_n = if exhausted {
             0.0
         } else {
-            lagged_or_direct(target, x.thrust_lag_n, self.engines.time_constant_s)
+            lagged_or_direct(
+                targets.thrust_n,
+                x.thrust_lag_n,
+                self.engines.time_constant_s,
+            )
         };
-        let rcs_target = self.rcs.saturate(&commands.torque_cmd_body_nm);
         let tau = self.rcs.time_constant_s;
-        let rcs_torque_body_nm =
-            Vector3::from_fn(|k, _| lagged_or_direct(rcs_target[k], x.torque_lag_body_nm[k], tau));
+        let rcs_torque_body_nm = Vector3::from_fn(|k, _| {
+            lagged_or_direct(targets.rcs_torque_body_nm[k], x.torque_lag_body_nm[k], tau)
+        });
         Delivered {
             thrust_n,
             rcs_torque_body_nm,
@@ -208,9 +229,11 @@ impl Plant {
         }
     }
 
-    /// Time derivative of the whole state.
+    /// Time derivative of the whole state: the one set of equations of motion behind both the
+    /// Co-Simulation step (RK4 below) and Model Exchange (`continuous`).
     pub fn derivative(&self, x: &PlantState, commands: &Commands, exhausted: bool) -> PlantState {
-        let d = self.delivered(x, commands, exhausted);
+        let targets = self.targets(commands, exhausted);
+        let d = self.delivered_from(x, &targets, exhausted);
         // Until the exhaustion event the engines burn on, so the mass stays linear in time
         // across the dry mass and the event search sees a smooth function. An RK4 stage of
         // the sub-step holding the event can lie past the dry mass (never the accepted
@@ -220,19 +243,54 @@ impl Plant {
             self.thrust_direction_body * (d.thrust_n / x.mass_kg.max(self.dry_mass_kg));
         let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &thrust_body);
         let torque_body = d.rcs_torque_body_nm + d.engine_torque_body_nm;
-        let thrust_target = self.thrust_target_n(commands, exhausted);
-        let rcs_target = self.rcs.saturate(&commands.torque_cmd_body_nm);
-        let tau_rcs = self.rcs.time_constant_s;
+        // Without lags the lag states stay at zero: skip their rates altogether.
+        let (thrust_lag_n, torque_lag_body_nm) = if self.has_actuator_lags() {
+            let tau_rcs = self.rcs.time_constant_s;
+            (
+                lag_rate(
+                    targets.thrust_n,
+                    x.thrust_lag_n,
+                    self.engines.time_constant_s,
+                ),
+                Vector3::from_fn(|k, _| {
+                    lag_rate(
+                        targets.rcs_torque_body_nm[k],
+                        x.torque_lag_body_nm[k],
+                        tau_rcs,
+                    )
+                }),
+            )
+        } else {
+            (0.0, Vector3::zeros())
+        };
         PlantState {
             translation: self.translation.derivative(&x.translation, &a_thrust_nue),
             q_body_to_nue: quaternion_rate(&x.q_body_to_nue, &x.omega_body),
             omega_body: omega_dot_body(&self.inertia_body_kgm2, &x.omega_body, &torque_body),
             mass_kg: -d.thrust_n * self.mass_flow_per_newton,
-            thrust_lag_n: lag_rate(thrust_target, x.thrust_lag_n, self.engines.time_constant_s),
-            torque_lag_body_nm: Vector3::from_fn(|k, _| {
-                lag_rate(rcs_target[k], x.torque_lag_body_nm[k], tau_rcs)
-            }),
+            thrust_lag_n,
+            torque_lag_body_nm,
         }
+    }
+
+    /// The touchdown record of state `x` reached at time `t`.
+    pub(crate) fn touchdown_at(&self, x: &PlantState, t: f64) -> Touchdown {
+        let (_, v_nue) = self.translation.to_nue(&x.translation);
+        Touchdown {
+            time_s: t,
+            v_nue_mps: v_nue,
+            q_body_to_nue: x.q_body_to_nue,
+            omega_body_radps: x.omega_body,
+            tilt_rad: tilt_from_vertical(&x.q_body_to_nue),
+        }
+    }
+
+    /// Exhaustion: the engines are cut and the mass is pinned at the dry mass (the located
+    /// state lies within the crossing tolerance past it).
+    pub(crate) fn exhaust(&self, run: &mut PlantRun) {
+        run.propellant_exhausted = true;
+        run.state.mass_kg = self.dry_mass_kg;
+        run.state.thrust_lag_n = 0.0;
     }
 
     fn rk4(
@@ -324,22 +382,9 @@ impl Plant {
             };
             t = if tau >= h { end } else { t + tau };
             match event {
-                Event::Exhaustion => {
-                    run.propellant_exhausted = true;
-                    // The located state lies within the crossing tolerance past the dry mass.
-                    run.state.mass_kg = self.dry_mass_kg;
-                    run.state.thrust_lag_n = 0.0;
-                }
+                Event::Exhaustion => self.exhaust(run),
                 Event::Touchdown => {
-                    let x = &run.state;
-                    let (_, v_nue) = self.translation.to_nue(&x.translation);
-                    run.touchdown = Some(Touchdown {
-                        time_s: t,
-                        v_nue_mps: v_nue,
-                        q_body_to_nue: x.q_body_to_nue,
-                        omega_body_radps: x.omega_body,
-                        tilt_rad: tilt_from_vertical(&x.q_body_to_nue),
-                    });
+                    run.touchdown = Some(self.touchdown_at(&run.state, t));
                     return Some(t);
                 }
             }

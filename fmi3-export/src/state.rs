@@ -1,0 +1,347 @@
+//! The FMI 3.0 state machines of Co-Simulation (§4.2) and Model Exchange (§3.2) as one table:
+//! for each function, the interfaces it belongs to and the states in which it may be called.
+//!
+//! Only what the FMUs implement has states: no configuration mode (no structural
+//! parameters), no clocks, no event mode in Co-Simulation (`hasEventMode` is false, so
+//! `fmi3ExitInitializationMode` leads straight to step mode), no intermediate update. A
+//! function of such a feature is `Unsupported`: it answers `fmi3Error` with a log line
+//! saying so, in every state. `Error` is entered when the model itself fails; `Fatal` after a
+//! caught panic, where only `fmi3FreeInstance` is honoured (it returns `void`).
+use serde::{Deserialize, Serialize};
+
+/// States of an instance. The discriminants are the bits of a [`StateMask`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[repr(u16)]
+pub enum State {
+    Instantiated = 1 << 0,
+    InitializationMode = 1 << 1,
+    /// Model Exchange only (no event mode in our Co-Simulation).
+    EventMode = 1 << 2,
+    /// Model Exchange only.
+    ContinuousTimeMode = 1 << 3,
+    /// Co-Simulation only.
+    StepMode = 1 << 4,
+    Terminated = 1 << 5,
+    Error = 1 << 6,
+    Fatal = 1 << 7,
+}
+
+impl State {
+    pub const ALL: [State; 8] = [
+        State::Instantiated,
+        State::InitializationMode,
+        State::EventMode,
+        State::ContinuousTimeMode,
+        State::StepMode,
+        State::Terminated,
+        State::Error,
+        State::Fatal,
+    ];
+}
+
+/// A set of [`State`]s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StateMask(u16);
+
+impl StateMask {
+    pub const fn of(states: &[State]) -> StateMask {
+        let mut bits = 0;
+        let mut i = 0;
+        while i < states.len() {
+            bits |= states[i] as u16;
+            i += 1;
+        }
+        StateMask(bits)
+    }
+
+    pub const fn contains(self, state: State) -> bool {
+        self.0 & state as u16 != 0
+    }
+}
+
+/// The interface an instance was created for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Interface {
+    ModelExchange,
+    CoSimulation,
+}
+
+/// Which interfaces a function belongs to, and whether we implement it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scope {
+    Both(StateMask),
+    ModelExchange(StateMask),
+    CoSimulation(StateMask),
+    /// A feature none of our FMUs has (clocks, configuration mode, derivatives, ...).
+    Unsupported(&'static str),
+}
+
+use State::*;
+
+const ANY_BUT_FATAL: StateMask = StateMask::of(&[
+    Instantiated,
+    InitializationMode,
+    EventMode,
+    ContinuousTimeMode,
+    StepMode,
+    Terminated,
+    Error,
+]);
+const GETTERS: StateMask = StateMask::of(&[
+    InitializationMode,
+    EventMode,
+    ContinuousTimeMode,
+    StepMode,
+    Terminated,
+    Error,
+]);
+/// Which variables may be set in which of these states is the layer's per-variable rule.
+const SETTERS: StateMask = StateMask::of(&[
+    Instantiated,
+    InitializationMode,
+    EventMode,
+    ContinuousTimeMode,
+    StepMode,
+]);
+const CONTINUOUS_READS: StateMask = StateMask::of(&[
+    InitializationMode,
+    EventMode,
+    ContinuousTimeMode,
+    Terminated,
+    Error,
+]);
+
+macro_rules! functions {
+    ($($variant:ident => $scope:expr,)*) => {
+        /// The FMI 3.0 functions that take an instance, named as in C.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum Function { $($variant,)* }
+
+        impl Function {
+            pub const ALL: &'static [Function] = &[$(Function::$variant,)*];
+
+            /// The C name, e.g. `"fmi3DoStep"`.
+            pub const fn name(self) -> &'static str {
+                match self { $(Function::$variant => concat!("fmi3", stringify!($variant)),)* }
+            }
+
+            pub const fn scope(self) -> Scope {
+                match self { $(Function::$variant => $scope,)* }
+            }
+        }
+    };
+}
+
+/// Why a call is refused before its body runs, if it is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Refusal {
+    Unsupported(&'static str),
+    /// A function of the other interface than this instance's (given).
+    WrongInterface(Interface),
+    IllegalState(State),
+}
+
+impl std::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Refusal::Unsupported(feature) => write!(f, "not supported: this FMU has no {feature}"),
+            Refusal::WrongInterface(Interface::CoSimulation) => {
+                f.write_str("not a Co-Simulation function; this instance is Co-Simulation")
+            }
+            Refusal::WrongInterface(Interface::ModelExchange) => {
+                f.write_str("not a Model Exchange function; this instance is Model Exchange")
+            }
+            Refusal::IllegalState(state) => write!(f, "not allowed in state {state:?}"),
+        }
+    }
+}
+
+impl Function {
+    /// `Ok` when the function may run on an instance of `interface` in `state`.
+    pub fn admit(self, interface: Interface, state: State) -> Result<(), Refusal> {
+        let mask = match (self.scope(), interface) {
+            (Scope::Unsupported(feature), _) => return Err(Refusal::Unsupported(feature)),
+            (Scope::Both(mask), _) => mask,
+            (Scope::ModelExchange(mask), Interface::ModelExchange) => mask,
+            (Scope::CoSimulation(mask), Interface::CoSimulation) => mask,
+            (Scope::ModelExchange(_), Interface::CoSimulation) => {
+                return Err(Refusal::WrongInterface(Interface::CoSimulation))
+            }
+            (Scope::CoSimulation(_), Interface::ModelExchange) => {
+                return Err(Refusal::WrongInterface(Interface::ModelExchange))
+            }
+        };
+        if mask.contains(state) {
+            Ok(())
+        } else {
+            Err(Refusal::IllegalState(state))
+        }
+    }
+}
+
+const CLOCKS: Scope = Scope::Unsupported("clocks");
+
+functions! {
+    SetDebugLogging => Scope::Both(ANY_BUT_FATAL),
+    FreeInstance => Scope::Both(StateMask::of(&State::ALL)),
+    EnterInitializationMode => Scope::Both(StateMask::of(&[Instantiated])),
+    ExitInitializationMode => Scope::Both(StateMask::of(&[InitializationMode])),
+    EnterEventMode => Scope::ModelExchange(StateMask::of(&[ContinuousTimeMode])),
+    Terminate => Scope::Both(StateMask::of(&[EventMode, ContinuousTimeMode, StepMode])),
+    Reset => Scope::Both(ANY_BUT_FATAL),
+    GetFloat32 => Scope::Both(GETTERS),
+    GetFloat64 => Scope::Both(GETTERS),
+    GetInt8 => Scope::Both(GETTERS),
+    GetUInt8 => Scope::Both(GETTERS),
+    GetInt16 => Scope::Both(GETTERS),
+    GetUInt16 => Scope::Both(GETTERS),
+    GetInt32 => Scope::Both(GETTERS),
+    GetUInt32 => Scope::Both(GETTERS),
+    GetInt64 => Scope::Both(GETTERS),
+    GetUInt64 => Scope::Both(GETTERS),
+    GetBoolean => Scope::Both(GETTERS),
+    GetString => Scope::Both(GETTERS),
+    GetBinary => Scope::Both(GETTERS),
+    GetClock => CLOCKS,
+    SetFloat32 => Scope::Both(SETTERS),
+    SetFloat64 => Scope::Both(SETTERS),
+    SetInt8 => Scope::Both(SETTERS),
+    SetUInt8 => Scope::Both(SETTERS),
+    SetInt16 => Scope::Both(SETTERS),
+    SetUInt16 => Scope::Both(SETTERS),
+    SetInt32 => Scope::Both(SETTERS),
+    SetUInt32 => Scope::Both(SETTERS),
+    SetInt64 => Scope::Both(SETTERS),
+    SetUInt64 => Scope::Both(SETTERS),
+    SetBoolean => Scope::Both(SETTERS),
+    SetString => Scope::Both(SETTERS),
+    SetBinary => Scope::Both(SETTERS),
+    SetClock => CLOCKS,
+    GetNumberOfVariableDependencies => Scope::Unsupported("variable dependencies at run time (see the model description)"),
+    GetVariableDependencies => Scope::Unsupported("variable dependencies at run time (see the model description)"),
+    GetFMUState => Scope::Both(ANY_BUT_FATAL),
+    SetFMUState => Scope::Both(ANY_BUT_FATAL),
+    FreeFMUState => Scope::Both(ANY_BUT_FATAL),
+    SerializedFMUStateSize => Scope::Both(ANY_BUT_FATAL),
+    SerializeFMUState => Scope::Both(ANY_BUT_FATAL),
+    DeserializeFMUState => Scope::Both(ANY_BUT_FATAL),
+    GetDirectionalDerivative => Scope::Unsupported("directional derivatives"),
+    GetAdjointDerivative => Scope::Unsupported("adjoint derivatives"),
+    EnterConfigurationMode => Scope::Unsupported("structural parameters"),
+    ExitConfigurationMode => Scope::Unsupported("structural parameters"),
+    GetIntervalDecimal => CLOCKS,
+    GetIntervalFraction => CLOCKS,
+    GetShiftDecimal => CLOCKS,
+    GetShiftFraction => CLOCKS,
+    SetIntervalDecimal => CLOCKS,
+    SetIntervalFraction => CLOCKS,
+    SetShiftDecimal => CLOCKS,
+    SetShiftFraction => CLOCKS,
+    EvaluateDiscreteStates => Scope::Unsupported("event mode in Co-Simulation"),
+    UpdateDiscreteStates => Scope::ModelExchange(StateMask::of(&[EventMode])),
+    EnterContinuousTimeMode => Scope::ModelExchange(StateMask::of(&[EventMode])),
+    CompletedIntegratorStep => Scope::ModelExchange(StateMask::of(&[ContinuousTimeMode])),
+    SetTime => Scope::ModelExchange(StateMask::of(&[EventMode, ContinuousTimeMode])),
+    SetContinuousStates => Scope::ModelExchange(StateMask::of(&[ContinuousTimeMode])),
+    GetContinuousStateDerivatives => Scope::ModelExchange(CONTINUOUS_READS),
+    GetEventIndicators => Scope::ModelExchange(CONTINUOUS_READS),
+    GetContinuousStates => Scope::ModelExchange(CONTINUOUS_READS),
+    GetNominalsOfContinuousStates => Scope::ModelExchange(CONTINUOUS_READS),
+    GetNumberOfEventIndicators => Scope::Both(ANY_BUT_FATAL),
+    GetNumberOfContinuousStates => Scope::Both(ANY_BUT_FATAL),
+    EnterStepMode => Scope::Unsupported("event mode in Co-Simulation"),
+    GetOutputDerivatives => Scope::Unsupported("output derivatives"),
+    DoStep => Scope::CoSimulation(StateMask::of(&[StepMode])),
+    ActivateModelPartition => Scope::Unsupported("Scheduled Execution"),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_table_lists_every_function_that_takes_an_instance() {
+        // 75 exported functions minus fmi3GetVersion and the three fmi3Instantiate*.
+        assert_eq!(Function::ALL.len(), 71);
+        assert_eq!(Function::DoStep.name(), "fmi3DoStep");
+        assert_eq!(
+            Function::GetContinuousStateDerivatives.name(),
+            "fmi3GetContinuousStateDerivatives"
+        );
+    }
+
+    #[test]
+    fn nothing_but_free_instance_is_admitted_when_fatal() {
+        for f in Function::ALL {
+            for interface in [Interface::ModelExchange, Interface::CoSimulation] {
+                assert_eq!(
+                    f.admit(interface, Fatal).is_ok(),
+                    *f == Function::FreeInstance,
+                    "{}",
+                    f.name()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn interface_functions_are_refused_on_the_other_interface() {
+        assert_eq!(
+            Function::DoStep.admit(Interface::ModelExchange, StepMode),
+            Err(Refusal::WrongInterface(Interface::ModelExchange))
+        );
+        assert_eq!(
+            Function::SetContinuousStates.admit(Interface::CoSimulation, StepMode),
+            Err(Refusal::WrongInterface(Interface::CoSimulation))
+        );
+        let message = Function::DoStep
+            .admit(Interface::ModelExchange, ContinuousTimeMode)
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("Model Exchange"), "{message}");
+    }
+
+    #[test]
+    fn unsupported_features_are_refused_in_every_state_naming_the_feature() {
+        for state in State::ALL {
+            let refusal = Function::GetClock
+                .admit(Interface::CoSimulation, state)
+                .unwrap_err();
+            assert_eq!(refusal.to_string(), "not supported: this FMU has no clocks");
+        }
+    }
+
+    #[test]
+    fn the_model_exchange_cycle_is_legal_and_steps_are_not() {
+        let me = Interface::ModelExchange;
+        assert!(Function::SetContinuousStates
+            .admit(me, ContinuousTimeMode)
+            .is_ok());
+        assert!(Function::EnterEventMode
+            .admit(me, ContinuousTimeMode)
+            .is_ok());
+        assert!(Function::UpdateDiscreteStates.admit(me, EventMode).is_ok());
+        assert!(Function::EnterContinuousTimeMode
+            .admit(me, EventMode)
+            .is_ok());
+        assert_eq!(
+            Function::SetContinuousStates.admit(me, EventMode),
+            Err(Refusal::IllegalState(EventMode))
+        );
+        assert!(Function::DoStep
+            .admit(Interface::CoSimulation, StepMode)
+            .is_ok());
+        assert!(Function::DoStep
+            .admit(Interface::CoSimulation, InitializationMode)
+            .is_err());
+    }
+
+    #[test]
+    fn the_bits_of_the_states_are_distinct() {
+        let mut seen = 0u16;
+        for s in State::ALL {
+            assert_eq!(seen & s as u16, 0);
+            seen |= s as u16;
+        }
+    }
+}

@@ -1,0 +1,159 @@
+//! Model Exchange for LanderPlant: the flat ODE of `physics::continuous` behind the FMI
+//! layers' continuous-state calls. The state vector has a fixed length (a model description
+//! is static): all 18 states, the lag states with a zero derivative while their lag is off.
+use super::LanderPlant;
+use crate::physics::continuous::{LengthMismatch, StateLayout, EVENT_INDICATOR_COUNT};
+use crate::physics::plant::{Plant, PlantRun};
+use fmi_model::{ContinuousModel, EventUpdate, Log, ModelError};
+use std::borrow::Cow;
+
+const LAYOUT: StateLayout = StateLayout::ALL;
+/// Where each declared state starts in the vector (`physics::continuous` order).
+pub(super) const TRANSLATION: usize = 0;
+pub(super) const ATTITUDE: usize = 6;
+pub(super) const THRUST_LAG: usize = 14;
+pub(super) const TORQUE_LAG: usize = 15;
+const STATE_COUNT: usize = 18;
+
+fn not_running() -> ModelError {
+    ModelError::Other("no continuous state before the end of initialization".into())
+}
+
+fn length(e: LengthMismatch) -> ModelError {
+    ModelError::Other(format!("continuous state vector: {e}"))
+}
+
+impl LanderPlant {
+    /// The plant and its run: the running one, or in initialization the one the current
+    /// parameters give (`None` while they are invalid).
+    fn continuous_view(&self) -> Option<Cow<'_, (Plant, PlantRun)>> {
+        match &self.running {
+            Some(running) => Some(Cow::Borrowed(running)),
+            None => Plant::new(&self.parameters)
+                .ok()
+                .map(|(plant, run, _)| Cow::Owned((plant, run))),
+        }
+    }
+
+    /// Element `i` of the state vector (0 while the parameters are invalid).
+    pub(super) fn state_element(&self, i: usize) -> f64 {
+        let mut x = [0.0; STATE_COUNT];
+        if let Some(view) = self.continuous_view() {
+            let _ = LAYOUT.pack(&view.1.state, &mut x);
+        }
+        x[i]
+    }
+
+    /// Event indicator `i` (0 while the parameters are invalid).
+    pub(super) fn event_indicator(&self, i: usize) -> f64 {
+        self.continuous_view()
+            .map_or(0.0, |view| view.0.event_indicators(&view.1)[i])
+    }
+
+    /// Element `i` of the state derivative at the current state and inputs.
+    pub(super) fn derivative_element(&self, i: usize) -> f64 {
+        let mut dx = [0.0; STATE_COUNT];
+        if let Some(view) = self.continuous_view() {
+            let (plant, run) = view.as_ref();
+            let _ = plant.continuous_derivative(&LAYOUT, run, &self.commands, &mut dx);
+        }
+        dx[i]
+    }
+}
+
+impl ContinuousModel for LanderPlant {
+    const STATE_DERIVATIVES: &'static [(&'static str, &'static str)] = &[
+        ("translation_state", "der_translation_state"),
+        ("attitude_state", "der_attitude_state"),
+        ("omega_body", "der_omega_body"),
+        ("mass", "der_mass"),
+        ("thrust_lag_state", "der_thrust_lag_state"),
+        ("torque_lag_state_body", "der_torque_lag_state_body"),
+    ];
+    const EVENT_INDICATORS: usize = EVENT_INDICATOR_COUNT;
+    const EVENT_INDICATOR_VARIABLES: &'static [&'static str] =
+        &["touchdown_indicator", "exhaustion_indicator"];
+
+    fn state_count(&self) -> usize {
+        STATE_COUNT
+    }
+
+    fn event_indicator_count(&self) -> usize {
+        EVENT_INDICATOR_COUNT
+    }
+
+    fn set_time(&mut self, t: f64) {
+        self.time_s = t;
+    }
+
+    fn states(&self, x: &mut [f64]) {
+        if let Some(view) = self.continuous_view() {
+            let _ = LAYOUT.pack(&view.1.state, x);
+        }
+    }
+
+    fn set_states(&mut self, x: &[f64]) -> Result<(), ModelError> {
+        let (plant, run) = self.running.as_mut().ok_or_else(not_running)?;
+        plant.set_continuous_states(&LAYOUT, run, x).map_err(length)
+    }
+
+    fn nominals(&self, nominal: &mut [f64]) {
+        if let Some(view) = self.continuous_view() {
+            let _ = view.0.nominals(&LAYOUT, nominal);
+        }
+    }
+
+    fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), ModelError> {
+        let view = self.continuous_view().ok_or_else(not_running)?;
+        let (plant, run) = view.as_ref();
+        plant
+            .continuous_derivative(&LAYOUT, run, &self.commands, dx)
+            .map_err(length)
+    }
+
+    fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), ModelError> {
+        let view = self.continuous_view().ok_or_else(not_running)?;
+        let (plant, run) = view.as_ref();
+        let values = plant.event_indicators(run);
+        if z.len() != values.len() {
+            return Err(length(LengthMismatch {
+                expected: values.len(),
+                got: z.len(),
+            }));
+        }
+        z.copy_from_slice(&values);
+        Ok(())
+    }
+
+    /// Touchdown freezes the touchdown outputs and ends the run; exhaustion cuts the
+    /// engines; both as the Co-Simulation step does at its located events.
+    fn update_discrete_states(&mut self, log: &mut Log) -> Result<EventUpdate, ModelError> {
+        let t = self.time_s;
+        let Some((plant, run)) = self.running.as_mut() else {
+            // The initial event update at the end of initialization has nothing to do.
+            return Ok(EventUpdate::default());
+        };
+        let before = run.state;
+        let outcome = plant.update_at_event(run, t);
+        if outcome.exhausted {
+            log.warning(format!(
+                "propellant exhausted at t = {t} s: mass = dry_mass = {} kg, engines cut",
+                plant.dry_mass_kg
+            ));
+        }
+        if let (true, Some(td)) = (outcome.touchdown, run.touchdown) {
+            log.info(format!(
+                "touchdown at t = {t} s: v_nue = [{:.3}, {:.3}, {:.3}] m/s, tilt = {:.2} deg",
+                td.v_nue_mps.x,
+                td.v_nue_mps.y,
+                td.v_nue_mps.z,
+                td.tilt_rad.to_degrees()
+            ));
+        }
+        Ok(EventUpdate {
+            terminate: run.touchdown.is_some(),
+            states_changed: run.state != before,
+            nominals_changed: false,
+        })
+    }
+}
