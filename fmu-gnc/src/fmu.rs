@@ -11,10 +11,11 @@
 //! is the same sample time (see [`Evaluated`], [`SampleTime`]); otherwise `do_step` evaluates
 //! again. Either way the committed sample is bit-identical to `gnc_sample` at the master's
 //! `t`: gets never change a trajectory.
+use crate::attitude::profile::PhiProfile;
 use crate::attitude::ControlLaw;
 use crate::controller::{gnc_sample, GncOutputs, NavigationInputs, Sample};
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
-use crate::params::GncParameters;
+use crate::params::{GncDesign, GncParameters};
 use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
 use serde::{Deserialize, Serialize};
 
@@ -25,8 +26,15 @@ pub struct LanderGnc {
     inputs: NavigationInputs,
     outputs: GncOutputs,
     guidance: GuidanceState,
+    profile: PhiProfile,
     start_time_s: f64,
     time_s: f64,
+    /// Set by `exit_initialization`: the parameters are fixed from then on.
+    initialized: bool,
+    /// Derived from the parameters once they are fixed; a restored or deserialized instance
+    /// derives it again at its first evaluation.
+    #[serde(skip)]
+    design: Option<GncDesign>,
     /// A cache, not state: a restored or deserialized instance evaluates afresh.
     #[serde(skip)]
     evaluated: Option<Evaluated>,
@@ -56,6 +64,8 @@ struct SampleTime {
     phi_cmd_applies: bool,
     cycle: i64,
     off_nominal_bits: Option<u64>,
+    /// A shaped thrust-axis profile moves with `t` itself.
+    profile_bits: Option<u64>,
 }
 
 impl Default for LanderGnc {
@@ -66,8 +76,11 @@ impl Default for LanderGnc {
             inputs: NavigationInputs::default(),
             outputs: GncOutputs::default(),
             guidance: GuidanceState::initial(params.gravity_mps2),
+            profile: PhiProfile::default(),
             start_time_s: 0.0,
             time_s: 0.0,
+            initialized: false,
+            design: None,
             evaluated: None,
         }
     }
@@ -84,14 +97,35 @@ impl LanderGnc {
             phi_cmd_applies: has_reached(t_s, self.params.phi_cmd_time_s),
             cycle,
             off_nominal_bits: (opens_cycle && !on_boundary).then_some(elapsed_s.to_bits()),
+            profile_bits: (self.params.phi_rate_limit_radps > 0.0
+                || self.params.phi_accel_limit_radps2 > 0.0)
+                .then_some(t_s.to_bits()),
+        }
+    }
+
+    /// Keeps the design once the parameters are fixed (after initialization, or in a restored
+    /// instance, which was initialized); in initialization mode it is derived per evaluation,
+    /// as a parameter may still change.
+    fn keep_design(&mut self) {
+        if self.initialized && self.design.is_none() {
+            self.design = Some(self.params.design_unchecked());
         }
     }
 
     fn evaluate(&self) -> Sample {
+        let unchecked;
+        let design = match &self.design {
+            Some(design) => design,
+            None => {
+                unchecked = self.params.design_unchecked();
+                &unchecked
+            }
+        };
         gnc_sample(
-            &self.params,
+            design,
             self.start_time_s,
             &self.guidance,
+            &self.profile,
             &self.inputs,
             self.time_s,
         )
@@ -100,6 +134,7 @@ impl LanderGnc {
     /// Evaluate the sample at the current time without committing it, show its outputs and
     /// keep it for the `do_step` that usually follows.
     fn preview(&mut self, log: &mut Log) {
+        self.keep_design();
         let evaluated = self.evaluated.insert(Evaluated {
             time: self.sample_time(self.time_s),
             input_bits: self.inputs.to_bits(),
@@ -111,6 +146,7 @@ impl LanderGnc {
     /// Commit the sample at the current time: the kept one if it was evaluated at the same
     /// sample time with these very inputs, otherwise a fresh one.
     fn commit(&mut self, log: &mut Log) {
+        self.keep_design();
         let (time, input_bits) = (self.sample_time(self.time_s), self.inputs.to_bits());
         let fresh;
         // Read in place: a sample is a few hundred bytes, worth not moving twice per step.
@@ -123,12 +159,18 @@ impl LanderGnc {
         };
         publish(sample, self.time_s, &mut self.outputs, log);
         self.guidance = sample.guidance;
+        self.profile = sample.profile;
         self.evaluated = None;
     }
 }
 
 /// Show `sample` as the outputs; its warning, if any, goes to this call's log.
 fn publish(sample: &Sample, time_s: f64, outputs: &mut GncOutputs, log: &mut Log) {
+    if let Some(norm) = sample.non_unit_quaternion_norm {
+        log.warning(format!(
+            "t = {time_s} s: q_body_to_nue has norm {norm:e}, not 1; used normalised"
+        ));
+    }
     if let Some(why) = sample.degenerate {
         log.warning(format!("t = {time_s} s: {why}"));
     }
@@ -148,6 +190,8 @@ impl Model for LanderGnc {
         "Lunar lander guidance (PV hover, cubic-polynomial descent) and \
         attitude control (coupled, decoupled thrust-axis, reduced) after Rallapalli et al., \
         'Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3'";
+    /// 2: the thrust-axis profile and the initialization flag.
+    const STATE_VERSION: u32 = 2;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,
@@ -164,17 +208,21 @@ impl Model for LanderGnc {
     }
 
     fn exit_initialization(&mut self, start_time: f64, log: &mut Log) -> Result<(), ModelError> {
-        self.params
-            .validate()
+        let design = self
+            .params
+            .design()
             .map_err(|e| ModelError::InvalidParameter {
                 field: e.field,
                 index: e.index,
                 value: e.value,
                 reason: e.reason.to_string(),
             })?;
+        self.design = Some(design);
+        self.initialized = true;
         self.start_time_s = start_time;
         self.time_s = start_time;
         self.guidance = GuidanceState::initial(self.params.gravity_mps2);
+        self.profile = PhiProfile::default();
         self.preview(log);
         Ok(())
     }
@@ -260,6 +308,8 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(227, parameter reduced_yaw_weight: params.reduced_yaw_weight, "1", "reduced law: weight of the rotation about the thrust axis, in [0, 1]", min = 0.0, max = 1.0),
     decl!(228, parameter rate_shaping_margin: params.rate_shaping_margin, "1", "share of the torque limit the attitude laws count on to brake a rotation; large angle errors are shaped so the rate demand can be stopped in time (beyond the paper, ArduPilot-style square-root controller); 0.5 is a good choice; 0 = the paper's pure PD (default), in [0, 1]", min = 0.0, max = 1.0),
     decl!(229, parameter terminal_descent_speed: params.terminal_descent_speed_mps, "m/s", "phase 5 (beyond the paper): after the target hover, descend vertically over the descent target at this speed until touchdown; 0 = no terminal descent, hold the hover (default)", min = 0.0),
+    decl!(230, parameter phi_rate_limit: params.phi_rate_limit_radps, "rad/s", "shaped thrust-axis manoeuvre (beyond the paper): the reference follows phi_cmd at most this fast, the rate fed forward; 0 = unlimited; with phi_accel_limit also 0, the paper's step (default)", min = 0.0),
+    decl!(231, parameter phi_accel_limit: params.phi_accel_limit_radps2, "rad/s2", "shaped thrust-axis manoeuvre: the reference's angular acceleration limit (bang-coast-bang profile), fed forward as torque; 0 = unlimited", min = 0.0),
 ];
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! The GNC parameters, their defaults (paper Tables I-II and the ERRATA modelling defaults)
 //! and their validation.
 use crate::attitude::gains::AttitudeGains;
+use crate::attitude::profile::ProfileLimits;
 use crate::attitude::{AttitudeSettings, ControlLaw};
 use crate::guidance::pv::PvGains;
 use crate::guidance::sequencer::Scenario;
@@ -35,6 +36,21 @@ pub struct GncParameters {
     pub rate_shaping_margin: f64,
     /// Terminal-descent sink rate after the target hover; 0 = none (the paper).
     pub terminal_descent_speed_mps: f64,
+    /// Shaped thrust-axis manoeuvre: rate and acceleration limits of the profile `phi_cmd` is
+    /// followed through; 0 = that one unlimited, both 0 = the paper's step.
+    pub phi_rate_limit_radps: f64,
+    pub phi_accel_limit_radps2: f64,
+}
+
+/// Everything the samples use that follows from the parameters alone, derived once from
+/// validated parameters (at the end of initialization), not at every sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GncDesign {
+    pub params: GncParameters,
+    pub scenario: Scenario,
+    pub attitude: AttitudeSettings,
+    /// `None`: the paper's step in `phi_cmd`.
+    pub roll_profile: Option<ProfileLimits>,
 }
 
 impl Default for GncParameters {
@@ -62,6 +78,8 @@ impl Default for GncParameters {
             reduced_yaw_weight: 0.4,
             rate_shaping_margin: 0.0,
             terminal_descent_speed_mps: 0.0,
+            phi_rate_limit_radps: 0.0,
+            phi_accel_limit_radps2: 0.0,
         }
     }
 }
@@ -154,7 +172,7 @@ impl GncParameters {
             let ok = value > 0.0 && value.is_finite();
             check_at(ok, "inertia_body_kgm2", Some(k), value, "must be > 0")?;
         }
-        let gains = p.attitude_settings().gains;
+        let gains = p.attitude_gains();
         check(
             gains.kp_nm_per_rad.iter().all(|k| k.is_finite())
                 && gains.kd_nms_per_rad.iter().all(|k| k.is_finite()),
@@ -224,7 +242,36 @@ impl GncParameters {
             p.terminal_descent_speed_mps,
             "must be finite and >= 0 (0 = no terminal descent)",
         )?;
+        for (name, value) in [
+            ("phi_rate_limit_radps", p.phi_rate_limit_radps),
+            ("phi_accel_limit_radps2", p.phi_accel_limit_radps2),
+        ] {
+            let ok = value >= 0.0 && value.is_finite();
+            check(ok, name, value, "must be finite and >= 0 (0 = unlimited)")?;
+        }
         Ok(())
+    }
+
+    /// Validate, then derive what the samples use.
+    pub fn design(&self) -> Result<GncDesign, InvalidParameter> {
+        self.validate()?;
+        Ok(self.design_unchecked())
+    }
+
+    /// What the samples use, from parameters that may not be valid (outputs shown in
+    /// initialization mode, before validation): an unknown law shows the decoupled one.
+    pub fn design_unchecked(&self) -> GncDesign {
+        GncDesign {
+            params: *self,
+            scenario: self.scenario(),
+            attitude: self.attitude_settings_for(
+                ControlLaw::from_index(self.control_law).unwrap_or(ControlLaw::Decoupled),
+            ),
+            roll_profile: ProfileLimits::from_parameters(
+                self.phi_rate_limit_radps,
+                self.phi_accel_limit_radps2,
+            ),
+        }
     }
 
     /// The guidance scenario these parameters describe.
@@ -245,20 +292,28 @@ impl GncParameters {
         }
     }
 
-    /// The attitude settings these parameters describe (law falls back to decoupled only for
-    /// values `validate` refuses).
-    pub fn attitude_settings(&self) -> AttitudeSettings {
+    /// The attitude settings these parameters describe; the law is validated.
+    pub fn attitude_settings(&self) -> Result<AttitudeSettings, InvalidParameter> {
+        self.validate()?;
+        Ok(self.design_unchecked().attitude)
+    }
+
+    fn attitude_gains(&self) -> AttitudeGains {
+        AttitudeGains::from_bandwidth(
+            self.control_bandwidth_hz,
+            self.control_damping,
+            Vector3::from(self.inertia_body_kgm2),
+        )
+        .with_braking(
+            &Vector3::from(self.torque_limit_body_nm),
+            self.rate_shaping_margin,
+        )
+    }
+
+    fn attitude_settings_for(&self, law: ControlLaw) -> AttitudeSettings {
         AttitudeSettings {
-            law: ControlLaw::from_index(self.control_law).unwrap_or(ControlLaw::Decoupled),
-            gains: AttitudeGains::from_bandwidth(
-                self.control_bandwidth_hz,
-                self.control_damping,
-                Vector3::from(self.inertia_body_kgm2),
-            )
-            .with_braking(
-                &Vector3::from(self.torque_limit_body_nm),
-                self.rate_shaping_margin,
-            ),
+            law,
+            gains: self.attitude_gains(),
             torque_limit_body_nm: Vector3::from(self.torque_limit_body_nm),
             reduced_yaw_weight: self.reduced_yaw_weight,
         }
