@@ -136,6 +136,14 @@ impl LanderGnc {
     /// keep it for the `do_step` that usually follows.
     fn preview(&mut self, log: &mut Log) {
         self.keep_design();
+        if !self.initialized {
+            if let Err(e) = self.params.validate() {
+                log.warning(format!(
+                    "{e}: fmi2ExitInitializationMode will refuse it; the outputs shown until \
+                     then are provisional"
+                ));
+            }
+        }
         let evaluated = self.evaluated.insert(Evaluated {
             time: self.sample_time(self.time_s),
             input_bits: self.inputs.to_bits(),
@@ -544,6 +552,35 @@ mod tests {
         bare.do_step(12.0, H, &mut Log::default()).unwrap();
         assert_eq!(exact(&gnc.outputs), exact(&bare.outputs));
         assert_ne!(exact(&gnc.outputs), previewed);
+    }
+
+    #[test]
+    fn a_get_in_initialization_mode_with_a_refused_parameter_warns_naming_it() {
+        // GIVEN an unknown control law, set in initialization mode
+        let mut gnc = LanderGnc {
+            inputs: navigation(0),
+            ..LanderGnc::default()
+        };
+        gnc.params.control_law = 7;
+        // WHEN the outputs are read before initialization ends
+        let mut log = Log::default();
+        gnc.calculate_values(&mut log);
+        // THEN the get warns, naming the parameter (no silent fallback)
+        assert!(log.has_warning());
+        assert!(messages(&log)[0].contains("control_law = 7"), "{log:?}");
+        // AND initialization refuses it
+        let refused = gnc.exit_initialization(0.0, &mut Log::default());
+        assert!(matches!(
+            refused,
+            Err(ModelError::InvalidParameter {
+                field: "control_law",
+                ..
+            })
+        ));
+        // AND valid parameters read silently
+        let mut log = Log::default();
+        LanderGnc::default().calculate_values(&mut log);
+        assert!(!log.has_warning(), "{log:?}");
     }
 
     #[test]
