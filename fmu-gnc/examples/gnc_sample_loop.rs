@@ -1,6 +1,7 @@
 //! The paper case's GNC evaluations alone, for instruction counts: `n` samples at 100 Hz
 //! (argument, default 17 200 = the 172 s flight) of an open-loop navigation sequence (a
 //! lander descending and rocking), phi_cmd = 150 deg, each sample's guidance committed.
+//! A second argument `shaped` turns the shaped thrust-axis manoeuvre on (15 deg/s, 0.1 rad/s2).
 //!
 //! `valgrind --tool=callgrind target/debug/examples/gnc_sample_loop N` for two values of N:
 //! the difference of the totals over the difference of N is the cost of one evaluation,
@@ -34,8 +35,11 @@ fn main() {
         .nth(1)
         .map(|a| a.parse().expect("the number of samples"))
         .unwrap_or(17_200);
+    let shaped = std::env::args().nth(2).is_some_and(|a| a == "shaped");
     let design = GncParameters {
         phi_cmd_rad: 150f64.to_radians(),
+        phi_rate_limit_radps: if shaped { 15f64.to_radians() } else { 0.0 },
+        phi_accel_limit_radps2: if shaped { 0.1 } else { 0.0 },
         ..GncParameters::default()
     }
     .design()
