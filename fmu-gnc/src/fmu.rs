@@ -298,7 +298,7 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(200, parameter control_law: params.control_law as enum ControlLaw, "attitude control law", as_integer = true),
     decl!(201, parameter phi_cmd: params.phi_cmd_rad, "rad", "commanded rotation about the thrust axis (mission constraint), within +-4 pi", min = -12.566370614359172, max = 12.566370614359172),
     decl!(202, parameter phi_cmd_time: params.phi_cmd_time_s, "s", "time at which phi_cmd is applied (before it: 0)"),
-    decl!(203, parameter control_bandwidth: params.control_bandwidth_hz, "Hz", "attitude control bandwidth f_c (omega_c = 2 pi f_c), in (0, 100]", above = 0.0, max = 100.0),
+    decl!(203, parameter control_bandwidth: params.control_bandwidth_hz, "Hz", "attitude control bandwidth f_c (omega_c = 2 pi f_c), > 0", above = 0.0),
     decl!(204, parameter control_damping: params.control_damping, "1", "attitude control damping ratio, in (0, 100]", above = 0.0, max = 100.0),
     decl!(205, parameter guidance_bandwidth: params.guidance_bandwidth_hz, "Hz", "hover (PV) guidance bandwidth f_g (omega_g = 2 pi f_g), > 0 and <= 0.5 / guidance_cycle", above = 0.0),
     decl!(206, parameter guidance_damping: params.guidance_damping, "1", "hover (PV) guidance damping ratio, in (0, 100]", above = 0.0, max = 100.0),

@@ -97,10 +97,12 @@ pub const MAX_GRAVITY_MPS2: f64 = 100.0;
 
 /// A damping ratio beyond this is no design (and its gains grow without bound).
 pub const MAX_DAMPING: f64 = 100.0;
-/// Attitude design limits: with them, every gain and product of a gain with an admissible
-/// error or rate stays far from overflow (`Kd omega` <= 1e17 N m at 1e3 rad/s).
-pub const MAX_CONTROL_BANDWIDTH_HZ: f64 = 100.0;
+/// The largest inertia; with it, the gyroscopic term `omega x I omega` stays finite for any
+/// admissible body rate.
 pub const MAX_INERTIA_KGM2: f64 = 1e9;
+/// The body rate up to which the gains' torques must stay finite (`Kd omega`); the error
+/// term `Kp e` is checked up to a full turn.
+pub const MAX_ADMISSIBLE_RATE_RADPS: f64 = 1e3;
 
 /// Thrust-axis command and profile limits: two turns either way; 100 rad/s and 1e4 rad/s2
 /// are far beyond any RCS, and keep the profile's squares and quotients finite.
@@ -196,12 +198,6 @@ impl GncParameters {
             check(value <= MAX_DAMPING, name, value, "must be <= 100")?;
         }
         check(
-            p.control_bandwidth_hz <= MAX_CONTROL_BANDWIDTH_HZ,
-            "control_bandwidth_hz",
-            p.control_bandwidth_hz,
-            "must be <= 100 Hz",
-        )?;
-        check(
             p.guidance_cycle_s >= MIN_GUIDANCE_CYCLE_S,
             "guidance_cycle_s",
             p.guidance_cycle_s,
@@ -240,12 +236,20 @@ impl GncParameters {
             )?;
         }
         let gains = p.attitude_gains();
+        // Kp = I w^2 and Kd = 2 zeta w I: the bandwidth is the factor that can grow without a
+        // bound of its own, so it is the one named.
         check(
-            gains.kp_nm_per_rad.iter().all(|k| k.is_finite())
-                && gains.kd_nms_per_rad.iter().all(|k| k.is_finite()),
+            gains
+                .kp_nm_per_rad
+                .iter()
+                .all(|k| (k * std::f64::consts::TAU).is_finite())
+                && gains
+                    .kd_nms_per_rad
+                    .iter()
+                    .all(|k| (k * MAX_ADMISSIBLE_RATE_RADPS).is_finite()),
             "control_bandwidth_hz",
             p.control_bandwidth_hz,
-            "gives non-finite gains with this inertia",
+            "gives gains whose torques overflow with this inertia",
         )?;
         for (k, value) in p.torque_limit_body_nm.into_iter().enumerate() {
             let ok = (0.0..=MAX_TORQUE_NM).contains(&value);

@@ -47,7 +47,7 @@ fn extreme_parameters() -> impl Strategy<Value = GncParameters> {
         1..=3i32,
         at_bounds(2.6, -MAX_PHI_CMD_RAD, MAX_PHI_CMD_RAD),
         at_bounds(0.0, -1e300, 1e300),
-        at_bounds(0.5, 1e-300, MAX_CONTROL_BANDWIDTH_HZ),
+        at_bounds(0.5, 1e-300, 1e140),
         at_bounds(0.8, 1e-300, MAX_DAMPING),
         at_bounds(0.06, 1e-300, 0.5 / MIN_GUIDANCE_CYCLE_S),
         at_bounds(0.8, 1e-300, MAX_DAMPING),
