@@ -105,7 +105,8 @@ fn bench_do_step(c: &mut Criterion) {
 fn bench_gnc_sample(c: &mut Criterion) {
     use fmu::controller::{gnc_sample, NavigationInputs};
     use fmu::guidance::sequencer::{GuidanceState, Phase};
-    let params = fmu::params::GncParameters::default();
+    let design = fmu::params::GncParameters::default().design().unwrap();
+    let profile = fmu::attitude::profile::PhiProfile::default();
     let n = navigation(1300);
     let nav = NavigationInputs {
         r_nue_m: [n[0], n[1], n[2]],
@@ -119,7 +120,16 @@ fn bench_gnc_sample(c: &mut Criterion) {
         ..GuidanceState::initial(1.62)
     };
     c.bench_function("gnc_sample with a descent re-solve (pure)", |b| {
-        b.iter(|| gnc_sample(&params, 0.0, std::hint::black_box(&state), &nav, 13.0))
+        b.iter(|| {
+            gnc_sample(
+                &design,
+                0.0,
+                std::hint::black_box(&state),
+                &profile,
+                &nav,
+                13.0,
+            )
+        })
     });
 }
 

@@ -1,11 +1,14 @@
 //! One GNC sample: guidance (held at its own rate), thrust magnitude, reference attitude and
 //! attitude law, from the navigation inputs at time `t`. Pure: the caller decides whether to
 //! commit the returned guidance state (do_step) or only read the outputs (calculate_values).
-use crate::attitude::{attitude_command, reference};
-use crate::conventions::{attitude_from_scalar_first, attitude_to_scalar_first};
+use crate::attitude::profile::{PhiProfile, RollReference};
+use crate::attitude::{reference, tracking_attitude_command};
+use crate::conventions::{
+    attitude_from_scalar_first, attitude_to_scalar_first, Attitude, MIN_QUATERNION_NORM,
+};
 use crate::guidance::sequencer::{guidance_sample, has_reached, GuidanceInputs, GuidanceState};
 use crate::guidance::thrust::thrust_magnitude_n;
-use crate::params::GncParameters;
+use crate::params::{GncDesign, GncParameters};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -109,30 +112,71 @@ pub enum DegenerateInput {
     NonPositiveMass(f64),
 }
 
+/// A quaternion input whose norm is off 1 by more than this (relative) is used normalised,
+/// with a warning: a navigation source that drifts that far is worth a look, while the
+/// rounding of a propagated quaternion (1e-15) or a master's linear interpolation between
+/// close samples (1e-5) is not.
+pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-3;
+
+/// The norm of `q`, computed without overflow or underflow (components scaled by the largest
+/// before squaring), and `q` scaled by that largest component.
+pub fn quaternion_norm(q: [f64; 4]) -> (f64, [f64; 4]) {
+    let scale = q.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if scale == 0.0 || !scale.is_finite() {
+        return (scale, q);
+    }
+    let scaled = q.map(|c| c / scale);
+    let sum: f64 = scaled.iter().map(|c| c * c).sum();
+    (scale * sum.sqrt(), scaled)
+}
+
+/// The attitude of a quaternion input and, when its norm is far from 1, that norm.
+fn input_attitude(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
+    let (norm, scaled) = quaternion_norm(q);
+    if (norm - 1.0).abs() <= QUATERNION_NORM_TOLERANCE || norm < MIN_QUATERNION_NORM {
+        // Unit-norm inputs exactly as they come (trajectories bit for bit); (near) zero ones
+        // are degenerate.
+        (attitude_from_scalar_first(q), None)
+    } else {
+        (attitude_from_scalar_first(scaled), Some(norm))
+    }
+}
+
 /// Result of one sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
     /// Guidance state to commit if this sample is taken (unchanged on degenerate input).
     pub guidance: GuidanceState,
+    /// Thrust-axis profile state to commit (a function of time alone).
+    pub profile: PhiProfile,
     pub outputs: GncOutputs,
     pub degenerate: Option<DegenerateInput>,
+    /// The norm of a quaternion input used normalised because it was far from 1.
+    pub non_unit_quaternion_norm: Option<f64>,
 }
 
 /// Evaluate the GNC at absolute time `t_s`; `start_time_s` anchors the phase schedule.
-/// Parameters must have passed [`GncParameters::validate`]. Never returns NaN for finite input.
+/// `design` comes from validated parameters ([`GncParameters::design`]). Never returns NaN for
+/// finite input.
 pub fn gnc_sample(
-    params: &GncParameters,
+    design: &GncDesign,
     start_time_s: f64,
     guidance: &GuidanceState,
+    profile: &PhiProfile,
     nav: &NavigationInputs,
     t_s: f64,
 ) -> Sample {
+    let params = &design.params;
     let phi_cmd_rad = if has_reached(t_s, params.phi_cmd_time_s) {
         params.phi_cmd_rad
     } else {
         0.0
     };
-    let q = attitude_from_scalar_first(nav.q_body_to_nue);
+    let (profile, roll) = match &design.roll_profile {
+        Some(limits) => profile.advance(limits, t_s, phi_cmd_rad),
+        None => (*profile, RollReference::step(phi_cmd_rad)),
+    };
+    let (q, non_unit_quaternion_norm) = input_attitude(nav.q_body_to_nue);
     let degenerate = match q {
         None => Some(DegenerateInput::ZeroNormQuaternion),
         Some(_) if nav.mass_kg <= 0.0 => Some(DegenerateInput::NonPositiveMass(nav.mass_kg)),
@@ -141,13 +185,15 @@ pub fn gnc_sample(
     let Some(q) = q.filter(|_| degenerate.is_none()) else {
         return Sample {
             guidance: *guidance,
-            outputs: safe_outputs(params, guidance, phi_cmd_rad),
+            profile,
+            outputs: safe_outputs(params, guidance, roll.phi_rad),
             degenerate,
+            non_unit_quaternion_norm,
         };
     };
 
     let next = guidance_sample(
-        &params.scenario(),
+        &design.scenario,
         guidance,
         t_s - start_time_s,
         &GuidanceInputs {
@@ -156,12 +202,12 @@ pub fn gnc_sample(
             mass_kg: nav.mass_kg,
         },
     );
-    let attitude = attitude_command(
-        &params.attitude_settings(),
+    let attitude = tracking_attitude_command(
+        &design.attitude,
         &q,
         &Vector3::from(nav.omega_body_radps),
         &next.a_thrust_cmd_nue,
-        phi_cmd_rad,
+        &roll,
     );
     let outputs = GncOutputs {
         thrust_cmd_n: thrust_magnitude_n(
@@ -183,8 +229,10 @@ pub fn gnc_sample(
     };
     Sample {
         guidance: next,
+        profile,
         outputs,
         degenerate: None,
+        non_unit_quaternion_norm,
     }
 }
 
@@ -210,10 +258,15 @@ mod tests {
         GuidanceState::initial(GncParameters::default().gravity_mps2)
     }
 
+    fn sample(params: &GncParameters, nav: &NavigationInputs, t_s: f64) -> Sample {
+        let design = params.design().unwrap();
+        gnc_sample(&design, 0.0, &initial(), &PhiProfile::default(), nav, t_s)
+    }
+
     #[test]
     fn upright_hover_on_target_commands_weight_and_no_torque() {
         let params = GncParameters::default();
-        let s = gnc_sample(&params, 0.0, &initial(), &NavigationInputs::default(), 0.0);
+        let s = sample(&params, &NavigationInputs::default(), 0.0);
         assert_eq!(s.degenerate, None);
         assert!((s.outputs.thrust_cmd_n - 900.0 * 1.62).abs() < 1e-9);
         assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
@@ -231,7 +284,7 @@ mod tests {
             omega_body_radps: [0.0; 3],
             mass_kg: 0.0,
         };
-        let s = gnc_sample(&params, 0.0, &initial(), &zeros, 0.0);
+        let s = sample(&params, &zeros, 0.0);
         assert_eq!(s.degenerate, Some(DegenerateInput::ZeroNormQuaternion));
         assert_eq!(s.outputs.thrust_cmd_n, params.thrust_min_n);
         assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
@@ -240,7 +293,7 @@ mod tests {
             mass_kg: -1.0,
             ..NavigationInputs::default()
         };
-        let s = gnc_sample(&params, 0.0, &initial(), &massless, 0.0);
+        let s = sample(&params, &massless, 0.0);
         assert_eq!(s.degenerate, Some(DegenerateInput::NonPositiveMass(-1.0)));
         assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
     }
@@ -278,9 +331,9 @@ mod tests {
             ..GncParameters::default()
         };
         let nav = NavigationInputs::default();
-        let before = gnc_sample(&params, 0.0, &initial(), &nav, 11.99);
+        let before = sample(&params, &nav, 11.99);
         assert_eq!(before.outputs.q_ref, [1.0, 0.0, 0.0, 0.0]);
-        let at = gnc_sample(&params, 0.0, &initial(), &nav, 11.999999999999789);
+        let at = sample(&params, &nav, 11.999999999999789);
         assert!((at.outputs.q_ref[2] - 0.5_f64.sin()).abs() < 1e-15);
         assert!((at.outputs.err_roll_rad + 1.0).abs() < 1e-15);
     }

@@ -11,10 +11,11 @@
 //! is the same sample time (see [`Evaluated`], [`SampleTime`]); otherwise `do_step` evaluates
 //! again. Either way the committed sample is bit-identical to `gnc_sample` at the master's
 //! `t`: gets never change a trajectory.
+use crate::attitude::profile::PhiProfile;
 use crate::attitude::ControlLaw;
 use crate::controller::{gnc_sample, GncOutputs, NavigationInputs, Sample};
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
-use crate::params::GncParameters;
+use crate::params::{GncDesign, GncParameters};
 use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
 use serde::{Deserialize, Serialize};
 
@@ -25,8 +26,15 @@ pub struct LanderGnc {
     inputs: NavigationInputs,
     outputs: GncOutputs,
     guidance: GuidanceState,
+    profile: PhiProfile,
     start_time_s: f64,
     time_s: f64,
+    /// Set by `exit_initialization`: the parameters are fixed from then on.
+    initialized: bool,
+    /// Derived from the parameters once they are fixed; a restored or deserialized instance
+    /// derives it again at its first evaluation.
+    #[serde(skip)]
+    design: Option<GncDesign>,
     /// A cache, not state: a restored or deserialized instance evaluates afresh.
     #[serde(skip)]
     evaluated: Option<Evaluated>,
@@ -51,11 +59,14 @@ struct Evaluated {
 /// inputs), the one case in which the sequencer solves at the sample's own time. Equal keys give bit-identical samples, so a master's `t` a few
 /// ulps off ours (`k h` against our `(k - 1) h + h`, a third of the steps of a 0.01 s grid)
 /// still commits the kept sample; tests below check the equivalence against `gnc_sample`.
+/// A shaped thrust-axis profile is a function of `t` itself: with it on, the key holds `t`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct SampleTime {
     phi_cmd_applies: bool,
     cycle: i64,
     off_nominal_bits: Option<u64>,
+    /// A shaped thrust-axis profile moves with `t` itself.
+    profile_bits: Option<u64>,
 }
 
 impl Default for LanderGnc {
@@ -66,8 +77,11 @@ impl Default for LanderGnc {
             inputs: NavigationInputs::default(),
             outputs: GncOutputs::default(),
             guidance: GuidanceState::initial(params.gravity_mps2),
+            profile: PhiProfile::default(),
             start_time_s: 0.0,
             time_s: 0.0,
+            initialized: false,
+            design: None,
             evaluated: None,
         }
     }
@@ -84,14 +98,35 @@ impl LanderGnc {
             phi_cmd_applies: has_reached(t_s, self.params.phi_cmd_time_s),
             cycle,
             off_nominal_bits: (opens_cycle && !on_boundary).then_some(elapsed_s.to_bits()),
+            profile_bits: (self.params.phi_rate_limit_radps > 0.0
+                || self.params.phi_accel_limit_radps2 > 0.0)
+                .then_some(t_s.to_bits()),
+        }
+    }
+
+    /// Keeps the design once the parameters are fixed (after initialization, or in a restored
+    /// instance, which was initialized); in initialization mode it is derived per evaluation,
+    /// as a parameter may still change.
+    fn keep_design(&mut self) {
+        if self.initialized && self.design.is_none() {
+            self.design = Some(self.params.design_unchecked());
         }
     }
 
     fn evaluate(&self) -> Sample {
+        let unchecked;
+        let design = match &self.design {
+            Some(design) => design,
+            None => {
+                unchecked = self.params.design_unchecked();
+                &unchecked
+            }
+        };
         gnc_sample(
-            &self.params,
+            design,
             self.start_time_s,
             &self.guidance,
+            &self.profile,
             &self.inputs,
             self.time_s,
         )
@@ -100,6 +135,15 @@ impl LanderGnc {
     /// Evaluate the sample at the current time without committing it, show its outputs and
     /// keep it for the `do_step` that usually follows.
     fn preview(&mut self, log: &mut Log) {
+        self.keep_design();
+        if !self.initialized {
+            if let Err(e) = self.params.validate() {
+                log.warning(format!(
+                    "{e}: fmi2ExitInitializationMode will refuse it; the outputs shown until \
+                     then are provisional"
+                ));
+            }
+        }
         let evaluated = self.evaluated.insert(Evaluated {
             time: self.sample_time(self.time_s),
             input_bits: self.inputs.to_bits(),
@@ -111,6 +155,7 @@ impl LanderGnc {
     /// Commit the sample at the current time: the kept one if it was evaluated at the same
     /// sample time with these very inputs, otherwise a fresh one.
     fn commit(&mut self, log: &mut Log) {
+        self.keep_design();
         let (time, input_bits) = (self.sample_time(self.time_s), self.inputs.to_bits());
         let fresh;
         // Read in place: a sample is a few hundred bytes, worth not moving twice per step.
@@ -123,12 +168,18 @@ impl LanderGnc {
         };
         publish(sample, self.time_s, &mut self.outputs, log);
         self.guidance = sample.guidance;
+        self.profile = sample.profile;
         self.evaluated = None;
     }
 }
 
 /// Show `sample` as the outputs; its warning, if any, goes to this call's log.
 fn publish(sample: &Sample, time_s: f64, outputs: &mut GncOutputs, log: &mut Log) {
+    if let Some(norm) = sample.non_unit_quaternion_norm {
+        log.warning(format!(
+            "t = {time_s} s: q_body_to_nue has norm {norm:e}, not 1; used normalised"
+        ));
+    }
     if let Some(why) = sample.degenerate {
         log.warning(format!("t = {time_s} s: {why}"));
     }
@@ -148,6 +199,8 @@ impl Model for LanderGnc {
         "Lunar lander guidance (PV hover, cubic-polynomial descent) and \
         attitude control (coupled, decoupled thrust-axis, reduced) after Rallapalli et al., \
         'Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3'";
+    /// 2: the thrust-axis profile and the initialization flag.
+    const STATE_VERSION: u32 = 2;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,
@@ -164,17 +217,21 @@ impl Model for LanderGnc {
     }
 
     fn exit_initialization(&mut self, start_time: f64, log: &mut Log) -> Result<(), ModelError> {
-        self.params
-            .validate()
+        let design = self
+            .params
+            .design()
             .map_err(|e| ModelError::InvalidParameter {
                 field: e.field,
                 index: e.index,
                 value: e.value,
                 reason: e.reason.to_string(),
             })?;
+        self.design = Some(design);
+        self.initialized = true;
         self.start_time_s = start_time;
         self.time_s = start_time;
         self.guidance = GuidanceState::initial(self.params.gravity_mps2);
+        self.profile = PhiProfile::default();
         self.preview(log);
         Ok(())
     }
@@ -239,27 +296,29 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     // An Integer in the model description, so that every master can select the law (libcosim
     // and Ecos ignore FMI 2.0 Enumerations); the values are listed from ControlLaw.
     decl!(200, parameter control_law: params.control_law as enum ControlLaw, "attitude control law", as_integer = true),
-    decl!(201, parameter phi_cmd: params.phi_cmd_rad, "rad", "commanded rotation about the thrust axis (mission constraint)"),
+    decl!(201, parameter phi_cmd: params.phi_cmd_rad, "rad", "commanded rotation about the thrust axis (mission constraint), within +-4 pi", min = -12.566370614359172, max = 12.566370614359172),
     decl!(202, parameter phi_cmd_time: params.phi_cmd_time_s, "s", "time at which phi_cmd is applied (before it: 0)"),
     decl!(203, parameter control_bandwidth: params.control_bandwidth_hz, "Hz", "attitude control bandwidth f_c (omega_c = 2 pi f_c), > 0", above = 0.0),
-    decl!(204, parameter control_damping: params.control_damping, "1", "attitude control damping ratio, > 0", above = 0.0),
+    decl!(204, parameter control_damping: params.control_damping, "1", "attitude control damping ratio, in (0, 100]", above = 0.0, max = 100.0),
     decl!(205, parameter guidance_bandwidth: params.guidance_bandwidth_hz, "Hz", "hover (PV) guidance bandwidth f_g (omega_g = 2 pi f_g), > 0 and <= 0.5 / guidance_cycle", above = 0.0),
-    decl!(206, parameter guidance_damping: params.guidance_damping, "1", "hover (PV) guidance damping ratio, > 0", above = 0.0),
-    decl!(207, parameter guidance_cycle: params.guidance_cycle_s, "s", "guidance cycle time (zero-order hold between solves), > 0", above = 0.0),
-    decl!(208, parameter inertia_body[3]: params.inertia_body_kgm2, "kg.m2", "moment of inertia used for the gains, > 0", above = 0.0, components = BODY),
-    decl!(211, parameter thrust_min: params.thrust_min_n, "N", "lowest commanded thrust (two engines at minimum throttle)", min = 0.0),
-    decl!(212, parameter thrust_max: params.thrust_max_n, "N", "highest commanded thrust (two engines at full throttle), >= thrust_min", min = 0.0),
-    decl!(213, parameter torque_limit_body[3]: params.torque_limit_body_nm, "N.m", "RCS torque limit", min = 0.0, components = BODY),
-    decl!(216, parameter gravity: params.gravity_mps2, "m/s2", "lunar gravity magnitude g (gravity vector [0, -g, 0] NUE), > 0", above = 0.0),
-    decl!(217, parameter hover_target_nue[3]: params.hover_target_nue_m, "m", "phase 1 hover target", components = NUE),
-    decl!(220, parameter hover_duration: params.hover_duration_s, "s", "phase 1 (PV hover) duration from the start time", min = 0.0),
-    decl!(221, parameter descent_target_nue[3]: params.descent_target_nue_m, "m", "phase 2 descent target and phase 3-4 hover point", components = NUE),
-    decl!(224, parameter descent_time_to_go: params.descent_time_to_go_s, "s", "phase 2 (polynomial descent) time-to-go at its start, > 0", above = 0.0),
-    decl!(225, parameter descent_freeze_time_to_go: params.descent_freeze_time_to_go_s, "s", "below this time-to-go the polynomial is no longer re-solved; >= guidance_cycle", above = 0.0),
-    decl!(226, parameter target_hover_duration: params.target_hover_duration_s, "s", "phase 3 (PV hover at the descent target) duration; phase 4 holds there after it", min = 0.0),
+    decl!(206, parameter guidance_damping: params.guidance_damping, "1", "hover (PV) guidance damping ratio, in (0, 100]", above = 0.0, max = 100.0),
+    decl!(207, parameter guidance_cycle: params.guidance_cycle_s, "s", "guidance cycle time (zero-order hold between solves), >= 1 ms", min = 1e-3),
+    decl!(208, parameter inertia_body[3]: params.inertia_body_kgm2, "kg.m2", "moment of inertia used for the gains, in (0, 1e9]", above = 0.0, max = 1e9, components = BODY),
+    decl!(211, parameter thrust_min: params.thrust_min_n, "N", "lowest commanded thrust (two engines at minimum throttle), <= thrust_max", min = 0.0),
+    decl!(212, parameter thrust_max: params.thrust_max_n, "N", "highest commanded thrust (two engines at full throttle), >= thrust_min, <= 1e9", min = 0.0, max = 1e9),
+    decl!(213, parameter torque_limit_body[3]: params.torque_limit_body_nm, "N.m", "RCS torque limit, in [0, 1e9]", min = 0.0, max = 1e9, components = BODY),
+    decl!(216, parameter gravity: params.gravity_mps2, "m/s2", "lunar gravity magnitude g (gravity vector [0, -g, 0] NUE), in (0, 100]", above = 0.0, max = 100.0),
+    decl!(217, parameter hover_target_nue[3]: params.hover_target_nue_m, "m", "phase 1 hover target, each within +-1e7 m", min = -1e7, max = 1e7, components = NUE),
+    decl!(220, parameter hover_duration: params.hover_duration_s, "s", "phase 1 (PV hover) duration from the start time, <= 1e6 s", min = 0.0, max = 1e6),
+    decl!(221, parameter descent_target_nue[3]: params.descent_target_nue_m, "m", "phase 2 descent target and phase 3-4 hover point, each within +-1e7 m", min = -1e7, max = 1e7, components = NUE),
+    decl!(224, parameter descent_time_to_go: params.descent_time_to_go_s, "s", "phase 2 (polynomial descent) time-to-go at its start, in (0, 1e6]", above = 0.0, max = 1e6),
+    decl!(225, parameter descent_freeze_time_to_go: params.descent_freeze_time_to_go_s, "s", "below this time-to-go the polynomial is no longer re-solved; >= guidance_cycle, <= 1e6 s", above = 0.0, max = 1e6),
+    decl!(226, parameter target_hover_duration: params.target_hover_duration_s, "s", "phase 3 (PV hover at the descent target) duration; phase 4 holds there after it; <= 1e6 s", min = 0.0, max = 1e6),
     decl!(227, parameter reduced_yaw_weight: params.reduced_yaw_weight, "1", "reduced law: weight of the rotation about the thrust axis, in [0, 1]", min = 0.0, max = 1.0),
     decl!(228, parameter rate_shaping_margin: params.rate_shaping_margin, "1", "share of the torque limit the attitude laws count on to brake a rotation; large angle errors are shaped so the rate demand can be stopped in time (beyond the paper, ArduPilot-style square-root controller); 0.5 is a good choice; 0 = the paper's pure PD (default), in [0, 1]", min = 0.0, max = 1.0),
     decl!(229, parameter terminal_descent_speed: params.terminal_descent_speed_mps, "m/s", "phase 5 (beyond the paper): after the target hover, descend vertically over the descent target at this speed until touchdown; 0 = no terminal descent, hold the hover (default)", min = 0.0),
+    decl!(230, parameter phi_rate_limit: params.phi_rate_limit_radps, "rad/s", "shaped thrust-axis manoeuvre (beyond the paper): the reference follows phi_cmd at most this fast, the rate fed forward; 0 = unlimited; with phi_accel_limit also 0, the paper's step (default); <= 100", min = 0.0, max = 100.0),
+    decl!(231, parameter phi_accel_limit: params.phi_accel_limit_radps2, "rad/s2", "shaped thrust-axis manoeuvre: the reference's angular acceleration limit (bang-coast-bang profile), fed forward as torque; 0 = unlimited; <= 1e4", min = 0.0, max = 1e4),
 ];
 
 #[cfg(test)]
@@ -325,6 +384,15 @@ mod tests {
         }
     }
 
+    /// The paper case with a shaped thrust-axis manoeuvre, whose profile moves with `t`.
+    fn shaped_params() -> GncParameters {
+        GncParameters {
+            phi_rate_limit_radps: 0.3,
+            phi_accel_limit_radps2: 0.1,
+            ..paper_params()
+        }
+    }
+
     /// `{:?}` of f64 is exact (shortest round trip) and tells -0.0 from 0.0.
     fn exact<T: std::fmt::Debug>(value: &T) -> String {
         format!("{value:?}")
@@ -339,9 +407,14 @@ mod tests {
 
     #[test]
     fn gets_between_steps_do_not_change_the_trajectory() {
+        gets_between_steps_do_not_change_the_trajectory_with(paper_params());
+        gets_between_steps_do_not_change_the_trajectory_with(shaped_params());
+    }
+
+    fn gets_between_steps_do_not_change_the_trajectory_with(params: GncParameters) {
         // GIVEN two instances, one stepped bare, one read before (almost) every step
-        let mut bare = initialized(paper_params());
-        let mut read = initialized(paper_params());
+        let mut bare = initialized(params);
+        let mut read = initialized(params);
         let (mut kept_time, mut other_time) = (0, 0);
         for k in 0..2000 {
             // The master's time from an integer step counter: about a quarter of these
@@ -373,6 +446,7 @@ mod tests {
             // THEN both commit bit-identical samples and report the same warnings
             assert_eq!(exact(&read.outputs), exact(&bare.outputs), "step {k}");
             assert_eq!(exact(&read.guidance), exact(&bare.guidance), "step {k}");
+            assert_eq!(exact(&read.profile), exact(&bare.profile), "step {k}");
             assert_eq!(messages(&read_log), messages(&bare_log), "step {k}");
         }
         assert!(
@@ -391,10 +465,15 @@ mod tests {
     /// on both sides of phi_cmd_time (off the guidance cycle grid).
     #[test]
     fn equal_sample_times_give_bit_identical_samples() {
+        equal_sample_times_give_bit_identical_samples_with(paper_params());
+        equal_sample_times_give_bit_identical_samples_with(shaped_params());
+    }
+
+    fn equal_sample_times_give_bit_identical_samples_with(params: GncParameters) {
         let phi_cmd_time_s = 12.345;
         let mut gnc = initialized(GncParameters {
             phi_cmd_time_s,
-            ..paper_params()
+            ..params
         });
         let (mut pairs, mut late) = (0, 0);
         for k in 0..2000 {
@@ -418,7 +497,11 @@ mod tests {
                     ..gnc.clone()
                 }
                 .evaluate();
-                (exact(&sample.outputs), exact(&sample.guidance))
+                (
+                    exact(&sample.outputs),
+                    exact(&sample.guidance),
+                    exact(&sample.profile),
+                )
             };
             for (i, &a) in times.iter().enumerate() {
                 for &b in &times[i + 1..] {
@@ -430,7 +513,9 @@ mod tests {
             }
             gnc.do_step(t, H, &mut Log::default()).unwrap();
         }
-        assert!(pairs > 10_000, "{pairs}");
+        // A shaped profile moves with t itself: only bit-equal times share a key.
+        let shaped = params.phi_rate_limit_radps > 0.0 || params.phi_accel_limit_radps2 > 0.0;
+        assert!(shaped || pairs > 10_000, "{pairs}");
         assert!(late >= 2, "{late} late samples probed");
     }
 
@@ -467,6 +552,35 @@ mod tests {
         bare.do_step(12.0, H, &mut Log::default()).unwrap();
         assert_eq!(exact(&gnc.outputs), exact(&bare.outputs));
         assert_ne!(exact(&gnc.outputs), previewed);
+    }
+
+    #[test]
+    fn a_get_in_initialization_mode_with_a_refused_parameter_warns_naming_it() {
+        // GIVEN an unknown control law, set in initialization mode
+        let mut gnc = LanderGnc {
+            inputs: navigation(0),
+            ..LanderGnc::default()
+        };
+        gnc.params.control_law = 7;
+        // WHEN the outputs are read before initialization ends
+        let mut log = Log::default();
+        gnc.calculate_values(&mut log);
+        // THEN the get warns, naming the parameter (no silent fallback)
+        assert!(log.has_warning());
+        assert!(messages(&log)[0].contains("control_law = 7"), "{log:?}");
+        // AND initialization refuses it
+        let refused = gnc.exit_initialization(0.0, &mut Log::default());
+        assert!(matches!(
+            refused,
+            Err(ModelError::InvalidParameter {
+                field: "control_law",
+                ..
+            })
+        ));
+        // AND valid parameters read silently
+        let mut log = Log::default();
+        LanderGnc::default().calculate_values(&mut log);
+        assert!(!log.has_warning(), "{log:?}");
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The GNC parameters, their defaults (paper Tables I-II and the ERRATA modelling defaults)
 //! and their validation.
 use crate::attitude::gains::AttitudeGains;
+use crate::attitude::profile::ProfileLimits;
 use crate::attitude::{AttitudeSettings, ControlLaw};
 use crate::guidance::pv::PvGains;
 use crate::guidance::sequencer::Scenario;
@@ -35,6 +36,21 @@ pub struct GncParameters {
     pub rate_shaping_margin: f64,
     /// Terminal-descent sink rate after the target hover; 0 = none (the paper).
     pub terminal_descent_speed_mps: f64,
+    /// Shaped thrust-axis manoeuvre: rate and acceleration limits of the profile `phi_cmd` is
+    /// followed through; 0 = that one unlimited, both 0 = the paper's step.
+    pub phi_rate_limit_radps: f64,
+    pub phi_accel_limit_radps2: f64,
+}
+
+/// Everything the samples use that follows from the parameters alone, derived once from
+/// validated parameters (at the end of initialization), not at every sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GncDesign {
+    pub params: GncParameters,
+    pub scenario: Scenario,
+    pub attitude: AttitudeSettings,
+    /// `None`: the paper's step in `phi_cmd`.
+    pub roll_profile: Option<ProfileLimits>,
 }
 
 impl Default for GncParameters {
@@ -62,9 +78,42 @@ impl Default for GncParameters {
             reduced_yaw_weight: 0.4,
             rate_shaping_margin: 0.0,
             terminal_descent_speed_mps: 0.0,
+            phi_rate_limit_radps: 0.0,
+            phi_accel_limit_radps2: 0.0,
         }
     }
 }
+
+/// Beyond these the products and powers the guidance forms (gains times position errors,
+/// the cubic's `1 / tgo^3`, sums of durations) could overflow; no landing comes near them.
+/// Durations: 11 days. Targets: 10 000 km, beyond the Moon's radius.
+pub const MAX_DURATION_S: f64 = 1e6;
+pub const MAX_TARGET_M: f64 = 1e7;
+/// A guidance cycle shorter than 1 ms is no sampled guidance (and its Nyquist-bounded gains
+/// would grow as `1 / cycle^2`).
+pub const MIN_GUIDANCE_CYCLE_S: f64 = 1e-3;
+/// Ten times Earth's: a gravity that makes the thrust terms overflow is refused long before.
+pub const MAX_GRAVITY_MPS2: f64 = 100.0;
+
+/// A damping ratio beyond this is no design (and its gains grow without bound).
+pub const MAX_DAMPING: f64 = 100.0;
+/// The largest inertia; with it, the gyroscopic term `omega x I omega` stays finite for any
+/// admissible body rate.
+pub const MAX_INERTIA_KGM2: f64 = 1e9;
+/// The body rate up to which the gains' torques must stay finite (`Kd omega`); the error
+/// term `Kp e` is checked up to a full turn.
+pub const MAX_ADMISSIBLE_RATE_RADPS: f64 = 1e3;
+
+/// Thrust-axis command and profile limits: two turns either way; 100 rad/s and 1e4 rad/s2
+/// are far beyond any RCS, and keep the profile's squares and quotients finite.
+pub const MAX_PHI_CMD_RAD: f64 = 4.0 * std::f64::consts::PI;
+pub const MAX_PHI_RATE_RADPS: f64 = 100.0;
+pub const MAX_PHI_ACCEL_RADPS2: f64 = 1e4;
+
+/// Thrust and torque limits: thirty Saturn V first stages, and a torque to match; with them
+/// the thrust-per-mass terms of the guidance stay finite.
+pub const MAX_THRUST_N: f64 = 1e9;
+pub const MAX_TORQUE_NM: f64 = 1e9;
 
 /// A parameter value the GNC refuses, naming the field of [`GncParameters`] (and the element
 /// of a vector, 0-based); an interface layer names it as its users know it.
@@ -119,10 +168,10 @@ impl GncParameters {
             });
         }
         check(
-            p.phi_cmd_rad.is_finite(),
+            p.phi_cmd_rad.abs() <= MAX_PHI_CMD_RAD,
             "phi_cmd_rad",
             p.phi_cmd_rad,
-            "must be finite",
+            "must be within +-4 pi",
         )?;
         check(
             p.phi_cmd_time_s.is_finite(),
@@ -142,6 +191,32 @@ impl GncParameters {
         for (name, value) in positive {
             check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
         }
+        for (name, value) in [
+            ("control_damping", p.control_damping),
+            ("guidance_damping", p.guidance_damping),
+        ] {
+            check(value <= MAX_DAMPING, name, value, "must be <= 100")?;
+        }
+        check(
+            p.guidance_cycle_s >= MIN_GUIDANCE_CYCLE_S,
+            "guidance_cycle_s",
+            p.guidance_cycle_s,
+            "must be >= 1 ms",
+        )?;
+        check(
+            p.gravity_mps2 <= MAX_GRAVITY_MPS2,
+            "gravity_mps2",
+            p.gravity_mps2,
+            "must be <= 100 m/s2",
+        )?;
+        for (name, value) in [
+            ("hover_duration_s", p.hover_duration_s),
+            ("descent_time_to_go_s", p.descent_time_to_go_s),
+            ("descent_freeze_time_to_go_s", p.descent_freeze_time_to_go_s),
+            ("target_hover_duration_s", p.target_hover_duration_s),
+        ] {
+            check(value <= MAX_DURATION_S, name, value, "must be <= 1e6 s")?;
+        }
         // Guidance is held over its cycle: a loop faster than the cycle's Nyquist rate is not a
         // loop any more (and absurd values overflow the gains to NaN).
         check(
@@ -151,27 +226,48 @@ impl GncParameters {
             "must be <= 0.5 / guidance_cycle (the Nyquist rate of the guidance cycle)",
         )?;
         for (k, value) in p.inertia_body_kgm2.into_iter().enumerate() {
-            let ok = value > 0.0 && value.is_finite();
-            check_at(ok, "inertia_body_kgm2", Some(k), value, "must be > 0")?;
+            let ok = value > 0.0 && value <= MAX_INERTIA_KGM2;
+            check_at(
+                ok,
+                "inertia_body_kgm2",
+                Some(k),
+                value,
+                "must be in (0, 1e9]",
+            )?;
         }
-        let gains = p.attitude_settings().gains;
+        let gains = p.attitude_gains();
+        // Kp = I w^2 and Kd = 2 zeta w I: the bandwidth is the factor that can grow without a
+        // bound of its own, so it is the one named.
         check(
-            gains.kp_nm_per_rad.iter().all(|k| k.is_finite())
-                && gains.kd_nms_per_rad.iter().all(|k| k.is_finite()),
+            gains
+                .kp_nm_per_rad
+                .iter()
+                .all(|k| (k * std::f64::consts::TAU).is_finite())
+                && gains
+                    .kd_nms_per_rad
+                    .iter()
+                    .all(|k| (k * MAX_ADMISSIBLE_RATE_RADPS).is_finite()),
             "control_bandwidth_hz",
             p.control_bandwidth_hz,
-            "gives non-finite gains with this inertia",
+            "gives gains whose torques overflow with this inertia",
         )?;
         for (k, value) in p.torque_limit_body_nm.into_iter().enumerate() {
-            let ok = value >= 0.0 && value.is_finite();
-            check_at(ok, "torque_limit_body_nm", Some(k), value, "must be >= 0")?;
+            let ok = (0.0..=MAX_TORQUE_NM).contains(&value);
+            check_at(
+                ok,
+                "torque_limit_body_nm",
+                Some(k),
+                value,
+                "must be in [0, 1e9]",
+            )?;
         }
         for (field, target) in [
             ("hover_target_nue_m", p.hover_target_nue_m),
             ("descent_target_nue_m", p.descent_target_nue_m),
         ] {
             for (k, value) in target.into_iter().enumerate() {
-                check_at(value.is_finite(), field, Some(k), value, "must be finite")?;
+                let ok = value.abs() <= MAX_TARGET_M;
+                check_at(ok, field, Some(k), value, "must be within +-1e7 m")?;
             }
         }
         check(
@@ -181,10 +277,10 @@ impl GncParameters {
             "must be >= 0",
         )?;
         check(
-            p.thrust_max_n >= p.thrust_min_n && p.thrust_max_n.is_finite(),
+            p.thrust_max_n >= p.thrust_min_n && p.thrust_max_n <= MAX_THRUST_N,
             "thrust_max_n",
             p.thrust_max_n,
-            "must be finite and >= thrust_min",
+            "must be >= thrust_min and <= 1e9 N",
         )?;
         check(
             p.hover_duration_s >= 0.0 && p.hover_duration_s.is_finite(),
@@ -224,7 +320,41 @@ impl GncParameters {
             p.terminal_descent_speed_mps,
             "must be finite and >= 0 (0 = no terminal descent)",
         )?;
+        check(
+            (0.0..=MAX_PHI_RATE_RADPS).contains(&p.phi_rate_limit_radps),
+            "phi_rate_limit_radps",
+            p.phi_rate_limit_radps,
+            "must be in [0, 100] (0 = unlimited)",
+        )?;
+        check(
+            (0.0..=MAX_PHI_ACCEL_RADPS2).contains(&p.phi_accel_limit_radps2),
+            "phi_accel_limit_radps2",
+            p.phi_accel_limit_radps2,
+            "must be in [0, 1e4] (0 = unlimited)",
+        )?;
         Ok(())
+    }
+
+    /// Validate, then derive what the samples use.
+    pub fn design(&self) -> Result<GncDesign, InvalidParameter> {
+        self.validate()?;
+        Ok(self.design_unchecked())
+    }
+
+    /// What the samples use, from parameters that may not be valid (outputs shown in
+    /// initialization mode, before validation): an unknown law shows the decoupled one.
+    pub fn design_unchecked(&self) -> GncDesign {
+        GncDesign {
+            params: *self,
+            scenario: self.scenario(),
+            attitude: self.attitude_settings_for(
+                ControlLaw::from_index(self.control_law).unwrap_or(ControlLaw::Decoupled),
+            ),
+            roll_profile: ProfileLimits::from_parameters(
+                self.phi_rate_limit_radps,
+                self.phi_accel_limit_radps2,
+            ),
+        }
     }
 
     /// The guidance scenario these parameters describe.
@@ -245,20 +375,28 @@ impl GncParameters {
         }
     }
 
-    /// The attitude settings these parameters describe (law falls back to decoupled only for
-    /// values `validate` refuses).
-    pub fn attitude_settings(&self) -> AttitudeSettings {
+    /// The attitude settings these parameters describe; the law is validated.
+    pub fn attitude_settings(&self) -> Result<AttitudeSettings, InvalidParameter> {
+        self.validate()?;
+        Ok(self.design_unchecked().attitude)
+    }
+
+    fn attitude_gains(&self) -> AttitudeGains {
+        AttitudeGains::from_bandwidth(
+            self.control_bandwidth_hz,
+            self.control_damping,
+            Vector3::from(self.inertia_body_kgm2),
+        )
+        .with_braking(
+            &Vector3::from(self.torque_limit_body_nm),
+            self.rate_shaping_margin,
+        )
+    }
+
+    fn attitude_settings_for(&self, law: ControlLaw) -> AttitudeSettings {
         AttitudeSettings {
-            law: ControlLaw::from_index(self.control_law).unwrap_or(ControlLaw::Decoupled),
-            gains: AttitudeGains::from_bandwidth(
-                self.control_bandwidth_hz,
-                self.control_damping,
-                Vector3::from(self.inertia_body_kgm2),
-            )
-            .with_braking(
-                &Vector3::from(self.torque_limit_body_nm),
-                self.rate_shaping_margin,
-            ),
+            law,
+            gains: self.attitude_gains(),
             torque_limit_body_nm: Vector3::from(self.torque_limit_body_nm),
             reduced_yaw_weight: self.reduced_yaw_weight,
         }
@@ -277,7 +415,22 @@ mod tests {
     #[test]
     fn bad_values_are_refused_by_name() {
         type Spoil = fn(&mut GncParameters);
-        let cases: [(&str, Spoil); 15] = [
+        let cases: [(&str, Spoil); 25] = [
+            // each past a bound beyond which a product or power of the laws could overflow
+            ("thrust_max_n", |p| p.thrust_max_n = 2e9),
+            ("guidance_cycle_s", |p| p.guidance_cycle_s = 1e-4),
+            ("descent_time_to_go_s", |p| p.descent_time_to_go_s = 1e300),
+            ("gravity_mps2", |p| p.gravity_mps2 = 1e300),
+            ("descent_target_nue_m[0]", |p| {
+                p.descent_target_nue_m[0] = -2e7
+            }),
+            ("phi_cmd_rad", |p| p.phi_cmd_rad = 1e300),
+            ("phi_rate_limit_radps", |p| p.phi_rate_limit_radps = 1e300),
+            ("phi_accel_limit_radps2", |p| {
+                p.phi_accel_limit_radps2 = -1.0
+            }),
+            ("inertia_body_kgm2[2]", |p| p.inertia_body_kgm2[2] = 1e300),
+            ("guidance_damping", |p| p.guidance_damping = 1e300),
             ("control_law", |p| p.control_law = 4),
             ("phi_cmd_rad", |p| p.phi_cmd_rad = f64::NAN),
             ("control_bandwidth_hz", |p| p.control_bandwidth_hz = 0.0),

@@ -181,14 +181,31 @@ fn bits(runs: &[Vec<f64>]) -> Vec<u64> {
 
 #[test]
 fn fmu_state_save_restore_and_serialization_are_bit_exact() {
+    save_restore_and_serialization_are_bit_exact(false);
+}
+
+#[test]
+fn a_shaped_manoeuvre_in_progress_is_saved_restored_and_serialized_bit_exactly() {
+    save_restore_and_serialization_are_bit_exact(true);
+}
+
+/// The phi_rate_limit and phi_accel_limit parameters.
+const PHI_PROFILE_LIMITS: [u32; 2] = [230, 231];
+
+fn save_restore_and_serialization_are_bit_exact(shaped: bool) {
     let gnc = Gnc::new();
     assert_eq!(gnc.set_integer(vr::CONTROL_LAW, 1), fmi2OK);
     assert_eq!(gnc.set_reals(&[vr::PHI_CMD], &[2.6]), fmi2OK);
+    if shaped {
+        // a manoeuvre of about 3 s from 12 s: in progress when the replays end
+        assert_eq!(gnc.set_reals(&PHI_PROFILE_LIMITS, &[1.0, 1.0]), fmi2OK);
+    }
     assert_eq!(gnc.initialize(), fmi2OK);
     // GIVEN a run up to just before the phase change and phi_cmd step at 12 s
     run(&gnc, 0, 1190);
     let saved = gnc.get_state();
     // WHEN the run goes on across guidance cycles, the phase change and the phi_cmd step
+    // (and the start of the shaped manoeuvre)
     let first = run(&gnc, 1190, 1260);
     // AND the state is restored and the same inputs replayed
     assert_eq!(gnc.set_state(saved), fmi2OK);
@@ -199,6 +216,9 @@ fn fmu_state_save_restore_and_serialization_are_bit_exact() {
     // AND a serialized copy, restored into a fresh instance, replays bit-identically too
     let bytes = gnc.serialize(saved);
     let other = Gnc::new();
+    if shaped {
+        assert_eq!(other.set_reals(&PHI_PROFILE_LIMITS, &[1.0, 1.0]), fmi2OK);
+    }
     assert_eq!(other.initialize(), fmi2OK);
     let (status, restored) = other.deserialize(&bytes);
     assert_eq!(status, fmi2OK);
@@ -207,4 +227,47 @@ fn fmu_state_save_restore_and_serialization_are_bit_exact() {
     assert_eq!(bits(&first), bits(&third));
     assert_eq!(gnc.free_state(saved), fmi2OK);
     assert_eq!(other.free_state(restored), fmi2OK);
+}
+
+/// The norm stated in a "used normalised" warning, if any.
+fn stated_norm(messages: &[String]) -> Option<f64> {
+    let m = messages.iter().find(|m| m.contains("used normalised"))?;
+    let after = m.split("has norm ").nth(1)?;
+    after.split(',').next()?.parse().ok()
+}
+
+#[test]
+fn a_quaternion_far_from_unit_norm_is_normalised_with_a_warning_stating_its_norm() {
+    // GIVEN a tilted attitude, as a unit quaternion and scaled far from unit norm either way,
+    // up to components whose squares overflow
+    let unit = [0.6, 0.0, 0.0, 0.8];
+    let outputs = |scale: f64| {
+        let gnc = Gnc::new();
+        assert_eq!(gnc.initialize(), fmi2OK);
+        let q = unit.map(|c| c * scale);
+        gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], q, [0.0; 3], 900.0);
+        let (status, out) = gnc.get_reals(&vr::ALL_REAL_OUTPUTS);
+        (status, out, gnc.messages())
+    };
+    let (status, reference, messages) = outputs(1.0);
+    assert_eq!(status, fmi2OK, "{messages:?}");
+    assert_eq!(stated_norm(&messages), None);
+    for scale in [1e300, 1e160, 3.0, 1.01, 0.98, 1e-3, 2e-6] {
+        // WHEN the GNC reads it
+        let (status, out, messages) = outputs(scale);
+        // THEN the get warns, stating the norm
+        assert_eq!(status, fmi2Warning, "scale {scale}");
+        let norm = stated_norm(&messages).unwrap_or_else(|| panic!("{messages:?}"));
+        assert!((norm / scale - 1.0).abs() < 1e-15, "{norm} for {scale}");
+        // AND commands as for the unit quaternion
+        for (a, b) in out.iter().zip(&reference) {
+            assert!(
+                (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
+                "scale {scale}: {a} vs {b}"
+            );
+        }
+    }
+    // AND a quaternion within the tolerance of unit norm is used silently
+    let (status, _, _) = outputs(1.0 + 0.5 * fmu_gnc::controller::QUATERNION_NORM_TOLERANCE);
+    assert_eq!(status, fmi2OK);
 }

@@ -2,6 +2,7 @@
 //! invariance of the laws (no unwinding).
 use fmu_gnc::attitude::errors::thrust_axis_errors;
 use fmu_gnc::attitude::phi_b::phi_b;
+use fmu_gnc::attitude::profile::PhiProfile;
 use fmu_gnc::attitude::reduced::reduced_reference;
 use fmu_gnc::attitude::reference::{q_guid, q_phi, q_ref};
 use fmu_gnc::attitude::{attitude_command, ControlLaw};
@@ -47,6 +48,7 @@ fn settings(law: ControlLaw, weight: f64) -> fmu_gnc::attitude::AttitudeSettings
         ..Default::default()
     }
     .attitude_settings()
+    .unwrap()
 }
 
 fn finite_quaternion(q: &UnitQuaternion<f64>) -> bool {
@@ -86,7 +88,7 @@ proptest! {
             r_nue_m: r.into(), v_nue_mps: v.into(),
             q_body_to_nue: [q.w, q.i, q.j, q.k], omega_body_radps: w.into(), mass_kg: mass,
         };
-        let s = gnc_sample(&params, 0.0, &GuidanceState::initial(1.62), &nav, t);
+        let s = gnc_sample(&params.design().unwrap(), 0.0, &GuidanceState::initial(1.62), &PhiProfile::default(), &nav, t);
         let o = s.outputs;
         let reals = [o.thrust_cmd_n, o.phi_b_rad, o.err_roll_rad, o.err_yaw_rad, o.err_pitch_rad, o.tilt_error_rad, o.time_to_go_s];
         prop_assert!(reals.iter().chain(&o.torque_cmd_body_nm).chain(&o.a_cmd_nue_mps2).chain(&o.q_ref).all(|x| x.is_finite()));

@@ -1,5 +1,6 @@
 //! The classical (coupled) quaternion PD law (paper Sec. IV, q_e and tau_cmd).
 use super::gains::{pd_torque_body, AttitudeGains};
+use super::profile::RollReference;
 use crate::conventions::{canonical, Attitude};
 use nalgebra::Vector3;
 
@@ -15,14 +16,15 @@ pub fn coupled_angle_error_body(q_body_to_nue: &Attitude, q_ref: &Attitude) -> V
     q_e.imag() * 2.0
 }
 
-/// Paper Sec. IV, `tau = -Kp 2 q_ev - Kd omega + omega x I omega` (unsaturated), and the
-/// angle error it acted on.
+/// Paper Sec. IV, `tau = -Kp 2 q_ev - Kd (omega - omega_ref) + omega x I omega` (unsaturated;
+/// `omega_ref = 0` but for a shaped manoeuvre), and the angle error it acted on.
 pub fn coupled_torque_body(
     gains: &AttitudeGains,
     q_body_to_nue: &Attitude,
     omega_body: &Vector3<f64>,
     q_ref: &Attitude,
+    reference: &RollReference,
 ) -> (Vector3<f64>, Vector3<f64>) {
     let error = coupled_angle_error_body(q_body_to_nue, q_ref);
-    (pd_torque_body(gains, &error, omega_body), error)
+    (pd_torque_body(gains, &error, omega_body, reference), error)
 }

@@ -1,20 +1,19 @@
 //! The decoupled thrust-axis law (paper Sec. IV, the paper's contribution, ERRATA 5-7, 9).
-use super::errors::{thrust_axis_errors, ThrustAxisErrors};
+use super::errors::ThrustAxisErrors;
 use super::gains::{pd_torque_body, AttitudeGains};
-use crate::conventions::Attitude;
+use super::profile::RollReference;
 use nalgebra::Vector3;
 
 /// Paper Sec. IV, decoupled law: lateral torques (body x, z) from the errors relative to
 /// `q_refL = q_guid ⊗ q_phib`, thrust-axis torque (body y) from `wrap(phi_b - phi_cmd)`, one set
-/// of angle gains, `omega_ref = 0`, gyroscopic feed-forward kept. Unsaturated.
+/// of angle gains, `omega_ref = 0` (but for a shaped manoeuvre), gyroscopic feed-forward kept.
+/// Unsaturated. The errors are [`thrust_axis_errors`](super::errors::thrust_axis_errors) of the
+/// sample, computed once for the law and the diagnostics.
 pub fn decoupled_torque_body(
     gains: &AttitudeGains,
-    q_body_to_nue: &Attitude,
+    errors: &ThrustAxisErrors,
     omega_body: &Vector3<f64>,
-    q_guid: &Attitude,
-    phi_cmd_rad: f64,
-) -> (Vector3<f64>, ThrustAxisErrors) {
-    let errors = thrust_axis_errors(q_body_to_nue, q_guid, phi_cmd_rad);
-    let torque = pd_torque_body(gains, &errors.angle_error_body(), omega_body);
-    (torque, errors)
+    reference: &RollReference,
+) -> Vector3<f64> {
+    pd_torque_body(gains, &errors.angle_error_body(), omega_body, reference)
 }

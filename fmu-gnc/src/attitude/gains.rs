@@ -1,4 +1,5 @@
 //! Attitude gains from bandwidth, damping and inertia (ERRATA "Modelling defaults").
+use super::profile::RollReference;
 use nalgebra::Vector3;
 use std::f64::consts::TAU;
 
@@ -74,12 +75,15 @@ pub fn braking_limited_error(
 }
 
 /// Paper Sec. IV control law `tau = -Kp e - Kd omega_e + omega x I omega`, with `e` the angle
-/// error in body axes (ERRATA 9) and `omega_ref = 0` (ERRATA defaults), so `omega_e = omega`;
-/// `e` is braking-limited per axis when the gains ask for it ([`braking_limited_error`]).
+/// error in body axes (ERRATA 9) and `omega_e = omega - omega_ref`; the paper's `omega_ref` is
+/// 0 (ERRATA defaults), a shaped manoeuvre feeds its rate and, as `I alpha_ref`, its
+/// acceleration forward (`reference`). `e` is braking-limited per axis when the gains ask for
+/// it ([`braking_limited_error`]).
 pub fn pd_torque_body(
     gains: &AttitudeGains,
     angle_error_body: &Vector3<f64>,
     omega_body: &Vector3<f64>,
+    reference: &RollReference,
 ) -> Vector3<f64> {
     let inertia_omega = gains.inertia_kgm2.component_mul(omega_body);
     let shaped = Vector3::from_fn(|i, _| {
@@ -90,8 +94,17 @@ pub fn pd_torque_body(
             gains.braking_radps2[i],
         )
     });
-    -gains.kp_nm_per_rad.component_mul(&shaped) - gains.kd_nms_per_rad.component_mul(omega_body)
-        + omega_body.cross(&inertia_omega)
+    let omega_error = omega_body - reference.omega_body();
+    let torque = -gains.kp_nm_per_rad.component_mul(&shaped)
+        - gains.kd_nms_per_rad.component_mul(&omega_error)
+        + omega_body.cross(&inertia_omega);
+    // Skipped at rest, where adding +0 could turn a -0 torque into +0: the paper's law stays
+    // bit for bit what it was.
+    if reference.accel_radps2 == 0.0 {
+        torque
+    } else {
+        torque + gains.inertia_kgm2.component_mul(&reference.alpha_body())
+    }
 }
 
 /// Per-axis saturation of a torque command to the RCS limits (each limit >= 0).
@@ -188,7 +201,7 @@ mod tests {
             ..AttitudeGains::from_bandwidth(0.5, 0.8, inertia)
         };
         let w = Vector3::new(0.1, -0.2, 0.3);
-        let tau = pd_torque_body(&gains, &Vector3::zeros(), &w);
+        let tau = pd_torque_body(&gains, &Vector3::zeros(), &w, &RollReference::default());
         let w_dot = (tau - w.cross(&inertia.component_mul(&w))).component_div(&inertia);
         assert!(w_dot.norm() < 1e-15);
     }

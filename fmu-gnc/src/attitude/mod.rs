@@ -5,12 +5,14 @@ pub mod decoupled;
 pub mod errors;
 pub mod gains;
 pub mod phi_b;
+pub mod profile;
 pub mod reduced;
 pub mod reference;
 
 use crate::conventions::Attitude;
 use gains::{saturate_torque_body, AttitudeGains};
 use nalgebra::Vector3;
+use profile::RollReference;
 use serde::{Deserialize, Serialize};
 
 /// Which attitude law runs; exchanged as the Enumeration parameter `control_law`.
@@ -58,7 +60,7 @@ pub struct AttitudeCommand {
 }
 
 /// One control sample: reference attitude from the guidance direction and `phi_cmd`, then the
-/// selected law, then saturation.
+/// selected law, then saturation (the paper's step in `phi_cmd`, at rest).
 pub fn attitude_command(
     settings: &AttitudeSettings,
     q_body_to_nue: &Attitude,
@@ -66,30 +68,43 @@ pub fn attitude_command(
     a_thrust_cmd_nue: &Vector3<f64>,
     phi_cmd_rad: f64,
 ) -> AttitudeCommand {
+    tracking_attitude_command(
+        settings,
+        q_body_to_nue,
+        omega_body,
+        a_thrust_cmd_nue,
+        &RollReference::step(phi_cmd_rad),
+    )
+}
+
+/// As [`attitude_command`], with a moving reference about the thrust axis (a shaped manoeuvre,
+/// see [`profile`]): its angle in place of `phi_cmd`, its rate and acceleration fed forward.
+pub fn tracking_attitude_command(
+    settings: &AttitudeSettings,
+    q_body_to_nue: &Attitude,
+    omega_body: &Vector3<f64>,
+    a_thrust_cmd_nue: &Vector3<f64>,
+    roll: &RollReference,
+) -> AttitudeCommand {
     let q_guid = reference::q_guid(a_thrust_cmd_nue);
-    let q_ref = reference::q_ref(&q_guid, phi_cmd_rad);
-    let split = errors::thrust_axis_errors(q_body_to_nue, &q_guid, phi_cmd_rad);
+    let q_ref = reference::q_ref(&q_guid, roll.phi_rad);
+    let split = errors::thrust_axis_errors(q_body_to_nue, &q_guid, roll.phi_rad);
     let gains = &settings.gains;
     let (torque, angle_error_body) = match settings.law {
         ControlLaw::Coupled => {
-            coupled::coupled_torque_body(gains, q_body_to_nue, omega_body, &q_ref)
+            coupled::coupled_torque_body(gains, q_body_to_nue, omega_body, &q_ref, roll)
         }
-        ControlLaw::Decoupled => {
-            let (torque, _) = decoupled::decoupled_torque_body(
-                gains,
-                q_body_to_nue,
-                omega_body,
-                &q_guid,
-                phi_cmd_rad,
-            );
-            (torque, split.angle_error_body())
-        }
+        ControlLaw::Decoupled => (
+            decoupled::decoupled_torque_body(gains, &split, omega_body, roll),
+            split.angle_error_body(),
+        ),
         ControlLaw::Reduced => reduced::reduced_torque_body(
             gains,
             q_body_to_nue,
             omega_body,
             &q_ref,
             settings.reduced_yaw_weight,
+            roll,
         ),
     };
     AttitudeCommand {

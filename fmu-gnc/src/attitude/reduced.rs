@@ -8,6 +8,7 @@
 //! (coupled) attitude law, `w = 0` controls the thrust axis only.
 use super::coupled::coupled_angle_error_body;
 use super::gains::{pd_torque_body, AttitudeGains};
+use super::profile::RollReference;
 use crate::conventions::{canonical, rotation_about_thrust_axis, thrust_axis_body, Attitude};
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 
@@ -44,8 +45,9 @@ pub fn reduced_torque_body(
     omega_body: &Vector3<f64>,
     q_ref: &Attitude,
     weight: f64,
+    reference: &RollReference,
 ) -> (Vector3<f64>, Vector3<f64>) {
     let target = reduced_reference(q_body_to_nue, q_ref, weight);
     let error = coupled_angle_error_body(q_body_to_nue, &target);
-    (pd_torque_body(gains, &error, omega_body), error)
+    (pd_torque_body(gains, &error, omega_body, reference), error)
 }

@@ -57,4 +57,5 @@ pub fn paper_settings(law: fmu_gnc::attitude::ControlLaw) -> fmu_gnc::attitude::
         ..Default::default()
     }
     .attitude_settings()
+    .unwrap()
 }

@@ -1,0 +1,250 @@
+//! Parameters are validated as far as the outputs: any parameter set that passes validation
+//! yields finite derived quantities and, for every admissible input, finite outputs.
+use fmu_gnc::attitude::profile::PhiProfile;
+use fmu_gnc::controller::{gnc_sample, NavigationInputs};
+use fmu_gnc::guidance::sequencer::GuidanceState;
+use fmu_gnc::params::GncParameters;
+use nalgebra::{Quaternion, UnitQuaternion};
+use proptest::prelude::*;
+
+/// A value of any magnitude and sign, often an extreme one.
+fn any_magnitude() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        (-300.0..300.0f64, any::<bool>()).prop_map(|(e, neg)| {
+            let x = 10f64.powf(e);
+            if neg {
+                -x
+            } else {
+                x
+            }
+        }),
+        Just(0.0),
+        Just(f64::MAX),
+        Just(f64::MIN_POSITIVE),
+    ]
+}
+
+/// Either the default or any magnitude (so that sets mixing sane and extreme values are common).
+fn or_default(default: f64) -> impl Strategy<Value = f64> {
+    prop_oneof![8 => Just(default), 1 => any_magnitude()]
+}
+
+/// At an admissible extreme, or the default.
+fn at_bounds(default: f64, low: f64, high: f64) -> impl Strategy<Value = f64> {
+    prop_oneof![Just(default), Just(low), Just(high)]
+}
+
+/// Every bounded parameter at its default or at either end of its admissible range (the
+/// relations between them still checked by validation).
+fn extreme_parameters() -> impl Strategy<Value = GncParameters> {
+    use fmu_gnc::params::*;
+    let d = GncParameters::default();
+    let duration = |x| at_bounds(x, 0.0, MAX_DURATION_S);
+    let target = |x| at_bounds(x, -MAX_TARGET_M, MAX_TARGET_M);
+    let inertia = |x| at_bounds(x, 1e-300, MAX_INERTIA_KGM2);
+    let torque = || at_bounds(116.0, 0.0, MAX_TORQUE_NM);
+    let a = (
+        1..=3i32,
+        at_bounds(2.6, -MAX_PHI_CMD_RAD, MAX_PHI_CMD_RAD),
+        at_bounds(0.0, -1e300, 1e300),
+        at_bounds(0.5, 1e-300, 1e140),
+        at_bounds(0.8, 1e-300, MAX_DAMPING),
+        at_bounds(0.06, 1e-300, 0.5 / MIN_GUIDANCE_CYCLE_S),
+        at_bounds(0.8, 1e-300, MAX_DAMPING),
+        at_bounds(0.1, MIN_GUIDANCE_CYCLE_S, 1.0),
+        [inertia(400.0), inertia(300.0), inertia(450.0)],
+        at_bounds(720.0, 0.0, MAX_THRUST_N),
+        at_bounds(1600.0, 0.0, MAX_THRUST_N),
+        [torque(), torque(), torque()],
+    );
+    let b = (
+        at_bounds(1.62, 1e-300, MAX_GRAVITY_MPS2),
+        [target(0.0), target(800.0), target(0.0)],
+        duration(d.hover_duration_s),
+        [target(0.0), target(150.0), target(0.0)],
+        duration(d.descent_time_to_go_s),
+        at_bounds(5.0, MIN_GUIDANCE_CYCLE_S, MAX_DURATION_S),
+        duration(d.target_hover_duration_s),
+        at_bounds(0.4, 0.0, 1.0),
+        at_bounds(0.0, 1e-300, 1.0),
+        at_bounds(0.0, 1e-300, f64::MAX),
+        at_bounds(0.0, 1e-300, MAX_PHI_RATE_RADPS),
+        at_bounds(0.0, 1e-300, MAX_PHI_ACCEL_RADPS2),
+    );
+    (a, b).prop_map(assemble)
+}
+
+fn parameters() -> impl Strategy<Value = GncParameters> {
+    let d = GncParameters::default();
+    let a = (
+        1..=3i32,
+        or_default(2.6),
+        or_default(d.phi_cmd_time_s),
+        or_default(d.control_bandwidth_hz),
+        or_default(d.control_damping),
+        or_default(d.guidance_bandwidth_hz),
+        or_default(d.guidance_damping),
+        or_default(d.guidance_cycle_s),
+        [or_default(400.0), or_default(300.0), or_default(450.0)],
+        or_default(d.thrust_min_n),
+        or_default(d.thrust_max_n),
+        [or_default(116.0), or_default(116.0), or_default(116.0)],
+    );
+    let b = (
+        or_default(d.gravity_mps2),
+        [or_default(0.0), or_default(800.0), or_default(0.0)],
+        or_default(d.hover_duration_s),
+        [or_default(0.0), or_default(150.0), or_default(0.0)],
+        or_default(d.descent_time_to_go_s),
+        or_default(d.descent_freeze_time_to_go_s),
+        or_default(d.target_hover_duration_s),
+        prop_oneof![Just(0.4), 0.0..=1.0],
+        prop_oneof![Just(0.0), Just(0.5), 0.0..=1.0],
+        or_default(0.0),
+        or_default(0.0),
+        or_default(0.0),
+    );
+    (a, b).prop_map(assemble)
+}
+
+type Head = (
+    i32,
+    f64,
+    f64,
+    f64,
+    f64,
+    f64,
+    f64,
+    f64,
+    [f64; 3],
+    f64,
+    f64,
+    [f64; 3],
+);
+type Tail = (
+    f64,
+    [f64; 3],
+    f64,
+    [f64; 3],
+    f64,
+    f64,
+    f64,
+    f64,
+    f64,
+    f64,
+    f64,
+    f64,
+);
+
+fn assemble((a, b): (Head, Tail)) -> GncParameters {
+    GncParameters {
+        control_law: a.0,
+        phi_cmd_rad: a.1,
+        phi_cmd_time_s: a.2,
+        control_bandwidth_hz: a.3,
+        control_damping: a.4,
+        guidance_bandwidth_hz: a.5,
+        guidance_damping: a.6,
+        guidance_cycle_s: a.7,
+        inertia_body_kgm2: a.8,
+        thrust_min_n: a.9,
+        thrust_max_n: a.10,
+        torque_limit_body_nm: a.11,
+        gravity_mps2: b.0,
+        hover_target_nue_m: b.1,
+        hover_duration_s: b.2,
+        descent_target_nue_m: b.3,
+        descent_time_to_go_s: b.4,
+        descent_freeze_time_to_go_s: b.5,
+        target_hover_duration_s: b.6,
+        reduced_yaw_weight: b.7,
+        rate_shaping_margin: b.8,
+        terminal_descent_speed_mps: b.9,
+        phi_rate_limit_radps: b.10,
+        phi_accel_limit_radps2: b.11,
+    }
+}
+
+fn all_finite(values: &[f64]) -> bool {
+    values.iter().all(|x| x.is_finite())
+}
+
+/// The property for one parameter set and one input: nothing to check if validation refuses.
+#[allow(clippy::too_many_arguments)]
+fn check_finite(
+    params: GncParameters,
+    r: [f64; 3],
+    v: [f64; 3],
+    q: [f64; 4],
+    w: [f64; 3],
+    mass: f64,
+    t_fraction: f64,
+) -> Result<(), TestCaseError> {
+    let Ok(design) = params.design() else {
+        return Ok(());
+    };
+    let gains = design.attitude.gains;
+    prop_assert!(
+        all_finite(gains.kp_nm_per_rad.as_slice()) && all_finite(gains.kd_nms_per_rad.as_slice())
+    );
+    prop_assert!(all_finite(&[
+        design.scenario.pv_gains.kr,
+        design.scenario.pv_gains.kv
+    ]));
+    let q = UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]));
+    let nav = NavigationInputs {
+        r_nue_m: r,
+        v_nue_mps: v,
+        q_body_to_nue: [q.w, q.i, q.j, q.k],
+        omega_body_radps: w,
+        mass_kg: mass,
+    };
+    // Any time of the flight, its schedule as the parameters set it.
+    let end_s =
+        params.hover_duration_s + params.descent_time_to_go_s + params.target_hover_duration_s;
+    let t = t_fraction * end_s.min(1e9);
+    let mut guidance = GuidanceState::initial(params.gravity_mps2);
+    let mut profile = PhiProfile::default();
+    for t in [0.0, t, t + 0.01, t + params.guidance_cycle_s] {
+        let mut s = gnc_sample(&design, 0.0, &guidance, &profile, &nav, t);
+        (guidance, profile) = (s.guidance, s.profile);
+        prop_assert!(
+            !s.outputs.zero_non_finite(),
+            "{params:?} {nav:?} t {t}: {:?}",
+            s.outputs
+        );
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(8000))]
+
+    #[test]
+    fn valid_parameters_give_finite_derived_quantities_and_outputs(
+        params in parameters(),
+        r in prop::array::uniform3(-1e6..1e6f64),
+        v in prop::array::uniform3(-1e4..1e4f64),
+        q in prop::array::uniform4(-1.0..1.0f64),
+        w in prop::array::uniform3(-1e3..1e3f64),
+        mass in 1.0..1e5f64,
+        t_fraction in 0.0..1.0f64,
+    ) {
+        prop_assume!(q.iter().map(|c| c * c).sum::<f64>() > 1e-6);
+        check_finite(params, r, v, q, w, mass, t_fraction)?;
+    }
+
+    #[test]
+    fn parameters_at_their_admissible_extremes_give_finite_outputs(
+        params in extreme_parameters(),
+        r in prop::array::uniform3(prop_oneof![Just(-1e6), Just(0.0), Just(1e6), -1e6..1e6f64]),
+        v in prop::array::uniform3(prop_oneof![Just(-1e4), Just(1e4), -1e4..1e4f64]),
+        q in prop::array::uniform4(-1.0..1.0f64),
+        w in prop::array::uniform3(prop_oneof![Just(-1e3), Just(1e3), -1e3..1e3f64]),
+        mass in prop_oneof![Just(1.0), Just(1e5), 1.0..1e5f64],
+        t_fraction in prop_oneof![Just(0.0), Just(1.0), 0.0..1.0f64],
+    ) {
+        prop_assume!(q.iter().map(|c| c * c).sum::<f64>() > 1e-6);
+        check_finite(params, r, v, q, w, mass, t_fraction)?;
+    }
+}
