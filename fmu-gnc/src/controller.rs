@@ -205,6 +205,7 @@ pub fn actuate(params: &GncParameters, outputs: &mut GncOutputs, bank: &PwpfBank
                 &params.pwpf_settings(),
                 bank,
                 &Vector3::from(outputs.torque_cmd_body_nm),
+                params.rcs_tilt_first,
                 params.rcs_duty_period_s,
             );
             outputs.rcs_duty = duty;

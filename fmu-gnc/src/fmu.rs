@@ -332,6 +332,7 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(231, parameter rcs_thruster_force: params.rcs_thruster_force_n, "N", "thruster model: force of one RCS thruster, as the plant's", above = 0.0),
     decl!(232, parameter rcs_position_body[24]: params.rcs_position_body_m, "m", "thruster model: nozzle position of thruster k (elements 3k+1..3k+3) relative to the centre of mass, as the plant's", components = THRUSTER_XYZ),
     decl!(256, parameter rcs_direction_body[24]: params.rcs_direction_body, "1", "thruster model: unit direction of the force of thruster k (elements 3k+1..3k+3), as the plant's", components = THRUSTER_XYZ),
+    decl!(285, parameter rcs_tilt_first: params.rcs_tilt_first as bool, "thruster model: a torque beyond the thrusters' reach keeps its tilt part (body x, z) and gives the roll (body y) what is left (true, default), or keeps its direction (false)"),
     decl!(280, parameter pwpf_gain: params.pwpf_gain, "1", "thruster model: PWPF filter gain Km (filter Tm x' = Km (u - y) - x on the thrust fraction u and thruster output y)", above = 0.0),
     decl!(281, parameter pwpf_time_constant: params.pwpf_time_constant_s, "s", "thruster model: PWPF filter time constant Tm", above = 0.0),
     decl!(282, parameter pwpf_on_threshold: params.pwpf_on_threshold, "1", "thruster model: PWPF trigger on threshold Uon, > pwpf_off_threshold"),

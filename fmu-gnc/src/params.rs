@@ -44,6 +44,8 @@ pub struct GncParameters {
     pub rcs_position_body_m: [f64; 3 * THRUSTER_COUNT],
     pub rcs_direction_body: [f64; 3 * THRUSTER_COUNT],
     pub rcs_thruster_force_n: f64,
+    /// Beyond the thrusters' reach, serve the tilt torque first (else keep the direction).
+    pub rcs_tilt_first: bool,
     pub pwpf_gain: f64,
     pub pwpf_time_constant_s: f64,
     pub pwpf_on_threshold: f64,
@@ -102,6 +104,7 @@ impl Default for GncParameters {
             rcs_position_body_m: default_layout_column(false),
             rcs_direction_body: default_layout_column(true),
             rcs_thruster_force_n: 58.0,
+            rcs_tilt_first: true,
             // PWPF: Km 10, Tm 0.5 s, Uon 0.5, Uoff 0.2 (docs/rcs-layout.md explains the choice).
             pwpf_gain: 10.0,
             pwpf_time_constant_s: 0.5,

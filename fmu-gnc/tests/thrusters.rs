@@ -14,7 +14,7 @@ fn mean_torque(torque_cmd: Vector3<f64>, seconds: f64) -> Vector3<f64> {
     let steps = (seconds / period).round() as usize;
     let mut on_time_s = [0.0; 8];
     for k in 0..steps {
-        let (duty, next) = duties(&allocator, &settings, &bank, &torque_cmd, period);
+        let (duty, next) = duties(&allocator, &settings, &bank, &torque_cmd, true, period);
         bank = next;
         if k >= steps / 2 {
             for (acc, d) in on_time_s.iter_mut().zip(duty) {

@@ -42,9 +42,14 @@ pub fn duties(
     settings: &PwpfSettings,
     bank: &PwpfBank,
     torque_cmd_body_nm: &Vector3<f64>,
+    tilt_first: bool,
     period_s: f64,
 ) -> ([f64; THRUSTER_COUNT], PwpfBank) {
-    let demand = allocator.allocate(torque_cmd_body_nm);
+    let demand = if tilt_first {
+        allocator.allocate_tilt_first(torque_cmd_body_nm)
+    } else {
+        allocator.allocate(torque_cmd_body_nm)
+    };
     let mut next = *bank;
     let duty = std::array::from_fn(|k| next[k].step(settings, demand[k], period_s) / period_s);
     (duty, next)
