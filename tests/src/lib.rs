@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 /// The `modelIdentifier` of every FMU `cargo xtask fmus` packages (xtask/src/fmus.rs).
 /// Every system test checks all of them: one missing from `target/fmu` fails the tests
 /// instead of being skipped.
-pub const SHIPPED_FMUS: [&str; 3] = ["Oscillator", "LanderGnc", "LanderPlant"];
+pub const SHIPPED_FMUS: [&str; 4] = ["Oscillator", "LanderGnc", "LanderNav", "LanderPlant"];
 
 pub fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -16,11 +16,16 @@ struct FmuCrate {
     lib_name: &'static str,
 }
 
-const FMU_CRATES: [FmuCrate; 3] = [
+const FMU_CRATES: [FmuCrate; 4] = [
     FmuCrate {
         package: "fmu-gnc",
         dir: "fmu-gnc",
         lib_name: "fmu_gnc",
+    },
+    FmuCrate {
+        package: "fmu-nav",
+        dir: "fmu-nav",
+        lib_name: "fmu_nav",
     },
     FmuCrate {
         package: "fmu-plant",

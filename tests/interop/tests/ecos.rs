@@ -3,16 +3,14 @@
 //! the trajectories must be bit-identical.
 //!
 //! The package carries a law other than the default (coupled), so the comparison also shows
-//! whether Ecos applied `control_law`. Ecos (0.7) does not expose FMI 2.0 Enumeration
-//! variables: while LanderGnc declares `control_law` as an Enumeration, Ecos warns and flies
-//! the start value (2, decoupled). This test checks the declaration and demands whichever
-//! behaviour follows from it, so it states the current state and becomes strict as soon as
-//! the declaration is one Ecos can set.
+//! that Ecos applied `control_law`. Ecos (0.7), like libcosim, does not expose FMI 2.0
+//! Enumeration variables, which is why LanderGnc declares `control_law` as an Integer with
+//! bounds (the values listed in its description).
 //!
 //! Ecos needs the Debian package libtbb12 (installed by `cargo xtask test`).
 use harness::loader::VariableKind;
 use harness::master::Conventions;
-use harness::system::{Ordering, ParamValue};
+use harness::system::Ordering;
 use harness::Fmu;
 use interop_tests::compare::assert_identical_after_steps;
 use interop_tests::{
@@ -75,19 +73,15 @@ fn ecos_flies_the_ssp_package_with_its_parameter_set_bit_identically() {
     );
     let ecos = read_trajectory(&csv);
 
-    // THEN it flew the package's law where Ecos can set it, and the start value where not
+    // THEN it flew the package's law, which it can set because the declaration is an Integer
     let gnc = Fmu::load(fmu_dir().join("LanderGnc.fmu")).unwrap();
     let declared = gnc.variable("control_law").unwrap().kind;
-    if declared == VariableKind::Integer {
-        assert!(stdout.contains("control_law = 1"), "{stdout}");
-    } else {
-        assert!(stdout.contains("control_law is not an Integer"), "{stdout}");
-        println!(
-            "known limitation: control_law is an FMI {declared:?}; Ecos ignores it and flies \
-             the start value"
-        );
-        system.set_parameter("gnc", "control_law", ParamValue::Integer(2));
-    }
+    assert_eq!(
+        declared,
+        VariableKind::Integer,
+        "control_law must stay settable in Ecos"
+    );
+    assert!(stdout.contains("control_law = 1"), "{stdout}");
     // AND every plant output after every step is the number the harness computes
     let reference = run_harness(system, Conventions::ECOS);
     assert_identical_after_steps(

@@ -1,0 +1,101 @@
+//! The error of one signal group over one communication interval `k` (from `t_k` to
+//! `t_k+1`):
+//!
+//! ```text
+//! e_k = bias + w_k + n_k
+//! n_k = noise_sigma * N_k                           white, a new sample every interval
+//! w_0 = 0,  w_k+1 = w_k + random_walk * sqrt(h_k / 1 s) * M_k+1     random walk
+//! ```
+//! with `N_k`, `M_k` the standard normal draws of interval `k` and `h_k` the length of
+//! interval `k`: the walk's variance at `t_k` is `random_walk^2 (t_k - t_0) / 1 s`.
+use super::draws::Draws;
+use super::parameters::{Group, GroupErrors};
+use serde::{Deserialize, Serialize};
+
+/// The random parts of a group's error during one interval.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct GroupError {
+    pub walk: [f64; 3],
+    pub white: [f64; 3],
+}
+
+impl GroupError {
+    /// The error of the first interval: no walk yet.
+    pub fn first(errors: &GroupErrors, group: Group, draws: &Draws) -> GroupError {
+        GroupError {
+            walk: [0.0; 3],
+            white: draws.white[group as usize].map(|n| errors.noise_sigma * n),
+        }
+    }
+
+    /// The error of the next interval, after an interval of `h_s` seconds.
+    pub fn next(&self, errors: &GroupErrors, group: Group, draws: &Draws, h_s: f64) -> GroupError {
+        let walk_sigma = errors.random_walk * h_s.sqrt();
+        let walk_draws = draws.walk[group as usize];
+        GroupError {
+            walk: std::array::from_fn(|i| self.walk[i] + walk_sigma * walk_draws[i]),
+            white: draws.white[group as usize].map(|n| errors.noise_sigma * n),
+        }
+    }
+
+    /// Total error on each axis.
+    pub fn total(&self, errors: &GroupErrors) -> [f64; 3] {
+        std::array::from_fn(|i| errors.bias[i] + self.walk[i] + self.white[i])
+    }
+}
+
+/// A value with its error added, then rounded to the quantum. A zero error leaves the value
+/// untouched (`-0.0 + 0.0` would be `+0.0`), so with every error off the output is the
+/// input bit for bit.
+pub fn corrupt(value: f64, error: f64, quantum: f64) -> f64 {
+    let erroneous = if error != 0.0 { value + error } else { value };
+    if quantum > 0.0 {
+        quantise(erroneous, quantum)
+    } else {
+        erroneous
+    }
+}
+
+/// The multiple of `quantum` nearest to `value` (halves away from zero). A quantum so fine
+/// that `value / quantum` overflows is below the resolution of `value` itself: the value is
+/// returned as it is rather than as infinity.
+pub fn quantise(value: f64, quantum: f64) -> f64 {
+    let steps = value / quantum;
+    if steps.is_finite() {
+        steps.round() * quantum
+    } else {
+        value
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_zero_error_keeps_the_sign_of_zero_and_every_bit() {
+        for value in [-0.0, 0.0, 5e-324, -1.5e300, 800.0] {
+            assert_eq!(corrupt(value, 0.0, 0.0).to_bits(), value.to_bits());
+            assert_eq!(corrupt(value, -0.0, 0.0).to_bits(), value.to_bits());
+        }
+    }
+
+    #[test]
+    fn quantisation_rounds_to_the_nearest_multiple() {
+        assert_eq!(quantise(0.26, 0.5), 0.5);
+        assert_eq!(quantise(-0.74, 0.5), -0.5);
+        assert_eq!(quantise(1.0, 0.25), 1.0);
+        assert_eq!(corrupt(1.0, 0.3, 0.5), 1.5);
+    }
+
+    #[test]
+    fn a_quantum_finer_than_the_value_resolves_leaves_it_finite() {
+        for value in [800.0, -1e300, 5e-324] {
+            let q = quantise(value, 5e-324);
+            assert!(
+                q.is_finite() && (q - value).abs() <= 2.5e-324,
+                "{value}: {q}"
+            );
+        }
+    }
+}
