@@ -106,6 +106,8 @@ const MAX_SUB_STEPS_PER_STEP: f64 = 1e6;
 
 impl Model for LanderPlant {
     const MODEL_IDENTIFIER: &'static str = "LanderPlant";
+    /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end).
+    const STATE_VERSION: u32 = 2;
     const MODEL_NAME: &'static str = "LanderPlant";
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
          (eq. 1) translation, throttleable engines and RCS with saturation, RK4, touchdown and propellant events";
