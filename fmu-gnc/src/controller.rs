@@ -1,6 +1,7 @@
 //! One GNC sample: guidance (held at its own rate), thrust magnitude, reference attitude and
 //! attitude law, from the navigation inputs at time `t`. Pure: the caller decides whether to
 //! commit the returned guidance state (do_step) or only read the outputs (calculate_values).
+use crate::actuation::{duties, PwpfBank, RcsModel, THRUSTER_COUNT};
 use crate::attitude::profile::{PhiProfile, RollReference};
 use crate::attitude::{reference, tracking_attitude_command};
 use crate::conventions::{
@@ -60,6 +61,8 @@ impl NavigationInputs {
 pub struct GncOutputs {
     pub thrust_cmd_n: f64,
     pub torque_cmd_body_nm: [f64; 3],
+    /// Thruster model: fraction of the coming period each thruster fires, from its start.
+    pub rcs_duty: [f64; THRUSTER_COUNT],
     /// Commanded thrust acceleration (guidance net acceleration minus gravity), NUE.
     pub a_cmd_nue_mps2: [f64; 3],
     pub q_ref: [f64; 4],
@@ -86,6 +89,7 @@ impl GncOutputs {
             }
         };
         fix(&mut self.thrust_cmd_n);
+        self.rcs_duty.iter_mut().for_each(&mut fix);
         self.torque_cmd_body_nm.iter_mut().for_each(&mut fix);
         self.a_cmd_nue_mps2.iter_mut().for_each(&mut fix);
         self.q_ref.iter_mut().for_each(&mut fix);
@@ -217,6 +221,7 @@ pub fn gnc_sample(
             params.thrust_max_n,
         ),
         torque_cmd_body_nm: attitude.torque_body_nm.into(),
+        rcs_duty: [0.0; THRUSTER_COUNT],
         a_cmd_nue_mps2: next.a_thrust_cmd_nue.into(),
         q_ref: attitude_to_scalar_first(&attitude.q_ref),
         phi_b_rad: attitude.phi_b_rad,
@@ -233,6 +238,27 @@ pub fn gnc_sample(
         outputs,
         degenerate: None,
         non_unit_quaternion_norm,
+    }
+}
+
+/// In the thruster model, turns the sample's torque command into the duties of the coming
+/// period (`outputs.rcs_duty`) and returns the modulators' state after it; in the torque
+/// model the duties stay 0 and the modulators as they are.
+pub fn actuate(params: &GncParameters, outputs: &mut GncOutputs, bank: &PwpfBank) -> PwpfBank {
+    match params.rcs() {
+        RcsModel::Torque => *bank,
+        RcsModel::Thrusters => {
+            let (duty, next) = duties(
+                &params.allocator(),
+                &params.pwpf_settings(),
+                bank,
+                &Vector3::from(outputs.torque_cmd_body_nm),
+                params.rcs_tilt_first,
+                params.rcs_duty_period_s,
+            );
+            outputs.rcs_duty = duty;
+            next
+        }
     }
 }
 
@@ -348,6 +374,7 @@ mod non_finite_tests {
         let mut outputs = GncOutputs {
             thrust_cmd_n: 1000.0,
             torque_cmd_body_nm: [1.0, f64::NAN, 2.0],
+            rcs_duty: [0.0; 8],
             a_cmd_nue_mps2: [0.0, f64::INFINITY, 0.0],
             q_ref: [1.0, 0.0, 0.0, 0.0],
             phi_b_rad: 0.1,

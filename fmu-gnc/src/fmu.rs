@@ -12,8 +12,9 @@
 //! again. Either way the committed sample is bit-identical to `gnc_sample` at the master's
 //! `t`: gets never change a trajectory.
 use crate::attitude::profile::PhiProfile;
+use crate::actuation::{PwpfBank, RcsModel};
 use crate::attitude::ControlLaw;
-use crate::controller::{gnc_sample, GncOutputs, NavigationInputs, Sample};
+use crate::controller::{actuate, gnc_sample, GncOutputs, NavigationInputs, Sample};
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::{GncDesign, GncParameters};
 use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
@@ -27,6 +28,10 @@ pub struct LanderGnc {
     outputs: GncOutputs,
     guidance: GuidanceState,
     profile: PhiProfile,
+    /// The thruster modulators (thruster model).
+    pwpf: PwpfBank,
+    /// Whether a step of another length than rcs_duty_period has been reported.
+    period_mismatch_reported: bool,
     start_time_s: f64,
     time_s: f64,
     /// Set by `exit_initialization`: the parameters are fixed from then on.
@@ -51,6 +56,8 @@ struct Evaluated {
     time: SampleTime,
     input_bits: [u64; 14],
     sample: Sample,
+    /// The modulators after the coming period, for this sample's duties.
+    pwpf: PwpfBank,
 }
 
 /// All that `gnc_sample` reads of its time `t` (for given parameters, start time and
@@ -78,6 +85,8 @@ impl Default for LanderGnc {
             outputs: GncOutputs::default(),
             guidance: GuidanceState::initial(params.gravity_mps2),
             profile: PhiProfile::default(),
+            pwpf: PwpfBank::default(),
+            period_mismatch_reported: false,
             start_time_s: 0.0,
             time_s: 0.0,
             initialized: false,
@@ -113,7 +122,8 @@ impl LanderGnc {
         }
     }
 
-    fn evaluate(&self) -> Sample {
+    /// The sample at the current time, its duties included, and the modulators after it.
+    fn evaluate(&self) -> (Sample, PwpfBank) {
         let unchecked;
         let design = match &self.design {
             Some(design) => design,
@@ -122,14 +132,16 @@ impl LanderGnc {
                 &unchecked
             }
         };
-        gnc_sample(
+        let mut sample = gnc_sample(
             design,
             self.start_time_s,
             &self.guidance,
             &self.profile,
             &self.inputs,
             self.time_s,
-        )
+        );
+        let pwpf = actuate(&self.params, &mut sample.outputs, &self.pwpf);
+        (sample, pwpf)
     }
 
     /// Evaluate the sample at the current time without committing it, show its outputs and
@@ -144,10 +156,12 @@ impl LanderGnc {
                 ));
             }
         }
+        let (sample, pwpf) = self.evaluate();
         let evaluated = self.evaluated.insert(Evaluated {
             time: self.sample_time(self.time_s),
             input_bits: self.inputs.to_bits(),
-            sample: self.evaluate(),
+            sample,
+            pwpf,
         });
         publish(&evaluated.sample, self.time_s, &mut self.outputs, log);
     }
@@ -159,16 +173,17 @@ impl LanderGnc {
         let (time, input_bits) = (self.sample_time(self.time_s), self.inputs.to_bits());
         let fresh;
         // Read in place: a sample is a few hundred bytes, worth not moving twice per step.
-        let sample = match &self.evaluated {
-            Some(e) if e.time == time && e.input_bits == input_bits => &e.sample,
+        let (sample, pwpf) = match &self.evaluated {
+            Some(e) if e.time == time && e.input_bits == input_bits => (&e.sample, e.pwpf),
             _ => {
                 fresh = self.evaluate();
-                &fresh
+                (&fresh.0, fresh.1)
             }
         };
         publish(sample, self.time_s, &mut self.outputs, log);
         self.guidance = sample.guidance;
         self.profile = sample.profile;
+        self.pwpf = pwpf;
         self.evaluated = None;
     }
 }
@@ -199,8 +214,9 @@ impl Model for LanderGnc {
         "Lunar lander guidance (PV hover, cubic-polynomial descent) and \
         attitude control (coupled, decoupled thrust-axis, reduced) after Rallapalli et al., \
         'Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3'";
-    /// 2: the thrust-axis profile and the initialization flag.
-    const STATE_VERSION: u32 = 2;
+    /// 2: the thrust-axis profile and the initialization flag; 3: and the RCS thruster
+    /// model's modulators.
+    const STATE_VERSION: u32 = 3;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,
@@ -232,6 +248,7 @@ impl Model for LanderGnc {
         self.time_s = start_time;
         self.guidance = GuidanceState::initial(self.params.gravity_mps2);
         self.profile = PhiProfile::default();
+        self.pwpf = PwpfBank::default();
         self.preview(log);
         Ok(())
     }
@@ -240,6 +257,15 @@ impl Model for LanderGnc {
         // The master's t is authoritative: it may differ from ours by rounding (and then the
         // sample kept from the get is not used).
         self.time_s = t;
+        let period = self.params.rcs_duty_period_s;
+        let thrusters = self.params.rcs() == RcsModel::Thrusters;
+        if thrusters && (h - period).abs() > 1e-9 * period && !self.period_mismatch_reported {
+            self.period_mismatch_reported = true;
+            log.warning(format!(
+                "t = {t} s: communication step {h} s differs from rcs_duty_period = {period} s: \
+                 the duties are fractions of rcs_duty_period, the plant applies them to its step"
+            ));
+        }
         self.commit(log);
         self.time_s = t + h;
         Ok(StepEnd::Complete)
@@ -249,6 +275,13 @@ impl Model for LanderGnc {
 // ---- the declarations ------------------------------------------------------------------
 
 fmi_model::enumeration! {
+    RcsModel = "RcsModel", "How the RCS is commanded" {
+        Torque: "torque", "a torque per axis, torque_cmd_body (the paper)";
+        Thrusters: "thrusters", "eight thrusters: allocation of torque_cmd_body, PWPF modulation, rcs_duty";
+    }
+}
+
+fmi_model::enumeration! {
     ControlLaw = "ControlLaw", "Attitude control law" {
         Coupled: "coupled", "classical quaternion PD on q_ref";
         Decoupled: "decoupled", "decoupled thrust-axis control (the paper)";
@@ -256,6 +289,42 @@ fmi_model::enumeration! {
     }
 }
 
+const THRUSTERS: &[&str] = &[
+    "thruster 0",
+    "thruster 1",
+    "thruster 2",
+    "thruster 3",
+    "thruster 4",
+    "thruster 5",
+    "thruster 6",
+    "thruster 7",
+];
+const THRUSTER_XYZ: &[&str] = &[
+    "thruster 0, body x",
+    "thruster 0, body y",
+    "thruster 0, body z",
+    "thruster 1, body x",
+    "thruster 1, body y",
+    "thruster 1, body z",
+    "thruster 2, body x",
+    "thruster 2, body y",
+    "thruster 2, body z",
+    "thruster 3, body x",
+    "thruster 3, body y",
+    "thruster 3, body z",
+    "thruster 4, body x",
+    "thruster 4, body y",
+    "thruster 4, body z",
+    "thruster 5, body x",
+    "thruster 5, body y",
+    "thruster 5, body z",
+    "thruster 6, body x",
+    "thruster 6, body y",
+    "thruster 6, body z",
+    "thruster 7, body x",
+    "thruster 7, body y",
+    "thruster 7, body z",
+];
 const NUE: &[&str] = &["North", "Up", "East"];
 const BODY: &[&str] = &[
     "about body x (yaw)",
@@ -282,6 +351,7 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     // outputs: the commands
     decl!(100, output thrust_cmd: outputs.thrust_cmd_n, "N", "commanded total engine thrust along body +y"),
     decl!(101, output torque_cmd_body[3]: outputs.torque_cmd_body_nm, "N.m", "commanded control torque", components = BODY),
+    decl!(130, output rcs_duty[8]: outputs.rcs_duty, "1", "thruster model: fraction of the coming rcs_duty_period each RCS thruster fires, from its start (PWPF of the allocated torque); 0 in the torque model", components = THRUSTERS),
     // diagnostic outputs
     decl!(110, output a_cmd_nue[3]: outputs.a_cmd_nue_mps2, "m/s2", "commanded thrust acceleration (guidance net acceleration minus gravity)", components = NUE),
     decl!(113, output q_ref[4]: outputs.q_ref, "1", "reference attitude q_guid * q_phicmd", components = QUATERNION),
@@ -316,6 +386,16 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(226, parameter target_hover_duration: params.target_hover_duration_s, "s", "phase 3 (PV hover at the descent target) duration; phase 4 holds there after it; <= 1e6 s", min = 0.0, max = 1e6),
     decl!(227, parameter reduced_yaw_weight: params.reduced_yaw_weight, "1", "reduced law: weight of the rotation about the thrust axis, in [0, 1]", min = 0.0, max = 1.0),
     decl!(228, parameter rate_shaping_margin: params.rate_shaping_margin, "1", "share of the torque limit the attitude laws count on to brake a rotation; large angle errors are shaped so the rate demand can be stopped in time (beyond the paper, ArduPilot-style square-root controller); 0.5 is a good choice; 0 = the paper's pure PD (default), in [0, 1]", min = 0.0, max = 1.0),
+    decl!(300, parameter rcs_model: params.rcs_model as enum RcsModel, "RCS model: 1 torque per axis (default, the paper), 2 eight thrusters driven by rcs_duty", as_integer = true),
+    decl!(301, parameter rcs_thruster_force: params.rcs_thruster_force_n, "N", "thruster model: force of one RCS thruster, as the plant's", above = 0.0),
+    decl!(302, parameter rcs_position_body[24]: params.rcs_position_body_m, "m", "thruster model: nozzle position of thruster k (elements 3k+1..3k+3) relative to the centre of mass, as the plant's", components = THRUSTER_XYZ),
+    decl!(326, parameter rcs_direction_body[24]: params.rcs_direction_body, "1", "thruster model: unit direction of the force of thruster k (elements 3k+1..3k+3), as the plant's", components = THRUSTER_XYZ),
+    decl!(355, parameter rcs_tilt_first: params.rcs_tilt_first as bool, "thruster model: a torque beyond the thrusters' reach keeps its tilt part (body x, z) and gives the roll (body y) what is left (true, default), or keeps its direction (false)"),
+    decl!(350, parameter pwpf_gain: params.pwpf_gain, "1", "thruster model: PWPF filter gain Km (filter Tm x' = Km (u - y) - x on the thrust fraction u and thruster output y)", above = 0.0),
+    decl!(351, parameter pwpf_time_constant: params.pwpf_time_constant_s, "s", "thruster model: PWPF filter time constant Tm", above = 0.0),
+    decl!(352, parameter pwpf_on_threshold: params.pwpf_on_threshold, "1", "thruster model: PWPF trigger on threshold Uon, > pwpf_off_threshold"),
+    decl!(353, parameter pwpf_off_threshold: params.pwpf_off_threshold, "1", "thruster model: PWPF trigger off threshold Uoff, > 0", above = 0.0),
+    decl!(354, parameter rcs_duty_period: params.rcs_duty_period_s, "s", "thruster model: the period a duty is a fraction of; set it to the communication step", above = 0.0),
     decl!(229, parameter terminal_descent_speed: params.terminal_descent_speed_mps, "m/s", "phase 5 (beyond the paper): after the target hover, descend vertically over the descent target at this speed until touchdown; 0 = no terminal descent, hold the hover (default)", min = 0.0),
     decl!(230, parameter phi_rate_limit: params.phi_rate_limit_radps, "rad/s", "shaped thrust-axis manoeuvre (beyond the paper): the reference follows phi_cmd at most this fast, the rate fed forward; 0 = unlimited; with phi_accel_limit also 0, the paper's step (default); <= 100", min = 0.0, max = 100.0),
     decl!(231, parameter phi_accel_limit: params.phi_accel_limit_radps2, "rad/s2", "shaped thrust-axis manoeuvre: the reference's angular acceleration limit (bang-coast-bang profile), fed forward as torque; 0 = unlimited; <= 1e4", min = 0.0, max = 1e4),
@@ -406,6 +486,37 @@ mod tests {
     }
 
     #[test]
+    fn the_thruster_modulators_are_part_of_the_serialized_state() {
+        // GIVEN the thruster model, stepped into the 150 deg roll (thrusters pulsing)
+        let mut gnc = initialized(GncParameters {
+            rcs_model: crate::actuation::RcsModel::Thrusters as i32,
+            ..paper_params()
+        });
+        for k in 0..150 {
+            gnc.inputs = navigation(k);
+            gnc.do_step(k as f64 * H, H, &mut Log::default()).unwrap();
+        }
+        assert!(gnc.pwpf.iter().any(|m| m.filter != 0.0), "{:?}", gnc.pwpf);
+        // WHEN its state is serialized and restored into a fresh instance
+        let header = fmi_model::snapshot::Header {
+            magic: *b"testtest",
+            state_version: 2,
+            guid: Default::default(),
+        };
+        let bytes = fmi_model::snapshot::encode(&gnc, header).unwrap();
+        let mut restored: LanderGnc = fmi_model::snapshot::decode(&bytes, header).unwrap();
+        // THEN both command the same duties from there on
+        for k in 150..400 {
+            for m in [&mut gnc, &mut restored] {
+                m.inputs = navigation(k);
+                m.do_step(k as f64 * H, H, &mut Log::default()).unwrap();
+            }
+            assert_eq!(exact(&restored.outputs), exact(&gnc.outputs), "step {k}");
+        }
+        assert!(gnc.outputs.rcs_duty.iter().any(|&d| d > 0.0));
+    }
+
+    #[test]
     fn gets_between_steps_do_not_change_the_trajectory() {
         gets_between_steps_do_not_change_the_trajectory_with(paper_params());
         gets_between_steps_do_not_change_the_trajectory_with(shaped_params());
@@ -492,7 +603,7 @@ mod tests {
             }
             late += usize::from(gnc.sample_time(t).off_nominal_bits.is_some());
             let at = |time_s| {
-                let sample = LanderGnc {
+                let (sample, _) = LanderGnc {
                     time_s,
                     ..gnc.clone()
                 }

@@ -6,10 +6,12 @@
 //! * [`guidance`]: cubic-polynomial descent, PV hover, the phase sequencer, thrust magnitude.
 //! * [`attitude`]: reference attitude, phi_b, the thrust-axis error split, the coupled,
 //!   decoupled and reduced laws, gains and saturation.
+//! * [`actuation`]: thruster mode: torque allocation to eight thrusters and PWPF modulation.
 //! * [`controller`]: one GNC sample from navigation inputs (pure).
 //! * [`fmu`]: the FMI variable table and timing; no math.
 #![deny(unsafe_code)]
 
+pub mod actuation;
 pub mod attitude;
 pub mod controller;
 pub mod conventions;

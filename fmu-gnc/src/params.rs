@@ -1,5 +1,8 @@
 //! The GNC parameters, their defaults (paper Tables I-II and the ERRATA modelling defaults)
 //! and their validation.
+use crate::actuation::allocation::Allocator;
+use crate::actuation::pwpf::PwpfSettings;
+use crate::actuation::{RcsModel, THRUSTER_COUNT};
 use crate::attitude::gains::AttitudeGains;
 use crate::attitude::profile::ProfileLimits;
 use crate::attitude::{AttitudeSettings, ControlLaw};
@@ -40,6 +43,20 @@ pub struct GncParameters {
     /// followed through; 0 = that one unlimited, both 0 = the paper's step.
     pub phi_rate_limit_radps: f64,
     pub phi_accel_limit_radps2: f64,
+    /// Enumeration value: 1 torque per axis, 2 eight thrusters.
+    pub rcs_model: i32,
+    /// Thruster geometry (thruster `k` at `3k..3k+3`), as the plant's; body axes.
+    pub rcs_position_body_m: [f64; 3 * THRUSTER_COUNT],
+    pub rcs_direction_body: [f64; 3 * THRUSTER_COUNT],
+    pub rcs_thruster_force_n: f64,
+    /// Beyond the thrusters' reach, serve the tilt torque first (else keep the direction).
+    pub rcs_tilt_first: bool,
+    pub pwpf_gain: f64,
+    pub pwpf_time_constant_s: f64,
+    pub pwpf_on_threshold: f64,
+    pub pwpf_off_threshold: f64,
+    /// The period a duty refers to: the communication step, s.
+    pub rcs_duty_period_s: f64,
 }
 
 /// Everything the samples use that follows from the parameters alone, derived once from
@@ -51,6 +68,27 @@ pub struct GncDesign {
     pub attitude: AttitudeSettings,
     /// `None`: the paper's step in `phi_cmd`.
     pub roll_profile: Option<ProfileLimits>,
+}
+
+/// The plant's default thruster layout (docs/rcs-layout.md): position (m) and force
+/// direction of each thruster, body axes.
+const DEFAULT_RCS_LAYOUT: [([f64; 3], [f64; 3]); THRUSTER_COUNT] = [
+    ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+    ([-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]),
+    ([1.0, 0.0, 0.0], [0.0, -1.0, 0.0]),
+    ([-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+    ([-1.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+    ([-1.0, -1.0, 0.0], [0.0, 0.0, -1.0]),
+    ([1.0, 1.0, 0.0], [0.0, 0.0, -1.0]),
+    ([1.0, -1.0, 0.0], [0.0, 0.0, 1.0]),
+];
+
+fn default_layout_column(direction: bool) -> [f64; 3 * THRUSTER_COUNT] {
+    let mut out = [0.0; 3 * THRUSTER_COUNT];
+    for (k, (r, d)) in DEFAULT_RCS_LAYOUT.iter().enumerate() {
+        out[3 * k..3 * k + 3].copy_from_slice(if direction { d } else { r });
+    }
+    out
 }
 
 impl Default for GncParameters {
@@ -80,6 +118,17 @@ impl Default for GncParameters {
             terminal_descent_speed_mps: 0.0,
             phi_rate_limit_radps: 0.0,
             phi_accel_limit_radps2: 0.0,
+            rcs_model: RcsModel::Torque as i32,
+            rcs_position_body_m: default_layout_column(false),
+            rcs_direction_body: default_layout_column(true),
+            rcs_thruster_force_n: 58.0,
+            rcs_tilt_first: true,
+            // PWPF: Km 10, Tm 0.5 s, Uon 0.5, Uoff 0.2 (docs/rcs-layout.md explains the choice).
+            pwpf_gain: 10.0,
+            pwpf_time_constant_s: 0.5,
+            pwpf_on_threshold: 0.5,
+            pwpf_off_threshold: 0.2,
+            rcs_duty_period_s: 0.01,
         }
     }
 }
@@ -332,8 +381,80 @@ impl GncParameters {
             p.phi_accel_limit_radps2,
             "must be in [0, 1e4] (0 = unlimited)",
         )?;
-        Ok(())
+        self.validate_rcs()
     }
+
+    /// The thruster chain's parameters (checked in either RCS model).
+    fn validate_rcs(&self) -> Result<(), InvalidParameter> {
+        let p = self;
+        if RcsModel::from_index(p.rcs_model).is_none() {
+            return Err(InvalidParameter {
+                field: "rcs_model",
+                index: None,
+                value: p.rcs_model.to_string(),
+                reason: "must be 1 (torque) or 2 (thrusters)",
+            });
+        }
+        for (k, value) in p.rcs_position_body_m.into_iter().enumerate() {
+            check_at(
+                value.is_finite(),
+                "rcs_position_body_m",
+                Some(k),
+                value,
+                "must be finite",
+            )?;
+        }
+        for k in 0..THRUSTER_COUNT {
+            let d = &p.rcs_direction_body[3 * k..3 * k + 3];
+            let norm = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+            check_at(
+                (norm - 1.0).abs() <= 1e-6,
+                "rcs_direction_body",
+                Some(3 * k),
+                d[0],
+                "the thruster's direction must be a unit vector (norm within 1e-6 of 1)",
+            )?;
+        }
+        let positive = [
+            ("rcs_thruster_force_n", p.rcs_thruster_force_n),
+            ("pwpf_gain", p.pwpf_gain),
+            ("pwpf_time_constant_s", p.pwpf_time_constant_s),
+            ("pwpf_off_threshold", p.pwpf_off_threshold),
+            ("rcs_duty_period_s", p.rcs_duty_period_s),
+        ];
+        for (name, value) in positive {
+            check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
+        }
+        check(
+            p.pwpf_on_threshold > p.pwpf_off_threshold && p.pwpf_on_threshold.is_finite(),
+            "pwpf_on_threshold",
+            p.pwpf_on_threshold,
+            "must be finite and > pwpf_off_threshold (the trigger's hysteresis)",
+        )
+    }
+
+    /// The RCS model (torque for values `validate` refuses).
+    pub fn rcs(&self) -> RcsModel {
+        RcsModel::from_index(self.rcs_model).unwrap_or(RcsModel::Torque)
+    }
+
+    pub fn allocator(&self) -> Allocator {
+        Allocator::new(
+            &self.rcs_position_body_m,
+            &self.rcs_direction_body,
+            self.rcs_thruster_force_n,
+        )
+    }
+
+    pub fn pwpf_settings(&self) -> PwpfSettings {
+        PwpfSettings {
+            gain: self.pwpf_gain,
+            time_constant_s: self.pwpf_time_constant_s,
+            on_threshold: self.pwpf_on_threshold,
+            off_threshold: self.pwpf_off_threshold,
+        }
+    }
+
 
     /// Validate, then derive what the samples use.
     pub fn design(&self) -> Result<GncDesign, InvalidParameter> {

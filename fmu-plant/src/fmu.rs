@@ -4,8 +4,11 @@ mod model_exchange;
 
 use crate::physics::continuous::unit_attitude;
 use crate::physics::frames::quaternion_to_scalar_first;
-use crate::physics::parameters::{PlantParameters, TranslationModelKind, MAX_SITE_LATITUDE_RAD};
+use crate::physics::parameters::{
+    PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
+};
 use crate::physics::plant::{Advance, Commands, Plant, PlantRun};
+use crate::physics::thrusters::THRUSTER_COUNT;
 use fmi_model::{
     decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
 };
@@ -23,6 +26,7 @@ struct Outputs {
     thrust_actual: f64,
     torque_actual_body: [f64; 3],
     engine_torque_body: [f64; 3],
+    rcs_force_body: [f64; 3],
     propellant_used: f64,
 }
 
@@ -31,6 +35,8 @@ struct Outputs {
 pub struct LanderPlant {
     parameters: PlantParameters,
     commands: Commands,
+    /// Duty cycle of each RCS thruster over the coming step (thruster model).
+    rcs_duty: [f64; THRUSTER_COUNT],
     /// Set by `exit_initialization` from the validated parameters.
     running: Option<(Plant, PlantRun)>,
     outputs: Outputs,
@@ -68,9 +74,12 @@ impl LanderPlant {
         };
         let x = &run.state;
         let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
-        let delivered = plant.delivered(
+        // Thruster model: the thrusters commanded on at the start of the coming step.
+        let firing = self.rcs_duty.map(|d| d > 0.0);
+        let delivered = plant.delivered_firing(
             x,
             &self.commands,
+            &firing,
             run.propellant_exhausted || run.touchdown.is_some(),
         );
         self.outputs = Outputs {
@@ -83,6 +92,7 @@ impl LanderPlant {
             thrust_actual: delivered.thrust_n,
             torque_actual_body: delivered.rcs_torque_body_nm.into(),
             engine_torque_body: delivered.engine_torque_body_nm.into(),
+            rcs_force_body: delivered.rcs_force_body_n.into(),
             propellant_used: p.m0_kg - x.mass_kg,
         };
     }
@@ -102,6 +112,8 @@ const MAX_SUB_STEPS_PER_STEP: f64 = 1e6;
 
 impl Model for LanderPlant {
     const MODEL_IDENTIFIER: &'static str = "LanderPlant";
+    /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end).
+    const STATE_VERSION: u32 = 2;
     const MODEL_NAME: &'static str = "LanderPlant";
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
          (eq. 1) translation, throttleable engines and RCS with saturation, RK4, touchdown and propellant events";
@@ -122,7 +134,9 @@ impl Model for LanderPlant {
         // depend on the current command when no lag is configured.
         match output {
             "thrust_actual" | "engine_torque_body" => Dependencies::Inputs(&["thrust_cmd"]),
-            "torque_actual_body" => Dependencies::SameElementOf("torque_cmd_body"),
+            "torque_actual_body" | "rcs_force_body" => {
+                Dependencies::Inputs(&["torque_cmd_body", "rcs_duty"])
+            }
             _ => Dependencies::NoInputs,
         }
     }
@@ -169,7 +183,7 @@ impl Model for LanderPlant {
             )));
         }
         let before = *run;
-        let advance = plant.advance(run, &self.commands, t, h);
+        let advance = plant.advance_with_duty(run, &self.commands, &self.rcs_duty, t, h);
         if !run.state.is_finite() {
             *run = before;
             return Err(ModelError::Other(format!(
@@ -211,6 +225,13 @@ fmi_model::enumeration! {
     }
 }
 
+fmi_model::enumeration! {
+    RcsModelKind = "RcsModel", "How the reaction control system is modelled" {
+        Torque: "torque", "Continuous torque per axis from torque_cmd_body, saturated at rcs_torque_limit (the paper's model)";
+        Thrusters: "thrusters", "Eight on/off thrusters fired from the start of each step for rcs_duty of it";
+    }
+}
+
 fn running_flag(m: &LanderPlant, f: impl Fn(&PlantRun) -> bool) -> bool {
     m.running.as_ref().is_some_and(|(_, run)| f(run))
 }
@@ -234,6 +255,42 @@ const QUATERNION: &[&str] = &[
     "vector part z",
 ];
 const Q_NUE: &[&str] = &["scalar part", NUE_AXES[0], NUE_AXES[1], NUE_AXES[2]];
+const THRUSTERS: &[&str] = &[
+    "thruster 0",
+    "thruster 1",
+    "thruster 2",
+    "thruster 3",
+    "thruster 4",
+    "thruster 5",
+    "thruster 6",
+    "thruster 7",
+];
+const THRUSTER_XYZ: &[&str] = &[
+    "thruster 0, body x",
+    "thruster 0, body y",
+    "thruster 0, body z",
+    "thruster 1, body x",
+    "thruster 1, body y",
+    "thruster 1, body z",
+    "thruster 2, body x",
+    "thruster 2, body y",
+    "thruster 2, body z",
+    "thruster 3, body x",
+    "thruster 3, body y",
+    "thruster 3, body z",
+    "thruster 4, body x",
+    "thruster 4, body y",
+    "thruster 4, body z",
+    "thruster 5, body x",
+    "thruster 5, body y",
+    "thruster 5, body z",
+    "thruster 6, body x",
+    "thruster 6, body y",
+    "thruster 6, body z",
+    "thruster 7, body x",
+    "thruster 7, body y",
+    "thruster 7, body z",
+];
 const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
 const TRANSLATION_STATE: &[&str] = &[
     "1 (flat: r_nue North; spherical: radius)",
@@ -251,7 +308,8 @@ const TRANSLATION_STATE: &[&str] = &[
 static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     // Inputs (LanderGnc outputs).
     decl!(1, input thrust_cmd: commands.thrust_cmd_n, "N", "Commanded total engine thrust along body +y; at or below engine_off_threshold the engines are off, otherwise saturated to engine_count x [engine_thrust_min, engine_thrust_max]"),
-    decl!(2, input torque_cmd_body[3]: commands.torque_cmd_body_nm, "N.m", "Commanded RCS torque, saturated to rcs_torque_limit", components = BODY),
+    decl!(2, input torque_cmd_body[3]: commands.torque_cmd_body_nm, "N.m", "Commanded RCS torque, saturated to rcs_torque_limit (torque model; ignored by the thruster model)", components = BODY),
+    decl!(60, input rcs_duty[8]: rcs_duty, "1", "Thruster model: fraction of the coming communication step during which each RCS thruster fires, from the step's start; clamped to [0, 1]; a pulse below rcs_min_impulse_bit is not fired unless it continues one (ignored by the torque model)", components = THRUSTERS),
     // Outputs (LanderGnc inputs).
     decl!(10, output r_nue[3]: outputs.r_nue, "m", "Position of the centre of mass (landing site at the origin)", components = NUE),
     decl!(13, output v_nue[3]: outputs.v_nue, "m/s", "Velocity relative to the Moon's surface", components = NUE),
@@ -261,7 +319,8 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     // Extra outputs.
     decl!(24, output altitude: outputs.altitude, "m", "Height above the surface: r_nue[2] for the flat Moon, radius minus moon_radius for the spherical one"),
     decl!(25, output thrust_actual: outputs.thrust_actual, "N", "Engine thrust delivered after saturation, lag and propellant cut-off"),
-    decl!(26, output torque_actual_body[3]: outputs.torque_actual_body, "N.m", "RCS torque delivered after saturation and lag", components = BODY_AXES),
+    decl!(26, output torque_actual_body[3]: outputs.torque_actual_body, "N.m", "RCS torque delivered after saturation and lag (thruster model: of the thrusters commanded on at the start of the coming step)", components = BODY_AXES),
+    decl!(47, output rcs_force_body[3]: outputs.rcs_force_body, "N", "Thruster model: force of the thrusters commanded on at the start of the coming step (0 in the torque model)", components = BODY_AXES),
     decl!(29, output engine_torque_body[3]: outputs.engine_torque_body, "N.m", "Disturbance torque of the misaligned/offset thrust line", components = BODY_AXES),
     decl!(32, output propellant_used: outputs.propellant_used, "kg", "m0 minus the current mass"),
     Declaration::boolean(33, "propellant_exhausted", role::discrete_output, "True once the mass has reached dry_mass; the engines deliver no thrust from then on", |m| running_flag(m, |r| r.propellant_exhausted), |_, _| {}),
@@ -294,6 +353,10 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(140, parameter rcs_thruster_force: parameters.rcs.thruster_force_n, "N", "Force of one RCS thruster", min = 0.0),
     decl!(141, parameter rcs_moment_arm: parameters.rcs.moment_arm_m, "m", "Moment arm of an RCS couple", min = 0.0),
     decl!(142, parameter rcs_time_constant: parameters.rcs.time_constant_s, "s", "First-order lag of the delivered RCS torque (0 = none)", min = 0.0),
+    decl!(144, parameter rcs_model: parameters.rcs_model as enum RcsModelKind, "RCS model: 1 torque per axis (default, the paper), 2 eight thrusters driven by rcs_duty", as_integer = true),
+    decl!(145, parameter rcs_min_impulse_bit: parameters.thrusters.min_impulse_bit_ns, "N.s", "Thruster model: a pulse of smaller impulse (rcs_thruster_force x on-time) is not fired, unless it continues a pulse that lasted to the end of the previous step", min = 0.0),
+    decl!(300, parameter rcs_position_body[24]: parameters.thrusters.position_body_m, "m", "Thruster model: nozzle position of thruster k (elements 3k+1..3k+3) relative to the centre of mass; default: docs/rcs-layout.md", components = THRUSTER_XYZ),
+    decl!(324, parameter rcs_direction_body[24]: parameters.thrusters.direction_body, "1", "Thruster model: unit direction of the force thruster k (elements 3k+1..3k+3) applies to the lander", components = THRUSTER_XYZ),
     decl!(143, calculated_parameter rcs_torque_limit: get |m, _| m.parameters.rcs.torque_limit_nm(), "N.m", "Per-axis RCS torque limit: one couple, 2 x rcs_thruster_force x rcs_moment_arm"),
     // Translation model.
     // An Integer in the model description, so that every master can select it (libcosim and
@@ -375,7 +438,11 @@ mod tests {
         let thrust = dependencies(&structure.outputs, "thrust_actual");
         assert_eq!(thrust, vec![index_of("thrust_cmd")]);
         let torque = dependencies(&structure.outputs, "torque_actual_body[2]");
-        assert_eq!(torque, vec![index_of("torque_cmd_body[2]")]);
+        assert!(
+            torque.contains(&index_of("torque_cmd_body[2]")),
+            "{torque:?}"
+        );
+        assert!(torque.contains(&index_of("rcs_duty[8]")), "{torque:?}");
     }
 
     #[test]

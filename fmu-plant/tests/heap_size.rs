@@ -27,7 +27,7 @@ fn one_instance_holds_less_than_64_kib_of_heap_and_frees_it_all() {
         reals(fmi2_export::Causality::Input),
         reals(fmi2_export::Causality::Output),
     );
-    assert_eq!(inputs.len(), 4);
+    assert_eq!(inputs.len(), 12);
     for round in 0..2 {
         let heap = ALLOCATOR.measure(
             || Instance::instantiate(&FUNCTIONS, "heap", &guid),
@@ -35,7 +35,10 @@ fn one_instance_holds_less_than_64_kib_of_heap_and_frees_it_all() {
                 assert_eq!(plant.initialize(), fmi2OK);
                 for k in 0..200 {
                     let t = k as f64 * 0.01;
-                    let commands = [1300.0, 1.0, -2.0, 0.5];
+                    // Thrust, torque and the eight RCS duties (ignored by the default torque model).
+                    let commands = [
+                        1300.0, 1.0, -2.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                    ];
                     assert_eq!(plant.set_reals(&inputs, &commands), fmi2OK);
                     assert_eq!(plant.get_reals(&outputs).0, fmi2OK);
                     assert_eq!(plant.do_step(t, 0.01), fmi2OK);

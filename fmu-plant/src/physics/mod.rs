@@ -8,5 +8,6 @@ pub mod parameters;
 pub mod plant;
 pub mod rigid_body;
 pub mod state;
+pub mod thrusters;
 pub mod translation_flat;
 pub mod translation_spherical;

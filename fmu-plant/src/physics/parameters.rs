@@ -3,6 +3,7 @@
 //! Each error names the field of [`PlantParameters`] to fix (and the element of a vector);
 //! an interface layer names it as its users know it.
 use super::actuators::{Engines, Rcs, ThrustLine};
+use super::thrusters::{ThrusterLayout, THRUSTER_COUNT};
 use nalgebra::{Quaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -32,6 +33,15 @@ pub enum TranslationModelKind {
     Spherical = 2,
 }
 
+/// How the RCS is modelled (FMI Enumeration `RcsModel`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum RcsModelKind {
+    /// A continuous torque per axis, saturated at the couple limit (the paper's model).
+    Torque = 1,
+    /// Eight on/off thrusters driven by duty cycles (`physics::thrusters`).
+    Thrusters = 2,
+}
+
 /// Every parameter of the plant, in SI units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlantParameters {
@@ -50,6 +60,9 @@ pub struct PlantParameters {
     pub engines: Engines,
     pub rcs: Rcs,
     pub thrust_line: ThrustLine,
+    /// Raw Enumeration value (1 torque, 2 thrusters), checked in `validate`.
+    pub rcs_model: i32,
+    pub thrusters: ThrusterLayout,
     /// Raw Enumeration value (1 flat, 2 spherical), checked in `validate`.
     pub translation_model: i32,
     pub moon_radius_m: f64,
@@ -96,6 +109,8 @@ impl Default for PlantParameters {
                 // misalignment angle this lever arm turns it into a disturbance torque.
                 point_body_m: Vector3::new(0.0, -1.0, 0.0),
             },
+            rcs_model: RcsModelKind::Torque as i32,
+            thrusters: ThrusterLayout::default(),
             translation_model: TranslationModelKind::Flat as i32,
             moon_radius_m: MOON_RADIUS_M,
             moon_rotation_rate_radps: MOON_ROTATION_RATE_RADPS,
@@ -174,6 +189,47 @@ impl PlantParameters {
                 "must be 1 (flat) or 2 (spherical)",
             )),
         }
+    }
+
+    pub fn rcs_model_kind(&self) -> Result<RcsModelKind, ParameterError> {
+        match self.rcs_model {
+            1 => Ok(RcsModelKind::Torque),
+            2 => Ok(RcsModelKind::Thrusters),
+            other => Err(refuse(
+                ("rcs_model", None),
+                other,
+                "must be 1 (torque) or 2 (thrusters)",
+            )),
+        }
+    }
+
+    /// The thruster layout: finite positions, unit directions (within 1e-6), a finite
+    /// non-negative minimum impulse bit. Checked in either RCS model.
+    fn validate_thrusters(&self) -> Result<(), ParameterError> {
+        let layout = &self.thrusters;
+        for k in 0..3 * THRUSTER_COUNT {
+            finite(
+                ("thrusters.position_body_m", Some(k)),
+                layout.position_body_m[k],
+            )?;
+            finite(
+                ("thrusters.direction_body", Some(k)),
+                layout.direction_body[k],
+            )?;
+        }
+        for k in 0..THRUSTER_COUNT {
+            let norm = layout.direction(k).norm();
+            require(
+                (norm - 1.0).abs() <= 1e-6,
+                ("thrusters.direction_body", Some(3 * k)),
+                layout.direction_body[3 * k],
+                &format!("thruster {k}'s direction has norm {norm}; it must be a unit vector"),
+            )?;
+        }
+        non_negative(
+            ("thrusters.min_impulse_bit_ns", None),
+            layout.min_impulse_bit_ns,
+        )
     }
 
     /// The initial attitude as a unit quaternion, and a warning when it had to be normalised
@@ -278,6 +334,8 @@ impl PlantParameters {
             ("thrust_line.misalignment_azimuth_rad", None),
             self.thrust_line.misalignment_azimuth_rad,
         )?;
+        self.rcs_model_kind()?;
+        self.validate_thrusters()?;
         positive(("integration_step_s", None), self.integration_step_s)?;
         let kind = self.translation_model_kind()?;
         positive(("moon_radius_m", None), self.moon_radius_m)?;

@@ -3,9 +3,10 @@ use super::actuators::{lag_rate, lagged_or_direct, Engines, Rcs, ThrustLine};
 use super::events::find_crossing;
 use super::frames::{body_to_nue, tilt_from_vertical};
 use super::integrator::{rk4_step, SubSteps};
-use super::parameters::{ParameterError, PlantParameters, TranslationModelKind};
+use super::parameters::{ParameterError, PlantParameters, RcsModelKind, TranslationModelKind};
 use super::rigid_body::{omega_dot_body, quaternion_rate, PrincipalInertia};
 use super::state::PlantState;
+use super::thrusters::{pieces, Firing, Thrusters, NONE_FIRING, THRUSTER_COUNT};
 use super::translation_flat;
 use super::translation_spherical::SphericalMoon;
 use nalgebra::{Quaternion, Vector3, Vector6};
@@ -67,6 +68,8 @@ pub struct Commands {
 pub struct Delivered {
     pub thrust_n: f64,
     pub rcs_torque_body_nm: Vector3<f64>,
+    /// Force of the firing RCS thrusters, body axes (zero in the torque model).
+    pub rcs_force_body_n: Vector3<f64>,
     /// Torque of the (misaligned or offset) thrust line about the centre of mass.
     pub engine_torque_body_nm: Vector3<f64>,
 }
@@ -88,6 +91,9 @@ pub struct PlantRun {
     pub state: PlantState,
     pub propellant_exhausted: bool,
     pub touchdown: Option<Touchdown>,
+    /// Thrusters whose pulse lasted to the end of the last step: their next pulse continues
+    /// it and is fired whatever its length (thruster model).
+    pub rcs_firing_at_step_end: Firing,
 }
 
 /// How an advance ended.
@@ -105,6 +111,8 @@ pub struct Plant {
     pub inertia_body_kgm2: PrincipalInertia,
     pub engines: Engines,
     pub rcs: Rcs,
+    /// The thrusters when the RCS is modelled by them; `None`: the per-axis torque model.
+    pub thrusters: Option<Thrusters>,
     pub thrust_line: ThrustLine,
     thrust_direction_body: Vector3<f64>,
     /// `1 / (Isp g0)`, s/m: mass flow per newton of thrust.
@@ -149,6 +157,12 @@ impl Plant {
             inertia_body_kgm2: p.inertia_body_kgm2,
             engines: p.engines,
             rcs: p.rcs,
+            thrusters: match p.rcs_model_kind()? {
+                RcsModelKind::Torque => None,
+                RcsModelKind::Thrusters => {
+                    Some(Thrusters::new(&p.thrusters, p.rcs.thruster_force_n))
+                }
+            },
             thrust_line: p.thrust_line,
             thrust_direction_body: p.thrust_line.direction_body(),
             mass_flow_per_newton: 1.0 / (p.isp_s * p.g0_mps2),
@@ -180,6 +194,7 @@ impl Plant {
             state,
             propellant_exhausted: false,
             touchdown: None,
+            rcs_firing_at_step_end: NONE_FIRING,
         };
         Ok((plant, run, warning))
     }
@@ -201,12 +216,30 @@ impl Plant {
         self.engines.time_constant_s > 0.0 || self.rcs.time_constant_s > 0.0
     }
 
-    /// What the actuators deliver at state `x` under `commands`.
+    /// What the actuators deliver at state `x` under `commands` (thruster model: none firing).
     pub fn delivered(&self, x: &PlantState, commands: &Commands, exhausted: bool) -> Delivered {
-        self.delivered_from(x, &self.targets(commands, exhausted), exhausted)
+        self.delivered_firing(x, commands, &NONE_FIRING, exhausted)
     }
 
-    fn delivered_from(&self, x: &PlantState, targets: &Targets, exhausted: bool) -> Delivered {
+    /// What the actuators deliver at state `x` under `commands` with these thrusters firing
+    /// (ignored in the torque model).
+    pub fn delivered_firing(
+        &self,
+        x: &PlantState,
+        commands: &Commands,
+        firing: &Firing,
+        exhausted: bool,
+    ) -> Delivered {
+        self.delivered_from(x, &self.targets(commands, exhausted), firing, exhausted)
+    }
+
+    fn delivered_from(
+        &self,
+        x: &PlantState,
+        targets: &Targets,
+        firing: &Firing,
+        exhausted: bool,
+    ) -> Delivered {
         let thrust_n = if exhausted {
             0.0
         } else {
@@ -216,34 +249,58 @@ impl Plant {
                 self.engines.time_constant_s,
             )
         };
-        let tau = self.rcs.time_constant_s;
-        let rcs_torque_body_nm = Vector3::from_fn(|k, _| {
-            lagged_or_direct(targets.rcs_torque_body_nm[k], x.torque_lag_body_nm[k], tau)
-        });
+        let (rcs_force_body_n, rcs_torque_body_nm) = match &self.thrusters {
+            Some(thrusters) => thrusters.force_and_torque_body(firing),
+            None => {
+                let tau = self.rcs.time_constant_s;
+                let torque = Vector3::from_fn(|k, _| {
+                    lagged_or_direct(targets.rcs_torque_body_nm[k], x.torque_lag_body_nm[k], tau)
+                });
+                (Vector3::zeros(), torque)
+            }
+        };
         Delivered {
             thrust_n,
             rcs_torque_body_nm,
+            rcs_force_body_n,
             engine_torque_body_nm: self
                 .thrust_line
                 .torque_body_nm(&self.thrust_direction_body, thrust_n),
         }
     }
 
-    /// Time derivative of the whole state: the one set of equations of motion behind both the
-    /// Co-Simulation step (RK4 below) and Model Exchange (`continuous`).
+    /// Time derivative of the whole state (thruster model: none firing): the one set of
+    /// equations of motion behind both the Co-Simulation step (RK4 below) and Model Exchange
+    /// (`continuous`).
     pub fn derivative(&self, x: &PlantState, commands: &Commands, exhausted: bool) -> PlantState {
+        self.derivative_firing(x, commands, &NONE_FIRING, exhausted)
+    }
+
+    /// Time derivative of the whole state with these thrusters firing.
+    pub fn derivative_firing(
+        &self,
+        x: &PlantState,
+        commands: &Commands,
+        firing: &Firing,
+        exhausted: bool,
+    ) -> PlantState {
         let targets = self.targets(commands, exhausted);
-        let d = self.delivered_from(x, &targets, exhausted);
+        let d = self.delivered_from(x, &targets, firing, exhausted);
         // Until the exhaustion event the engines burn on, so the mass stays linear in time
         // across the dry mass and the event search sees a smooth function. An RK4 stage of
         // the sub-step holding the event can lie past the dry mass (never the accepted
         // state); clamping the mass there keeps the stage finite for any sub-step length
         // without touching states before the event.
-        let thrust_body =
-            self.thrust_direction_body * (d.thrust_n / x.mass_kg.max(self.dry_mass_kg));
+        let mass_kg = x.mass_kg.max(self.dry_mass_kg);
+        let thrust_body = match self.thrusters {
+            // Separate branch: the torque model's arithmetic stays what it was, bit for bit.
+            None => self.thrust_direction_body * (d.thrust_n / mass_kg),
+            Some(_) => (self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n) / mass_kg,
+        };
         let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &thrust_body);
         let torque_body = d.rcs_torque_body_nm + d.engine_torque_body_nm;
-        // Without lags the lag states stay at zero: skip their rates altogether.
+        // Without lags the lag states stay at zero: skip their rates altogether. The torque
+        // lag belongs to the torque model; with thrusters it stays at rest.
         let (thrust_lag_n, torque_lag_body_nm) = if self.has_actuator_lags() {
             let tau_rcs = self.rcs.time_constant_s;
             (
@@ -252,13 +309,16 @@ impl Plant {
                     x.thrust_lag_n,
                     self.engines.time_constant_s,
                 ),
-                Vector3::from_fn(|k, _| {
-                    lag_rate(
-                        targets.rcs_torque_body_nm[k],
-                        x.torque_lag_body_nm[k],
-                        tau_rcs,
-                    )
-                }),
+                match self.thrusters {
+                    None => Vector3::from_fn(|k, _| {
+                        lag_rate(
+                            targets.rcs_torque_body_nm[k],
+                            x.torque_lag_body_nm[k],
+                            tau_rcs,
+                        )
+                    }),
+                    Some(_) => Vector3::zeros(),
+                },
             )
         } else {
             (0.0, Vector3::zeros())
@@ -297,12 +357,13 @@ impl Plant {
         &self,
         x: &PlantState,
         commands: &Commands,
+        firing: &Firing,
         exhausted: bool,
         t: f64,
         h: f64,
     ) -> PlantState {
         rk4_step(
-            |_t, s: &PlantState| self.derivative(s, commands, exhausted),
+            |_t, s: &PlantState| self.derivative_firing(s, commands, firing, exhausted),
             t,
             x,
             h,
@@ -316,24 +377,75 @@ impl Plant {
 
     /// Advances `run` from `t` to `t + h` under constant `commands`, in RK4 sub-steps of at
     /// most `integration_step_s`, stopping at a touchdown. After a touchdown it does not move.
+    /// In the thruster model no thruster fires (see [`Plant::advance_with_duty`]).
     pub fn advance(&self, run: &mut PlantRun, commands: &Commands, t: f64, h: f64) -> Advance {
         if let Some(td) = run.touchdown {
             return Advance::Touchdown(td.time_s);
         }
+        match self.advance_span(run, commands, &NONE_FIRING, t, h, t + h) {
+            Some(time) => Advance::Touchdown(time),
+            None => Advance::Reached,
+        }
+    }
+
+    /// [`Plant::advance`] with the RCS duties of the step: in the thruster model thruster `k`
+    /// fires from `t` for `rcs_duty[k] h` (see `Thrusters::on_times_s`), and the step is
+    /// integrated in pieces that end at every pulse end. The torque model ignores the duties.
+    pub fn advance_with_duty(
+        &self,
+        run: &mut PlantRun,
+        commands: &Commands,
+        rcs_duty: &[f64; THRUSTER_COUNT],
+        t: f64,
+        h: f64,
+    ) -> Advance {
+        let Some(thrusters) = &self.thrusters else {
+            return self.advance(run, commands, t, h);
+        };
+        if let Some(td) = run.touchdown {
+            return Advance::Touchdown(td.time_s);
+        }
+        let on_times_s = thrusters.on_times_s(rcs_duty, h, &run.rcs_firing_at_step_end);
+        run.rcs_firing_at_step_end = on_times_s.map(|s| s >= h);
+        let mut start = 0.0;
+        for (end, firing) in pieces(&on_times_s, h) {
+            let span_end = if end >= h { t + h } else { t + end };
+            if let Some(time) =
+                self.advance_span(run, commands, &firing, t + start, end - start, span_end)
+            {
+                return Advance::Touchdown(time);
+            }
+            start = end;
+        }
+        Advance::Reached
+    }
+
+    /// From `t` over `h` s ending at `end_time` (= t + h, passed so that a whole step ends
+    /// exactly at the master's time) with constant firing, in RK4 sub-steps of at most
+    /// `integration_step_s`; returns the touchdown time if any.
+    fn advance_span(
+        &self,
+        run: &mut PlantRun,
+        commands: &Commands,
+        firing: &Firing,
+        t: f64,
+        h: f64,
+        end_time: f64,
+    ) -> Option<f64> {
         let schedule = SubSteps::new(h, self.integration_step_s);
         for k in 0..schedule.count {
             let (offset, size) = schedule.get(k);
             let start = t + offset;
             let end = if k + 1 == schedule.count {
-                t + h
+                end_time
             } else {
                 start + size
             };
-            if let Some(time) = self.advance_piecewise(run, commands, start, end) {
-                return Advance::Touchdown(time);
+            if let Some(time) = self.advance_piecewise(run, commands, firing, start, end) {
+                return Some(time);
             }
         }
-        Advance::Reached
+        None
     }
 
     /// One sub-step from `start` to `end`, split at events; returns the touchdown time if any.
@@ -341,6 +453,7 @@ impl Plant {
         &self,
         run: &mut PlantRun,
         commands: &Commands,
+        firing: &Firing,
         start: f64,
         end: f64,
     ) -> Option<f64> {
@@ -351,7 +464,7 @@ impl Plant {
             let h = end - t;
             let x0 = run.state;
             let exhausted = run.propellant_exhausted;
-            let x1 = self.rk4(&x0, commands, exhausted, t, h);
+            let x1 = self.rk4(&x0, commands, firing, exhausted, t, h);
             let altitude_event = |x: &PlantState| self.altitude(x);
             let mass_event = |x: &PlantState| x.mass_kg - self.dry_mass_kg;
 
@@ -359,8 +472,12 @@ impl Plant {
             let mut consider = |event: Event, g: &dyn Fn(&PlantState) -> f64| {
                 let (g0, g1) = (g(&x0), g(&x1));
                 if g0 > 0.0 && g1 <= 0.0 {
-                    let tau =
-                        find_crossing(|s| g(&self.rk4(&x0, commands, exhausted, t, s)), g0, g1, h);
+                    let tau = find_crossing(
+                        |s| g(&self.rk4(&x0, commands, firing, exhausted, t, s)),
+                        g0,
+                        g1,
+                        h,
+                    );
                     if first.is_none_or(|(best, _)| tau < best) {
                         first = Some((tau, event));
                     }
@@ -378,7 +495,7 @@ impl Plant {
             run.state = if tau >= h {
                 x1
             } else {
-                self.rk4(&x0, commands, exhausted, t, tau)
+                self.rk4(&x0, commands, firing, exhausted, t, tau)
             };
             t = if tau >= h { end } else { t + tau };
             match event {

@@ -15,6 +15,8 @@ use std::path::Path;
 /// the metrics read).
 pub const PLANT: &str = "plant";
 pub const GNC: &str = "gnc";
+/// The navigation-error FMU, when the scenario has one.
+pub const NAV: &str = "nav";
 
 /// The columns [`metrics::compute`] reads: all a campaign records.
 pub const METRIC_COLUMNS: [&str; 8] = [
@@ -128,6 +130,13 @@ impl Flyer {
         )?;
         for (name, value) in self.nominal.apply(dispersion) {
             sim.set_parameter(PLANT, name, ParamValue::Real(value))?;
+        }
+        // Navigation errors are drawn per run too: the run seed (a pure function of the
+        // campaign seed and the run) seeds them, so every law and phi_cmd of a run sees the
+        // same errors and a replay the same bits. Its top 31 bits fit the FMI Integer.
+        if sim.system().instance(NAV).is_some() {
+            let nav_seed = i64::try_from(flight.run_seed >> 33).expect("31 bits fit");
+            sim.set_parameter(NAV, "seed", ParamValue::Integer(nav_seed))?;
         }
         self.trajectory.times.clear();
         self.trajectory.values.clear();
