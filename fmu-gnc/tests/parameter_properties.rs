@@ -162,6 +162,8 @@ fn assemble((a, b): (Head, Tail)) -> GncParameters {
         terminal_descent_speed_mps: b.9,
         phi_rate_limit_radps: b.10,
         phi_accel_limit_radps2: b.11,
+        // The thruster chain keeps its defaults here (torque model).
+        ..GncParameters::default()
     }
 }
 
