@@ -566,7 +566,7 @@ fn out_of_range_nav_parameters_are_refused_by_name_and_reset_recovers() {
         assert_eq!(inst.exit_init(), fmi2OK, "{:?}", inst.take_log());
     }
     // Accepted one by one, refused together (or as overflowing) by exit initialization.
-    let at_exit: [ParameterCase; 2] = [
+    let at_exit: [ParameterCase; 3] = [
         (
             &[("max_latency_steps", 2.0), ("attitude_latency", 3.0)],
             "attitude_latency",
@@ -575,6 +575,12 @@ fn out_of_range_nav_parameters_are_refused_by_name_and_reset_recovers() {
         (
             &[("r_nue_noise_sigma", 1e308)],
             "r_nue_noise_sigma",
+            "overflow",
+        ),
+        // Finite, but its rotation angle is not (found by the fuzzer: a NaN quaternion).
+        (
+            &[("attitude_bias[1]", -1e300)],
+            "attitude_noise_sigma",
             "overflow",
         ),
     ];
@@ -760,4 +766,24 @@ fn a_get_in_initialization_mode_with_inconsistent_parameters_is_not_fatal() {
         "fmi2ExitInitializationMode",
         &["thrust_max", "489"],
     );
+}
+
+/// In initialization mode the outputs already carry the first interval's errors, before
+/// exit_initialization validates them: parameters it will refuse must not make a read
+/// publish a non-finite estimate (found by the fuzzer: a NaN quaternion from
+/// attitude_bias[1] = -1e300).
+#[test]
+fn a_nav_get_in_initialization_mode_with_overflowing_errors_is_finite() {
+    let fmu = Fmu::load(Lander::Nav).expect("packaged FMU");
+    for (name, value) in [("attitude_bias[1]", -1e300), ("r_nue_noise_sigma", 1e308)] {
+        let inst = fmu.instantiate("overflow-in-init", false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        assert_eq!(inst.set_parameter(name, value), fmi2OK);
+        let (status, values) = inst.get_reals(&Wiring::of(&fmu).outputs);
+        assert_eq!(status, fmi2OK, "{:?}", inst.take_log());
+        assert!(values.iter().all(|v| v.is_finite()), "{name}: {values:?}");
+        let status = inst.exit_init();
+        assert_refused(&inst, status, "fmi2ExitInitializationMode", &["overflow"]);
+    }
 }
