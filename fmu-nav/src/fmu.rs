@@ -63,7 +63,13 @@ impl Model for LanderNav {
         // (a function of the parameters only, so the run starts with exactly these).
         self.estimate = match &self.running {
             Some(errors) => errors.estimate(&self.params, &self.truth),
-            None => NavErrors::start(&self.params).estimate(&self.params, &self.truth),
+            None => match NavErrors::start(&self.params) {
+                start if start.overflowing(&self.params).is_none() => {
+                    start.estimate(&self.params, &self.truth)
+                }
+                // Parameters exit_initialization will refuse: publish nothing non-finite.
+                _ => self.truth,
+            },
         };
     }
 

@@ -125,6 +125,10 @@ impl NavErrors {
 fn overflowing(errors: &[GroupError; 5], params: &NavParameters) -> Option<Group> {
     Group::ALL.into_iter().find(|&g| {
         let total = errors[g as usize].total(params.group(g));
+        // The attitude error becomes a rotation through its angle |theta|, whose square
+        // overflows long before theta itself (|theta| > 1.3e154 rad).
+        let squared = |t: &[f64; 3]| t.iter().map(|v| v * v).sum::<f64>();
         !total.iter().all(|v| v.is_finite())
+            || (g == Group::Attitude && !squared(&total).is_finite())
     })
 }

@@ -14,7 +14,8 @@ bit-identical trajectories for the same FMU binaries:
 
 The system comes from a JSON file the Rust test writes from the harness's own scenario
 (instances in exchange order with their FMU and parameters, scalar connections), so both
-masters fly the same system. Every output of every instance is recorded as
+masters fly the same system, whatever the number of instances (the paper loop of two, or
+plant -> nav -> gnc with LanderNav between them). Every output of every instance is recorded as
 `instance.variable`, as the harness does.
 
 Usage: python fmpy_master.py SYSTEM.json OUT.csv

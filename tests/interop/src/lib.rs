@@ -25,6 +25,52 @@ pub const PLANT_NAVIGATION: [&str; 5] = [
     "plant.mass",
 ];
 
+/// The paper scenario with LanderNav between the plant and the GNC
+/// (harness/scenarios/paper-nav.toml), with every kind of navigation error switched on in
+/// every signal group (white noise, bias, random walk, quantisation, latency), seeded: the
+/// estimates the GNC flies on differ from the truth at every step, so two masters agree on
+/// them only if they drive LanderNav's draws and history identically.
+pub fn paper_with_navigation_errors(seed: i64) -> SystemDescription {
+    let mut system = scenario(
+        workspace_root()
+            .join("harness/scenarios/paper-nav.toml")
+            .to_str()
+            .expect("a UTF-8 workspace path"),
+    );
+    let nav = system
+        .instances
+        .iter_mut()
+        .find(|i| i.name == "nav")
+        .expect("paper-nav.toml has a nav instance");
+    let real = |name: &str, x: f64| (name.to_string(), ParamValue::Real(x));
+    let integer = |name: &str, i: i64| (name.to_string(), ParamValue::Integer(i));
+    nav.parameters = vec![
+        integer("seed", seed),
+        integer("max_latency_steps", 3),
+        real("r_nue_noise_sigma", 0.3),
+        real("r_nue_bias[2]", 0.5),
+        real("r_nue_random_walk", 0.02),
+        real("r_nue_quantum", 0.01),
+        integer("r_nue_latency", 1),
+        real("v_nue_noise_sigma", 0.03),
+        real("v_nue_bias[1]", -0.02),
+        real("v_nue_random_walk", 0.002),
+        real("v_nue_quantum", 0.001),
+        integer("v_nue_latency", 2),
+        real("attitude_noise_sigma", 5e-4),
+        real("attitude_bias[3]", 1e-3),
+        real("attitude_random_walk", 1e-4),
+        integer("attitude_latency", 1),
+        real("omega_body_noise_sigma", 2e-4),
+        real("omega_body_random_walk", 1e-5),
+        real("omega_body_quantum", 1e-5),
+        real("mass_noise_sigma", 0.5),
+        real("mass_bias", 3.0),
+        integer("mass_latency", 3),
+    ];
+    system
+}
+
 /// The SSP package `cargo xtask fmus` writes beside the FMUs.
 pub fn ssp_path() -> PathBuf {
     let path = fmu_dir().join("LanderDescent.ssp");

@@ -6,6 +6,7 @@ use crate::api::Api;
 use crate::ffi::*;
 use crate::logger::{LogSink, Record};
 use crate::package::{Lander, PackageError, Unpacked};
+use model_description::VariableKind;
 use std::ffi::{CStr, CString};
 use std::ptr;
 
@@ -189,6 +190,22 @@ impl Instance<'_> {
 
     pub fn set_real_by_name(&self, name: &str, value: f64) -> fmi2Status {
         self.set_reals(&[self.fmu.vr(name)], &[value])
+    }
+
+    /// A parameter by name through the function of its declared kind: Integer parameters
+    /// (LanderNav's seed and latencies) take `value` as an integer.
+    pub fn set_parameter(&self, name: &str, value: f64) -> fmi2Status {
+        let info = self
+            .fmu
+            .package
+            .variables
+            .iter()
+            .find(|v| v.name == name)
+            .unwrap_or_else(|| panic!("{:?} declares no {name}", self.fmu.lander()));
+        match info.kind {
+            VariableKind::Integer => self.set_integers(&[info.value_reference], &[value as i32]),
+            _ => self.set_reals(&[info.value_reference], &[value]),
+        }
     }
 
     pub fn set_integers(&self, vrs: &[u32], values: &[i32]) -> fmi2Status {

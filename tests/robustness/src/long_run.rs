@@ -2,11 +2,13 @@
 //! step that the outputs are finite and the attitude quaternion is a unit quaternion, and for
 //! the plant (tumbling torque-free, engines off) that the angular momentum is conserved; the
 //! FMU state is saved, serialized, restored and re-run bit-identically at checkpoints along
-//! the way; resident memory is sampled at each checkpoint.
+//! the way; resident memory is sampled at each checkpoint. LanderNav runs with every error on
+//! (its estimate must stay finite and a unit quaternion, and differ from the truth), or with
+//! every error off (its estimate must be the truth bit for bit).
 use crate::ffi::*;
 use crate::instance::{Fmu, Instance};
 use crate::package::Lander;
-use crate::reference::{inputs_at, Wiring, STEP_S};
+use crate::reference::{input_names, inputs_at, nav_errors_on, Wiring, STEP_S};
 use crate::rss::vm_rss_kib;
 
 /// Steps re-run after each restore.
@@ -20,8 +22,13 @@ pub const OMEGA0_BODY_RADPS: [f64; 3] = [0.2, 0.6, -0.3];
 #[derive(Debug, Clone, Default)]
 pub struct Report {
     pub steps: usize,
-    /// max over all steps of | |q| - 1 | of the attitude (plant) or reference (GNC) quaternion.
+    /// max over all steps of | |q| - 1 | of the attitude (plant, LanderNav) or reference (GNC)
+    /// quaternion.
     pub max_quaternion_norm_error: f64,
+    /// LanderNav only: steps whose 14 outputs equal their inputs bit for bit.
+    pub identity_steps: usize,
+    /// Steps whose outputs went through the checks above (the others are replays).
+    pub probed_steps: usize,
     /// Plant only: max over all steps of |H_nue(t) - H_nue(0)| / |H_nue(0)|.
     pub max_angular_momentum_drift: f64,
     pub restores: usize,
@@ -51,6 +58,9 @@ struct Probe {
     /// Positions in `outputs` of the quaternion and (plant) of omega_body.
     quaternion: [usize; 4],
     omega: Option<[usize; 3]>,
+    /// LanderNav: for each input (in `inputs` order), the position in `outputs` of its
+    /// estimate (the input's name without `_true`).
+    estimates: Option<Vec<usize>>,
 }
 
 impl Probe {
@@ -70,8 +80,16 @@ impl Probe {
                 Some([1, 2, 3].map(|k| at(&format!("omega_body[{k}]")))),
             ),
             Lander::Gnc => ("q_ref", None),
+            Lander::Nav => ("q_body_to_nue", None),
         };
+        let estimates = (fmu.lander() == Lander::Nav).then(|| {
+            input_names(Lander::Nav)
+                .iter()
+                .map(|n| at(&n.replace("_true", "")))
+                .collect()
+        });
         Probe {
+            estimates,
             quaternion: [1, 2, 3, 4].map(|k| at(&format!("{q}[{k}]"))),
             omega,
             inputs: wiring.inputs,
@@ -83,8 +101,20 @@ impl Probe {
         match lander {
             // Engines off, no torque: a free tumble.
             Lander::Plant => vec![0.0; self.inputs.len()],
-            Lander::Gnc => inputs_at(lander, t),
+            Lander::Gnc | Lander::Nav => inputs_at(lander, t),
         }
+    }
+
+    /// LanderNav: whether the outputs `y` read at step `k` are its inputs bit for bit.
+    fn is_identity(&self, lander: Lander, k: usize, y: &[f64]) -> bool {
+        let Some(estimates) = &self.estimates else {
+            return false;
+        };
+        let u = self.inputs(lander, k as f64 * STEP_S);
+        estimates
+            .iter()
+            .zip(&u)
+            .all(|(&i, x)| y[i].to_bits() == x.to_bits())
     }
 
     /// One step: set inputs, read outputs, step; the outputs read.
@@ -128,8 +158,28 @@ pub fn plant_parameters() -> Vec<(String, f64)> {
     p
 }
 
-/// Runs `steps` steps with `checkpoints` save/restore checks evenly spread.
+/// The parameters of each FMU's long run: the plant's tumble, LanderNav's errors (all on).
+pub fn parameters(lander: Lander) -> Vec<(String, f64)> {
+    match lander {
+        Lander::Plant => plant_parameters(),
+        Lander::Nav => nav_errors_on(2026),
+        Lander::Gnc => Vec::new(),
+    }
+}
+
+/// Runs `steps` steps with `checkpoints` save/restore checks evenly spread, with the FMU's
+/// long-run [`parameters`].
 pub fn run(fmu: &Fmu, steps: usize, checkpoints: usize) -> Result<Report, String> {
+    run_with(fmu, steps, checkpoints, &parameters(fmu.lander()))
+}
+
+/// [`run`] with the given parameters (name, value) instead.
+pub fn run_with(
+    fmu: &Fmu,
+    steps: usize,
+    checkpoints: usize,
+    parameters: &[(String, f64)],
+) -> Result<Report, String> {
     let probe = Probe::new(fmu);
     let inst = fmu.instantiate("long-run", false);
     for status in [inst.setup(0.0, None), inst.enter_init()] {
@@ -137,11 +187,9 @@ pub fn run(fmu: &Fmu, steps: usize, checkpoints: usize) -> Result<Report, String
             return Err(format!("initialization: {status}"));
         }
     }
-    if fmu.lander() == Lander::Plant {
-        for (name, value) in plant_parameters() {
-            if inst.set_real_by_name(&name, value) != fmi2OK {
-                return Err(format!("cannot set {name}: {:?}", inst.take_log()));
-            }
+    for (name, value) in parameters {
+        if inst.set_parameter(name, *value) != fmi2OK {
+            return Err(format!("cannot set {name}: {:?}", inst.take_log()));
         }
     }
     if inst.exit_init() != fmi2OK {
@@ -156,6 +204,10 @@ pub fn run(fmu: &Fmu, steps: usize, checkpoints: usize) -> Result<Report, String
         let q = probe.quaternion(&y);
         let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
         report.max_quaternion_norm_error = report.max_quaternion_norm_error.max((norm - 1.0).abs());
+        report.probed_steps += 1;
+        if probe.is_identity(fmu.lander(), k, &y) {
+            report.identity_steps += 1;
+        }
         if let Some(h) = probe.angular_momentum_nue(&y) {
             let h0 = *h0.get_or_insert(h);
             let diff = [0, 1, 2].map(|i| h[i] - h0[i]);

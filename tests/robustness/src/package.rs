@@ -3,25 +3,28 @@
 use model_description::{Causality, ModelDescription, VariableKind};
 use std::path::{Path, PathBuf};
 
-/// The two FMUs under test.
+/// The FMUs under test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Lander {
     Gnc,
     Plant,
+    /// The navigation-error unit between the plant and the GNC.
+    Nav,
 }
 
 impl Lander {
-    pub const BOTH: [Lander; 2] = [Lander::Gnc, Lander::Plant];
+    pub const ALL: [Lander; 3] = [Lander::Gnc, Lander::Plant, Lander::Nav];
 
     pub fn model_identifier(self) -> &'static str {
         match self {
             Lander::Gnc => "LanderGnc",
             Lander::Plant => "LanderPlant",
+            Lander::Nav => "LanderNav",
         }
     }
 
     pub fn parse(name: &str) -> Option<Lander> {
-        Lander::BOTH
+        Lander::ALL
             .into_iter()
             .find(|l| l.model_identifier().eq_ignore_ascii_case(name))
     }

@@ -14,6 +14,7 @@ pub const STEP_S: f64 = 0.01;
 /// LanderPlant: a hovering thrust with a slow throttle ripple and small torques.
 /// LanderGnc: a slowly varying, bounded navigation state (periodic, so valid for any run
 /// length): a gently rocking, drifting lander whose mass breathes by a few percent.
+/// LanderNav: the same state, as the true one it corrupts.
 pub fn inputs_at(lander: Lander, t_s: f64) -> Vec<f64> {
     match lander {
         Lander::Plant => vec![
@@ -22,7 +23,7 @@ pub fn inputs_at(lander: Lander, t_s: f64) -> Vec<f64> {
             -3.0 * (0.2 * t_s).cos(),
             2.0,
         ],
-        Lander::Gnc => {
+        Lander::Gnc | Lander::Nav => {
             let axis: [f64; 3] = [0.3, 0.9, 0.3];
             let norm = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
             let axis = axis.map(|a| a / norm);
@@ -52,6 +53,8 @@ pub fn inputs_at(lander: Lander, t_s: f64) -> Vec<f64> {
 /// The contract names of the inputs `inputs_at` feeds (docs/interface.md).
 pub fn input_names(lander: Lander) -> Vec<String> {
     let indexed = |base: &'static str, n: usize| (1..=n).map(move |k| format!("{base}[{k}]"));
+    // LanderNav reads the plant's signals under the GNC's names with `_true` appended.
+    let truth = |base: &'static str, n: usize| (1..=n).map(move |k| format!("{base}_true[{k}]"));
     match lander {
         Lander::Plant => std::iter::once("thrust_cmd".to_string())
             .chain(indexed("torque_cmd_body", 3))
@@ -62,7 +65,46 @@ pub fn input_names(lander: Lander) -> Vec<String> {
             .chain(indexed("omega_body", 3))
             .chain(std::iter::once("mass".to_string()))
             .collect(),
+        Lander::Nav => truth("r_nue", 3)
+            .chain(truth("v_nue", 3))
+            .chain(truth("q_body_to_nue", 4))
+            .chain(truth("omega_body", 3))
+            .chain(std::iter::once("mass_true".to_string()))
+            .collect(),
     }
+}
+
+/// LanderNav's parameters with every kind of error on in every group (noise, bias, random
+/// walk, quantisation, latency), seeded by `seed`; (name, value), Integers given as whole
+/// numbers. Small errors, as a real navigation filter's would be.
+pub fn nav_errors_on(seed: u32) -> Vec<(String, f64)> {
+    let mut p: Vec<(String, f64)> = vec![("seed".into(), f64::from(seed))];
+    p.push(("max_latency_steps".into(), 4.0));
+    // Per group: bias per axis, noise sigma, random walk (per sqrt(s)), quantum, latency.
+    let groups: [(&str, [f64; 3], [f64; 4]); 5] = [
+        ("r_nue", [0.5, -1.0, 0.25], [0.3, 0.02, 0.01, 2.0]),
+        ("v_nue", [0.01, 0.02, -0.01], [0.05, 0.002, 0.001, 1.0]),
+        ("attitude", [1e-3, -2e-3, 5e-4], [5e-4, 1e-4, 0.0, 1.0]),
+        ("omega_body", [1e-4, 0.0, -1e-4], [2e-4, 1e-5, 1e-5, 0.0]),
+        ("mass", [2.0, 0.0, 0.0], [0.5, 0.01, 0.1, 4.0]),
+    ];
+    for (g, bias, [sigma, walk, quantum, latency]) in groups {
+        p.push((format!("{g}_noise_sigma"), sigma));
+        p.push((format!("{g}_random_walk"), walk));
+        if g == "mass" {
+            p.push(("mass_bias".into(), bias[0]));
+        } else {
+            for (k, b) in bias.iter().enumerate() {
+                p.push((format!("{g}_bias[{}]", k + 1), *b));
+            }
+        }
+        // A rounded quaternion would no longer be a rotation: the attitude has no quantum.
+        if g != "attitude" {
+            p.push((format!("{g}_quantum"), quantum));
+        }
+        p.push((format!("{g}_latency"), latency));
+    }
+    p
 }
 
 /// Value references of the legal run's inputs and of every Real output.
@@ -121,9 +163,9 @@ pub fn legal_run_with(
         }
     }
     for (name, value) in parameters {
-        let status = inst.set_real_by_name(name, *value);
+        let status = inst.set_parameter(name, *value);
         if status != fmi2OK {
-            return fail(&format!("fmi2SetReal of {name}"), status);
+            return fail(&format!("setting {name}"), status);
         }
     }
     let status = inst.exit_init();

@@ -1,5 +1,5 @@
-//! The bad-input table of issue 7: one test per class of bad input, for LanderGnc and
-//! LanderPlant through their packaged C ABI. Each asserts the returned status and that the
+//! The bad-input table of issue 7: one test per class of bad input, for LanderGnc,
+//! LanderPlant and LanderNav through their packaged C ABI. Each asserts the returned status and that the
 //! log names the function and the variable or value; where a refusal must leave the instance
 //! untouched, that is checked too.
 mod common;
@@ -12,8 +12,8 @@ use robustness_tests::reference::{legal_run, Wiring};
 use std::ffi::CString;
 use std::ptr;
 
-fn both(test: impl Fn(&Fmu)) {
-    for lander in Lander::BOTH {
+fn every(test: impl Fn(&Fmu)) {
+    for lander in Lander::ALL {
         test(&Fmu::load(lander).expect("packaged FMU (run `cargo xtask fmus`)"));
     }
 }
@@ -23,6 +23,7 @@ fn an_input(fmu: &Fmu) -> &'static str {
     match fmu.lander() {
         Lander::Gnc => "q_body_to_nue[1]",
         Lander::Plant => "thrust_cmd",
+        Lander::Nav => "q_body_to_nue_true[1]",
     }
 }
 
@@ -31,6 +32,7 @@ fn an_output(fmu: &Fmu) -> &'static str {
     match fmu.lander() {
         Lander::Gnc => "thrust_cmd",
         Lander::Plant => "r_nue[2]",
+        Lander::Nav => "q_body_to_nue[3]",
     }
 }
 
@@ -48,7 +50,7 @@ fn reference(fmu: &Fmu) -> Vec<u64> {
 
 #[test]
 fn unknown_value_reference_is_refused_in_get_and_set() {
-    both(|fmu| {
+    every(|fmu| {
         let inst = initialized(fmu);
         let unknown = 9_999_999u32;
         let input = fmu.vr(an_input(fmu));
@@ -66,7 +68,7 @@ fn unknown_value_reference_is_refused_in_get_and_set() {
 
 #[test]
 fn a_value_reference_of_another_type_is_refused() {
-    both(|fmu| {
+    every(|fmu| {
         let inst = initialized(fmu);
         // A Real input through the Integer and Boolean functions.
         let vr = fmu.vr(an_input(fmu));
@@ -100,7 +102,7 @@ fn a_value_reference_of_another_type_is_refused() {
 /// variables that are never settable are outputs and calculated parameters.
 #[test]
 fn a_variable_that_is_never_settable_is_refused_by_name() {
-    both(|fmu| {
+    every(|fmu| {
         let inst = fmu.instantiate("not-settable", false);
         let output = an_output(fmu);
         let status = inst.set_real_by_name(output, 1.0);
@@ -119,11 +121,12 @@ fn a_variable_that_is_never_settable_is_refused_by_name() {
 
 #[test]
 fn a_fixed_parameter_after_initialization_is_refused_and_unchanged() {
-    both(|fmu| {
+    every(|fmu| {
         let inst = initialized(fmu);
         let name = match fmu.lander() {
             Lander::Gnc => "phi_cmd",
             Lander::Plant => "m0",
+            Lander::Nav => "r_nue_noise_sigma",
         };
         let (_, before) = inst.get_reals(&[fmu.vr(name)]);
         let status = inst.set_real_by_name(name, 0.5);
@@ -135,7 +138,7 @@ fn a_fixed_parameter_after_initialization_is_refused_and_unchanged() {
 
 #[test]
 fn non_finite_inputs_are_refused_naming_variable_and_value() {
-    both(|fmu| {
+    every(|fmu| {
         let inst = initialized(fmu);
         let name = an_input(fmu);
         for (value, shown) in [
@@ -212,7 +215,7 @@ fn in_state<'a>(fmu: &'a Fmu, state: &str) -> Option<(Instance<'a>, f64)> {
             0.0
         }
         "StepFailed" => {
-            // Only the plant ends a step early (touchdown); LanderGnc always completes.
+            // Only the plant ends a step early (touchdown); the others always complete.
             if fmu.lander() != Lander::Plant {
                 return None;
             }
@@ -236,8 +239,10 @@ fn in_state<'a>(fmu: &'a Fmu, state: &str) -> Option<(Instance<'a>, f64)> {
             let (bad, value) = match fmu.lander() {
                 Lander::Gnc => ("thrust_min", 2000.0),
                 Lander::Plant => ("dry_mass", 950.0),
+                // Above the default max_latency_steps (0).
+                Lander::Nav => ("mass_latency", 3.0),
             };
-            assert_eq!(inst.set_real_by_name(bad, value), fmi2OK);
+            assert_eq!(inst.set_parameter(bad, value), fmi2OK);
             assert_eq!(inst.exit_init(), fmi2Error);
             0.0
         }
@@ -285,7 +290,7 @@ fn calls_in_each_illegal_state_are_refused_naming_the_function_and_the_state() {
             ],
         ),
     ];
-    both(|fmu| {
+    every(|fmu| {
         for (state, calls) in table {
             for call in calls {
                 let Some((inst, t)) = in_state(fmu, state) else {
@@ -307,7 +312,8 @@ fn calls_in_each_illegal_state_are_refused_naming_the_function_and_the_state() {
 fn a_guid_mismatch_returns_null_and_says_why() {
     let gnc = Fmu::load(Lander::Gnc).expect("packaged FMU");
     let plant = Fmu::load(Lander::Plant).expect("packaged FMU");
-    for (fmu, foreign) in [(&gnc, &plant), (&plant, &gnc)] {
+    let nav = Fmu::load(Lander::Nav).expect("packaged FMU");
+    for (fmu, foreign) in [(&gnc, &plant), (&plant, &nav), (&nav, &gnc)] {
         let sink = Box::<robustness_tests::logger::LogSink>::default();
         let callbacks = sink.callbacks();
         // SAFETY: valid strings and callbacks for the duration of the call.
@@ -334,7 +340,7 @@ fn a_guid_mismatch_returns_null_and_says_why() {
 
 #[test]
 fn null_callbacks_or_a_null_logger_return_null() {
-    both(|fmu| {
+    every(|fmu| {
         let sink = Box::<robustness_tests::logger::LogSink>::default();
         let mut no_logger = sink.callbacks();
         no_logger.logger = None;
@@ -360,7 +366,7 @@ fn null_callbacks_or_a_null_logger_return_null() {
 
 #[test]
 fn step_size_zero_negative_or_not_a_number_is_refused() {
-    both(|fmu| {
+    every(|fmu| {
         let inst = initialized(fmu);
         for (h, shown) in [
             (0.0, "0"),
@@ -383,7 +389,7 @@ fn step_size_zero_negative_or_not_a_number_is_refused() {
 
 #[test]
 fn a_wrong_communication_point_is_refused_within_tolerance_accepted() {
-    both(|fmu| {
+    every(|fmu| {
         let inst = initialized(fmu);
         assert_eq!(inst.step(0.0, 0.01), fmi2OK);
         for t in [0.0, 0.02, 0.5, -1.0] {
@@ -409,7 +415,8 @@ fn a_wrong_communication_point_is_refused_within_tolerance_accepted() {
 fn truncated_corrupted_or_foreign_serialized_states_are_refused() {
     let gnc = Fmu::load(Lander::Gnc).expect("packaged FMU");
     let plant = Fmu::load(Lander::Plant).expect("packaged FMU");
-    for (fmu, other) in [(&gnc, &plant), (&plant, &gnc)] {
+    let nav = Fmu::load(Lander::Nav).expect("packaged FMU");
+    for (fmu, other) in [(&gnc, &plant), (&plant, &nav), (&nav, &gnc)] {
         let inst = initialized(fmu);
         assert_eq!(inst.step(0.0, 0.01), fmi2OK);
         let (_, state) = inst.get_fmu_state();
@@ -537,6 +544,91 @@ fn out_of_range_gnc_parameters_are_refused_by_name_and_reset_recovers() {
 }
 
 #[test]
+fn out_of_range_nav_parameters_are_refused_by_name_and_reset_recovers() {
+    let fmu = Fmu::load(Lander::Nav).expect("packaged FMU");
+    let expected = reference(&fmu);
+    // Outside their own ranges: refused by the set itself (Integers through fmi2SetInteger).
+    for (name, value, function, shown) in [
+        ("r_nue_noise_sigma", -0.1, "fmi2SetReal", "-0.1"),
+        ("attitude_random_walk", -1e-3, "fmi2SetReal", "-0.001"),
+        ("mass_quantum", f64::NAN, "fmi2SetReal", "NaN"),
+        ("omega_body_bias[2]", f64::INFINITY, "fmi2SetReal", "inf"),
+        ("seed", -1.0, "fmi2SetInteger", "-1"),
+        ("v_nue_latency", 10_001.0, "fmi2SetInteger", "10001"),
+        ("max_latency_steps", -2.0, "fmi2SetInteger", "-2"),
+    ] {
+        let inst = fmu.instantiate("nav-params", false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        let status = inst.set_parameter(name, value);
+        assert_refused(&inst, status, function, &[name, shown]);
+        // Refused values are not kept: initialization goes on with the defaults.
+        assert_eq!(inst.exit_init(), fmi2OK, "{:?}", inst.take_log());
+    }
+    // Accepted one by one, refused together (or as overflowing) by exit initialization.
+    let at_exit: [ParameterCase; 3] = [
+        (
+            &[("max_latency_steps", 2.0), ("attitude_latency", 3.0)],
+            "attitude_latency",
+            "max_latency_steps",
+        ),
+        (
+            &[("r_nue_noise_sigma", 1e308)],
+            "r_nue_noise_sigma",
+            "overflow",
+        ),
+        // Finite, but its rotation angle is not (found by the fuzzer: a NaN quaternion).
+        (
+            &[("attitude_bias[1]", -1e300)],
+            "attitude_noise_sigma",
+            "overflow",
+        ),
+    ];
+    for (sets, name, shown) in at_exit {
+        let inst = fmu.instantiate("nav-params", false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        for (n, v) in sets {
+            assert_eq!(inst.set_parameter(n, *v), fmi2OK, "{n} = {v}");
+        }
+        let status = inst.exit_init();
+        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
+        assert_eq!(inst.reset(), fmi2OK);
+        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
+    }
+}
+
+/// A random walk over an enormous communication step would overflow: LanderNav refuses that
+/// step with its outputs untouched (the instance is then in state Error, as after any
+/// fmi2Error), and fmi2Reset brings back a fresh instance.
+#[test]
+fn a_nav_step_whose_random_walk_would_overflow_is_refused_and_reset_recovers() {
+    let fmu = Fmu::load(Lander::Nav).expect("packaged FMU");
+    let expected = reference(&fmu);
+    let inst = fmu.instantiate("overflow", false);
+    assert_eq!(inst.setup(0.0, None), fmi2OK);
+    assert_eq!(inst.enter_init(), fmi2OK);
+    assert_eq!(inst.set_parameter("seed", 3.0), fmi2OK);
+    assert_eq!(inst.set_parameter("v_nue_random_walk", 1e200), fmi2OK);
+    assert_eq!(inst.exit_init(), fmi2OK, "{:?}", inst.take_log());
+    let estimates = Wiring::of(&fmu).outputs;
+    let (_, before) = inst.get_reals(&estimates);
+    let status = inst.step(0.0, 1e300);
+    assert_refused(
+        &inst,
+        status,
+        "fmi2DoStep",
+        &["v_nue_random_walk", "overflow"],
+    );
+    let (status, after) = inst.get_reals(&estimates);
+    assert_eq!(status, fmi2OK, "{:?}", inst.take_log());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&after), bits(&before));
+    assert_eq!(inst.reset(), fmi2OK);
+    assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
+}
+
+#[test]
 fn a_non_finite_phi_cmd_is_refused_at_once() {
     let fmu = Fmu::load(Lander::Gnc).expect("packaged FMU");
     let inst = fmu.instantiate("phi-cmd", false);
@@ -588,7 +680,7 @@ fn degenerate_gnc_inputs_give_a_warning_and_safe_commands() {
 
 #[test]
 fn null_arrays_with_a_count_are_refused() {
-    both(|fmu| {
+    every(|fmu| {
         let inst = initialized(fmu);
         let vr = fmu.vr(an_input(fmu));
         let value = 1.0f64;
@@ -605,7 +697,7 @@ fn null_arrays_with_a_count_are_refused() {
 
 #[test]
 fn a_null_or_foreign_component_is_refused_without_a_crash() {
-    both(|fmu| {
+    every(|fmu| {
         let not_an_instance = Box::new([0u64; 16]);
         let name = CString::new("x").unwrap();
         for c in [ptr::null_mut(), not_an_instance.as_ptr() as fmi2Component] {
@@ -626,7 +718,7 @@ fn a_null_or_foreign_component_is_refused_without_a_crash() {
 #[test]
 fn a_huge_communication_step_returns_at_once() {
     let dog = robustness_tests::fuzz::Watchdog::start(std::time::Duration::from_secs(10));
-    both(|fmu| {
+    every(|fmu| {
         let inst = fmu.instantiate("huge-step", false);
         assert_eq!(inst.setup(0.0, None), fmi2OK);
         assert_eq!(inst.enter_init(), fmi2OK);
@@ -643,8 +735,8 @@ fn a_huge_communication_step_returns_at_once() {
                 "fmi2DoStep",
                 &["communicationStepSize", "sub-steps"],
             ),
-            // The GNC's step costs the same whatever its size.
-            Lander::Gnc => assert_eq!(status, fmi2OK),
+            // The GNC's and LanderNav's (errors off) steps cost the same whatever their size.
+            Lander::Gnc | Lander::Nav => assert_eq!(status, fmi2OK),
         }
     });
 }
@@ -674,4 +766,24 @@ fn a_get_in_initialization_mode_with_inconsistent_parameters_is_not_fatal() {
         "fmi2ExitInitializationMode",
         &["thrust_max", "489"],
     );
+}
+
+/// In initialization mode the outputs already carry the first interval's errors, before
+/// exit_initialization validates them: parameters it will refuse must not make a read
+/// publish a non-finite estimate (found by the fuzzer: a NaN quaternion from
+/// attitude_bias[1] = -1e300).
+#[test]
+fn a_nav_get_in_initialization_mode_with_overflowing_errors_is_finite() {
+    let fmu = Fmu::load(Lander::Nav).expect("packaged FMU");
+    for (name, value) in [("attitude_bias[1]", -1e300), ("r_nue_noise_sigma", 1e308)] {
+        let inst = fmu.instantiate("overflow-in-init", false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        assert_eq!(inst.set_parameter(name, value), fmi2OK);
+        let (status, values) = inst.get_reals(&Wiring::of(&fmu).outputs);
+        assert_eq!(status, fmi2OK, "{:?}", inst.take_log());
+        assert!(values.iter().all(|v| v.is_finite()), "{name}: {values:?}");
+        let status = inst.exit_init();
+        assert_refused(&inst, status, "fmi2ExitInitializationMode", &["overflow"]);
+    }
 }

@@ -34,3 +34,8 @@ fn lander_gnc_survives_random_call_sequences() {
 fn lander_plant_survives_random_call_sequences() {
     fuzz(Lander::Plant, 7);
 }
+
+#[test]
+fn lander_nav_survives_random_call_sequences() {
+    fuzz(Lander::Nav, 7);
+}

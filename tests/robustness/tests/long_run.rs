@@ -1,6 +1,8 @@
 //! The short version of the long run (the 10-million-step one is the `long-run` binary):
 //! finite outputs, a unit quaternion to 1e-12, the plant's angular momentum conserved,
-//! bit-exact restores of serialized states along the way, and flat memory.
+//! bit-exact restores of serialized states along the way, and flat memory. LanderNav runs
+//! with every error on (the estimate differs from the truth at every step) and with every
+//! error off (it equals the truth bit for bit at every step).
 use robustness_tests::instance::Fmu;
 use robustness_tests::long_run;
 use robustness_tests::package::Lander;
@@ -26,11 +28,31 @@ fn check(lander: Lander) -> long_run::Report {
     report
 }
 
-/// One test for both FMUs: resident memory is per process, so they must not run side by side.
+/// One test for all FMUs: resident memory is per process, so they must not run side by side.
 #[test]
-fn both_fmus_run_300k_steps_with_their_invariants() {
+fn every_fmu_runs_300k_steps_with_its_invariants() {
     plant_tumbles_torque_free_conserving_angular_momentum();
     check(Lander::Gnc);
+    nav_with_errors_on_never_passes_the_truth_through();
+    nav_with_errors_off_is_the_identity();
+}
+
+fn nav_with_errors_on_never_passes_the_truth_through() {
+    let report = check(Lander::Nav);
+    assert_eq!(report.probed_steps, STEPS - 9 * 100, "{report:?}");
+    assert_eq!(report.identity_steps, 0, "{report:?}");
+}
+
+/// Fewer steps: the identity has no state that could drift.
+fn nav_with_errors_off_is_the_identity() {
+    const OFF_STEPS: usize = 30_000;
+    let fmu = Fmu::load(Lander::Nav).expect("packaged FMU");
+    let report = long_run::run_with(&fmu, OFF_STEPS, 10, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(report.steps, OFF_STEPS);
+    assert_eq!(report.restores, 9, "{report:?}");
+    assert!(report.probed_steps > OFF_STEPS / 2, "{report:?}");
+    assert_eq!(report.identity_steps, report.probed_steps, "{report:?}");
+    assert!(report.max_quaternion_norm_error <= 1e-12, "{report:?}");
 }
 
 fn plant_tumbles_torque_free_conserving_angular_momentum() {

@@ -14,7 +14,7 @@ use robustness_tests::rss::vm_rss_kib;
 struct Args {
     #[arg(long, default_value_t = 10_000)]
     cycles: usize,
-    /// LanderGnc or LanderPlant; both when absent.
+    /// LanderGnc, LanderPlant or LanderNav; all three when absent.
     #[arg(long)]
     fmu: Option<String>,
 }
@@ -25,7 +25,7 @@ fn main() -> anyhow::Result<()> {
         Some(name) => {
             vec![Lander::parse(name).ok_or_else(|| anyhow::anyhow!("unknown FMU {name}"))?]
         }
-        None => Lander::BOTH.to_vec(),
+        None => Lander::ALL.to_vec(),
     };
     for lander in landers {
         let fmu = Fmu::load(lander)?;

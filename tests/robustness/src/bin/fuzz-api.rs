@@ -16,7 +16,7 @@ struct Args {
     calls: u64,
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// LanderGnc or LanderPlant; both when absent.
+    /// LanderGnc, LanderPlant or LanderNav; all three when absent.
     #[arg(long)]
     fmu: Option<String>,
     /// Longest time one call may take before the run is declared hung, s.
@@ -30,7 +30,7 @@ fn main() -> anyhow::Result<()> {
         Some(name) => {
             vec![Lander::parse(name).ok_or_else(|| anyhow::anyhow!("unknown FMU {name}"))?]
         }
-        None => Lander::BOTH.to_vec(),
+        None => Lander::ALL.to_vec(),
     };
     let dog = Watchdog::start(Duration::from_secs_f64(args.call_limit));
     for lander in landers {

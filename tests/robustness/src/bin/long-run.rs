@@ -16,7 +16,7 @@ struct Args {
     /// Save/serialize/restore checks spread over the run.
     #[arg(long, default_value_t = 20)]
     checkpoints: usize,
-    /// LanderGnc or LanderPlant; both when absent.
+    /// LanderGnc, LanderPlant or LanderNav; all three when absent.
     #[arg(long)]
     fmu: Option<String>,
 }
@@ -27,7 +27,7 @@ fn main() -> anyhow::Result<()> {
         Some(name) => {
             vec![Lander::parse(name).ok_or_else(|| anyhow::anyhow!("unknown FMU {name}"))?]
         }
-        None => Lander::BOTH.to_vec(),
+        None => Lander::ALL.to_vec(),
     };
     for lander in landers {
         let fmu = Fmu::load(lander)?;
@@ -47,6 +47,27 @@ fn main() -> anyhow::Result<()> {
             r.max_angular_momentum_drift,
             r.restores,
         );
+        if lander == Lander::Nav {
+            println!(
+                "LanderNav, errors on: {} of {} probed steps had outputs equal to the inputs",
+                r.identity_steps, r.probed_steps
+            );
+            let started = Instant::now();
+            let off = long_run::run_with(&fmu, args.steps, args.checkpoints, &[])
+                .map_err(|e| anyhow::anyhow!(e))?;
+            println!(
+                "LanderNav, errors off: {} steps in {:.1} s; {} of {} probed steps had outputs \
+                 equal to the inputs bit for bit; {} bit-exact restores",
+                off.steps,
+                started.elapsed().as_secs_f64(),
+                off.identity_steps,
+                off.probed_steps,
+                off.restores,
+            );
+            if off.identity_steps != off.probed_steps || r.identity_steps != 0 {
+                anyhow::bail!("LanderNav: errors on must change every step, errors off none");
+            }
+        }
     }
     Ok(())
 }
