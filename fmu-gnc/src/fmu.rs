@@ -11,8 +11,8 @@
 //! is the same sample time (see [`Evaluated`], [`SampleTime`]); otherwise `do_step` evaluates
 //! again. Either way the committed sample is bit-identical to `gnc_sample` at the master's
 //! `t`: gets never change a trajectory.
-use crate::attitude::profile::PhiProfile;
 use crate::actuation::{PwpfBank, RcsModel};
+use crate::attitude::profile::PhiProfile;
 use crate::attitude::ControlLaw;
 use crate::controller::{actuate, gnc_sample, GncOutputs, NavigationInputs, Sample};
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};

@@ -455,7 +455,6 @@ impl GncParameters {
         }
     }
 
-
     /// Validate, then derive what the samples use.
     pub fn design(&self) -> Result<GncDesign, InvalidParameter> {
         self.validate()?;
