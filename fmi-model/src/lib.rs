@@ -29,3 +29,28 @@ pub use declaration::{
 };
 pub use enumeration::{EnumItem, EnumType, EnumValue, Enumeration};
 pub use model::{Experiment, Level, Log, Model, ModelError, StepEnd};
+
+/// A real value in a log line as a user reads it: plain digits, but an exponent where plain
+/// digits would run to hundreds (1e300) or bury the value in zeros (1e-12).
+pub fn readable(value: f64) -> String {
+    if value != 0.0 && value.is_finite() && !(1e-6..1e16).contains(&value.abs()) {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
+    }
+}
+
+#[cfg(test)]
+mod readable_tests {
+    use super::readable;
+
+    #[test]
+    fn huge_and_tiny_values_use_an_exponent_others_plain_digits() {
+        assert_eq!(readable(1e300), "1e300");
+        assert_eq!(readable(-2.5e-12), "-2.5e-12");
+        assert_eq!(readable(0.0), "0");
+        assert_eq!(readable(116.0), "116");
+        assert_eq!(readable(0.01), "0.01");
+        assert_eq!(readable(f64::INFINITY), "inf");
+    }
+}

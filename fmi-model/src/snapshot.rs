@@ -87,18 +87,19 @@ pub fn decode<T: DeserializeOwned>(bytes: &[u8], header: Header) -> Result<T, Sn
     if format != FORMAT_VERSION {
         return Err(SnapshotError::FormatVersion { found: format });
     }
-    let state_version = u32::from_le_bytes(field(12, 4).try_into().expect("4 bytes"));
-    if state_version != expected_version {
-        return Err(SnapshotError::StateVersion {
-            found: state_version,
-            expected: expected_version,
-        });
-    }
+    // Which FMU first: a state of another FMU is that, whatever its version.
     let found = Uuid::from_slice(field(16, 16)).expect("16 bytes");
     if found != guid {
         return Err(SnapshotError::ForeignGuid {
             found,
             expected: guid,
+        });
+    }
+    let state_version = u32::from_le_bytes(field(12, 4).try_into().expect("4 bytes"));
+    if state_version != expected_version {
+        return Err(SnapshotError::StateVersion {
+            found: state_version,
+            expected: expected_version,
         });
     }
     let payload_len = u64::from_le_bytes(field(32, 8).try_into().expect("8 bytes"));

@@ -74,7 +74,7 @@ pub fn check_real<M: Model>(
         return Err(CallError::OutOfRange {
             name: var.name().into_owned(),
             vr: var.value_reference,
-            value: value.to_string(),
+            value: fmi_model::readable(value),
             range: format!(
                 "{open}{}, {}{close}",
                 min.map_or("-inf".to_string(), |m| m.value().to_string()),

@@ -197,9 +197,19 @@ fn check_at(
         Err(InvalidParameter {
             field,
             index,
-            value: format!("{value}"),
+            value: readable(value),
             reason,
         })
+    }
+}
+
+/// A value as a user reads it: plain digits, but an exponent where plain digits would run to
+/// hundreds (1e300) or bury the value in zeros (1e-12).
+fn readable(value: f64) -> String {
+    if value != 0.0 && value.is_finite() && !(1e-6..1e16).contains(&value.abs()) {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
     }
 }
 

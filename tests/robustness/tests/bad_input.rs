@@ -525,7 +525,7 @@ fn out_of_range_gnc_parameters_are_refused_by_name_and_reset_recovers() {
         (
             &[("control_bandwidth", 1e300)],
             "control_bandwidth",
-            "non-finite gains",
+            "= 1e300: gives gains whose torques overflow",
         ),
         (&[("thrust_min", 2000.0)], "thrust_max", "1600"),
     ];
