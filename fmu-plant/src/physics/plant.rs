@@ -289,7 +289,7 @@ impl Plant {
         let mut t = start;
         // An event piece can end a hair before `end`; a remainder below the crossing tolerance
         // is not worth an RK4 step (it would only add round-off).
-        while end - t > super::events::CROSSING_TIME_TOLERANCE_S {
+        while end - t > super::events::crossing_tolerance_s(end) {
             let h = end - t;
             let x0 = run.state;
             let exhausted = run.propellant_exhausted;
@@ -301,8 +301,13 @@ impl Plant {
             let mut consider = |event: Event, g: &dyn Fn(&PlantState) -> f64| {
                 let (g0, g1) = (g(&x0), g(&x1));
                 if g0 > 0.0 && g1 <= 0.0 {
-                    let tau =
-                        find_crossing(|s| g(&self.rk4(&x0, commands, exhausted, t, s)), g0, g1, h);
+                    let tau = find_crossing(
+                        |s| g(&self.rk4(&x0, commands, exhausted, t, s)),
+                        g0,
+                        g1,
+                        h,
+                        t,
+                    );
                     if first.is_none_or(|(best, _)| tau < best) {
                         first = Some((tau, event));
                     }
