@@ -970,7 +970,9 @@ pub unsafe fn set_fmu_state<M: Model>(c: fmi2Component, state: fmi2FMUstate) -> 
     let trace = || format!("{}(FMUstate={state:p})", f.name());
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            inst.core = owned_state(inst, state)?.clone();
+            let core = owned_state(inst, state)?;
+            crate::restore::validate(&inst.table, core)?;
+            inst.core = core.clone();
             inst.dirty = true;
             Ok(Success::Ok)
         })
@@ -1067,6 +1069,7 @@ pub unsafe fn de_serialize_fmu_state<M: Model>(
             let bytes = slice(serialized as *const u8, size, "serializedState")?;
             let slot = out(state, "FMUstate")?;
             let core = snapshot::decode::<Core<M>>(bytes, snapshot_header::<M>(inst))?;
+            crate::restore::validate(&inst.table, &core)?;
             store_state(inst, slot, core)
         })
     }

@@ -16,6 +16,7 @@ mod export;
 mod index;
 mod instance;
 pub mod logging;
+mod restore;
 mod rules;
 pub mod state;
 mod units;
