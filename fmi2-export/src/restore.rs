@@ -67,7 +67,8 @@ pub fn validate<M: Model>(table: &[Variable<M>], core: &Core<M>) -> Result<(), C
         }
     }
     // The model's own invariants (validated parameters, admissible state).
-    core.model.validate_restored().map_err(|e| {
+    let initialized = !matches!(core.state, State::Instantiated | State::InitializationMode);
+    core.model.validate_restored(initialized).map_err(|e| {
         CallError::Model(format!(
             "FMU state refused: {}",
             describe_model_error(table, &e)

@@ -84,6 +84,29 @@ impl Model for LanderNav {
         Ok(())
     }
 
+    fn validate_restored(&self, initialized: bool) -> Result<(), ModelError> {
+        match (initialized, &self.running) {
+            (false, None) => Ok(()),
+            (true, Some(errors)) => {
+                self.params
+                    .validate()
+                    .map_err(|e| ModelError::InvalidParameter {
+                        field: e.field,
+                        index: e.index,
+                        value: e.value,
+                        reason: e.reason,
+                    })?;
+                match errors.inconsistency(&self.params) {
+                    Some(why) => Err(ModelError::Other(format!("restored state: {why}"))),
+                    None => Ok(()),
+                }
+            }
+            _ => Err(ModelError::Other(format!(
+                "restored state: initialized = {initialized} disagrees with the model's run"
+            ))),
+        }
+    }
+
     fn do_step(&mut self, t: f64, h: f64, _log: &mut Log) -> Result<StepEnd, ModelError> {
         let Some(errors) = self.running.as_mut() else {
             return Err(ModelError::Other(

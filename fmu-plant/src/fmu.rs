@@ -204,10 +204,18 @@ impl Model for LanderPlant {
         Ok(())
     }
 
-    fn validate_restored(&self) -> Result<(), ModelError> {
-        let Some((plant, run)) = &self.running else {
-            // Before initialization: parameters are checked at exit_initialization.
-            return Ok(());
+    fn validate_restored(&self, initialized: bool) -> Result<(), ModelError> {
+        let (true, Some((plant, run))) = (initialized, &self.running) else {
+            // Before initialization parameters are checked at exit_initialization; a run
+            // exists exactly after it.
+            return match (initialized, &self.running) {
+                (false, None) => Ok(()),
+                _ => Err(restored(
+                    "initialized",
+                    initialized,
+                    "disagrees with the model's run",
+                )),
+            };
         };
         let (fresh, _, _) = Plant::new(&self.parameters).map_err(parameter_error)?;
         if *plant != fresh {
