@@ -589,4 +589,42 @@ mod tests {
         assert_eq!(exact(&gnc.outputs), exact(&fresh.outputs));
         assert_ne!(exact(&gnc.outputs), before);
     }
+
+    #[test]
+    fn a_reached_guidance_memory_is_accepted_and_a_doctored_one_refused() {
+        use crate::guidance::sequencer::Phase;
+        // GIVEN a run 20 s in, in the descent (after the 12 s hover)
+        let mut gnc = LanderGnc::default();
+        let mut log = Log::default();
+        gnc.exit_initialization(0.0, &mut log).unwrap();
+        for k in 0..200 {
+            gnc.do_step(f64::from(k) * 0.1, 0.1, &mut log).unwrap();
+        }
+        assert_eq!(gnc.guidance.phase, Phase::Descent);
+        assert_eq!(gnc.validate_restored(true), Ok(()));
+        // WHEN its memory is doctored THEN each is refused, naming what is wrong
+        let doctored: [(&str, fn(&mut LanderGnc)); 5] = [
+            ("phase", |g| g.guidance.phase = Phase::TargetHover),
+            ("phase", |g| g.guidance.phase = Phase::TerminalDescent),
+            ("time to go", |g| g.guidance.time_to_go_s = 1e6),
+            ("cycle", |g| g.guidance.last_cycle = Some(1_000_000)),
+            ("time", |g| g.time_s = f64::NAN),
+        ];
+        for (what, doctor) in doctored {
+            let mut restored = gnc.clone();
+            doctor(&mut restored);
+            let err = restored.validate_restored(true).unwrap_err().to_string();
+            assert!(err.contains(what), "{what}: {err}");
+        }
+        // AND a parameter that exit_initialization would refuse is refused by name
+        let mut restored = gnc.clone();
+        restored.params.guidance_cycle_s = -1.0;
+        assert!(matches!(
+            restored.validate_restored(true),
+            Err(ModelError::InvalidParameter {
+                field: "guidance_cycle_s",
+                ..
+            })
+        ));
+    }
 }

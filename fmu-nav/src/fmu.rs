@@ -202,6 +202,17 @@ mod tests {
     use fmi_model::{Causality, Kind};
 
     #[test]
+    fn a_restored_state_must_agree_with_initialization_and_its_parameters() {
+        let mut nav = LanderNav::default();
+        assert_eq!(nav.validate_restored(false), Ok(()));
+        assert!(nav.validate_restored(true).is_err());
+        nav.exit_initialization(0.0, &mut Log::default()).unwrap();
+        nav.do_step(0.0, 0.01, &mut Log::default()).unwrap();
+        assert_eq!(nav.validate_restored(true), Ok(()));
+        assert!(nav.validate_restored(false).is_err());
+    }
+
+    #[test]
     fn the_export_layer_accepts_the_declarations() {
         assert_eq!(fmi2_export::check_table::<LanderNav>(), Ok(()));
     }

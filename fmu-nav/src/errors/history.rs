@@ -83,4 +83,14 @@ mod tests {
         assert_eq!(history.delayed(0, 2.0), 2.0);
         assert_eq!(history.samples.len(), 0);
     }
+
+    #[test]
+    fn a_history_holds_its_capacity_only_empty_or_full() {
+        let mut history = History::new(3);
+        assert!(history.holds(3) && !history.holds(2));
+        history.record(1);
+        assert!(history.holds(3));
+        history.samples.pop_back();
+        assert!(!history.holds(3));
+    }
 }
