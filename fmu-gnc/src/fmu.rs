@@ -603,7 +603,8 @@ mod tests {
         assert_eq!(gnc.guidance.phase, Phase::Descent);
         assert_eq!(gnc.validate_restored(true), Ok(()));
         // WHEN its memory is doctored THEN each is refused, naming what is wrong
-        let doctored: [(&str, fn(&mut LanderGnc)); 5] = [
+        type Doctor = fn(&mut LanderGnc);
+        let doctored: [(&str, Doctor); 5] = [
             ("phase", |g| g.guidance.phase = Phase::TargetHover),
             ("phase", |g| g.guidance.phase = Phase::TerminalDescent),
             ("time to go", |g| g.guidance.time_to_go_s = 1e6),
