@@ -1171,7 +1171,8 @@ fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, Cal
         )));
     }
     let time = inst.core.time;
-    if !t.is_finite() || (t - time).abs() > time_tolerance(time) {
+    // Written so that a NaN anywhere (the master's t, or a corrupt time of ours) refuses.
+    if !(t.is_finite() && time.is_finite() && (t - time).abs() <= time_tolerance(time)) {
         return Err(CallError::InvalidArgument(format!(
             "currentCommunicationPoint {t} does not match the FMU's time {time} \
              (relative tolerance {TIME_TOLERANCE:e})"
@@ -1179,6 +1180,12 @@ fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, Cal
     }
     // The master's own t + h: the next call's t must match it, so no rounding of ours.
     let end = t + h;
+    if !(end.is_finite() && end > t) {
+        return Err(CallError::InvalidArgument(format!(
+            "currentCommunicationPoint {t} + communicationStepSize {h} = {end}: the step \
+             does not advance a finite time"
+        )));
+    }
     if let Some(stop) = inst.core.stop_time {
         if end > stop + time_tolerance(stop) {
             return Err(CallError::InvalidArgument(format!(
