@@ -63,7 +63,19 @@ impl Model for LanderNav {
         // (a function of the parameters only, so the run starts with exactly these).
         self.estimate = match &self.running {
             Some(errors) => errors.estimate(&self.params, &self.truth),
-            None => NavErrors::start(&self.params).estimate(&self.params, &self.truth),
+            // Parameters set but not yet validated may overflow (an attitude bias of 1e279
+            // rad): then the inputs are shown unchanged, and exit_initialization names the
+            // parameter at fault.
+            None => {
+                let errors = NavErrors::start(&self.params);
+                let valid =
+                    self.params.validate().is_ok() && errors.overflowing(&self.params).is_none();
+                if valid {
+                    errors.estimate(&self.params, &self.truth)
+                } else {
+                    self.truth
+                }
+            }
         };
     }
 
@@ -200,6 +212,22 @@ static DECLARATIONS: &[Declaration<LanderNav>] = &[
 mod tests {
     use super::*;
     use fmi_model::{Causality, Kind};
+
+    #[test]
+    fn an_attitude_bias_too_large_to_square_shows_finite_outputs_and_is_refused() {
+        // Found by the call_sequence fuzz target: 1e279 rad is finite, its square is not.
+        let mut nav = LanderNav::default();
+        nav.params.attitude.bias[0] = -3.969e279;
+        nav.calculate_values(&mut Log::default());
+        assert!(nav.estimate.q_body_to_nue.iter().all(|q| q.is_finite()));
+        let err = nav
+            .exit_initialization(0.0, &mut Log::default())
+            .unwrap_err();
+        assert!(
+            err.to_string().contains("attitude error would overflow"),
+            "{err}"
+        );
+    }
 
     #[test]
     fn a_restored_state_must_agree_with_initialization_and_its_parameters() {

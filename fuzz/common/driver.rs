@@ -65,8 +65,10 @@ fn current_time(inst: &Instance) -> Option<f64> {
     (status == fmi2OK).then_some(t)
 }
 
-/// (a) `data` as the payload of an FMU state with a valid header and checksum, then
-/// fmi2DeSerializeFMUstate, and if accepted: set, gets and a step.
+/// (a) A payload sealed with a valid header and checksum, then fmi2DeSerializeFMUstate, and
+/// if accepted: set, gets and a step. An odd first byte edits a genuine payload (the rest
+/// read as (offset lo, offset hi, byte) triples), so that most inputs decode and reach the
+/// validation; otherwise the rest is the payload itself.
 pub fn restored_state<M: Model>(functions: &Fmi2Functions, data: &[u8]) {
     let reals = table::<M>().reals;
     let inst = Instance::instantiate(functions, "fuzz", &fmi2_export::guid::<M>());
@@ -74,10 +76,22 @@ pub fn restored_state<M: Model>(functions: &Fmi2Functions, data: &[u8]) {
     let genuine = inst.get_state();
     let header = inst.serialize(genuine);
     inst.free_state(genuine);
+    let payload = match data.split_first() {
+        Some((mode, edits)) if mode % 2 == 1 => {
+            let mut payload = header[HEADER_LEN..].to_vec();
+            for edit in edits.chunks_exact(3) {
+                let at = usize::from(u16::from_le_bytes([edit[0], edit[1]])) % payload.len();
+                payload[at] = edit[2];
+            }
+            payload
+        }
+        Some((_, raw)) => raw.to_vec(),
+        None => Vec::new(),
+    };
     let mut bytes = header[..HEADER_LEN - 12].to_vec();
-    bytes.extend_from_slice(&(data.len() as u64).to_le_bytes());
-    bytes.extend_from_slice(&crc32fast::hash(data).to_le_bytes());
-    bytes.extend_from_slice(data);
+    bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+    bytes.extend_from_slice(&payload);
     let (status, state) = inst.deserialize(&bytes);
     assert!(status == fmi2OK || status == fmi2Error, "{status:?}");
     if status != fmi2OK {

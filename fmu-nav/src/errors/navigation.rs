@@ -149,6 +149,9 @@ impl NavErrors {
 fn overflowing(errors: &[GroupError; 5], params: &NavParameters) -> Option<Group> {
     Group::ALL.into_iter().find(|&g| {
         let total = errors[g as usize].total(params.group(g));
-        !total.iter().all(|v| v.is_finite())
+        // The attitude error is a rotation vector: its norm (a sum of squares) must be
+        // finite too, or the rotation built from it is NaN (a bias of 1e200 rad is finite).
+        let squares: f64 = total.iter().map(|v| v * v).sum();
+        !total.iter().all(|v| v.is_finite()) || (g == Group::Attitude && !squares.is_finite())
     })
 }
