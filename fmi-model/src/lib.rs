@@ -20,6 +20,7 @@ pub mod continuous;
 mod declaration;
 mod enumeration;
 mod model;
+pub mod registry;
 pub mod snapshot;
 
 pub use check::check_declarations;

@@ -114,6 +114,18 @@ pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static
     /// state from them. `start_time` is the simulation's start time.
     fn exit_initialization(&mut self, start_time: f64, log: &mut Log) -> Result<(), ModelError>;
 
+    /// A restored FMU state (set or de-serialized) is about to replace the instance's: `Ok`
+    /// only if the model could have reached it. `initialized` says whether the state is past
+    /// exit_initialization (the layer's state machine knows). Once initialized, every parameter passes the
+    /// checks of [`exit_initialization`](Model::exit_initialization) and every state value is
+    /// finite and admissible (masses, unit quaternions, ordered times, memories consistent
+    /// with the parameters); the error names the field at fault. Layers have already checked
+    /// their own bookkeeping and that each Real parameter and input is settable to its value.
+    /// The default accepts: a model with invariants must say them here.
+    fn validate_restored(&self, _initialized: bool) -> Result<(), ModelError> {
+        Ok(())
+    }
+
     /// Co-Simulation: advance from `t` to `t + h` (`h > 0`, inputs finite, checked by the
     /// layer).
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError>;

@@ -1,8 +1,10 @@
 //! The generic bodies of the 34 `fmi2*` functions. [`export_fmi2!`](crate::export_fmi2)
 //! generates the `#[no_mangle]` symbols in the model crate, each a one-line call into here.
 //!
-//! Every function that takes an instance goes through [`call`]: NULL or foreign component
-//! -> `fmi2Error` (no logger to tell); call trace (`logCalls`); state-machine check against
+//! Every function that takes an instance goes through [`call`]: NULL, freed or foreign
+//! component -> `fmi2Error` (no logger to tell; the address is looked up in a registry of
+//! live instances before anything is read through it); a call while another call on the
+//! same instance has not returned (from inside its logger) -> `fmi2Error` and a log line; call trace (`logCalls`); state-machine check against
 //! the table of [`Function::legal_states`]; the body under `catch_unwind` (a panic becomes
 //! `fmi2Fatal` and state Fatal); a refusal is logged as one line "fmi2Xxx: reason".
 //!
@@ -28,6 +30,7 @@ use crate::rules::{check_enumeration, check_integer, check_real, check_settable}
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
 pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
+use fmi_model::registry::{Entered, Refusal, Registry};
 use fmi_model::snapshot;
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
@@ -48,19 +51,45 @@ fn time_tolerance(reference: f64) -> f64 {
 // Plumbing
 // ---------------------------------------------------------------------------------------
 
-/// The instance behind `c`, or `None` for NULL or a pointer that is not an `Instance<M>`.
-unsafe fn instance_mut<'a, M: Model>(c: fmi2Component) -> Option<&'a mut Instance<M>> {
-    if c.is_null() {
-        return None;
-    }
-    // SAFETY: the master hands back what fmi2Instantiate returned (a Box<Instance<M>>,
-    // whose first field is the Tag: repr(C)); the tag check guards against a component
-    // of another model type.
+/// Every live instance of this FMU, with a copy of its logger to report a refused nested
+/// call without reading the busy instance.
+static LIVE: Registry<Logger> = Registry::new();
+
+/// The instance behind `c`, marked busy until the returned guard drops. `None` (the call
+/// returns `fmi2Error`) when `c` is no live instance of `M` (NULL, freed, foreign: nothing
+/// is read through it), or when another call on it has not returned (a call from inside one
+/// of its callbacks, or from a second thread: refused with a log line, see
+/// [`fmi_model::registry`]).
+unsafe fn enter<'a, M: Model>(
+    c: fmi2Component,
+    function: Function,
+) -> Option<(Entered<'static, Logger>, &'a mut Instance<M>)> {
+    let entered = match LIVE.enter(c as usize) {
+        Ok(entered) => entered,
+        Err(Refusal::Unknown) => return None,
+        Err(Refusal::Busy(report)) => {
+            if let Some(logger) = report {
+                logger.status(
+                    fmi2Error,
+                    &format!(
+                        "{}: refused: another call on this instance has not returned yet \
+                         (a call from inside one of its callbacks, or from a second thread)",
+                        function.name()
+                    ),
+                );
+            }
+            return None;
+        }
+    };
+    // SAFETY: a registered address is a live Box<Instance<_>> from fmi2Instantiate, whose
+    // first field is the Tag (repr(C)); the tag check guards against an instance of another
+    // model linked into the same process.
     let tag = unsafe { ptr::read(c as *const Tag) };
     if tag != Tag::of::<M>() {
         return None;
     }
-    Some(unsafe { &mut *(c as *mut Instance<M>) })
+    // SAFETY: live, of type M, and no other call holds it (the registry says idle).
+    Some((entered, unsafe { &mut *(c as *mut Instance<M>) }))
 }
 
 /// Runs one FMI call on an instance; see the module documentation.
@@ -70,7 +99,7 @@ pub(crate) unsafe fn call<M: Model>(
     trace: impl FnOnce() -> String,
     body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
 ) -> fmi2Status {
-    let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
+    let Some((_entered, inst)) = (unsafe { enter::<M>(c, function) }) else {
         return fmi2Error;
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
@@ -258,13 +287,16 @@ pub unsafe fn instantiate_as<M: Model>(
             logger.status(fmi2Error, &format!("fmi2Instantiate: {reason}"));
             return ptr::null_mut();
         }
+        let report = logger.clone();
         let instance = Box::new(Instance::<M>::new(
             logger,
             crate::interface_uuid::<M>(),
             resource_location,
             fmu_type == fmi2ModelExchange,
         ));
-        Box::into_raw(instance) as fmi2Component
+        let c = Box::into_raw(instance) as fmi2Component;
+        LIVE.insert(c as usize, report);
+        c
     }));
     outcome.unwrap_or_else(|payload| {
         let logger = Logger::new(
@@ -287,7 +319,7 @@ pub unsafe fn instantiate_as<M: Model>(
 /// # Safety
 /// See the module documentation.
 pub unsafe fn free_instance<M: Model>(c: fmi2Component) {
-    let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
+    let Some((entered, inst)) = (unsafe { enter::<M>(c, Function::FreeInstance) }) else {
         return;
     };
     let _ = catch_unwind(AssertUnwindSafe(|| {
@@ -295,7 +327,12 @@ pub unsafe fn free_instance<M: Model>(c: fmi2Component) {
             inst.logger
                 .log(fmi2OK, Category::Calls, "fmi2FreeInstance()");
         }
-        inst.tag = Tag::cleared();
+    }));
+    // Unregistered before the memory goes: a second free, or any later call, is refused
+    // by address without reading it.
+    inst.tag = Tag::cleared();
+    entered.remove();
+    let _ = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: `c` came from Box::into_raw in instantiate; `inst` is not used again.
         let mut boxed = unsafe { Box::from_raw(c as *mut Instance<M>) };
         for address in boxed.fmu_states.drain() {
@@ -913,7 +950,9 @@ pub unsafe fn set_fmu_state<M: Model>(c: fmi2Component, state: fmi2FMUstate) -> 
     let trace = || format!("{}(FMUstate={state:p})", f.name());
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            inst.core = owned_state(inst, state)?.clone();
+            let core = owned_state(inst, state)?;
+            crate::restore::validate(&inst.table, core)?;
+            inst.core = core.clone();
             inst.dirty = true;
             Ok(Success::Ok)
         })
@@ -1010,6 +1049,7 @@ pub unsafe fn de_serialize_fmu_state<M: Model>(
             let bytes = slice(serialized as *const u8, size, "serializedState")?;
             let slot = out(state, "FMUstate")?;
             let core = snapshot::decode::<Core<M>>(bytes, snapshot_header::<M>(inst))?;
+            crate::restore::validate(&inst.table, &core)?;
             store_state(inst, slot, core)
         })
     }
@@ -1111,7 +1151,8 @@ fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, Cal
         )));
     }
     let time = inst.core.time;
-    if !t.is_finite() || (t - time).abs() > time_tolerance(time) {
+    // Written so that a NaN anywhere (the master's t, or a corrupt time of ours) refuses.
+    if !(t.is_finite() && time.is_finite() && (t - time).abs() <= time_tolerance(time)) {
         return Err(CallError::InvalidArgument(format!(
             "currentCommunicationPoint {t} does not match the FMU's time {time} \
              (relative tolerance {TIME_TOLERANCE:e})"
@@ -1119,6 +1160,12 @@ fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, Cal
     }
     // The master's own t + h: the next call's t must match it, so no rounding of ours.
     let end = t + h;
+    if !(end.is_finite() && end > t) {
+        return Err(CallError::InvalidArgument(format!(
+            "currentCommunicationPoint {t} + communicationStepSize {h} = {end}: the step \
+             does not advance a finite time"
+        )));
+    }
     if let Some(stop) = inst.core.stop_time {
         if end > stop + time_tolerance(stop) {
             return Err(CallError::InvalidArgument(format!(

@@ -43,9 +43,9 @@ impl<M: Model> Core<M> {
     }
 }
 
-/// First field of every instance, so a pointer to something else (another FMU's instance,
-/// a freed one that was overwritten) is refused instead of being used as an `Instance<M>`.
-/// Best effort only: a dangling pointer is as undefined in our API as in any C API.
+/// First field of every instance, so that a live instance of another model linked into the
+/// same process is refused instead of being used as an `Instance<M>`. Freed and unknown
+/// pointers never get this far: the layer's registry of live instances refuses them first.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(C)]
 pub struct Tag {

@@ -18,6 +18,7 @@ mod instance;
 pub mod logging;
 pub mod model_exchange;
 mod model_exchange_description;
+mod restore;
 mod rules;
 pub mod state;
 mod units;

@@ -88,7 +88,7 @@ impl Category {
 }
 
 /// The copied callback and instance name, plus which debug categories are on.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Logger {
     callback: fmi2CallbackLogger,
     environment: fmi2ComponentEnvironment,

@@ -253,6 +253,30 @@ impl Model for LanderGnc {
         Ok(())
     }
 
+    fn validate_restored(&self, initialized: bool) -> Result<(), ModelError> {
+        if !initialized {
+            // Parameters are checked at exit_initialization; the memory is the initial one.
+            return Ok(());
+        }
+        self.params
+            .validate()
+            .map_err(|e| ModelError::InvalidParameter {
+                field: e.field,
+                index: e.index,
+                value: e.value,
+                reason: e.reason.to_string(),
+            })?;
+        restored_guidance_inconsistency(
+            &self.params,
+            &self.guidance,
+            self.start_time_s,
+            self.time_s,
+        )
+        .map_or(Ok(()), |why| {
+            Err(ModelError::Other(format!("restored state: {why}")))
+        })
+    }
+
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError> {
         // The master's t is authoritative: it may differ from ours by rounding (and then the
         // sample kept from the get is not used).
@@ -270,6 +294,78 @@ impl Model for LanderGnc {
         self.time_s = t + h;
         Ok(StepEnd::Complete)
     }
+}
+
+/// Why a guidance memory cannot be one the sequencer reached by `time_s` (a restored FMU
+/// state), if it cannot: times not finite or out of order, a command or solve not finite, a
+/// cycle solved in the future, a time-to-go beyond the descent's, a phase ahead of the
+/// schedule or one the parameters never enter.
+fn restored_guidance_inconsistency(
+    params: &GncParameters,
+    g: &GuidanceState,
+    start_time_s: f64,
+    time_s: f64,
+) -> Option<String> {
+    use crate::guidance::sequencer::Phase;
+    let tolerance = |t: f64| 1e-9 * t.abs().max(1.0);
+    if !(start_time_s.is_finite() && time_s.is_finite())
+        || time_s < start_time_s - tolerance(start_time_s)
+    {
+        return Some(format!(
+            "time {time_s} s before the start time {start_time_s} s"
+        ));
+    }
+    let elapsed_s = time_s - start_time_s;
+    let (cycle_now, _) = guidance_cycle_index(elapsed_s, params.guidance_cycle_s);
+    if g.last_cycle.is_some_and(|k| k < 0 || k > cycle_now) {
+        return Some(format!(
+            "guidance cycle {:?} was never reached by t = {time_s} s",
+            g.last_cycle
+        ));
+    }
+    if !g.a_thrust_cmd_nue.iter().all(|a| a.is_finite()) {
+        return Some("the held thrust command is not finite".into());
+    }
+    let scenario = params.scenario();
+    let tgo_max = scenario.descent_time_to_go_s + tolerance(scenario.descent_time_to_go_s);
+    if !(0.0..=tgo_max).contains(&g.time_to_go_s) {
+        return Some(format!(
+            "time to go {} s outside [0, {tgo_max}] s",
+            g.time_to_go_s
+        ));
+    }
+    if let Some(d) = &g.descent {
+        let finite = d
+            .cubic
+            .coeffs
+            .iter()
+            .all(|c| c.iter().all(|v| v.is_finite()));
+        if !finite
+            || !(0.0..=elapsed_s + tolerance(elapsed_s)).contains(&d.solved_at_s)
+            || !(0.0..=tgo_max).contains(&d.time_to_go_at_solve_s)
+        {
+            return Some("the descent solve is not finite or not from this run".into());
+        }
+    }
+    let rank = |p: Phase| match p {
+        Phase::InitialHover => 1,
+        Phase::Descent => 2,
+        Phase::TargetHover => 3,
+        Phase::Hold | Phase::TerminalDescent => 4,
+    };
+    let scheduled = scenario.phase_at(elapsed_s + tolerance(elapsed_s));
+    let never = match g.phase {
+        Phase::Hold => scenario.terminal_descent_speed_mps > 0.0,
+        Phase::TerminalDescent => scenario.terminal_descent_speed_mps <= 0.0,
+        _ => false,
+    };
+    if never || rank(g.phase) > rank(scheduled) {
+        return Some(format!(
+            "guidance phase {:?} at t = {time_s} s, scheduled {scheduled:?}",
+            g.phase
+        ));
+    }
+    None
 }
 
 // ---- the declarations ------------------------------------------------------------------
@@ -717,5 +813,44 @@ mod tests {
         fresh.do_step(0.0, H, &mut Log::default()).unwrap();
         assert_eq!(exact(&gnc.outputs), exact(&fresh.outputs));
         assert_ne!(exact(&gnc.outputs), before);
+    }
+
+    #[test]
+    fn a_reached_guidance_memory_is_accepted_and_a_doctored_one_refused() {
+        use crate::guidance::sequencer::Phase;
+        // GIVEN a run 20 s in, in the descent (after the 12 s hover)
+        let mut gnc = LanderGnc::default();
+        let mut log = Log::default();
+        gnc.exit_initialization(0.0, &mut log).unwrap();
+        for k in 0..200 {
+            gnc.do_step(f64::from(k) * 0.1, 0.1, &mut log).unwrap();
+        }
+        assert_eq!(gnc.guidance.phase, Phase::Descent);
+        assert_eq!(gnc.validate_restored(true), Ok(()));
+        // WHEN its memory is doctored THEN each is refused, naming what is wrong
+        type Doctor = fn(&mut LanderGnc);
+        let doctored: [(&str, Doctor); 5] = [
+            ("phase", |g| g.guidance.phase = Phase::TargetHover),
+            ("phase", |g| g.guidance.phase = Phase::TerminalDescent),
+            ("time to go", |g| g.guidance.time_to_go_s = 1e6),
+            ("cycle", |g| g.guidance.last_cycle = Some(1_000_000)),
+            ("time", |g| g.time_s = f64::NAN),
+        ];
+        for (what, doctor) in doctored {
+            let mut restored = gnc.clone();
+            doctor(&mut restored);
+            let err = restored.validate_restored(true).unwrap_err().to_string();
+            assert!(err.contains(what), "{what}: {err}");
+        }
+        // AND a parameter that exit_initialization would refuse is refused by name
+        let mut restored = gnc.clone();
+        restored.params.guidance_cycle_s = -1.0;
+        assert!(matches!(
+            restored.validate_restored(true),
+            Err(ModelError::InvalidParameter {
+                field: "guidance_cycle_s",
+                ..
+            })
+        ));
     }
 }

@@ -63,13 +63,19 @@ impl Model for LanderNav {
         // (a function of the parameters only, so the run starts with exactly these).
         self.estimate = match &self.running {
             Some(errors) => errors.estimate(&self.params, &self.truth),
-            None => match NavErrors::start(&self.params) {
-                start if start.overflowing(&self.params).is_none() => {
-                    start.estimate(&self.params, &self.truth)
+            // Parameters set but not yet validated may overflow (an attitude bias of 1e279
+            // rad): then the inputs are shown unchanged, and exit_initialization names the
+            // parameter at fault.
+            None => {
+                let errors = NavErrors::start(&self.params);
+                let valid =
+                    self.params.validate().is_ok() && errors.overflowing(&self.params).is_none();
+                if valid {
+                    errors.estimate(&self.params, &self.truth)
+                } else {
+                    self.truth
                 }
-                // Parameters exit_initialization will refuse: publish nothing non-finite.
-                _ => self.truth,
-            },
+            }
         };
     }
 
@@ -88,6 +94,29 @@ impl Model for LanderNav {
         }
         self.running = Some(errors);
         Ok(())
+    }
+
+    fn validate_restored(&self, initialized: bool) -> Result<(), ModelError> {
+        match (initialized, &self.running) {
+            (false, None) => Ok(()),
+            (true, Some(errors)) => {
+                self.params
+                    .validate()
+                    .map_err(|e| ModelError::InvalidParameter {
+                        field: e.field,
+                        index: e.index,
+                        value: e.value,
+                        reason: e.reason,
+                    })?;
+                match errors.inconsistency(&self.params) {
+                    Some(why) => Err(ModelError::Other(format!("restored state: {why}"))),
+                    None => Ok(()),
+                }
+            }
+            _ => Err(ModelError::Other(format!(
+                "restored state: initialized = {initialized} disagrees with the model's run"
+            ))),
+        }
     }
 
     fn do_step(&mut self, t: f64, h: f64, _log: &mut Log) -> Result<StepEnd, ModelError> {
@@ -183,6 +212,33 @@ static DECLARATIONS: &[Declaration<LanderNav>] = &[
 mod tests {
     use super::*;
     use fmi_model::{Causality, Kind};
+
+    #[test]
+    fn an_attitude_bias_too_large_to_square_shows_finite_outputs_and_is_refused() {
+        // Found by the call_sequence fuzz target: 1e279 rad is finite, its square is not.
+        let mut nav = LanderNav::default();
+        nav.params.attitude.bias[0] = -3.969e279;
+        nav.calculate_values(&mut Log::default());
+        assert!(nav.estimate.q_body_to_nue.iter().all(|q| q.is_finite()));
+        let err = nav
+            .exit_initialization(0.0, &mut Log::default())
+            .unwrap_err();
+        assert!(
+            err.to_string().contains("attitude error would overflow"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_restored_state_must_agree_with_initialization_and_its_parameters() {
+        let mut nav = LanderNav::default();
+        assert_eq!(nav.validate_restored(false), Ok(()));
+        assert!(nav.validate_restored(true).is_err());
+        nav.exit_initialization(0.0, &mut Log::default()).unwrap();
+        nav.do_step(0.0, 0.01, &mut Log::default()).unwrap();
+        assert_eq!(nav.validate_restored(true), Ok(()));
+        assert!(nav.validate_restored(false).is_err());
+    }
 
     #[test]
     fn the_export_layer_accepts_the_declarations() {

@@ -105,6 +105,76 @@ impl LanderPlant {
     }
 }
 
+fn parameter_error(e: crate::physics::parameters::ParameterError) -> ModelError {
+    ModelError::InvalidParameter {
+        field: e.field,
+        index: e.index,
+        value: e.value,
+        reason: e.reason,
+    }
+}
+
+fn restored(field: &str, value: impl std::fmt::Display, reason: &str) -> ModelError {
+    ModelError::Other(format!("restored state {field} = {value}: {reason}"))
+}
+
+/// How far a restored attitude quaternion may be from unit norm: the integrator
+/// renormalises after every step, so a reached state is unit to round-off.
+const RESTORED_QUATERNION_NORM_TOLERANCE: f64 = 1e-9;
+
+/// A run the plant could have reached: finite, propellant between dry mass and `m0_kg`, a
+/// unit attitude, a thrust lag within what the engines deliver, consistent event flags.
+fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError> {
+    let x = &run.state;
+    if !x.is_finite() {
+        return Err(restored("plant state", format!("{x:?}"), "not finite"));
+    }
+    if x.mass_kg < plant.dry_mass_kg || x.mass_kg > m0_kg {
+        return Err(restored(
+            "mass",
+            x.mass_kg,
+            &format!(
+                "outside [dry_mass, m0] = [{}, {m0_kg}] kg",
+                plant.dry_mass_kg
+            ),
+        ));
+    }
+    let norm = x.q_body_to_nue.norm();
+    if (norm - 1.0).abs() > RESTORED_QUATERNION_NORM_TOLERANCE {
+        return Err(restored(
+            "q_body_to_nue norm",
+            norm,
+            "not a unit quaternion",
+        ));
+    }
+    let max_thrust_n = f64::from(plant.engines.count) * plant.engines.max_thrust_per_engine_n;
+    if !(0.0..=max_thrust_n).contains(&x.thrust_lag_n) {
+        return Err(restored(
+            "thrust_actual (lag state)",
+            x.thrust_lag_n,
+            &format!("outside [0, {max_thrust_n}] N"),
+        ));
+    }
+    if run.propellant_exhausted && x.mass_kg != plant.dry_mass_kg {
+        return Err(restored(
+            "mass",
+            x.mass_kg,
+            "propellant exhausted but mass is not the dry mass",
+        ));
+    }
+    if let Some(td) = &run.touchdown {
+        let finite = td.time_s.is_finite()
+            && td.tilt_rad.is_finite()
+            && td.v_nue_mps.iter().all(|v| v.is_finite())
+            && td.omega_body_radps.iter().all(|v| v.is_finite())
+            && td.q_body_to_nue.coords.iter().all(|v| v.is_finite());
+        if !finite {
+            return Err(restored("touchdown", format!("{td:?}"), "not finite"));
+        }
+    }
+    Ok(())
+}
+
 /// Most RK4 sub-steps one `fmi2DoStep` may take (about a second of CPU). Without a bound, a
 /// huge communication step never returns: 1e300 s in orbit about the spherical Moon, or 1 s
 /// with `integration_step` = 1e-12 s, would hang the master's call for minutes or forever.
@@ -146,18 +216,36 @@ impl Model for LanderPlant {
     }
 
     fn exit_initialization(&mut self, _start_time: f64, log: &mut Log) -> Result<(), ModelError> {
-        let (plant, run, warning) =
-            Plant::new(&self.parameters).map_err(|e| ModelError::InvalidParameter {
-                field: e.field,
-                index: e.index,
-                value: e.value,
-                reason: e.reason,
-            })?;
+        let (plant, run, warning) = Plant::new(&self.parameters).map_err(parameter_error)?;
         if let Some(w) = warning {
             log.warning(w);
         }
         self.running = Some((plant, run));
         Ok(())
+    }
+
+    fn validate_restored(&self, initialized: bool) -> Result<(), ModelError> {
+        let (true, Some((plant, run))) = (initialized, &self.running) else {
+            // Before initialization parameters are checked at exit_initialization; a run
+            // exists exactly after it.
+            return match (initialized, &self.running) {
+                (false, None) => Ok(()),
+                _ => Err(restored(
+                    "initialized",
+                    initialized,
+                    "disagrees with the model's run",
+                )),
+            };
+        };
+        let (fresh, _, _) = Plant::new(&self.parameters).map_err(parameter_error)?;
+        if *plant != fresh {
+            return Err(restored(
+                "plant constants",
+                "",
+                "differ from what the parameters give",
+            ));
+        }
+        check_run(run, plant, self.parameters.m0_kg)
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError> {

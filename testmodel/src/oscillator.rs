@@ -148,6 +148,23 @@ impl Model for Oscillator {
         }
     }
 
+    fn validate_restored(&self, initialized: bool) -> Result<(), ModelError> {
+        let refuse = |what: &str| Err(ModelError::Other(format!("restored state: {what}")));
+        if initialized != self.initialized {
+            return refuse("initialization flag disagrees with the instance's state");
+        }
+        if !(self.x_m.is_finite() && self.v_m_per_s.is_finite()) {
+            return refuse("x or v is not finite");
+        }
+        if self.step_count < 0 || self.substeps < 1 {
+            return refuse("negative step_count or substeps below 1");
+        }
+        if initialized && self.stop_at_threshold && self.x0_m == self.threshold_m {
+            return refuse("threshold equals x0 while stop_at_threshold is set");
+        }
+        Ok(())
+    }
+
     fn exit_initialization(&mut self, _start_time: f64, log: &mut Log) -> Result<(), ModelError> {
         if self.stop_at_threshold && self.x0_m == self.threshold_m {
             return Err(ModelError::InvalidParameter {

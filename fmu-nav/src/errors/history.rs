@@ -36,6 +36,16 @@ impl<T: Copy> History<T> {
         self.samples.push_back(input);
     }
 
+    /// Whether this could be a history of `capacity` inputs: empty before the first step,
+    /// full after it.
+    pub fn holds(&self, capacity: usize) -> bool {
+        self.capacity == capacity && (self.samples.is_empty() || self.samples.len() == capacity)
+    }
+
+    pub fn samples(&self) -> impl Iterator<Item = &T> {
+        self.samples.iter()
+    }
+
     /// The input of `steps` communication points ago; `current` for 0 steps or before the
     /// first step. A request beyond the capacity (refused by validation) reads the oldest.
     pub fn delayed(&self, steps: usize, current: T) -> T {
@@ -72,5 +82,15 @@ mod tests {
         history.record(1.0);
         assert_eq!(history.delayed(0, 2.0), 2.0);
         assert_eq!(history.samples.len(), 0);
+    }
+
+    #[test]
+    fn a_history_holds_its_capacity_only_empty_or_full() {
+        let mut history = History::new(3);
+        assert!(history.holds(3) && !history.holds(2));
+        history.record(1);
+        assert!(history.holds(3));
+        history.samples.pop_back();
+        assert!(!history.holds(3));
     }
 }

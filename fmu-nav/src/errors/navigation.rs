@@ -65,6 +65,30 @@ impl NavErrors {
         self.interval
     }
 
+    /// Why this cannot be a run of `params` (a restored FMU state), if it cannot: an error
+    /// that is not finite, or a latency history of the wrong shape or with non-finite inputs.
+    pub fn inconsistency(&self, params: &NavParameters) -> Option<String> {
+        if let Some(group) = self.overflowing(params) {
+            return Some(format!("the error of group {group:?} is not finite"));
+        }
+        if !self.history.holds(params.longest_latency()) {
+            return Some("the latency history does not match the latency parameters".into());
+        }
+        let finite = |n: &Navigation| {
+            n.r_nue_m
+                .iter()
+                .chain(&n.v_nue_mps)
+                .chain(&n.q_body_to_nue)
+                .chain(&n.omega_body_radps)
+                .chain(std::iter::once(&n.mass_kg))
+                .all(|v| v.is_finite())
+        };
+        if !self.history.samples().all(finite) {
+            return Some("the latency history holds a non-finite input".into());
+        }
+        None
+    }
+
     /// The first group whose current error is not finite (sigmas near the largest f64).
     pub fn overflowing(&self, params: &NavParameters) -> Option<Group> {
         overflowing(&self.errors, params)

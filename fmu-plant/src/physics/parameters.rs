@@ -359,7 +359,156 @@ impl PlantParameters {
                 "the altitude must be > 0: the plant starts in flight (ground contact is not modelled)",
             )?;
         }
-        Ok(())
+        self.validate_products()
+    }
+}
+
+/// A product or sum of two parameters, and what it is.
+struct Combined {
+    what: &'static str,
+    value: f64,
+    /// The parameters it combines, with their values.
+    of: [(Field, f64); 2],
+}
+
+impl PlantParameters {
+    /// Products and sums of parameters the plant computes with stay finite, so any set that
+    /// passes yields finite derived quantities and outputs; and the engines can fire. Called
+    /// after every single parameter has passed its own check. An overflowing combination
+    /// names the parameter furthest from its default (relative to it): the one at fault.
+    fn validate_products(&self) -> Result<(), ParameterError> {
+        let e = &self.engines;
+        let total_max_n = f64::from(e.count) * e.max_thrust_per_engine_n;
+        let point = &self.thrust_line.point_body_m;
+        let lever_m = point.x.abs().max(point.y.abs()).max(point.z.abs());
+        let mut combined = vec![
+            Combined {
+                what: "engine_count x engine_thrust_max",
+                value: total_max_n,
+                of: [
+                    (
+                        ("engines.max_thrust_per_engine_n", None),
+                        e.max_thrust_per_engine_n,
+                    ),
+                    (("engines.count", None), f64::from(e.count)),
+                ],
+            },
+            Combined {
+                what: "isp x g0 (exhaust velocity)",
+                value: self.isp_s * self.g0_mps2,
+                of: [
+                    (("isp_s", None), self.isp_s),
+                    (("g0_mps2", None), self.g0_mps2),
+                ],
+            },
+            Combined {
+                what: "rcs_thruster_force x rcs_moment_arm (torque limit)",
+                value: self.rcs.thruster_force_n * self.rcs.moment_arm_m,
+                of: [
+                    (("rcs.thruster_force_n", None), self.rcs.thruster_force_n),
+                    (("rcs.moment_arm_m", None), self.rcs.moment_arm_m),
+                ],
+            },
+            Combined {
+                what: "thrust_point_body x maximum thrust (engine torque)",
+                value: 2.0 * lever_m * total_max_n,
+                of: [
+                    (("thrust_line.point_body_m", None), lever_m),
+                    (
+                        ("engines.max_thrust_per_engine_n", None),
+                        e.max_thrust_per_engine_n,
+                    ),
+                ],
+            },
+        ];
+        if self.translation_model_kind()? == TranslationModelKind::Spherical {
+            let distance_m = self.moon_radius_m + self.r0_nue_m.norm();
+            combined.extend([
+                Combined {
+                    what: "(moon_radius + |r0|)^2 (distance from the centre, squared)",
+                    value: distance_m * distance_m,
+                    of: [
+                        (("moon_radius_m", None), self.moon_radius_m),
+                        (("r0_nue_m", None), self.r0_nue_m.norm()),
+                    ],
+                },
+                Combined {
+                    what: "g x moon_radius^2 (gravitational parameter)",
+                    value: self.gravity_mps2 * self.moon_radius_m * self.moon_radius_m,
+                    of: [
+                        (("gravity_mps2", None), self.gravity_mps2),
+                        (("moon_radius_m", None), self.moon_radius_m),
+                    ],
+                },
+                Combined {
+                    what: "moon_rotation_rate^2 x distance (centrifugal acceleration)",
+                    value: self.moon_rotation_rate_radps.powi(2) * distance_m,
+                    of: [
+                        (
+                            ("moon_rotation_rate_radps", None),
+                            self.moon_rotation_rate_radps,
+                        ),
+                        (("moon_radius_m", None), self.moon_radius_m),
+                    ],
+                },
+                Combined {
+                    what: "2 moon_rotation_rate x |v0| (Coriolis acceleration)",
+                    value: 2.0 * self.moon_rotation_rate_radps * self.v0_nue_mps.norm(),
+                    of: [
+                        (
+                            ("moon_rotation_rate_radps", None),
+                            self.moon_rotation_rate_radps,
+                        ),
+                        (("v0_nue_mps", None), self.v0_nue_mps.norm()),
+                    ],
+                },
+            ]);
+        }
+        for c in &combined {
+            if !c.value.is_finite() {
+                let default = PlantParameters::default();
+                let [a, b] = c.of;
+                let far = |(field, v): (Field, f64)| (v / default.magnitude_of(field)).abs();
+                let (field, value) = if far(a) >= far(b) { a } else { b };
+                return Err(refuse(
+                    field,
+                    value,
+                    format!("{} = {} overflows", c.what, c.value),
+                ));
+            }
+        }
+        require(
+            e.off_threshold_n < total_max_n,
+            ("engines.off_threshold_n", None),
+            e.off_threshold_n,
+            &format!(
+                "must be below the maximum total thrust {total_max_n} N: the engines would never fire"
+            ),
+        )
+    }
+
+    /// The default's magnitude of a combined parameter (1 where the default is 0).
+    fn magnitude_of(&self, (field, _): Field) -> f64 {
+        let value = match field {
+            "engines.max_thrust_per_engine_n" => self.engines.max_thrust_per_engine_n,
+            "engines.count" => f64::from(self.engines.count),
+            "isp_s" => self.isp_s,
+            "g0_mps2" => self.g0_mps2,
+            "rcs.thruster_force_n" => self.rcs.thruster_force_n,
+            "rcs.moment_arm_m" => self.rcs.moment_arm_m,
+            "thrust_line.point_body_m" => self.thrust_line.point_body_m.abs().max(),
+            "moon_radius_m" => self.moon_radius_m,
+            "r0_nue_m" => self.r0_nue_m.norm(),
+            "gravity_mps2" => self.gravity_mps2,
+            "moon_rotation_rate_radps" => self.moon_rotation_rate_radps,
+            "v0_nue_mps" => self.v0_nue_mps.norm(),
+            _ => 1.0,
+        };
+        if value == 0.0 {
+            1.0
+        } else {
+            value
+        }
     }
 }
 
@@ -474,5 +623,128 @@ mod tests {
         };
         let (q, warning) = rounded.validated_q0().unwrap();
         assert!((q.norm() - 1.0).abs() < 1e-15 && warning.is_some());
+    }
+
+    #[test]
+    fn overflowing_products_are_refused_naming_the_parameter_at_fault() {
+        let d = PlantParameters::default;
+        let spherical = || PlantParameters {
+            translation_model: TranslationModelKind::Spherical as i32,
+            ..d()
+        };
+        let cases = [
+            (
+                PlantParameters {
+                    isp_s: 1e308,
+                    ..d()
+                },
+                "isp_s",
+            ),
+            (
+                PlantParameters {
+                    g0_mps2: 1e307,
+                    ..d()
+                },
+                "g0_mps2",
+            ),
+            (
+                PlantParameters {
+                    rcs: Rcs {
+                        thruster_force_n: 1e308,
+                        moment_arm_m: 4.0,
+                        ..d().rcs
+                    },
+                    ..d()
+                },
+                "rcs.thruster_force_n",
+            ),
+            (
+                PlantParameters {
+                    rcs: Rcs {
+                        moment_arm_m: 1e307,
+                        ..d().rcs
+                    },
+                    ..d()
+                },
+                "rcs.moment_arm_m",
+            ),
+            (
+                PlantParameters {
+                    thrust_line: ThrustLine {
+                        point_body_m: Vector3::new(0.0, -1e306, 0.0),
+                        ..d().thrust_line
+                    },
+                    ..d()
+                },
+                "thrust_line.point_body_m",
+            ),
+            (
+                PlantParameters {
+                    engines: Engines {
+                        max_thrust_per_engine_n: 1e308,
+                        ..d().engines
+                    },
+                    ..d()
+                },
+                "engines.max_thrust_per_engine_n",
+            ),
+            (
+                PlantParameters {
+                    moon_radius_m: 1e160,
+                    ..spherical()
+                },
+                "moon_radius_m",
+            ),
+            (
+                PlantParameters {
+                    r0_nue_m: Vector3::new(0.0, 1e160, 0.0),
+                    ..spherical()
+                },
+                "r0_nue_m",
+            ),
+            (
+                PlantParameters {
+                    moon_rotation_rate_radps: 1e160,
+                    ..spherical()
+                },
+                "moon_rotation_rate_radps",
+            ),
+        ];
+        for (p, field) in cases {
+            let e = p.validate().expect_err(field);
+            assert_eq!(e.field, field, "{e:?}");
+            assert!(e.reason.contains("overflows"), "{e:?}");
+        }
+        // The same values in the flat model, which never squares the radius, pass.
+        assert_eq!(
+            PlantParameters {
+                moon_radius_m: 1e160,
+                ..d()
+            }
+            .validate(),
+            Ok(())
+        );
+    }
+
+    #[test]
+    fn an_engine_off_threshold_at_or_above_the_maximum_thrust_is_refused() {
+        let d = PlantParameters::default;
+        let max_total = 2.0 * 800.0;
+        for (threshold, ok) in [(max_total - 1.0, true), (max_total, false), (1e9, false)] {
+            let p = PlantParameters {
+                engines: Engines {
+                    off_threshold_n: threshold,
+                    ..d().engines
+                },
+                ..d()
+            };
+            match p.validate() {
+                Ok(()) => assert!(ok, "{threshold} accepted"),
+                Err(e) => {
+                    assert!(!ok, "{threshold}: {e:?}");
+                    assert_eq!(e.field, "engines.off_threshold_n");
+                }
+            }
+        }
     }
 }

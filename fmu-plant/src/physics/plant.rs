@@ -460,7 +460,7 @@ impl Plant {
         let mut t = start;
         // An event piece can end a hair before `end`; a remainder below the crossing tolerance
         // is not worth an RK4 step (it would only add round-off).
-        while end - t > super::events::CROSSING_TIME_TOLERANCE_S {
+        while end - t > super::events::crossing_tolerance_s(end) {
             let h = end - t;
             let x0 = run.state;
             let exhausted = run.propellant_exhausted;
@@ -477,6 +477,7 @@ impl Plant {
                         g0,
                         g1,
                         h,
+                        t,
                     );
                     if first.is_none_or(|(best, _)| tau < best) {
                         first = Some((tau, event));
