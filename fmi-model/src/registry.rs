@@ -140,7 +140,14 @@ impl<T: Clone> Entered<'_, T> {
     /// Unregisters the instance (it is about to be freed): from now on its address is
     /// [`Refusal::Unknown`], also to a nested call still running and to a second free.
     pub fn remove(mut self) {
-        self.registry.map().remove(&self.address);
+        let mut map = self.registry.map();
+        map.remove(&self.address);
+        if map.is_empty() {
+            // An emptied BTreeMap keeps its root node; the registry is a static of the FMU's
+            // library, so that node would outlive a master's dlclose and leak once per load.
+            *map = BTreeMap::new();
+        }
+        drop(map);
         self.removed = true;
     }
 }

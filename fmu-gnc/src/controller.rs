@@ -107,7 +107,7 @@ impl GncOutputs {
     }
 }
 
-/// Why a sample's navigation inputs cannot be used (INTERFACE "Degenerate first inputs").
+/// Why a sample's navigation inputs cannot be used (docs/interface.md, degenerate first inputs).
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum DegenerateInput {
     #[error("q_body_to_nue has (near) zero norm: no attitude; commanding minimum thrust and zero torque")]

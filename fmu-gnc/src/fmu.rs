@@ -1,4 +1,4 @@
-//! `LanderGnc` as an FMI 2.0 co-simulation model: the variable table (names per INTERFACE.md)
+//! `LanderGnc` as an FMI 2.0 co-simulation model: the variable table (names per docs/interface.md)
 //! and the sampled-data timing. All GNC math lives in the pure modules.
 //!
 //! Timing: a sampled-data controller with direct feedthrough. The outputs at communication

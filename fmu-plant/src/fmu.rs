@@ -1,5 +1,5 @@
 //! The FMI face of the plant: the variable table (each variable declared once) and the
-//! [`Model`] implementation. Names follow `shared/INTERFACE.md` to the letter.
+//! [`Model`] implementation. Names follow `docs/interface.md` to the letter.
 mod model_exchange;
 
 use crate::physics::continuous::unit_attitude;

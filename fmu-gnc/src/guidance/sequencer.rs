@@ -18,8 +18,8 @@ use super::thrust::{
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-/// Relative tolerance of time comparisons against schedule boundaries (INTERFACE: "Time has
-/// rounding in it").
+/// Relative tolerance of time comparisons against schedule boundaries: a master's time carries
+/// rounding (docs/interface.md, timing).
 pub const TIME_TOLERANCE_REL: f64 = 1e-9;
 
 fn time_tolerance(t: f64) -> f64 {

@@ -1,4 +1,4 @@
-//! The conventions of the plant, stated once (they match `shared/INTERFACE.md` and fmu-gnc).
+//! The conventions of the plant, stated once (they match `docs/interface.md` and fmu-gnc).
 //!
 //! * **NUE**: the local frame of the landing site, axis 1 North, axis 2 Up, axis 3 East,
 //!   origin at the landing site on the surface. It is fixed to the Moon.

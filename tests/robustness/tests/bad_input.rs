@@ -18,7 +18,7 @@ fn every(test: impl Fn(&Fmu)) {
     }
 }
 
-/// A settable input of each FMU (INTERFACE.md).
+/// A settable input of each FMU (docs/interface.md).
 fn an_input(fmu: &Fmu) -> &'static str {
     match fmu.lander() {
         Lander::Gnc => "q_body_to_nue[1]",
@@ -27,7 +27,7 @@ fn an_input(fmu: &Fmu) -> &'static str {
     }
 }
 
-/// An output of each FMU (INTERFACE.md).
+/// An output of each FMU (docs/interface.md).
 fn an_output(fmu: &Fmu) -> &'static str {
     match fmu.lander() {
         Lander::Gnc => "thrust_cmd",
@@ -647,7 +647,7 @@ fn a_non_finite_phi_cmd_is_refused_at_once() {
     assert_eq!(inst.exit_init(), fmi2OK);
 }
 
-/// INTERFACE.md: degenerate first inputs (a master that zeroes every input) give a warning
+/// docs/interface.md: degenerate first inputs (a master that zeroes every input) give a warning
 /// and safe commands, never NaN and never an error.
 #[test]
 fn degenerate_gnc_inputs_give_a_warning_and_safe_commands() {

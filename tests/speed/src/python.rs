@@ -136,7 +136,7 @@ pub fn fmpy_flights(
 }
 
 /// Packages the interoperability tests' rigid-body plant (LanderPlantPy.py: the equations
-/// of INTERFACE.md in plain Python) with pythonfmu into `dir`; returns the FMU.
+/// of docs/interface.md in plain Python) with pythonfmu into `dir`; returns the FMU.
 pub fn build_python_plant(env: &PythonEnv, dir: &Path) -> Result<PathBuf> {
     let source = env.interop_dir().join("plant/LanderPlantPy.py");
     env.run(
