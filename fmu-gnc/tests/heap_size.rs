@@ -1,6 +1,6 @@
 //! The heap one LanderGnc instance holds, measured with a counting global allocator while
 //! this test binary drives its own exported C functions: instantiate, initialize, step,
-//! read outputs. Issue 7 bounds it at 64 KiB. One test in this binary, so that no other test
+//! read outputs. We bound it at 64 KiB. One test in this binary, so that no other test
 //! allocates at the same time.
 use fmi_testkit::fmi2::*;
 use fmi_testkit::{fmi2_functions, CountingAllocator, Fmi2Functions, Instance};

@@ -1,6 +1,6 @@
 //! One `fmi2DoStep` of 0.01 s (the default sub-step, so one RK4 step and its event checks)
 //! through the exported C functions, and a full master cycle around it.
-//! Target (issue 3): under 2 us median.
+//! Target: under 2 us median.
 #![allow(unsafe_code)]
 
 #[path = "../tests/common/mod.rs"]

@@ -1,4 +1,4 @@
-//! Analytic, invariant and convergence tests of the plant physics (issue 3), on the pure
+//! Analytic, invariant and convergence tests of the plant physics, on the pure
 //! Rust API: no FMI involved.
 use fmu_plant::physics::parameters::PlantParameters;
 use fmu_plant::physics::plant::{Advance, Commands, Plant, PlantRun};

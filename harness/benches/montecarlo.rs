@@ -1,4 +1,4 @@
-//! A 1,000-flight Monte Carlo campaign on 2 workers through the C ABI (issue 5 target:
+//! A 1,000-flight Monte Carlo campaign on 2 workers through the C ABI (target:
 //! under 30 s), and peak memory after 100 and after 1,000 flights: the campaign streams its
 //! rows to disk, so the high-water mark must not grow with the number of flights.
 //!

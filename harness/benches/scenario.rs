@@ -1,5 +1,5 @@
 //! One full paper scenario (172 s, 17,200 communication steps of both FMUs through the C ABI,
-//! all outputs recorded) per law. Target (issue 5): under 20 ms.
+//! all outputs recorded) per law. Target: under 20 ms.
 use criterion::{criterion_group, criterion_main, Criterion};
 use harness::master::{Simulation, Trajectory};
 use harness::scenarios::{self, Law};

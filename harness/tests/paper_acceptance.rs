@@ -1,4 +1,4 @@
-//! Issue 5 acceptance: the paper's claim, flown through the C ABI of the packaged FMUs.
+//! Acceptance: the paper's claim, flown through the C ABI of the packaged FMUs.
 //!
 //! Thresholds come from the physics, not from the measured values:
 //! - Decoupled law, paper scenario. The only lateral disturbance is the initial 15 deg tilt,

@@ -1,4 +1,4 @@
-//! The long run of issue 7: millions of communication steps of one FMU, checking after every
+//! The long run: millions of communication steps of one FMU, checking after every
 //! step that the outputs are finite and the attitude quaternion is a unit quaternion, and for
 //! the plant (tumbling torque-free, engines off) that the angular momentum is conserved; the
 //! FMU state is saved, serialized, restored and re-run bit-identically at checkpoints along

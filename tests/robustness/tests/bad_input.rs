@@ -1,4 +1,4 @@
-//! The bad-input table of issue 7: one test per class of bad input, for LanderGnc,
+//! The bad-input table: one test per class of bad input, for LanderGnc,
 //! LanderPlant and LanderNav through their packaged C ABI. Each asserts the returned status and that the
 //! log names the function and the variable or value; where a refusal must leave the instance
 //! untouched, that is checked too.

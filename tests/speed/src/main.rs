@@ -1,4 +1,4 @@
-//! Speed side by side in one run (issue 7): prints a markdown table of
+//! Speed side by side in one run: prints a markdown table of
 //!
 //! 1. LanderPlant, one `fmi2DoStep` of 0.01 s, and the master cycle around it;
 //! 2. LanderGnc, set inputs + get commands + `fmi2DoStep`, guidance re-solves included;

@@ -1,4 +1,4 @@
-//! The leak check of issue 7: instantiate/initialize/step/free cycles of each lander FMU,
+//! The leak check: instantiate/initialize/step/free cycles of each lander FMU,
 //! printing VmRSS along the way. Run it under valgrind for leaks:
 //! `valgrind --leak-check=full --errors-for-leak-kinds=definite --error-exitcode=99 \
 //!   target/release/cycles --cycles 10000`

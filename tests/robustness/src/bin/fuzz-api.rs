@@ -1,4 +1,4 @@
-//! The long API fuzzing run of issue 7:
+//! The long API fuzzing run:
 //! `cargo run --release -p robustness-tests --bin fuzz-api -- --calls 1000000 --seed 1`
 //! (needs `cargo xtask fmus` first). Exit status 1 with the offending sequence on the first
 //! violated invariant; the watchdog aborts the process on a hang.

@@ -1,4 +1,4 @@
-//! The long run of issue 7 (10 million communication steps per FMU by default):
+//! The long run (10 million communication steps per FMU by default):
 //! `cargo run --release -p robustness-tests --bin long-run -- --steps 10000000`
 use clap::Parser;
 use robustness_tests::instance::Fmu;
