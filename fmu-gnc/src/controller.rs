@@ -1,7 +1,7 @@
 //! One GNC sample: guidance (held at its own rate), thrust magnitude, reference attitude and
 //! attitude law, from the navigation inputs at time `t`. Pure: the caller decides whether to
 //! commit the returned guidance state (do_step) or only read the outputs (calculate_values).
-use crate::actuation::{duties, PwpfBank, RcsModel, THRUSTER_COUNT};
+use crate::actuation::{duties, PwpfBank, THRUSTER_COUNT};
 use crate::attitude::profile::{PhiProfile, RollReference};
 use crate::attitude::{reference, tracking_attitude_command};
 use crate::conventions::{
@@ -244,22 +244,20 @@ pub fn gnc_sample(
 /// In the thruster model, turns the sample's torque command into the duties of the coming
 /// period (`outputs.rcs_duty`) and returns the modulators' state after it; in the torque
 /// model the duties stay 0 and the modulators as they are.
-pub fn actuate(params: &GncParameters, outputs: &mut GncOutputs, bank: &PwpfBank) -> PwpfBank {
-    match params.rcs() {
-        RcsModel::Torque => *bank,
-        RcsModel::Thrusters => {
-            let (duty, next) = duties(
-                &params.allocator(),
-                &params.pwpf_settings(),
-                bank,
-                &Vector3::from(outputs.torque_cmd_body_nm),
-                params.rcs_tilt_first,
-                params.rcs_duty_period_s,
-            );
-            outputs.rcs_duty = duty;
-            next
-        }
-    }
+pub fn actuate(design: &GncDesign, outputs: &mut GncOutputs, bank: &PwpfBank) -> PwpfBank {
+    let Some(thrusters) = &design.thrusters else {
+        return *bank;
+    };
+    let (duty, next) = duties(
+        &thrusters.allocator,
+        &thrusters.pwpf,
+        bank,
+        &Vector3::from(outputs.torque_cmd_body_nm),
+        design.params.rcs_tilt_first,
+        design.params.rcs_duty_period_s,
+    );
+    outputs.rcs_duty = duty;
+    next
 }
 
 /// Minimum thrust, zero torque; guidance diagnostics held; attitude diagnostics zero.

@@ -140,7 +140,7 @@ impl LanderGnc {
             &self.inputs,
             self.time_s,
         );
-        let pwpf = actuate(&self.params, &mut sample.outputs, &self.pwpf);
+        let pwpf = actuate(design, &mut sample.outputs, &self.pwpf);
         (sample, pwpf)
     }
 

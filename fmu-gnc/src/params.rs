@@ -68,6 +68,15 @@ pub struct GncDesign {
     pub attitude: AttitudeSettings,
     /// `None`: the paper's step in `phi_cmd`.
     pub roll_profile: Option<ProfileLimits>,
+    /// `None`: the torque model (no thrusters to drive).
+    pub thrusters: Option<ThrusterDesign>,
+}
+
+/// The thruster chain as the samples use it: allocation geometry and modulator settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ThrusterDesign {
+    pub allocator: Allocator,
+    pub pwpf: PwpfSettings,
 }
 
 /// The plant's default thruster layout (docs/rcs-layout.md): position (m) and force
@@ -484,6 +493,10 @@ impl GncParameters {
                 self.phi_rate_limit_radps,
                 self.phi_accel_limit_radps2,
             ),
+            thrusters: (self.rcs() == RcsModel::Thrusters).then(|| ThrusterDesign {
+                allocator: self.allocator(),
+                pwpf: self.pwpf_settings(),
+            }),
         }
     }
 
