@@ -176,6 +176,14 @@ impl Instance {
         (status, values)
     }
 
+    /// `fmi2GetReal` into `values` (one per reference), allocating nothing: for loops whose
+    /// instructions are counted.
+    pub fn get_reals_into(&self, vrs: &[u32], values: &mut [f64]) -> fmi2Status {
+        assert_eq!(vrs.len(), values.len());
+        // SAFETY: arrays of the length passed.
+        unsafe { (self.functions.get_real)(self.c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) }
+    }
+
     pub fn set_real(&self, vr: u32, value: f64) -> fmi2Status {
         self.set_reals(&[vr], &[value])
     }

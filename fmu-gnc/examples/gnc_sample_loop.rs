@@ -50,8 +50,8 @@ fn main() {
     for k in 0..n {
         let t_s = k as f64 * H_S;
         let sample = gnc_sample(&design, 0.0, &guidance, &profile, &navigation(k), t_s);
-        guidance = sample.guidance;
-        profile = sample.profile;
+        guidance = sample.advance.guidance;
+        profile = sample.advance.profile;
         torque_sum += sample.outputs.torque_cmd_body_nm[1];
     }
     println!("{n} samples, sum of roll torque {torque_sum:?} N m");

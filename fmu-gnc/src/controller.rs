@@ -41,18 +41,26 @@ impl NavigationInputs {
     /// samples (unlike `==`, which equates 0.0 with -0.0, and the sign of a zero can reach
     /// an `atan2`).
     pub fn to_bits(&self) -> [u64; 14] {
-        let mut bits = [0; 14];
-        let values = self
-            .r_nue_m
-            .iter()
-            .chain(&self.v_nue_mps)
-            .chain(&self.q_body_to_nue)
-            .chain(&self.omega_body_radps)
-            .chain([&self.mass_kg]);
-        for (b, v) in bits.iter_mut().zip(values) {
-            *b = v.to_bits();
-        }
-        bits
+        let [r0, r1, r2] = self.r_nue_m.map(f64::to_bits);
+        let [v0, v1, v2] = self.v_nue_mps.map(f64::to_bits);
+        let [q0, q1, q2, q3] = self.q_body_to_nue.map(f64::to_bits);
+        let [w0, w1, w2] = self.omega_body_radps.map(f64::to_bits);
+        [
+            r0,
+            r1,
+            r2,
+            v0,
+            v1,
+            v2,
+            q0,
+            q1,
+            q2,
+            q3,
+            w0,
+            w1,
+            w2,
+            self.mass_kg.to_bits(),
+        ]
     }
 }
 
@@ -81,6 +89,9 @@ impl GncOutputs {
     /// `fmi2ExitInitializationMode` has checked the parameters (a master may set an absurd
     /// bandwidth and read the outputs first): never NaN out of the FMU.
     pub fn zero_non_finite(&mut self) -> bool {
+        if self.all_finite() {
+            return false;
+        }
         let mut found = false;
         let mut fix = |x: &mut f64| {
             if !x.is_finite() {
@@ -104,6 +115,29 @@ impl GncOutputs {
             fix(x);
         }
         found
+    }
+
+    /// Whether every value is finite: `x * 0` is 0 for finite `x` and NaN otherwise, so one
+    /// sum tells (the common case, checked at every published sample).
+    fn all_finite(&self) -> bool {
+        let scalars = [
+            self.thrust_cmd_n,
+            self.phi_b_rad,
+            self.err_roll_rad,
+            self.err_yaw_rad,
+            self.err_pitch_rad,
+            self.tilt_error_rad,
+            self.time_to_go_s,
+        ];
+        let probe: f64 = scalars
+            .iter()
+            .chain(&self.torque_cmd_body_nm)
+            .chain(&self.rcs_duty)
+            .chain(&self.a_cmd_nue_mps2)
+            .chain(&self.q_ref)
+            .map(|x| x * 0.0)
+            .sum();
+        probe == 0.0
     }
 }
 
@@ -146,30 +180,42 @@ fn input_attitude(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
     }
 }
 
-/// Result of one sample.
+/// What a sample commits, computed without the attitude law: the guidance and profile
+/// memory after it, and what it found wrong with its inputs. A step whose outputs nobody
+/// read needs no more than this (torque model), so stepping costs no attitude law.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
+pub struct Advance {
     /// Guidance state to commit if this sample is taken (unchanged on degenerate input).
     pub guidance: GuidanceState,
     /// Thrust-axis profile state to commit (a function of time alone).
     pub profile: PhiProfile,
-    pub outputs: GncOutputs,
     pub degenerate: Option<DegenerateInput>,
     /// The norm of a quaternion input used normalised because it was far from 1.
     pub non_unit_quaternion_norm: Option<f64>,
+    /// The reference rotation about the thrust axis at this sample.
+    roll: RollReference,
+    /// The input attitude, when the inputs are usable.
+    attitude: Option<Attitude>,
 }
 
-/// Evaluate the GNC at absolute time `t_s`; `start_time_s` anchors the phase schedule.
-/// `design` comes from validated parameters ([`GncParameters::design`]). Never returns NaN for
-/// finite input.
-pub fn gnc_sample(
+/// Result of one sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// What the sample commits.
+    pub advance: Advance,
+    pub outputs: GncOutputs,
+}
+
+/// The memory a sample at absolute time `t_s` leaves behind (see [`Advance`]); the part of
+/// [`gnc_sample`] before the attitude law, so the two cannot disagree.
+pub fn gnc_advance(
     design: &GncDesign,
     start_time_s: f64,
     guidance: &GuidanceState,
     profile: &PhiProfile,
     nav: &NavigationInputs,
     t_s: f64,
-) -> Sample {
+) -> Advance {
     let params = &design.params;
     let phi_cmd_rad = if has_reached(t_s, params.phi_cmd_time_s) {
         params.phi_cmd_rad
@@ -186,32 +232,57 @@ pub fn gnc_sample(
         Some(_) if nav.mass_kg <= 0.0 => Some(DegenerateInput::NonPositiveMass(nav.mass_kg)),
         Some(_) => None,
     };
-    let Some(q) = q.filter(|_| degenerate.is_none()) else {
+    let attitude = q.filter(|_| degenerate.is_none());
+    let guidance = match attitude {
+        // No guidance solve from unusable inputs.
+        None => *guidance,
+        Some(_) => guidance_sample(
+            &design.scenario,
+            guidance,
+            t_s - start_time_s,
+            &GuidanceInputs {
+                r_nue: Vector3::from(nav.r_nue_m),
+                v_nue: Vector3::from(nav.v_nue_mps),
+                mass_kg: nav.mass_kg,
+            },
+        ),
+    };
+    Advance {
+        guidance,
+        profile,
+        degenerate,
+        non_unit_quaternion_norm,
+        roll,
+        attitude,
+    }
+}
+
+/// Evaluate the GNC at absolute time `t_s`; `start_time_s` anchors the phase schedule.
+/// `design` comes from validated parameters ([`GncParameters::design`]). Never returns NaN for
+/// finite input.
+pub fn gnc_sample(
+    design: &GncDesign,
+    start_time_s: f64,
+    guidance: &GuidanceState,
+    profile: &PhiProfile,
+    nav: &NavigationInputs,
+    t_s: f64,
+) -> Sample {
+    let advance = gnc_advance(design, start_time_s, guidance, profile, nav, t_s);
+    let params = &design.params;
+    let Some(q) = advance.attitude else {
         return Sample {
-            guidance: *guidance,
-            profile,
-            outputs: safe_outputs(params, guidance, roll.phi_rad),
-            degenerate,
-            non_unit_quaternion_norm,
+            advance,
+            outputs: safe_outputs(params, guidance, advance.roll.phi_rad),
         };
     };
-
-    let next = guidance_sample(
-        &design.scenario,
-        guidance,
-        t_s - start_time_s,
-        &GuidanceInputs {
-            r_nue: Vector3::from(nav.r_nue_m),
-            v_nue: Vector3::from(nav.v_nue_mps),
-            mass_kg: nav.mass_kg,
-        },
-    );
+    let next = &advance.guidance;
     let attitude = tracking_attitude_command(
         &design.attitude,
         &q,
         &Vector3::from(nav.omega_body_radps),
         &next.a_thrust_cmd_nue,
-        &roll,
+        &advance.roll,
     );
     let outputs = GncOutputs {
         thrust_cmd_n: thrust_magnitude_n(
@@ -232,13 +303,7 @@ pub fn gnc_sample(
         guidance_phase: next.phase as i32,
         time_to_go_s: next.time_to_go_s,
     };
-    Sample {
-        guidance: next,
-        profile,
-        outputs,
-        degenerate: None,
-        non_unit_quaternion_norm,
-    }
+    Sample { advance, outputs }
 }
 
 /// In the thruster model, turns the sample's torque command into the duties of the coming
@@ -291,7 +356,7 @@ mod tests {
     fn upright_hover_on_target_commands_weight_and_no_torque() {
         let params = GncParameters::default();
         let s = sample(&params, &NavigationInputs::default(), 0.0);
-        assert_eq!(s.degenerate, None);
+        assert_eq!(s.advance.degenerate, None);
         assert!((s.outputs.thrust_cmd_n - 900.0 * 1.62).abs() < 1e-9);
         assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
         assert_eq!(s.outputs.guidance_phase, 1);
@@ -309,16 +374,26 @@ mod tests {
             mass_kg: 0.0,
         };
         let s = sample(&params, &zeros, 0.0);
-        assert_eq!(s.degenerate, Some(DegenerateInput::ZeroNormQuaternion));
+        assert_eq!(
+            s.advance.degenerate,
+            Some(DegenerateInput::ZeroNormQuaternion)
+        );
         assert_eq!(s.outputs.thrust_cmd_n, params.thrust_min_n);
         assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
-        assert_eq!(s.guidance, initial(), "no guidance solve from garbage");
+        assert_eq!(
+            s.advance.guidance,
+            initial(),
+            "no guidance solve from garbage"
+        );
         let massless = NavigationInputs {
             mass_kg: -1.0,
             ..NavigationInputs::default()
         };
         let s = sample(&params, &massless, 0.0);
-        assert_eq!(s.degenerate, Some(DegenerateInput::NonPositiveMass(-1.0)));
+        assert_eq!(
+            s.advance.degenerate,
+            Some(DegenerateInput::NonPositiveMass(-1.0))
+        );
         assert_eq!(s.outputs.torque_cmd_body_nm, [0.0; 3]);
     }
 
@@ -389,5 +464,34 @@ mod non_finite_tests {
         assert_eq!(outputs.tilt_error_rad, 0.0);
         assert_eq!(outputs.thrust_cmd_n, 1000.0);
         assert!(!outputs.zero_non_finite(), "a finite set is left alone");
+    }
+
+    #[test]
+    fn a_non_finite_value_in_any_field_is_found() {
+        let fields: [fn(&mut GncOutputs) -> &mut f64; 12] = [
+            |o| &mut o.thrust_cmd_n,
+            |o| &mut o.torque_cmd_body_nm[2],
+            |o| &mut o.rcs_duty[0],
+            |o| &mut o.rcs_duty[7],
+            |o| &mut o.a_cmd_nue_mps2[1],
+            |o| &mut o.q_ref[3],
+            |o| &mut o.phi_b_rad,
+            |o| &mut o.err_roll_rad,
+            |o| &mut o.err_yaw_rad,
+            |o| &mut o.err_pitch_rad,
+            |o| &mut o.tilt_error_rad,
+            |o| &mut o.time_to_go_s,
+        ];
+        for (k, field) in fields.iter().enumerate() {
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut outputs = GncOutputs {
+                    thrust_cmd_n: 1e300,
+                    ..GncOutputs::default()
+                };
+                *field(&mut outputs) = bad;
+                assert!(outputs.zero_non_finite(), "field {k}, {bad}");
+                assert_eq!(*field(&mut outputs), 0.0, "field {k}");
+            }
+        }
     }
 }

@@ -6,15 +6,21 @@
 //! evaluates the sample at `t` without committing it; `do_step(t, h)` commits the sample taken
 //! at `t` (guidance re-solve on a new guidance cycle, phase change) and advances to `t + h`.
 //!
-//! A master reads the outputs and then steps at the same point, so the sample evaluated for
-//! the get is kept and committed by `do_step` when its inputs are bit-identical and its time
-//! is the same sample time (see [`Evaluated`], [`SampleTime`]); otherwise `do_step` evaluates
-//! again. Either way the committed sample is bit-identical to `gnc_sample` at the master's
-//! `t`: gets never change a trajectory.
+//! One evaluation of the attitude law per step, whatever the master's call order: a master
+//! that reads the outputs and then steps at the same point has the evaluated sample's memory
+//! committed as it is (when its inputs are bit-identical and its time is the same sample time,
+//! see [`Evaluated`], [`SampleTime`]); a master that steps before reading has only the
+//! sample's memory computed ([`gnc_advance`]: guidance and profile, no attitude law), since
+//! nobody can read the outputs at `t` any more. Only the thruster model evaluates the law at
+//! such a step, because its modulators integrate the commanded torque. Either way the
+//! committed memory is bit-identical to `gnc_sample`'s at the master's `t`: gets never change
+//! a trajectory.
 use crate::actuation::{PwpfBank, RcsModel};
 use crate::attitude::profile::PhiProfile;
 use crate::attitude::ControlLaw;
-use crate::controller::{actuate, gnc_sample, GncOutputs, NavigationInputs, Sample};
+use crate::controller::{
+    actuate, gnc_advance, gnc_sample, Advance, GncOutputs, NavigationInputs, Sample,
+};
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::{GncDesign, GncParameters};
 use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
@@ -55,7 +61,8 @@ pub struct LanderGnc {
 struct Evaluated {
     time: SampleTime,
     input_bits: [u64; 14],
-    sample: Sample,
+    /// The memory the sample leaves (its outputs are in `LanderGnc::outputs`).
+    advance: Advance,
     /// The modulators after the coming period, for this sample's duties.
     pwpf: PwpfBank,
 }
@@ -124,6 +131,8 @@ impl LanderGnc {
 
     /// The sample at the current time, its duties included, and the modulators after it.
     fn evaluate(&self) -> (Sample, PwpfBank) {
+        #[cfg(test)]
+        tests::EVALUATIONS.with(|n| n.set(n.get() + 1));
         let unchecked;
         let design = match &self.design {
             Some(design) => design,
@@ -145,7 +154,7 @@ impl LanderGnc {
     }
 
     /// Evaluate the sample at the current time without committing it, show its outputs and
-    /// keep it for the `do_step` that usually follows.
+    /// keep its memory for the `do_step` that usually follows.
     fn preview(&mut self, log: &mut Log) {
         self.keep_design();
         if !self.initialized {
@@ -157,53 +166,72 @@ impl LanderGnc {
             }
         }
         let (sample, pwpf) = self.evaluate();
-        let evaluated = self.evaluated.insert(Evaluated {
+        report(&sample.advance, self.time_s, log);
+        self.outputs = sample.outputs;
+        if self.outputs.zero_non_finite() {
+            log.warning(format!(
+                "t = {} s: the parameters give non-finite outputs (shown as 0); \
+                 fmi2ExitInitializationMode will name the parameter",
+                self.time_s
+            ));
+        }
+        self.evaluated = Some(Evaluated {
             time: self.sample_time(self.time_s),
             input_bits: self.inputs.to_bits(),
-            sample,
+            advance: sample.advance,
             pwpf,
         });
-        publish(&evaluated.sample, self.time_s, &mut self.outputs, log);
     }
 
-    /// Commit the sample at the current time: the kept one if it was evaluated at the same
-    /// sample time with these very inputs, otherwise a fresh one.
+    /// Commit the sample at the current time: the memory of the evaluated one if it was
+    /// evaluated at the same sample time with these very inputs; otherwise computed afresh,
+    /// without the attitude law unless the thruster modulators need its torque. The outputs
+    /// are left as the last get showed them: the layer evaluates at `t + h` for the next get.
     fn commit(&mut self, log: &mut Log) {
         self.keep_design();
-        let (time, input_bits) = (self.sample_time(self.time_s), self.inputs.to_bits());
-        let fresh;
-        // Read in place: a sample is a few hundred bytes, worth not moving twice per step.
-        let (sample, pwpf) = match &self.evaluated {
-            Some(e) if e.time == time && e.input_bits == input_bits => (&e.sample, e.pwpf),
-            _ => {
-                fresh = self.evaluate();
-                (&fresh.0, fresh.1)
-            }
+        let kept = self.evaluated.take().filter(|e| {
+            e.input_bits == self.inputs.to_bits() && e.time == self.sample_time(self.time_s)
+        });
+        let (advance, pwpf) = match kept {
+            Some(e) => (e.advance, e.pwpf),
+            None => self.advance_without_outputs(),
         };
-        publish(sample, self.time_s, &mut self.outputs, log);
-        self.guidance = sample.guidance;
-        self.profile = sample.profile;
+        report(&advance, self.time_s, log);
+        self.guidance = advance.guidance;
+        self.profile = advance.profile;
         self.pwpf = pwpf;
-        self.evaluated = None;
+    }
+
+    /// The memory of the sample at the current time, with the modulators after it.
+    fn advance_without_outputs(&self) -> (Advance, PwpfBank) {
+        let design = self.design.as_ref();
+        if design.is_some_and(|d| d.thrusters.is_none()) {
+            let design = design.expect("checked just above");
+            let advance = gnc_advance(
+                design,
+                self.start_time_s,
+                &self.guidance,
+                &self.profile,
+                &self.inputs,
+                self.time_s,
+            );
+            (advance, self.pwpf)
+        } else {
+            let (sample, pwpf) = self.evaluate();
+            (sample.advance, pwpf)
+        }
     }
 }
 
-/// Show `sample` as the outputs; its warning, if any, goes to this call's log.
-fn publish(sample: &Sample, time_s: f64, outputs: &mut GncOutputs, log: &mut Log) {
-    if let Some(norm) = sample.non_unit_quaternion_norm {
+/// Log what the sample found wrong with its inputs, if anything.
+fn report(advance: &Advance, time_s: f64, log: &mut Log) {
+    if let Some(norm) = advance.non_unit_quaternion_norm {
         log.warning(format!(
             "t = {time_s} s: q_body_to_nue has norm {norm:e}, not 1; used normalised"
         ));
     }
-    if let Some(why) = sample.degenerate {
+    if let Some(why) = advance.degenerate {
         log.warning(format!("t = {time_s} s: {why}"));
-    }
-    *outputs = sample.outputs;
-    if outputs.zero_non_finite() {
-        log.warning(format!(
-            "t = {time_s} s: the parameters give non-finite outputs (shown as 0); \
-             fmi2ExitInitializationMode will name the parameter"
-        ));
     }
 }
 
@@ -574,6 +602,27 @@ mod tests {
         format!("{value:?}")
     }
 
+    thread_local! {
+        /// Attitude-law evaluations on this test's thread.
+        pub(super) static EVALUATIONS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+    }
+
+    fn evaluations() -> usize {
+        EVALUATIONS.with(|n| n.get())
+    }
+
+    /// The memory a step commits: guidance, thrust-axis profile, modulators.
+    fn memory(gnc: &LanderGnc) -> String {
+        exact(&(gnc.guidance, gnc.profile, gnc.pwpf))
+    }
+
+    /// What the next get shows (the layer calls `calculate_values` before it).
+    fn next_get(gnc: &LanderGnc) -> GncOutputs {
+        let mut copy = gnc.clone();
+        copy.calculate_values(&mut Log::default());
+        copy.outputs
+    }
+
     fn messages(log: &Log) -> Vec<String> {
         log.entries
             .iter()
@@ -607,9 +656,14 @@ mod tests {
                 m.inputs = navigation(k);
                 m.do_step(k as f64 * H, H, &mut Log::default()).unwrap();
             }
-            assert_eq!(exact(&restored.outputs), exact(&gnc.outputs), "step {k}");
+            assert_eq!(memory(&restored), memory(&gnc), "step {k}");
+            assert_eq!(
+                exact(&next_get(&restored)),
+                exact(&next_get(&gnc)),
+                "step {k}"
+            );
         }
-        assert!(gnc.outputs.rcs_duty.iter().any(|&d| d > 0.0));
+        assert!(next_get(&gnc).rcs_duty.iter().any(|&d| d > 0.0));
     }
 
     #[test]
@@ -650,18 +704,21 @@ mod tests {
             let (mut bare_log, mut read_log) = (Log::default(), Log::default());
             bare.do_step(t, H, &mut bare_log).unwrap();
             read.do_step(t, H, &mut read_log).unwrap();
-            // THEN both commit bit-identical samples and report the same warnings
-            assert_eq!(exact(&read.outputs), exact(&bare.outputs), "step {k}");
-            assert_eq!(exact(&read.guidance), exact(&bare.guidance), "step {k}");
-            assert_eq!(exact(&read.profile), exact(&bare.profile), "step {k}");
+            // THEN both commit bit-identical memories, report the same warnings and show
+            // the same outputs next
+            assert_eq!(memory(&read), memory(&bare), "step {k}");
             assert_eq!(messages(&read_log), messages(&bare_log), "step {k}");
+            if k % 10 == 0 {
+                assert_eq!(exact(&next_get(&read)), exact(&next_get(&bare)), "step {k}");
+            }
         }
         assert!(
             kept_time > 200 && other_time > 200,
             "{kept_time} {other_time}"
         );
         assert_eq!(
-            bare.outputs.guidance_phase, 2,
+            next_get(&bare).guidance_phase,
+            2,
             "the run reaches the descent"
         );
     }
@@ -706,8 +763,8 @@ mod tests {
                 .evaluate();
                 (
                     exact(&sample.outputs),
-                    exact(&sample.guidance),
-                    exact(&sample.profile),
+                    exact(&sample.advance.guidance),
+                    exact(&sample.advance.profile),
                 )
             };
             for (i, &a) in times.iter().enumerate() {
@@ -735,11 +792,83 @@ mod tests {
             gnc.inputs = navigation(k);
             let mut get_log = Log::default();
             gnc.calculate_values(&mut get_log);
-            let previewed = exact(&gnc.outputs);
+            let (previewed, _) = gnc.evaluate();
             let mut step_log = Log::default();
+            let before = evaluations();
             gnc.do_step(t, H, &mut step_log).unwrap();
-            assert_eq!(exact(&gnc.outputs), previewed, "step {k}");
+            assert_eq!(
+                evaluations(),
+                before,
+                "the step reuses the get's sample, step {k}"
+            );
+            let advance = &previewed.advance;
+            assert_eq!(
+                exact(&(gnc.guidance, gnc.profile)),
+                exact(&(advance.guidance, advance.profile)),
+                "step {k}"
+            );
             assert_eq!(messages(&step_log), messages(&get_log), "step {k}");
+        }
+    }
+
+    /// Counts attitude-law evaluations in three call orders of a master over `steps` steps
+    /// (after initialization): read then step, step then read, and steps nobody reads.
+    fn evaluations_per_order(params: GncParameters, steps: usize) -> [usize; 3] {
+        let mut counts = [0; 3];
+        for (order, count) in counts.iter_mut().enumerate() {
+            let mut gnc = initialized(params);
+            let before = evaluations();
+            for k in 0..steps {
+                let t = k as f64 * H;
+                gnc.inputs = navigation(k);
+                if order == 0 {
+                    gnc.calculate_values(&mut Log::default());
+                }
+                gnc.do_step(t, H, &mut Log::default()).unwrap();
+                if order == 1 {
+                    gnc.calculate_values(&mut Log::default());
+                }
+            }
+            *count = evaluations() - before;
+        }
+        counts
+    }
+
+    #[test]
+    fn the_attitude_law_is_evaluated_once_per_read_step_in_any_call_order() {
+        // Torque model: a step evaluates the law only if nobody did for its inputs; a step
+        // after a get of other inputs computes the guidance memory alone.
+        assert_eq!(evaluations_per_order(paper_params(), 500), [500, 500, 0]);
+        assert_eq!(evaluations_per_order(shaped_params(), 500), [500, 500, 0]);
+        // Thruster model: the modulators integrate the law's torque, so a step evaluates it
+        // unless the get just did.
+        let thrusters = GncParameters {
+            rcs_model: crate::actuation::RcsModel::Thrusters as i32,
+            ..paper_params()
+        };
+        assert_eq!(evaluations_per_order(thrusters, 500), [500, 1000, 500]);
+    }
+
+    /// A step without a get commits the memory of the full sample, in the torque model
+    /// (where it skips the attitude law), with the profile stepped and shaped.
+    #[test]
+    fn a_step_without_a_get_commits_the_memory_of_the_full_sample() {
+        for params in [paper_params(), shaped_params()] {
+            let mut gnc = initialized(params);
+            for k in 0..1500 {
+                let t = k as f64 * H;
+                gnc.inputs = navigation(k);
+                // The sample at the master's t, which do_step takes as authoritative.
+                gnc.time_s = t;
+                let (full, _) = gnc.evaluate();
+                gnc.do_step(t, H, &mut Log::default()).unwrap();
+                let advance = &full.advance;
+                assert_eq!(
+                    exact(&(gnc.guidance, gnc.profile)),
+                    exact(&(advance.guidance, advance.profile)),
+                    "step {k}"
+                );
+            }
         }
     }
 
@@ -757,8 +886,9 @@ mod tests {
         let mut bare = initialized(paper_params());
         bare.inputs = navigation(0);
         bare.do_step(12.0, H, &mut Log::default()).unwrap();
-        assert_eq!(exact(&gnc.outputs), exact(&bare.outputs));
-        assert_ne!(exact(&gnc.outputs), previewed);
+        assert_eq!(memory(&gnc), memory(&bare));
+        assert_eq!(exact(&next_get(&gnc)), exact(&next_get(&bare)));
+        assert_ne!(exact(&next_get(&gnc)), previewed);
     }
 
     #[test]
@@ -811,8 +941,9 @@ mod tests {
         });
         fresh.inputs = navigation(0);
         fresh.do_step(0.0, H, &mut Log::default()).unwrap();
-        assert_eq!(exact(&gnc.outputs), exact(&fresh.outputs));
-        assert_ne!(exact(&gnc.outputs), before);
+        assert_eq!(memory(&gnc), memory(&fresh));
+        assert_eq!(exact(&next_get(&gnc)), exact(&next_get(&fresh)));
+        assert_ne!(exact(&next_get(&gnc)), before);
     }
 
     #[test]

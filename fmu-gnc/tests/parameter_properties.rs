@@ -209,7 +209,7 @@ fn check_finite(
     let mut profile = PhiProfile::default();
     for t in [0.0, t, t + 0.01, t + params.guidance_cycle_s] {
         let mut s = gnc_sample(&design, 0.0, &guidance, &profile, &nav, t);
-        (guidance, profile) = (s.guidance, s.profile);
+        (guidance, profile) = (s.advance.guidance, s.advance.profile);
         prop_assert!(
             !s.outputs.zero_non_finite(),
             "{params:?} {nav:?} t {t}: {:?}",

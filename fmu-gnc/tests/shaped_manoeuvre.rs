@@ -62,7 +62,7 @@ fn fly(law: ControlLaw, shaped: bool, duration_s: f64) -> Flight {
             mass_kg: MASS_KG,
         };
         let sample = gnc_sample(&design, 0.0, &guidance, &profile, &nav, k as f64 * H_S);
-        (guidance, profile) = (sample.guidance, sample.profile);
+        (guidance, profile) = (sample.advance.guidance, sample.advance.profile);
         let a_nue = body.thrust_axis_nue() * (sample.outputs.thrust_cmd_n / MASS_KG)
             - Vector3::new(0.0, 1.62, 0.0);
         body.step(&Vector3::from(sample.outputs.torque_cmd_body_nm), H_S);

@@ -1,0 +1,111 @@
+//! Instructions per closed-loop step of the paper flight through the C ABI, in three call
+//! orders, against the plain Rust loop of the same math (the floor).
+//!
+//! `call_orders count` runs `call_orders fly` once per order under callgrind, counting only
+//! inside `measured_flight` (no start-up, loading or instantiation), checks that the plain
+//! loop and the read-then-step loop end in the same state bit for bit, and prints the table.
+//! `cargo xtask bench` runs it after the wall-clock table.
+#![deny(unsafe_code)]
+
+use anyhow::{ensure, Context, Result};
+use clap::{Parser, Subcommand};
+use speed_bench::call_orders::{measured_flight, Order, Pair, PAPER_STEPS};
+use speed_bench::callgrind;
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "call_orders",
+    about = "Instructions per closed-loop step in each call order, against plain Rust"
+)]
+struct Cli {
+    /// Folder with LanderGnc.fmu and LanderPlant.fmu.
+    #[arg(long, global = true, default_value = "target/fmu")]
+    fmu_dir: PathBuf,
+    /// Steps of 0.01 s (the paper flight: 17,200).
+    #[arg(long, global = true, default_value_t = PAPER_STEPS)]
+    steps: usize,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Fly once in one order; print the plant's final navigation outputs as bit patterns.
+    Fly {
+        #[arg(long, value_enum)]
+        order: Order,
+    },
+    /// Count every order under callgrind and print the table.
+    Count,
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Fly { order } => {
+            let mut pair = Pair::new(order, &cli.fmu_dir)?;
+            let nav = measured_flight(&mut pair, order, cli.steps)?;
+            let bits: Vec<String> = nav
+                .iter()
+                .map(|x| format!("{:016x}", x.to_bits()))
+                .collect();
+            println!("{}", bits.join(" "));
+            Ok(())
+        }
+        Command::Count => count(&cli),
+    }
+}
+
+fn count(cli: &Cli) -> Result<()> {
+    ensure!(
+        callgrind::available(),
+        "valgrind is not installed (Debian: sudo apt-get install valgrind)"
+    );
+    let me = std::env::current_exe()?;
+    let scratch = tempfile::tempdir()?;
+    let mut rows = Vec::new();
+    for order in Order::ALL {
+        let args: Vec<String> = [
+            "--fmu-dir",
+            &cli.fmu_dir.display().to_string(),
+            "--steps",
+            &cli.steps.to_string(),
+            "fly",
+            "--order",
+            order.name(),
+        ]
+        .map(String::from)
+        .to_vec();
+        let counts = callgrind::count(&me, &args, "*measured_flight*", scratch.path())
+            .with_context(|| format!("counting {}", order.name()))?;
+        rows.push((order, counts));
+    }
+    // The floor must be the same flight: plain and read-then-step agree bit for bit.
+    let fly = |order: Order| -> Result<String> {
+        let mut pair = Pair::new(order, &cli.fmu_dir)?;
+        let nav = measured_flight(&mut pair, order, cli.steps)?;
+        Ok(format!("{:?}", nav.map(f64::to_bits)))
+    };
+    ensure!(
+        fly(Order::Plain)? == fly(Order::ReadThenStep)?,
+        "the plain loop and the FMUs (read, then step) flew different flights"
+    );
+    let steps = cli.steps as f64;
+    let floor = rows[0].1.instructions as f64 / steps;
+    println!("Instructions per closed-loop step, paper flight ({} steps of 0.01 s, both FMUs), callgrind:\n", cli.steps);
+    println!("| Call order | Instructions per step | Ratio to plain | GNC evaluations per step |");
+    println!("| --- | --- | --- | --- |");
+    for (order, counts) in &rows {
+        let per_step = counts.instructions as f64 / steps;
+        let evaluations = counts.calls_of("gnc_sample") as f64 / steps;
+        println!(
+            "| {} | {:.0} | {:.2}x | {:.3} |",
+            order.describe(),
+            per_step,
+            per_step / floor,
+            evaluations
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,358 @@
+//! The paper flight's closed loop (LanderGnc + LanderPlant, 17,200 steps of 0.01 s), flown
+//! in the call orders masters use, and the same math as a plain Rust loop with no FMI: the
+//! floor the FMUs are measured against (instruction counts, `src/bin/call_orders.rs`).
+//!
+//! The loops allocate nothing and do nothing but the exchange, so what callgrind counts in
+//! [`measured_flight`] is the FMUs' cost (C ABI, layers, models) plus a few copies.
+use anyhow::{anyhow, ensure, Context, Result};
+use fmi_abi::fmi2::{fmi2OK, fmi2Status};
+use fmi_abi::unpack::Unpacked;
+use fmi_testkit::{Fmi2Functions, Instance};
+use fmu_gnc::actuation::PwpfBank;
+use fmu_gnc::attitude::profile::PhiProfile;
+use fmu_gnc::controller::{actuate, gnc_sample, NavigationInputs};
+use fmu_gnc::guidance::sequencer::GuidanceState;
+use fmu_gnc::params::{GncDesign, GncParameters};
+use fmu_plant::physics::continuous::unit_attitude;
+use fmu_plant::physics::frames::quaternion_to_scalar_first;
+use fmu_plant::physics::parameters::PlantParameters;
+use fmu_plant::physics::plant::{Commands, Plant, PlantRun};
+use model_description::ModelDescription;
+use nalgebra::Vector3;
+use std::path::Path;
+
+pub const STEP_S: f64 = 0.01;
+/// The paper flight: 172 s.
+pub const PAPER_STEPS: usize = 17_200;
+
+/// How a master sequences the calls of one communication step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Order {
+    /// No FMI: the GNC sample and the plant step called as Rust functions.
+    Plain,
+    /// Read the plant, set the GNC's inputs, read its commands, then step both (the
+    /// harness's Gauss-Seidel: the commands at t are a function of the state at t).
+    ReadThenStep,
+    /// Set the GNC's inputs, step it, then read its commands (fmpy's loop and most
+    /// masters): the read after the step sees t + h with the inputs of t.
+    StepThenRead,
+    /// Set every input, step both, read every output.
+    Jacobi,
+}
+
+impl Order {
+    pub const ALL: [Order; 4] = [
+        Order::Plain,
+        Order::ReadThenStep,
+        Order::StepThenRead,
+        Order::Jacobi,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Order::Plain => "plain",
+            Order::ReadThenStep => "read-then-step",
+            Order::StepThenRead => "step-then-read",
+            Order::Jacobi => "jacobi",
+        }
+    }
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            Order::Plain => "plain Rust loop of the same math, no FMI (the floor)",
+            Order::ReadThenStep => "read the GNC, then step it (Gauss-Seidel with feedthrough)",
+            Order::StepThenRead => "step the GNC, then read it (fmpy's loop)",
+            Order::Jacobi => "Jacobi: set every input, step both, read every output",
+        }
+    }
+}
+
+/// The exchanged signals: the plant's navigation outputs feed the GNC, whose engine and
+/// torque commands feed the plant.
+const NAVIGATION: [&str; 14] = [
+    "r_nue[1]",
+    "r_nue[2]",
+    "r_nue[3]",
+    "v_nue[1]",
+    "v_nue[2]",
+    "v_nue[3]",
+    "q_body_to_nue[1]",
+    "q_body_to_nue[2]",
+    "q_body_to_nue[3]",
+    "q_body_to_nue[4]",
+    "omega_body[1]",
+    "omega_body[2]",
+    "omega_body[3]",
+    "mass",
+];
+const COMMANDS: [&str; 4] = [
+    "thrust_cmd",
+    "torque_cmd_body[1]",
+    "torque_cmd_body[2]",
+    "torque_cmd_body[3]",
+];
+
+/// The paper scenario's parameters (harness/scenarios/paper.toml).
+const PHI_CMD_RAD: f64 = 150.0 * std::f64::consts::PI / 180.0;
+const Q0_BODY_TO_NUE: [f64; 4] = [0.9914448613738104, 0.0, 0.0, -0.13052619222005157];
+
+pub fn gnc_parameters() -> GncParameters {
+    GncParameters {
+        control_law: 2,
+        phi_cmd_rad: PHI_CMD_RAD,
+        phi_cmd_time_s: 0.0,
+        ..GncParameters::default()
+    }
+}
+
+pub fn plant_parameters() -> PlantParameters {
+    PlantParameters {
+        r0_nue_m: Vector3::new(0.0, 800.0, 0.0),
+        q0_body_to_nue: Q0_BODY_TO_NUE,
+        m0_kg: 900.0,
+        ..PlantParameters::default()
+    }
+}
+
+/// One FMU loaded from its archive, instantiated, with the references of the exchange.
+struct Loaded {
+    // Field order is drop order: the instance is freed before its library is unloaded.
+    instance: Instance,
+    _library: libloading::Library,
+    _unpacked: Unpacked,
+}
+
+fn load(path: &Path, instance_name: &str) -> Result<(Loaded, ModelDescription)> {
+    let unpacked = Unpacked::open(path).with_context(|| format!("unpacking {}", path.display()))?;
+    let md = ModelDescription::from_file(unpacked.model_description_path())?;
+    let identifier = md
+        .co_simulation
+        .as_ref()
+        .map(|cs| cs.model_identifier.clone())
+        .ok_or_else(|| anyhow!("{} has no Co-Simulation interface", path.display()))?;
+    // SAFETY: our own FMU's binary, whose fmi2* symbols have the standard's signatures.
+    let library = unsafe { libloading::Library::new(unpacked.binary_path(&identifier)) }?;
+    // SAFETY: as above.
+    let functions = unsafe { Fmi2Functions::load(&library) }?;
+    let instance = Instance::new(&functions, instance_name, &md.guid, false)
+        .map_err(|log| anyhow!("instantiating {instance_name}: {log:?}"))?;
+    Ok((
+        Loaded {
+            instance,
+            _library: library,
+            _unpacked: unpacked,
+        },
+        md,
+    ))
+}
+
+fn references<const N: usize>(md: &ModelDescription, names: [&str; N]) -> Result<[u32; N]> {
+    let mut vrs = [0; N];
+    for (vr, name) in vrs.iter_mut().zip(names) {
+        *vr = md
+            .variable(name)
+            .ok_or_else(|| anyhow!("{} has no variable {name}", md.model_name))?
+            .value_reference;
+    }
+    Ok(vrs)
+}
+
+fn ok(status: fmi2Status, what: &str, instance: &Instance) -> Result<()> {
+    ensure!(
+        status == fmi2OK,
+        "{what}: status {status:?}, {:?}",
+        instance.messages()
+    );
+    Ok(())
+}
+
+/// Both FMUs through their C ABI, initialized for the paper flight.
+pub struct FmuPair {
+    gnc: Loaded,
+    plant: Loaded,
+    nav_in_gnc: [u32; 14],
+    nav_out_plant: [u32; 14],
+    cmd_out_gnc: [u32; 4],
+    cmd_in_plant: [u32; 4],
+}
+
+impl FmuPair {
+    pub fn new(fmu_dir: &Path) -> Result<Self> {
+        let (gnc, gnc_md) = load(&fmu_dir.join("LanderGnc.fmu"), "gnc")?;
+        let (plant, plant_md) = load(&fmu_dir.join("LanderPlant.fmu"), "plant")?;
+        let pair = FmuPair {
+            nav_in_gnc: references(&gnc_md, NAVIGATION)?,
+            nav_out_plant: references(&plant_md, NAVIGATION)?,
+            cmd_out_gnc: references(&gnc_md, COMMANDS)?,
+            cmd_in_plant: references(&plant_md, COMMANDS)?,
+            gnc,
+            plant,
+        };
+        let (g, p) = (&pair.gnc.instance, &pair.plant.instance);
+        let stop = Some(PAPER_STEPS as f64 * STEP_S);
+        ok(g.setup_experiment(0.0, stop), "gnc setup", g)?;
+        ok(p.setup_experiment(0.0, stop), "plant setup", p)?;
+        ok(g.enter_initialization_mode(), "gnc init", g)?;
+        ok(p.enter_initialization_mode(), "plant init", p)?;
+        let law = references(&gnc_md, ["control_law"])?;
+        ok(g.set_integers(&law, &[2]), "control_law", g)?;
+        let gnc_reals = references(&gnc_md, ["phi_cmd", "phi_cmd_time"])?;
+        ok(g.set_reals(&gnc_reals, &[PHI_CMD_RAD, 0.0]), "gnc", g)?;
+        let plant_reals = references(
+            &plant_md,
+            [
+                "r0_nue[1]",
+                "r0_nue[2]",
+                "r0_nue[3]",
+                "q0_body_to_nue[1]",
+                "q0_body_to_nue[2]",
+                "q0_body_to_nue[3]",
+                "q0_body_to_nue[4]",
+                "m0",
+            ],
+        )?;
+        let q = Q0_BODY_TO_NUE;
+        let values = [0.0, 800.0, 0.0, q[0], q[1], q[2], q[3], 900.0];
+        ok(p.set_reals(&plant_reals, &values), "plant", p)?;
+        ok(g.exit_initialization_mode(), "gnc exit init", g)?;
+        ok(p.exit_initialization_mode(), "plant exit init", p)?;
+        Ok(pair)
+    }
+}
+
+/// The plain loop's state: the GNC's memory and the plant's run.
+pub struct PlainPair {
+    design: GncDesign,
+    guidance: GuidanceState,
+    profile: PhiProfile,
+    pwpf: PwpfBank,
+    plant: Plant,
+    run: PlantRun,
+}
+
+impl PlainPair {
+    pub fn new() -> Result<Self> {
+        let design = gnc_parameters()
+            .design()
+            .map_err(|e| anyhow!("GNC parameters: {e}"))?;
+        let (plant, run, _) =
+            Plant::new(&plant_parameters()).map_err(|e| anyhow!("plant parameters: {e}"))?;
+        Ok(PlainPair {
+            guidance: GuidanceState::initial(design.params.gravity_mps2),
+            profile: PhiProfile::default(),
+            pwpf: PwpfBank::default(),
+            design,
+            plant,
+            run,
+        })
+    }
+
+    /// The plant's navigation outputs, as the FMU computes them.
+    fn navigation(&self) -> NavigationInputs {
+        let x = &self.run.state;
+        let (r_nue, v_nue) = self.plant.translation.to_nue(&x.translation);
+        NavigationInputs {
+            r_nue_m: r_nue.into(),
+            v_nue_mps: v_nue.into(),
+            q_body_to_nue: quaternion_to_scalar_first(&unit_attitude(&x.q_body_to_nue)),
+            omega_body_radps: x.omega_body.into(),
+            mass_kg: x.mass_kg,
+        }
+    }
+
+    fn navigation_array(&self) -> [f64; 14] {
+        let n = self.navigation();
+        let mut y = [0.0; 14];
+        y[0..3].copy_from_slice(&n.r_nue_m);
+        y[3..6].copy_from_slice(&n.v_nue_mps);
+        y[6..10].copy_from_slice(&n.q_body_to_nue);
+        y[10..13].copy_from_slice(&n.omega_body_radps);
+        y[13] = n.mass_kg;
+        y
+    }
+}
+
+/// Either pair, ready to fly.
+pub enum Pair {
+    Plain(Box<PlainPair>),
+    Fmus(Box<FmuPair>),
+}
+
+impl Pair {
+    pub fn new(order: Order, fmu_dir: &Path) -> Result<Self> {
+        Ok(match order {
+            Order::Plain => Pair::Plain(Box::new(PlainPair::new()?)),
+            _ => Pair::Fmus(Box::new(FmuPair::new(fmu_dir)?)),
+        })
+    }
+}
+
+/// The plant's 14 navigation outputs after `steps` steps flown in `order`; the first
+/// failing status ends the flight with an error. Kept out of line so callgrind can count
+/// it alone (`--toggle-collect`).
+#[inline(never)]
+pub fn measured_flight(pair: &mut Pair, order: Order, steps: usize) -> Result<[f64; 14]> {
+    match pair {
+        Pair::Plain(p) => Ok(plain(p, steps)),
+        Pair::Fmus(f) => through_c_abi(f, order, steps),
+    }
+}
+
+fn plain(p: &mut PlainPair, steps: usize) -> [f64; 14] {
+    for k in 0..steps {
+        let t = k as f64 * STEP_S;
+        let nav = p.navigation();
+        let mut sample = gnc_sample(&p.design, 0.0, &p.guidance, &p.profile, &nav, t);
+        p.pwpf = actuate(&p.design, &mut sample.outputs, &p.pwpf);
+        p.guidance = sample.advance.guidance;
+        p.profile = sample.advance.profile;
+        let commands = Commands {
+            thrust_cmd_n: sample.outputs.thrust_cmd_n,
+            torque_cmd_body_nm: Vector3::from(sample.outputs.torque_cmd_body_nm),
+        };
+        p.plant
+            .advance_with_duty(&mut p.run, &commands, &sample.outputs.rcs_duty, t, STEP_S);
+    }
+    p.navigation_array()
+}
+
+fn through_c_abi(f: &mut FmuPair, order: Order, steps: usize) -> Result<[f64; 14]> {
+    let (g, p) = (&f.gnc.instance, &f.plant.instance);
+    let (mut nav, mut cmd) = ([0.0; 14], [0.0; 4]);
+    ok(p.get_reals_into(&f.nav_out_plant, &mut nav), "plant get", p)?;
+    if order != Order::ReadThenStep {
+        ok(g.set_reals(&f.nav_in_gnc, &nav), "gnc set", g)?;
+        ok(g.get_reals_into(&f.cmd_out_gnc, &mut cmd), "gnc get", g)?;
+    }
+    for k in 0..steps {
+        let t = k as f64 * STEP_S;
+        match order {
+            Order::ReadThenStep => {
+                ok(g.set_reals(&f.nav_in_gnc, &nav), "gnc set", g)?;
+                ok(g.get_reals_into(&f.cmd_out_gnc, &mut cmd), "gnc get", g)?;
+                ok(p.set_reals(&f.cmd_in_plant, &cmd), "plant set", p)?;
+                ok(g.do_step(t, STEP_S), "gnc step", g)?;
+                ok(p.do_step(t, STEP_S), "plant step", p)?;
+                ok(p.get_reals_into(&f.nav_out_plant, &mut nav), "plant get", p)?;
+            }
+            Order::StepThenRead => {
+                ok(g.set_reals(&f.nav_in_gnc, &nav), "gnc set", g)?;
+                ok(g.do_step(t, STEP_S), "gnc step", g)?;
+                ok(g.get_reals_into(&f.cmd_out_gnc, &mut cmd), "gnc get", g)?;
+                ok(p.set_reals(&f.cmd_in_plant, &cmd), "plant set", p)?;
+                ok(p.do_step(t, STEP_S), "plant step", p)?;
+                ok(p.get_reals_into(&f.nav_out_plant, &mut nav), "plant get", p)?;
+            }
+            Order::Jacobi => {
+                ok(g.set_reals(&f.nav_in_gnc, &nav), "gnc set", g)?;
+                ok(p.set_reals(&f.cmd_in_plant, &cmd), "plant set", p)?;
+                ok(g.do_step(t, STEP_S), "gnc step", g)?;
+                ok(p.do_step(t, STEP_S), "plant step", p)?;
+                ok(g.get_reals_into(&f.cmd_out_gnc, &mut cmd), "gnc get", g)?;
+                ok(p.get_reals_into(&f.nav_out_plant, &mut nav), "plant get", p)?;
+            }
+            Order::Plain => unreachable!("the plain pair has no C ABI"),
+        }
+    }
+    Ok(nav)
+}
