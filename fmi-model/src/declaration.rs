@@ -113,6 +113,15 @@ impl Limit {
         }
     }
 
+    /// The same kind of limit at `-value`: a lower bound of the negated quantity for an
+    /// upper one, and the reverse.
+    pub const fn negated(self) -> Limit {
+        match self {
+            Limit::Inclusive(v) => Limit::Inclusive(-v),
+            Limit::Exclusive(v) => Limit::Exclusive(-v),
+        }
+    }
+
     /// Whether `value` respects this limit as a lower bound.
     pub fn admits_above(self, value: f64) -> bool {
         match self {

@@ -18,41 +18,53 @@
 //! into the FMU; a call arriving while its refusal is being reported is refused silently, so
 //! a master that re-enters from every log line cannot recurse without bound.
 //!
-//! The registry is a lock around an ordered map: one uncontended lock and one lookup per
-//! call, and never held while the master's code runs.
+//! The registry is a lock around an ordered map of shared slots: entering a call takes the
+//! lock once for the lookup; the call's activity lives in the slot as an atomic, so leaving
+//! the call needs neither the lock nor a second lookup. The lock is never held while the
+//! master's code runs.
 use std::collections::BTreeMap;
-use std::sync::{Mutex, MutexGuard};
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Activity {
-    Idle,
-    /// A call is running on the instance.
-    Busy,
-    /// A call is running and a nested call's refusal is being reported.
-    Reporting,
+/// What a slot's instance is doing (the values of `Slot::activity`).
+const IDLE: u8 = 0;
+/// A call is running on the instance.
+const BUSY: u8 = 1;
+/// A call is running and a nested call's refusal is being reported.
+const REPORTING: u8 = 2;
+
+/// An instance's activity, shared between the map and the guards of its calls.
+#[derive(Debug, Default)]
+struct Activity(AtomicU8);
+
+impl Activity {
+    /// Moves the activity from `from` to `to`; false if it was not `from`.
+    fn change(&self, from: u8, to: u8) -> bool {
+        self.0
+            .compare_exchange(from, to, Ordering::AcqRel, Ordering::Acquire)
+            .is_ok()
+    }
 }
 
 #[derive(Debug)]
 struct Slot<T> {
-    activity: Activity,
+    activity: Arc<Activity>,
     report: T,
 }
 
-/// The live instances of a layer (one `static` per layer), keyed by address.
+/// The live instances of one layer, by address.
 #[derive(Debug)]
 pub struct Registry<T> {
     live: Mutex<BTreeMap<usize, Slot<T>>>,
 }
 
-/// Why a call may not use an instance.
+/// Why [`Registry::enter`] refused a call.
 #[derive(Debug)]
 pub enum Refusal<'r, T: Clone> {
-    /// No live instance has this address (never instantiated, or already freed): nothing
-    /// may be read through it, and there is no logger to tell.
+    /// Not a live instance: nothing may be read through the address.
     Unknown,
-    /// Another call on the instance has not returned. `Some` carries the instance's report
-    /// channel, to be used before the guard is dropped; `None` when a refusal is already
-    /// being reported (stay silent).
+    /// Another call on the instance has not returned. `Some`: report the refusal through
+    /// the carried value (the refusal of a call from inside that report is `None`).
     Busy(Option<Reporting<'r, T>>),
 }
 
@@ -69,8 +81,8 @@ impl<T: Clone> Registry<T> {
         }
     }
 
-    /// The map, also after a panic elsewhere poisoned the lock (every update is one insert,
-    /// remove or field store, so the map is never half-written).
+    /// The map; a panic elsewhere while it was held leaves it consistent (every update is
+    /// a single map operation), so a poisoned lock is simply taken over.
     fn map(&self) -> MutexGuard<'_, BTreeMap<usize, Slot<T>>> {
         self.live
             .lock()
@@ -79,72 +91,59 @@ impl<T: Clone> Registry<T> {
 
     /// Registers a new instance at `address`, idle.
     pub fn insert(&self, address: usize, report: T) {
-        self.map().insert(
-            address,
-            Slot {
-                activity: Activity::Idle,
-                report,
-            },
-        );
+        let slot = Slot {
+            activity: Arc::new(Activity(AtomicU8::new(IDLE))),
+            report,
+        };
+        self.map().insert(address, slot);
     }
 
-    /// Whether `address` is a live instance.
     pub fn is_live(&self, address: usize) -> bool {
         self.map().contains_key(&address)
     }
 
-    /// Marks the instance at `address` busy for the lifetime of the returned guard.
+    /// Marks the instance at `address` busy for the duration of the returned guard, or says
+    /// why the call must be refused.
     pub fn enter(&self, address: usize) -> Result<Entered<'_, T>, Refusal<'_, T>> {
-        let mut map = self.map();
-        let slot = map.get_mut(&address).ok_or(Refusal::Unknown)?;
-        match slot.activity {
-            Activity::Idle => {
-                slot.activity = Activity::Busy;
-                Ok(Entered {
-                    registry: self,
-                    address,
-                    removed: false,
-                })
-            }
-            Activity::Busy => {
-                slot.activity = Activity::Reporting;
-                Err(Refusal::Busy(Some(Reporting {
-                    registry: self,
-                    address,
-                    report: slot.report.clone(),
-                })))
-            }
-            Activity::Reporting => Err(Refusal::Busy(None)),
+        let map = self.map();
+        let slot = map.get(&address).ok_or(Refusal::Unknown)?;
+        let activity = Arc::clone(&slot.activity);
+        if activity.change(IDLE, BUSY) {
+            return Ok(Entered {
+                registry: self,
+                address,
+                activity,
+                removed: false,
+            });
         }
-    }
-
-    /// Sets the activity of a live instance, if it is one of `from`.
-    fn set(&self, address: usize, from: &[Activity], to: Activity) {
-        if let Some(slot) = self.map().get_mut(&address) {
-            if from.contains(&slot.activity) {
-                slot.activity = to;
-            }
+        if activity.change(BUSY, REPORTING) {
+            return Err(Refusal::Busy(Some(Reporting {
+                _registry: std::marker::PhantomData,
+                report: slot.report.clone(),
+                activity,
+            })));
         }
+        Err(Refusal::Busy(None))
     }
 }
 
-/// A running call on a live instance; dropping it makes the instance idle again.
+/// A call in progress on a live instance; the instance is idle again when this drops.
 #[derive(Debug)]
 pub struct Entered<'r, T: Clone> {
     registry: &'r Registry<T>,
     address: usize,
+    activity: Arc<Activity>,
     removed: bool,
 }
 
 impl<T: Clone> Entered<'_, T> {
-    /// Unregisters the instance (it is about to be freed): from now on its address is
-    /// [`Refusal::Unknown`], also to a nested call still running and to a second free.
+    /// Unregisters the instance (its free): every later call with its address is refused.
     pub fn remove(mut self) {
         let mut map = self.registry.map();
         map.remove(&self.address);
+        // An emptied BTreeMap keeps its root node; a fresh one owns no memory, so nothing of
+        // ours outlives the last instance (and the library's unloading).
         if map.is_empty() {
-            // An emptied BTreeMap keeps its root node; the registry is a static of the FMU's
-            // library, so that node would outlive a master's dlclose and leak once per load.
             *map = BTreeMap::new();
         }
         drop(map);
@@ -155,18 +154,19 @@ impl<T: Clone> Entered<'_, T> {
 impl<T: Clone> Drop for Entered<'_, T> {
     fn drop(&mut self) {
         if !self.removed {
-            let running = [Activity::Busy, Activity::Reporting];
-            self.registry.set(self.address, &running, Activity::Idle);
+            // Busy, or Reporting if a nested refusal's report is still held: either way the
+            // call is over.
+            self.activity.0.store(IDLE, Ordering::Release);
         }
     }
 }
 
-/// The report channel of a busy instance while a nested call's refusal is reported;
-/// dropping it lets the next nested call be reported again.
+/// The channel to report a refused nested call: while it lives, calls on the instance are
+/// refused silently.
 #[derive(Debug)]
 pub struct Reporting<'r, T: Clone> {
-    registry: &'r Registry<T>,
-    address: usize,
+    _registry: std::marker::PhantomData<&'r Registry<T>>,
+    activity: Arc<Activity>,
     report: T,
 }
 
@@ -179,10 +179,8 @@ impl<T: Clone> std::ops::Deref for Reporting<'_, T> {
 
 impl<T: Clone> Drop for Reporting<'_, T> {
     fn drop(&mut self) {
-        // Back to Busy: the outer call is still running, unless it ended meanwhile (a nested
-        // call from another thread) or freed the instance; then there is nothing to restore.
-        let reporting = [Activity::Reporting];
-        self.registry.set(self.address, &reporting, Activity::Busy);
+        // Back to Busy, unless the outer call has ended meanwhile.
+        self.activity.change(REPORTING, BUSY);
     }
 }
 

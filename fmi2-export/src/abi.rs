@@ -718,11 +718,10 @@ pub unsafe fn set_real<M: Model>(
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
             let state = inst.core.state;
-            // Checks every value before writing any, so a refused call changes nothing. The
-            // setters found are kept for the writes (on the stack: a master sets a few
-            // dozen values at a time; more are looked up again).
-            let mut setters = [None; SETTERS_KEPT];
-            for (i, (&vr, &value)) in vrs.iter().zip(values).enumerate() {
+            // Checks every value before writing any, so a refused call changes nothing.
+            // The write pass looks each reference up again: two array reads, cheaper than
+            // keeping what the first pass found.
+            for (&vr, &value) in vrs.iter().zip(values) {
                 let slot = inst
                     .index
                     .real(vr)
@@ -730,20 +729,13 @@ pub unsafe fn set_real<M: Model>(
                 if !slot.accepts(value, state) {
                     refuse_real(&inst.table[slot.row], value, state)?;
                 }
-                if let Some(kept) = setters.get_mut(i) {
-                    *kept = slot.set.map(|set| (set, slot.element));
-                }
             }
-            for (i, (&vr, &value)) in vrs.iter().zip(values).enumerate() {
-                let set = match setters.get(i) {
-                    Some(&kept) => kept,
-                    None => inst
-                        .index
-                        .real(vr)
-                        .and_then(|slot| slot.set.map(|set| (set, slot.element))),
-                };
-                if let Some((set, element)) = set {
-                    set(&mut inst.core.model, element, value);
+            let model = &mut inst.core.model;
+            for (&vr, &value) in vrs.iter().zip(values) {
+                if let Some(slot) = inst.index.real(vr) {
+                    if let Some(set) = slot.set {
+                        set(model, slot.element, value);
+                    }
                 }
             }
             if !vrs.is_empty() {
@@ -753,9 +745,6 @@ pub unsafe fn set_real<M: Model>(
         })
     }
 }
-
-/// How many setters `fmi2SetReal` keeps between its check and write passes.
-const SETTERS_KEPT: usize = 32;
 
 /// Why `value` is refused for `var`, in the words of the checks `RealSlot::accepts` stands
 /// in for (which have the last word, should the two ever disagree).

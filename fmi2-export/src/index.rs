@@ -101,12 +101,10 @@ pub struct RealSlot<M> {
     pub set: Option<fn(&mut M, usize, f64)>,
     /// The element of the declaration, passed to `get` and `set`.
     pub element: usize,
-    /// The declared bounds; infinite where the table declares none.
-    pub min: f64,
-    pub max: f64,
-    /// Whether `min`/`max` themselves are refused (exclusive bounds).
-    pub min_open: bool,
-    pub max_open: bool,
+    /// The lowest and highest finite values the declared bounds admit (an exclusive bound
+    /// moved one ulp inwards; no bound: the largest finite magnitude); NaN for a NaN bound.
+    pub lowest: f64,
+    pub highest: f64,
     /// The states in which [`check_settable`] accepts the variable.
     pub settable_in: StateMask,
 }
@@ -133,10 +131,8 @@ impl<M> RealSlot<M> {
             get,
             set,
             element,
-            min: min.map_or(f64::NEG_INFINITY, Limit::value),
-            max: max.map_or(f64::INFINITY, Limit::value),
-            min_open: matches!(min, Some(Limit::Exclusive(_))),
-            max_open: matches!(max, Some(Limit::Exclusive(_))),
+            lowest: lowest_accepted(min),
+            highest: -lowest_accepted(max.map(Limit::negated)),
             settable_in: StateMask::of(&settable_in),
         })
     }
@@ -146,15 +142,30 @@ impl<M> RealSlot<M> {
     /// to those checks, which then decide).
     #[inline]
     pub fn accepts(&self, value: f64, state: State) -> bool {
-        self.settable_in.contains(state)
-            && value.is_finite()
-            && (value > self.min || (value == self.min && !self.min_open))
-            && (value < self.max || (value == self.max && !self.max_open))
+        // Two comparisons: the bounds are folded into the closed range of finite values
+        // they admit, so infinities and NaN fail them too.
+        self.settable_in.contains(state) && value >= self.lowest && value <= self.highest
     }
 
     #[inline]
     pub fn read(&self, model: &M) -> f64 {
         (self.get)(model, self.element)
+    }
+}
+
+/// The lowest finite value a lower bound admits: itself if inclusive, the next double up if
+/// exclusive, `-f64::MAX` for none (or -inf); NaN stays NaN, so that every value goes to the
+/// full checks.
+fn lowest_accepted(min: Option<Limit>) -> f64 {
+    let lowest = match min {
+        None => f64::NEG_INFINITY,
+        Some(Limit::Inclusive(v)) => v,
+        Some(Limit::Exclusive(v)) => v.next_up(),
+    };
+    if lowest == f64::NEG_INFINITY {
+        -f64::MAX
+    } else {
+        lowest
     }
 }
 
@@ -251,6 +262,15 @@ mod tests {
             (Some(Exclusive(0.0)), None),
             (Some(Exclusive(-1.0)), Some(Exclusive(2.0))),
             (Some(Inclusive(f64::NAN)), Some(Inclusive(1.0))),
+            (
+                Some(Inclusive(f64::NEG_INFINITY)),
+                Some(Inclusive(f64::INFINITY)),
+            ),
+            (
+                Some(Exclusive(f64::NEG_INFINITY)),
+                Some(Exclusive(f64::MAX)),
+            ),
+            (Some(Exclusive(-f64::MAX)), Some(Exclusive(0.0))),
         ];
         let values = [
             0.0,
@@ -265,6 +285,10 @@ mod tests {
             f64::NEG_INFINITY,
             f64::NAN,
             f64::MIN_POSITIVE,
+            f64::MAX,
+            -f64::MAX,
+            5e-324,
+            -5e-324,
         ];
         let mut checked = 0;
         for causality in [
@@ -318,7 +342,10 @@ mod tests {
                 }
             }
         }
-        assert_eq!(checked, 6 * 5 * 7 * State::ALL.len() * 12);
+        assert_eq!(
+            checked,
+            6 * 5 * bounds.len() * State::ALL.len() * values.len()
+        );
     }
 
     #[test]

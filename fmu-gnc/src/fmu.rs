@@ -130,6 +130,7 @@ impl LanderGnc {
     }
 
     /// The sample at the current time, its duties included, and the modulators after it.
+    #[inline(always)]
     fn evaluate(&self) -> (Sample, PwpfBank) {
         #[cfg(test)]
         tests::EVALUATIONS.with(|n| n.set(n.get() + 1));
@@ -189,17 +190,24 @@ impl LanderGnc {
     /// are left as the last get showed them: the layer evaluates at `t + h` for the next get.
     fn commit(&mut self, log: &mut Log) {
         self.keep_design();
-        let kept = self.evaluated.take().filter(|e| {
-            e.input_bits == self.inputs.to_bits() && e.time == self.sample_time(self.time_s)
-        });
-        let (advance, pwpf) = match kept {
-            Some(e) => (e.advance, e.pwpf),
-            None => self.advance_without_outputs(),
-        };
-        report(&advance, self.time_s, log);
-        self.guidance = advance.guidance;
-        self.profile = advance.profile;
-        self.pwpf = pwpf;
+        // Read in place: the kept memory is a few hundred bytes, worth not moving twice.
+        let bits = self.inputs.to_bits();
+        match &self.evaluated {
+            Some(e) if e.input_bits == bits && e.time == self.sample_time(self.time_s) => {
+                report(&e.advance, self.time_s, log);
+                self.guidance = e.advance.guidance;
+                self.profile = e.advance.profile;
+                self.pwpf = e.pwpf;
+            }
+            _ => {
+                let (advance, pwpf) = self.advance_without_outputs();
+                report(&advance, self.time_s, log);
+                self.guidance = advance.guidance;
+                self.profile = advance.profile;
+                self.pwpf = pwpf;
+            }
+        }
+        self.evaluated = None;
     }
 
     /// The memory of the sample at the current time, with the modulators after it.

@@ -7,12 +7,13 @@ use crate::physics::frames::quaternion_to_scalar_first;
 use crate::physics::parameters::{
     PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
 };
-use crate::physics::plant::{Advance, Commands, Plant, PlantRun};
+use crate::physics::plant::{Advance, Commands, Delivered, Plant, PlantRun};
 use crate::physics::thrusters::THRUSTER_COUNT;
 use fmi_model::{
     decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
 };
 use serde::{Deserialize, Serialize};
+use std::cell::Cell;
 
 /// Values the master reads, refreshed by `calculate_values`.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -23,10 +24,6 @@ struct Outputs {
     omega_body: [f64; 3],
     mass: f64,
     altitude: f64,
-    thrust_actual: f64,
-    torque_actual_body: [f64; 3],
-    engine_torque_body: [f64; 3],
-    rcs_force_body: [f64; 3],
     propellant_used: f64,
 }
 
@@ -40,6 +37,11 @@ pub struct LanderPlant {
     /// Set by `exit_initialization` from the validated parameters.
     running: Option<(Plant, PlantRun)>,
     outputs: Outputs,
+    /// What the actuators deliver at the current state and commands, computed by the first
+    /// get that asks for it after a change: a master that exchanges the navigation outputs
+    /// alone never pays for it. A cache, not state.
+    #[serde(skip)]
+    delivered: Cell<Option<Delivered>>,
     /// Model Exchange: the time the master's solver set last (the time of an event update).
     #[serde(default)]
     time_s: f64,
@@ -68,20 +70,14 @@ impl LanderPlant {
                         altitude: p.r0_nue_m.y,
                         ..Outputs::default()
                     };
+                    self.delivered.set(None);
                     return;
                 }
             },
         };
         let x = &run.state;
         let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
-        // Thruster model: the thrusters commanded on at the start of the coming step.
-        let firing = self.rcs_duty.map(|d| d > 0.0);
-        let delivered = plant.delivered_firing(
-            x,
-            &self.commands,
-            &firing,
-            run.propellant_exhausted || run.touchdown.is_some(),
-        );
+        self.delivered.set(None);
         self.outputs = Outputs {
             r_nue: r_nue.into(),
             v_nue: v_nue.into(),
@@ -89,12 +85,37 @@ impl LanderPlant {
             omega_body: x.omega_body.into(),
             mass: x.mass_kg,
             altitude: plant.altitude(x),
-            thrust_actual: delivered.thrust_n,
-            torque_actual_body: delivered.rcs_torque_body_nm.into(),
-            engine_torque_body: delivered.engine_torque_body_nm.into(),
-            rcs_force_body: delivered.rcs_force_body_n.into(),
             propellant_used: p.m0_kg - x.mass_kg,
         };
+    }
+
+    /// What the actuators deliver at the state the outputs show (see `delivered`); zero
+    /// while invalid parameters leave no plant to show.
+    fn delivered(&self) -> Delivered {
+        if let Some(delivered) = self.delivered.get() {
+            return delivered;
+        }
+        let provisional;
+        let (plant, run) = match &self.running {
+            Some((plant, run)) => (plant, run),
+            None => match Plant::new(&self.parameters) {
+                Ok((plant, run, _)) => {
+                    provisional = (plant, run);
+                    (&provisional.0, &provisional.1)
+                }
+                Err(_) => return Delivered::default(),
+            },
+        };
+        // Thruster model: the thrusters commanded on at the start of the coming step.
+        let firing = self.rcs_duty.map(|d| d > 0.0);
+        let delivered = plant.delivered_firing(
+            &run.state,
+            &self.commands,
+            &firing,
+            run.propellant_exhausted || run.touchdown.is_some(),
+        );
+        self.delivered.set(Some(delivered));
+        delivered
     }
 
     fn touchdown_field(&self, f: impl Fn(&crate::physics::plant::Touchdown) -> f64) -> f64 {
@@ -182,8 +203,9 @@ const MAX_SUB_STEPS_PER_STEP: f64 = 1e6;
 
 impl Model for LanderPlant {
     const MODEL_IDENTIFIER: &'static str = "LanderPlant";
-    /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end).
-    const STATE_VERSION: u32 = 2;
+    /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end);
+    /// 3: the delivered actuation is no longer stored (computed when read).
+    const STATE_VERSION: u32 = 3;
     const MODEL_NAME: &'static str = "LanderPlant";
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
          (eq. 1) translation, throttleable engines and RCS with saturation, RK4, touchdown and propellant events";
@@ -406,10 +428,10 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(23, output mass: outputs.mass, "kg", "Current total mass"),
     // Extra outputs.
     decl!(24, output altitude: outputs.altitude, "m", "Height above the surface: r_nue[2] for the flat Moon, radius minus moon_radius for the spherical one"),
-    decl!(25, output thrust_actual: outputs.thrust_actual, "N", "Engine thrust delivered after saturation, lag and propellant cut-off"),
-    decl!(26, output torque_actual_body[3]: outputs.torque_actual_body, "N.m", "RCS torque delivered after saturation and lag (thruster model: of the thrusters commanded on at the start of the coming step)", components = BODY_AXES),
-    decl!(47, output rcs_force_body[3]: outputs.rcs_force_body, "N", "Thruster model: force of the thrusters commanded on at the start of the coming step (0 in the torque model)", components = BODY_AXES),
-    decl!(29, output engine_torque_body[3]: outputs.engine_torque_body, "N.m", "Disturbance torque of the misaligned/offset thrust line", components = BODY_AXES),
+    decl!(25, output thrust_actual: get |m, _| m.delivered().thrust_n, "N", "Engine thrust delivered after saturation, lag and propellant cut-off"),
+    decl!(26, output torque_actual_body[3]: get |m, i| m.delivered().rcs_torque_body_nm[i], "N.m", "RCS torque delivered after saturation and lag (thruster model: of the thrusters commanded on at the start of the coming step)", components = BODY_AXES),
+    decl!(47, output rcs_force_body[3]: get |m, i| m.delivered().rcs_force_body_n[i], "N", "Thruster model: force of the thrusters commanded on at the start of the coming step (0 in the torque model)", components = BODY_AXES),
+    decl!(29, output engine_torque_body[3]: get |m, i| m.delivered().engine_torque_body_nm[i], "N.m", "Disturbance torque of the misaligned/offset thrust line", components = BODY_AXES),
     decl!(32, output propellant_used: outputs.propellant_used, "kg", "m0 minus the current mass"),
     Declaration::boolean(33, "propellant_exhausted", role::discrete_output, "True once the mass has reached dry_mass; the engines deliver no thrust from then on", |m| running_flag(m, |r| r.propellant_exhausted), |_, _| {}),
     Declaration::boolean(34, "touchdown", role::discrete_output, "True once the altitude has reached 0; the simulation ends there (fmi2Terminated)", |m| running_flag(m, |r| r.touchdown.is_some()), |_, _| {}),

@@ -211,3 +211,42 @@ fn spherical_model_is_selectable_and_starts_at_the_same_place() {
     // A free fall over 10 s: the same as the flat one to millimetres at this height.
     assert!((fmu.get("r_nue[2]") - (800.0 - 0.5 * G * 100.0)).abs() < 0.1);
 }
+
+/// The delivered actuation is computed when first read after a change (not at every get);
+/// a stale one would show after a new command, a step, or a get of other outputs between.
+#[test]
+fn delivered_outputs_follow_every_command_and_step() {
+    let fmu = Plant::new();
+    fmu.init();
+    let limit = fmu.get("rcs_torque_limit");
+    for (k, (thrust, torque)) in [(1000.0, 0.5), (1500.0, -3.0), (0.0, 1e6), (1200.0, 0.0)]
+        .into_iter()
+        .enumerate()
+    {
+        fmu.set("thrust_cmd", thrust);
+        fmu.set("torque_cmd_body[2]", torque);
+        // A get of a navigation output first, then the delivered ones.
+        assert_eq!(fmu.get("mass"), fmu.get("m0") - fmu.get("propellant_used"));
+        assert_eq!(
+            fmu.get("torque_actual_body[2]"),
+            torque.clamp(-limit, limit),
+            "round {k}"
+        );
+        let thrust_shown = fmu.get("thrust_actual");
+        assert!(
+            thrust_shown == 0.0 || (thrust_shown - thrust).abs() <= 1e-9 * thrust,
+            "round {k}: {thrust_shown} for {thrust}"
+        );
+        let before_step = fmu.get("engine_torque_body[1]");
+        assert_eq!(fmu.step(k as f64, 1.0), fmi2OK);
+        assert_eq!(
+            fmu.get("torque_actual_body[2]"),
+            torque.clamp(-limit, limit)
+        );
+        assert_eq!(
+            fmu.get("engine_torque_body[1]"),
+            before_step,
+            "no misalignment"
+        );
+    }
+}

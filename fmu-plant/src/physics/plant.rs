@@ -64,7 +64,7 @@ pub struct Commands {
 }
 
 /// What the actuators deliver at a state.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Delivered {
     pub thrust_n: f64,
     pub rcs_torque_body_nm: Vector3<f64>,

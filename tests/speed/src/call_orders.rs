@@ -122,7 +122,16 @@ struct Loaded {
     _unpacked: Unpacked,
 }
 
-fn load(path: &Path, instance_name: &str) -> Result<(Loaded, ModelDescription)> {
+/// Where each FMU's binary comes from: the archive, or (`Some(dir)`) the same build's
+/// unstripped library in `dir` (`libfmu_gnc.so`, `libfmu_plant.so`), so that a profile names
+/// the functions.
+pub type Binaries<'a> = Option<&'a Path>;
+
+fn load(
+    path: &Path,
+    instance_name: &str,
+    binaries: Binaries,
+) -> Result<(Loaded, ModelDescription)> {
     let unpacked = Unpacked::open(path).with_context(|| format!("unpacking {}", path.display()))?;
     let md = ModelDescription::from_file(unpacked.model_description_path())?;
     let identifier = md
@@ -130,8 +139,17 @@ fn load(path: &Path, instance_name: &str) -> Result<(Loaded, ModelDescription)> 
         .as_ref()
         .map(|cs| cs.model_identifier.clone())
         .ok_or_else(|| anyhow!("{} has no Co-Simulation interface", path.display()))?;
+    let binary = match binaries {
+        None => unpacked.binary_path(&identifier),
+        Some(dir) => dir.join(match identifier.as_str() {
+            "LanderGnc" => "libfmu_gnc.so",
+            "LanderPlant" => "libfmu_plant.so",
+            other => return Err(anyhow!("no unstripped twin known for {other}")),
+        }),
+    };
     // SAFETY: our own FMU's binary, whose fmi2* symbols have the standard's signatures.
-    let library = unsafe { libloading::Library::new(unpacked.binary_path(&identifier)) }?;
+    let library = unsafe { libloading::Library::new(&binary) }
+        .with_context(|| format!("loading {}", binary.display()))?;
     // SAFETY: as above.
     let functions = unsafe { Fmi2Functions::load(&library) }?;
     let instance = Instance::new(&functions, instance_name, &md.guid, false)
@@ -177,9 +195,9 @@ pub struct FmuPair {
 }
 
 impl FmuPair {
-    pub fn new(fmu_dir: &Path) -> Result<Self> {
-        let (gnc, gnc_md) = load(&fmu_dir.join("LanderGnc.fmu"), "gnc")?;
-        let (plant, plant_md) = load(&fmu_dir.join("LanderPlant.fmu"), "plant")?;
+    pub fn new(fmu_dir: &Path, binaries: Binaries) -> Result<Self> {
+        let (gnc, gnc_md) = load(&fmu_dir.join("LanderGnc.fmu"), "gnc", binaries)?;
+        let (plant, plant_md) = load(&fmu_dir.join("LanderPlant.fmu"), "plant", binaries)?;
         let pair = FmuPair {
             nav_in_gnc: references(&gnc_md, NAVIGATION)?,
             nav_out_plant: references(&plant_md, NAVIGATION)?,
@@ -279,10 +297,10 @@ pub enum Pair {
 }
 
 impl Pair {
-    pub fn new(order: Order, fmu_dir: &Path) -> Result<Self> {
+    pub fn new(order: Order, fmu_dir: &Path, binaries: Binaries) -> Result<Self> {
         Ok(match order {
             Order::Plain => Pair::Plain(Box::new(PlainPair::new()?)),
-            _ => Pair::Fmus(Box::new(FmuPair::new(fmu_dir)?)),
+            _ => Pair::Fmus(Box::new(FmuPair::new(fmu_dir, binaries)?)),
         })
     }
 }

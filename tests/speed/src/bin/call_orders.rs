@@ -25,6 +25,11 @@ struct Cli {
     /// Steps of 0.01 s (the paper flight: 17,200).
     #[arg(long, global = true, default_value_t = PAPER_STEPS)]
     steps: usize,
+    /// Load each FMU's binary from this folder of the same build, unstripped
+    /// (`libfmu_gnc.so`, `libfmu_plant.so`), so callgrind can name the functions and count
+    /// the GNC's evaluations; by default the archives' own (stripped) binaries.
+    #[arg(long, global = true)]
+    binaries: Option<PathBuf>,
     #[command(subcommand)]
     command: Command,
 }
@@ -44,7 +49,7 @@ fn main() -> Result<()> {
     let cli = Cli::parse();
     match cli.command {
         Command::Fly { order } => {
-            let mut pair = Pair::new(order, &cli.fmu_dir)?;
+            let mut pair = Pair::new(order, &cli.fmu_dir, cli.binaries.as_deref())?;
             let nav = measured_flight(&mut pair, order, cli.steps)?;
             let bits: Vec<String> = nav
                 .iter()
@@ -66,24 +71,25 @@ fn count(cli: &Cli) -> Result<()> {
     let scratch = tempfile::tempdir()?;
     let mut rows = Vec::new();
     for order in Order::ALL {
-        let args: Vec<String> = [
+        let mut args: Vec<String> = [
             "--fmu-dir",
             &cli.fmu_dir.display().to_string(),
             "--steps",
             &cli.steps.to_string(),
-            "fly",
-            "--order",
-            order.name(),
         ]
         .map(String::from)
         .to_vec();
+        if let Some(dir) = &cli.binaries {
+            args.extend(["--binaries".into(), dir.display().to_string()]);
+        }
+        args.extend(["fly".into(), "--order".into(), order.name().into()]);
         let counts = callgrind::count(&me, &args, "*measured_flight*", scratch.path())
             .with_context(|| format!("counting {}", order.name()))?;
         rows.push((order, counts));
     }
     // The floor must be the same flight: plain and read-then-step agree bit for bit.
     let fly = |order: Order| -> Result<String> {
-        let mut pair = Pair::new(order, &cli.fmu_dir)?;
+        let mut pair = Pair::new(order, &cli.fmu_dir, cli.binaries.as_deref())?;
         let nav = measured_flight(&mut pair, order, cli.steps)?;
         Ok(format!("{:?}", nav.map(f64::to_bits)))
     };
