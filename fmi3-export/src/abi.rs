@@ -20,7 +20,7 @@ use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Type};
 pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
-use fmi_model::{snapshot, Declaration, Kind, Log, Model, StepEnd};
+use fmi_model::{snapshot, Declaration, Kind, Limit, Log, Model, StepEnd};
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -471,25 +471,48 @@ fn lookup<M: Model>(
     }
 }
 
-/// Checks that `nValues` is the total element count of the variables asked for.
+/// Checks that every reference is a variable of type `ty` and that `nValues` is the total
+/// element count of them (looked up again by the caller's next pass: an array read is
+/// cheaper than keeping a list).
+fn count_elements<M: Model>(
+    inst: &Instance<M>,
+    vrs: &[fmi3ValueReference],
+    ty: Type,
+    n_values: usize,
+) -> Result<(), CallError> {
+    let mut total = 0;
+    for &vr in vrs {
+        total += lookup(inst, vr, ty)?.shape().len();
+    }
+    if total != n_values {
+        return Err(wrong_count(n_values, vrs.len(), total));
+    }
+    Ok(())
+}
+
+#[cold]
+fn wrong_count(n_values: usize, n_vrs: usize, total: usize) -> CallError {
+    CallError::InvalidArgument(format!(
+        "nValues = {n_values}, the {n_vrs} variables asked for have {total} elements"
+    ))
+}
+
+/// The declaration at a reference `count_elements` has accepted.
+fn checked<M: Model>(inst: &Instance<M>, vr: fmi3ValueReference) -> &'static Declaration<M> {
+    inst.index
+        .get::<M>(vr)
+        .expect("looked up by count_elements in this call")
+}
+
+/// [`count_elements`], returning the declarations (for the types exchanged rarely).
 fn check_count<M: Model>(
     inst: &Instance<M>,
     vrs: &[fmi3ValueReference],
     ty: Type,
     n_values: usize,
 ) -> Result<Vec<&'static Declaration<M>>, CallError> {
-    let decls: Vec<_> = vrs
-        .iter()
-        .map(|&vr| lookup(inst, vr, ty))
-        .collect::<Result<_, _>>()?;
-    let total: usize = decls.iter().map(|d| d.shape().len()).sum();
-    if total != n_values {
-        return Err(CallError::InvalidArgument(format!(
-            "nValues = {n_values}, the {} variables asked for have {total} elements",
-            vrs.len()
-        )));
-    }
-    Ok(decls)
+    count_elements(inst, vrs, ty, n_values)?;
+    Ok(vrs.iter().map(|&vr| checked(inst, vr)).collect())
 }
 
 /// # Safety
@@ -509,41 +532,58 @@ pub unsafe fn get_float64<M: Model>(
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
             // `time` may stand anywhere in the list, as one element.
-            let decls = vrs
-                .iter()
-                .map(|&vr| {
-                    if vr == crate::variables::TIME_VR {
-                        Ok(None)
-                    } else {
-                        lookup(inst, vr, Type::Float64).map(Some)
-                    }
-                })
-                .collect::<Result<Vec<_>, _>>()?;
-            let total: usize = decls.iter().map(|d| d.map_or(1, |d| d.shape().len())).sum();
+            let mut total = 0;
+            for &vr in vrs {
+                total += if vr == crate::variables::TIME_VR {
+                    1
+                } else {
+                    lookup(inst, vr, Type::Float64)?.shape().len()
+                };
+            }
             if total != n_values {
-                return Err(CallError::InvalidArgument(format!(
-                    "nValues = {n_values}, the {} variables asked for have {total} elements",
-                    vrs.len()
-                )));
+                return Err(wrong_count(n_values, vrs.len(), total));
             }
             let mut k = 0;
-            for d in decls {
-                match d.map(|d| &d.kind) {
-                    None => {
-                        values[k] = inst.core.time;
+            for &vr in vrs {
+                if vr == crate::variables::TIME_VR {
+                    values[k] = inst.core.time;
+                    k += 1;
+                } else if let Kind::Real { shape, get, .. } = &checked(inst, vr).kind {
+                    for i in 0..shape.len() {
+                        values[k] = get(&inst.core.model, i);
                         k += 1;
                     }
-                    Some(Kind::Real { shape, get, .. }) => {
-                        for i in 0..shape.len() {
-                            values[k] = get(&inst.core.model, i);
-                            k += 1;
-                        }
-                    }
-                    Some(_) => {}
                 }
             }
             Ok(success)
         })
+    }
+}
+
+/// Why element `i` of `d` (of `len` elements) refuses `v`; built only for a refusal.
+#[cold]
+fn refused_float64<M>(
+    d: &Declaration<M>,
+    len: usize,
+    i: usize,
+    v: f64,
+    min: Option<Limit>,
+    max: Option<Limit>,
+) -> CallError {
+    let element = if len > 1 {
+        format!("[{}]", i + 1)
+    } else {
+        String::new()
+    };
+    let reason = if v.is_finite() {
+        format!("value{element} {v} is outside {}", bounds(min, max))
+    } else {
+        format!("value{element} {v} is not finite")
+    };
+    CallError::InvalidValue {
+        name: d.name,
+        vr: d.value_reference,
+        reason,
     }
 }
 
@@ -581,10 +621,11 @@ pub unsafe fn set_float64<M: Model>(
         call::<M>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
-            let decls = check_count(inst, vrs, Type::Float64, n_values)?;
+            count_elements(inst, vrs, Type::Float64, n_values)?;
             // Check every value before writing any: a refused call changes nothing.
             let mut k = 0;
-            for d in &decls {
+            for &vr in vrs {
+                let d = checked(inst, vr);
                 settable(d, initializing(inst.core.state)).map_err(|r| refuse_set(d, r))?;
                 if let Kind::Real {
                     shape, min, max, ..
@@ -593,40 +634,22 @@ pub unsafe fn set_float64<M: Model>(
                     for i in 0..shape.len() {
                         let v = values[k];
                         k += 1;
-                        let element = if shape.len() > 1 {
-                            format!("[{}]", i + 1)
-                        } else {
-                            String::new()
-                        };
-                        if !v.is_finite() {
-                            return Err(CallError::InvalidValue {
-                                name: d.name,
-                                vr: d.value_reference,
-                                reason: format!("value{element} {v} is not finite"),
-                            });
-                        }
-                        let below = min.is_some_and(|m| !m.admits_above(v));
-                        let above = max.is_some_and(|m| !m.admits_below(v));
-                        if below || above {
-                            return Err(CallError::InvalidValue {
-                                name: d.name,
-                                vr: d.value_reference,
-                                reason: format!(
-                                    "value{element} {v} is outside {}",
-                                    bounds(*min, *max)
-                                ),
-                            });
+                        let in_range = v.is_finite()
+                            && min.is_none_or(|m| m.admits_above(v))
+                            && max.is_none_or(|m| m.admits_below(v));
+                        if !in_range {
+                            return Err(refused_float64(d, shape.len(), i, v, *min, *max));
                         }
                     }
                 }
             }
             let mut k = 0;
-            for d in decls {
+            for &vr in vrs {
                 if let Kind::Real {
                     shape,
                     set: Some(set),
                     ..
-                } = &d.kind
+                } = &checked(inst, vr).kind
                 {
                     for i in 0..shape.len() {
                         set(&mut inst.core.model, i, values[k]);

@@ -45,24 +45,56 @@ impl Type {
     }
 }
 
-/// Value reference -> position in `M::declarations()`.
-pub struct Index {
-    rows: HashMap<u32, usize>,
+/// Value reference -> position in `M::declarations()`: a table indexed by the reference when
+/// the references are small integers (as model authors number them), a sorted list otherwise.
+/// On the path of every get and set, so no hashing.
+pub enum Index {
+    Dense(Box<[u32]>),
+    Sorted(Box<[(u32, u32)]>),
 }
+
+/// No declaration at this reference (dense table).
+const NONE: u32 = u32::MAX;
 
 impl Index {
     pub fn new<M: Model>() -> Index {
-        Index {
-            rows: M::declarations()
-                .iter()
-                .enumerate()
-                .map(|(i, d)| (d.value_reference, i))
-                .collect(),
+        Index::of_references(M::declarations().iter().map(|d| d.value_reference))
+    }
+
+    /// The index of declarations with these references, in declaration order.
+    fn of_references(vrs: impl Iterator<Item = u32>) -> Index {
+        let mut pairs: Vec<(u32, u32)> = vrs.zip(0..).collect();
+        // A duplicate reference is refused by `check`; should one get here, the first
+        // declared wins, as in a linear search.
+        pairs.sort_by_key(|&pair| pair);
+        pairs.dedup_by_key(|&mut (vr, _)| vr);
+        let slots = pairs.last().map_or(0, |&(vr, _)| vr as usize + 1);
+        if slots <= 8 * pairs.len() + 256 {
+            let mut rows = vec![NONE; slots];
+            for (vr, i) in pairs {
+                rows[vr as usize] = i;
+            }
+            Index::Dense(rows.into_boxed_slice())
+        } else {
+            Index::Sorted(pairs.into_boxed_slice())
         }
     }
 
+    #[inline]
     pub fn get<M: Model>(&self, vr: u32) -> Option<&'static Declaration<M>> {
-        self.rows.get(&vr).map(|&i| &M::declarations()[i])
+        M::declarations().get(self.row(vr)?)
+    }
+
+    #[inline]
+    fn row(&self, vr: u32) -> Option<usize> {
+        let row = match self {
+            Index::Dense(rows) => rows.get(vr as usize).copied().filter(|&i| i != NONE)?,
+            Index::Sorted(pairs) => {
+                let at = pairs.binary_search_by_key(&vr, |&(v, _)| v).ok()?;
+                pairs[at].1
+            }
+        };
+        Some(row as usize)
     }
 }
 
@@ -103,5 +135,29 @@ pub fn settable<M>(d: &Declaration<M>, initializing: bool) -> Result<(), &'stati
         Causality::CalculatedParameter => Err("a calculated parameter is computed by the FMU"),
         Causality::Local => Err("a local variable is computed by the FMU"),
         Causality::Independent => Err("the independent variable is set by the master's calls"),
+    }
+}
+
+#[cfg(test)]
+mod index_tests {
+    use super::Index;
+
+    /// Both layouts against a linear search, at every reference and its neighbours.
+    #[test]
+    fn lookup_agrees_with_a_linear_search_dense_and_sparse() {
+        let dense = vec![7, 0, 3, 200, 12, 5, 1, 3];
+        let sparse = vec![4_000_000_000, 17, 1 << 20, 0, 99_999];
+        for (vrs, expect_dense) in [(dense, true), (sparse, false)] {
+            let index = Index::of_references(vrs.iter().copied());
+            assert_eq!(matches!(index, Index::Dense(_)), expect_dense);
+            let probes = vrs
+                .iter()
+                .flat_map(|&vr: &u32| [vr, vr.wrapping_add(1), vr.wrapping_sub(1)])
+                .chain([2, 1000, u32::MAX - 1, u32::MAX]);
+            for vr in probes {
+                let linear = vrs.iter().position(|&v| v == vr);
+                assert_eq!(index.row(vr), linear, "vr {vr}");
+            }
+        }
     }
 }

@@ -4,7 +4,7 @@
 //!
 //! The loops allocate nothing and do nothing but the exchange, so what callgrind counts in
 //! [`measured_flight`] is the FMUs' cost (C ABI, layers, models) plus a few copies.
-use anyhow::{anyhow, ensure, Context, Result};
+use anyhow::{anyhow, Context, Result};
 use fmi_abi::fmi2::{fmi2OK, fmi2Status};
 use fmi_abi::unpack::Unpacked;
 use fmi_testkit::{Fmi2Functions, Instance};
@@ -20,6 +20,8 @@ use fmu_plant::physics::plant::{Commands, Plant, PlantRun};
 use model_description::ModelDescription;
 use nalgebra::Vector3;
 use std::path::Path;
+
+pub use crate::fmi3_pair::Fmi3Pair;
 
 pub const STEP_S: f64 = 0.01;
 /// The paper flight: 172 s.
@@ -93,8 +95,8 @@ const COMMANDS: [&str; 4] = [
 ];
 
 /// The paper scenario's parameters (harness/scenarios/paper.toml).
-const PHI_CMD_RAD: f64 = 150.0 * std::f64::consts::PI / 180.0;
-const Q0_BODY_TO_NUE: [f64; 4] = [0.9914448613738104, 0.0, 0.0, -0.13052619222005157];
+pub(crate) const PHI_CMD_RAD: f64 = 150.0 * std::f64::consts::PI / 180.0;
+pub(crate) const Q0_BODY_TO_NUE: [f64; 4] = [0.9914448613738104, 0.0, 0.0, -0.13052619222005157];
 
 pub fn gnc_parameters() -> GncParameters {
     GncParameters {
@@ -175,13 +177,20 @@ fn references<const N: usize>(md: &ModelDescription, names: [&str; N]) -> Result
     Ok(vrs)
 }
 
+/// A master's status check: inline, its error built out of line.
+#[inline(always)]
 fn ok(status: fmi2Status, what: &str, instance: &Instance) -> Result<()> {
-    ensure!(
-        status == fmi2OK,
-        "{what}: status {status:?}, {:?}",
-        instance.messages()
-    );
-    Ok(())
+    if status == fmi2OK {
+        Ok(())
+    } else {
+        Err(failed(status, what, instance))
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn failed(status: fmi2Status, what: &str, instance: &Instance) -> anyhow::Error {
+    anyhow!("{what}: status {status:?}, {:?}", instance.messages())
 }
 
 /// Both FMUs through their C ABI, initialized for the paper flight.
@@ -293,14 +302,18 @@ impl PlainPair {
 /// Either pair, ready to fly.
 pub enum Pair {
     Plain(Box<PlainPair>),
-    Fmus(Box<FmuPair>),
+    Fmi2(Box<FmuPair>),
+    Fmi3(Box<Fmi3Pair>),
 }
 
 impl Pair {
-    pub fn new(order: Order, fmu_dir: &Path, binaries: Binaries) -> Result<Self> {
-        Ok(match order {
-            Order::Plain => Pair::Plain(Box::new(PlainPair::new()?)),
-            _ => Pair::Fmus(Box::new(FmuPair::new(fmu_dir, binaries)?)),
+    /// The plain pair for [`Order::Plain`], otherwise the FMUs of FMI `version` (2 or 3).
+    pub fn new(order: Order, version: u8, fmu_dir: &Path, binaries: Binaries) -> Result<Self> {
+        Ok(match (order, version) {
+            (Order::Plain, _) => Pair::Plain(Box::new(PlainPair::new()?)),
+            (_, 2) => Pair::Fmi2(Box::new(FmuPair::new(fmu_dir, binaries)?)),
+            (_, 3) => Pair::Fmi3(Box::new(Fmi3Pair::new(&fmu_dir.join("fmi3"), binaries)?)),
+            (_, other) => return Err(anyhow!("FMI {other}: only 2 and 3 exist")),
         })
     }
 }
@@ -312,7 +325,8 @@ impl Pair {
 pub fn measured_flight(pair: &mut Pair, order: Order, steps: usize) -> Result<[f64; 14]> {
     match pair {
         Pair::Plain(p) => Ok(plain(p, steps)),
-        Pair::Fmus(f) => through_c_abi(f, order, steps),
+        Pair::Fmi2(f) => through_c_abi(f.as_mut(), order, steps),
+        Pair::Fmi3(f) => through_c_abi(f.as_mut(), order, steps),
     }
 }
 
@@ -334,40 +348,82 @@ fn plain(p: &mut PlainPair, steps: usize) -> [f64; 14] {
     p.navigation_array()
 }
 
-fn through_c_abi(f: &mut FmuPair, order: Order, steps: usize) -> Result<[f64; 14]> {
-    let (g, p) = (&f.gnc.instance, &f.plant.instance);
+/// One FMI version's exchange between the two FMUs of a pair, as a master calls it.
+pub trait Exchange {
+    fn set_navigation(&mut self, nav: &[f64; 14]) -> Result<()>;
+    fn get_commands(&mut self, cmd: &mut [f64; 4]) -> Result<()>;
+    fn set_commands(&mut self, cmd: &[f64; 4]) -> Result<()>;
+    fn get_navigation(&mut self, nav: &mut [f64; 14]) -> Result<()>;
+    fn step_gnc(&mut self, t: f64, h: f64) -> Result<()>;
+    fn step_plant(&mut self, t: f64, h: f64) -> Result<()>;
+}
+
+impl Exchange for FmuPair {
+    #[inline(always)]
+    fn set_navigation(&mut self, nav: &[f64; 14]) -> Result<()> {
+        let g = &self.gnc.instance;
+        ok(g.set_reals(&self.nav_in_gnc, nav), "gnc set", g)
+    }
+    #[inline(always)]
+    fn get_commands(&mut self, cmd: &mut [f64; 4]) -> Result<()> {
+        let g = &self.gnc.instance;
+        ok(g.get_reals_into(&self.cmd_out_gnc, cmd), "gnc get", g)
+    }
+    #[inline(always)]
+    fn set_commands(&mut self, cmd: &[f64; 4]) -> Result<()> {
+        let p = &self.plant.instance;
+        ok(p.set_reals(&self.cmd_in_plant, cmd), "plant set", p)
+    }
+    #[inline(always)]
+    fn get_navigation(&mut self, nav: &mut [f64; 14]) -> Result<()> {
+        let p = &self.plant.instance;
+        ok(p.get_reals_into(&self.nav_out_plant, nav), "plant get", p)
+    }
+    #[inline(always)]
+    fn step_gnc(&mut self, t: f64, h: f64) -> Result<()> {
+        let g = &self.gnc.instance;
+        ok(g.do_step(t, h), "gnc step", g)
+    }
+    #[inline(always)]
+    fn step_plant(&mut self, t: f64, h: f64) -> Result<()> {
+        let p = &self.plant.instance;
+        ok(p.do_step(t, h), "plant step", p)
+    }
+}
+
+fn through_c_abi(f: &mut impl Exchange, order: Order, steps: usize) -> Result<[f64; 14]> {
     let (mut nav, mut cmd) = ([0.0; 14], [0.0; 4]);
-    ok(p.get_reals_into(&f.nav_out_plant, &mut nav), "plant get", p)?;
+    f.get_navigation(&mut nav)?;
     if order != Order::ReadThenStep {
-        ok(g.set_reals(&f.nav_in_gnc, &nav), "gnc set", g)?;
-        ok(g.get_reals_into(&f.cmd_out_gnc, &mut cmd), "gnc get", g)?;
+        f.set_navigation(&nav)?;
+        f.get_commands(&mut cmd)?;
     }
     for k in 0..steps {
         let t = k as f64 * STEP_S;
         match order {
             Order::ReadThenStep => {
-                ok(g.set_reals(&f.nav_in_gnc, &nav), "gnc set", g)?;
-                ok(g.get_reals_into(&f.cmd_out_gnc, &mut cmd), "gnc get", g)?;
-                ok(p.set_reals(&f.cmd_in_plant, &cmd), "plant set", p)?;
-                ok(g.do_step(t, STEP_S), "gnc step", g)?;
-                ok(p.do_step(t, STEP_S), "plant step", p)?;
-                ok(p.get_reals_into(&f.nav_out_plant, &mut nav), "plant get", p)?;
+                f.set_navigation(&nav)?;
+                f.get_commands(&mut cmd)?;
+                f.set_commands(&cmd)?;
+                f.step_gnc(t, STEP_S)?;
+                f.step_plant(t, STEP_S)?;
+                f.get_navigation(&mut nav)?;
             }
             Order::StepThenRead => {
-                ok(g.set_reals(&f.nav_in_gnc, &nav), "gnc set", g)?;
-                ok(g.do_step(t, STEP_S), "gnc step", g)?;
-                ok(g.get_reals_into(&f.cmd_out_gnc, &mut cmd), "gnc get", g)?;
-                ok(p.set_reals(&f.cmd_in_plant, &cmd), "plant set", p)?;
-                ok(p.do_step(t, STEP_S), "plant step", p)?;
-                ok(p.get_reals_into(&f.nav_out_plant, &mut nav), "plant get", p)?;
+                f.set_navigation(&nav)?;
+                f.step_gnc(t, STEP_S)?;
+                f.get_commands(&mut cmd)?;
+                f.set_commands(&cmd)?;
+                f.step_plant(t, STEP_S)?;
+                f.get_navigation(&mut nav)?;
             }
             Order::Jacobi => {
-                ok(g.set_reals(&f.nav_in_gnc, &nav), "gnc set", g)?;
-                ok(p.set_reals(&f.cmd_in_plant, &cmd), "plant set", p)?;
-                ok(g.do_step(t, STEP_S), "gnc step", g)?;
-                ok(p.do_step(t, STEP_S), "plant step", p)?;
-                ok(g.get_reals_into(&f.cmd_out_gnc, &mut cmd), "gnc get", g)?;
-                ok(p.get_reals_into(&f.nav_out_plant, &mut nav), "plant get", p)?;
+                f.set_navigation(&nav)?;
+                f.set_commands(&cmd)?;
+                f.step_gnc(t, STEP_S)?;
+                f.step_plant(t, STEP_S)?;
+                f.get_commands(&mut cmd)?;
+                f.get_navigation(&mut nav)?;
             }
             Order::Plain => unreachable!("the plain pair has no C ABI"),
         }

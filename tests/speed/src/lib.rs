@@ -12,6 +12,9 @@ pub mod call_orders;
 pub mod callgrind;
 pub mod closed_loop;
 pub mod duel;
+/// Loads FMU binaries itself and calls the FMI 3.0 functions (foreign code).
+#[allow(unsafe_code)]
+pub mod fmi3_pair;
 pub mod python;
 pub mod record;
 pub mod replay;

@@ -40,6 +40,9 @@ enum Command {
     Fly {
         #[arg(long, value_enum)]
         order: Order,
+        /// FMI version of the entry points: 2 or 3.
+        #[arg(long, default_value_t = 2)]
+        fmi: u8,
     },
     /// Count every order under callgrind and print the table.
     Count,
@@ -48,8 +51,8 @@ enum Command {
 fn main() -> Result<()> {
     let cli = Cli::parse();
     match cli.command {
-        Command::Fly { order } => {
-            let mut pair = Pair::new(order, &cli.fmu_dir, cli.binaries.as_deref())?;
+        Command::Fly { order, fmi } => {
+            let mut pair = Pair::new(order, fmi, &cli.fmu_dir, cli.binaries.as_deref())?;
             let nav = measured_flight(&mut pair, order, cli.steps)?;
             let bits: Vec<String> = nav
                 .iter()
@@ -70,7 +73,11 @@ fn count(cli: &Cli) -> Result<()> {
     let me = std::env::current_exe()?;
     let scratch = tempfile::tempdir()?;
     let mut rows = Vec::new();
-    for order in Order::ALL {
+    let runs = Order::ALL
+        .into_iter()
+        .map(|order| (order, 2))
+        .chain(Order::ALL[1..].iter().map(|&order| (order, 3)));
+    for (order, fmi) in runs {
         let mut args: Vec<String> = [
             "--fmu-dir",
             &cli.fmu_dir.display().to_string(),
@@ -82,35 +89,59 @@ fn count(cli: &Cli) -> Result<()> {
         if let Some(dir) = &cli.binaries {
             args.extend(["--binaries".into(), dir.display().to_string()]);
         }
-        args.extend(["fly".into(), "--order".into(), order.name().into()]);
+        args.extend(["fly", "--order", order.name(), "--fmi", &fmi.to_string()].map(String::from));
         let counts = callgrind::count(&me, &args, "*measured_flight*", scratch.path())
-            .with_context(|| format!("counting {}", order.name()))?;
-        rows.push((order, counts));
+            .with_context(|| format!("counting {} (FMI {fmi})", order.name()))?;
+        rows.push((order, fmi, counts));
     }
-    // The floor must be the same flight: plain and read-then-step agree bit for bit.
-    let fly = |order: Order| -> Result<String> {
-        let mut pair = Pair::new(order, &cli.fmu_dir, cli.binaries.as_deref())?;
+    // The floor must be the same flight: plain and read-then-step agree bit for bit, and
+    // FMI 3.0 flies what FMI 2.0 flies in every order.
+    let fly = |order: Order, fmi: u8| -> Result<String> {
+        let mut pair = Pair::new(order, fmi, &cli.fmu_dir, cli.binaries.as_deref())?;
         let nav = measured_flight(&mut pair, order, cli.steps)?;
         Ok(format!("{:?}", nav.map(f64::to_bits)))
     };
     ensure!(
-        fly(Order::Plain)? == fly(Order::ReadThenStep)?,
+        fly(Order::Plain, 2)? == fly(Order::ReadThenStep, 2)?,
         "the plain loop and the FMUs (read, then step) flew different flights"
     );
+    for order in &Order::ALL[1..] {
+        ensure!(
+            fly(*order, 2)? == fly(*order, 3)?,
+            "FMI 2.0 and FMI 3.0 flew different flights ({})",
+            order.name()
+        );
+    }
     let steps = cli.steps as f64;
-    let floor = rows[0].1.instructions as f64 / steps;
-    println!("Instructions per closed-loop step, paper flight ({} steps of 0.01 s, both FMUs), callgrind:\n", cli.steps);
-    println!("| Call order | Instructions per step | Ratio to plain | GNC evaluations per step |");
-    println!("| --- | --- | --- | --- |");
-    for (order, counts) in &rows {
+    let floor = rows[0].2.instructions as f64 / steps;
+    println!(
+        "Instructions per closed-loop step, paper flight ({} steps of 0.01 s, both FMUs), \
+         callgrind:\n",
+        cli.steps
+    );
+    println!(
+        "| FMI | Call order | Instructions per step | Ratio to plain | GNC evaluations per step |"
+    );
+    println!("| --- | --- | --- | --- | --- |");
+    for (order, fmi, counts) in &rows {
         let per_step = counts.instructions as f64 / steps;
         let evaluations = counts.calls_of("gnc_sample") as f64 / steps;
+        let version = if *order == Order::Plain {
+            "none".to_string()
+        } else {
+            format!("{fmi}.0")
+        };
+        // Stripped binaries hide the function names.
+        let evaluations = if evaluations > 0.0 {
+            format!("{evaluations:.3}")
+        } else {
+            "(stripped: use --binaries)".to_string()
+        };
         println!(
-            "| {} | {:.0} | {:.2}x | {:.3} |",
+            "| {version} | {} | {:.0} | {:.2}x | {evaluations} |",
             order.describe(),
             per_step,
             per_step / floor,
-            evaluations
         );
     }
     Ok(())
