@@ -75,3 +75,39 @@ fn a_missing_fmu_folder_is_refused_naming_the_command_that_makes_it() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("cargo xtask fmus"), "{stderr}");
 }
+
+/// The instruction counts on a short flight: every call order of both FMI versions gets a
+/// row and the run's own cross-checks (plain = read-then-step, FMI 2.0 = FMI 3.0, bit for
+/// bit) pass. (A test build's plain loop is unoptimised, so the ratios mean nothing here;
+/// `cargo xtask bench` runs the release build.)
+#[test]
+fn call_orders_count_prints_every_order_of_both_versions() {
+    let fmu_dir = interop_tests::fmu_dir();
+    let output = Command::new(env!("CARGO_BIN_EXE_call_orders"))
+        .arg("--fmu-dir")
+        .arg(&fmu_dir)
+        .args(["--steps", "100", "count"])
+        .output()
+        .expect("cannot start call_orders");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        output.status.success(),
+        "call_orders count failed ({}):\n{stdout}\n{stderr}",
+        output.status
+    );
+    println!("{stdout}");
+    let rows: Vec<_> = rows(&stdout).into_iter().skip(1).collect(); // the header
+    let versions: Vec<&str> = rows.iter().map(|(fmi, _)| fmi.as_str()).collect();
+    assert_eq!(versions, ["none", "2.0", "2.0", "2.0", "3.0", "3.0", "3.0"]);
+    let ratios: Vec<f64> = rows.iter().map(|(_, c)| leading_number(&c[2])).collect();
+    assert_eq!(ratios[0], 1.0);
+    assert!(
+        ratios.iter().all(|&r| r.is_finite() && r > 0.0),
+        "{ratios:?}"
+    );
+    assert!(
+        stdout.contains("unoptimised") == cfg!(debug_assertions),
+        "{stdout}"
+    );
+}

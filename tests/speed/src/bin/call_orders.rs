@@ -119,6 +119,9 @@ fn count(cli: &Cli) -> Result<()> {
          callgrind:\n",
         cli.steps
     );
+    if cfg!(debug_assertions) {
+        println!("(a debug build: the plain loop is unoptimised, the ratios mean nothing)\n");
+    }
     println!(
         "| FMI | Call order | Instructions per step | Ratio to plain | GNC evaluations per step |"
     );
