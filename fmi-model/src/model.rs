@@ -26,6 +26,7 @@ impl Log {
     pub fn warning(&mut self, msg: impl Into<String>) {
         self.entries.push((Level::Warning, msg.into()));
     }
+    #[inline]
     pub fn has_warning(&self) -> bool {
         self.entries.iter().any(|(l, _)| *l == Level::Warning)
     }

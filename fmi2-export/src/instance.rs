@@ -127,7 +127,11 @@ impl<M: Model> Instance<M> {
     }
 
     /// Passes a model's messages to the logger; a warning makes the call's status `fmi2Warning`.
+    #[inline]
     pub fn forward(&self, function: Function, log: &Log) -> Success {
+        if log.entries.is_empty() {
+            return Success::Ok;
+        }
         for (level, message) in &log.entries {
             let (status, category) = match level {
                 Level::Info => (fmi2OK, Category::StatusOk),

@@ -106,7 +106,11 @@ impl<M: Model> Instance<M> {
     }
 
     /// Passes a model's messages to the logger; a warning makes the status `fmi3Warning`.
+    #[inline]
     pub fn forward(&self, function: Function, log: &Log) -> Success {
+        if log.entries.is_empty() {
+            return Success::Ok;
+        }
         for (level, message) in &log.entries {
             let (status, category) = match level {
                 Level::Info => (fmi3OK, Category::StatusOk),

@@ -361,3 +361,79 @@ fn integers_and_booleans_cross_with_their_checks() {
         assert!(log.contains(expected), "missing {expected:?} in\n{log}");
     }
 }
+
+/// One get and one set over many references at once (more than the layer keeps on its
+/// stack, `time` among them, arrays and scalars mixed) agree value for value with the
+/// one-variable calls; a refused value anywhere in the list changes nothing.
+#[test]
+fn many_references_in_one_call_match_the_one_variable_calls() {
+    let plant = Plant::co_simulation();
+    // SAFETY: a live instance.
+    unsafe {
+        assert_eq!(
+            fmu::fmi3EnterInitializationMode(plant.c, false, 0.0, 0.0, false, 0.0),
+            fmi3OK
+        );
+    }
+    let names: [(&str, usize); 12] = [
+        ("r0_nue", 3),
+        ("v0_nue", 3),
+        ("m0", 1),
+        ("isp", 1),
+        ("dry_mass", 1),
+        ("omega0_body", 3),
+        ("g", 1),
+        ("inertia_body", 3),
+        ("engine_thrust_max", 1),
+        ("engine_thrust_min", 1),
+        ("moon_radius", 1),
+        ("integration_step", 1),
+    ];
+    let vrs: Vec<u32> = names.iter().map(|(n, _)| Plant::vr(n)).collect();
+    let total: usize = names.iter().map(|(_, n)| n).sum();
+    // Every value nudged from what the one-variable gets show.
+    let mut values: Vec<f64> = names
+        .iter()
+        .flat_map(|&(n, len)| plant.get(n, len))
+        .map(|v| if v == 0.0 { 0.25 } else { v * 1.01 })
+        .collect();
+    // SAFETY: arrays of the lengths passed.
+    let status =
+        unsafe { fmu::fmi3SetFloat64(plant.c, vrs.as_ptr(), vrs.len(), values.as_ptr(), total) };
+    assert_eq!(status, fmi3OK, "{}", plant.log());
+    let one_by_one: Vec<f64> = names
+        .iter()
+        .flat_map(|&(n, len)| plant.get(n, len))
+        .collect();
+    assert_eq!(one_by_one, values);
+    // AND a get of them all, with `time` in the middle, reads the same
+    let mut with_time = vrs.clone();
+    with_time.insert(5, fmi3_export::variables::TIME_VR);
+    let mut read = vec![f64::NAN; total + 1];
+    // SAFETY: as above.
+    let status = unsafe {
+        fmu::fmi3GetFloat64(
+            plant.c,
+            with_time.as_ptr(),
+            with_time.len(),
+            read.as_mut_ptr(),
+            total + 1,
+        )
+    };
+    assert_eq!(status, fmi3OK, "{}", plant.log());
+    let time_at = names[..5].iter().map(|(_, n)| n).sum::<usize>();
+    assert_eq!(read.remove(time_at), 0.0, "time");
+    assert_eq!(read, values);
+    // AND a NaN in the last variable (beyond the kept ones) refuses the whole call
+    let before = values.clone();
+    *values.last_mut().unwrap() = f64::NAN;
+    // SAFETY: as above.
+    let status =
+        unsafe { fmu::fmi3SetFloat64(plant.c, vrs.as_ptr(), vrs.len(), values.as_ptr(), total) };
+    assert_eq!(status, fmi3Error);
+    let after: Vec<f64> = names
+        .iter()
+        .flat_map(|&(n, len)| plant.get(n, len))
+        .collect();
+    assert_eq!(after, before);
+}
