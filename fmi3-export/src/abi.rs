@@ -504,52 +504,6 @@ fn checked<M: Model>(inst: &Instance<M>, vr: fmi3ValueReference) -> &'static Dec
         .expect("looked up by count_elements in this call")
 }
 
-/// The declarations of a call's first value references, found once by the pass that checks
-/// them and read by the passes after it (on the stack: a master passes a few arrays at a
-/// time; references beyond are looked up again).
-struct Kept<M: 'static>([Option<&'static Declaration<M>>; KEPT]);
-
-const KEPT: usize = 8;
-
-impl<M: Model> Kept<M> {
-    /// Looks every reference up as `ty` (`time` counts as one Float64 element) and checks
-    /// that `nValues` is their total element count.
-    #[inline]
-    fn look_up(
-        inst: &Instance<M>,
-        vrs: &[fmi3ValueReference],
-        ty: Type,
-        n_values: usize,
-    ) -> Result<Self, CallError> {
-        let mut kept = [None; KEPT];
-        let mut total = 0;
-        for (at, &vr) in vrs.iter().enumerate() {
-            if ty == Type::Float64 && vr == crate::variables::TIME_VR {
-                total += 1;
-                continue;
-            }
-            let d = lookup(inst, vr, ty)?;
-            total += d.shape().len();
-            if let Some(slot) = kept.get_mut(at) {
-                *slot = Some(d);
-            }
-        }
-        if total != n_values {
-            return Err(wrong_count(n_values, vrs.len(), total));
-        }
-        Ok(Kept(kept))
-    }
-
-    /// The declaration of the `at`-th reference, `vr`.
-    #[inline]
-    fn at(&self, inst: &Instance<M>, at: usize, vr: fmi3ValueReference) -> &'static Declaration<M> {
-        match self.0.get(at) {
-            Some(Some(d)) => d,
-            _ => checked(inst, vr),
-        }
-    }
-}
-
 /// [`count_elements`], returning the declarations (for the types exchanged rarely).
 fn check_count<M: Model>(
     inst: &Instance<M>,
@@ -578,13 +532,23 @@ pub unsafe fn get_float64<M: Model>(
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
             // `time` may stand anywhere in the list, as one element.
-            let kept = Kept::look_up(inst, vrs, Type::Float64, n_values)?;
+            let mut total = 0;
+            for &vr in vrs {
+                total += if vr == crate::variables::TIME_VR {
+                    1
+                } else {
+                    lookup(inst, vr, Type::Float64)?.shape().len()
+                };
+            }
+            if total != n_values {
+                return Err(wrong_count(n_values, vrs.len(), total));
+            }
             let mut k = 0;
-            for (at, &vr) in vrs.iter().enumerate() {
+            for &vr in vrs {
                 if vr == crate::variables::TIME_VR {
                     values[k] = inst.core.time;
                     k += 1;
-                } else if let Kind::Real { shape, get, .. } = &kept.at(inst, at, vr).kind {
+                } else if let Kind::Real { shape, get, .. } = &checked(inst, vr).kind {
                     for i in 0..shape.len() {
                         values[k] = get(&inst.core.model, i);
                         k += 1;
@@ -657,11 +621,11 @@ pub unsafe fn set_float64<M: Model>(
         call::<M>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
-            let kept = Kept::look_up(inst, vrs, Type::Float64, n_values)?;
+            count_elements(inst, vrs, Type::Float64, n_values)?;
             // Check every value before writing any: a refused call changes nothing.
             let mut k = 0;
-            for (at, &vr) in vrs.iter().enumerate() {
-                let d = kept.at(inst, at, vr);
+            for &vr in vrs {
+                let d = checked(inst, vr);
                 settable(d, initializing(inst.core.state)).map_err(|r| refuse_set(d, r))?;
                 if let Kind::Real {
                     shape, min, max, ..
@@ -680,12 +644,12 @@ pub unsafe fn set_float64<M: Model>(
                 }
             }
             let mut k = 0;
-            for (at, &vr) in vrs.iter().enumerate() {
+            for &vr in vrs {
                 if let Kind::Real {
                     shape,
                     set: Some(set),
                     ..
-                } = &kept.at(inst, at, vr).kind
+                } = &checked(inst, vr).kind
                 {
                     for i in 0..shape.len() {
                         set(&mut inst.core.model, i, values[k]);
