@@ -180,3 +180,34 @@ proptest! {
         }
     }
 }
+
+/// A restored body rate far beyond anything physical (found by the fuzzer: 2.3e77 rad/s)
+/// grows RK4's quaternion past where its squared norm overflows: the step and the outputs
+/// stay finite (the quaternion is normalised without squaring it first).
+#[test]
+fn a_restored_body_rate_whose_rotation_overflows_gives_finite_outputs() {
+    for by in [2.3e77, 1e150, -1e300, f64::MAX] {
+        let plant = Plant::new();
+        plant.set("omega0_body[3]", 0.0123);
+        plant.init();
+        // The parameter and the state hold the rate: both crafted, so they agree.
+        let crafted = bytes_with_all(&genuine(&plant), 0.0123, by);
+        let (status, state) = deserialize(&plant, &crafted);
+        assert_eq!(status, fmi2OK, "{by}: {:?}", plant.messages());
+        plant.set_state(state);
+        plant.free_state(state);
+        let stepped = plant.step(0.0, 0.01);
+        for name in [
+            "q_body_to_nue[1]",
+            "q_body_to_nue[4]",
+            "omega_body[3]",
+            "r_nue[2]",
+        ] {
+            let value = plant.get(name);
+            assert!(
+                value.is_finite(),
+                "{by}: {name} = {value} after a step ({stepped:?})"
+            );
+        }
+    }
+}

@@ -477,6 +477,24 @@ impl PlantParameters {
                 ));
             }
         }
+        // The mass flow per newton of thrust, 1 / (isp g0), overflows when the exhaust
+        // velocity is below ~5.6e-309 m/s (a subnormal isp or g0 passes "positive"); the
+        // factor smaller relative to its default is at fault.
+        let exhaust_mps = self.isp_s * self.g0_mps2;
+        if !(1.0 / exhaust_mps).is_finite() {
+            let default = PlantParameters::default();
+            let isp = (("isp_s", None), self.isp_s);
+            let g0 = (("g0_mps2", None), self.g0_mps2);
+            let near = |(field, v): (Field, f64)| (v / default.magnitude_of(field)).abs();
+            let (field, value) = if near(isp) <= near(g0) { isp } else { g0 };
+            return Err(refuse(
+                field,
+                value,
+                format!(
+                    "1 / (isp x g0) (mass flow per newton of thrust) = 1 / {exhaust_mps:e} overflows"
+                ),
+            ));
+        }
         require(
             e.off_threshold_n < total_max_n,
             ("engines.off_threshold_n", None),
@@ -623,6 +641,32 @@ mod tests {
         };
         let (q, warning) = rounded.validated_q0().unwrap();
         assert!((q.norm() - 1.0).abs() < 1e-15 && warning.is_some());
+    }
+
+    #[test]
+    fn an_exhaust_velocity_whose_reciprocal_overflows_is_refused_naming_the_tiny_factor() {
+        // Found by the fuzzer: isp = 1.6e-318 s passed "positive", and the mass flow of a
+        // zero thrust became 0 x inf = NaN.
+        for (params, field) in [
+            (
+                PlantParameters {
+                    isp_s: 1.59747e-318,
+                    ..Default::default()
+                },
+                "isp_s",
+            ),
+            (
+                PlantParameters {
+                    g0_mps2: 1e-320,
+                    ..Default::default()
+                },
+                "g0_mps2",
+            ),
+        ] {
+            let e = params.validate().expect_err(field);
+            assert_eq!(e.field, field, "{e:?}");
+            assert!(e.reason.contains("overflows"), "{e:?}");
+        }
     }
 
     #[test]
