@@ -139,6 +139,15 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
             ),
         ));
     }
+    // As for omega0_body at initialization: omega x (I omega) must stay representable.
+    let gyroscopic = x.omega_body.norm_squared() * plant.inertia_body_kgm2.max();
+    if !gyroscopic.is_finite() {
+        return Err(restored(
+            "omega_body",
+            format!("{:?}", x.omega_body.as_slice()),
+            "|omega_body|^2 x largest inertia (gyroscopic torque) overflows",
+        ));
+    }
     let norm = x.q_body_to_nue.norm();
     if (norm - 1.0).abs() > RESTORED_QUATERNION_NORM_TOLERANCE {
         return Err(restored(

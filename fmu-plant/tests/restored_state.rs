@@ -183,16 +183,31 @@ proptest! {
 
 /// A restored body rate far beyond anything physical (found by the fuzzer: 2.3e77 rad/s)
 /// grows RK4's quaternion past where its squared norm overflows: the step and the outputs
-/// stay finite (the quaternion is normalised without squaring it first).
+/// stay finite (the quaternion is normalised without squaring it first). A rate whose
+/// gyroscopic torque omega x (I omega) overflows (found by the fuzzer too) is refused.
 #[test]
-fn a_restored_body_rate_whose_rotation_overflows_gives_finite_outputs() {
-    for by in [2.3e77, 1e150, -1e300, f64::MAX] {
+fn a_restored_body_rate_whose_rotation_overflows_gives_finite_outputs_or_is_refused() {
+    for (by, accepted) in [
+        (2.3e77, true),
+        (1e150, true),
+        (-1e300, false),
+        (f64::MAX, false),
+    ] {
         let plant = Plant::new();
         plant.set("omega0_body[3]", 0.0123);
         plant.init();
         // The parameter and the state hold the rate: both crafted, so they agree.
         let crafted = bytes_with_all(&genuine(&plant), 0.0123, by);
         let (status, state) = deserialize(&plant, &crafted);
+        if !accepted {
+            assert_eq!(status, fmi2Error, "{by}");
+            let message = plant.last_message();
+            assert!(
+                message.contains("omega") && message.contains("overflows"),
+                "{message}"
+            );
+            continue;
+        }
         assert_eq!(status, fmi2OK, "{by}: {:?}", plant.messages());
         plant.set_state(state);
         plant.free_state(state);
@@ -210,4 +225,32 @@ fn a_restored_body_rate_whose_rotation_overflows_gives_finite_outputs() {
             );
         }
     }
+}
+
+#[test]
+fn a_restored_enumeration_value_that_is_no_item_is_refused_by_name() {
+    // GIVEN genuine states before initialization (where the plant itself does not yet
+    // validate its parameters) with translation_model flat (1) and spherical (2)
+    let plant = Plant::new();
+    let flat = genuine(&plant);
+    plant.set_integer("translation_model", 2);
+    let spherical = genuine(&plant);
+    let at: Vec<usize> = (HEADER_LEN..flat.len())
+        .filter(|&i| flat[i] != spherical[i])
+        .collect();
+    assert_eq!(at.len(), 1, "{at:?}");
+    // WHEN the value of a resealed buffer is 7 (postcard: zigzag varint, 14)
+    let mut crafted = flat.clone();
+    crafted[at[0]] = 14;
+    let (status, state) = deserialize(&plant, &resealed(crafted));
+    // THEN it is refused, naming the variable and the items
+    assert_eq!(status, fmi2Error);
+    assert!(state.is_null());
+    assert!(
+        plant
+            .last_message()
+            .contains("FMU state refused: translation_model = 7: not an item of"),
+        "{}",
+        plant.last_message()
+    );
 }

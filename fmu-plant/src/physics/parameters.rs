@@ -394,6 +394,14 @@ impl PlantParameters {
                 ],
             },
             Combined {
+                what: "|omega0_body|^2 x largest inertia (gyroscopic torque)",
+                value: self.omega0_body_radps.norm_squared() * self.inertia_body_kgm2.max(),
+                of: [
+                    (("omega0_body_radps", None), self.omega0_body_radps.amax()),
+                    (("inertia_body_kgm2", None), self.inertia_body_kgm2.max()),
+                ],
+            },
+            Combined {
                 what: "isp x g0 (exhaust velocity)",
                 value: self.isp_s * self.g0_mps2,
                 of: [
@@ -641,6 +649,27 @@ mod tests {
         };
         let (q, warning) = rounded.validated_q0().unwrap();
         assert!((q.norm() - 1.0).abs() < 1e-15 && warning.is_some());
+    }
+
+    #[test]
+    fn an_initial_body_rate_whose_gyroscopic_torque_overflows_is_refused() {
+        // Found by the fuzzer: omega0_body[3] = -2.35e307 rad/s passed "finite", and
+        // omega x (I omega) overflowed to a NaN derivative.
+        for omega in [-2.35e307, 1e154, 1e153] {
+            let p = PlantParameters {
+                omega0_body_radps: Vector3::new(0.0, 0.0, omega),
+                ..Default::default()
+            };
+            let e = p.validate().expect_err("overflowing rate");
+            assert_eq!(e.field, "omega0_body_radps", "{e:?}");
+            assert!(e.reason.contains("gyroscopic torque"), "{e:?}");
+        }
+        // A fast but representable spin passes.
+        let p = PlantParameters {
+            omega0_body_radps: Vector3::new(0.0, 0.0, 1e100),
+            ..Default::default()
+        };
+        assert_eq!(p.validate(), Ok(()));
     }
 
     #[test]
