@@ -254,3 +254,50 @@ fn a_restored_enumeration_value_that_is_no_item_is_refused_by_name() {
         plant.last_message()
     );
 }
+
+/// Found by the fuzzer (restored_state, -s none): payload edits of a genuine state at t = 0
+/// that restore a fast body rate, from which one step grew the rate until omega x (I omega)
+/// overflowed and the derivatives read NaN. Such a step is now refused (the state as before
+/// it); whatever is accepted reads finite.
+#[test]
+fn a_step_that_grows_the_body_rate_past_a_representable_gyroscopic_torque_is_refused() {
+    use fmi2_export::variable::Access;
+    use fmi_model::snapshot::reseal;
+    const INPUT: [u8; 76] = [
+        0xe3, 0x2a, 0x3f, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
+        0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
+        0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
+        0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
+        0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0x52, 0x9e, 0x68,
+        0x3f,
+    ];
+    let plant = Plant::new();
+    plant.init();
+    let bytes = genuine(&plant);
+    let mut payload = bytes[HEADER_LEN..].to_vec();
+    // As the fuzz body reads it: (offset lo, offset hi, byte) triples after a mode byte.
+    for edit in INPUT[1..].chunks_exact(3) {
+        let at = usize::from(u16::from_le_bytes([edit[0], edit[1]])) % payload.len();
+        payload[at] = edit[2];
+    }
+    let (status, state) = deserialize(&plant, &reseal(&bytes, &payload));
+    assert!(status == fmi2OK || status == fmi2Error);
+    if status != fmi2OK {
+        return;
+    }
+    plant.set_state(state);
+    plant.free_state(state);
+    let reals: Vec<u32> = fmi2_export::variables::<fmu_plant::LanderPlant>()
+        .iter()
+        .filter(|v| matches!(v.access, Access::Real { .. }))
+        .map(|v| v.value_reference)
+        .collect();
+    let t = plant.last_successful_time();
+    let stepped = plant.step(t, 0.01);
+    let values = plant.get_many(&reals);
+    assert!(
+        values.iter().all(|v| v.is_finite()),
+        "step {stepped:?}: {values:?} {:?}",
+        plant.messages()
+    );
+}

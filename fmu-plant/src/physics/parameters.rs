@@ -485,6 +485,31 @@ impl PlantParameters {
                 ));
             }
         }
+        // A lag's rate is (target - state) / time constant, with |target - state| up to the
+        // maximum thrust (torque limit): a subnormal time constant overflows it.
+        let lags = [
+            (
+                ("engines.time_constant_s", None),
+                e.time_constant_s,
+                total_max_n,
+                "maximum thrust",
+            ),
+            (
+                ("rcs.time_constant_s", None),
+                self.rcs.time_constant_s,
+                2.0 * self.rcs.torque_limit_nm(),
+                "2 x RCS torque limit",
+            ),
+        ];
+        for (field, tau, span, what) in lags {
+            if tau > 0.0 && !(span / tau).is_finite() {
+                return Err(refuse(
+                    field,
+                    tau,
+                    format!("{what} / time constant (lag rate) = {span} / {tau:e} overflows"),
+                ));
+            }
+        }
         // The mass flow per newton of thrust, 1 / (isp g0), overflows when the exhaust
         // velocity is below ~5.6e-309 m/s (a subnormal isp or g0 passes "positive"); the
         // factor smaller relative to its default is at fault.
@@ -670,6 +695,34 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(p.validate(), Ok(()));
+    }
+
+    #[test]
+    fn a_time_constant_whose_lag_rate_overflows_is_refused() {
+        // Found by the fuzzer: engine_time_constant = 6e-315 s passed "min 0", and the
+        // thrust lag's rate (1600 N - 0) / 6e-315 s was infinite.
+        let engine = PlantParameters {
+            engines: Engines {
+                time_constant_s: 5.991517526e-315,
+                ..PlantParameters::default().engines
+            },
+            ..Default::default()
+        };
+        let rcs = PlantParameters {
+            rcs: Rcs {
+                time_constant_s: 1e-320,
+                ..PlantParameters::default().rcs
+            },
+            ..Default::default()
+        };
+        for (p, field) in [
+            (engine, "engines.time_constant_s"),
+            (rcs, "rcs.time_constant_s"),
+        ] {
+            let e = p.validate().expect_err(field);
+            assert_eq!(e.field, field, "{e:?}");
+            assert!(e.reason.contains("lag rate"), "{e:?}");
+        }
     }
 
     #[test]
