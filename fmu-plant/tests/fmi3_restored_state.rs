@@ -295,3 +295,41 @@ fn a_step_from_a_restored_time_that_overflows_is_refused() {
         assert_eq!(plant.step(t, 0.1), fmi3Error, "{t}");
     }
 }
+
+#[test]
+fn model_exchange_set_time_refuses_a_time_that_is_not_finite_or_before_the_start() {
+    let sink = Box::<Sink>::default();
+    let token = CString::new(fmi3_export::instantiation_token::<fmu::LanderPlant>()).unwrap();
+    // SAFETY: valid strings; the sink outlives the instance.
+    let c = unsafe {
+        fmu::fmi3InstantiateModelExchange(
+            c"plant".as_ptr(),
+            token.as_ptr(),
+            ptr::null(),
+            false,
+            false,
+            &*sink as *const Sink as *mut c_void,
+            Some(record),
+        )
+    };
+    assert!(!c.is_null());
+    let plant = Plant { c, sink };
+    // SAFETY: a live instance.
+    unsafe {
+        assert_eq!(
+            fmu::fmi3EnterInitializationMode(c, false, 0.0, 10.0, false, 0.0),
+            fmi3OK
+        );
+        assert_eq!(fmu::fmi3ExitInitializationMode(c), fmi3OK);
+        assert_eq!(fmu::fmi3EnterContinuousTimeMode(c), fmi3OK);
+        for t in [f64::NAN, f64::NEG_INFINITY, 9.0, -1e300] {
+            assert_eq!(fmu::fmi3SetTime(c, t), fmi3Error, "{t}");
+        }
+        assert!(
+            plant.last_message().contains("before the start time 10"),
+            "{}",
+            plant.last_message()
+        );
+        assert_eq!(fmu::fmi3SetTime(c, 10.5), fmi3OK);
+    }
+}
