@@ -21,6 +21,7 @@ mod declaration;
 mod enumeration;
 mod model;
 pub mod registry;
+pub mod restored;
 pub mod snapshot;
 
 pub use check::check_declarations;

@@ -1,8 +1,11 @@
 //! The generic bodies of the `fmi3*` functions; [`export_fmi3!`](crate::export_fmi3)
 //! generates the `#[no_mangle]` symbols, each a one-line call into here or into [`crate::me`].
 //!
-//! Every function that takes an instance goes through [`call`]: NULL or foreign instance ->
-//! `fmi3Error` (no logger to tell); call trace (`logCalls`); the state table
+//! Every function that takes an instance goes through [`call`]: NULL, freed or foreign
+//! instance -> `fmi3Error` (no logger to tell; the address is looked up in a registry of live
+//! instances before anything is read through it); a call while another call on the same
+//! instance has not returned (from inside its logMessage callback, or from a second thread)
+//! -> `fmi3Error` and one log line; call trace (`logCalls`); the state table
 //! ([`Function::admit`], which also refuses the other interface's functions and the
 //! features we lack); the body under `catch_unwind` (a panic becomes `fmi3Fatal` and state
 //! Fatal); a refusal is logged as one line "fmi3Xxx: reason". Refused arguments leave the
@@ -20,6 +23,7 @@ use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Type};
 pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
+use fmi_model::registry::{self, Entered, Registry};
 use fmi_model::{snapshot, Declaration, Kind, Limit, Log, Model, StepEnd};
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
@@ -37,17 +41,45 @@ fn time_tolerance(reference: f64) -> f64 {
 // Plumbing
 // ---------------------------------------------------------------------------------------
 
-unsafe fn instance_mut<'a, M: Model>(c: fmi3Instance) -> Option<&'a mut Instance<M>> {
-    if c.is_null() {
-        return None;
-    }
-    // SAFETY: the master hands back what an instantiate returned (a Box<Instance<M>>, whose
-    // first field is the Tag: repr(C)); the tag check refuses anything else we can detect.
+/// Every live instance of this FMU, with a copy of its logger to report a refused nested
+/// call without reading the busy instance.
+static LIVE: Registry<Logger> = Registry::new();
+
+/// The instance behind `c`, marked busy until the returned guard drops. `None` (the call
+/// returns `fmi3Error`) when `c` is no live instance of `M` (NULL, freed, foreign: nothing
+/// is read through it), or when another call on it has not returned (a call from inside its
+/// logMessage callback, or from a second thread: refused with a log line, see
+/// [`fmi_model::registry`]).
+unsafe fn enter<'a, M: Model>(
+    c: fmi3Instance,
+    function: Function,
+) -> Option<(Entered<'static, Logger>, &'a mut Instance<M>)> {
+    let entered = match LIVE.enter(c as usize) {
+        Ok(entered) => entered,
+        Err(registry::Refusal::Unknown) => return None,
+        Err(registry::Refusal::Busy(report)) => {
+            if let Some(logger) = report {
+                logger.status(
+                    fmi3Error,
+                    &format!(
+                        "{}: refused: another call on this instance has not returned yet \
+                         (a call from inside its logMessage callback, or from a second thread)",
+                        function.name()
+                    ),
+                );
+            }
+            return None;
+        }
+    };
+    // SAFETY: a registered address is a live Box<Instance<_>> from an instantiate function,
+    // whose first field is the Tag (repr(C)); the tag check guards against an instance of
+    // another model linked into the same process.
     let tag = unsafe { ptr::read(c as *const Tag) };
     if tag != Tag::of::<M>() {
         return None;
     }
-    Some(unsafe { &mut *(c as *mut Instance<M>) })
+    // SAFETY: live, of type M, and no other call holds it (the registry says idle).
+    Some((entered, unsafe { &mut *(c as *mut Instance<M>) }))
 }
 
 /// Runs one FMI call on an instance; see the module documentation.
@@ -57,7 +89,7 @@ pub(crate) unsafe fn call<M: Model>(
     trace: impl FnOnce() -> String,
     body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
 ) -> fmi3Status {
-    let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
+    let Some((_entered, inst)) = (unsafe { enter::<M>(c, function) }) else {
         return fmi3Error;
     };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
@@ -168,7 +200,10 @@ pub(crate) unsafe fn instantiate<M: Model>(
             logger.status(fmi3Error, &format!("{function}: {reason}"));
             return ptr::null_mut();
         }
-        Box::into_raw(Box::new(Instance::<M>::new(logger, interface))) as fmi3Instance
+        let report = logger.clone();
+        let c = Box::into_raw(Box::new(Instance::<M>::new(logger, interface))) as fmi3Instance;
+        LIVE.insert(c as usize, report);
+        c
     }));
     outcome.unwrap_or_else(|payload| {
         let logger = Logger::new(log_message, environment, false);
@@ -265,7 +300,7 @@ pub unsafe fn instantiate_scheduled_execution<M: Model>(
 /// # Safety
 /// See the module documentation.
 pub unsafe fn free_instance<M: Model>(c: fmi3Instance) {
-    let Some(inst) = (unsafe { instance_mut::<M>(c) }) else {
+    let Some((entered, inst)) = (unsafe { enter::<M>(c, Function::FreeInstance) }) else {
         return;
     };
     let _ = catch_unwind(AssertUnwindSafe(|| {
@@ -273,7 +308,12 @@ pub unsafe fn free_instance<M: Model>(c: fmi3Instance) {
             inst.logger
                 .log(fmi3OK, Category::Calls, "fmi3FreeInstance()");
         }
-        inst.tag = Tag::cleared();
+    }));
+    // Unregistered before the memory goes: a second free, or any later call, is refused
+    // by address without reading it.
+    inst.tag = Tag::cleared();
+    entered.remove();
+    let _ = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: `c` came from Box::into_raw in instantiate; `inst` is not used again.
         let mut boxed = unsafe { Box::from_raw(c as *mut Instance<M>) };
         for address in boxed.fmu_states.drain() {
@@ -1119,7 +1159,9 @@ pub unsafe fn set_fmu_state<M: Model>(c: fmi3Instance, state: fmi3FMUState) -> f
             f,
             || format!("{}(FMUState={state:p})", f.name()),
             |inst| {
-                inst.core = owned_state(inst, state)?.clone();
+                let core = owned_state(inst, state)?;
+                crate::restore::validate(core)?;
+                inst.core = core.clone();
                 inst.dirty = true;
                 Ok(Success::Ok)
             },
@@ -1223,6 +1265,7 @@ pub unsafe fn deserialize_fmu_state<M: Model>(
                 let bytes = slice(serialized, size, "serializedState")?;
                 let slot = out(state, "FMUState")?;
                 let core = snapshot::decode::<Core<M>>(bytes, snapshot_header::<M>(inst))?;
+                crate::restore::validate(&core)?;
                 store_state(inst, slot, core)
             },
         )
@@ -1281,13 +1324,20 @@ fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, Cal
         )));
     }
     let time = inst.core.time;
-    if !t.is_finite() || (t - time).abs() > time_tolerance(time) {
+    // Written so that a NaN anywhere refuses: a corrupt own time must not let any point in.
+    if !(t.is_finite() && time.is_finite() && (t - time).abs() <= time_tolerance(time)) {
         return Err(CallError::InvalidArgument(format!(
             "currentCommunicationPoint {t} does not match the FMU's time {time} \
              (relative tolerance {TIME_TOLERANCE:e})"
         )));
     }
     let end = t + h;
+    if !(end.is_finite() && end > t) {
+        return Err(CallError::InvalidArgument(format!(
+            "currentCommunicationPoint {t} + communicationStepSize {h} = {end}: the step \
+             does not advance a finite time"
+        )));
+    }
     if let Some(stop) = inst.core.stop_time {
         if end > stop + time_tolerance(stop) {
             return Err(CallError::InvalidArgument(format!(

@@ -13,6 +13,7 @@ mod export;
 mod instance;
 pub mod logging;
 pub mod me;
+mod restore;
 pub mod state;
 pub mod variables;
 

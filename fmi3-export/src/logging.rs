@@ -90,7 +90,7 @@ impl Category {
 }
 
 /// The copied callback and environment, plus which debug categories are on.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Logger {
     callback: fmi3LogMessageCallback,
     environment: fmi3InstanceEnvironment,

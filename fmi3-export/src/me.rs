@@ -145,6 +145,14 @@ pub unsafe fn set_time<M: ContinuousModel>(c: fmi3Instance, time: fmi3Float64) -
                         "time {time} is not finite"
                     )));
                 }
+                // Against the start time, which a restored state guarantees finite: the
+                // instance's own time may be what is corrupt.
+                let start = inst.core.start_time;
+                if time < start - crate::abi::TIME_TOLERANCE * start.abs().max(1.0) {
+                    return Err(CallError::InvalidArgument(format!(
+                        "time {time} is before the start time {start}"
+                    )));
+                }
                 inst.core.time = time;
                 inst.core.model.set_time(time);
                 inst.dirty = true;

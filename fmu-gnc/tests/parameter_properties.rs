@@ -1,7 +1,8 @@
 //! Parameters are validated as far as the outputs: any parameter set that passes validation
 //! yields finite derived quantities and, for every admissible input, finite outputs.
+use fmu_gnc::actuation::PwpfBank;
 use fmu_gnc::attitude::profile::PhiProfile;
-use fmu_gnc::controller::{gnc_sample, NavigationInputs};
+use fmu_gnc::controller::{actuate, gnc_sample, NavigationInputs};
 use fmu_gnc::guidance::sequencer::GuidanceState;
 use fmu_gnc::params::GncParameters;
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -107,6 +108,47 @@ fn parameters() -> impl Strategy<Value = GncParameters> {
     (a, b).prop_map(assemble)
 }
 
+/// The thruster model with its chain drawn too: the default layout with each thruster's
+/// position scaled by any magnitude, force, modulator settings and duty period of any
+/// magnitude (sane or extreme). Directions stay unit vectors (validation requires them).
+fn thruster_parameters() -> impl Strategy<Value = GncParameters> {
+    let d = GncParameters::default();
+    (
+        // Mostly the default rest, so that the chain's own extremes are what validation sees.
+        prop_oneof![3 => Just(d), 1 => parameters()],
+        prop::array::uniform8(or_default(1.0)),
+        (
+            or_default(d.rcs_thruster_force_n),
+            any::<bool>(),
+            or_default(d.pwpf_gain),
+            or_default(d.pwpf_time_constant_s),
+        ),
+        (
+            or_default(d.pwpf_on_threshold),
+            or_default(d.pwpf_off_threshold),
+            or_default(d.rcs_duty_period_s),
+        ),
+    )
+        .prop_map(move |(base, scale, a, b)| {
+            let mut position = d.rcs_position_body_m;
+            for (k, p) in position.iter_mut().enumerate() {
+                *p *= scale[k / 3];
+            }
+            GncParameters {
+                rcs_model: fmu_gnc::actuation::RcsModel::Thrusters as i32,
+                rcs_position_body_m: position,
+                rcs_thruster_force_n: a.0,
+                rcs_tilt_first: a.1,
+                pwpf_gain: a.2,
+                pwpf_time_constant_s: a.3,
+                pwpf_on_threshold: b.0,
+                pwpf_off_threshold: b.1,
+                rcs_duty_period_s: b.2,
+                ..base
+            }
+        })
+}
+
 type Head = (
     i32,
     f64,
@@ -207,9 +249,17 @@ fn check_finite(
     let t = t_fraction * end_s.min(1e9);
     let mut guidance = GuidanceState::initial(params.gravity_mps2);
     let mut profile = PhiProfile::default();
+    let mut bank = PwpfBank::default();
     for t in [0.0, t, t + 0.01, t + params.guidance_cycle_s] {
         let mut s = gnc_sample(&design, 0.0, &guidance, &profile, &nav, t);
         (guidance, profile) = (s.advance.guidance, s.advance.profile);
+        // The thruster chain (a no-op in the torque model): duties within [0, 1].
+        bank = actuate(&design, &mut s.outputs, &bank);
+        prop_assert!(
+            s.outputs.rcs_duty.iter().all(|d| (0.0..=1.0).contains(d)),
+            "{params:?} {nav:?} t {t}: duties {:?}",
+            s.outputs.rcs_duty
+        );
         prop_assert!(
             !s.outputs.zero_non_finite(),
             "{params:?} {nav:?} t {t}: {:?}",
@@ -248,5 +298,39 @@ proptest! {
     ) {
         prop_assume!(q.iter().map(|c| c * c).sum::<f64>() > 1e-6);
         check_finite(params, r, v, q, w, mass, t_fraction)?;
+    }
+}
+
+/// The thruster model, its chain drawn too. Run on a thread with a large stack: the value
+/// tree of a parameter set this large overflows a test thread's default stack in debug builds.
+#[test]
+fn valid_thruster_chains_give_finite_duties_and_outputs() {
+    use proptest::test_runner::{Config, TestRunner};
+    let run = || {
+        let mut runner = TestRunner::new(Config::with_cases(3000));
+        let inputs = (
+            thruster_parameters(),
+            prop::array::uniform3(-1e6..1e6f64),
+            prop::array::uniform3(-1e4..1e4f64),
+            prop::array::uniform4(-1.0..1.0f64),
+            prop::array::uniform3(-1e3..1e3f64),
+            1.0..1e5f64,
+            0.0..1.0f64,
+        );
+        runner
+            .run(&inputs, |(params, r, v, q, w, mass, t_fraction)| {
+                prop_assume!(q.iter().map(|c| c * c).sum::<f64>() > 1e-6);
+                check_finite(params, r, v, q, w, mass, t_fraction)
+            })
+            .map_err(|e| e.to_string())
+    };
+    let outcome = std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(run)
+        .unwrap()
+        .join()
+        .unwrap();
+    if let Err(e) = outcome {
+        panic!("{e}");
     }
 }

@@ -145,6 +145,11 @@ const RESTORED_QUATERNION_NORM_TOLERANCE: f64 = 1e-9;
 
 /// A run the plant could have reached: finite, propellant between dry mass and `m0_kg`, a
 /// unit attitude, a thrust lag within what the engines deliver, consistent event flags.
+/// Whether |omega|^2 x the largest inertia, a bound of |omega x (I omega)|, is finite.
+fn gyroscopic_torque_representable(omega_body: &nalgebra::Vector3<f64>, plant: &Plant) -> bool {
+    (omega_body.norm_squared() * plant.inertia_body_kgm2.max()).is_finite()
+}
+
 fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError> {
     let x = &run.state;
     if !x.is_finite() {
@@ -158,6 +163,14 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
                 "outside [dry_mass, m0] = [{}, {m0_kg}] kg",
                 plant.dry_mass_kg
             ),
+        ));
+    }
+    // As for omega0_body at initialization: omega x (I omega) must stay representable.
+    if !gyroscopic_torque_representable(&x.omega_body, plant) {
+        return Err(restored(
+            "omega_body",
+            format!("{:?}", x.omega_body.as_slice()),
+            "|omega_body|^2 x largest inertia (gyroscopic torque) overflows",
         ));
     }
     let norm = x.q_body_to_nue.norm();
@@ -298,6 +311,15 @@ impl Model for LanderPlant {
             *run = before;
             return Err(ModelError::Other(format!(
                 "the state became non-finite in the step from t = {t} s"
+            )));
+        }
+        // A body rate can grow within a step until omega x (I omega) overflows (found by the
+        // fuzzer from a restored rate of 1e85 rad/s): the outputs' derivatives would be NaN.
+        if !gyroscopic_torque_representable(&run.state.omega_body, plant) {
+            *run = before;
+            return Err(ModelError::Other(format!(
+                "the body rate became so large in the step from t = {t} s that its gyroscopic \
+                 torque overflows"
             )));
         }
         if run.propellant_exhausted && !before.propellant_exhausted {

@@ -180,3 +180,124 @@ proptest! {
         }
     }
 }
+
+/// A restored body rate far beyond anything physical (found by the fuzzer: 2.3e77 rad/s)
+/// grows RK4's quaternion past where its squared norm overflows: the step and the outputs
+/// stay finite (the quaternion is normalised without squaring it first). A rate whose
+/// gyroscopic torque omega x (I omega) overflows (found by the fuzzer too) is refused.
+#[test]
+fn a_restored_body_rate_whose_rotation_overflows_gives_finite_outputs_or_is_refused() {
+    for (by, accepted) in [
+        (2.3e77, true),
+        (1e150, true),
+        (-1e300, false),
+        (f64::MAX, false),
+    ] {
+        let plant = Plant::new();
+        plant.set("omega0_body[3]", 0.0123);
+        plant.init();
+        // The parameter and the state hold the rate: both crafted, so they agree.
+        let crafted = bytes_with_all(&genuine(&plant), 0.0123, by);
+        let (status, state) = deserialize(&plant, &crafted);
+        if !accepted {
+            assert_eq!(status, fmi2Error, "{by}");
+            let message = plant.last_message();
+            assert!(
+                message.contains("omega") && message.contains("overflows"),
+                "{message}"
+            );
+            continue;
+        }
+        assert_eq!(status, fmi2OK, "{by}: {:?}", plant.messages());
+        plant.set_state(state);
+        plant.free_state(state);
+        let stepped = plant.step(0.0, 0.01);
+        for name in [
+            "q_body_to_nue[1]",
+            "q_body_to_nue[4]",
+            "omega_body[3]",
+            "r_nue[2]",
+        ] {
+            let value = plant.get(name);
+            assert!(
+                value.is_finite(),
+                "{by}: {name} = {value} after a step ({stepped:?})"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_restored_enumeration_value_that_is_no_item_is_refused_by_name() {
+    // GIVEN genuine states before initialization (where the plant itself does not yet
+    // validate its parameters) with translation_model flat (1) and spherical (2)
+    let plant = Plant::new();
+    let flat = genuine(&plant);
+    plant.set_integer("translation_model", 2);
+    let spherical = genuine(&plant);
+    let at: Vec<usize> = (HEADER_LEN..flat.len())
+        .filter(|&i| flat[i] != spherical[i])
+        .collect();
+    assert_eq!(at.len(), 1, "{at:?}");
+    // WHEN the value of a resealed buffer is 7 (postcard: zigzag varint, 14)
+    let mut crafted = flat.clone();
+    crafted[at[0]] = 14;
+    let (status, state) = deserialize(&plant, &resealed(crafted));
+    // THEN it is refused, naming the variable and the items
+    assert_eq!(status, fmi2Error);
+    assert!(state.is_null());
+    assert!(
+        plant
+            .last_message()
+            .contains("FMU state refused: translation_model = 7: not an item of"),
+        "{}",
+        plant.last_message()
+    );
+}
+
+/// Found by the fuzzer (restored_state, -s none): payload edits of a genuine state at t = 0
+/// that restore a fast body rate, from which one step grew the rate until omega x (I omega)
+/// overflowed and the derivatives read NaN. Such a step is now refused (the state as before
+/// it); whatever is accepted reads finite.
+#[test]
+fn a_step_that_grows_the_body_rate_past_a_representable_gyroscopic_torque_is_refused() {
+    use fmi2_export::variable::Access;
+    use fmi_model::snapshot::reseal;
+    const INPUT: [u8; 76] = [
+        0xe3, 0x2a, 0x3f, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
+        0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
+        0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
+        0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
+        0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0x52, 0x9e, 0x68,
+        0x3f,
+    ];
+    let plant = Plant::new();
+    plant.init();
+    let bytes = genuine(&plant);
+    let mut payload = bytes[HEADER_LEN..].to_vec();
+    // As the fuzz body reads it: (offset lo, offset hi, byte) triples after a mode byte.
+    for edit in INPUT[1..].chunks_exact(3) {
+        let at = usize::from(u16::from_le_bytes([edit[0], edit[1]])) % payload.len();
+        payload[at] = edit[2];
+    }
+    let (status, state) = deserialize(&plant, &reseal(&bytes, &payload));
+    assert!(status == fmi2OK || status == fmi2Error);
+    if status != fmi2OK {
+        return;
+    }
+    plant.set_state(state);
+    plant.free_state(state);
+    let reals: Vec<u32> = fmi2_export::variables::<fmu_plant::LanderPlant>()
+        .iter()
+        .filter(|v| matches!(v.access, Access::Real { .. }))
+        .map(|v| v.value_reference)
+        .collect();
+    let t = plant.last_successful_time();
+    let stepped = plant.step(t, 0.01);
+    let values = plant.get_many(&reals);
+    assert!(
+        values.iter().all(|v| v.is_finite()),
+        "step {stepped:?}: {values:?} {:?}",
+        plant.messages()
+    );
+}

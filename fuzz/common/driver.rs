@@ -3,37 +3,51 @@
 //!
 //! A crash is a panic here: a status the standard does not allow for the call, `fmi2Fatal`
 //! (no input may break an instance), or a non-finite value from a get that reported success.
+//!
+//! What does not depend on the input is made once per process (each binary fuzzs one model):
+//! the table of value references, the GUID, and for `restored_state` an initialized
+//! instance with a genuine state, put back after every input. Building them per input
+//! (two GUID hashes over the whole variable table, an instantiation, an initialization)
+//! was most of the time an execution took.
 #![allow(dead_code)]
 
 use fmi2_export::variable::{Access, Variable};
-use fmi_model::snapshot::HEADER_LEN;
+use fmi_model::snapshot::{reseal, HEADER_LEN};
 use fmi_model::Model;
 use fmi_testkit::fmi2::*;
 use fmi_testkit::{Fmi2Functions, Instance};
+use std::cell::OnceCell;
+use std::sync::OnceLock;
 
 /// Value references of the variables a call sequence uses, by type.
 struct Table {
     reals: Vec<u32>,
     integers: Vec<u32>,
     booleans: Vec<u32>,
+    guid: String,
 }
 
-fn table<M: Model>() -> Table {
-    let all: Vec<Variable<M>> = fmi2_export::variables::<M>();
-    let of = |keep: fn(&Access<M>) -> bool| {
-        let mut vrs: Vec<u32> = all
-            .iter()
-            .filter(|v| keep(&v.access))
-            .map(|v| v.value_reference)
-            .collect();
-        vrs.dedup();
-        vrs
-    };
-    Table {
-        reals: of(|a| matches!(a, Access::Real { .. })),
-        integers: of(|a| matches!(a, Access::Integer { .. } | Access::Enumeration { .. })),
-        booleans: of(|a| matches!(a, Access::Boolean { .. })),
-    }
+fn table<M: Model>() -> &'static Table {
+    // One model per fuzz binary, so one table.
+    static TABLE: OnceLock<Table> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        let all: Vec<Variable<M>> = fmi2_export::variables::<M>();
+        let of = |keep: fn(&Access<M>) -> bool| {
+            let mut vrs: Vec<u32> = all
+                .iter()
+                .filter(|v| keep(&v.access))
+                .map(|v| v.value_reference)
+                .collect();
+            vrs.dedup();
+            vrs
+        };
+        Table {
+            reals: of(|a| matches!(a, Access::Real { .. })),
+            integers: of(|a| matches!(a, Access::Integer { .. } | Access::Enumeration { .. })),
+            booleans: of(|a| matches!(a, Access::Boolean { .. })),
+            guid: fmi2_export::guid::<M>(),
+        }
+    })
 }
 
 fn no_fatal(inst: &Instance, status: fmi2Status, call: &str) {
@@ -65,45 +79,65 @@ fn current_time(inst: &Instance) -> Option<f64> {
     (status == fmi2OK).then_some(t)
 }
 
+/// The instance `restored_state` works on, initialized, and its genuine state.
+struct Restoring {
+    inst: Instance,
+    genuine: fmi2FMUstate,
+    serialized: Vec<u8>,
+}
+
 /// (a) A payload sealed with a valid header and checksum, then fmi2DeSerializeFMUstate, and
 /// if accepted: set, gets and a step. An odd first byte edits a genuine payload (the rest
 /// read as (offset lo, offset hi, byte) triples), so that most inputs decode and reach the
-/// validation; otherwise the rest is the payload itself.
+/// validation; otherwise the rest is the payload itself. Afterwards the genuine state is
+/// set again, so every input starts from the same instance.
 pub fn restored_state<M: Model>(functions: &Fmi2Functions, data: &[u8]) {
-    let reals = table::<M>().reals;
-    let inst = Instance::instantiate(functions, "fuzz", &fmi2_export::guid::<M>());
-    assert_eq!(inst.initialize(), fmi2OK, "{:?}", inst.messages());
-    let genuine = inst.get_state();
-    let header = inst.serialize(genuine);
-    inst.free_state(genuine);
-    let payload = match data.split_first() {
-        Some((mode, edits)) if mode % 2 == 1 => {
-            let mut payload = header[HEADER_LEN..].to_vec();
-            for edit in edits.chunks_exact(3) {
-                let at = usize::from(u16::from_le_bytes([edit[0], edit[1]])) % payload.len();
-                payload[at] = edit[2];
+    thread_local! {
+        static RESTORING: OnceCell<Restoring> = const { OnceCell::new() };
+    }
+    let reals = &table::<M>().reals;
+    RESTORING.with(|cell| {
+        let Restoring {
+            inst,
+            genuine,
+            serialized,
+        } = cell.get_or_init(|| {
+            let inst = Instance::instantiate(functions, "fuzz", &table::<M>().guid);
+            assert_eq!(inst.initialize(), fmi2OK, "{:?}", inst.messages());
+            let genuine = inst.get_state();
+            let serialized = inst.serialize(genuine);
+            Restoring {
+                inst,
+                genuine,
+                serialized,
             }
-            payload
+        });
+        let payload = match data.split_first() {
+            Some((mode, edits)) if mode % 2 == 1 => {
+                let mut payload = serialized[HEADER_LEN..].to_vec();
+                for edit in edits.chunks_exact(3) {
+                    let at = usize::from(u16::from_le_bytes([edit[0], edit[1]])) % payload.len();
+                    payload[at] = edit[2];
+                }
+                payload
+            }
+            Some((_, raw)) => raw.to_vec(),
+            None => Vec::new(),
+        };
+        let (status, state) = inst.deserialize(&reseal(serialized, &payload));
+        assert!(status == fmi2OK || status == fmi2Error, "{status:?}");
+        if status == fmi2OK {
+            no_fatal(inst, inst.set_state(state), "fmi2SetFMUstate");
+            check_outputs(inst, reals);
+            if let Some(t) = current_time(inst) {
+                no_fatal(inst, inst.do_step(t, 0.01), "fmi2DoStep");
+                check_outputs(inst, reals);
+            }
+            no_fatal(inst, inst.free_state(state), "fmi2FreeFMUstate");
         }
-        Some((_, raw)) => raw.to_vec(),
-        None => Vec::new(),
-    };
-    let mut bytes = header[..HEADER_LEN - 12].to_vec();
-    bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-    bytes.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
-    bytes.extend_from_slice(&payload);
-    let (status, state) = inst.deserialize(&bytes);
-    assert!(status == fmi2OK || status == fmi2Error, "{status:?}");
-    if status != fmi2OK {
-        return;
-    }
-    no_fatal(&inst, inst.set_state(state), "fmi2SetFMUstate");
-    check_outputs(&inst, &reals);
-    if let Some(t) = current_time(&inst) {
-        no_fatal(&inst, inst.do_step(t, 0.01), "fmi2DoStep");
-        check_outputs(&inst, &reals);
-    }
-    no_fatal(&inst, inst.free_state(state), "fmi2FreeFMUstate");
+        assert_eq!(inst.set_state(*genuine), fmi2OK, "{:?}", inst.messages());
+        inst.clear_log();
+    });
 }
 
 /// Reads the fuzzer's bytes as a sequence of choices.
@@ -140,11 +174,28 @@ impl Bytes<'_> {
 
 /// (b) A random sequence of calls over the C ABI of one instance.
 pub fn call_sequence<M: Model>(functions: &Fmi2Functions, data: &[u8]) {
+    thread_local! {
+        static INSTANCE: OnceCell<Instance> = const { OnceCell::new() };
+    }
+    INSTANCE.with(|cell| {
+        let inst = cell.get_or_init(|| {
+            Instance::new(functions, "fuzz", &table::<M>().guid, false)
+                .unwrap_or_else(|log| panic!("fmi2Instantiate refused a valid instance: {log:?}"))
+        });
+        // fmi2Reset puts the instance back as instantiated (the standard's own promise,
+        // checked bit for bit by the robustness tests), for a fraction of a new one.
+        assert_eq!(inst.reset(), fmi2OK, "{:?}", inst.messages());
+        let on = fmi2Boolean::from(data.first() == Some(&1));
+        // SAFETY: no categories.
+        let s = unsafe { (inst.functions().set_debug_logging)(inst.component(), on, 0, std::ptr::null()) };
+        assert_eq!(s, fmi2OK);
+        sequence::<M>(inst, data);
+        inst.clear_log();
+    });
+}
+
+fn sequence<M: Model>(inst: &Instance, data: &[u8]) {
     let table = table::<M>();
-    let Ok(inst) = Instance::new(functions, "fuzz", &fmi2_export::guid::<M>(), data.first() == Some(&1))
-    else {
-        panic!("fmi2Instantiate refused a valid instance")
-    };
     let mut input = Bytes(data.get(1..).unwrap_or_default());
     let mut states: Vec<fmi2FMUstate> = Vec::new();
     let c = inst.component();
@@ -160,7 +211,7 @@ pub fn call_sequence<M: Model>(functions: &Fmi2Functions, data: &[u8]) {
             3 => {
                 let t = match input.byte() {
                     Some(b) if b % 4 == 0 => input.real().unwrap_or(0.0),
-                    _ => current_time(&inst).unwrap_or(0.0),
+                    _ => current_time(inst).unwrap_or(0.0),
                 };
                 inst.do_step(t, input.real().unwrap_or(0.01))
             }
@@ -169,7 +220,7 @@ pub fn call_sequence<M: Model>(functions: &Fmi2Functions, data: &[u8]) {
                 inst.set_reals(&[vr], &[input.real().unwrap_or(0.0)])
             }
             5 => {
-                check_outputs(&inst, &table.reals);
+                check_outputs(inst, &table.reals);
                 fmi2OK
             }
             6 => {
@@ -224,9 +275,9 @@ pub fn call_sequence<M: Model>(functions: &Fmi2Functions, data: &[u8]) {
                 unsafe { (f.get_status)(c, fmi2DoStepStatus, &mut status) }
             }
         };
-        no_fatal(&inst, status, &format!("operation {}", op % 16));
+        no_fatal(inst, status, &format!("operation {}", op % 16));
         if status == fmi2OK {
-            check_outputs(&inst, &table.reals);
+            check_outputs(inst, &table.reals);
         }
     }
     for state in states {

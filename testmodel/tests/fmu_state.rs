@@ -232,3 +232,45 @@ fn foreign_and_freed_state_pointers_are_refused() {
         "fmi2SetFMUstate: argument FMUstate is NULL"
     );
 }
+
+/// The payload position of the only byte that differs between two genuine states.
+fn differing_byte(a: &[u8], b: &[u8]) -> usize {
+    use fmi_model::snapshot::HEADER_LEN;
+    assert_eq!(a.len(), b.len());
+    let at: Vec<usize> = (HEADER_LEN..a.len()).filter(|&i| a[i] != b[i]).collect();
+    assert_eq!(at.len(), 1, "{at:?}");
+    at[0]
+}
+
+#[test]
+fn a_restored_integer_outside_its_declared_bounds_is_refused_by_name() {
+    use fmi_model::snapshot::{reseal, HEADER_LEN};
+    // GIVEN genuine states before initialization with substeps = 8 (the default) and 9
+    let fmu = Fmu::new(false);
+    let serialized = |fmu: &Fmu| {
+        let state = fmu.get_state();
+        let bytes = fmu.serialize(state);
+        fmu.free_state(state);
+        bytes
+    };
+    let eight = serialized(&fmu);
+    assert_eq!(fmu.set_integer(vr::SUBSTEPS, 9), fmi2OK);
+    let nine = serialized(&fmu);
+    // WHEN the substeps of a resealed buffer is 2000 (declared max 1000; the model itself
+    // only refuses values below 1); postcard: zigzag varint, 2000 -> A0 1F
+    let at = differing_byte(&eight, &nine);
+    let mut payload = eight[HEADER_LEN..at].to_vec();
+    payload.extend_from_slice(&[0xA0, 0x1F]);
+    payload.extend_from_slice(&eight[at + 1..]);
+    let crafted = reseal(&eight, &payload);
+    // THEN it is refused, naming the variable
+    refused_with(
+        &fmu,
+        &crafted,
+        "fmi2DeSerializeFMUstate: FMU state refused: substeps = 2000: outside [1, 1000]",
+    );
+    // AND the genuine buffer is accepted
+    let (status, state) = fmu.deserialize(&eight);
+    assert_eq!(status, fmi2OK);
+    fmu.free_state(state);
+}

@@ -269,3 +269,56 @@ fn calls_on_a_freed_instance_are_refused_and_a_new_instance_is_unaffected() {
     assert_eq!(initialize(fresh), fmi2OK);
     unsafe { (FMU.free_instance)(fresh) };
 }
+
+/// Calls of the stepFinished callback (there must be none).
+static STEP_FINISHED_CALLS: AtomicUsize = AtomicUsize::new(0);
+
+/// Records the call and re-enters, as a hostile master would; must never run.
+extern "C" fn step_finished(environment: fmi2ComponentEnvironment, _status: fmi2Status) {
+    STEP_FINISHED_CALLS.fetch_add(1, Ordering::SeqCst);
+    // SAFETY: the environment is the test's Hostile.
+    let hostile = unsafe { &*(environment as *const Hostile) };
+    unsafe { (FMU.reset)(hostile.component.load(Ordering::SeqCst)) };
+}
+
+#[test]
+fn the_step_finished_callback_is_never_called() {
+    // GIVEN a master that passes a stepFinished callback which would re-enter (the FMU
+    // declares canRunAsynchronuously = false: fmi2DoStep always completes before returning)
+    let hostile = Hostile::new();
+    let mut callbacks = fmi_abi::callbacks::LogSink::callbacks(&*hostile);
+    callbacks.stepFinished = Some(step_finished);
+    let name = CString::new("hostile").unwrap();
+    let guid = CString::new(fmi2_export::guid::<fmu_testmodel::Oscillator>()).unwrap();
+    // SAFETY: valid strings and callbacks that outlive the instance.
+    let c = unsafe {
+        (FMU.instantiate)(
+            name.as_ptr(),
+            fmi2CoSimulation,
+            guid.as_ptr(),
+            ptr::null(),
+            &callbacks,
+            fmi2False,
+            fmi2True,
+        )
+    };
+    assert!(!c.is_null());
+    hostile.component.store(c, Ordering::SeqCst);
+    // WHEN steps complete, one is refused, one warns, and one asks for no synchronisation
+    assert_eq!(initialize(c), fmi2OK);
+    for k in 0..5 {
+        let t = f64::from(k) * 0.01;
+        assert_eq!(unsafe { (FMU.do_step)(c, t, 0.01, fmi2True) }, fmi2OK);
+    }
+    assert_eq!(unsafe { (FMU.do_step)(c, 1.0, 0.01, fmi2True) }, fmi2Error);
+    assert_eq!(coarse_step_from(c, 0.05), fmi2Warning);
+    let mut status = fmi2OK;
+    unsafe { (FMU.get_status)(c, fmi2DoStepStatus, &mut status) };
+    // THEN the callback never ran
+    assert_eq!(STEP_FINISHED_CALLS.load(Ordering::SeqCst), 0);
+    unsafe { (FMU.free_instance)(c) };
+}
+
+fn coarse_step_from(c: fmi2Component, t: f64) -> fmi2Status {
+    unsafe { (FMU.do_step)(c, t, 100.0, fmi2False) }
+}

@@ -47,8 +47,16 @@ impl GroupError {
 /// A value with its error added, then rounded to the quantum. A zero error leaves the value
 /// untouched (`-0.0 + 0.0` would be `+0.0`), so with every error off the output is the
 /// input bit for bit.
+///
+/// Near the largest f64 a finite value plus a finite error can overflow; the estimate then
+/// saturates at the largest finite value of its sign (an overflowing sensor reads full
+/// scale), so an output is never infinite.
 pub fn corrupt(value: f64, error: f64, quantum: f64) -> f64 {
-    let erroneous = if error != 0.0 { value + error } else { value };
+    let erroneous = if error != 0.0 {
+        (value + error).clamp(-f64::MAX, f64::MAX)
+    } else {
+        value
+    };
     if quantum > 0.0 {
         quantise(erroneous, quantum)
     } else {
@@ -58,13 +66,19 @@ pub fn corrupt(value: f64, error: f64, quantum: f64) -> f64 {
 
 /// The multiple of `quantum` nearest to `value` (halves away from zero). A quantum so fine
 /// that `value / quantum` overflows is below the resolution of `value` itself: the value is
-/// returned as it is rather than as infinity.
+/// returned as it is rather than as infinity. Near the largest f64 the nearest multiple may
+/// not be representable (found by the fuzzer: 1.8e308 in quanta of 8e295); then the next
+/// multiple towards zero, which is.
 pub fn quantise(value: f64, quantum: f64) -> f64 {
     let steps = value / quantum;
-    if steps.is_finite() {
-        steps.round() * quantum
+    if !steps.is_finite() {
+        return value;
+    }
+    let nearest = steps.round() * quantum;
+    if nearest.is_finite() {
+        nearest
     } else {
-        value
+        steps.trunc() * quantum
     }
 }
 
@@ -86,6 +100,17 @@ mod tests {
         assert_eq!(quantise(-0.74, 0.5), -0.5);
         assert_eq!(quantise(1.0, 0.25), 1.0);
         assert_eq!(corrupt(1.0, 0.3, 0.5), 1.5);
+    }
+
+    #[test]
+    fn values_near_the_largest_f64_stay_finite() {
+        // The fuzzer's case: a bias of f64::MAX on a rate, quantised in steps of 8.04e295.
+        let q = corrupt(0.0, f64::MAX, 8.040407952793562e295);
+        assert!(q.is_finite() && q > 1.79e308, "{q}");
+        // A finite value plus a finite error that overflows saturates.
+        assert_eq!(corrupt(1e308, 1e308, 0.0), f64::MAX);
+        assert_eq!(corrupt(-1e308, -1e308, 0.0), -f64::MAX);
+        assert!(corrupt(-1e308, -1e308, 1e300).is_finite());
     }
 
     #[test]

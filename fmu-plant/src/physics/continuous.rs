@@ -238,7 +238,7 @@ pub fn unit_attitude(q: &Quaternion<f64>) -> Quaternion<f64> {
     if (q.norm_squared() - 1.0).abs() <= 4.0 * f64::EPSILON {
         *q
     } else {
-        q.normalize()
+        crate::physics::state::normalised(q)
     }
 }
 

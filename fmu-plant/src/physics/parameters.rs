@@ -394,6 +394,14 @@ impl PlantParameters {
                 ],
             },
             Combined {
+                what: "|omega0_body|^2 x largest inertia (gyroscopic torque)",
+                value: self.omega0_body_radps.norm_squared() * self.inertia_body_kgm2.max(),
+                of: [
+                    (("omega0_body_radps", None), self.omega0_body_radps.amax()),
+                    (("inertia_body_kgm2", None), self.inertia_body_kgm2.max()),
+                ],
+            },
+            Combined {
                 what: "isp x g0 (exhaust velocity)",
                 value: self.isp_s * self.g0_mps2,
                 of: [
@@ -476,6 +484,49 @@ impl PlantParameters {
                     format!("{} = {} overflows", c.what, c.value),
                 ));
             }
+        }
+        // A lag's rate is (target - state) / time constant, with |target - state| up to the
+        // maximum thrust (torque limit): a subnormal time constant overflows it.
+        let lags = [
+            (
+                ("engines.time_constant_s", None),
+                e.time_constant_s,
+                total_max_n,
+                "maximum thrust",
+            ),
+            (
+                ("rcs.time_constant_s", None),
+                self.rcs.time_constant_s,
+                2.0 * self.rcs.torque_limit_nm(),
+                "2 x RCS torque limit",
+            ),
+        ];
+        for (field, tau, span, what) in lags {
+            if tau > 0.0 && !(span / tau).is_finite() {
+                return Err(refuse(
+                    field,
+                    tau,
+                    format!("{what} / time constant (lag rate) = {span} / {tau:e} overflows"),
+                ));
+            }
+        }
+        // The mass flow per newton of thrust, 1 / (isp g0), overflows when the exhaust
+        // velocity is below ~5.6e-309 m/s (a subnormal isp or g0 passes "positive"); the
+        // factor smaller relative to its default is at fault.
+        let exhaust_mps = self.isp_s * self.g0_mps2;
+        if !(1.0 / exhaust_mps).is_finite() {
+            let default = PlantParameters::default();
+            let isp = (("isp_s", None), self.isp_s);
+            let g0 = (("g0_mps2", None), self.g0_mps2);
+            let near = |(field, v): (Field, f64)| (v / default.magnitude_of(field)).abs();
+            let (field, value) = if near(isp) <= near(g0) { isp } else { g0 };
+            return Err(refuse(
+                field,
+                value,
+                format!(
+                    "1 / (isp x g0) (mass flow per newton of thrust) = 1 / {exhaust_mps:e} overflows"
+                ),
+            ));
         }
         require(
             e.off_threshold_n < total_max_n,
@@ -623,6 +674,81 @@ mod tests {
         };
         let (q, warning) = rounded.validated_q0().unwrap();
         assert!((q.norm() - 1.0).abs() < 1e-15 && warning.is_some());
+    }
+
+    #[test]
+    fn an_initial_body_rate_whose_gyroscopic_torque_overflows_is_refused() {
+        // Found by the fuzzer: omega0_body[3] = -2.35e307 rad/s passed "finite", and
+        // omega x (I omega) overflowed to a NaN derivative.
+        for omega in [-2.35e307, 1e154, 1e153] {
+            let p = PlantParameters {
+                omega0_body_radps: Vector3::new(0.0, 0.0, omega),
+                ..Default::default()
+            };
+            let e = p.validate().expect_err("overflowing rate");
+            assert_eq!(e.field, "omega0_body_radps", "{e:?}");
+            assert!(e.reason.contains("gyroscopic torque"), "{e:?}");
+        }
+        // A fast but representable spin passes.
+        let p = PlantParameters {
+            omega0_body_radps: Vector3::new(0.0, 0.0, 1e100),
+            ..Default::default()
+        };
+        assert_eq!(p.validate(), Ok(()));
+    }
+
+    #[test]
+    fn a_time_constant_whose_lag_rate_overflows_is_refused() {
+        // Found by the fuzzer: engine_time_constant = 6e-315 s passed "min 0", and the
+        // thrust lag's rate (1600 N - 0) / 6e-315 s was infinite.
+        let engine = PlantParameters {
+            engines: Engines {
+                time_constant_s: 5.991517526e-315,
+                ..PlantParameters::default().engines
+            },
+            ..Default::default()
+        };
+        let rcs = PlantParameters {
+            rcs: Rcs {
+                time_constant_s: 1e-320,
+                ..PlantParameters::default().rcs
+            },
+            ..Default::default()
+        };
+        for (p, field) in [
+            (engine, "engines.time_constant_s"),
+            (rcs, "rcs.time_constant_s"),
+        ] {
+            let e = p.validate().expect_err(field);
+            assert_eq!(e.field, field, "{e:?}");
+            assert!(e.reason.contains("lag rate"), "{e:?}");
+        }
+    }
+
+    #[test]
+    fn an_exhaust_velocity_whose_reciprocal_overflows_is_refused_naming_the_tiny_factor() {
+        // Found by the fuzzer: isp = 1.6e-318 s passed "positive", and the mass flow of a
+        // zero thrust became 0 x inf = NaN.
+        for (params, field) in [
+            (
+                PlantParameters {
+                    isp_s: 1.59747e-318,
+                    ..Default::default()
+                },
+                "isp_s",
+            ),
+            (
+                PlantParameters {
+                    g0_mps2: 1e-320,
+                    ..Default::default()
+                },
+                "g0_mps2",
+            ),
+        ] {
+            let e = params.validate().expect_err(field);
+            assert_eq!(e.field, field, "{e:?}");
+            assert!(e.reason.contains("overflows"), "{e:?}");
+        }
     }
 
     #[test]
