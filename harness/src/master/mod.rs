@@ -82,7 +82,14 @@ pub enum RunEnd {
 /// Receives the recorded columns at every communication point.
 pub trait Recorder {
     fn record(&mut self, time: f64, values: &[f64]);
+    /// Called once before a run with (at least, in general) the number of rows it will
+    /// record and their width, so a recorder that keeps rows can allocate once.
+    fn reserve(&mut self, _rows: usize, _width: usize) {}
 }
+
+/// The most values [`Trajectory::reserve`] sets aside ahead of a run (256 MiB of f64): a
+/// longer run grows as it goes instead of claiming its whole length at the start.
+const MAX_RESERVED_VALUES: usize = 1 << 25;
 
 /// Keeps every recorded row in memory.
 #[derive(Debug, Default, Clone)]
@@ -98,6 +105,12 @@ impl Recorder for Trajectory {
     fn record(&mut self, time: f64, values: &[f64]) {
         self.times.push(time);
         self.values.extend_from_slice(values);
+    }
+
+    fn reserve(&mut self, rows: usize, width: usize) {
+        let rows = rows.min(MAX_RESERVED_VALUES / width.max(1));
+        self.times.reserve(rows);
+        self.values.reserve(rows * width);
     }
 }
 
@@ -125,10 +138,14 @@ impl Trajectory {
 
 /// Values of one exchange type of one instance, with their value references, so each
 /// exchange is one `fmi2Set*`/`fmi2Get*` call per type.
+///
+/// The slots from `feedthrough_start` on hold outputs that may depend on an input of their
+/// instance; those before it do not, so after a step they stay valid when inputs are set.
 #[derive(Debug, Default)]
 struct Block<T> {
     vrs: Vec<u32>,
     values: Vec<T>,
+    feedthrough_start: usize,
 }
 
 impl<T: Copy + Default> Block<T> {
@@ -142,6 +159,23 @@ impl<T: Copy + Default> Block<T> {
                 self.vrs.len() - 1
             }
         }
+    }
+
+    /// Moves the slots flagged in `feedthrough` after the others (each group keeping its
+    /// order) and returns where each old slot went.
+    fn partition(&mut self, feedthrough: &[bool]) -> Vec<usize> {
+        let order: Vec<usize> = (0..self.vrs.len())
+            .filter(|&i| !feedthrough[i])
+            .chain((0..self.vrs.len()).filter(|&i| feedthrough[i]))
+            .collect();
+        let mut new_slot = vec![0; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_slot[old] = new;
+        }
+        self.vrs = order.iter().map(|&old| self.vrs[old]).collect();
+        self.values = order.iter().map(|&old| self.values[old]).collect();
+        self.feedthrough_start = feedthrough.iter().filter(|&&f| !f).count();
+        new_slot
     }
 }
 
@@ -193,6 +227,9 @@ pub struct Simulation {
     row: Vec<f64>,
     /// Per unit: some instance earlier in the order consumes its outputs (Gauss-Seidel).
     read_after_step: Vec<bool>,
+    /// Per unit: every output was read since its last step (or initialization), so setting
+    /// its inputs can change only its feedthrough outputs.
+    outputs_read: Vec<bool>,
     fresh: bool,
     conventions: Conventions,
 }
@@ -320,6 +357,14 @@ impl Simulation {
                 connectors.push(decl);
             }
         }
+        feedthrough_last(
+            &fmus,
+            &pairs,
+            &recorded,
+            &mut units,
+            &mut links,
+            &mut columns,
+        );
         let row = vec![0.0; columns.len()];
         let mut read_after_step = vec![false; units.len()];
         for link in &links {
@@ -337,6 +382,7 @@ impl Simulation {
             connection_names,
             connectors,
             row,
+            outputs_read: vec![false; read_after_step.len()],
             read_after_step,
             fresh: true,
             conventions: Conventions::default(),
@@ -433,11 +479,18 @@ impl Simulation {
         } = self.system;
         let mut clock =
             conventions::Clock::new(self.conventions.time_grid, start_time, stop_time, step_size);
+        recorder.reserve(clock.rows_hint(), self.columns.len());
         while let Some((time, h)) = clock.next_step() {
             if ordering == Ordering::GaussSeidel {
                 for u in 0..self.units.len() {
                     self.set_inputs(u)?;
-                    self.get_outputs(u)?;
+                    // Outputs read right after the step are still valid unless they depend
+                    // on the inputs just set: read only those (the plant's state once a step).
+                    if self.outputs_read[u] {
+                        self.get_feedthrough_outputs(u)?;
+                    } else {
+                        self.get_outputs(u)?;
+                    }
                 }
             }
             self.record(time, recorder);
@@ -447,6 +500,7 @@ impl Simulation {
                 }
             }
             for u in 0..self.units.len() {
+                self.outputs_read[u] = false;
                 let unit = &mut self.units[u];
                 match unit.instance.do_step(time, h) {
                     Ok(StepStatus::Complete(_)) => {}
@@ -624,21 +678,41 @@ impl Simulation {
         result.map_err(|e| call(&unit.name, "setting inputs", e))
     }
 
+    /// Reads every output of unit `u`.
     fn get_outputs(&mut self, u: usize) -> Result<(), MasterError> {
+        self.read_outputs(u, false)?;
+        self.outputs_read[u] = true;
+        Ok(())
+    }
+
+    /// Reads the outputs of unit `u` that may depend on its inputs.
+    fn get_feedthrough_outputs(&mut self, u: usize) -> Result<(), MasterError> {
+        self.read_outputs(u, true)
+    }
+
+    fn read_outputs(&mut self, u: usize, feedthrough_only: bool) -> Result<(), MasterError> {
         let unit = &mut self.units[u];
         let outputs = &mut unit.outputs;
+        let from = |start: usize| if feedthrough_only { start } else { 0 };
+        let real = from(outputs.real.feedthrough_start);
+        let integer = from(outputs.integer.feedthrough_start);
+        let boolean = from(outputs.boolean.feedthrough_start);
         let result = (|| -> Result<(), CallError> {
-            if !outputs.real.vrs.is_empty() {
+            if outputs.real.vrs.len() > real {
                 unit.instance
-                    .get_real(&outputs.real.vrs, &mut outputs.real.values)?;
+                    .get_real(&outputs.real.vrs[real..], &mut outputs.real.values[real..])?;
             }
-            if !outputs.integer.vrs.is_empty() {
-                unit.instance
-                    .get_integer(&outputs.integer.vrs, &mut outputs.integer.values)?;
+            if outputs.integer.vrs.len() > integer {
+                unit.instance.get_integer(
+                    &outputs.integer.vrs[integer..],
+                    &mut outputs.integer.values[integer..],
+                )?;
             }
-            if !outputs.boolean.vrs.is_empty() {
-                unit.instance
-                    .get_boolean(&outputs.boolean.vrs, &mut outputs.boolean.values)?;
+            if outputs.boolean.vrs.len() > boolean {
+                unit.instance.get_boolean(
+                    &outputs.boolean.vrs[boolean..],
+                    &mut outputs.boolean.values[boolean..],
+                )?;
             }
             Ok(())
         })();
@@ -662,6 +736,63 @@ impl Simulation {
             // After a terminating discard, fmi2Terminate is legal; a failure here changes
             // nothing about the run's result, and the FMU's log keeps the reason.
             let _ = unit.instance.terminate();
+        }
+    }
+}
+
+/// Orders every unit's output slots so that those which may depend on one of its connected
+/// inputs (as its model description declares; an output that declares nothing may depend on
+/// every input) come last, and points the links and columns at the moved slots.
+fn feedthrough_last(
+    fmus: &[Fmu],
+    pairs: &[(Port, Port)],
+    recorded: &[Port],
+    units: &mut [Unit],
+    links: &mut [Link],
+    columns: &mut [(usize, VariableKind, usize)],
+) {
+    let outputs = pairs.iter().map(|(source, _)| source).chain(recorded);
+    // Per unit, per exchange type (real, integer, boolean): the feedthrough flag of each slot.
+    let mut flags: Vec<[Vec<bool>; 3]> = units
+        .iter()
+        .map(|unit| {
+            [
+                vec![false; unit.outputs.real.vrs.len()],
+                vec![false; unit.outputs.integer.vrs.len()],
+                vec![false; unit.outputs.boolean.vrs.len()],
+            ]
+        })
+        .collect();
+    let group = |kind: VariableKind| match kind {
+        VariableKind::Real => 0,
+        VariableKind::Boolean => 2,
+        _ => 1,
+    };
+    let feedthrough: Vec<loops::Feedthrough> = fmus
+        .iter()
+        .map(|fmu| loops::Feedthrough::from_description(fmu.model_description()))
+        .collect();
+    for port in outputs {
+        let u = port.instance;
+        let depends = pairs
+            .iter()
+            .filter(|(_, destination)| destination.instance == u)
+            .any(|(_, input)| feedthrough[u].depends(&port.name, &input.name, false));
+        let slot = units[u].outputs.slot(port);
+        flags[u][group(port.kind)][slot] |= depends;
+    }
+    for (u, unit) in units.iter_mut().enumerate() {
+        let moved = [
+            unit.outputs.real.partition(&flags[u][0]),
+            unit.outputs.integer.partition(&flags[u][1]),
+            unit.outputs.boolean.partition(&flags[u][2]),
+        ];
+        for link in links.iter_mut().filter(|l| l.from_unit == u) {
+            link.from_slot = moved[group(link.kind)][link.from_slot];
+        }
+        for (unit_of, kind, slot) in columns.iter_mut().filter(|c| c.0 == u) {
+            debug_assert_eq!(*unit_of, u);
+            *slot = moved[group(*kind)][*slot];
         }
     }
 }
