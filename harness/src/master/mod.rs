@@ -218,9 +218,12 @@ pub struct Simulation {
     system: SystemDescription,
     fmus: Vec<Fmu>,
     units: Vec<Unit>,
-    links: Vec<Link>,
+    /// Per unit: the links into its inputs.
+    links_into: Vec<Vec<Link>>,
     /// (unit, kind, output slot) per recorded column.
     columns: Vec<(usize, VariableKind, usize)>,
+    /// The same columns as runs of consecutive slots of one unit and type, copied together.
+    column_runs: Vec<ColumnRun>,
     column_names: Vec<String>,
     connection_names: Vec<(String, String)>,
     connectors: Vec<crate::system::ssp::ConnectorDecl>,
@@ -365,6 +368,10 @@ impl Simulation {
             &mut links,
             &mut columns,
         );
+        let column_runs = ColumnRun::of(&columns);
+        let links_into = (0..units.len())
+            .map(|u| links.iter().filter(|l| l.to_unit == u).copied().collect())
+            .collect();
         let row = vec![0.0; columns.len()];
         let mut read_after_step = vec![false; units.len()];
         for link in &links {
@@ -376,8 +383,9 @@ impl Simulation {
             system,
             fmus,
             units,
-            links,
+            links_into,
             columns,
+            column_runs,
             column_names,
             connection_names,
             connectors,
@@ -622,42 +630,23 @@ impl Simulation {
     }
 
     fn set_inputs(&mut self, u: usize) -> Result<(), MasterError> {
-        for link in self.links.iter().filter(|l| l.to_unit == u) {
-            let (from, to) = if link.from_unit < u {
-                let (a, b) = self.units.split_at_mut(u);
-                (&a[link.from_unit].outputs, &mut b[0].inputs)
-            } else if link.from_unit > u {
-                let (a, b) = self.units.split_at_mut(link.from_unit);
-                (&b[0].outputs, &mut a[u].inputs)
-            } else {
-                // A self-loop: copy through a temporary.
-                let unit = &mut self.units[u];
-                match link.kind {
-                    VariableKind::Real => {
-                        unit.inputs.real.values[link.to_slot] =
-                            unit.outputs.real.values[link.from_slot]
-                    }
-                    VariableKind::Boolean => {
-                        unit.inputs.boolean.values[link.to_slot] =
-                            unit.outputs.boolean.values[link.from_slot]
-                    }
-                    _ => {
-                        unit.inputs.integer.values[link.to_slot] =
-                            unit.outputs.integer.values[link.from_slot]
-                    }
-                }
-                continue;
-            };
+        // The inputs are taken out of the unit while they are filled (moving the buffers,
+        // not copying or allocating), so every source, this unit's own outputs included,
+        // can be read meanwhile.
+        let mut inputs = std::mem::take(&mut self.units[u].inputs);
+        for link in &self.links_into[u] {
+            let from = &self.units[link.from_unit].outputs;
             match link.kind {
                 VariableKind::Real => {
-                    to.real.values[link.to_slot] = from.real.values[link.from_slot]
+                    inputs.real.values[link.to_slot] = from.real.values[link.from_slot]
                 }
                 VariableKind::Boolean => {
-                    to.boolean.values[link.to_slot] = from.boolean.values[link.from_slot]
+                    inputs.boolean.values[link.to_slot] = from.boolean.values[link.from_slot]
                 }
-                _ => to.integer.values[link.to_slot] = from.integer.values[link.from_slot],
+                _ => inputs.integer.values[link.to_slot] = from.integer.values[link.from_slot],
             }
         }
+        self.units[u].inputs = inputs;
         let unit = &mut self.units[u];
         let inputs = &unit.inputs;
         let result = (|| -> Result<(), CallError> {
@@ -720,13 +709,23 @@ impl Simulation {
     }
 
     fn record(&mut self, time: f64, recorder: &mut dyn Recorder) {
-        for (j, &(u, kind, slot)) in self.columns.iter().enumerate() {
-            let outputs = &self.units[u].outputs;
-            self.row[j] = match kind {
-                VariableKind::Real => outputs.real.values[slot],
-                VariableKind::Boolean => f64::from(u8::from(outputs.boolean.values[slot])),
-                _ => f64::from(outputs.integer.values[slot]),
-            };
+        for run in &self.column_runs {
+            let outputs = &self.units[run.unit].outputs;
+            let row = &mut self.row[run.column..run.column + run.len];
+            let slots = run.slot..run.slot + run.len;
+            match run.kind {
+                VariableKind::Real => row.copy_from_slice(&outputs.real.values[slots]),
+                VariableKind::Boolean => {
+                    for (value, &b) in row.iter_mut().zip(&outputs.boolean.values[slots]) {
+                        *value = f64::from(u8::from(b));
+                    }
+                }
+                _ => {
+                    for (value, &i) in row.iter_mut().zip(&outputs.integer.values[slots]) {
+                        *value = f64::from(i);
+                    }
+                }
+            }
         }
         recorder.record(time, &self.row);
     }
@@ -737,6 +736,52 @@ impl Simulation {
             // nothing about the run's result, and the FMU's log keeps the reason.
             let _ = unit.instance.terminate();
         }
+    }
+}
+
+/// Which exchange buffer of an [`Io`] holds a variable of `kind`: 0 real, 1 integer
+/// (enumerations too), 2 boolean.
+fn block_index(kind: VariableKind) -> usize {
+    match kind {
+        VariableKind::Real => 0,
+        VariableKind::Boolean => 2,
+        _ => 1,
+    }
+}
+
+/// Recorded columns `column..column + len` are output slots `slot..slot + len` of one unit
+/// and exchange type.
+#[derive(Debug, Clone, Copy)]
+struct ColumnRun {
+    unit: usize,
+    kind: VariableKind,
+    slot: usize,
+    column: usize,
+    len: usize,
+}
+
+impl ColumnRun {
+    fn of(columns: &[(usize, VariableKind, usize)]) -> Vec<ColumnRun> {
+        let mut runs: Vec<ColumnRun> = Vec::new();
+        for (column, &(unit, kind, slot)) in columns.iter().enumerate() {
+            match runs.last_mut() {
+                Some(run)
+                    if run.unit == unit
+                        && block_index(run.kind) == block_index(kind)
+                        && run.slot + run.len == slot =>
+                {
+                    run.len += 1
+                }
+                _ => runs.push(ColumnRun {
+                    unit,
+                    kind,
+                    slot,
+                    column,
+                    len: 1,
+                }),
+            }
+        }
+        runs
     }
 }
 
@@ -763,11 +808,6 @@ fn feedthrough_last(
             ]
         })
         .collect();
-    let group = |kind: VariableKind| match kind {
-        VariableKind::Real => 0,
-        VariableKind::Boolean => 2,
-        _ => 1,
-    };
     let feedthrough: Vec<loops::Feedthrough> = fmus
         .iter()
         .map(|fmu| loops::Feedthrough::from_description(fmu.model_description()))
@@ -779,7 +819,7 @@ fn feedthrough_last(
             .filter(|(_, destination)| destination.instance == u)
             .any(|(_, input)| feedthrough[u].depends(&port.name, &input.name, false));
         let slot = units[u].outputs.slot(port);
-        flags[u][group(port.kind)][slot] |= depends;
+        flags[u][block_index(port.kind)][slot] |= depends;
     }
     for (u, unit) in units.iter_mut().enumerate() {
         let moved = [
@@ -788,11 +828,11 @@ fn feedthrough_last(
             unit.outputs.boolean.partition(&flags[u][2]),
         ];
         for link in links.iter_mut().filter(|l| l.from_unit == u) {
-            link.from_slot = moved[group(link.kind)][link.from_slot];
+            link.from_slot = moved[block_index(link.kind)][link.from_slot];
         }
         for (unit_of, kind, slot) in columns.iter_mut().filter(|c| c.0 == u) {
             debug_assert_eq!(*unit_of, u);
-            *slot = moved[group(*kind)][*slot];
+            *slot = moved[block_index(*kind)][*slot];
         }
     }
 }
