@@ -877,3 +877,65 @@ fn set_parameter(
     };
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn partition_moves_feedthrough_slots_to_the_tail_keeping_each_groups_order() {
+        let mut block = Block::<f64> {
+            vrs: vec![10, 11, 12, 13, 14],
+            values: vec![0.0, 1.0, 2.0, 3.0, 4.0],
+            feedthrough_start: 0,
+        };
+        let moved = block.partition(&[false, true, false, true, false]);
+        assert_eq!(block.vrs, [10, 12, 14, 11, 13]);
+        assert_eq!(block.values, [0.0, 2.0, 4.0, 1.0, 3.0]);
+        assert_eq!(block.feedthrough_start, 3);
+        // Every old slot still finds its value reference.
+        for (old, &new) in moved.iter().enumerate() {
+            assert_eq!(block.vrs[new], 10 + old as u32);
+        }
+    }
+
+    #[test]
+    fn partition_without_feedthrough_leaves_the_block_as_it_was() {
+        let mut block = Block::<i32> {
+            vrs: vec![3, 1, 2],
+            values: vec![7, 8, 9],
+            feedthrough_start: 0,
+        };
+        assert_eq!(block.partition(&[false; 3]), [0, 1, 2]);
+        assert_eq!(block.vrs, [3, 1, 2]);
+        assert_eq!(block.feedthrough_start, 3);
+    }
+
+    #[test]
+    fn column_runs_join_consecutive_slots_of_one_unit_and_buffer_only() {
+        use VariableKind::{Boolean, Enumeration, Integer, Real};
+        let columns = [
+            (0, Real, 0),
+            (0, Real, 1),
+            (0, Real, 3), // a gap in the slots
+            (1, Real, 4), // another unit
+            (1, Boolean, 5),
+            (1, Integer, 0),
+            (1, Enumeration, 1), // enumerations share the integer buffer
+        ];
+        let runs: Vec<_> = ColumnRun::of(&columns)
+            .iter()
+            .map(|r| (r.unit, block_index(r.kind), r.slot, r.column, r.len))
+            .collect();
+        assert_eq!(
+            runs,
+            [
+                (0, 0, 0, 0, 2),
+                (0, 0, 3, 2, 1),
+                (1, 0, 4, 3, 1),
+                (1, 2, 5, 4, 1),
+                (1, 1, 0, 5, 2),
+            ]
+        );
+    }
+}
