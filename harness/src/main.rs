@@ -38,14 +38,19 @@ struct Cli {
 // in the `--phi-cmd-deg=-30` form.
 #[derive(Subcommand)]
 enum Command {
-    /// Run one scenario (built-in name, .toml, .ssd or .ssp package) and write its results as CSV.
+    /// Run one scenario (built-in name, .toml, .ssd or .ssp package) and write its results
+    /// (CSV, or an Arrow IPC file for a .arrow/.feather/.ipc name or --format arrow).
     #[command(allow_negative_numbers = true)]
     Run {
         /// paper, upright, descent-roll, landing, or a path to a .toml/.ssd scenario or .ssp package.
         scenario: String,
-        /// CSV output (header: time, instance.variable...).
+        /// Output file (columns: time, instance.variable...).
         #[arg(long, short, default_value = "target/harness/run.csv")]
         out: PathBuf,
+        /// Output format; default: by the output's extension (.arrow, .feather, .ipc: Arrow
+        /// IPC file; anything else: CSV).
+        #[arg(long, value_enum)]
+        format: Option<harness::results::Format>,
         /// Override a parameter, e.g. --set gnc.phi_cmd=0.5 (repeatable).
         #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
         sets: Vec<String>,
@@ -68,6 +73,9 @@ enum Command {
         /// Skip the PNG plots.
         #[arg(long)]
         no_plots: bool,
+        /// Format of the trajectory files (<scenario>-<law>.csv or .arrow).
+        #[arg(long, value_enum, default_value = "csv")]
+        format: harness::results::Format,
     },
     // Monte Carlo subcommands (harness/src/montecarlo/cli.rs).
     /// Monte Carlo campaign over phi_cmd x laws x dispersed runs: manifest.csv, campaign.toml
@@ -166,6 +174,7 @@ fn main() -> anyhow::Result<()> {
             sets,
             record,
             ordering,
+            format,
         } => {
             let (mut system, spec) = harness::verdict::scenario::load(&scenario)?;
             // Every bad --set at once; names and types are checked against the FMUs when the
@@ -209,7 +218,8 @@ fn main() -> anyhow::Result<()> {
                 ..Default::default()
             };
             let end = simulation.run(&mut trajectory)?;
-            harness::results::write_csv(&out, &trajectory)
+            let format = format.unwrap_or_else(|| harness::results::Format::of_path(&out));
+            harness::results::write(&out, &trajectory, format)
                 .with_context(|| format!("writing {}", out.display()))?;
             let verdict = harness::verdict::judge(&trajectory, &end, &spec.envelope);
             println!(
@@ -226,6 +236,7 @@ fn main() -> anyhow::Result<()> {
             scenario,
             out_dir,
             no_plots,
+            format,
         } => {
             let (system, spec) = harness::verdict::scenario::load(&scenario)?;
             let name = system.name.clone();
@@ -235,9 +246,9 @@ fn main() -> anyhow::Result<()> {
             for flight in &flights {
                 exit_code = exit_code.max(flight.verdict.exit_code(spec.expect));
             }
-            for path in
-                harness::paper::write_outputs(&flights, &out_dir, &name, &summary, !no_plots)?
-            {
+            for path in harness::paper::write_outputs(
+                &flights, &out_dir, &name, &summary, !no_plots, format,
+            )? {
                 println!("wrote {}", path.display());
             }
         }

@@ -74,20 +74,25 @@ pub fn summary(name: &str, flights: &[Flight], expect: verdict::Expect) -> Strin
     text
 }
 
-/// Writes into `dir` each law's trajectory CSV, `<name>-summary.txt`, the figures (unless
-/// `plots` is false) and `report.html`; returns the paths written.
+/// Writes into `dir` each law's trajectory (in `format`), `<name>-summary.txt`, the figures
+/// (unless `plots` is false) and `report.html`; returns the paths written.
 pub fn write_outputs(
     flights: &[Flight],
     dir: &Path,
     name: &str,
     summary: &str,
     plots: bool,
+    format: crate::results::Format,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
     std::fs::create_dir_all(dir)?;
     let mut written = Vec::new();
     for flight in flights {
-        let path = dir.join(format!("{name}-{}.csv", flight.law.name()));
-        crate::results::write_csv(&path, &flight.trajectory)?;
+        let path = dir.join(format!(
+            "{name}-{}.{}",
+            flight.law.name(),
+            format.extension()
+        ));
+        crate::results::write(&path, &flight.trajectory, format)?;
         written.push(path);
     }
     let path = dir.join(format!("{name}-summary.txt"));

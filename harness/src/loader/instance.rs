@@ -35,6 +35,10 @@ pub struct Instance {
     _instantiate_strings: [CString; 3],
     /// Live FMU states by slot; a freed slot is null and reused.
     states: Vec<fmi2FMUstate>,
+    /// Reused by every Boolean and String call, so a master's exchange does not allocate
+    /// per call once these have grown to its widest exchange.
+    booleans: Vec<ffi::fmi2Boolean>,
+    strings: Vec<ffi::fmi2String>,
 }
 
 // SAFETY: the component and FMU-state pointers are used only through `&mut self` (or in
@@ -115,6 +119,8 @@ impl Instance {
             _callbacks: callbacks,
             _instantiate_strings: [instance_name, guid, resource_uri],
             states: Vec::new(),
+            booleans: Vec::new(),
+            strings: Vec::new(),
         })
     }
 
@@ -388,7 +394,9 @@ impl Instance {
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<Success, CallError> {
         const F: &str = "fmi2SetBoolean";
         self.check_lengths(F, vrs.len(), values.len())?;
-        let values: Vec<ffi::fmi2Boolean> = values.iter().map(|&value| fmi2_bool(value)).collect();
+        let mut raw_values = std::mem::take(&mut self.booleans);
+        raw_values.clear();
+        raw_values.extend(values.iter().map(|&value| fmi2_bool(value)));
         let mark = self.log.mark();
         // SAFETY: both arrays hold `vrs.len()` elements.
         let raw = unsafe {
@@ -396,16 +404,19 @@ impl Instance {
                 self.c(),
                 array_or_null(vrs),
                 vrs.len(),
-                array_or_null(&values),
+                array_or_null(&raw_values),
             )
         };
+        self.booleans = raw_values;
         Ok(self.check(F, mark, raw)?)
     }
 
     pub fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<Success, CallError> {
         const F: &str = "fmi2GetBoolean";
         self.check_lengths(F, vrs.len(), values.len())?;
-        let mut raw_values = vec![ffi::fmi2False; vrs.len()];
+        let mut raw_values = std::mem::take(&mut self.booleans);
+        raw_values.clear();
+        raw_values.resize(vrs.len(), ffi::fmi2False);
         let mark = self.log.mark();
         // SAFETY: both arrays hold `vrs.len()` elements; `raw_values` is writable.
         let raw = unsafe {
@@ -416,10 +427,11 @@ impl Instance {
                 mut_array_or_null(&mut raw_values),
             )
         };
-        let success = self.check(F, mark, raw)?;
-        for (value, raw_value) in values.iter_mut().zip(raw_values) {
+        for (value, &raw_value) in values.iter_mut().zip(&raw_values) {
             *value = raw_value != ffi::fmi2False;
         }
+        self.booleans = raw_values;
+        let success = self.check(F, mark, raw)?;
         Ok(success)
     }
 
@@ -449,8 +461,23 @@ impl Instance {
 
     /// The strings are copied at once: the FMU's pointers are valid only until its next call.
     pub fn get_string(&mut self, vrs: &[u32]) -> Result<(Vec<String>, Success), CallError> {
+        let mut values = vec![String::new(); vrs.len()];
+        let success = self.get_string_into(vrs, &mut values)?;
+        Ok((values, success))
+    }
+
+    /// [`Instance::get_string`] into existing strings, which keep their capacity: a master
+    /// that reads the same strings every step allocates only when one grows.
+    pub fn get_string_into(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [String],
+    ) -> Result<Success, CallError> {
         const F: &str = "fmi2GetString";
-        let mut pointers: Vec<ffi::fmi2String> = vec![ptr::null(); vrs.len()];
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let mut pointers = std::mem::take(&mut self.strings);
+        pointers.clear();
+        pointers.resize(vrs.len(), ptr::null());
         let mark = self.log.mark();
         // SAFETY: both arrays hold `vrs.len()` elements; `pointers` is writable.
         let raw = unsafe {
@@ -461,24 +488,29 @@ impl Instance {
                 mut_array_or_null(&mut pointers),
             )
         };
-        let success = self.check(F, mark, raw)?;
-        let values = pointers
-            .into_iter()
-            .zip(vrs)
-            .map(|(pointer, vr)| {
-                if pointer.is_null() {
-                    return Err(
-                        self.invalid(F, format!("the FMU returned NULL for value reference {vr}"))
-                    );
+        let copied = self
+            .check(F, mark, raw)
+            .map_err(CallError::from)
+            .and_then(|success| {
+                for ((value, &pointer), vr) in values.iter_mut().zip(&pointers).zip(vrs) {
+                    if pointer.is_null() {
+                        return Err(self.invalid(
+                            F,
+                            format!("the FMU returned NULL for value reference {vr}"),
+                        ));
+                    }
+                    // SAFETY: a non-null fmi2String returned by the FMU is NUL-terminated and
+                    // valid until the next call into the instance.
+                    let text = unsafe { CStr::from_ptr(pointer) }.to_string_lossy();
+                    value.clear();
+                    value.push_str(&text);
                 }
-                // SAFETY: a non-null fmi2String returned by the FMU is NUL-terminated and valid
-                // until the next call into the instance.
-                Ok(unsafe { CStr::from_ptr(pointer) }
-                    .to_string_lossy()
-                    .into_owned())
-            })
-            .collect::<Result<_, _>>()?;
-        Ok((values, success))
+                Ok(success)
+            });
+        // The FMU's pointers die with its next call: none is kept.
+        pointers.iter_mut().for_each(|p| *p = ptr::null());
+        self.strings = pointers;
+        copied
     }
 
     // ---- values by name ----

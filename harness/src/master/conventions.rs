@@ -161,6 +161,12 @@ impl Clock {
         Some(step)
     }
 
+    /// The rows a run records (one per step and one at the end), give or take the rounding
+    /// of an accumulated or nanosecond grid: a capacity to reserve, not a count to rely on.
+    pub(super) fn rows_hint(&self) -> usize {
+        usize::try_from(self.steps.saturating_add(2)).unwrap_or(usize::MAX)
+    }
+
     /// The time of the row recorded after the last step.
     pub(super) fn end_time(&self) -> f64 {
         match self.grid {

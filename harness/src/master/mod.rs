@@ -82,7 +82,14 @@ pub enum RunEnd {
 /// Receives the recorded columns at every communication point.
 pub trait Recorder {
     fn record(&mut self, time: f64, values: &[f64]);
+    /// Called once before a run with (at least, in general) the number of rows it will
+    /// record and their width, so a recorder that keeps rows can allocate once.
+    fn reserve(&mut self, _rows: usize, _width: usize) {}
 }
+
+/// The most values [`Trajectory::reserve`] sets aside ahead of a run (256 MiB of f64): a
+/// longer run grows as it goes instead of claiming its whole length at the start.
+const MAX_RESERVED_VALUES: usize = 1 << 25;
 
 /// Keeps every recorded row in memory.
 #[derive(Debug, Default, Clone)]
@@ -98,6 +105,12 @@ impl Recorder for Trajectory {
     fn record(&mut self, time: f64, values: &[f64]) {
         self.times.push(time);
         self.values.extend_from_slice(values);
+    }
+
+    fn reserve(&mut self, rows: usize, width: usize) {
+        let rows = rows.min(MAX_RESERVED_VALUES / width.max(1));
+        self.times.reserve(rows);
+        self.values.reserve(rows * width);
     }
 }
 
@@ -125,10 +138,14 @@ impl Trajectory {
 
 /// Values of one exchange type of one instance, with their value references, so each
 /// exchange is one `fmi2Set*`/`fmi2Get*` call per type.
+///
+/// The slots from `feedthrough_start` on hold outputs that may depend on an input of their
+/// instance; those before it do not, so after a step they stay valid when inputs are set.
 #[derive(Debug, Default)]
 struct Block<T> {
     vrs: Vec<u32>,
     values: Vec<T>,
+    feedthrough_start: usize,
 }
 
 impl<T: Copy + Default> Block<T> {
@@ -142,6 +159,23 @@ impl<T: Copy + Default> Block<T> {
                 self.vrs.len() - 1
             }
         }
+    }
+
+    /// Moves the slots flagged in `feedthrough` after the others (each group keeping its
+    /// order) and returns where each old slot went.
+    fn partition(&mut self, feedthrough: &[bool]) -> Vec<usize> {
+        let order: Vec<usize> = (0..self.vrs.len())
+            .filter(|&i| !feedthrough[i])
+            .chain((0..self.vrs.len()).filter(|&i| feedthrough[i]))
+            .collect();
+        let mut new_slot = vec![0; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_slot[old] = new;
+        }
+        self.vrs = order.iter().map(|&old| self.vrs[old]).collect();
+        self.values = order.iter().map(|&old| self.values[old]).collect();
+        self.feedthrough_start = feedthrough.iter().filter(|&&f| !f).count();
+        new_slot
     }
 }
 
@@ -184,15 +218,21 @@ pub struct Simulation {
     system: SystemDescription,
     fmus: Vec<Fmu>,
     units: Vec<Unit>,
-    links: Vec<Link>,
+    /// Per unit: the links into its inputs.
+    links_into: Vec<Vec<Link>>,
     /// (unit, kind, output slot) per recorded column.
     columns: Vec<(usize, VariableKind, usize)>,
+    /// The same columns as runs of consecutive slots of one unit and type, copied together.
+    column_runs: Vec<ColumnRun>,
     column_names: Vec<String>,
     connection_names: Vec<(String, String)>,
     connectors: Vec<crate::system::ssp::ConnectorDecl>,
     row: Vec<f64>,
     /// Per unit: some instance earlier in the order consumes its outputs (Gauss-Seidel).
     read_after_step: Vec<bool>,
+    /// Per unit: every output was read since its last step (or initialization), so setting
+    /// its inputs can change only its feedthrough outputs.
+    outputs_read: Vec<bool>,
     fresh: bool,
     conventions: Conventions,
 }
@@ -320,6 +360,18 @@ impl Simulation {
                 connectors.push(decl);
             }
         }
+        feedthrough_last(
+            &fmus,
+            &pairs,
+            &recorded,
+            &mut units,
+            &mut links,
+            &mut columns,
+        );
+        let column_runs = ColumnRun::of(&columns);
+        let links_into = (0..units.len())
+            .map(|u| links.iter().filter(|l| l.to_unit == u).copied().collect())
+            .collect();
         let row = vec![0.0; columns.len()];
         let mut read_after_step = vec![false; units.len()];
         for link in &links {
@@ -331,12 +383,14 @@ impl Simulation {
             system,
             fmus,
             units,
-            links,
+            links_into,
             columns,
+            column_runs,
             column_names,
             connection_names,
             connectors,
             row,
+            outputs_read: vec![false; read_after_step.len()],
             read_after_step,
             fresh: true,
             conventions: Conventions::default(),
@@ -433,11 +487,18 @@ impl Simulation {
         } = self.system;
         let mut clock =
             conventions::Clock::new(self.conventions.time_grid, start_time, stop_time, step_size);
+        recorder.reserve(clock.rows_hint(), self.columns.len());
         while let Some((time, h)) = clock.next_step() {
             if ordering == Ordering::GaussSeidel {
                 for u in 0..self.units.len() {
                     self.set_inputs(u)?;
-                    self.get_outputs(u)?;
+                    // Outputs read right after the step are still valid unless they depend
+                    // on the inputs just set: read only those (the plant's state once a step).
+                    if self.outputs_read[u] {
+                        self.get_feedthrough_outputs(u)?;
+                    } else {
+                        self.get_outputs(u)?;
+                    }
                 }
             }
             self.record(time, recorder);
@@ -447,6 +508,7 @@ impl Simulation {
                 }
             }
             for u in 0..self.units.len() {
+                self.outputs_read[u] = false;
                 let unit = &mut self.units[u];
                 match unit.instance.do_step(time, h) {
                     Ok(StepStatus::Complete(_)) => {}
@@ -568,42 +630,23 @@ impl Simulation {
     }
 
     fn set_inputs(&mut self, u: usize) -> Result<(), MasterError> {
-        for link in self.links.iter().filter(|l| l.to_unit == u) {
-            let (from, to) = if link.from_unit < u {
-                let (a, b) = self.units.split_at_mut(u);
-                (&a[link.from_unit].outputs, &mut b[0].inputs)
-            } else if link.from_unit > u {
-                let (a, b) = self.units.split_at_mut(link.from_unit);
-                (&b[0].outputs, &mut a[u].inputs)
-            } else {
-                // A self-loop: copy through a temporary.
-                let unit = &mut self.units[u];
-                match link.kind {
-                    VariableKind::Real => {
-                        unit.inputs.real.values[link.to_slot] =
-                            unit.outputs.real.values[link.from_slot]
-                    }
-                    VariableKind::Boolean => {
-                        unit.inputs.boolean.values[link.to_slot] =
-                            unit.outputs.boolean.values[link.from_slot]
-                    }
-                    _ => {
-                        unit.inputs.integer.values[link.to_slot] =
-                            unit.outputs.integer.values[link.from_slot]
-                    }
-                }
-                continue;
-            };
+        // The inputs are taken out of the unit while they are filled (moving the buffers,
+        // not copying or allocating), so every source, this unit's own outputs included,
+        // can be read meanwhile.
+        let mut inputs = std::mem::take(&mut self.units[u].inputs);
+        for link in &self.links_into[u] {
+            let from = &self.units[link.from_unit].outputs;
             match link.kind {
                 VariableKind::Real => {
-                    to.real.values[link.to_slot] = from.real.values[link.from_slot]
+                    inputs.real.values[link.to_slot] = from.real.values[link.from_slot]
                 }
                 VariableKind::Boolean => {
-                    to.boolean.values[link.to_slot] = from.boolean.values[link.from_slot]
+                    inputs.boolean.values[link.to_slot] = from.boolean.values[link.from_slot]
                 }
-                _ => to.integer.values[link.to_slot] = from.integer.values[link.from_slot],
+                _ => inputs.integer.values[link.to_slot] = from.integer.values[link.from_slot],
             }
         }
+        self.units[u].inputs = inputs;
         let unit = &mut self.units[u];
         let inputs = &unit.inputs;
         let result = (|| -> Result<(), CallError> {
@@ -624,21 +667,41 @@ impl Simulation {
         result.map_err(|e| call(&unit.name, "setting inputs", e))
     }
 
+    /// Reads every output of unit `u`.
     fn get_outputs(&mut self, u: usize) -> Result<(), MasterError> {
+        self.read_outputs(u, false)?;
+        self.outputs_read[u] = true;
+        Ok(())
+    }
+
+    /// Reads the outputs of unit `u` that may depend on its inputs.
+    fn get_feedthrough_outputs(&mut self, u: usize) -> Result<(), MasterError> {
+        self.read_outputs(u, true)
+    }
+
+    fn read_outputs(&mut self, u: usize, feedthrough_only: bool) -> Result<(), MasterError> {
         let unit = &mut self.units[u];
         let outputs = &mut unit.outputs;
+        let from = |start: usize| if feedthrough_only { start } else { 0 };
+        let real = from(outputs.real.feedthrough_start);
+        let integer = from(outputs.integer.feedthrough_start);
+        let boolean = from(outputs.boolean.feedthrough_start);
         let result = (|| -> Result<(), CallError> {
-            if !outputs.real.vrs.is_empty() {
+            if outputs.real.vrs.len() > real {
                 unit.instance
-                    .get_real(&outputs.real.vrs, &mut outputs.real.values)?;
+                    .get_real(&outputs.real.vrs[real..], &mut outputs.real.values[real..])?;
             }
-            if !outputs.integer.vrs.is_empty() {
-                unit.instance
-                    .get_integer(&outputs.integer.vrs, &mut outputs.integer.values)?;
+            if outputs.integer.vrs.len() > integer {
+                unit.instance.get_integer(
+                    &outputs.integer.vrs[integer..],
+                    &mut outputs.integer.values[integer..],
+                )?;
             }
-            if !outputs.boolean.vrs.is_empty() {
-                unit.instance
-                    .get_boolean(&outputs.boolean.vrs, &mut outputs.boolean.values)?;
+            if outputs.boolean.vrs.len() > boolean {
+                unit.instance.get_boolean(
+                    &outputs.boolean.vrs[boolean..],
+                    &mut outputs.boolean.values[boolean..],
+                )?;
             }
             Ok(())
         })();
@@ -646,13 +709,23 @@ impl Simulation {
     }
 
     fn record(&mut self, time: f64, recorder: &mut dyn Recorder) {
-        for (j, &(u, kind, slot)) in self.columns.iter().enumerate() {
-            let outputs = &self.units[u].outputs;
-            self.row[j] = match kind {
-                VariableKind::Real => outputs.real.values[slot],
-                VariableKind::Boolean => f64::from(u8::from(outputs.boolean.values[slot])),
-                _ => f64::from(outputs.integer.values[slot]),
-            };
+        for run in &self.column_runs {
+            let outputs = &self.units[run.unit].outputs;
+            let row = &mut self.row[run.column..run.column + run.len];
+            let slots = run.slot..run.slot + run.len;
+            match run.kind {
+                VariableKind::Real => row.copy_from_slice(&outputs.real.values[slots]),
+                VariableKind::Boolean => {
+                    for (value, &b) in row.iter_mut().zip(&outputs.boolean.values[slots]) {
+                        *value = f64::from(u8::from(b));
+                    }
+                }
+                _ => {
+                    for (value, &i) in row.iter_mut().zip(&outputs.integer.values[slots]) {
+                        *value = f64::from(i);
+                    }
+                }
+            }
         }
         recorder.record(time, &self.row);
     }
@@ -662,6 +735,104 @@ impl Simulation {
             // After a terminating discard, fmi2Terminate is legal; a failure here changes
             // nothing about the run's result, and the FMU's log keeps the reason.
             let _ = unit.instance.terminate();
+        }
+    }
+}
+
+/// Which exchange buffer of an [`Io`] holds a variable of `kind`: 0 real, 1 integer
+/// (enumerations too), 2 boolean.
+fn block_index(kind: VariableKind) -> usize {
+    match kind {
+        VariableKind::Real => 0,
+        VariableKind::Boolean => 2,
+        _ => 1,
+    }
+}
+
+/// Recorded columns `column..column + len` are output slots `slot..slot + len` of one unit
+/// and exchange type.
+#[derive(Debug, Clone, Copy)]
+struct ColumnRun {
+    unit: usize,
+    kind: VariableKind,
+    slot: usize,
+    column: usize,
+    len: usize,
+}
+
+impl ColumnRun {
+    fn of(columns: &[(usize, VariableKind, usize)]) -> Vec<ColumnRun> {
+        let mut runs: Vec<ColumnRun> = Vec::new();
+        for (column, &(unit, kind, slot)) in columns.iter().enumerate() {
+            match runs.last_mut() {
+                Some(run)
+                    if run.unit == unit
+                        && block_index(run.kind) == block_index(kind)
+                        && run.slot + run.len == slot =>
+                {
+                    run.len += 1
+                }
+                _ => runs.push(ColumnRun {
+                    unit,
+                    kind,
+                    slot,
+                    column,
+                    len: 1,
+                }),
+            }
+        }
+        runs
+    }
+}
+
+/// Orders every unit's output slots so that those which may depend on one of its connected
+/// inputs (as its model description declares; an output that declares nothing may depend on
+/// every input) come last, and points the links and columns at the moved slots.
+fn feedthrough_last(
+    fmus: &[Fmu],
+    pairs: &[(Port, Port)],
+    recorded: &[Port],
+    units: &mut [Unit],
+    links: &mut [Link],
+    columns: &mut [(usize, VariableKind, usize)],
+) {
+    let outputs = pairs.iter().map(|(source, _)| source).chain(recorded);
+    // Per unit, per exchange type (real, integer, boolean): the feedthrough flag of each slot.
+    let mut flags: Vec<[Vec<bool>; 3]> = units
+        .iter()
+        .map(|unit| {
+            [
+                vec![false; unit.outputs.real.vrs.len()],
+                vec![false; unit.outputs.integer.vrs.len()],
+                vec![false; unit.outputs.boolean.vrs.len()],
+            ]
+        })
+        .collect();
+    let feedthrough: Vec<loops::Feedthrough> = fmus
+        .iter()
+        .map(|fmu| loops::Feedthrough::from_description(fmu.model_description()))
+        .collect();
+    for port in outputs {
+        let u = port.instance;
+        let depends = pairs
+            .iter()
+            .filter(|(_, destination)| destination.instance == u)
+            .any(|(_, input)| feedthrough[u].depends(&port.name, &input.name, false));
+        let slot = units[u].outputs.slot(port);
+        flags[u][block_index(port.kind)][slot] |= depends;
+    }
+    for (u, unit) in units.iter_mut().enumerate() {
+        let moved = [
+            unit.outputs.real.partition(&flags[u][0]),
+            unit.outputs.integer.partition(&flags[u][1]),
+            unit.outputs.boolean.partition(&flags[u][2]),
+        ];
+        for link in links.iter_mut().filter(|l| l.from_unit == u) {
+            link.from_slot = moved[block_index(link.kind)][link.from_slot];
+        }
+        for (unit_of, kind, slot) in columns.iter_mut().filter(|c| c.0 == u) {
+            debug_assert_eq!(*unit_of, u);
+            *slot = moved[block_index(*kind)][*slot];
         }
     }
 }
@@ -705,4 +876,66 @@ fn set_parameter(
         (_, other) => return Err(mismatch(&format!("{other:?}"))),
     };
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn partition_moves_feedthrough_slots_to_the_tail_keeping_each_groups_order() {
+        let mut block = Block::<f64> {
+            vrs: vec![10, 11, 12, 13, 14],
+            values: vec![0.0, 1.0, 2.0, 3.0, 4.0],
+            feedthrough_start: 0,
+        };
+        let moved = block.partition(&[false, true, false, true, false]);
+        assert_eq!(block.vrs, [10, 12, 14, 11, 13]);
+        assert_eq!(block.values, [0.0, 2.0, 4.0, 1.0, 3.0]);
+        assert_eq!(block.feedthrough_start, 3);
+        // Every old slot still finds its value reference.
+        for (old, &new) in moved.iter().enumerate() {
+            assert_eq!(block.vrs[new], 10 + old as u32);
+        }
+    }
+
+    #[test]
+    fn partition_without_feedthrough_leaves_the_block_as_it_was() {
+        let mut block = Block::<i32> {
+            vrs: vec![3, 1, 2],
+            values: vec![7, 8, 9],
+            feedthrough_start: 0,
+        };
+        assert_eq!(block.partition(&[false; 3]), [0, 1, 2]);
+        assert_eq!(block.vrs, [3, 1, 2]);
+        assert_eq!(block.feedthrough_start, 3);
+    }
+
+    #[test]
+    fn column_runs_join_consecutive_slots_of_one_unit_and_buffer_only() {
+        use VariableKind::{Boolean, Enumeration, Integer, Real};
+        let columns = [
+            (0, Real, 0),
+            (0, Real, 1),
+            (0, Real, 3), // a gap in the slots
+            (1, Real, 4), // another unit
+            (1, Boolean, 5),
+            (1, Integer, 0),
+            (1, Enumeration, 1), // enumerations share the integer buffer
+        ];
+        let runs: Vec<_> = ColumnRun::of(&columns)
+            .iter()
+            .map(|r| (r.unit, block_index(r.kind), r.slot, r.column, r.len))
+            .collect();
+        assert_eq!(
+            runs,
+            [
+                (0, 0, 0, 0, 2),
+                (0, 0, 3, 2, 1),
+                (1, 0, 4, 3, 1),
+                (1, 2, 5, 4, 1),
+                (1, 1, 0, 5, 2),
+            ]
+        );
+    }
 }

@@ -136,7 +136,8 @@ pub struct ReplayArgs {
     pub scenario: String,
     #[command(flatten)]
     pub dispersions: DispersionRanges,
-    /// The full trajectory (every output) as CSV.
+    /// The full trajectory (every output): CSV, or an Arrow IPC file for a .arrow, .feather
+    /// or .ipc name.
     #[arg(long, short, default_value = "target/monte-carlo/replay.csv")]
     pub out: PathBuf,
 }
@@ -303,7 +304,8 @@ pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
             (row, trajectory, "flown from the seed".to_owned())
         }
     };
-    crate::results::write_csv(&args.out, &trajectory)?;
+    let format = crate::results::Format::of_path(&args.out);
+    crate::results::write(&args.out, &trajectory, format)?;
     let m = &row.metrics;
     println!(
         "run {} (seed {}), {} at phi_cmd {} deg: {:?}, verdict {}{}; max horizontal deviation \

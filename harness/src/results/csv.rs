@@ -1,4 +1,4 @@
-//! Results as CSV: a header `time,instance.variable,...` and one row per communication point,
+//! CSV: a header `time,instance.variable,...` and one row per communication point,
 //! numbers in the shortest form that reads back to the same f64 (ryu), so a CSV written here
 //! and read back (pandas, fmpy's `read_csv`, [`read_csv`]) compares bit-exactly.
 use crate::master::Trajectory;

@@ -1,0 +1,165 @@
+//! Arrow IPC files (Feather v2): one float64 column per recorded variable after `time`, in
+//! record batches of at most [`BATCH_ROWS`] rows, uncompressed, so that pandas, polars and
+//! pyarrow map them without a conversion and every value is the f64 the FMU returned.
+use crate::master::Trajectory;
+use arrow_array::cast::AsArray;
+use arrow_array::types::Float64Type;
+use arrow_array::{Array, ArrayRef, Float64Array, RecordBatch};
+use arrow_schema::{DataType, Field, Schema};
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Rows per record batch: large enough for column-at-a-time reading to pay, small enough
+/// that writing holds only one batch's columns besides the trajectory.
+pub const BATCH_ROWS: usize = 1 << 16;
+
+/// Writes a trajectory as an Arrow IPC file; creates parent directories.
+pub fn write_arrow(path: &Path, trajectory: &Trajectory) -> anyhow::Result<()> {
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent)?;
+    }
+    let fields: Vec<Field> = std::iter::once("time")
+        .chain(trajectory.names.iter().map(String::as_str))
+        .map(|name| Field::new(name, DataType::Float64, false))
+        .collect();
+    let schema = Arc::new(Schema::new(fields));
+    let out = BufWriter::new(File::create(path)?);
+    let mut writer = arrow_ipc::writer::FileWriter::try_new(out, &schema)?;
+    let width = trajectory.names.len();
+    // At least one batch, so an empty trajectory still reads back with its columns.
+    let mut start = 0;
+    loop {
+        let end = (start + BATCH_ROWS).min(trajectory.len());
+        let mut columns: Vec<ArrayRef> = Vec::with_capacity(width + 1);
+        columns.push(Arc::new(Float64Array::from(
+            trajectory.times[start..end].to_vec(),
+        )));
+        for j in 0..width {
+            let column: Vec<f64> = (start..end)
+                .map(|k| trajectory.values[k * width + j])
+                .collect();
+            columns.push(Arc::new(Float64Array::from(column)));
+        }
+        writer.write(&RecordBatch::try_new(schema.clone(), columns)?)?;
+        start = end;
+        if start >= trajectory.len() {
+            break;
+        }
+    }
+    writer.finish()?;
+    Ok(())
+}
+
+/// Reads an Arrow IPC file of float64 columns with `time` first (as [`write_arrow`] writes).
+pub fn read_arrow(path: &Path) -> anyhow::Result<Trajectory> {
+    let file = File::open(path)?;
+    let reader = arrow_ipc::reader::FileReader::try_new(file, None)?;
+    let schema = reader.schema();
+    let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+    anyhow::ensure!(
+        names.first() == Some(&"time"),
+        "{}: first column must be 'time', not {:?}",
+        path.display(),
+        names.first()
+    );
+    if let Some(field) = schema
+        .fields()
+        .iter()
+        .find(|f| f.data_type() != &DataType::Float64)
+    {
+        anyhow::bail!(
+            "{}: column '{}' is {}, not float64",
+            path.display(),
+            field.name(),
+            field.data_type()
+        );
+    }
+    let mut trajectory = Trajectory {
+        names: names[1..].iter().map(|n| n.to_string()).collect(),
+        ..Default::default()
+    };
+    let width = trajectory.names.len();
+    for batch in reader {
+        let batch = batch?;
+        let columns: Vec<&Float64Array> = batch
+            .columns()
+            .iter()
+            .map(|c| c.as_primitive::<Float64Type>())
+            .collect();
+        anyhow::ensure!(
+            columns.iter().all(|c| c.null_count() == 0),
+            "{}: a column holds nulls",
+            path.display()
+        );
+        trajectory.times.extend_from_slice(columns[0].values());
+        trajectory.values.reserve(batch.num_rows() * width);
+        for k in 0..batch.num_rows() {
+            trajectory
+                .values
+                .extend(columns[1..].iter().map(|c| c.value(k)));
+        }
+    }
+    Ok(trajectory)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bits(values: &[f64]) -> Vec<u64> {
+        values.iter().map(|x| x.to_bits()).collect()
+    }
+
+    #[test]
+    fn a_trajectory_round_trips_bit_exactly_across_batches() {
+        // More rows than one batch, awkward values (subnormal, -0, NaN payload, infinities).
+        let names = vec!["a.x[1]".to_owned(), "b,\"y\"".to_owned()];
+        let rows = BATCH_ROWS + 3;
+        let specials = [
+            5e-324,
+            -0.0,
+            f64::from_bits(0x7ff8_0000_dead_beef),
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1.0 / 3.0,
+        ];
+        let trajectory = Trajectory {
+            names,
+            times: (0..rows).map(|k| k as f64 * 0.01).collect(),
+            values: (0..2 * rows)
+                .map(|i| specials[i % specials.len()] * if i % 7 == 0 { -1.0 } else { 1.0 })
+                .collect(),
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sub/r.arrow");
+        write_arrow(&path, &trajectory).unwrap();
+        let back = read_arrow(&path).unwrap();
+        assert_eq!(back.names, trajectory.names);
+        assert_eq!(bits(&back.times), bits(&trajectory.times));
+        assert_eq!(bits(&back.values), bits(&trajectory.values));
+    }
+
+    #[test]
+    fn an_empty_trajectory_keeps_its_columns() {
+        let trajectory = Trajectory {
+            names: vec!["a.x".into()],
+            ..Default::default()
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("empty.arrow");
+        write_arrow(&path, &trajectory).unwrap();
+        let back = read_arrow(&path).unwrap();
+        assert_eq!(back.names, trajectory.names);
+        assert!(back.is_empty());
+    }
+
+    #[test]
+    fn a_file_that_is_not_arrow_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("r.arrow");
+        std::fs::write(&path, "time,a.x\n0,1\n").unwrap();
+        assert!(read_arrow(&path).is_err());
+    }
+}
