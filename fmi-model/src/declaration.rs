@@ -122,6 +122,29 @@ impl Limit {
         }
     }
 
+    /// The lowest finite value a lower bound admits: itself if inclusive, the next double
+    /// up if exclusive, `-f64::MAX` for none (or -inf); NaN stays NaN. With
+    /// [`Limit::highest_admitted`], a finite value `v` is in range exactly when
+    /// `lowest <= v <= highest`, and infinities and NaN fail those two comparisons: the
+    /// check on every set a master makes.
+    pub fn lowest_admitted(min: Option<Limit>) -> f64 {
+        let lowest = match min {
+            None => f64::NEG_INFINITY,
+            Some(Limit::Inclusive(v)) => v,
+            Some(Limit::Exclusive(v)) => v.next_up(),
+        };
+        if lowest == f64::NEG_INFINITY {
+            -f64::MAX
+        } else {
+            lowest
+        }
+    }
+
+    /// The highest finite value an upper bound admits (see [`Limit::lowest_admitted`]).
+    pub fn highest_admitted(max: Option<Limit>) -> f64 {
+        -Limit::lowest_admitted(max.map(Limit::negated))
+    }
+
     /// Whether `value` respects this limit as a lower bound.
     pub fn admits_above(self, value: f64) -> bool {
         match self {

@@ -131,8 +131,8 @@ impl<M> RealSlot<M> {
             get,
             set,
             element,
-            lowest: lowest_accepted(min),
-            highest: -lowest_accepted(max.map(Limit::negated)),
+            lowest: Limit::lowest_admitted(min),
+            highest: Limit::highest_admitted(max),
             settable_in: StateMask::of(&settable_in),
         })
     }
@@ -150,22 +150,6 @@ impl<M> RealSlot<M> {
     #[inline]
     pub fn read(&self, model: &M) -> f64 {
         (self.get)(model, self.element)
-    }
-}
-
-/// The lowest finite value a lower bound admits: itself if inclusive, the next double up if
-/// exclusive, `-f64::MAX` for none (or -inf); NaN stays NaN, so that every value goes to the
-/// full checks.
-fn lowest_accepted(min: Option<Limit>) -> f64 {
-    let lowest = match min {
-        None => f64::NEG_INFINITY,
-        Some(Limit::Inclusive(v)) => v,
-        Some(Limit::Exclusive(v)) => v.next_up(),
-    };
-    if lowest == f64::NEG_INFINITY {
-        -f64::MAX
-    } else {
-        lowest
     }
 }
 

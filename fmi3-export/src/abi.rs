@@ -21,7 +21,7 @@ use crate::ffi::*;
 use crate::instance::{Core, Instance, Tag};
 use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, Refusal, State};
-use crate::variables::{settable, Type};
+use crate::variables::{settable, Float64Slot, Type};
 pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
 use fmi_model::registry::{self, Entered, Registry};
 use fmi_model::{snapshot, Declaration, Kind, Limit, Log, Model, StepEnd};
@@ -571,33 +571,75 @@ pub unsafe fn get_float64<M: Model>(
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
-            // `time` may stand anywhere in the list, as one element.
-            let mut total = 0;
-            for &vr in vrs {
-                total += if vr == crate::variables::TIME_VR {
-                    1
-                } else {
-                    lookup(inst, vr, Type::Float64)?.shape().len()
-                };
-            }
-            if total != n_values {
-                return Err(wrong_count(n_values, vrs.len(), total));
-            }
+            // `time` may stand anywhere in the list, as one element. One pass: each
+            // variable's elements are written as it is found; a wrong count or an unknown
+            // reference refuses the call (what was written then is not a result).
             let mut k = 0;
             for &vr in vrs {
                 if vr == crate::variables::TIME_VR {
-                    values[k] = inst.core.time;
+                    *values
+                        .get_mut(k)
+                        .ok_or_else(|| count_error(inst, vrs, n_values))? = inst.core.time;
                     k += 1;
-                } else if let Kind::Real { shape, get, .. } = &checked(inst, vr).kind {
-                    for i in 0..shape.len() {
-                        values[k] = get(&inst.core.model, i);
-                        k += 1;
-                    }
+                    continue;
                 }
+                let slot = float64(inst, vr)?;
+                let out = values
+                    .get_mut(k..k + slot.len)
+                    .ok_or_else(|| count_error(inst, vrs, n_values))?;
+                for (i, value) in out.iter_mut().enumerate() {
+                    *value = (slot.get)(&inst.core.model, i);
+                }
+                k += slot.len;
+            }
+            if k != n_values {
+                return Err(count_error(inst, vrs, n_values));
             }
             Ok(success)
         })
     }
+}
+
+/// The Float64 variable at `vr`, in the exchange's form.
+#[inline]
+fn float64<M: Model>(
+    inst: &Instance<M>,
+    vr: fmi3ValueReference,
+) -> Result<&Float64Slot<M>, CallError> {
+    match inst.index.row(vr).and_then(|row| inst.float64.get(row)) {
+        Some(Some(slot)) => Ok(slot),
+        _ => Err(unknown_float64(vr)),
+    }
+}
+
+#[cold]
+fn unknown_float64(vr: fmi3ValueReference) -> CallError {
+    CallError::UnknownValueReference {
+        vr,
+        type_name: Type::Float64.api_name(),
+    }
+}
+
+/// The error of a Float64 call whose `nValues` is not the element count of its references
+/// (all known: an unknown one is reported first, as it is met).
+#[cold]
+fn count_error<M: Model>(
+    inst: &Instance<M>,
+    vrs: &[fmi3ValueReference],
+    n_values: usize,
+) -> CallError {
+    let mut total = 0;
+    for &vr in vrs {
+        total += if vr == crate::variables::TIME_VR {
+            1
+        } else {
+            match float64(inst, vr) {
+                Ok(slot) => slot.len,
+                Err(unknown) => return unknown,
+            }
+        };
+    }
+    wrong_count(n_values, vrs.len(), total)
 }
 
 /// Why element `i` of `d` (of `len` elements) refuses `v`; built only for a refusal.
@@ -661,41 +703,46 @@ pub unsafe fn set_float64<M: Model>(
         call::<M>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
-            count_elements(inst, vrs, Type::Float64, n_values)?;
             // Check every value before writing any: a refused call changes nothing.
+            let initializing = initializing(inst.core.state);
             let mut k = 0;
             for &vr in vrs {
-                let d = checked(inst, vr);
-                settable(d, initializing(inst.core.state)).map_err(|r| refuse_set(d, r))?;
-                if let Kind::Real {
-                    shape, min, max, ..
-                } = &d.kind
-                {
-                    for i in 0..shape.len() {
-                        let v = values[k];
-                        k += 1;
-                        let in_range = v.is_finite()
-                            && min.is_none_or(|m| m.admits_above(v))
-                            && max.is_none_or(|m| m.admits_below(v));
-                        if !in_range {
-                            return Err(refused_float64(d, shape.len(), i, v, *min, *max));
-                        }
+                let slot = float64(inst, vr)?;
+                let allowed = if initializing {
+                    slot.settable_initializing
+                } else {
+                    slot.settable_running
+                };
+                if !allowed {
+                    let d = slot.declaration;
+                    settable(d, initializing).map_err(|r| refuse_set(d, r))?;
+                }
+                let given = values
+                    .get(k..k + slot.len)
+                    .ok_or_else(|| count_error(inst, vrs, n_values))?;
+                for (i, &v) in given.iter().enumerate() {
+                    if !slot.admits(v) {
+                        let (min, max) = match slot.declaration.kind {
+                            Kind::Real { min, max, .. } => (min, max),
+                            _ => (None, None),
+                        };
+                        return Err(refused_float64(slot.declaration, slot.len, i, v, min, max));
                     }
                 }
+                k += slot.len;
+            }
+            if k != n_values {
+                return Err(count_error(inst, vrs, n_values));
             }
             let mut k = 0;
             for &vr in vrs {
-                if let Kind::Real {
-                    shape,
-                    set: Some(set),
-                    ..
-                } = &checked(inst, vr).kind
-                {
-                    for i in 0..shape.len() {
-                        set(&mut inst.core.model, i, values[k]);
-                        k += 1;
+                let (set, len) = float64(inst, vr).map(|slot| (slot.set, slot.len))?;
+                if let Some(set) = set {
+                    for (i, &v) in values[k..k + len].iter().enumerate() {
+                        set(&mut inst.core.model, i, v);
                     }
                 }
+                k += len;
             }
             if !vrs.is_empty() {
                 inst.dirty = true;

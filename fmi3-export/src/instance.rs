@@ -3,7 +3,7 @@ use crate::error::{CallError, Success};
 use crate::ffi::*;
 use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, State};
-use crate::variables::Index;
+use crate::variables::{Float64Slot, Index};
 use fmi_model::{Level, Log, Model, ModelError};
 use serde::{Deserialize, Serialize};
 use std::any::TypeId;
@@ -73,6 +73,8 @@ pub struct Instance<M: Model> {
     pub interface: Interface,
     pub token: uuid::Uuid,
     pub index: Index,
+    /// The Float64 declarations by row, ready for the exchange.
+    pub float64: Box<[Option<Float64Slot<M>>]>,
     /// Keeps the strings returned by `fmi3GetString` alive until its next call.
     pub returned_strings: Vec<CString>,
     /// Addresses of the FMU states handed out and not yet freed.
@@ -89,6 +91,7 @@ impl<M: Model> Instance<M> {
             interface,
             token: crate::description::interface_uuid::<M>(),
             index: Index::new::<M>(),
+            float64: Float64Slot::table(),
             returned_strings: Vec::new(),
             fmu_states: HashSet::new(),
         }

@@ -1,6 +1,6 @@
 //! The FMI 3.0 view of a model's declarations: one variable per declaration (a vector is
 //! one Float64 array with one `Dimension`), found by its value reference.
-use fmi_model::{Causality, Declaration, Kind, Model, Variability};
+use fmi_model::{Causality, Declaration, Kind, Limit, Model, Variability};
 use std::collections::HashMap;
 
 /// Value reference of the independent variable `time`, which FMI 3.0 requires to be
@@ -53,6 +53,56 @@ pub enum Index {
     Sorted(Box<[(u32, u32)]>),
 }
 
+/// A Float64 declaration in the form the exchange needs on every get and set: its accessors,
+/// its element count, its bounds folded into two comparisons and where it may be set; the
+/// declaration itself for the messages of a refusal.
+pub struct Float64Slot<M: 'static> {
+    pub declaration: &'static Declaration<M>,
+    pub len: usize,
+    pub get: fn(&M, usize) -> f64,
+    pub set: Option<fn(&mut M, usize, f64)>,
+    /// The closed range of finite values the bounds admit ([`Limit::lowest_admitted`]).
+    pub lowest: f64,
+    pub highest: f64,
+    /// Whether [`settable`] accepts it in initialization (true) and after it (false).
+    pub settable_initializing: bool,
+    pub settable_running: bool,
+}
+
+impl<M: Model> Float64Slot<M> {
+    /// One entry per declaration, `None` for the other types.
+    pub fn table() -> Box<[Option<Float64Slot<M>>]> {
+        M::declarations()
+            .iter()
+            .map(|d| match d.kind {
+                Kind::Real {
+                    shape,
+                    min,
+                    max,
+                    get,
+                    set,
+                } => Some(Float64Slot {
+                    declaration: d,
+                    len: shape.len(),
+                    get,
+                    set,
+                    lowest: Limit::lowest_admitted(min),
+                    highest: Limit::highest_admitted(max),
+                    settable_initializing: settable(d, true).is_ok(),
+                    settable_running: settable(d, false).is_ok(),
+                }),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Whether `value` may be set as one of its elements (finite, within the bounds).
+    #[inline]
+    pub fn admits(&self, value: f64) -> bool {
+        value >= self.lowest && value <= self.highest
+    }
+}
+
 /// No declaration at this reference (dense table).
 const NONE: u32 = u32::MAX;
 
@@ -85,8 +135,9 @@ impl Index {
         M::declarations().get(self.row(vr)?)
     }
 
+    /// The declaration row of `vr`.
     #[inline]
-    fn row(&self, vr: u32) -> Option<usize> {
+    pub fn row(&self, vr: u32) -> Option<usize> {
         let row = match self {
             Index::Dense(rows) => rows.get(vr as usize).copied().filter(|&i| i != NONE)?,
             Index::Sorted(pairs) => {

@@ -424,7 +424,36 @@ fn many_references_in_one_call_match_the_one_variable_calls() {
     let time_at = names[..5].iter().map(|(_, n)| n).sum::<usize>();
     assert_eq!(read.remove(time_at), 0.0, "time");
     assert_eq!(read, values);
-    // AND a NaN in the last variable (beyond the kept ones) refuses the whole call
+    // AND a get or set with one value too few or too many, or an unknown reference among
+    // them, is refused naming the fault
+    for (n, expect) in [(total - 1, "nValues"), (total + 1, "nValues")] {
+        let mut buffer = vec![0.0; total + 1];
+        // SAFETY: buffers at least as long as the counts passed.
+        let (get, set) = unsafe {
+            (
+                fmu::fmi3GetFloat64(plant.c, vrs.as_ptr(), vrs.len(), buffer.as_mut_ptr(), n),
+                fmu::fmi3SetFloat64(plant.c, vrs.as_ptr(), vrs.len(), buffer.as_ptr(), n),
+            )
+        };
+        assert_eq!((get, set), (fmi3Error, fmi3Error), "{n}");
+        assert!(plant.log().contains(expect), "{}", plant.log());
+    }
+    let mut unknown = vrs.clone();
+    unknown[7] = 77_777;
+    let mut buffer = vec![0.0; total];
+    // SAFETY: as above.
+    let get = unsafe {
+        fmu::fmi3GetFloat64(
+            plant.c,
+            unknown.as_ptr(),
+            unknown.len(),
+            buffer.as_mut_ptr(),
+            total,
+        )
+    };
+    assert_eq!(get, fmi3Error);
+    assert!(plant.log().contains("77777"), "{}", plant.log());
+    // AND a NaN in the last variable refuses the whole call
     let before = values.clone();
     *values.last_mut().unwrap() = f64::NAN;
     // SAFETY: as above.
