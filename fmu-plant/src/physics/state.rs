@@ -57,6 +57,20 @@ impl PlantState {
     }
 }
 
+/// `q / |q|`, also when `|q|` overflows: a body rate far beyond anything physical (a
+/// crafted state, say 1e77 rad/s) grows RK4's q to 1e200 and more, whose squared norm is
+/// infinite; dividing by it would give a zero quaternion, and normalising that NaN.
+/// Scaling by the largest component first keeps every finite, nonzero q finite and unit.
+pub fn normalised(q: &Quaternion<f64>) -> Quaternion<f64> {
+    let largest = q.coords.amax();
+    if largest.is_finite() && largest > 1e150 {
+        let scaled = q / largest;
+        scaled / scaled.norm()
+    } else {
+        q.normalize()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -88,19 +102,5 @@ mod tests {
                 assert!(!x.is_finite(), "component {k} = {bad}");
             }
         }
-    }
-}
-
-/// `q / |q|`, also when `|q|` overflows: a body rate far beyond anything physical (a
-/// crafted state, say 1e77 rad/s) grows RK4's q to 1e200 and more, whose squared norm is
-/// infinite; dividing by it would give a zero quaternion, and normalising that NaN.
-/// Scaling by the largest component first keeps every finite, nonzero q finite and unit.
-pub fn normalised(q: &Quaternion<f64>) -> Quaternion<f64> {
-    let largest = q.coords.amax();
-    if largest.is_finite() && largest > 1e150 {
-        let scaled = q / largest;
-        scaled / scaled.norm()
-    } else {
-        q.normalize()
     }
 }
