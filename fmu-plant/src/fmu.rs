@@ -13,7 +13,7 @@ use fmi_model::{
     decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
 };
 use serde::{Deserialize, Serialize};
-use std::cell::Cell;
+use std::cell::OnceCell;
 
 /// Values the master reads, refreshed by `calculate_values`.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -41,7 +41,7 @@ pub struct LanderPlant {
     /// get that asks for it after a change: a master that exchanges the navigation outputs
     /// alone never pays for it. A cache, not state.
     #[serde(skip)]
-    delivered: Cell<Option<Delivered>>,
+    delivered: OnceCell<Delivered>,
     /// Model Exchange: the time the master's solver set last (the time of an event update).
     #[serde(default)]
     time_s: f64,
@@ -70,14 +70,14 @@ impl LanderPlant {
                         altitude: p.r0_nue_m.y,
                         ..Outputs::default()
                     };
-                    self.delivered.set(None);
+                    self.delivered.take();
                     return;
                 }
             },
         };
         let x = &run.state;
         let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
-        self.delivered.set(None);
+        self.delivered.take();
         self.outputs = Outputs {
             r_nue: r_nue.into(),
             v_nue: v_nue.into(),
@@ -91,31 +91,28 @@ impl LanderPlant {
 
     /// What the actuators deliver at the state the outputs show (see `delivered`); zero
     /// while invalid parameters leave no plant to show.
-    fn delivered(&self) -> Delivered {
-        if let Some(delivered) = self.delivered.get() {
-            return delivered;
-        }
-        let provisional;
-        let (plant, run) = match &self.running {
-            Some((plant, run)) => (plant, run),
-            None => match Plant::new(&self.parameters) {
-                Ok((plant, run, _)) => {
-                    provisional = (plant, run);
-                    (&provisional.0, &provisional.1)
-                }
-                Err(_) => return Delivered::default(),
-            },
-        };
-        // Thruster model: the thrusters commanded on at the start of the coming step.
-        let firing = self.rcs_duty.map(|d| d > 0.0);
-        let delivered = plant.delivered_firing(
-            &run.state,
-            &self.commands,
-            &firing,
-            run.propellant_exhausted || run.touchdown.is_some(),
-        );
-        self.delivered.set(Some(delivered));
-        delivered
+    fn delivered(&self) -> &Delivered {
+        self.delivered.get_or_init(|| {
+            let provisional;
+            let (plant, run) = match &self.running {
+                Some((plant, run)) => (plant, run),
+                None => match Plant::new(&self.parameters) {
+                    Ok((plant, run, _)) => {
+                        provisional = (plant, run);
+                        (&provisional.0, &provisional.1)
+                    }
+                    Err(_) => return Delivered::default(),
+                },
+            };
+            // Thruster model: the thrusters commanded on at the start of the coming step.
+            let firing = self.rcs_duty.map(|d| d > 0.0);
+            plant.delivered_firing(
+                &run.state,
+                &self.commands,
+                &firing,
+                run.propellant_exhausted || run.touchdown.is_some(),
+            )
+        })
     }
 
     fn touchdown_field(&self, f: impl Fn(&crate::physics::plant::Touchdown) -> f64) -> f64 {

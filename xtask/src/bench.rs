@@ -1,8 +1,9 @@
 //! `cargo xtask bench`: package the FMUs, make sure the Python venv and valgrind exist, then
 //! run the side-by-side speed measurement (tests/speed) in one release process, which prints
-//! the wall-clock table, and the instruction counts per closed-loop step in each call order
-//! against the plain Rust floor (callgrind). Arguments after `--` go to the first
-//! (`cargo xtask bench -- --quick`, `--runs 100`); `--quick` skips the counts.
+//! the wall-clock table, the instruction counts per closed-loop step in each call order
+//! against the plain Rust floor, and what the harness's master adds to the FMUs (both with
+//! callgrind). Arguments after `--` go to the first (`cargo xtask bench -- --quick`,
+//! `--runs 100`); `--quick` skips the counts.
 use crate::workspace::{self, Workspace};
 use crate::{fmus, python_env, system_packages};
 use anyhow::Result;
@@ -52,5 +53,22 @@ pub fn run(ws: &Workspace, args: &[String]) -> Result<()> {
         .arg("--binaries")
         .arg(ws.target_dir.join("release"))
         .arg("count");
-    workspace::run(&mut counts)
+    workspace::run(&mut counts)?;
+    // What the harness's master adds to the FMUs, recording every output.
+    let mut master = ws.cargo();
+    master
+        .args([
+            "run",
+            "--release",
+            "-q",
+            "-p",
+            "speed-bench",
+            "--bin",
+            "harness-cost",
+            "--",
+            "compare",
+            "--fmu-dir",
+        ])
+        .arg(ws.fmu_dir());
+    workspace::run(&mut master)
 }
