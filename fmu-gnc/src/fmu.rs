@@ -212,9 +212,7 @@ impl LanderGnc {
 
     /// The memory of the sample at the current time, with the modulators after it.
     fn advance_without_outputs(&self) -> (Advance, PwpfBank) {
-        let design = self.design.as_ref();
-        if design.is_some_and(|d| d.thrusters.is_none()) {
-            let design = design.expect("checked just above");
+        if let Some(design) = self.design.as_ref().filter(|d| d.thrusters.is_none()) {
             let advance = gnc_advance(
                 design,
                 self.start_time_s,

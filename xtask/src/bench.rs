@@ -15,48 +15,33 @@ pub fn run(ws: &Workspace, args: &[String]) -> Result<()> {
     if !args.iter().any(|a| a == "--no-python") {
         python_env::ensure(ws)?;
     }
-    let mut bench = ws.cargo();
-    bench
-        .args([
-            "run",
-            "--release",
-            "-q",
-            "-p",
-            "speed-bench",
-            "--bin",
-            "speed-bench",
-            "--",
-            "--fmu-dir",
-        ])
-        .arg(ws.fmu_dir())
-        .args(args);
-    workspace::run(&mut bench)?;
+    let fmu_dir = ws.fmu_dir().display().to_string();
+    let mut first = vec!["--fmu-dir".to_string(), fmu_dir.clone()];
+    first.extend(args.iter().cloned());
+    run_release_bin(ws, "speed-bench", &first)?;
     if args.iter().any(|a| a == "--quick") {
         return Ok(());
     }
     // The packaged libraries are stripped; their unstripped twins of the same build (in
     // target/release) let callgrind name the functions and count the GNC's evaluations.
-    let mut counts = ws.cargo();
-    counts
-        .args([
-            "run",
-            "--release",
-            "-q",
-            "-p",
-            "speed-bench",
-            "--bin",
-            "call_orders",
-            "--",
-            "--fmu-dir",
-        ])
-        .arg(ws.fmu_dir())
-        .arg("--binaries")
-        .arg(ws.target_dir.join("release"))
-        .arg("count");
-    workspace::run(&mut counts)?;
+    let release = ws.target_dir.join("release").display().to_string();
+    run_release_bin(
+        ws,
+        "call_orders",
+        &["--fmu-dir", &fmu_dir, "--binaries", &release, "count"].map(String::from),
+    )?;
     // What the harness's master adds to the FMUs, recording every output.
-    let mut master = ws.cargo();
-    master
+    run_release_bin(
+        ws,
+        "harness-cost",
+        &["compare", "--fmu-dir", &fmu_dir].map(String::from),
+    )
+}
+
+/// `cargo run --release` of one of the speed-bench binaries with `args`.
+fn run_release_bin(ws: &Workspace, bin: &str, args: &[String]) -> Result<()> {
+    let mut command = ws.cargo();
+    command
         .args([
             "run",
             "--release",
@@ -64,11 +49,9 @@ pub fn run(ws: &Workspace, args: &[String]) -> Result<()> {
             "-p",
             "speed-bench",
             "--bin",
-            "harness-cost",
+            bin,
             "--",
-            "compare",
-            "--fmu-dir",
         ])
-        .arg(ws.fmu_dir());
-    workspace::run(&mut master)
+        .args(args);
+    workspace::run(&mut command)
 }

@@ -21,6 +21,8 @@ use model_description::ModelDescription;
 use nalgebra::Vector3;
 use std::path::Path;
 
+use crate::record::{COMMANDS, NAVIGATION};
+
 pub use crate::fmi3_pair::Fmi3Pair;
 
 pub const STEP_S: f64 = 0.01;
@@ -68,31 +70,6 @@ impl Order {
         }
     }
 }
-
-/// The exchanged signals: the plant's navigation outputs feed the GNC, whose engine and
-/// torque commands feed the plant.
-const NAVIGATION: [&str; 14] = [
-    "r_nue[1]",
-    "r_nue[2]",
-    "r_nue[3]",
-    "v_nue[1]",
-    "v_nue[2]",
-    "v_nue[3]",
-    "q_body_to_nue[1]",
-    "q_body_to_nue[2]",
-    "q_body_to_nue[3]",
-    "q_body_to_nue[4]",
-    "omega_body[1]",
-    "omega_body[2]",
-    "omega_body[3]",
-    "mass",
-];
-const COMMANDS: [&str; 4] = [
-    "thrust_cmd",
-    "torque_cmd_body[1]",
-    "torque_cmd_body[2]",
-    "torque_cmd_body[3]",
-];
 
 /// The paper scenario's parameters (harness/scenarios/paper.toml).
 pub(crate) const PHI_CMD_RAD: f64 = 150.0 * std::f64::consts::PI / 180.0;
