@@ -68,18 +68,17 @@ pub fn corrupt(value: f64, error: f64, quantum: f64) -> f64 {
 /// that `value / quantum` overflows is below the resolution of `value` itself: the value is
 /// returned as it is rather than as infinity. Near the largest f64 the nearest multiple may
 /// not be representable (found by the fuzzer: 1.8e308 in quanta of 8e295); then the next
-/// multiple towards zero, which is.
+/// multiple towards zero, and if rounding the product overflows that too (1.8e308 in quanta
+/// of 1.3e213, found next), the value as it is.
 pub fn quantise(value: f64, quantum: f64) -> f64 {
     let steps = value / quantum;
     if !steps.is_finite() {
         return value;
     }
-    let nearest = steps.round() * quantum;
-    if nearest.is_finite() {
-        nearest
-    } else {
-        steps.trunc() * quantum
-    }
+    [steps.round() * quantum, steps.trunc() * quantum]
+        .into_iter()
+        .find(|q| q.is_finite())
+        .unwrap_or(value)
 }
 
 #[cfg(test)]
@@ -107,6 +106,10 @@ mod tests {
         // The fuzzer's case: a bias of f64::MAX on a rate, quantised in steps of 8.04e295.
         let q = corrupt(0.0, f64::MAX, 8.040407952793562e295);
         assert!(q.is_finite() && q > 1.79e308, "{q}");
+        // And the next one: an input of f64::MAX in quanta of 1.28e213, where even the
+        // multiple towards zero rounds beyond f64::MAX.
+        let q = quantise(f64::MAX, 1.2791103236040028e213);
+        assert_eq!(q, f64::MAX);
         // A finite value plus a finite error that overflows saturates.
         assert_eq!(corrupt(1e308, 1e308, 0.0), f64::MAX);
         assert_eq!(corrupt(-1e308, -1e308, 0.0), -f64::MAX);
