@@ -630,23 +630,26 @@ impl Simulation {
     }
 
     fn set_inputs(&mut self, u: usize) -> Result<(), MasterError> {
-        // The inputs are taken out of the unit while they are filled (moving the buffers,
-        // not copying or allocating), so every source, this unit's own outputs included,
-        // can be read meanwhile.
-        let mut inputs = std::mem::take(&mut self.units[u].inputs);
+        // Each value is read and then written by index, so a source may be any unit, this
+        // one included, without taking its buffers out.
+        let units = &mut self.units;
         for link in &self.links_into[u] {
-            let from = &self.units[link.from_unit].outputs;
+            let from = &units[link.from_unit].outputs;
             match link.kind {
                 VariableKind::Real => {
-                    inputs.real.values[link.to_slot] = from.real.values[link.from_slot]
+                    let value = from.real.values[link.from_slot];
+                    units[u].inputs.real.values[link.to_slot] = value;
                 }
                 VariableKind::Boolean => {
-                    inputs.boolean.values[link.to_slot] = from.boolean.values[link.from_slot]
+                    let value = from.boolean.values[link.from_slot];
+                    units[u].inputs.boolean.values[link.to_slot] = value;
                 }
-                _ => inputs.integer.values[link.to_slot] = from.integer.values[link.from_slot],
+                _ => {
+                    let value = from.integer.values[link.from_slot];
+                    units[u].inputs.integer.values[link.to_slot] = value;
+                }
             }
         }
-        self.units[u].inputs = inputs;
         let unit = &mut self.units[u];
         let inputs = &unit.inputs;
         let result = (|| -> Result<(), CallError> {
