@@ -18,44 +18,62 @@
 //! into the FMU; a call arriving while its refusal is being reported is refused silently, so
 //! a master that re-enters from every log line cannot recurse without bound.
 //!
-//! The registry is a lock around an ordered map of shared slots: entering a call takes the
-//! lock once for the lookup; the call's activity lives in the slot as an atomic, so leaving
-//! the call needs neither the lock nor a second lookup. The lock is never held while the
-//! master's code runs.
+//! The registry is a fixed table of atomic words, one per live instance: its address with
+//! the instance's activity in the two low bits (an instance is at least 8-aligned). Entering
+//! a call is a lookup by a hash of the address and one compare-and-swap of the word, with no
+//! lock: a master calls these millions of times per second. Only registering, unregistering
+//! and reporting a refused nested call take a lock, around the `T` of each instance. The lock
+//! is never held while the master's code runs, and the table is static memory: nothing of it
+//! outlives an unloaded library.
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicU8, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard};
 
-/// What a slot's instance is doing (the values of `Slot::activity`).
-const IDLE: u8 = 0;
+/// What an instance is doing (the low bits of its word).
+const IDLE: usize = 0;
 /// A call is running on the instance.
-const BUSY: u8 = 1;
+const BUSY: usize = 1;
 /// A call is running and a nested call's refusal is being reported.
-const REPORTING: u8 = 2;
+const REPORTING: usize = 2;
+/// The activity bits of a word; the rest is the address.
+const ACTIVITY: usize = 0b11;
 
-/// An instance's activity, shared between the map and the guards of its calls.
-#[derive(Debug, Default)]
-struct Activity(AtomicU8);
+/// Log2 of the number of slots: the live instances one layer of one FMU can hold at once.
+const SLOT_BITS: u32 = 12;
+/// Live instances per layer at once; `fmi2Instantiate` beyond this refuses with a log line.
+pub const CAPACITY: usize = 1 << SLOT_BITS;
 
-impl Activity {
-    /// Moves the activity from `from` to `to`; false if it was not `from`.
-    fn change(&self, from: u8, to: u8) -> bool {
-        self.0
-            .compare_exchange(from, to, Ordering::AcqRel, Ordering::Acquire)
-            .is_ok()
+/// The live instances of one layer, by address.
+pub struct Registry<T> {
+    /// `address | activity`, or 0 for a free slot. An address lives in the first free slot
+    /// at or after its home slot (wrapping), so a lookup scans from the home slot.
+    slots: [AtomicUsize; CAPACITY],
+    /// Each live instance's report channel; its lock also orders registrations.
+    reports: Mutex<BTreeMap<usize, T>>,
+}
+
+impl<T> std::fmt::Debug for Registry<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let live = self
+            .slots
+            .iter()
+            .filter(|s| s.load(Ordering::Relaxed) != 0)
+            .count();
+        f.debug_struct("Registry").field("live", &live).finish()
     }
 }
 
-#[derive(Debug)]
-struct Slot<T> {
-    activity: Arc<Activity>,
-    report: T,
-}
+/// `fmi2Instantiate`/`fmi3Instantiate*` found every slot taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Full;
 
-/// The live instances of one layer, by address.
-#[derive(Debug)]
-pub struct Registry<T> {
-    live: Mutex<BTreeMap<usize, Slot<T>>>,
+impl std::fmt::Display for Full {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{CAPACITY} instances of this FMU are already live in this process; free one first"
+        )
+    }
 }
 
 /// Why [`Registry::enter`] refused a call.
@@ -74,56 +92,106 @@ impl<T: Clone> Default for Registry<T> {
     }
 }
 
+/// The slots to look at for `address`, in order: all of them, from its home slot.
+fn probe(address: usize) -> impl Iterator<Item = usize> {
+    // Fibonacci hashing of the address without its alignment bits.
+    let home =
+        ((address as u64 >> 3).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - SLOT_BITS)) as usize;
+    (0..CAPACITY).map(move |k| (home + k) % CAPACITY)
+}
+
 impl<T: Clone> Registry<T> {
     pub const fn new() -> Registry<T> {
         Registry {
-            live: Mutex::new(BTreeMap::new()),
+            slots: [const { AtomicUsize::new(0) }; CAPACITY],
+            reports: Mutex::new(BTreeMap::new()),
         }
     }
 
-    /// The map; a panic elsewhere while it was held leaves it consistent (every update is
-    /// a single map operation), so a poisoned lock is simply taken over.
-    fn map(&self) -> MutexGuard<'_, BTreeMap<usize, Slot<T>>> {
-        self.live
+    /// The reports; a panic elsewhere while they were held leaves them consistent (every
+    /// update is a single map operation), so a poisoned lock is simply taken over.
+    fn reports(&self) -> MutexGuard<'_, BTreeMap<usize, T>> {
+        self.reports
             .lock()
             .unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 
-    /// Registers a new instance at `address`, idle.
-    pub fn insert(&self, address: usize, report: T) {
-        let slot = Slot {
-            activity: Arc::new(Activity(AtomicU8::new(IDLE))),
-            report,
-        };
-        self.map().insert(address, slot);
+    /// The slot holding `address`, if it is live.
+    fn find(&self, address: usize) -> Option<usize> {
+        if address == 0 || address & ACTIVITY != 0 {
+            return None;
+        }
+        probe(address).find(|&i| self.slots[i].load(Ordering::Acquire) & !ACTIVITY == address)
+    }
+
+    /// Registers a new instance at `address` (non-null, 4-aligned), idle.
+    pub fn insert(&self, address: usize, report: T) -> Result<(), Full> {
+        assert!(
+            address != 0 && address & ACTIVITY == 0,
+            "unaligned instance"
+        );
+        let mut reports = self.reports();
+        let free = probe(address)
+            .find(|&i| self.slots[i].load(Ordering::Acquire) == 0)
+            .ok_or(Full)?;
+        reports.insert(address, report);
+        self.slots[free].store(address | IDLE, Ordering::Release);
+        Ok(())
     }
 
     pub fn is_live(&self, address: usize) -> bool {
-        self.map().contains_key(&address)
+        self.find(address).is_some()
     }
 
     /// Marks the instance at `address` busy for the duration of the returned guard, or says
     /// why the call must be refused.
     pub fn enter(&self, address: usize) -> Result<Entered<'_, T>, Refusal<'_, T>> {
-        let map = self.map();
-        let slot = map.get(&address).ok_or(Refusal::Unknown)?;
-        let activity = Arc::clone(&slot.activity);
-        if activity.change(IDLE, BUSY) {
-            return Ok(Entered {
+        let slot = self.find(address).ok_or(Refusal::Unknown)?;
+        let word = &self.slots[slot];
+        match word.compare_exchange(
+            address | IDLE,
+            address | BUSY,
+            Ordering::AcqRel,
+            Ordering::Acquire,
+        ) {
+            Ok(_) => Ok(Entered {
                 registry: self,
+                slot,
                 address,
-                activity,
                 removed: false,
-            });
+            }),
+            // Freed by another thread since the lookup.
+            Err(now) if now & !ACTIVITY != address => Err(Refusal::Unknown),
+            Err(_) => {
+                if word
+                    .compare_exchange(
+                        address | BUSY,
+                        address | REPORTING,
+                        Ordering::AcqRel,
+                        Ordering::Acquire,
+                    )
+                    .is_err()
+                {
+                    return Err(Refusal::Busy(None));
+                }
+                let Some(report) = self.reports().get(&address).cloned() else {
+                    // Unregistered since the lookup: nobody left to report to.
+                    let _ = word.compare_exchange(
+                        address | REPORTING,
+                        address | BUSY,
+                        Ordering::AcqRel,
+                        Ordering::Acquire,
+                    );
+                    return Err(Refusal::Busy(None));
+                };
+                Err(Refusal::Busy(Some(Reporting {
+                    registry: self,
+                    slot,
+                    address,
+                    report,
+                })))
+            }
         }
-        if activity.change(BUSY, REPORTING) {
-            return Err(Refusal::Busy(Some(Reporting {
-                _registry: std::marker::PhantomData,
-                report: slot.report.clone(),
-                activity,
-            })));
-        }
-        Err(Refusal::Busy(None))
     }
 }
 
@@ -131,22 +199,23 @@ impl<T: Clone> Registry<T> {
 #[derive(Debug)]
 pub struct Entered<'r, T: Clone> {
     registry: &'r Registry<T>,
+    slot: usize,
     address: usize,
-    activity: Arc<Activity>,
     removed: bool,
 }
 
 impl<T: Clone> Entered<'_, T> {
     /// Unregisters the instance (its free): every later call with its address is refused.
     pub fn remove(mut self) {
-        let mut map = self.registry.map();
-        map.remove(&self.address);
+        let mut reports = self.registry.reports();
+        reports.remove(&self.address);
+        self.registry.slots[self.slot].store(0, Ordering::Release);
         // An emptied BTreeMap keeps its root node; a fresh one owns no memory, so nothing of
         // ours outlives the last instance (and the library's unloading).
-        if map.is_empty() {
-            *map = BTreeMap::new();
+        if reports.is_empty() {
+            *reports = BTreeMap::new();
         }
-        drop(map);
+        drop(reports);
         self.removed = true;
     }
 }
@@ -156,7 +225,7 @@ impl<T: Clone> Drop for Entered<'_, T> {
         if !self.removed {
             // Busy, or Reporting if a nested refusal's report is still held: either way the
             // call is over.
-            self.activity.0.store(IDLE, Ordering::Release);
+            self.registry.slots[self.slot].store(self.address | IDLE, Ordering::Release);
         }
     }
 }
@@ -165,8 +234,9 @@ impl<T: Clone> Drop for Entered<'_, T> {
 /// refused silently.
 #[derive(Debug)]
 pub struct Reporting<'r, T: Clone> {
-    _registry: std::marker::PhantomData<&'r Registry<T>>,
-    activity: Arc<Activity>,
+    registry: &'r Registry<T>,
+    slot: usize,
+    address: usize,
     report: T,
 }
 
@@ -179,8 +249,13 @@ impl<T: Clone> std::ops::Deref for Reporting<'_, T> {
 
 impl<T: Clone> Drop for Reporting<'_, T> {
     fn drop(&mut self) {
-        // Back to Busy, unless the outer call has ended meanwhile.
-        self.activity.change(REPORTING, BUSY);
+        // Back to Busy, unless the outer call has ended (or freed the instance) meanwhile.
+        let _ = self.registry.slots[self.slot].compare_exchange(
+            self.address | REPORTING,
+            self.address | BUSY,
+            Ordering::AcqRel,
+            Ordering::Acquire,
+        );
     }
 }
 
@@ -192,7 +267,7 @@ mod tests {
     fn an_unknown_or_removed_address_is_refused_without_a_report() {
         let registry = Registry::<&str>::new();
         assert!(matches!(registry.enter(8), Err(Refusal::Unknown)));
-        registry.insert(8, "log");
+        registry.insert(8, "log").unwrap();
         registry.enter(8).unwrap().remove();
         assert!(!registry.is_live(8));
         assert!(matches!(registry.enter(8), Err(Refusal::Unknown)));
@@ -201,7 +276,7 @@ mod tests {
     #[test]
     fn a_nested_call_is_refused_and_reported_once_per_level() {
         let registry = Registry::<&str>::new();
-        registry.insert(16, "log");
+        registry.insert(16, "log").unwrap();
         let outer = registry.enter(16).unwrap();
         {
             // The nested call gets the report channel...
@@ -222,11 +297,106 @@ mod tests {
     #[test]
     fn a_free_during_a_nested_report_leaves_nothing_behind() {
         let registry = Registry::<&str>::new();
-        registry.insert(24, "log");
+        registry.insert(24, "log").unwrap();
         let outer = registry.enter(24).unwrap();
         let nested = registry.enter(24);
         outer.remove();
         drop(nested);
         assert!(!registry.is_live(24));
+    }
+
+    /// Addresses whose home slot is the same, so each lands one slot further on.
+    fn colliding(count: usize) -> Vec<usize> {
+        let home = |a: usize| probe(a).next().unwrap();
+        let first = home(8);
+        (1..)
+            .map(|k| 8 * k)
+            .filter(|&a| home(a) == first)
+            .take(count)
+            .collect()
+    }
+
+    #[test]
+    fn colliding_addresses_stay_apart_and_a_freed_one_hides_none() {
+        let registry = Registry::<usize>::new();
+        let addresses = colliding(3);
+        for &a in &addresses {
+            registry.insert(a, a).unwrap();
+        }
+        // Freeing the middle one leaves a hole in the chain; the last is still found.
+        registry.enter(addresses[1]).unwrap().remove();
+        assert!(matches!(
+            registry.enter(addresses[1]),
+            Err(Refusal::Unknown)
+        ));
+        let last = registry.enter(addresses[2]).unwrap();
+        let Err(Refusal::Busy(Some(report))) = registry.enter(addresses[2]) else {
+            panic!("the busy instance was not refused with its own report")
+        };
+        assert_eq!(*report, addresses[2]);
+        drop(report);
+        drop(last);
+        // The hole is reused, and each address keeps its own activity.
+        registry.insert(addresses[1], 0).unwrap();
+        let first = registry.enter(addresses[0]).unwrap();
+        drop(registry.enter(addresses[1]).unwrap());
+        drop(registry.enter(addresses[2]).unwrap());
+        drop(first);
+    }
+
+    #[test]
+    fn a_full_table_refuses_one_more_until_one_is_freed() {
+        let registry = Registry::<()>::new();
+        let addresses: Vec<usize> = (1..=CAPACITY).map(|k| 8 * k).collect();
+        for &a in &addresses {
+            registry.insert(a, ()).unwrap();
+        }
+        let extra = 8 * (CAPACITY + 1);
+        assert_eq!(registry.insert(extra, ()), Err(Full));
+        assert!(matches!(registry.enter(extra), Err(Refusal::Unknown)));
+        assert!(addresses.iter().all(|&a| registry.is_live(a)));
+        registry.enter(addresses[CAPACITY / 2]).unwrap().remove();
+        registry.insert(extra, ()).unwrap();
+        drop(registry.enter(extra).unwrap());
+        assert!(!registry.is_live(addresses[CAPACITY / 2]));
+    }
+
+    #[test]
+    fn null_and_unaligned_addresses_are_unknown() {
+        let registry = Registry::<()>::new();
+        registry.insert(64, ()).unwrap();
+        for address in [0, 65, 66, 67] {
+            assert!(matches!(registry.enter(address), Err(Refusal::Unknown)));
+        }
+    }
+
+    /// Two threads calling on one instance: never both inside, and every refusal is Busy.
+    #[test]
+    fn two_threads_never_hold_one_instance_at_once() {
+        use std::sync::atomic::AtomicBool;
+        let registry = Registry::<()>::new();
+        registry.insert(8, ()).unwrap();
+        let inside = AtomicBool::new(false);
+        let entered = AtomicUsize::new(0);
+        std::thread::scope(|scope| {
+            for _ in 0..2 {
+                scope.spawn(|| {
+                    for _ in 0..20_000 {
+                        match registry.enter(8) {
+                            Ok(guard) => {
+                                assert!(!inside.swap(true, Ordering::SeqCst), "both inside");
+                                entered.fetch_add(1, Ordering::Relaxed);
+                                inside.store(false, Ordering::SeqCst);
+                                drop(guard);
+                            }
+                            Err(Refusal::Busy(_)) => {}
+                            Err(Refusal::Unknown) => panic!("a live instance was unknown"),
+                        }
+                    }
+                });
+            }
+        });
+        assert!(entered.load(Ordering::Relaxed) > 0);
+        assert!(registry.is_live(8));
     }
 }

@@ -295,7 +295,14 @@ pub unsafe fn instantiate_as<M: Model>(
             fmu_type == fmi2ModelExchange,
         ));
         let c = Box::into_raw(instance) as fmi2Component;
-        LIVE.insert(c as usize, report);
+        if let Err(full) = LIVE.insert(c as usize, report) {
+            // SAFETY: `c` came from Box::into_raw just above and was never handed out.
+            let instance = unsafe { Box::from_raw(c as *mut Instance<M>) };
+            instance
+                .logger
+                .status(fmi2Error, &format!("fmi2Instantiate: {full}"));
+            return ptr::null_mut();
+        }
         c
     }));
     outcome.unwrap_or_else(|payload| {

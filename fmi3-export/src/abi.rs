@@ -202,7 +202,14 @@ pub(crate) unsafe fn instantiate<M: Model>(
         }
         let report = logger.clone();
         let c = Box::into_raw(Box::new(Instance::<M>::new(logger, interface))) as fmi3Instance;
-        LIVE.insert(c as usize, report);
+        if let Err(full) = LIVE.insert(c as usize, report) {
+            // SAFETY: `c` came from Box::into_raw just above and was never handed out.
+            let instance = unsafe { Box::from_raw(c as *mut Instance<M>) };
+            instance
+                .logger
+                .status(fmi3Error, &format!("{function}: {full}"));
+            return ptr::null_mut();
+        }
         c
     }));
     outcome.unwrap_or_else(|payload| {
