@@ -20,6 +20,7 @@ pub mod continuous;
 mod declaration;
 mod enumeration;
 mod model;
+pub mod prepared;
 pub mod registry;
 pub mod restored;
 pub mod snapshot;

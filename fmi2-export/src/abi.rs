@@ -30,6 +30,7 @@ use crate::rules::{check_enumeration, check_integer, check_real, check_settable}
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
 pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
+use fmi_model::prepared::{Getter, Setter};
 use fmi_model::registry::{Entered, Refusal, Registry};
 use fmi_model::snapshot;
 use std::ffi::{CStr, CString};
@@ -605,6 +606,24 @@ pub unsafe fn get_real<M: Model>(
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice_mut(value, nvr, "value")?;
             let success = inst.refresh(f);
+            let index = &inst.index;
+            let prepared = inst
+                .prepared_get
+                .read(vrs, values, &inst.core.model, |vr, out| {
+                    match index.real(vr) {
+                        Some(slot) => {
+                            out.push(Getter {
+                                get: slot.get,
+                                element: slot.element,
+                            });
+                            true
+                        }
+                        None => false,
+                    }
+                });
+            if prepared {
+                return Ok(success);
+            }
             for (&vr, value) in vrs.iter().zip(values) {
                 let slot = inst
                     .index
@@ -725,6 +744,30 @@ pub unsafe fn set_real<M: Model>(
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
             let state = inst.core.state;
+            let index = &inst.index;
+            let prepared = inst.prepared_set.write(
+                vrs,
+                values,
+                &mut inst.core.model,
+                state as u16,
+                |vr, out| match index.real(vr) {
+                    Some(slot) => slot.set.is_some_and(|set| {
+                        out.push(Setter {
+                            set,
+                            element: slot.element,
+                            lowest: slot.lowest,
+                            highest: slot.highest,
+                            settable_in: slot.settable_in.bits(),
+                        });
+                        true
+                    }),
+                    None => false,
+                },
+            );
+            if prepared {
+                inst.dirty |= !vrs.is_empty();
+                return Ok(Success::Ok);
+            }
             // Checks every value before writing any, so a refused call changes nothing.
             // The write pass looks each reference up again: two array reads, cheaper than
             // keeping what the first pass found.

@@ -6,6 +6,7 @@ use crate::logging::{Category, Logger};
 use crate::model::{Level, Log, Model, ModelError};
 use crate::state::{Function, State};
 use crate::variable::Variable;
+use fmi_model::prepared::{PreparedGet, PreparedSet};
 use serde::{Deserialize, Serialize};
 use std::any::TypeId;
 use std::collections::HashSet;
@@ -83,6 +84,9 @@ pub struct Instance<M: Model> {
     /// The FMI 2.0 scalars of `M`.
     pub table: Box<[Variable<M>]>,
     pub index: VariableIndex<M>,
+    /// The last lists of references set and read as Reals, looked up.
+    pub prepared_set: PreparedSet<M>,
+    pub prepared_get: PreparedGet<M>,
     /// Keeps the strings returned by `fmi2GetString` alive until the next call of it.
     pub returned_strings: Vec<CString>,
     /// Addresses of the FMU states handed out by this instance and not yet freed.
@@ -108,6 +112,8 @@ impl<M: Model> Instance<M> {
             guid,
             resource_location,
             index: VariableIndex::new(&table),
+            prepared_set: PreparedSet::default(),
+            prepared_get: PreparedGet::default(),
             table,
             returned_strings: Vec::new(),
             fmu_states: HashSet::new(),

@@ -62,6 +62,11 @@ impl StateMask {
     pub const fn contains(self, state: State) -> bool {
         self.0 & state as u16 != 0
     }
+
+    /// The states as bits (each `State as u16`).
+    pub const fn bits(self) -> u16 {
+        self.0
+    }
 }
 
 use State::*;
@@ -122,7 +127,9 @@ macro_rules! functions {
                 match self { $(Function::$variant => concat!("fmi2", stringify!($variant)),)* }
             }
 
-            /// The states in which the function may be called.
+            /// The states in which the function may be called (inlined, a constant at each
+            /// call site).
+            #[inline]
             pub const fn legal_states(self) -> StateMask {
                 match self { $(Function::$variant => $mask,)* }
             }

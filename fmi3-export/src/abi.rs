@@ -23,6 +23,7 @@ use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Float64Slot, Type};
 pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
+use fmi_model::prepared::{Getter, Setter};
 use fmi_model::registry::{self, Entered, Registry};
 use fmi_model::{snapshot, Declaration, Kind, Limit, Log, Model, StepEnd};
 use std::ffi::{CStr, CString};
@@ -578,6 +579,24 @@ pub unsafe fn get_float64<M: Model>(
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
+            let (index, table) = (&inst.index, &inst.float64);
+            let prepared = inst
+                .prepared_get
+                .read(vrs, values, &inst.core.model, |vr, out| {
+                    match index.row(vr).and_then(|row| table.get(row)) {
+                        Some(Some(slot)) => {
+                            out.extend((0..slot.len).map(|element| Getter {
+                                get: slot.get,
+                                element,
+                            }));
+                            true
+                        }
+                        _ => false,
+                    }
+                });
+            if prepared {
+                return Ok(success);
+            }
             // `time` may stand anywhere in the list, as one element. One pass: each
             // variable's elements are written as it is found; a wrong count or an unknown
             // reference refuses the call (what was written then is not a result).
@@ -684,6 +703,11 @@ fn refuse_set<M>(d: &Declaration<M>, reason: &'static str) -> CallError {
     }
 }
 
+/// The two kinds of state a Float64's settability depends on, as bits for
+/// [`fmi_model::prepared`].
+const INITIALIZING: u16 = 1;
+const RUNNING: u16 = 2;
+
 fn initializing(state: State) -> bool {
     matches!(state, State::Instantiated | State::InitializationMode)
 }
@@ -710,8 +734,34 @@ pub unsafe fn set_float64<M: Model>(
         call::<M>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
-            // Check every value before writing any: a refused call changes nothing.
             let initializing = initializing(inst.core.state);
+            let (index, table) = (&inst.index, &inst.float64);
+            let prepared = inst.prepared_set.write(
+                vrs,
+                values,
+                &mut inst.core.model,
+                if initializing { INITIALIZING } else { RUNNING },
+                |vr, out| match index.row(vr).and_then(|row| table.get(row)) {
+                    Some(Some(slot)) => slot.set.is_some_and(|set| {
+                        let settable_in = u16::from(slot.settable_initializing) * INITIALIZING
+                            | u16::from(slot.settable_running) * RUNNING;
+                        out.extend((0..slot.len).map(|element| Setter {
+                            set,
+                            element,
+                            lowest: slot.lowest,
+                            highest: slot.highest,
+                            settable_in,
+                        }));
+                        true
+                    }),
+                    _ => false,
+                },
+            );
+            if prepared {
+                inst.dirty |= !vrs.is_empty();
+                return Ok(Success::Ok);
+            }
+            // Check every value before writing any: a refused call changes nothing.
             let mut k = 0;
             for &vr in vrs {
                 let slot = float64(inst, vr)?;

@@ -4,6 +4,7 @@ use crate::ffi::*;
 use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, State};
 use crate::variables::{Float64Slot, Index};
+use fmi_model::prepared::{PreparedGet, PreparedSet};
 use fmi_model::{Level, Log, Model, ModelError};
 use serde::{Deserialize, Serialize};
 use std::any::TypeId;
@@ -75,6 +76,9 @@ pub struct Instance<M: Model> {
     pub index: Index,
     /// The Float64 declarations by row, ready for the exchange.
     pub float64: Box<[Option<Float64Slot<M>>]>,
+    /// The last lists of references set and read as Float64, looked up.
+    pub prepared_set: PreparedSet<M>,
+    pub prepared_get: PreparedGet<M>,
     /// Keeps the strings returned by `fmi3GetString` alive until its next call.
     pub returned_strings: Vec<CString>,
     /// Addresses of the FMU states handed out and not yet freed.
@@ -92,6 +96,8 @@ impl<M: Model> Instance<M> {
             token: crate::description::interface_uuid::<M>(),
             index: Index::new::<M>(),
             float64: Float64Slot::table(),
+            prepared_set: PreparedSet::default(),
+            prepared_get: PreparedGet::default(),
             returned_strings: Vec::new(),
             fmu_states: HashSet::new(),
         }

@@ -125,6 +125,7 @@ macro_rules! functions {
                 match self { $(Function::$variant => concat!("fmi3", stringify!($variant)),)* }
             }
 
+            #[inline]
             pub const fn scope(self) -> Scope {
                 match self { $(Function::$variant => $scope,)* }
             }
@@ -157,7 +158,9 @@ impl std::fmt::Display for Refusal {
 }
 
 impl Function {
-    /// `Ok` when the function may run on an instance of `interface` in `state`.
+    /// `Ok` when the function may run on an instance of `interface` in `state`. Inlined,
+    /// it folds to one mask test at each call site, where the function is a constant.
+    #[inline]
     pub fn admit(self, interface: Interface, state: State) -> Result<(), Refusal> {
         let mask = match (self.scope(), interface) {
             (Scope::Unsupported(feature), _) => return Err(Refusal::Unsupported(feature)),

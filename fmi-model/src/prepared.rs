@@ -1,0 +1,243 @@
+//! The Real value references a master exchanges, looked up once.
+//!
+//! A co-simulation master sets and gets the same list of value references at every step.
+//! Each instance keeps the last list of its Real set and of its Real get with what the
+//! lookup found for it, so a repeated call compares the list with the kept one (a memcmp)
+//! and goes straight to the accessors: no per-reference lookup, and the settable check done
+//! once for the whole list. Anything unusual (an unknown reference, a value out of range, a
+//! variable not settable in this state, a wrong value count) leaves the decision, and its
+//! message, to the layer's generic path, which looks at each reference again.
+//!
+//! The lists depend only on the model's static declarations, so nothing makes them stale.
+//! The layer supplies the lookup (one entry per FMI 2.0 scalar, one per element of an FMI
+//! 3.0 array) and its states as bits (`settable_in`, `state_bit`).
+
+/// One element a set writes: its setter, the bounds it admits, the states (as the layer's
+/// bits) in which it is settable.
+pub struct Setter<M> {
+    pub set: fn(&mut M, usize, f64),
+    pub element: usize,
+    /// The closed range of finite values the bounds admit (`Limit::lowest_admitted`).
+    pub lowest: f64,
+    pub highest: f64,
+    pub settable_in: u16,
+}
+
+/// One element a get reads.
+pub struct Getter<M> {
+    pub get: fn(&M, usize) -> f64,
+    pub element: usize,
+}
+
+/// The last list of a Real set.
+pub struct PreparedSet<M> {
+    vrs: Vec<u32>,
+    entries: Vec<Setter<M>>,
+    /// The states in which every element of the list is settable.
+    settable_in: u16,
+}
+
+impl<M> Default for PreparedSet<M> {
+    fn default() -> Self {
+        PreparedSet {
+            vrs: Vec::new(),
+            entries: Vec::new(),
+            settable_in: 0,
+        }
+    }
+}
+
+impl<M> PreparedSet<M> {
+    /// Writes `values` to the references `vrs` if each is found by `lookup` (which appends
+    /// its elements, or says false), the count matches, every element is settable in the
+    /// state `state_bit` and admits its value; says whether it wrote. False leaves `model`
+    /// as it was, for the generic path to refuse with a reason.
+    #[inline]
+    pub fn write(
+        &mut self,
+        vrs: &[u32],
+        values: &[f64],
+        model: &mut M,
+        state_bit: u16,
+        lookup: impl FnMut(u32, &mut Vec<Setter<M>>) -> bool,
+    ) -> bool {
+        if self.vrs != vrs && !self.prepare(vrs, lookup) {
+            return false;
+        }
+        if self.settable_in & state_bit == 0 || self.entries.len() != values.len() {
+            return false;
+        }
+        // Checked before anything is written, so a refused call changes nothing. The
+        // comparisons are combined without branching: a refusal is the rare case.
+        let admitted = self
+            .entries
+            .iter()
+            .zip(values)
+            .fold(true, |ok, (e, &v)| ok & (v >= e.lowest) & (v <= e.highest));
+        if !admitted {
+            return false;
+        }
+        for (e, &value) in self.entries.iter().zip(values) {
+            (e.set)(model, e.element, value);
+        }
+        true
+    }
+
+    #[cold]
+    fn prepare(
+        &mut self,
+        vrs: &[u32],
+        mut lookup: impl FnMut(u32, &mut Vec<Setter<M>>) -> bool,
+    ) -> bool {
+        self.vrs.clear();
+        self.entries.clear();
+        if !vrs.iter().all(|&vr| lookup(vr, &mut self.entries)) {
+            self.entries.clear();
+            return false;
+        }
+        self.settable_in = self
+            .entries
+            .iter()
+            .fold(u16::MAX, |all, e| all & e.settable_in);
+        self.vrs.extend_from_slice(vrs);
+        true
+    }
+}
+
+/// The last list of a Real get.
+pub struct PreparedGet<M> {
+    vrs: Vec<u32>,
+    entries: Vec<Getter<M>>,
+}
+
+impl<M> Default for PreparedGet<M> {
+    fn default() -> Self {
+        PreparedGet {
+            vrs: Vec::new(),
+            entries: Vec::new(),
+        }
+    }
+}
+
+impl<M> PreparedGet<M> {
+    /// Reads the references `vrs` into `values` if each is found by `lookup` and the count
+    /// matches, and says whether it did; false writes nothing, for the generic path to
+    /// refuse with a reason.
+    #[inline]
+    pub fn read(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [f64],
+        model: &M,
+        lookup: impl FnMut(u32, &mut Vec<Getter<M>>) -> bool,
+    ) -> bool {
+        if self.vrs != vrs && !self.prepare(vrs, lookup) {
+            return false;
+        }
+        if self.entries.len() != values.len() {
+            return false;
+        }
+        for (e, value) in self.entries.iter().zip(values) {
+            *value = (e.get)(model, e.element);
+        }
+        true
+    }
+
+    #[cold]
+    fn prepare(
+        &mut self,
+        vrs: &[u32],
+        mut lookup: impl FnMut(u32, &mut Vec<Getter<M>>) -> bool,
+    ) -> bool {
+        self.vrs.clear();
+        self.entries.clear();
+        if !vrs.iter().all(|&vr| lookup(vr, &mut self.entries)) {
+            self.entries.clear();
+            return false;
+        }
+        self.vrs.extend_from_slice(vrs);
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    type M = [f64; 4];
+    const INIT: u16 = 1;
+    const RUNNING: u16 = 2;
+
+    /// vr 0: settable only initializing; vr 1: a two-element array (elements 1, 2), element
+    /// 2 bounded to [0, 1]; vr 3: not settable. Anything else is unknown.
+    fn setters(vr: u32, out: &mut Vec<Setter<M>>) -> bool {
+        let setter = |element, lowest, highest, settable_in| Setter {
+            set: |m: &mut M, i, v| m[i] = v,
+            element,
+            lowest,
+            highest,
+            settable_in,
+        };
+        match vr {
+            0 => out.push(setter(0, -f64::MAX, f64::MAX, INIT)),
+            1 => out.extend([
+                setter(1, -f64::MAX, f64::MAX, INIT | RUNNING),
+                setter(2, 0.0, 1.0, INIT | RUNNING),
+            ]),
+            _ => return false,
+        }
+        true
+    }
+
+    #[test]
+    fn a_repeated_list_writes_what_the_checks_admit_and_nothing_else() {
+        let mut set = PreparedSet::default();
+        let mut model: M = [0.0; 4];
+        assert!(set.write(&[1, 0], &[7.0, 0.5, 3.0], &mut model, INIT, setters));
+        assert_eq!(model, [3.0, 7.0, 0.5, 0.0]);
+        // Same list: out of bounds, non-finite, a wrong count, or a state where vr 0 is
+        // not settable.
+        for (values, state) in [
+            (&[1.0, 1.5, 1.0][..], INIT),
+            (&[1.0, -0.1, 1.0], INIT),
+            (&[f64::NAN, 0.5, 1.0], INIT),
+            (&[1.0, 0.5, f64::NEG_INFINITY], INIT),
+            (&[1.0, 0.5], INIT),
+            (&[1.0, 0.5, 1.0], RUNNING),
+        ] {
+            assert!(
+                !set.write(&[1, 0], values, &mut model, state, setters),
+                "{values:?} in state {state}"
+            );
+            assert_eq!(model, [3.0, 7.0, 0.5, 0.0], "{values:?} in state {state}");
+        }
+        // Another list is looked up afresh; an unknown reference is not prepared.
+        assert!(set.write(&[1], &[4.0, 1.0], &mut model, RUNNING, setters));
+        assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
+        assert!(!set.write(&[1, 3], &[5.0, 0.0, 5.0], &mut model, INIT, setters));
+        assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn a_prepared_read_gives_what_each_accessor_gives() {
+        let getters = |vr: u32, out: &mut Vec<Getter<M>>| {
+            let ok = vr < 4;
+            if ok {
+                out.push(Getter {
+                    get: |m: &M, i| m[i] * 10.0,
+                    element: vr as usize,
+                });
+            }
+            ok
+        };
+        let mut get = PreparedGet::default();
+        let model: M = [1.0, 2.0, 3.0, 4.0];
+        let mut values = [0.0; 3];
+        for vrs in [[3, 0, 3], [2, 1, 0], [2, 1, 0]] {
+            assert!(get.read(&vrs, &mut values, &model, getters));
+            assert_eq!(values, vrs.map(|vr| 10.0 * model[vr as usize]));
+        }
+        assert!(!get.read(&[0, 4, 1], &mut values, &model, getters));
+        assert!(!get.read(&[0, 1], &mut values, &model, getters), "count");
+    }
+}
