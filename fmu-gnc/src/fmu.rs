@@ -59,6 +59,9 @@ pub struct LanderGnc {
 /// `fmi2SetFMUstate` replace the whole instance, this cache included.
 #[derive(Debug, Clone)]
 struct Evaluated {
+    /// The time it was evaluated at, exactly: a step from that very time needs no
+    /// [`SampleTime`] comparison.
+    t_bits: u64,
     time: SampleTime,
     input_bits: [u64; 14],
     /// The memory the sample leaves (its outputs are in `LanderGnc::outputs`).
@@ -177,6 +180,7 @@ impl LanderGnc {
             ));
         }
         self.evaluated = Some(Evaluated {
+            t_bits: self.time_s.to_bits(),
             time: self.sample_time(self.time_s),
             input_bits: self.inputs.to_bits(),
             advance: sample.advance,
@@ -193,7 +197,11 @@ impl LanderGnc {
         // Read in place: the kept memory is a few hundred bytes, worth not moving twice.
         let bits = self.inputs.to_bits();
         match &self.evaluated {
-            Some(e) if e.input_bits == bits && e.time == self.sample_time(self.time_s) => {
+            Some(e)
+                if e.input_bits == bits
+                    && (e.t_bits == self.time_s.to_bits()
+                        || e.time == self.sample_time(self.time_s)) =>
+            {
                 report(&e.advance, self.time_s, log);
                 self.guidance = e.advance.guidance;
                 self.profile = e.advance.profile;
