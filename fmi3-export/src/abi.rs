@@ -743,8 +743,8 @@ pub unsafe fn set_float64<M: Model>(
                 if initializing { INITIALIZING } else { RUNNING },
                 |vr, out| match index.row(vr).and_then(|row| table.get(row)) {
                     Some(Some(slot)) => slot.set.is_some_and(|set| {
-                        let settable_in = u16::from(slot.settable_initializing) * INITIALIZING
-                            | u16::from(slot.settable_running) * RUNNING;
+                        let settable_in = (u16::from(slot.settable_initializing) * INITIALIZING)
+                            | (u16::from(slot.settable_running) * RUNNING);
                         out.extend((0..slot.len).map(|element| Setter {
                             set,
                             element,
