@@ -133,11 +133,18 @@ impl<M: Model> Instance<M> {
     }
 
     /// Passes a model's messages to the logger; a warning makes the call's status `fmi2Warning`.
-    #[inline]
+    #[inline(always)]
     pub fn forward(&self, function: Function, log: &Log) -> Success {
         if log.entries.is_empty() {
             return Success::Ok;
         }
+        self.forward_entries(function, log)
+    }
+
+    /// [`forward`](Self::forward) of a log that has something to say (rare: out of line).
+    #[cold]
+    #[inline(never)]
+    fn forward_entries(&self, function: Function, log: &Log) -> Success {
         for (level, message) in &log.entries {
             let (status, category) = match level {
                 Level::Info => (fmi2OK, Category::StatusOk),
