@@ -117,6 +117,7 @@ impl<T: Clone> Registry<T> {
     }
 
     /// The slot holding `address`, if it is live.
+    #[inline]
     fn find(&self, address: usize) -> Option<usize> {
         if address == 0 || address & ACTIVITY != 0 {
             return None;
@@ -145,10 +146,10 @@ impl<T: Clone> Registry<T> {
 
     /// Marks the instance at `address` busy for the duration of the returned guard, or says
     /// why the call must be refused.
+    #[inline]
     pub fn enter(&self, address: usize) -> Result<Entered<'_, T>, Refusal<'_, T>> {
         let slot = self.find(address).ok_or(Refusal::Unknown)?;
-        let word = &self.slots[slot];
-        match word.compare_exchange(
+        match self.slots[slot].compare_exchange(
             address | IDLE,
             address | BUSY,
             Ordering::AcqRel,
@@ -160,38 +161,46 @@ impl<T: Clone> Registry<T> {
                 address,
                 removed: false,
             }),
-            // Freed by another thread since the lookup.
-            Err(now) if now & !ACTIVITY != address => Err(Refusal::Unknown),
-            Err(_) => {
-                if word
-                    .compare_exchange(
-                        address | BUSY,
-                        address | REPORTING,
-                        Ordering::AcqRel,
-                        Ordering::Acquire,
-                    )
-                    .is_err()
-                {
-                    return Err(Refusal::Busy(None));
-                }
-                let Some(report) = self.reports().get(&address).cloned() else {
-                    // Unregistered since the lookup: nobody left to report to.
-                    let _ = word.compare_exchange(
-                        address | REPORTING,
-                        address | BUSY,
-                        Ordering::AcqRel,
-                        Ordering::Acquire,
-                    );
-                    return Err(Refusal::Busy(None));
-                };
-                Err(Refusal::Busy(Some(Reporting {
-                    registry: self,
-                    slot,
-                    address,
-                    report,
-                })))
-            }
+            Err(now) => Err(self.refusal(slot, address, now)),
         }
+    }
+
+    /// Why a call on the instance at `slot` found it `now` instead of idle.
+    #[cold]
+    #[inline(never)]
+    fn refusal(&self, slot: usize, address: usize, now: usize) -> Refusal<'_, T> {
+        let word = &self.slots[slot];
+        if now & !ACTIVITY != address {
+            // Freed by another thread since the lookup.
+            return Refusal::Unknown;
+        }
+        if word
+            .compare_exchange(
+                address | BUSY,
+                address | REPORTING,
+                Ordering::AcqRel,
+                Ordering::Acquire,
+            )
+            .is_err()
+        {
+            return Refusal::Busy(None);
+        }
+        let Some(report) = self.reports().get(&address).cloned() else {
+            // Unregistered since the lookup: nobody left to report to.
+            let _ = word.compare_exchange(
+                address | REPORTING,
+                address | BUSY,
+                Ordering::AcqRel,
+                Ordering::Acquire,
+            );
+            return Refusal::Busy(None);
+        };
+        Refusal::Busy(Some(Reporting {
+            registry: self,
+            slot,
+            address,
+            report,
+        }))
     }
 }
 

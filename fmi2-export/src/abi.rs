@@ -31,7 +31,7 @@ use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
 pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
 use fmi_model::prepared::{Getter, Setter};
-use fmi_model::registry::{Entered, Refusal, Registry};
+use fmi_model::registry::{Entered, Refusal, Registry, Reporting};
 use fmi_model::snapshot;
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
@@ -61,6 +61,7 @@ static LIVE: Registry<Logger> = Registry::new();
 /// is read through it), or when another call on it has not returned (a call from inside one
 /// of its callbacks, or from a second thread: refused with a log line, see
 /// [`fmi_model::registry`]).
+#[inline(always)]
 unsafe fn enter<'a, M: Model>(
     c: fmi2Component,
     function: Function,
@@ -69,16 +70,7 @@ unsafe fn enter<'a, M: Model>(
         Ok(entered) => entered,
         Err(Refusal::Unknown) => return None,
         Err(Refusal::Busy(report)) => {
-            if let Some(logger) = report {
-                logger.status(
-                    fmi2Error,
-                    &format!(
-                        "{}: refused: another call on this instance has not returned yet \
-                         (a call from inside one of its callbacks, or from a second thread)",
-                        function.name()
-                    ),
-                );
-            }
+            refuse_nested(report, function);
             return None;
         }
     };
@@ -91,6 +83,23 @@ unsafe fn enter<'a, M: Model>(
     }
     // SAFETY: live, of type M, and no other call holds it (the registry says idle).
     Some((entered, unsafe { &mut *(c as *mut Instance<M>) }))
+}
+
+/// Tells the master, through the busy instance's logger, that its nested call was refused
+/// (`None`: a call from inside that very report, refused silently).
+#[cold]
+#[inline(never)]
+fn refuse_nested(report: Option<Reporting<'_, Logger>>, function: Function) {
+    if let Some(logger) = report {
+        logger.status(
+            fmi2Error,
+            &format!(
+                "{}: refused: another call on this instance has not returned yet \
+                 (a call from inside one of its callbacks, or from a second thread)",
+                function.name()
+            ),
+        );
+    }
 }
 
 /// Runs one FMI call on an instance; see the module documentation.

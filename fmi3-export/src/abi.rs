@@ -24,7 +24,7 @@ use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Float64Slot, Type};
 pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
 use fmi_model::prepared::{Getter, Setter};
-use fmi_model::registry::{self, Entered, Registry};
+use fmi_model::registry::{self, Entered, Registry, Reporting};
 use fmi_model::{snapshot, Declaration, Kind, Limit, Log, Model, StepEnd};
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
@@ -51,6 +51,7 @@ static LIVE: Registry<Logger> = Registry::new();
 /// is read through it), or when another call on it has not returned (a call from inside its
 /// logMessage callback, or from a second thread: refused with a log line, see
 /// [`fmi_model::registry`]).
+#[inline(always)]
 unsafe fn enter<'a, M: Model>(
     c: fmi3Instance,
     function: Function,
@@ -59,16 +60,7 @@ unsafe fn enter<'a, M: Model>(
         Ok(entered) => entered,
         Err(registry::Refusal::Unknown) => return None,
         Err(registry::Refusal::Busy(report)) => {
-            if let Some(logger) = report {
-                logger.status(
-                    fmi3Error,
-                    &format!(
-                        "{}: refused: another call on this instance has not returned yet \
-                         (a call from inside its logMessage callback, or from a second thread)",
-                        function.name()
-                    ),
-                );
-            }
+            refuse_nested(report, function);
             return None;
         }
     };
@@ -81,6 +73,23 @@ unsafe fn enter<'a, M: Model>(
     }
     // SAFETY: live, of type M, and no other call holds it (the registry says idle).
     Some((entered, unsafe { &mut *(c as *mut Instance<M>) }))
+}
+
+/// Tells the master, through the busy instance's logger, that its nested call was refused
+/// (`None`: a call from inside that very report, refused silently).
+#[cold]
+#[inline(never)]
+fn refuse_nested(report: Option<Reporting<'_, Logger>>, function: Function) {
+    if let Some(logger) = report {
+        logger.status(
+            fmi3Error,
+            &format!(
+                "{}: refused: another call on this instance has not returned yet \
+                 (a call from inside its logMessage callback, or from a second thread)",
+                function.name()
+            ),
+        );
+    }
 }
 
 /// Runs one FMI call on an instance; see the module documentation.
