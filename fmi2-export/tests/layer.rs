@@ -1,6 +1,6 @@
 //! The layer with small models of its own, driven through the generic `abi` functions:
 //! panics become fmi2Fatal, the GUID follows the interface only, `check_table` finds
-//! broken tables.
+//! broken tables, a repeated list of references is refused like a new one.
 #![allow(unsafe_code)]
 
 use fmi2_export::ffi::*;
@@ -265,4 +265,102 @@ fn check_table_reports_every_problem() {
 #[should_panic(expected = "invalid variable table of Broken-1")]
 fn no_xml_is_written_for_a_broken_table() {
     model_description_xml::<Broken>();
+}
+
+// ---- a model with bounded inputs and a fixed parameter ----------------------------------
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+struct Bounded {
+    gain: f64,
+    u: [f64; 2],
+}
+
+static BOUNDED: [Declaration<Bounded>; 3] = [
+    decl!(0, parameter gain: gain, "1", ""),
+    decl!(1, input u[2]: u, "1", "", min = 0.0, max = 1.0),
+    decl!(3, output y: get |m, _| m.gain * (m.u[0] + m.u[1]), "1", ""),
+];
+
+impl Model for Bounded {
+    const MODEL_IDENTIFIER: &'static str = "Bounded";
+    const MODEL_NAME: &'static str = "Bounded";
+    const DESCRIPTION: &'static str = "bounded inputs";
+    const DEFAULT_EXPERIMENT: Experiment = Experiment {
+        start_time: 0.0,
+        stop_time: 1.0,
+        step_size: 0.1,
+        tolerance: None,
+    };
+    fn declarations() -> &'static [Declaration<Self>] {
+        &BOUNDED
+    }
+    fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
+        Ok(())
+    }
+    fn do_step(&mut self, _: f64, _: f64, _: &mut Log) -> Result<StepEnd, ModelError> {
+        Ok(StepEnd::Complete)
+    }
+}
+
+/// A master repeating one list of references (the case the layer prepares once) gets every
+/// refusal the first call of that list would get, with its reason, and a refused call
+/// changes nothing.
+#[test]
+fn a_repeated_list_is_refused_as_a_new_one_and_changes_nothing() {
+    let logger = Box::<TestLogger>::default();
+    let functions = logger.callbacks();
+    let guid = CString::new(guid::<Bounded>()).unwrap();
+    let list = [0, 1, 2];
+    let all = [0, 1, 2, 3];
+    unsafe {
+        let c = abi::instantiate::<Bounded>(
+            c"b".as_ptr(),
+            fmi2CoSimulation,
+            guid.as_ptr(),
+            std::ptr::null(),
+            &functions,
+            0,
+            0,
+        );
+        let get = || {
+            let mut values = [0.0; 4];
+            assert_eq!(
+                abi::get_real::<Bounded>(c, all.as_ptr(), 4, values.as_mut_ptr()),
+                fmi2OK
+            );
+            values
+        };
+        let set = |values: [f64; 3]| abi::set_real::<Bounded>(c, list.as_ptr(), 3, values.as_ptr());
+        abi::setup_experiment::<Bounded>(c, 0, 0.0, 0.0, 0, 0.0);
+        abi::enter_initialization_mode::<Bounded>(c);
+        assert_eq!(set([2.0, 0.25, 0.5]), fmi2OK);
+        assert_eq!(get(), [2.0, 0.25, 0.5, 1.5]);
+        for (values, name) in [
+            ([3.0, 0.25, 1.5], "u[2]"),
+            ([3.0, -1.0, 0.5], "u[1]"),
+            ([f64::NAN, 0.25, 0.5], "gain"),
+        ] {
+            assert_eq!(set(values), fmi2Error, "{values:?}");
+            let message = logger.messages().pop().unwrap();
+            assert!(
+                message.starts_with("fmi2SetReal: ") && message.contains(name),
+                "{values:?}: {message}"
+            );
+            assert_eq!(get(), [2.0, 0.25, 0.5, 1.5], "{values:?}");
+        }
+        abi::exit_initialization_mode::<Bounded>(c);
+        // The same list after initialization: the fixed parameter is no longer settable.
+        assert_eq!(set([2.0, 0.75, 0.5]), fmi2Error);
+        let message = logger.messages().pop().unwrap();
+        assert!(message.contains("gain"), "{message}");
+        assert_eq!(get(), [2.0, 0.25, 0.5, 1.5]);
+        let inputs = [1, 2];
+        let values = [0.75, 1.0];
+        assert_eq!(
+            abi::set_real::<Bounded>(c, inputs.as_ptr(), 2, values.as_ptr()),
+            fmi2OK
+        );
+        assert_eq!(get(), [2.0, 0.75, 1.0, 3.5]);
+        abi::free_instance::<Bounded>(c);
+    }
 }
