@@ -29,10 +29,49 @@ pub struct Getter<M> {
     pub element: usize,
 }
 
+/// The last list of references of one direction, with the entries the lookup gave.
+struct List<E> {
+    vrs: Vec<u32>,
+    entries: Vec<E>,
+}
+
+impl<E> Default for List<E> {
+    fn default() -> Self {
+        List {
+            vrs: Vec::new(),
+            entries: Vec::new(),
+        }
+    }
+}
+
+impl<E> List<E> {
+    /// Makes `vrs` the kept list: `Some(false)` when it already was, `Some(true)` when it
+    /// has just been looked up, `None` (and nothing kept) when a reference is not found.
+    #[inline]
+    fn ready(&mut self, vrs: &[u32], lookup: impl FnMut(u32, &mut Vec<E>) -> bool) -> Option<bool> {
+        if self.vrs == vrs {
+            Some(false)
+        } else {
+            self.prepare(vrs, lookup).then_some(true)
+        }
+    }
+
+    #[cold]
+    fn prepare(&mut self, vrs: &[u32], mut lookup: impl FnMut(u32, &mut Vec<E>) -> bool) -> bool {
+        self.vrs.clear();
+        self.entries.clear();
+        if !vrs.iter().all(|&vr| lookup(vr, &mut self.entries)) {
+            self.entries.clear();
+            return false;
+        }
+        self.vrs.extend_from_slice(vrs);
+        true
+    }
+}
+
 /// The last list of a Real set.
 pub struct PreparedSet<M> {
-    vrs: Vec<u32>,
-    entries: Vec<Setter<M>>,
+    list: List<Setter<M>>,
     /// The states in which every element of the list is settable.
     settable_in: u16,
 }
@@ -40,8 +79,7 @@ pub struct PreparedSet<M> {
 impl<M> Default for PreparedSet<M> {
     fn default() -> Self {
         PreparedSet {
-            vrs: Vec::new(),
-            entries: Vec::new(),
+            list: List::default(),
             settable_in: 0,
         }
     }
@@ -61,60 +99,43 @@ impl<M> PreparedSet<M> {
         state_bit: u16,
         lookup: impl FnMut(u32, &mut Vec<Setter<M>>) -> bool,
     ) -> bool {
-        if self.vrs != vrs && !self.prepare(vrs, lookup) {
-            return false;
+        match self.list.ready(vrs, lookup) {
+            None => return false,
+            Some(true) => {
+                self.settable_in =
+                    (self.list.entries.iter()).fold(u16::MAX, |all, e| all & e.settable_in)
+            }
+            Some(false) => {}
         }
-        if self.settable_in & state_bit == 0 || self.entries.len() != values.len() {
+        let entries = &self.list.entries;
+        if self.settable_in & state_bit == 0 || entries.len() != values.len() {
             return false;
         }
         // Checked before anything is written, so a refused call changes nothing. The
         // comparisons are combined without branching: a refusal is the rare case.
-        let admitted = self
-            .entries
+        let admitted = entries
             .iter()
             .zip(values)
             .fold(true, |ok, (e, &v)| ok & (v >= e.lowest) & (v <= e.highest));
         if !admitted {
             return false;
         }
-        for (e, &value) in self.entries.iter().zip(values) {
+        for (e, &value) in entries.iter().zip(values) {
             (e.set)(model, e.element, value);
         }
-        true
-    }
-
-    #[cold]
-    fn prepare(
-        &mut self,
-        vrs: &[u32],
-        mut lookup: impl FnMut(u32, &mut Vec<Setter<M>>) -> bool,
-    ) -> bool {
-        self.vrs.clear();
-        self.entries.clear();
-        if !vrs.iter().all(|&vr| lookup(vr, &mut self.entries)) {
-            self.entries.clear();
-            return false;
-        }
-        self.settable_in = self
-            .entries
-            .iter()
-            .fold(u16::MAX, |all, e| all & e.settable_in);
-        self.vrs.extend_from_slice(vrs);
         true
     }
 }
 
 /// The last list of a Real get.
 pub struct PreparedGet<M> {
-    vrs: Vec<u32>,
-    entries: Vec<Getter<M>>,
+    list: List<Getter<M>>,
 }
 
 impl<M> Default for PreparedGet<M> {
     fn default() -> Self {
         PreparedGet {
-            vrs: Vec::new(),
-            entries: Vec::new(),
+            list: List::default(),
         }
     }
 }
@@ -131,31 +152,12 @@ impl<M> PreparedGet<M> {
         model: &M,
         lookup: impl FnMut(u32, &mut Vec<Getter<M>>) -> bool,
     ) -> bool {
-        if self.vrs != vrs && !self.prepare(vrs, lookup) {
+        if self.list.ready(vrs, lookup).is_none() || self.list.entries.len() != values.len() {
             return false;
         }
-        if self.entries.len() != values.len() {
-            return false;
-        }
-        for (e, value) in self.entries.iter().zip(values) {
+        for (e, value) in self.list.entries.iter().zip(values) {
             *value = (e.get)(model, e.element);
         }
-        true
-    }
-
-    #[cold]
-    fn prepare(
-        &mut self,
-        vrs: &[u32],
-        mut lookup: impl FnMut(u32, &mut Vec<Getter<M>>) -> bool,
-    ) -> bool {
-        self.vrs.clear();
-        self.entries.clear();
-        if !vrs.iter().all(|&vr| lookup(vr, &mut self.entries)) {
-            self.entries.clear();
-            return false;
-        }
-        self.vrs.extend_from_slice(vrs);
         true
     }
 }
