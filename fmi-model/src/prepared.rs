@@ -29,6 +29,9 @@ pub struct Getter<M> {
     pub element: usize,
 }
 
+/// The most elements a kept list may have (a co-simulation exchanges tens per call).
+pub const MAX_ELEMENTS: usize = 1024;
+
 /// The last list of references of one direction, with the entries the lookup gave.
 struct List<E> {
     vrs: Vec<u32>,
@@ -60,8 +63,15 @@ impl<E> List<E> {
     fn prepare(&mut self, vrs: &[u32], mut lookup: impl FnMut(u32, &mut Vec<E>) -> bool) -> bool {
         self.vrs.clear();
         self.entries.clear();
-        if !vrs.iter().all(|&vr| lookup(vr, &mut self.entries)) {
+        // A longer list is served by the generic path: an instance keeps no more than this
+        // for a master that once passed a million references.
+        let found = vrs.len() <= MAX_ELEMENTS
+            && vrs
+                .iter()
+                .all(|&vr| lookup(vr, &mut self.entries) && self.entries.len() <= MAX_ELEMENTS);
+        if !found {
             self.entries.clear();
+            self.entries.shrink_to(MAX_ELEMENTS);
             return false;
         }
         self.vrs.extend_from_slice(vrs);
@@ -218,6 +228,31 @@ mod tests {
         assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
         assert!(!set.write(&[1, 3], &[5.0, 0.0, 5.0], &mut model, INIT, setters));
         assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn a_list_too_long_to_keep_is_left_to_the_generic_path() {
+        let mut set = PreparedSet::default();
+        let mut model: M = [0.0; 4];
+        // vr 1 has two elements.
+        let vrs = vec![1; MAX_ELEMENTS / 2];
+        let values = vec![0.5; MAX_ELEMENTS];
+        assert!(set.write(&vrs, &values, &mut model, RUNNING, setters));
+        let vrs = vec![1; MAX_ELEMENTS / 2 + 1];
+        let values = vec![0.25; MAX_ELEMENTS + 2];
+        assert!(!set.write(&vrs, &values, &mut model, RUNNING, setters));
+        assert_eq!(model, [0.0, 0.5, 0.5, 0.0]);
+        assert!(set.list.entries.capacity() <= MAX_ELEMENTS);
+        assert!(set.list.vrs.is_empty());
+        // More references than elements kept: refused before any lookup.
+        let vrs = vec![9; MAX_ELEMENTS + 1];
+        let mut looked_up = 0;
+        let count = |_: u32, _: &mut Vec<Setter<M>>| {
+            looked_up += 1;
+            false
+        };
+        assert!(!set.write(&vrs, &values, &mut model, RUNNING, count));
+        assert_eq!(looked_up, 0);
     }
 
     #[test]
