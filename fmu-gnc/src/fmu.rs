@@ -238,7 +238,16 @@ impl LanderGnc {
 }
 
 /// Log what the sample found wrong with its inputs, if anything.
+#[inline(always)]
 fn report(advance: &Advance, time_s: f64, log: &mut Log) {
+    if advance.non_unit_quaternion_norm.is_some() || advance.degenerate.is_some() {
+        report_inputs(advance, time_s, log);
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn report_inputs(advance: &Advance, time_s: f64, log: &mut Log) {
     if let Some(norm) = advance.non_unit_quaternion_norm {
         log.warning(format!(
             "t = {time_s} s: q_body_to_nue has norm {norm:e}, not 1; used normalised"
