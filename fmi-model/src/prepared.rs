@@ -1,8 +1,9 @@
 //! The Real value references a master exchanges, looked up once.
 //!
-//! A co-simulation master sets and gets the same list of value references at every step.
-//! Each instance keeps the last list of its Real set and of its Real get with what the
-//! lookup found for it, so a repeated call compares the list with the kept one (a memcmp)
+//! A co-simulation master sets and gets the same lists of value references at every step.
+//! Each instance keeps the last few lists of its Real sets and of its Real gets (a master
+//! may read the feedthrough outputs and then all outputs, say) with what the lookup found
+//! for them, so a repeated call compares the list with the kept ones (a memcmp each)
 //! and goes straight to the accessors: no per-reference lookup, and the settable check done
 //! once for the whole list. Anything unusual (an unknown reference, a value out of range, a
 //! variable not settable in this state, a wrong value count) leaves the decision, and its
@@ -32,65 +33,90 @@ pub struct Getter<M> {
 /// The most elements a kept list may have (a co-simulation exchanges tens per call).
 pub const MAX_ELEMENTS: usize = 1024;
 
-/// The last list of references of one direction, with the entries the lookup gave.
-struct List<E> {
+/// One kept list of references, with the entries the lookup gave and what the direction
+/// derives from them (`X`).
+struct List<E, X> {
     vrs: Vec<u32>,
     entries: Vec<E>,
+    derived: X,
 }
 
-impl<E> Default for List<E> {
+/// How many lists each direction keeps.
+const KEPT: usize = 4;
+
+/// The kept lists of one direction, replaced in turn.
+struct Lists<E, X> {
+    lists: [List<E, X>; KEPT],
+    next: usize,
+}
+
+impl<E, X: Default> Default for Lists<E, X> {
     fn default() -> Self {
-        List {
-            vrs: Vec::new(),
-            entries: Vec::new(),
+        Lists {
+            lists: std::array::from_fn(|_| List {
+                vrs: Vec::new(),
+                entries: Vec::new(),
+                derived: X::default(),
+            }),
+            next: 0,
         }
     }
 }
 
-impl<E> List<E> {
-    /// Makes `vrs` the kept list: `Some(false)` when it already was, `Some(true)` when it
-    /// has just been looked up, `None` (and nothing kept) when a reference is not found.
+impl<E, X> Lists<E, X> {
+    /// The kept list `vrs`, looked up (and `derive`d) now if it was not kept; `None` (and
+    /// nothing kept) when a reference is not found.
     #[inline]
-    fn ready(&mut self, vrs: &[u32], lookup: impl FnMut(u32, &mut Vec<E>) -> bool) -> Option<bool> {
-        if self.vrs == vrs {
-            Some(false)
-        } else {
-            self.prepare(vrs, lookup).then_some(true)
+    fn ready(
+        &mut self,
+        vrs: &[u32],
+        lookup: impl FnMut(u32, &mut Vec<E>) -> bool,
+        derive: impl FnOnce(&[E]) -> X,
+    ) -> Option<&List<E, X>> {
+        match self.lists.iter().position(|list| list.vrs == vrs) {
+            Some(i) => Some(&self.lists[i]),
+            None => self.prepare(vrs, lookup, derive),
         }
     }
 
     #[cold]
-    fn prepare(&mut self, vrs: &[u32], mut lookup: impl FnMut(u32, &mut Vec<E>) -> bool) -> bool {
-        self.vrs.clear();
-        self.entries.clear();
+    fn prepare(
+        &mut self,
+        vrs: &[u32],
+        mut lookup: impl FnMut(u32, &mut Vec<E>) -> bool,
+        derive: impl FnOnce(&[E]) -> X,
+    ) -> Option<&List<E, X>> {
+        let list = &mut self.lists[self.next];
+        list.vrs.clear();
+        list.entries.clear();
         // A longer list is served by the generic path: an instance keeps no more than this
         // for a master that once passed a million references.
         let found = vrs.len() <= MAX_ELEMENTS
             && vrs
                 .iter()
-                .all(|&vr| lookup(vr, &mut self.entries) && self.entries.len() <= MAX_ELEMENTS);
+                .all(|&vr| lookup(vr, &mut list.entries) && list.entries.len() <= MAX_ELEMENTS);
         if !found {
-            self.entries.clear();
-            self.entries.shrink_to(MAX_ELEMENTS);
-            return false;
+            list.entries.clear();
+            list.entries.shrink_to(MAX_ELEMENTS);
+            return None;
         }
-        self.vrs.extend_from_slice(vrs);
-        true
+        list.vrs.extend_from_slice(vrs);
+        list.derived = derive(&list.entries);
+        self.next = (self.next + 1) % KEPT;
+        Some(list)
     }
 }
 
-/// The last list of a Real set.
+/// The last lists of a Real set; each derives the states in which every element of it is
+/// settable.
 pub struct PreparedSet<M> {
-    list: List<Setter<M>>,
-    /// The states in which every element of the list is settable.
-    settable_in: u16,
+    lists: Lists<Setter<M>, u16>,
 }
 
 impl<M> Default for PreparedSet<M> {
     fn default() -> Self {
         PreparedSet {
-            list: List::default(),
-            settable_in: 0,
+            lists: Lists::default(),
         }
     }
 }
@@ -109,16 +135,13 @@ impl<M> PreparedSet<M> {
         state_bit: u16,
         lookup: impl FnMut(u32, &mut Vec<Setter<M>>) -> bool,
     ) -> bool {
-        match self.list.ready(vrs, lookup) {
-            None => return false,
-            Some(true) => {
-                self.settable_in =
-                    (self.list.entries.iter()).fold(u16::MAX, |all, e| all & e.settable_in)
-            }
-            Some(false) => {}
-        }
-        let entries = &self.list.entries;
-        if self.settable_in & state_bit == 0 || entries.len() != values.len() {
+        let settable_in =
+            |entries: &[Setter<M>]| entries.iter().fold(u16::MAX, |all, e| all & e.settable_in);
+        let Some(list) = self.lists.ready(vrs, lookup, settable_in) else {
+            return false;
+        };
+        let entries = &list.entries;
+        if list.derived & state_bit == 0 || entries.len() != values.len() {
             return false;
         }
         // Checked before anything is written, so a refused call changes nothing. The
@@ -137,15 +160,15 @@ impl<M> PreparedSet<M> {
     }
 }
 
-/// The last list of a Real get.
+/// The last lists of a Real get.
 pub struct PreparedGet<M> {
-    list: List<Getter<M>>,
+    lists: Lists<Getter<M>, ()>,
 }
 
 impl<M> Default for PreparedGet<M> {
     fn default() -> Self {
         PreparedGet {
-            list: List::default(),
+            lists: Lists::default(),
         }
     }
 }
@@ -162,10 +185,13 @@ impl<M> PreparedGet<M> {
         model: &M,
         lookup: impl FnMut(u32, &mut Vec<Getter<M>>) -> bool,
     ) -> bool {
-        if self.list.ready(vrs, lookup).is_none() || self.list.entries.len() != values.len() {
+        let Some(list) = self.lists.ready(vrs, lookup, |_| ()) else {
+            return false;
+        };
+        if list.entries.len() != values.len() {
             return false;
         }
-        for (e, value) in self.list.entries.iter().zip(values) {
+        for (e, value) in list.entries.iter().zip(values) {
             *value = (e.get)(model, e.element);
         }
         true
@@ -230,6 +256,39 @@ mod tests {
         assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
     }
 
+    /// Lists taking turns (the feedthrough outputs, then all of them) are each looked up
+    /// once while no more than `KEPT` alternate; more still give the right values.
+    #[test]
+    fn alternating_lists_are_looked_up_once_each() {
+        let model: M = [1.0, 2.0, 3.0, 4.0];
+        for lists in [2, KEPT, KEPT + 1] {
+            let mut get = PreparedGet::default();
+            let mut lookups = 0;
+            for round in 0..10 {
+                for first in 0..lists {
+                    let vrs = [first as u32, 3];
+                    let mut values = [0.0; 2];
+                    let counting = |vr: u32, out: &mut Vec<Getter<M>>| {
+                        lookups += 1;
+                        out.push(Getter {
+                            get: |m: &M, i| m[i],
+                            element: vr as usize % 4,
+                        });
+                        true
+                    };
+                    assert!(get.read(&vrs, &mut values, &model, counting));
+                    assert_eq!(values, [model[first % 4], 4.0], "round {round}");
+                }
+            }
+            let expected = if lists <= KEPT {
+                2 * lists
+            } else {
+                2 * lists * 10
+            };
+            assert_eq!(lookups, expected, "{lists} lists");
+        }
+    }
+
     #[test]
     fn a_list_too_long_to_keep_is_left_to_the_generic_path() {
         let mut set = PreparedSet::default();
@@ -242,8 +301,11 @@ mod tests {
         let values = vec![0.25; MAX_ELEMENTS + 2];
         assert!(!set.write(&vrs, &values, &mut model, RUNNING, setters));
         assert_eq!(model, [0.0, 0.5, 0.5, 0.0]);
-        assert!(set.list.entries.capacity() <= MAX_ELEMENTS);
-        assert!(set.list.vrs.is_empty());
+        assert!(set
+            .lists
+            .lists
+            .iter()
+            .all(|l| l.entries.capacity() <= MAX_ELEMENTS));
         // More references than elements kept: refused before any lookup.
         let vrs = vec![9; MAX_ELEMENTS + 1];
         let mut looked_up = 0;
