@@ -72,6 +72,17 @@ pub fn compute(
     columns: &Columns<'_>,
     target_nue: [f64; 3],
 ) -> Result<Metrics, MissingColumn> {
+    compute_with_final(trajectory, trajectory, columns, target_nue)
+}
+
+/// [`compute`], with the touchdown state read from the last row of `final_row` (a run's
+/// final values, which may hold columns `trajectory` does not record at every step).
+pub fn compute_with_final(
+    trajectory: &Trajectory,
+    final_row: &Trajectory,
+    columns: &Columns<'_>,
+    target_nue: [f64; 3],
+) -> Result<Metrics, MissingColumn> {
     let col = |instance: &str, name: &str| {
         let full = format!("{instance}.{name}");
         trajectory.column(&full).ok_or(MissingColumn(full))
@@ -111,7 +122,7 @@ pub fn compute(
     let tilt_error_integral_rad_s = (1..n)
         .map(|k| 0.5 * (tilt[k] + tilt[k - 1]) * (times[k] - times[k - 1]))
         .sum();
-    let touchdown = touchdown_state(trajectory, p);
+    let touchdown = touchdown_state(final_row, p);
     Ok(Metrics {
         max_horizontal_deviation_m: max_over(&mut (0..n).map(horizontal)),
         max_horizontal_deviation_descent_m: max_over(

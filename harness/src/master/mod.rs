@@ -321,6 +321,11 @@ pub struct Simulation {
     connection_names: Vec<(String, String)>,
     connectors: Vec<crate::system::ssp::ConnectorDecl>,
     row: Vec<f64>,
+    /// Outputs read only once, at the end of a run (see [`Simulation::set_final_columns`]),
+    /// with their names and their values after the last run.
+    final_ports: Vec<Port>,
+    final_names: Vec<String>,
+    final_row: Vec<f64>,
     /// Per unit: what of its outputs Gauss-Seidel reads right after its step.
     read_after_step: Vec<AfterStep>,
     /// Per unit: every output was read since its last step (or initialization), so setting
@@ -492,6 +497,9 @@ impl Simulation {
             connection_names,
             connectors,
             row,
+            final_ports: Vec::new(),
+            final_names: Vec::new(),
+            final_row: Vec::new(),
             outputs_read: vec![false; read_after_step.len()],
             read_after_step,
             fresh: true,
@@ -556,6 +564,43 @@ impl Simulation {
         &self.column_names
     }
 
+    /// Outputs to read once, at the last communication point of each run (after its row is
+    /// recorded, before the instances terminate), instead of at every step: what a caller
+    /// needs only at the end (a touchdown state) costs nothing per step. `names` are
+    /// `instance.variable` paths as in a scenario's `record` (arrays expand to elements);
+    /// [`Simulation::final_values`] gives the values.
+    pub fn set_final_columns(&mut self, names: &[String]) -> Result<(), MasterError> {
+        let mut problems = Vec::new();
+        let ports: Vec<Port> = names
+            .iter()
+            .flat_map(|path| resolve::ports(&self.system, &self.fmus, path, &[], &mut problems))
+            .collect();
+        if !problems.is_empty() {
+            return Err(MasterError::Resolve {
+                system: self.system.name.clone(),
+                problems,
+            });
+        }
+        self.final_names = ports
+            .iter()
+            .map(|p| format!("{}.{}", self.system.instances[p.instance].name, p.name))
+            .collect();
+        self.final_row = vec![f64::NAN; ports.len()];
+        self.final_ports = ports;
+        Ok(())
+    }
+
+    /// `instance.variable` of each value of [`Simulation::final_values`].
+    pub fn final_column_names(&self) -> &[String] {
+        &self.final_names
+    }
+
+    /// The outputs set with [`Simulation::set_final_columns`] at the end of the last run
+    /// (booleans as 0.0 or 1.0, as recorded columns); NaN before any run.
+    pub fn final_values(&self) -> &[f64] {
+        &self.final_row
+    }
+
     /// Every connection as (`from`, `to`) scalar `instance.variable` paths, in order.
     pub fn scalar_connections(&self) -> &[(String, String)] {
         &self.connection_names
@@ -579,6 +624,7 @@ impl Simulation {
             }
         }
         self.fresh = false;
+        self.final_row.fill(f64::NAN);
         self.initialize()?;
         let SystemDescription {
             start_time,
@@ -636,6 +682,7 @@ impl Simulation {
                         }
                         self.get_outputs(u)?;
                         self.record(last_successful_time, recorder);
+                        self.read_final()?;
                         self.terminate_all();
                         return Ok(RunEnd::Terminated {
                             instance: name,
@@ -681,6 +728,7 @@ impl Simulation {
             self.get_outputs(u)?;
         }
         self.record(clock.end_time(), recorder);
+        self.read_final()?;
         self.terminate_all();
         Ok(RunEnd::Completed)
     }
@@ -830,6 +878,34 @@ impl Simulation {
             }
         }
         recorder.record(time, &self.row);
+    }
+
+    /// Reads the final-only outputs, one call per value: a handful, once per run.
+    fn read_final(&mut self) -> Result<(), MasterError> {
+        for (value, port) in self.final_row.iter_mut().zip(&self.final_ports) {
+            let unit = &mut self.units[port.instance];
+            let vr = [port.value_reference];
+            let read = match port.kind {
+                VariableKind::Real => {
+                    let mut x = [0.0];
+                    unit.instance.get_real(&vr, &mut x).map(|_| x[0])
+                }
+                VariableKind::Boolean => {
+                    let mut b = [0];
+                    unit.instance
+                        .get_boolean_raw(&vr, &mut b)
+                        .map(|_| f64::from(b[0]))
+                }
+                _ => {
+                    let mut i = [0];
+                    unit.instance
+                        .get_integer(&vr, &mut i)
+                        .map(|_| f64::from(i[0]))
+                }
+            };
+            *value = read.map_err(|e| call(&unit.name, "getting final outputs", e))?;
+        }
+        Ok(())
     }
 
     fn terminate_all(&mut self) {
