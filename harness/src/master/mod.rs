@@ -248,15 +248,33 @@ struct Link {
     to_slot: usize,
 }
 
-/// The connections from one unit into another, resolved once into (output slot, input slot)
-/// pairs per exchange buffer, so setting inputs is plain indexed copies with no per-link
-/// dispatch on the type.
+/// The connections from one unit into another, resolved once into runs of consecutive
+/// output slots copied to consecutive input slots, per exchange buffer, so setting inputs is
+/// a few slice copies with no per-link dispatch on the type.
 #[derive(Debug, Default)]
 struct Copies {
     from_unit: usize,
-    real: Vec<(usize, usize)>,
-    integer: Vec<(usize, usize)>,
-    boolean: Vec<(usize, usize)>,
+    real: Vec<SlotRun>,
+    integer: Vec<SlotRun>,
+    boolean: Vec<SlotRun>,
+}
+
+/// Output slots `from..from + len` to input slots `to..to + len`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct SlotRun {
+    from: usize,
+    to: usize,
+    len: usize,
+}
+
+impl SlotRun {
+    /// Adds the copy `from -> to` to `runs`, extending the last run when it continues it.
+    fn push(runs: &mut Vec<SlotRun>, from: usize, to: usize) {
+        match runs.last_mut() {
+            Some(run) if run.from + run.len == from && run.to + run.len == to => run.len += 1,
+            _ => runs.push(SlotRun { from, to, len: 1 }),
+        }
+    }
 }
 
 impl Copies {
@@ -274,12 +292,12 @@ impl Copies {
                     groups.last_mut().expect("just pushed")
                 }
             };
-            let pairs = match block_index(link.kind) {
+            let runs = match block_index(link.kind) {
                 0 => &mut group.real,
                 1 => &mut group.integer,
                 _ => &mut group.boolean,
             };
-            pairs.push((link.from_slot, link.to_slot));
+            SlotRun::push(runs, link.from_slot, link.to_slot);
         }
         groups
     }
@@ -291,9 +309,12 @@ impl Copies {
     }
 }
 
-fn copy_slots<T: Copy>(pairs: &[(usize, usize)], from: &[T], to: &mut [T]) {
-    for &(source, destination) in pairs {
-        to[destination] = from[source];
+fn copy_slots<T: Copy>(runs: &[SlotRun], from: &[T], to: &mut [T]) {
+    for run in runs {
+        let source = &from[run.from..run.from + run.len];
+        for (destination, value) in to[run.to..run.to + run.len].iter_mut().zip(source) {
+            *destination = *value;
+        }
     }
 }
 
@@ -1107,13 +1128,14 @@ mod tests {
             link(Enumeration, 1, 1, 0, 0),
         ];
         let groups = Copies::into_unit(&links, 0);
+        let run = |from, to, len| SlotRun { from, to, len };
         assert_eq!(groups.len(), 2);
         assert_eq!(groups[0].from_unit, 1);
-        assert_eq!(groups[0].real, [(2, 0)]);
-        assert_eq!(groups[0].integer, [(1, 0)]);
-        assert_eq!(groups[0].boolean, [(0, 1)]);
+        assert_eq!(groups[0].real, [run(2, 0, 1)]);
+        assert_eq!(groups[0].integer, [run(1, 0, 1)]);
+        assert_eq!(groups[0].boolean, [run(0, 1, 1)]);
         assert_eq!(groups[1].from_unit, 0);
-        assert_eq!(groups[1].real, [(1, 1)]);
+        assert_eq!(groups[1].real, [run(1, 1, 1)]);
 
         let mut from = Io::default();
         from.real.values = vec![1.0, 2.0, 3.0];
@@ -1127,6 +1149,20 @@ mod tests {
         assert_eq!(to.real.values, [3.0, -2.0]);
         assert_eq!(to.integer.values, [8]);
         assert_eq!(to.boolean.values, [0, 1]);
+    }
+
+    #[test]
+    fn consecutive_copies_join_into_one_run_and_a_gap_starts_another() {
+        let mut runs = Vec::new();
+        for (from, to) in [(4, 0), (5, 1), (6, 2), (8, 3), (9, 5)] {
+            SlotRun::push(&mut runs, from, to);
+        }
+        let run = |from, to, len| SlotRun { from, to, len };
+        assert_eq!(runs, [run(4, 0, 3), run(8, 3, 1), run(9, 5, 1)]);
+        let from = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
+        let mut to = [-1.0; 6];
+        copy_slots(&runs, &from, &mut to);
+        assert_eq!(to, [4.0, 5.0, 6.0, 8.0, -1.0, 9.0]);
     }
 
     #[test]
