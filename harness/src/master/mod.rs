@@ -238,6 +238,24 @@ enum AfterStep {
     All,
 }
 
+impl AfterStep {
+    /// Per unit, from the connections (slots already partitioned, see [`feedthrough_last`]).
+    fn of(links: &[Link], outputs: &[Io]) -> Vec<AfterStep> {
+        let mut after = vec![AfterStep::Nothing; outputs.len()];
+        for link in links.iter().filter(|l| l.to_unit < l.from_unit) {
+            let feedthrough_start = outputs[link.from_unit].feedthrough_start(link.kind);
+            let needed = if link.from_slot < feedthrough_start {
+                AfterStep::Stable
+            } else {
+                AfterStep::All
+            };
+            let unit = &mut after[link.from_unit];
+            *unit = (*unit).max(needed);
+        }
+        after
+    }
+}
+
 /// A scalar connection after resolution: output slot of one unit to input slot of another.
 #[derive(Debug, Clone, Copy)]
 struct Link {
@@ -494,17 +512,7 @@ impl Simulation {
             .map(|u| Copies::into_unit(&links, u))
             .collect();
         let row = vec![0.0; columns.len()];
-        let mut read_after_step = vec![AfterStep::Nothing; units.len()];
-        for link in links.iter().filter(|l| l.to_unit < l.from_unit) {
-            let feedthrough_start = outputs[link.from_unit].feedthrough_start(link.kind);
-            let needed = if link.from_slot < feedthrough_start {
-                AfterStep::Stable
-            } else {
-                AfterStep::All
-            };
-            let after = &mut read_after_step[link.from_unit];
-            *after = (*after).max(needed);
-        }
+        let read_after_step = AfterStep::of(&links, &outputs);
         Ok(Self {
             system,
             fmus,
@@ -1163,6 +1171,47 @@ mod tests {
         let mut to = [-1.0; 6];
         copy_slots(&runs, &from, &mut to);
         assert_eq!(to, [4.0, 5.0, 6.0, 8.0, -1.0, 9.0]);
+    }
+
+    #[test]
+    fn after_the_step_only_what_an_earlier_unit_consumes_is_read() {
+        use VariableKind::{Boolean, Real};
+        let link = |kind, from_unit, from_slot, to_unit| Link {
+            kind,
+            from_unit,
+            from_slot,
+            to_unit,
+            to_slot: 0,
+        };
+        let io = |real_feedthrough_start, boolean_feedthrough_start| {
+            let mut io = Io::default();
+            io.real.vrs = vec![0; 4];
+            io.real.feedthrough_start = real_feedthrough_start;
+            io.boolean.vrs = vec![0; 2];
+            io.boolean.feedthrough_start = boolean_feedthrough_start;
+            io
+        };
+        let outputs = [io(4, 2), io(2, 2), io(2, 1), io(4, 2)];
+        let links = [
+            // unit 1: an earlier unit takes a stable output
+            link(Real, 1, 1, 0),
+            // unit 2: one stable, one feedthrough output (a Boolean) to earlier units
+            link(Real, 2, 0, 0),
+            link(Boolean, 2, 1, 1),
+            // unit 3: only later units and itself consume it
+            link(Real, 3, 3, 3),
+            // unit 0 feeds a later unit: its outputs are read at its turn
+            link(Real, 0, 0, 3),
+        ];
+        assert_eq!(
+            AfterStep::of(&links, &outputs),
+            [
+                AfterStep::Nothing,
+                AfterStep::Stable,
+                AfterStep::All,
+                AfterStep::Nothing
+            ]
+        );
     }
 
     #[test]
