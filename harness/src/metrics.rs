@@ -72,9 +72,26 @@ pub fn compute(
     columns: &Columns<'_>,
     target_nue: [f64; 3],
 ) -> Result<Metrics, MissingColumn> {
+    compute_with_final(trajectory, trajectory, columns, target_nue)
+}
+
+/// [`compute`], with the touchdown state read from the last row of `final_row` (a run's
+/// final values, which may hold columns `trajectory` does not record at every step).
+pub fn compute_with_final(
+    trajectory: &Trajectory,
+    final_row: &Trajectory,
+    columns: &Columns<'_>,
+    target_nue: [f64; 3],
+) -> Result<Metrics, MissingColumn> {
+    // Columns are read in place (row-major, strided): a flight's metrics copy nothing.
     let col = |instance: &str, name: &str| {
         let full = format!("{instance}.{name}");
-        trajectory.column(&full).ok_or(MissingColumn(full))
+        let j = trajectory.column_index(&full).ok_or(MissingColumn(full))?;
+        Ok::<_, MissingColumn>(Column {
+            values: &trajectory.values,
+            width: trajectory.names.len(),
+            j,
+        })
     };
     let p = columns.plant;
     let g = columns.gnc;
@@ -94,7 +111,6 @@ pub fn compute(
     let tilt = col(g, "tilt_error")?;
     let n = trajectory.len();
     let last = n.saturating_sub(1);
-    let horizontal = |k: usize| r[0][k].hypot(r[2][k]);
     let max_over = |it: &mut dyn Iterator<Item = f64>| it.fold(0.0_f64, f64::max);
     let settle_limit = 2f64.to_radians();
     let settle_index = (0..n).rev().find(|&k| err_roll[k].abs() > settle_limit);
@@ -111,11 +127,13 @@ pub fn compute(
     let tilt_error_integral_rad_s = (1..n)
         .map(|k| 0.5 * (tilt[k] + tilt[k - 1]) * (times[k] - times[k - 1]))
         .sum();
-    let touchdown = touchdown_state(trajectory, p);
+    let touchdown = touchdown_state(final_row, p);
     Ok(Metrics {
-        max_horizontal_deviation_m: max_over(&mut (0..n).map(horizontal)),
-        max_horizontal_deviation_descent_m: max_over(
-            &mut (0..n).filter(|&k| phase[k] == 2.0).map(horizontal),
+        max_horizontal_deviation_m: max_hypot(0..n, r[0], r[2]),
+        max_horizontal_deviation_descent_m: max_hypot(
+            (0..n).filter(|&k| phase[k] == 2.0),
+            r[0],
+            r[2],
         ),
         terminal_position_error_m: (0..3)
             .map(|i| (r[i][last] - target_nue[i]).powi(2))
@@ -143,9 +161,7 @@ pub fn compute(
         }),
         descent_end_north_m: at_descent_end(&|k| r[0][k]),
         descent_end_east_m: at_descent_end(&|k| r[2][k]),
-        max_lateral_speed_manoeuvre_mps: max_over(
-            &mut (0..n.min(manoeuvre_end.max(1))).map(|k| v[0][k].hypot(v[2][k])),
-        ),
+        max_lateral_speed_manoeuvre_mps: max_hypot(0..n.min(manoeuvre_end.max(1)), v[0], v[2]),
         tilt_error_integral_rad_s,
         touchdown_vertical_speed_mps: touchdown[0],
         touchdown_horizontal_speed_mps: touchdown[1],
@@ -154,6 +170,47 @@ pub fn compute(
         touchdown_north_m: touchdown[4],
         touchdown_east_m: touchdown[5],
     })
+}
+
+/// One column of a row-major trajectory, indexed by row, read in place.
+#[derive(Clone, Copy)]
+struct Column<'a> {
+    values: &'a [f64],
+    width: usize,
+    j: usize,
+}
+
+impl std::ops::Index<usize> for Column<'_> {
+    type Output = f64;
+    fn index(&self, k: usize) -> &f64 {
+        &self.values[k * self.width + self.j]
+    }
+}
+
+/// The largest `x[k].hypot(y[k])` over `rows`, 0 if none (NaNs skipped): exactly what
+/// folding `f64::max` over every hypot from 0 gives, with hypot (a libm call) evaluated only
+/// at the rows whose `x^2 + y^2` comes within 1e-9 of the largest. That sum is within a few
+/// ulps of the exact square and hypot within one ulp of the exact norm, so the row of the
+/// largest hypot is always among them. Squares that overflow, underflow to the subnormals or
+/// are NaN fall back to evaluating every row.
+fn max_hypot(rows: impl Iterator<Item = usize> + Clone, x: Column, y: Column) -> f64 {
+    let square = |k: usize| x[k] * x[k] + y[k] * y[k];
+    let every_row = |rows: &mut dyn Iterator<Item = usize>| {
+        rows.map(|k| x[k].hypot(y[k])).fold(0.0_f64, f64::max)
+    };
+    let mut largest = 0.0_f64;
+    for k in rows.clone() {
+        let s = square(k);
+        if !s.is_finite() {
+            return every_row(&mut rows.clone());
+        }
+        largest = largest.max(s);
+    }
+    if largest < f64::MIN_POSITIVE * 2f64.powi(60) {
+        return every_row(&mut rows.clone());
+    }
+    let threshold = largest * (1.0 - 1e-9);
+    every_row(&mut rows.filter(|&k| square(k) >= threshold))
 }
 
 /// Vertical (down) and horizontal speed, tilt, body rate, North and East at touchdown, from
@@ -289,6 +346,68 @@ mod tests {
         assert_eq!(m.touchdown_tilt_rad, 0.05);
         assert!((m.touchdown_body_rate_radps - 0.05).abs() < 1e-15);
         assert_eq!((m.touchdown_north_m, m.touchdown_east_m), (0.0, 0.0));
+    }
+
+    /// What `max_hypot` must equal: hypot at every row, folded with `f64::max` from 0.
+    fn every_row(xs: &[f64], ys: &[f64]) -> f64 {
+        xs.iter()
+            .zip(ys)
+            .map(|(x, y)| x.hypot(*y))
+            .fold(0.0_f64, f64::max)
+    }
+
+    fn max_hypot_of(xs: &[f64], ys: &[f64]) -> f64 {
+        let values: Vec<f64> = xs.iter().zip(ys).flat_map(|(x, y)| [*x, *y]).collect();
+        let x = Column {
+            values: &values,
+            width: 2,
+            j: 0,
+        };
+        let y = Column { j: 1, ..x };
+        max_hypot(0..xs.len(), x, y)
+    }
+
+    #[test]
+    fn max_hypot_equals_hypot_at_every_row_bit_for_bit() {
+        // Near-ties within rounding of each other, from a deterministic sequence.
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for scale in [1e-3, 1.0, 800.0, 1e150] {
+            let base: Vec<f64> = (0..2000).map(|_| scale * (1.0 + next())).collect();
+            let xs: Vec<f64> = base.iter().map(|b| b * 0.6).collect();
+            // y chosen so every row's norm is within a few ulps of `base`.
+            let ys: Vec<f64> = base
+                .iter()
+                .map(|b| b * 0.8 * (1.0 + 1e-16 * next()))
+                .collect();
+            let want = every_row(&xs, &ys);
+            assert_eq!(max_hypot_of(&xs, &ys).to_bits(), want.to_bits(), "{scale}");
+            let flat = vec![scale; 500];
+            assert_eq!(
+                max_hypot_of(&flat, &flat).to_bits(),
+                every_row(&flat, &flat).to_bits()
+            );
+        }
+        // Squares that overflow, underflow, or are NaN; no rows at all.
+        let cases: [(&[f64], &[f64]); 5] = [
+            (&[1e200, 3.0], &[1e200, 4.0]),
+            (&[1e-200, 0.0], &[0.0, 1e-201]),
+            (&[f64::NAN, 3.0], &[f64::INFINITY, 4.0]),
+            (&[0.0, -0.0], &[-0.0, 0.0]),
+            (&[], &[]),
+        ];
+        for (xs, ys) in cases {
+            assert_eq!(
+                max_hypot_of(xs, ys).to_bits(),
+                every_row(xs, ys).to_bits(),
+                "{xs:?} {ys:?}"
+            );
+        }
     }
 
     #[test]

@@ -56,6 +56,30 @@ fn values_round_trip_by_reference_and_by_name() {
 }
 
 #[test]
+fn raw_booleans_pass_through_and_any_true_reads_as_one() {
+    let stub = StubFmu::standard();
+    let fmu = Fmu::load(&stub.dir).unwrap();
+    let mut instance = initialized(&fmu, "raw booleans");
+    let vr = [instance.variable("flag").unwrap().value_reference];
+    instance.set_boolean_raw(&vr, &[1]).unwrap();
+    // The stub answers 7 for true; the master's buffers hold 0 or 1, as recorded columns do.
+    let mut flag = [-1];
+    instance.get_boolean_raw(&vr, &mut flag).unwrap();
+    assert_eq!(flag, [1]);
+    instance.set_boolean_raw(&vr, &[0]).unwrap();
+    instance.get_boolean_raw(&vr, &mut flag).unwrap();
+    assert_eq!(flag, [0]);
+    assert!(!instance.get_boolean_by_name("flag").unwrap());
+    let error = instance.get_boolean_raw(&vr, &mut [0, 0]).unwrap_err();
+    assert!(
+        error
+            .to_string()
+            .contains("1 value references but 2 values"),
+        "{error}"
+    );
+}
+
+#[test]
 fn empty_value_lists_are_accepted() {
     let stub = StubFmu::standard();
     let fmu = Fmu::load(&stub.dir).unwrap();

@@ -435,6 +435,49 @@ impl Instance {
         Ok(success)
     }
 
+    /// `fmi2SetBoolean` with the values as `fmi2Boolean` (C `int`, 0 is false), as a master
+    /// that keeps its exchange in the FMI representation passes them: no conversion, no copy.
+    pub fn set_boolean_raw(&mut self, vrs: &[u32], values: &[i32]) -> Result<Success, CallError> {
+        const F: &str = "fmi2SetBoolean";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements.
+        let raw = unsafe {
+            (self.functions().set_boolean)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                array_or_null(values),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// `fmi2GetBoolean` into `fmi2Boolean` values, each normalised to 0 or 1 (an FMU may
+    /// return any non-zero value for true), so they pass on and record as [`Self::get_boolean`]'s.
+    pub fn get_boolean_raw(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [i32],
+    ) -> Result<Success, CallError> {
+        const F: &str = "fmi2GetBoolean";
+        self.check_lengths(F, vrs.len(), values.len())?;
+        let mark = self.log.mark();
+        // SAFETY: both arrays hold `vrs.len()` elements; `values` is writable.
+        let raw = unsafe {
+            (self.functions().get_boolean)(
+                self.c(),
+                array_or_null(vrs),
+                vrs.len(),
+                mut_array_or_null(values),
+            )
+        };
+        for value in values.iter_mut() {
+            *value = i32::from(*value != ffi::fmi2False);
+        }
+        Ok(self.check(F, mark, raw)?)
+    }
+
     pub fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<Success, CallError> {
         const F: &str = "fmi2SetString";
         self.check_lengths(F, vrs.len(), values.len())?;

@@ -179,20 +179,80 @@ impl<T: Copy + Default> Block<T> {
     }
 }
 
+/// The exchange buffers of one side (inputs or outputs) of one instance. Booleans are kept
+/// as `fmi2Boolean` (0 or 1), the FMI representation, so they pass through without conversion.
 #[derive(Debug, Default)]
 struct Io {
     real: Block<f64>,
     integer: Block<i32>,
-    boolean: Block<bool>,
+    boolean: Block<i32>,
 }
 
 impl Io {
+    /// Where the feedthrough slots of the buffer of `kind` start.
+    fn feedthrough_start(&self, kind: VariableKind) -> usize {
+        match block_index(kind) {
+            0 => self.real.feedthrough_start,
+            1 => self.integer.feedthrough_start,
+            _ => self.boolean.feedthrough_start,
+        }
+    }
+
     fn slot(&mut self, port: &Port) -> usize {
         match port.kind {
             VariableKind::Real => self.real.slot(port.value_reference),
             VariableKind::Boolean => self.boolean.slot(port.value_reference),
             _ => self.integer.slot(port.value_reference),
         }
+    }
+}
+
+/// Which outputs of a unit a read covers.
+#[derive(Debug, Clone, Copy)]
+enum Part {
+    All,
+    /// Those that do not depend on the unit's inputs.
+    Stable,
+    /// Those that may.
+    Feedthrough,
+}
+
+impl Part {
+    fn of<T>(self, block: &Block<T>) -> std::ops::Range<usize> {
+        match self {
+            Part::All => 0..block.vrs.len(),
+            Part::Stable => 0..block.feedthrough_start,
+            Part::Feedthrough => block.feedthrough_start..block.vrs.len(),
+        }
+    }
+}
+
+/// What Gauss-Seidel reads of a unit's outputs right after its step: nothing when no
+/// earlier unit consumes them (they are read at its turn), else what those consume.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum AfterStep {
+    Nothing,
+    /// The outputs independent of its inputs: its feedthrough outputs are read again at its
+    /// turn anyway, after its inputs are set.
+    Stable,
+    All,
+}
+
+impl AfterStep {
+    /// Per unit, from the connections (slots already partitioned, see [`feedthrough_last`]).
+    fn of(links: &[Link], outputs: &[Io]) -> Vec<AfterStep> {
+        let mut after = vec![AfterStep::Nothing; outputs.len()];
+        for link in links.iter().filter(|l| l.to_unit < l.from_unit) {
+            let feedthrough_start = outputs[link.from_unit].feedthrough_start(link.kind);
+            let needed = if link.from_slot < feedthrough_start {
+                AfterStep::Stable
+            } else {
+                AfterStep::All
+            };
+            let unit = &mut after[link.from_unit];
+            *unit = (*unit).max(needed);
+        }
+        after
     }
 }
 
@@ -206,11 +266,79 @@ struct Link {
     to_slot: usize,
 }
 
+/// The connections from one unit into another, resolved once into runs of consecutive
+/// output slots copied to consecutive input slots, per exchange buffer, so setting inputs is
+/// a few slice copies with no per-link dispatch on the type.
+#[derive(Debug, Default)]
+struct Copies {
+    from_unit: usize,
+    real: Vec<SlotRun>,
+    integer: Vec<SlotRun>,
+    boolean: Vec<SlotRun>,
+}
+
+/// Output slots `from..from + len` to input slots `to..to + len`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct SlotRun {
+    from: usize,
+    to: usize,
+    len: usize,
+}
+
+impl SlotRun {
+    /// Adds the copy `from -> to` to `runs`, extending the last run when it continues it.
+    fn push(runs: &mut Vec<SlotRun>, from: usize, to: usize) {
+        match runs.last_mut() {
+            Some(run) if run.from + run.len == from && run.to + run.len == to => run.len += 1,
+            _ => runs.push(SlotRun { from, to, len: 1 }),
+        }
+    }
+}
+
+impl Copies {
+    /// The links into `to_unit`, grouped by source unit (in order of first appearance).
+    fn into_unit(links: &[Link], to_unit: usize) -> Vec<Copies> {
+        let mut groups: Vec<Copies> = Vec::new();
+        for link in links.iter().filter(|l| l.to_unit == to_unit) {
+            let group = match groups.iter().position(|g| g.from_unit == link.from_unit) {
+                Some(i) => &mut groups[i],
+                None => {
+                    groups.push(Copies {
+                        from_unit: link.from_unit,
+                        ..Default::default()
+                    });
+                    groups.last_mut().expect("just pushed")
+                }
+            };
+            let runs = match block_index(link.kind) {
+                0 => &mut group.real,
+                1 => &mut group.integer,
+                _ => &mut group.boolean,
+            };
+            SlotRun::push(runs, link.from_slot, link.to_slot);
+        }
+        groups
+    }
+
+    fn apply(&self, from: &Io, to: &mut Io) {
+        copy_slots(&self.real, &from.real.values, &mut to.real.values);
+        copy_slots(&self.integer, &from.integer.values, &mut to.integer.values);
+        copy_slots(&self.boolean, &from.boolean.values, &mut to.boolean.values);
+    }
+}
+
+fn copy_slots<T: Copy>(runs: &[SlotRun], from: &[T], to: &mut [T]) {
+    for run in runs {
+        let source = &from[run.from..run.from + run.len];
+        for (destination, value) in to[run.to..run.to + run.len].iter_mut().zip(source) {
+            *destination = *value;
+        }
+    }
+}
+
 struct Unit {
     name: String,
     instance: crate::loader::Instance,
-    inputs: Io,
-    outputs: Io,
 }
 
 /// A loaded, resolved system, ready to run (and to run again, via `fmi2Reset`).
@@ -218,8 +346,12 @@ pub struct Simulation {
     system: SystemDescription,
     fmus: Vec<Fmu>,
     units: Vec<Unit>,
-    /// Per unit: the links into its inputs.
-    links_into: Vec<Vec<Link>>,
+    /// Per unit: its input and output buffers (apart from the instances, so that copying
+    /// from one unit's outputs into another's inputs borrows two different vectors).
+    inputs: Vec<Io>,
+    outputs: Vec<Io>,
+    /// Per unit: the connections into its inputs.
+    copies_into: Vec<Vec<Copies>>,
     /// (unit, kind, output slot) per recorded column.
     columns: Vec<(usize, VariableKind, usize)>,
     /// The same columns as runs of consecutive slots of one unit and type, copied together.
@@ -228,8 +360,13 @@ pub struct Simulation {
     connection_names: Vec<(String, String)>,
     connectors: Vec<crate::system::ssp::ConnectorDecl>,
     row: Vec<f64>,
-    /// Per unit: some instance earlier in the order consumes its outputs (Gauss-Seidel).
-    read_after_step: Vec<bool>,
+    /// Outputs read only once, at the end of a run (see [`Simulation::set_final_columns`]),
+    /// with their names and their values after the last run.
+    final_ports: Vec<Port>,
+    final_names: Vec<String>,
+    final_row: Vec<f64>,
+    /// Per unit: what of its outputs Gauss-Seidel reads right after its step.
+    read_after_step: Vec<AfterStep>,
     /// Per unit: every output was read since its last step (or initialization), so setting
     /// its inputs can change only its feedthrough outputs.
     outputs_read: Vec<bool>,
@@ -315,14 +452,26 @@ impl Simulation {
             units.push(Unit {
                 name: desc.name.clone(),
                 instance,
-                inputs: Io::default(),
-                outputs: Io::default(),
             });
+        }
+        let mut inputs: Vec<Io> = units.iter().map(|_| Io::default()).collect();
+        let mut outputs: Vec<Io> = units.iter().map(|_| Io::default()).collect();
+        // Recorded outputs take their slots first, in column order, so that consecutive
+        // columns of one unit and type are consecutive slots and a row is a few bulk copies.
+        let mut columns = Vec::with_capacity(recorded.len());
+        let mut column_names = Vec::with_capacity(recorded.len());
+        for port in &recorded {
+            let slot = outputs[port.instance].slot(port);
+            columns.push((port.instance, port.kind, slot));
+            column_names.push(format!(
+                "{}.{}",
+                system.instances[port.instance].name, port.name
+            ));
         }
         let mut links = Vec::with_capacity(pairs.len());
         for (source, destination) in &pairs {
-            let from_slot = units[source.instance].outputs.slot(source);
-            let to_slot = units[destination.instance].inputs.slot(destination);
+            let from_slot = outputs[source.instance].slot(source);
+            let to_slot = inputs[destination.instance].slot(destination);
             links.push(Link {
                 kind: source.kind,
                 from_unit: source.instance,
@@ -330,16 +479,6 @@ impl Simulation {
                 to_unit: destination.instance,
                 to_slot,
             });
-        }
-        let mut columns = Vec::with_capacity(recorded.len());
-        let mut column_names = Vec::with_capacity(recorded.len());
-        for port in &recorded {
-            let slot = units[port.instance].outputs.slot(port);
-            columns.push((port.instance, port.kind, slot));
-            column_names.push(format!(
-                "{}.{}",
-                system.instances[port.instance].name, port.name
-            ));
         }
         let mut connectors: Vec<crate::system::ssp::ConnectorDecl> = Vec::new();
         for (port, kind) in pairs
@@ -364,32 +503,32 @@ impl Simulation {
             &fmus,
             &pairs,
             &recorded,
-            &mut units,
+            &mut outputs,
             &mut links,
             &mut columns,
         );
         let column_runs = ColumnRun::of(&columns);
-        let links_into = (0..units.len())
-            .map(|u| links.iter().filter(|l| l.to_unit == u).copied().collect())
+        let copies_into = (0..units.len())
+            .map(|u| Copies::into_unit(&links, u))
             .collect();
         let row = vec![0.0; columns.len()];
-        let mut read_after_step = vec![false; units.len()];
-        for link in &links {
-            if link.to_unit < link.from_unit {
-                read_after_step[link.from_unit] = true;
-            }
-        }
+        let read_after_step = AfterStep::of(&links, &outputs);
         Ok(Self {
             system,
             fmus,
             units,
-            links_into,
+            inputs,
+            outputs,
+            copies_into,
             columns,
             column_runs,
             column_names,
             connection_names,
             connectors,
             row,
+            final_ports: Vec::new(),
+            final_names: Vec::new(),
+            final_row: Vec::new(),
             outputs_read: vec![false; read_after_step.len()],
             read_after_step,
             fresh: true,
@@ -454,6 +593,43 @@ impl Simulation {
         &self.column_names
     }
 
+    /// Outputs to read once, at the last communication point of each run (after its row is
+    /// recorded, before the instances terminate), instead of at every step: what a caller
+    /// needs only at the end (a touchdown state) costs nothing per step. `names` are
+    /// `instance.variable` paths as in a scenario's `record` (arrays expand to elements);
+    /// [`Simulation::final_values`] gives the values.
+    pub fn set_final_columns(&mut self, names: &[String]) -> Result<(), MasterError> {
+        let mut problems = Vec::new();
+        let ports: Vec<Port> = names
+            .iter()
+            .flat_map(|path| resolve::ports(&self.system, &self.fmus, path, &[], &mut problems))
+            .collect();
+        if !problems.is_empty() {
+            return Err(MasterError::Resolve {
+                system: self.system.name.clone(),
+                problems,
+            });
+        }
+        self.final_names = ports
+            .iter()
+            .map(|p| format!("{}.{}", self.system.instances[p.instance].name, p.name))
+            .collect();
+        self.final_row = vec![f64::NAN; ports.len()];
+        self.final_ports = ports;
+        Ok(())
+    }
+
+    /// `instance.variable` of each value of [`Simulation::final_values`].
+    pub fn final_column_names(&self) -> &[String] {
+        &self.final_names
+    }
+
+    /// The outputs set with [`Simulation::set_final_columns`] at the end of the last run
+    /// (booleans as 0.0 or 1.0, as recorded columns); NaN before any run.
+    pub fn final_values(&self) -> &[f64] {
+        &self.final_row
+    }
+
     /// Every connection as (`from`, `to`) scalar `instance.variable` paths, in order.
     pub fn scalar_connections(&self) -> &[(String, String)] {
         &self.connection_names
@@ -477,6 +653,7 @@ impl Simulation {
             }
         }
         self.fresh = false;
+        self.final_row.fill(f64::NAN);
         self.initialize()?;
         let SystemDescription {
             start_time,
@@ -534,6 +711,7 @@ impl Simulation {
                         }
                         self.get_outputs(u)?;
                         self.record(last_successful_time, recorder);
+                        self.read_final()?;
                         self.terminate_all();
                         return Ok(RunEnd::Terminated {
                             instance: name,
@@ -556,10 +734,21 @@ impl Simulation {
             // needs those an earlier instance consumes (the plant's, for a controller declared
             // first); without them that instance would see its sources as they were before
             // they stepped. Reading a direct-feedthrough controller here as well would cost a
-            // whole evaluation at stale inputs for nothing.
+            // whole evaluation at stale inputs for nothing. Likewise the outputs that depend
+            // on the instance's own inputs are read again at its turn, after those are set:
+            // unless an earlier instance consumes one, only the others are read here.
             for u in 0..self.units.len() {
-                if ordering == Ordering::Jacobi || self.read_after_step[u] {
-                    self.get_outputs(u)?;
+                let part = match ordering {
+                    Ordering::Jacobi => AfterStep::All,
+                    Ordering::GaussSeidel => self.read_after_step[u],
+                };
+                match part {
+                    AfterStep::Nothing => {}
+                    AfterStep::Stable => {
+                        self.read_outputs(u, Part::Stable)?;
+                        self.outputs_read[u] = true;
+                    }
+                    AfterStep::All => self.get_outputs(u)?,
                 }
             }
         }
@@ -568,6 +757,7 @@ impl Simulation {
             self.get_outputs(u)?;
         }
         self.record(clock.end_time(), recorder);
+        self.read_final()?;
         self.terminate_all();
         Ok(RunEnd::Completed)
     }
@@ -615,12 +805,12 @@ impl Simulation {
 
     /// [`InitialInputs::Zero`]: no exchange; every buffer, so every first input, is 0.0.
     fn initialize_with_zero_inputs(&mut self) -> Result<(), MasterError> {
+        for io in self.inputs.iter_mut().chain(&mut self.outputs) {
+            io.real.values.fill(0.0);
+            io.integer.values.fill(0);
+            io.boolean.values.fill(0);
+        }
         for unit in &mut self.units {
-            for io in [&mut unit.inputs, &mut unit.outputs] {
-                io.real.values.fill(0.0);
-                io.integer.values.fill(0);
-                io.boolean.values.fill(false);
-            }
             let name = unit.name.clone();
             unit.instance
                 .exit_initialization_mode()
@@ -630,28 +820,13 @@ impl Simulation {
     }
 
     fn set_inputs(&mut self, u: usize) -> Result<(), MasterError> {
-        // Each value is read and then written by index, so a source may be any unit, this
-        // one included, without taking its buffers out.
-        let units = &mut self.units;
-        for link in &self.links_into[u] {
-            let from = &units[link.from_unit].outputs;
-            match link.kind {
-                VariableKind::Real => {
-                    let value = from.real.values[link.from_slot];
-                    units[u].inputs.real.values[link.to_slot] = value;
-                }
-                VariableKind::Boolean => {
-                    let value = from.boolean.values[link.from_slot];
-                    units[u].inputs.boolean.values[link.to_slot] = value;
-                }
-                _ => {
-                    let value = from.integer.values[link.from_slot];
-                    units[u].inputs.integer.values[link.to_slot] = value;
-                }
-            }
+        // Outputs and inputs are separate vectors, so a source may be any unit, this one
+        // included.
+        let inputs = &mut self.inputs[u];
+        for copies in &self.copies_into[u] {
+            copies.apply(&self.outputs[copies.from_unit], inputs);
         }
         let unit = &mut self.units[u];
-        let inputs = &unit.inputs;
         let result = (|| -> Result<(), CallError> {
             if !inputs.real.vrs.is_empty() {
                 unit.instance
@@ -663,7 +838,7 @@ impl Simulation {
             }
             if !inputs.boolean.vrs.is_empty() {
                 unit.instance
-                    .set_boolean(&inputs.boolean.vrs, &inputs.boolean.values)?;
+                    .set_boolean_raw(&inputs.boolean.vrs, &inputs.boolean.values)?;
             }
             Ok(())
         })();
@@ -672,38 +847,39 @@ impl Simulation {
 
     /// Reads every output of unit `u`.
     fn get_outputs(&mut self, u: usize) -> Result<(), MasterError> {
-        self.read_outputs(u, false)?;
+        self.read_outputs(u, Part::All)?;
         self.outputs_read[u] = true;
         Ok(())
     }
 
     /// Reads the outputs of unit `u` that may depend on its inputs.
     fn get_feedthrough_outputs(&mut self, u: usize) -> Result<(), MasterError> {
-        self.read_outputs(u, true)
+        self.read_outputs(u, Part::Feedthrough)
     }
 
-    fn read_outputs(&mut self, u: usize, feedthrough_only: bool) -> Result<(), MasterError> {
+    fn read_outputs(&mut self, u: usize, part: Part) -> Result<(), MasterError> {
         let unit = &mut self.units[u];
-        let outputs = &mut unit.outputs;
-        let from = |start: usize| if feedthrough_only { start } else { 0 };
-        let real = from(outputs.real.feedthrough_start);
-        let integer = from(outputs.integer.feedthrough_start);
-        let boolean = from(outputs.boolean.feedthrough_start);
+        let outputs = &mut self.outputs[u];
         let result = (|| -> Result<(), CallError> {
-            if outputs.real.vrs.len() > real {
-                unit.instance
-                    .get_real(&outputs.real.vrs[real..], &mut outputs.real.values[real..])?;
-            }
-            if outputs.integer.vrs.len() > integer {
-                unit.instance.get_integer(
-                    &outputs.integer.vrs[integer..],
-                    &mut outputs.integer.values[integer..],
+            let real = part.of(&outputs.real);
+            if !real.is_empty() {
+                unit.instance.get_real(
+                    &outputs.real.vrs[real.clone()],
+                    &mut outputs.real.values[real],
                 )?;
             }
-            if outputs.boolean.vrs.len() > boolean {
-                unit.instance.get_boolean(
-                    &outputs.boolean.vrs[boolean..],
-                    &mut outputs.boolean.values[boolean..],
+            let integer = part.of(&outputs.integer);
+            if !integer.is_empty() {
+                unit.instance.get_integer(
+                    &outputs.integer.vrs[integer.clone()],
+                    &mut outputs.integer.values[integer],
+                )?;
+            }
+            let boolean = part.of(&outputs.boolean);
+            if !boolean.is_empty() {
+                unit.instance.get_boolean_raw(
+                    &outputs.boolean.vrs[boolean.clone()],
+                    &mut outputs.boolean.values[boolean],
                 )?;
             }
             Ok(())
@@ -713,14 +889,14 @@ impl Simulation {
 
     fn record(&mut self, time: f64, recorder: &mut dyn Recorder) {
         for run in &self.column_runs {
-            let outputs = &self.units[run.unit].outputs;
+            let outputs = &self.outputs[run.unit];
             let row = &mut self.row[run.column..run.column + run.len];
             let slots = run.slot..run.slot + run.len;
             match run.kind {
                 VariableKind::Real => row.copy_from_slice(&outputs.real.values[slots]),
                 VariableKind::Boolean => {
                     for (value, &b) in row.iter_mut().zip(&outputs.boolean.values[slots]) {
-                        *value = f64::from(u8::from(b));
+                        *value = f64::from(b);
                     }
                 }
                 _ => {
@@ -731,6 +907,34 @@ impl Simulation {
             }
         }
         recorder.record(time, &self.row);
+    }
+
+    /// Reads the final-only outputs, one call per value: a handful, once per run.
+    fn read_final(&mut self) -> Result<(), MasterError> {
+        for (value, port) in self.final_row.iter_mut().zip(&self.final_ports) {
+            let unit = &mut self.units[port.instance];
+            let vr = [port.value_reference];
+            let read = match port.kind {
+                VariableKind::Real => {
+                    let mut x = [0.0];
+                    unit.instance.get_real(&vr, &mut x).map(|_| x[0])
+                }
+                VariableKind::Boolean => {
+                    let mut b = [0];
+                    unit.instance
+                        .get_boolean_raw(&vr, &mut b)
+                        .map(|_| f64::from(b[0]))
+                }
+                _ => {
+                    let mut i = [0];
+                    unit.instance
+                        .get_integer(&vr, &mut i)
+                        .map(|_| f64::from(i[0]))
+                }
+            };
+            *value = read.map_err(|e| call(&unit.name, "getting final outputs", e))?;
+        }
+        Ok(())
     }
 
     fn terminate_all(&mut self) {
@@ -795,19 +999,19 @@ fn feedthrough_last(
     fmus: &[Fmu],
     pairs: &[(Port, Port)],
     recorded: &[Port],
-    units: &mut [Unit],
+    outputs: &mut [Io],
     links: &mut [Link],
     columns: &mut [(usize, VariableKind, usize)],
 ) {
-    let outputs = pairs.iter().map(|(source, _)| source).chain(recorded);
+    let ports = pairs.iter().map(|(source, _)| source).chain(recorded);
     // Per unit, per exchange type (real, integer, boolean): the feedthrough flag of each slot.
-    let mut flags: Vec<[Vec<bool>; 3]> = units
+    let mut flags: Vec<[Vec<bool>; 3]> = outputs
         .iter()
-        .map(|unit| {
+        .map(|io| {
             [
-                vec![false; unit.outputs.real.vrs.len()],
-                vec![false; unit.outputs.integer.vrs.len()],
-                vec![false; unit.outputs.boolean.vrs.len()],
+                vec![false; io.real.vrs.len()],
+                vec![false; io.integer.vrs.len()],
+                vec![false; io.boolean.vrs.len()],
             ]
         })
         .collect();
@@ -815,20 +1019,20 @@ fn feedthrough_last(
         .iter()
         .map(|fmu| loops::Feedthrough::from_description(fmu.model_description()))
         .collect();
-    for port in outputs {
+    for port in ports {
         let u = port.instance;
         let depends = pairs
             .iter()
             .filter(|(_, destination)| destination.instance == u)
             .any(|(_, input)| feedthrough[u].depends(&port.name, &input.name, false));
-        let slot = units[u].outputs.slot(port);
+        let slot = outputs[u].slot(port);
         flags[u][block_index(port.kind)][slot] |= depends;
     }
-    for (u, unit) in units.iter_mut().enumerate() {
+    for (u, io) in outputs.iter_mut().enumerate() {
         let moved = [
-            unit.outputs.real.partition(&flags[u][0]),
-            unit.outputs.integer.partition(&flags[u][1]),
-            unit.outputs.boolean.partition(&flags[u][2]),
+            io.real.partition(&flags[u][0]),
+            io.integer.partition(&flags[u][1]),
+            io.boolean.partition(&flags[u][2]),
         ];
         for link in links.iter_mut().filter(|l| l.from_unit == u) {
             link.from_slot = moved[block_index(link.kind)][link.from_slot];
@@ -912,6 +1116,114 @@ mod tests {
         assert_eq!(block.partition(&[false; 3]), [0, 1, 2]);
         assert_eq!(block.vrs, [3, 1, 2]);
         assert_eq!(block.feedthrough_start, 3);
+    }
+
+    #[test]
+    fn copies_group_links_by_source_and_buffer_and_copy_only_their_slots() {
+        use VariableKind::{Boolean, Enumeration, Real};
+        let link = |kind, from_unit, from_slot, to_unit, to_slot| Link {
+            kind,
+            from_unit,
+            from_slot,
+            to_unit,
+            to_slot,
+        };
+        let links = [
+            link(Real, 1, 2, 0, 0),
+            link(Real, 0, 0, 1, 0), // into another unit: not in unit 0's copies
+            link(Boolean, 1, 0, 0, 1),
+            link(Real, 0, 1, 0, 1), // a unit fed by itself
+            link(Enumeration, 1, 1, 0, 0),
+        ];
+        let groups = Copies::into_unit(&links, 0);
+        let run = |from, to, len| SlotRun { from, to, len };
+        assert_eq!(groups.len(), 2);
+        assert_eq!(groups[0].from_unit, 1);
+        assert_eq!(groups[0].real, [run(2, 0, 1)]);
+        assert_eq!(groups[0].integer, [run(1, 0, 1)]);
+        assert_eq!(groups[0].boolean, [run(0, 1, 1)]);
+        assert_eq!(groups[1].from_unit, 0);
+        assert_eq!(groups[1].real, [run(1, 1, 1)]);
+
+        let mut from = Io::default();
+        from.real.values = vec![1.0, 2.0, 3.0];
+        from.integer.values = vec![7, 8];
+        from.boolean.values = vec![1];
+        let mut to = Io::default();
+        to.real.values = vec![-1.0, -2.0];
+        to.integer.values = vec![0];
+        to.boolean.values = vec![0, 0];
+        groups[0].apply(&from, &mut to);
+        assert_eq!(to.real.values, [3.0, -2.0]);
+        assert_eq!(to.integer.values, [8]);
+        assert_eq!(to.boolean.values, [0, 1]);
+    }
+
+    #[test]
+    fn consecutive_copies_join_into_one_run_and_a_gap_starts_another() {
+        let mut runs = Vec::new();
+        for (from, to) in [(4, 0), (5, 1), (6, 2), (8, 3), (9, 5)] {
+            SlotRun::push(&mut runs, from, to);
+        }
+        let run = |from, to, len| SlotRun { from, to, len };
+        assert_eq!(runs, [run(4, 0, 3), run(8, 3, 1), run(9, 5, 1)]);
+        let from = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
+        let mut to = [-1.0; 6];
+        copy_slots(&runs, &from, &mut to);
+        assert_eq!(to, [4.0, 5.0, 6.0, 8.0, -1.0, 9.0]);
+    }
+
+    #[test]
+    fn after_the_step_only_what_an_earlier_unit_consumes_is_read() {
+        use VariableKind::{Boolean, Real};
+        let link = |kind, from_unit, from_slot, to_unit| Link {
+            kind,
+            from_unit,
+            from_slot,
+            to_unit,
+            to_slot: 0,
+        };
+        let io = |real_feedthrough_start, boolean_feedthrough_start| {
+            let mut io = Io::default();
+            io.real.vrs = vec![0; 4];
+            io.real.feedthrough_start = real_feedthrough_start;
+            io.boolean.vrs = vec![0; 2];
+            io.boolean.feedthrough_start = boolean_feedthrough_start;
+            io
+        };
+        let outputs = [io(4, 2), io(2, 2), io(2, 1), io(4, 2)];
+        let links = [
+            // unit 1: an earlier unit takes a stable output
+            link(Real, 1, 1, 0),
+            // unit 2: one stable, one feedthrough output (a Boolean) to earlier units
+            link(Real, 2, 0, 0),
+            link(Boolean, 2, 1, 1),
+            // unit 3: only later units and itself consume it
+            link(Real, 3, 3, 3),
+            // unit 0 feeds a later unit: its outputs are read at its turn
+            link(Real, 0, 0, 3),
+        ];
+        assert_eq!(
+            AfterStep::of(&links, &outputs),
+            [
+                AfterStep::Nothing,
+                AfterStep::Stable,
+                AfterStep::All,
+                AfterStep::Nothing
+            ]
+        );
+    }
+
+    #[test]
+    fn parts_split_a_block_at_its_first_feedthrough_slot() {
+        let block = Block::<f64> {
+            vrs: vec![1, 2, 3, 4],
+            values: vec![0.0; 4],
+            feedthrough_start: 3,
+        };
+        assert_eq!(Part::All.of(&block), 0..4);
+        assert_eq!(Part::Stable.of(&block), 0..3);
+        assert_eq!(Part::Feedthrough.of(&block), 3..4);
     }
 
     #[test]

@@ -36,11 +36,16 @@ pub struct Flyer {
     spec: Spec,
     nominal: Nominal,
     trajectory: Trajectory,
+    /// The last row of `trajectory` followed by the simulation's final values: all the
+    /// verdict and the touchdown metrics read.
+    last: Trajectory,
 }
 
 impl Flyer {
     /// Loads the FMUs of `system` (as it is: set `system.record` before, see
     /// [`METRIC_COLUMNS`]) and reads the plant's nominal start; flights are judged by `spec`.
+    /// The verdict's columns that `system.record` leaves out are read once, at the end of
+    /// each flight (they matter only there).
     pub fn new(system: SystemDescription, spec: Spec, fmu_dir: &Path) -> anyhow::Result<Self> {
         let gnc_present = system.instance(GNC).is_some();
         anyhow::ensure!(
@@ -48,7 +53,16 @@ impl Flyer {
             "scenario '{}' has no instance '{GNC}'",
             system.name
         );
-        let simulation = Simulation::new(system, fmu_dir)?;
+        let final_only: Vec<String> = match &system.record {
+            Some(recorded) => verdict::VERDICT_COLUMNS
+                .iter()
+                .filter(|c| !recorded.iter().any(|r| r == *c))
+                .map(|c| c.to_string())
+                .collect(),
+            None => Vec::new(),
+        };
+        let mut simulation = Simulation::new(system, fmu_dir)?;
+        simulation.set_final_columns(&final_only)?;
         let plant_index = simulation
             .system()
             .instances
@@ -72,11 +86,16 @@ impl Flyer {
             names: simulation.column_names().to_vec(),
             ..Default::default()
         };
+        let last = Trajectory {
+            names: [simulation.column_names(), simulation.final_column_names()].concat(),
+            ..Default::default()
+        };
         Ok(Self {
             simulation,
             spec,
             nominal,
             trajectory,
+            last,
         })
     }
 
@@ -141,13 +160,22 @@ impl Flyer {
         self.trajectory.times.clear();
         self.trajectory.values.clear();
         let run_end = sim.run(&mut self.trajectory)?;
-        let judged = verdict::judge(&self.trajectory, &run_end, &self.spec.envelope);
+        self.last.times.clear();
+        self.last.values.clear();
+        if let Some(&time) = self.trajectory.times.last() {
+            self.last.times.push(time);
+            let last_row = self.trajectory.row(self.trajectory.len() - 1);
+            self.last.values.extend_from_slice(last_row);
+            self.last.values.extend_from_slice(sim.final_values());
+        }
+        let judged = verdict::judge(&self.last, &run_end, &self.spec.envelope);
         let end = match run_end {
             RunEnd::Completed => End::Completed,
             RunEnd::Terminated { instance, .. } => End::Terminated { instance },
         };
-        let metrics = metrics::compute(
+        let metrics = metrics::compute_with_final(
             &self.trajectory,
+            &self.last,
             &metrics::Columns::default(),
             TERMINAL_TARGET_NUE,
         )?;
@@ -160,8 +188,9 @@ pub fn nan_metrics() -> Metrics {
     super::manifest::metrics_from([f64::NAN; super::manifest::METRIC_COUNT])
 }
 
-/// The scenario of a campaign and its verdict spec, recording only what the metrics and the
-/// verdict need (`record_all` = false) or every output (replay).
+/// The scenario of a campaign and its verdict spec, recording at every step only what the
+/// metrics need (`record_all` = false; [`Flyer`] reads the verdict's other columns at the
+/// end) or every output (replay).
 pub fn campaign_system(
     scenario: &str,
     record_all: bool,
@@ -170,13 +199,7 @@ pub fn campaign_system(
     system.record = if record_all {
         None
     } else {
-        let mut columns: Vec<String> = METRIC_COLUMNS.iter().map(|c| c.to_string()).collect();
-        for c in verdict::VERDICT_COLUMNS {
-            if !columns.iter().any(|k| k == c) {
-                columns.push(c.to_owned());
-            }
-        }
-        Some(columns)
+        Some(METRIC_COLUMNS.iter().map(|c| c.to_string()).collect())
     };
     Ok((system, spec))
 }

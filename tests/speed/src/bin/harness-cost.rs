@@ -8,6 +8,10 @@
 //! - `master`: `Simulation::run` on the same scenario, every output of both FMUs recorded in
 //!   memory (a `Trajectory`).
 //! - `master-csv`, `master-arrow`: the same, then the trajectory written to a file.
+//! - `campaign`: Monte Carlo flights as a campaign worker flies them (`Flyer::fly`: the
+//!   dispersion drawn and applied, the instances reset, the run recording only the columns
+//!   the metrics and verdict read, the metrics and verdict computed), on the paper scenario
+//!   with the decoupled law at phi_cmd = 150 deg, seed 1; per step of those flights.
 //!
 //! `harness-cost compare` runs each mode under `valgrind --tool=callgrind`, counting only
 //! the measured region (`--toggle-collect`: loading, instantiating and the first run's lazy
@@ -30,7 +34,10 @@ fn measured_region<R>(work: impl FnOnce() -> R) -> R {
     std::hint::black_box(work())
 }
 
-const MODES: [&str; 4] = ["direct", "master", "master-csv", "master-arrow"];
+const MODES: [&str; 5] = ["direct", "master", "master-csv", "master-arrow", "campaign"];
+
+/// Flights counted by `campaign` (after one flown outside the count).
+const CAMPAIGN_FLIGHTS: u64 = 4;
 
 fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
@@ -51,6 +58,7 @@ fn main() -> Result<()> {
         "compare" => compare(&fmu_dir, stop_time),
         "direct" => print_final(&direct(&fmu_dir, &system)?),
         "master" | "master-csv" | "master-arrow" => print_final(&master(&fmu_dir, system, &mode)?),
+        "campaign" => campaign(&fmu_dir, stop_time),
         other => bail!("unknown mode {other:?} (modes: compare, {MODES:?})"),
     }
 }
@@ -114,6 +122,48 @@ fn master(fmu_dir: &Path, mut system: SystemDescription, mode: &str) -> Result<V
             Ok(trajectory.row(last)[j])
         })
         .collect()
+}
+
+/// Campaign flights through a reused `Flyer`, the first outside the count; prints the steps
+/// flown in the counted ones.
+fn campaign(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
+    use harness::montecarlo::{flight, CampaignSpec, DispersionRanges};
+    let (mut system, spec) = flight::campaign_system("paper", false)?;
+    if let Some(stop) = stop_time {
+        system.stop_time = stop;
+    }
+    let campaign = CampaignSpec {
+        scenario: "paper".into(),
+        seed: 1,
+        phi_cmd_deg: vec![150.0],
+        laws: vec![harness::scenarios::Law::Decoupled],
+        runs_per_point: CAMPAIGN_FLIGHTS + 1,
+        dispersions: DispersionRanges::default(),
+    };
+    let mut flyer = flight::Flyer::new(system, spec, fmu_dir)?;
+    let first = flyer.fly(&campaign.flight(0), &campaign.dispersions);
+    ensure!(!first.end.is_error(), "flight 0 failed: {:?}", first.end);
+    let rows = measured_region(|| {
+        (1..=CAMPAIGN_FLIGHTS)
+            .map(|i| {
+                let row = flyer.fly(&campaign.flight(i), &campaign.dispersions);
+                let steps = flyer.trajectory().len().saturating_sub(1);
+                (row, steps)
+            })
+            .collect::<Vec<_>>()
+    });
+    let mut steps = 0;
+    for (row, flown) in &rows {
+        ensure!(
+            !row.end.is_error(),
+            "flight {} failed: {:?}",
+            row.flight.index,
+            row.end
+        );
+        steps += flown;
+    }
+    println!("steps {steps}");
+    Ok(())
 }
 
 /// Both FMUs through the loader, the harness's Gauss-Seidel exchange and nothing else.
@@ -205,6 +255,7 @@ fn set_parameter(instance: &mut Instance, name: &str, value: &ParamValue) -> Res
 fn compare(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
     let system = paper_system(stop_time)?;
     let steps = ((system.stop_time - system.start_time) / system.step_size).round();
+    let mut steps_of = Vec::new();
     let exe = std::env::current_exe()?;
     let scratch = tempfile::tempdir()?;
     let mut counts = Vec::new();
@@ -240,6 +291,13 @@ fn compare(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
                 .to_owned(),
         );
         counts.push(total_instructions(&out_file)?);
+        // A mode that flies another number of steps says so.
+        steps_of.push(
+            stdout
+                .lines()
+                .find_map(|l| l.strip_prefix("steps ")?.parse::<f64>().ok())
+                .unwrap_or(steps),
+        );
     }
     ensure!(
         finals[0] == finals[1],
@@ -249,14 +307,19 @@ fn compare(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
     );
     println!("| Loop | Instructions per step | Ratio to direct |");
     println!("| --- | --- | --- |");
-    for (mode, count) in MODES.iter().zip(&counts) {
+    let direct_per_step = counts[0] as f64 / steps_of[0];
+    for ((mode, count), steps) in MODES.iter().zip(&counts).zip(&steps_of) {
+        let per_step = *count as f64 / steps;
         println!(
-            "| {mode} | {:.0} | {:.2}x |",
-            *count as f64 / steps,
-            *count as f64 / counts[0] as f64
+            "| {mode} | {per_step:.0} | {:.2}x |",
+            per_step / direct_per_step
         );
     }
-    println!("({steps} steps; direct and master end in the same state bit for bit)");
+    println!(
+        "({steps} steps, campaign {} steps in {CAMPAIGN_FLIGHTS} flights; direct and master \
+         end in the same state bit for bit)",
+        steps_of[4]
+    );
     Ok(())
 }
 
