@@ -325,70 +325,70 @@ impl Instance {
 
     // ---- values by value reference ----
 
-    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<Success, CallError> {
-        const F: &str = "fmi2SetReal";
-        self.check_lengths(F, vrs.len(), values.len())?;
+    /// One `fmi2Set*` call, the values passed as they are.
+    fn set_values<T>(
+        &mut self,
+        function: &'static str,
+        set: unsafe extern "C" fn(fmi2Component, *const u32, usize, *const T) -> fmi2Status,
+        vrs: &[u32],
+        values: &[T],
+    ) -> Result<Success, CallError> {
+        self.check_lengths(function, vrs.len(), values.len())?;
         let mark = self.log.mark();
         // SAFETY: both arrays hold `vrs.len()` elements.
         let raw = unsafe {
-            (self.functions().set_real)(
+            set(
                 self.c(),
                 array_or_null(vrs),
                 vrs.len(),
                 array_or_null(values),
             )
         };
-        Ok(self.check(F, mark, raw)?)
+        Ok(self.check(function, mark, raw)?)
     }
 
-    pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<Success, CallError> {
-        const F: &str = "fmi2GetReal";
-        self.check_lengths(F, vrs.len(), values.len())?;
+    /// One `fmi2Get*` call into `values` as they are.
+    fn get_values<T>(
+        &mut self,
+        function: &'static str,
+        get: unsafe extern "C" fn(fmi2Component, *const u32, usize, *mut T) -> fmi2Status,
+        vrs: &[u32],
+        values: &mut [T],
+    ) -> Result<Success, CallError> {
+        self.check_lengths(function, vrs.len(), values.len())?;
         let mark = self.log.mark();
         // SAFETY: both arrays hold `vrs.len()` elements; `values` is writable.
         let raw = unsafe {
-            (self.functions().get_real)(
+            get(
                 self.c(),
                 array_or_null(vrs),
                 vrs.len(),
                 mut_array_or_null(values),
             )
         };
-        Ok(self.check(F, mark, raw)?)
+        Ok(self.check(function, mark, raw)?)
+    }
+
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<Success, CallError> {
+        let set = self.functions().set_real;
+        self.set_values("fmi2SetReal", set, vrs, values)
+    }
+
+    pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<Success, CallError> {
+        let get = self.functions().get_real;
+        self.get_values("fmi2GetReal", get, vrs, values)
     }
 
     /// Also sets Enumeration variables.
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Result<Success, CallError> {
-        const F: &str = "fmi2SetInteger";
-        self.check_lengths(F, vrs.len(), values.len())?;
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements.
-        let raw = unsafe {
-            (self.functions().set_integer)(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                array_or_null(values),
-            )
-        };
-        Ok(self.check(F, mark, raw)?)
+        let set = self.functions().set_integer;
+        self.set_values("fmi2SetInteger", set, vrs, values)
     }
 
     /// Also gets Enumeration variables.
     pub fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Result<Success, CallError> {
-        const F: &str = "fmi2GetInteger";
-        self.check_lengths(F, vrs.len(), values.len())?;
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements; `values` is writable.
-        let raw = unsafe {
-            (self.functions().get_integer)(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                mut_array_or_null(values),
-            )
-        };
-        Ok(self.check(F, mark, raw)?)
+        let get = self.functions().get_integer;
+        self.get_values("fmi2GetInteger", get, vrs, values)
     }
 
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<Success, CallError> {
@@ -438,19 +438,8 @@ impl Instance {
     /// `fmi2SetBoolean` with the values as `fmi2Boolean` (C `int`, 0 is false), as a master
     /// that keeps its exchange in the FMI representation passes them: no conversion, no copy.
     pub fn set_boolean_raw(&mut self, vrs: &[u32], values: &[i32]) -> Result<Success, CallError> {
-        const F: &str = "fmi2SetBoolean";
-        self.check_lengths(F, vrs.len(), values.len())?;
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements.
-        let raw = unsafe {
-            (self.functions().set_boolean)(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                array_or_null(values),
-            )
-        };
-        Ok(self.check(F, mark, raw)?)
+        let set = self.functions().set_boolean;
+        self.set_values("fmi2SetBoolean", set, vrs, values)
     }
 
     /// `fmi2GetBoolean` into `fmi2Boolean` values, each normalised to 0 or 1 (an FMU may
@@ -460,22 +449,12 @@ impl Instance {
         vrs: &[u32],
         values: &mut [i32],
     ) -> Result<Success, CallError> {
-        const F: &str = "fmi2GetBoolean";
-        self.check_lengths(F, vrs.len(), values.len())?;
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements; `values` is writable.
-        let raw = unsafe {
-            (self.functions().get_boolean)(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                mut_array_or_null(values),
-            )
-        };
+        let get = self.functions().get_boolean;
+        let success = self.get_values("fmi2GetBoolean", get, vrs, values);
         for value in values.iter_mut() {
             *value = i32::from(*value != ffi::fmi2False);
         }
-        Ok(self.check(F, mark, raw)?)
+        success
     }
 
     pub fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<Success, CallError> {
