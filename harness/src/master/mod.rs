@@ -1052,8 +1052,9 @@ fn call(instance: &str, context: &str, source: CallError) -> MasterError {
     }
 }
 
-/// Sets a scenario value with the type the model description gives the variable.
-fn set_parameter(
+/// Sets a scenario value with the type the model description gives the variable, as the
+/// master does before a run (also for masters of ours outside this module: the benches).
+pub fn set_parameter(
     instance: &mut crate::loader::Instance,
     variable: &str,
     value: &ParamValue,

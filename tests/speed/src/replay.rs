@@ -10,7 +10,7 @@
 use crate::record::{PaperRecord, COMMANDS, GNC, NAVIGATION, PLANT};
 use anyhow::{bail, ensure, Context, Result};
 use harness::loader::{Fmu, Instance, StepStatus, VariableKind};
-use harness::system::ParamValue;
+use harness::master::set_parameter;
 use std::time::{Duration, Instant};
 
 /// Steps per timed batch: one second of the flight.
@@ -218,27 +218,6 @@ fn value_references(instance: &Instance, names: &[&str]) -> Result<Vec<u32>> {
             Ok(variable.value_reference)
         })
         .collect()
-}
-
-/// Sets a scenario value with the type the model description gives the variable, as the
-/// harness's master does.
-fn set_parameter(instance: &mut Instance, name: &str, value: &ParamValue) -> Result<()> {
-    let kind = instance.variable(name)?.kind.accessed_as();
-    match (kind, value) {
-        (VariableKind::Real, ParamValue::Real(x)) => instance.set_real_by_name(name, *x)?,
-        (VariableKind::Real, ParamValue::Integer(i)) => {
-            instance.set_real_by_name(name, *i as f64)?
-        }
-        (VariableKind::Integer, ParamValue::Integer(i)) => {
-            instance.set_integer_by_name(name, i32::try_from(*i)?)?
-        }
-        (VariableKind::Boolean, ParamValue::Boolean(b)) => {
-            instance.set_boolean_by_name(name, *b)?
-        }
-        (VariableKind::String, ParamValue::String(s)) => instance.set_string_by_name(name, s)?,
-        (kind, value) => bail!("the variable is {kind:?}; the scenario gives {value:?}"),
-    };
-    Ok(())
 }
 
 /// Compares a replayed plant's outputs after step `k` with the recorded ones at `t_{k+1}`.

@@ -22,8 +22,8 @@
 
 use anyhow::{bail, ensure, Context, Result};
 use harness::loader::{Fmu, Instance, StepStatus};
-use harness::master::{RunEnd, Simulation, Trajectory};
-use harness::system::{ParamValue, SystemDescription};
+use harness::master::{set_parameter, RunEnd, Simulation, Trajectory};
+use harness::system::SystemDescription;
 use speed_bench::record::{paper_system, COMMANDS, GNC, NAVIGATION, PLANT};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -230,25 +230,6 @@ fn vrs(instance: &Instance, names: &[&str]) -> Result<Vec<u32>> {
         .iter()
         .map(|name| Ok(instance.variable(name)?.value_reference))
         .collect()
-}
-
-fn set_parameter(instance: &mut Instance, name: &str, value: &ParamValue) -> Result<()> {
-    use harness::loader::VariableKind;
-    let kind = instance.variable(name)?.kind.accessed_as();
-    match (kind, value) {
-        (VariableKind::Real, ParamValue::Real(x)) => instance.set_real_by_name(name, *x)?,
-        (VariableKind::Real, ParamValue::Integer(i)) => {
-            instance.set_real_by_name(name, *i as f64)?
-        }
-        (VariableKind::Integer, ParamValue::Integer(i)) => {
-            instance.set_integer_by_name(name, i32::try_from(*i)?)?
-        }
-        (VariableKind::Boolean, ParamValue::Boolean(b)) => {
-            instance.set_boolean_by_name(name, *b)?
-        }
-        (kind, value) => bail!("parameter {name}: {kind:?} set from {value:?}"),
-    };
-    Ok(())
 }
 
 /// Runs every mode under callgrind and prints instructions per step and the ratios.
