@@ -19,6 +19,7 @@ mod check;
 pub mod continuous;
 mod declaration;
 mod enumeration;
+mod interface;
 mod model;
 pub mod prepared;
 pub mod registry;
@@ -31,6 +32,7 @@ pub use declaration::{
     role, Causality, Declaration, Dependencies, Initial, Kind, Limit, Role, Shape, Variability,
 };
 pub use enumeration::{EnumItem, EnumType, EnumValue, Enumeration};
+pub use interface::Interface;
 pub use model::{Experiment, Level, Log, Model, ModelError, StepEnd};
 
 /// A real value in a log line as a user reads it: plain digits, but an exponent where plain
