@@ -4,7 +4,7 @@
 //! parameter and input holding a value the layer's set functions would have accepted
 //! ([`check_declared_values`]), then [`Model::validate_restored`]. Each refusal is one line
 //! "FMU state refused: <field> = <value>: <reason>".
-use crate::{readable, Causality, Kind, Limit, Model};
+use crate::{range_text, readable, Causality, Kind, Model};
 use std::fmt::Display;
 
 /// A refusal naming the field at fault.
@@ -69,20 +69,6 @@ pub fn check_bookkeeping(b: &Bookkeeping, relative_tolerance: f64) -> Result<(),
     Ok(())
 }
 
-fn interval(min: Option<Limit>, max: Option<Limit>) -> String {
-    let low = match min {
-        Some(Limit::Inclusive(v)) => format!("[{v}"),
-        Some(Limit::Exclusive(v)) => format!("({v}"),
-        None => "(-inf".into(),
-    };
-    let high = match max {
-        Some(Limit::Inclusive(v)) => format!("{v}]"),
-        Some(Limit::Exclusive(v)) => format!("{v})"),
-        None => "inf)".into(),
-    };
-    format!("{low}, {high}")
-}
-
 /// Every parameter and input of `model` holds a value the layer's set functions accept:
 /// Reals finite and within their bounds, Integers within theirs, enumerations one of
 /// their type's items. The first one at fault is named.
@@ -112,7 +98,7 @@ pub fn check_declared_values<M: Model>(model: &M) -> Result<(), String> {
                     let below = min.is_some_and(|m| !m.admits_above(v));
                     let above = max.is_some_and(|m| !m.admits_below(v));
                     if below || above {
-                        let reason = format!("outside {}", interval(*min, *max));
+                        let reason = format!("outside {}", range_text(*min, *max));
                         return Err(refused(&name, readable(v), &reason));
                     }
                 }
