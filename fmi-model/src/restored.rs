@@ -3,7 +3,7 @@
 //! if an instance could have reached it: its bookkeeping ([`check_bookkeeping`]), every
 //! parameter and input holding a value the layer's set functions would have accepted
 //! ([`check_declared_values`]), then [`Model::validate_restored`]. Each refusal is one line
-//! "FMU state refused: <field> = <value>: <reason>".
+//! `FMU state refused: <field> = <value>: <reason>`.
 use crate::{range_text, readable, Causality, Kind, Model};
 use std::fmt::Display;
 
