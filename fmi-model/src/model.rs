@@ -38,8 +38,8 @@ pub enum StepEnd {
     /// The step reached `t + h`.
     Complete,
     /// The model stopped early at `time` (`t <= time <= t + h`), e.g. on touchdown; the
-    /// layer reports it as the standard says (FMI 2.0: `fmi2Discard` and
-    /// `fmi2LastSuccessfulTime`); `terminated` ends the simulation; `reason` is logged.
+    /// layer reports it as its standard says; `terminated` ends the simulation; `reason`
+    /// is logged.
     Stopped {
         time: f64,
         terminated: bool,
@@ -68,6 +68,12 @@ pub enum ModelError {
         value: String,
         reason: String,
     },
+    /// The model could not compute what was asked and changed nothing (e.g. a step longer
+    /// than it can take at once): the layer refuses the call and the instance stays as it
+    /// was, in its state, usable.
+    #[error("{0}")]
+    Refused(String),
+    /// The model failed; the layer moves the instance to state Error.
     #[error("{0}")]
     Other(String),
 }

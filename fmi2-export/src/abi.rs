@@ -1,159 +1,48 @@
 //! The generic bodies of the 34 `fmi2*` functions. [`export_fmi2!`](crate::export_fmi2)
 //! generates the `#[no_mangle]` symbols in the model crate, each a one-line call into here.
 //!
-//! Every function that takes an instance goes through [`call`]: NULL, freed or foreign
-//! component -> `fmi2Error` (no logger to tell; the address is looked up in a registry of
-//! live instances before anything is read through it); a call while another call on the
-//! same instance has not returned (from inside its logger) -> `fmi2Error` and a log line; call trace (`logCalls`); state-machine check against
-//! the table of [`Function::legal_states`]; the body under `catch_unwind` (a panic becomes
-//! `fmi2Fatal` and state Fatal); a refusal is logged as one line "fmi2Xxx: reason".
-//!
-//! Refused arguments (illegal call sequence, NULL array, unknown value reference, value not
-//! settable/non-finite/out of range, bad communication point) leave the instance as it
-//! was, like the Reference FMUs: the call had no effect, so there is nothing to recover
-//! from. A failure of the model itself (`exit_initialization` or `do_step` returning an
-//! error) moves it to state Error as the standard's state machine says; `fmi2Reset`,
-//! `fmi2SetFMUstate` or `fmi2FreeInstance` lead on from there.
+//! This layer unpacks the C arguments and reports results in FMI 2.0's words; everything
+//! the two FMI versions share (the call guard, the state rules, the step, FMU states, the
+//! setter checks) is the export core's ([`fmi_export`]). Every function that takes an
+//! instance goes through [`call`], the core's guard: a handle that is no live instance ->
+//! `fmi2Error` with nothing read through it, a re-entrant call refused with a log line, the
+//! call trace, the state table of [`Function::legal_states`], a panic caught as `fmi2Fatal`,
+//! one log line per refusal. Refused arguments leave the instance as it was; a failure of
+//! the model itself moves it to state Error.
 //!
 //! # Safety
 //! Every function here is `unsafe`: the caller (the generated symbol, i.e. the master)
 //! must pass pointers that are valid as the FMI 2.0 standard requires for the function.
 #![allow(unsafe_code)]
 
-use crate::error::{CallError, Success};
 use crate::ffi::*;
 use crate::index::BaseType;
-use crate::instance::{Core, Instance, Tag};
-use crate::logging::{Category, Logger};
-use crate::model::{Log, Model, StepEnd};
-use crate::rules::{check_enumeration, check_integer, check_real, check_settable};
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
-pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
+use crate::version::{Fmi2, Sink};
+pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
+use fmi_export::call::{shown, Request};
+use fmi_export::setters::{check_enumeration, check_integer, check_real, check_settable};
+use fmi_export::step::Advance;
+use fmi_export::{fmu_state, lifecycle, Abi, CallError, Interface, Logger, Options, Success};
 use fmi_model::prepared::{Getter, Setter};
-use fmi_model::registry::{Entered, Refusal, Registry, Reporting};
-use fmi_model::snapshot;
+use fmi_model::Model;
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
-/// Relative tolerance on communication points: masters accumulate `t += h` and arrive a
-/// few ulps off (fmpy reaches step 1200 of 0.01 s at 11.999999999999789). A point `t` is
-/// accepted when `|t - time| <= 1e-9 * max(1, |time|)`; the same bound applies to the
-/// declared stop time.
-pub const TIME_TOLERANCE: f64 = 1e-9;
+/// An FMI 2.0 instance of `M`.
+pub type Instance<M> = fmi_export::Instance<M, Fmi2>;
 
-fn time_tolerance(reference: f64) -> f64 {
-    TIME_TOLERANCE * reference.abs().max(1.0)
-}
-
-// ---------------------------------------------------------------------------------------
-// Plumbing
-// ---------------------------------------------------------------------------------------
-
-/// Every live instance of this FMU, with a copy of its logger to report a refused nested
-/// call without reading the busy instance.
-static LIVE: Registry<Logger> = Registry::new();
-
-/// The instance behind `c`, marked busy until the returned guard drops. `None` (the call
-/// returns `fmi2Error`) when `c` is no live instance of `M` (NULL, freed, foreign: nothing
-/// is read through it), or when another call on it has not returned (a call from inside one
-/// of its callbacks, or from a second thread: refused with a log line, see
-/// [`fmi_model::registry`]).
+/// Runs one FMI call on an instance through the core's guard (see the module docs).
 #[inline(always)]
-unsafe fn enter<'a, M: Model>(
-    c: fmi2Component,
-    function: Function,
-) -> Option<(Entered<'static, Logger>, &'a mut Instance<M>)> {
-    let entered = match LIVE.enter(c as usize) {
-        Ok(entered) => entered,
-        Err(Refusal::Unknown) => return None,
-        Err(Refusal::Busy(report)) => {
-            refuse_nested(report, function);
-            return None;
-        }
-    };
-    // SAFETY: a registered address is a live Box<Instance<_>> from fmi2Instantiate, whose
-    // first field is the Tag (repr(C)); the tag check guards against an instance of another
-    // model linked into the same process.
-    let tag = unsafe { ptr::read(c as *const Tag) };
-    if tag != Tag::of::<M>() {
-        return None;
-    }
-    // SAFETY: live, of type M, and no other call holds it (the registry says idle).
-    Some((entered, unsafe { &mut *(c as *mut Instance<M>) }))
-}
-
-/// Tells the master, through the busy instance's logger, that its nested call was refused
-/// (`None`: a call from inside that very report, refused silently).
-#[cold]
-#[inline(never)]
-fn refuse_nested(report: Option<Reporting<'_, Logger>>, function: Function) {
-    if let Some(logger) = report {
-        logger.status(
-            fmi2Error,
-            &format!(
-                "{}: refused: another call on this instance has not returned yet \
-                 (a call from inside one of its callbacks, or from a second thread)",
-                function.name()
-            ),
-        );
-    }
-}
-
-/// Runs one FMI call on an instance; see the module documentation.
 pub(crate) unsafe fn call<M: Model>(
     c: fmi2Component,
     function: Function,
     trace: impl FnOnce() -> String,
     body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
 ) -> fmi2Status {
-    let Some((_entered, inst)) = (unsafe { enter::<M>(c, function) }) else {
-        return fmi2Error;
-    };
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        if inst.logger.is_on(Category::Calls) {
-            inst.logger.log(fmi2OK, Category::Calls, &trace());
-        }
-        let state = inst.core.state;
-        let result = if function.legal_states().contains(state) {
-            body(inst)
-        } else {
-            Err(CallError::IllegalCall(state))
-        };
-        match result {
-            Ok(success) => success.status(),
-            Err(error) => {
-                let status = error.status();
-                inst.logger
-                    .status(status, &format!("{}: {error}", function.name()));
-                status
-            }
-        }
-    }));
-    outcome.unwrap_or_else(|payload| {
-        let _ = catch_unwind(AssertUnwindSafe(|| {
-            inst.core.state = State::Fatal;
-            inst.logger.status(
-                fmi2Fatal,
-                &format!(
-                    "{}: internal error, instance unusable: {}",
-                    function.name(),
-                    panic_text(payload.as_ref())
-                ),
-            );
-        }));
-        fmi2Fatal
-    })
-}
-
-/// A string argument as a user would write it: quoted, or NULL.
-fn shown(s: &Option<CString>) -> String {
-    match s {
-        Some(s) => format!("\"{}\"", s.to_string_lossy()),
-        None => "NULL".into(),
-    }
+    Fmi2::status(unsafe { fmi_export::call::call::<M, Fmi2>(c, function, trace, body) })
 }
 
 unsafe fn show_str(s: fmi2String) -> String {
@@ -170,11 +59,22 @@ fn row<M: Model>(
     base: BaseType,
     vr: fmi2ValueReference,
 ) -> Result<Variable<M>, CallError> {
-    match inst.index.row(base, vr) {
+    match inst.view.index.row(base, vr) {
         // A copy (a few words), so that the caller may go on to borrow the model mutably.
-        Some(r) => Ok(inst.table[r]),
+        Some(r) => Ok(inst.view.table[r]),
         None => Err(unknown_value_reference(base, vr)),
     }
+}
+
+/// The core's settable rule for an FMI 2.0 scalar.
+fn settable_now<M: Model>(var: &Variable<M>, state: State) -> Result<(), CallError> {
+    check_settable(
+        || var.name().into_owned(),
+        var.value_reference,
+        var.causality,
+        var.variability,
+        state,
+    )
 }
 
 /// Out of line: the error is built only when a lookup fails, never on the success path.
@@ -228,7 +128,7 @@ pub unsafe fn instantiate<M: Model>(
 ///
 /// # Safety
 /// See the module documentation.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, non_upper_case_globals)]
 pub unsafe fn instantiate_as<M: Model>(
     instance_name: fmi2String,
     fmu_type: fmi2Type,
@@ -254,109 +154,57 @@ pub unsafe fn instantiate_as<M: Model>(
     let name = owned(instance_name);
     let guid = owned(fmu_guid);
     let resource_location = owned(fmu_resource_location);
-    let logger = Logger::new(
-        callbacks.logger,
-        callbacks.componentEnvironment,
-        name.clone().unwrap_or_default(),
+    let logger = Logger::<Fmi2>::new(
+        Sink {
+            callback: callbacks.logger,
+            environment: callbacks.componentEnvironment,
+            instance_name: name.clone().unwrap_or_default(),
+        },
         logging_on != fmi2False,
     );
-    let outcome = catch_unwind(AssertUnwindSafe(move || {
-        if logger.is_on(Category::Calls) {
-            let trace = format!(
-                "fmi2Instantiate(instanceName={}, fmuType={fmu_type}, fmuGUID={}, \
-                 fmuResourceLocation={}, visible={visible}, loggingOn={logging_on})",
-                shown(&name),
-                shown(&guid),
-                shown(&resource_location)
-            );
-            logger.log(fmi2OK, Category::Calls, &trace);
-        }
-        let expected_guid = crate::guid::<M>();
-        let refusal = if name.as_ref().is_none_or(|n| n.is_empty()) {
-            Some("instanceName is NULL or empty".to_string())
-        } else if fmu_type == fmi2ModelExchange && !with_model_exchange {
+    let trace = format!(
+        "fmi2Instantiate(instanceName={}, fmuType={fmu_type}, fmuGUID={}, \
+         fmuResourceLocation={}, visible={visible}, loggingOn={logging_on})",
+        shown(&name),
+        shown(&guid),
+        shown(&resource_location)
+    );
+    let (interface, refusal) = match fmu_type {
+        fmi2CoSimulation => (Interface::CoSimulation, None),
+        fmi2ModelExchange if with_model_exchange => (Interface::ModelExchange, None),
+        fmi2ModelExchange => (
+            Interface::ModelExchange,
             Some(format!(
                 "fmuType fmi2ModelExchange is not supported: {} implements Co-Simulation \
                  (fmi2CoSimulation = {fmi2CoSimulation}) only",
                 M::MODEL_IDENTIFIER
-            ))
-        } else if fmu_type != fmi2CoSimulation && fmu_type != fmi2ModelExchange {
+            )),
+        ),
+        other => (
+            Interface::CoSimulation,
             Some(format!(
-                "fmuType {fmu_type} is neither fmi2ModelExchange ({fmi2ModelExchange}) nor \
+                "fmuType {other} is neither fmi2ModelExchange ({fmi2ModelExchange}) nor \
                  fmi2CoSimulation ({fmi2CoSimulation})"
-            ))
-        } else if guid.as_ref().map(|g| g.to_bytes()) != Some(expected_guid.as_bytes()) {
-            Some(format!(
-                "fmuGUID {} does not match this FMU's GUID {expected_guid}",
-                shown(&guid)
-            ))
-        } else {
-            None
-        };
-        if let Some(reason) = refusal {
-            logger.status(fmi2Error, &format!("fmi2Instantiate: {reason}"));
-            return ptr::null_mut();
-        }
-        let report = logger.clone();
-        let instance = Box::new(Instance::<M>::new(
-            logger,
-            crate::interface_uuid::<M>(),
-            resource_location,
-            fmu_type == fmi2ModelExchange,
-        ));
-        let c = Box::into_raw(instance) as fmi2Component;
-        if let Err(full) = LIVE.insert(c as usize, report) {
-            // SAFETY: `c` came from Box::into_raw just above and was never handed out.
-            let instance = unsafe { Box::from_raw(c as *mut Instance<M>) };
-            instance
-                .logger
-                .status(fmi2Error, &format!("fmi2Instantiate: {full}"));
-            return ptr::null_mut();
-        }
-        c
-    }));
-    outcome.unwrap_or_else(|payload| {
-        let logger = Logger::new(
-            callbacks.logger,
-            callbacks.componentEnvironment,
-            c"".to_owned(),
-            false,
-        );
-        logger.status(
-            fmi2Fatal,
-            &format!(
-                "fmi2Instantiate: internal error: {}",
-                panic_text(payload.as_ref())
-            ),
-        );
-        ptr::null_mut()
-    })
+            )),
+        ),
+    };
+    let request = Request {
+        function: "fmi2Instantiate",
+        interface,
+        options: Options::default(),
+        instance_name: name,
+        token: guid,
+        resource_location,
+        trace,
+        refusal,
+    };
+    fmi_export::call::instantiate::<M, Fmi2>(logger, request, with_model_exchange)
 }
 
 /// # Safety
 /// See the module documentation.
 pub unsafe fn free_instance<M: Model>(c: fmi2Component) {
-    let Some((entered, inst)) = (unsafe { enter::<M>(c, Function::FreeInstance) }) else {
-        return;
-    };
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        if inst.logger.is_on(Category::Calls) {
-            inst.logger
-                .log(fmi2OK, Category::Calls, "fmi2FreeInstance()");
-        }
-    }));
-    // Unregistered before the memory goes: a second free, or any later call, is refused
-    // by address without reading it.
-    inst.tag = Tag::cleared();
-    entered.remove();
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: `c` came from Box::into_raw in instantiate; `inst` is not used again.
-        let mut boxed = unsafe { Box::from_raw(c as *mut Instance<M>) };
-        for address in boxed.fmu_states.drain() {
-            // SAFETY: only addresses from Box::into_raw of a Core<M> are registered.
-            drop(unsafe { Box::from_raw(address as *mut Core<M>) });
-        }
-    }));
+    unsafe { fmi_export::call::free_instance::<M, Fmi2>(c, Function::FreeInstance) }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -384,30 +232,12 @@ pub unsafe fn set_debug_logging<M: Model>(
     };
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            let names = slice(categories, n_categories, "categories")?;
-            let mut chosen = Vec::with_capacity(names.len());
-            for &p in names {
-                if p.is_null() {
-                    return Err(CallError::NullArgument("categories[i]"));
-                }
-                let name = CStr::from_ptr(p).to_bytes();
-                let category = crate::logging::Category::from_name(name).ok_or_else(|| {
-                    CallError::InvalidArgument(format!(
-                        "unknown log category {:?}",
-                        String::from_utf8_lossy(name)
-                    ))
-                })?;
-                chosen.push(category);
-            }
-            let on = logging_on != fmi2False;
-            if chosen.is_empty() {
-                inst.logger.set_all(on);
-            } else {
-                for category in chosen {
-                    inst.logger.set(category, on);
-                }
-            }
-            Ok(Success::Ok)
+            let names: Vec<Option<&[u8]>> = slice(categories, n_categories, "categories")?
+                .iter()
+                // SAFETY: non-null names are NUL-terminated per the standard.
+                .map(|&p| (!p.is_null()).then(|| CStr::from_ptr(p).to_bytes()))
+                .collect();
+            lifecycle::set_debug_logging(inst, logging_on != fmi2False, &names)
         })
     }
 }
@@ -431,27 +261,10 @@ pub unsafe fn setup_experiment<M: Model>(
             f.name()
         )
     };
+    let stop = (stop_time_defined != fmi2False).then_some(stop_time);
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            if !start_time.is_finite() {
-                return Err(CallError::InvalidArgument(format!(
-                    "startTime {start_time} is not finite"
-                )));
-            }
-            let stop = (stop_time_defined != fmi2False).then_some(stop_time);
-            if let Some(stop) = stop {
-                if !stop.is_finite() || stop < start_time {
-                    return Err(CallError::InvalidArgument(format!(
-                        "stopTime {stop} is not a finite time at or after startTime {start_time}"
-                    )));
-                }
-            }
-            let core = &mut inst.core;
-            core.start_time = start_time;
-            core.stop_time = stop;
-            core.time = start_time;
-            core.last_successful_time = start_time;
-            Ok(Success::Ok)
+            lifecycle::set_experiment(inst, start_time, stop)
         })
     }
 }
@@ -465,11 +278,7 @@ pub unsafe fn enter_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Statu
             c,
             f,
             || format!("{}()", f.name()),
-            |inst| {
-                inst.core.state = State::InitializationMode;
-                inst.dirty = true;
-                Ok(Success::Ok)
-            },
+            lifecycle::enter_initialization,
         )
     }
 }
@@ -483,22 +292,7 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status
             c,
             f,
             || format!("{}()", f.name()),
-            |inst| {
-                let mut log = Log::default();
-                let start_time = inst.core.start_time;
-                let result = inst.core.model.exit_initialization(start_time, &mut log);
-                let success = inst.forward(f, &log);
-                result.map_err(|e| inst.model_failure(e))?;
-                inst.core.state = if inst.model_exchange {
-                    State::EventMode
-                } else {
-                    State::StepComplete
-                };
-                inst.core.time = start_time;
-                inst.core.last_successful_time = start_time;
-                inst.dirty = true;
-                Ok(success)
-            },
+            |inst| lifecycle::exit_initialization(inst, f),
         )
     }
 }
@@ -507,38 +301,16 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status
 /// See the module documentation.
 pub unsafe fn terminate<M: Model>(c: fmi2Component) -> fmi2Status {
     let f = Function::Terminate;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            |inst| {
-                inst.core.state = State::Terminated;
-                Ok(Success::Ok)
-            },
-        )
-    }
+    unsafe { call::<M>(c, f, || format!("{}()", f.name()), lifecycle::terminate) }
 }
 
-/// Back to the freshly instantiated state: start values reapplied, time and status reset.
-/// Logging flags and FMU states stay: they belong to the master's session, not to the run.
+/// Back to the freshly instantiated state (see [`lifecycle::reset`]).
 ///
 /// # Safety
 /// See the module documentation.
 pub unsafe fn reset<M: Model>(c: fmi2Component) -> fmi2Status {
     let f = Function::Reset;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            |inst| {
-                inst.core = Core::fresh();
-                inst.dirty = true;
-                Ok(Success::Ok)
-            },
-        )
-    }
+    unsafe { call::<M>(c, f, || format!("{}()", f.name()), lifecycle::reset) }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -571,7 +343,7 @@ fn set_values<M: Model, V: Copy>(
 ) -> Result<Success, CallError> {
     for (&vr, &value) in vrs.iter().zip(values) {
         let var = row(inst, base, vr)?;
-        check_settable(&var, inst.core.state)?;
+        settable_now(&var, inst.core.state)?;
         check(&var, value)?;
     }
     for (&vr, &value) in vrs.iter().zip(values) {
@@ -615,7 +387,7 @@ pub unsafe fn get_real<M: Model>(
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice_mut(value, nvr, "value")?;
             let success = inst.refresh(f);
-            let index = &inst.index;
+            let index = &inst.view.index;
             let prepared = inst
                 .prepared_get
                 .read(vrs, values, &inst.core.model, |vr, out| {
@@ -635,6 +407,7 @@ pub unsafe fn get_real<M: Model>(
             }
             for (&vr, value) in vrs.iter().zip(values) {
                 let slot = inst
+                    .view
                     .index
                     .real(vr)
                     .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
@@ -726,7 +499,7 @@ pub unsafe fn get_string<M: Model>(
                     vrs,
                     &mut strings,
                     |var, m| match &var.access {
-                        Access::String { get, .. } => crate::logging::sanitize(get(m)),
+                        Access::String { get, .. } => fmi_export::logging::sanitize(get(m)),
                         _ => CString::default(),
                     },
                 )?;
@@ -753,7 +526,7 @@ pub unsafe fn set_real<M: Model>(
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
             let state = inst.core.state;
-            let index = &inst.index;
+            let index = &inst.view.index;
             let prepared = inst.prepared_set.write(
                 vrs,
                 values,
@@ -782,16 +555,17 @@ pub unsafe fn set_real<M: Model>(
             // keeping what the first pass found.
             for (&vr, &value) in vrs.iter().zip(values) {
                 let slot = inst
+                    .view
                     .index
                     .real(vr)
                     .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
                 if !slot.accepts(value, state) {
-                    refuse_real(&inst.table[slot.row], value, state)?;
+                    refuse_real(&inst.view.table[slot.row], value, state)?;
                 }
             }
             let model = &mut inst.core.model;
             for (&vr, &value) in vrs.iter().zip(values) {
-                if let Some(slot) = inst.index.real(vr) {
+                if let Some(slot) = inst.view.index.real(vr) {
                     if let Some(set) = slot.set {
                         set(model, slot.element, value);
                     }
@@ -810,9 +584,15 @@ pub unsafe fn set_real<M: Model>(
 #[cold]
 #[inline(never)]
 fn refuse_real<M: Model>(var: &Variable<M>, value: f64, state: State) -> Result<(), CallError> {
-    check_settable(var, state)?;
+    settable_now(var, state)?;
     match &var.access {
-        Access::Real { min, max, .. } => check_real(var, value, *min, *max),
+        Access::Real { min, max, .. } => check_real(
+            || var.name().into_owned(),
+            var.value_reference,
+            value,
+            *min,
+            *max,
+        ),
         _ => Ok(()),
     }
 }
@@ -836,8 +616,19 @@ pub unsafe fn set_integer<M: Model>(
                 vrs,
                 values,
                 |var, v| match &var.access {
-                    Access::Integer { min, max, .. } => check_integer(var, v, *min, *max),
-                    Access::Enumeration { ty, .. } => check_enumeration(var, v, ty),
+                    Access::Integer { min, max, .. } => check_integer(
+                        || var.name().into_owned(),
+                        var.value_reference,
+                        v.into(),
+                        *min,
+                        *max,
+                    ),
+                    Access::Enumeration { ty, .. } => check_enumeration(
+                        || var.name().into_owned(),
+                        var.value_reference,
+                        v.into(),
+                        ty,
+                    ),
                     _ => Ok(()),
                 },
                 |var, m, v| match &var.access {
@@ -943,40 +734,6 @@ pub unsafe fn set_string<M: Model>(
 // FMU state
 // ---------------------------------------------------------------------------------------
 
-/// The state at `state` if this instance handed it out and has not freed it.
-fn owned_state<'a, M: Model>(
-    inst: &Instance<M>,
-    state: fmi2FMUstate,
-) -> Result<&'a mut Core<M>, CallError> {
-    if state.is_null() {
-        return Err(CallError::NullArgument("FMUstate"));
-    }
-    if !inst.fmu_states.contains(&(state as usize)) {
-        return Err(CallError::InvalidArgument(format!(
-            "FMUstate {state:p} was not created by this instance (or was freed)"
-        )));
-    }
-    // SAFETY: registered addresses come from Box::into_raw of a Core<M> and are removed
-    // when freed; the master does not use one state from two threads at once.
-    Ok(unsafe { &mut *(state as *mut Core<M>) })
-}
-
-/// Stores `core` in `*slot`: into the state already there (which must be ours) or a new one.
-fn store_state<M: Model>(
-    inst: &mut Instance<M>,
-    slot: &mut fmi2FMUstate,
-    core: Core<M>,
-) -> Result<Success, CallError> {
-    if slot.is_null() {
-        let address = Box::into_raw(Box::new(core));
-        inst.fmu_states.insert(address as usize);
-        *slot = address as fmi2FMUstate;
-    } else {
-        *owned_state(inst, *slot)? = core;
-    }
-    Ok(Success::Ok)
-}
-
 /// # Safety
 /// See the module documentation.
 pub unsafe fn get_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
@@ -984,9 +741,7 @@ pub unsafe fn get_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate
     let trace = || format!("{}(FMUstate={state:p})", f.name());
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            let slot = out(state, "FMUstate")?;
-            let core = inst.core.clone();
-            store_state(inst, slot, core)
+            fmu_state::get(inst, out(state, "FMUstate")?)
         })
     }
 }
@@ -996,15 +751,7 @@ pub unsafe fn get_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate
 pub unsafe fn set_fmu_state<M: Model>(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
     let f = Function::SetFMUstate;
     let trace = || format!("{}(FMUstate={state:p})", f.name());
-    unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let core = owned_state(inst, state)?;
-            crate::restore::validate(&inst.table, core)?;
-            inst.core = core.clone();
-            inst.dirty = true;
-            Ok(Success::Ok)
-        })
-    }
+    unsafe { call::<M>(c, f, trace, |inst| fmu_state::set(inst, state)) }
 }
 
 /// # Safety
@@ -1014,27 +761,8 @@ pub unsafe fn free_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstat
     let trace = || format!("{}(FMUstate={state:p})", f.name());
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            let slot = out(state, "FMUstate")?;
-            // The standard: a NULL *FMUstate is ignored.
-            if slot.is_null() {
-                return Ok(Success::Ok);
-            }
-            owned_state(inst, *slot)?;
-            inst.fmu_states.remove(&(*slot as usize));
-            // SAFETY: registered (checked above), hence a live Box<Core<M>>; now unregistered.
-            drop(Box::from_raw(*slot as *mut Core<M>));
-            *slot = ptr::null_mut();
-            Ok(Success::Ok)
+            fmu_state::free(inst, out(state, "FMUstate")?)
         })
-    }
-}
-
-/// What identifies a serialized state of this FMU.
-fn snapshot_header<M: Model>(inst: &Instance<M>) -> snapshot::Header {
-    snapshot::Header {
-        magic: crate::SNAPSHOT_MAGIC,
-        state_version: M::STATE_VERSION,
-        guid: inst.guid,
     }
 }
 
@@ -1050,7 +778,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
     unsafe {
         call::<M>(c, f, trace, |inst| {
             let size = out(size, "size")?;
-            *size = snapshot::encode(owned_state(inst, state)?, snapshot_header::<M>(inst))?.len();
+            *size = fmu_state::serialize(inst, state)?.len();
             Ok(Success::Ok)
         })
     }
@@ -1068,16 +796,8 @@ pub unsafe fn serialize_fmu_state<M: Model>(
     let trace = || format!("{}(FMUstate={state:p}, size={size})", f.name());
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            let bytes = snapshot::encode(owned_state(inst, state)?, snapshot_header::<M>(inst))?;
-            if size != bytes.len() {
-                return Err(CallError::InvalidArgument(format!(
-                    "size {size} differs from fmi2SerializedFMUstateSize = {}",
-                    bytes.len()
-                )));
-            }
             let buffer = slice_mut(serialized as *mut u8, size, "serializedState")?;
-            buffer.copy_from_slice(&bytes);
-            Ok(Success::Ok)
+            fmu_state::serialize_into(inst, state, buffer, Function::SerializedFMUstateSize.name())
         })
     }
 }
@@ -1095,10 +815,7 @@ pub unsafe fn de_serialize_fmu_state<M: Model>(
     unsafe {
         call::<M>(c, f, trace, |inst| {
             let bytes = slice(serialized as *const u8, size, "serializedState")?;
-            let slot = out(state, "FMUstate")?;
-            let core = snapshot::decode::<Core<M>>(bytes, snapshot_header::<M>(inst))?;
-            crate::restore::validate(&inst.table, &core)?;
-            store_state(inst, slot, core)
+            fmu_state::deserialize(inst, bytes, out(state, "FMUstate")?)
         })
     }
 }
@@ -1191,64 +908,22 @@ pub unsafe fn do_step<M: Model>(
     unsafe { call::<M>(c, f, trace, |inst| step(inst, t, h)) }
 }
 
+/// A step that ended early is `fmi2Discard`, state StepFailed, with `fmi2LastSuccessfulTime`
+/// and `fmi2Terminated` telling where and whether the model asks to end (FMI 2.0.4 §4.2.2).
 fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, CallError> {
-    let f = Function::DoStep;
-    if !(h.is_finite() && h > 0.0) {
-        return Err(CallError::InvalidArgument(format!(
-            "communicationStepSize {h} is not a finite positive number"
-        )));
-    }
-    let time = inst.core.time;
-    // Written so that a NaN anywhere (the master's t, or a corrupt time of ours) refuses.
-    if !(t.is_finite() && time.is_finite() && (t - time).abs() <= time_tolerance(time)) {
-        return Err(CallError::InvalidArgument(format!(
-            "currentCommunicationPoint {t} does not match the FMU's time {time} \
-             (relative tolerance {TIME_TOLERANCE:e})"
-        )));
-    }
-    // The master's own t + h: the next call's t must match it, so no rounding of ours.
-    let end = t + h;
-    if !(end.is_finite() && end > t) {
-        return Err(CallError::InvalidArgument(format!(
-            "currentCommunicationPoint {t} + communicationStepSize {h} = {end}: the step \
-             does not advance a finite time"
-        )));
-    }
-    if let Some(stop) = inst.core.stop_time {
-        if end > stop + time_tolerance(stop) {
-            return Err(CallError::InvalidArgument(format!(
-                "step to {end} (currentCommunicationPoint {t} + communicationStepSize {h}) \
-                 passes the stop time {stop} declared in fmi2SetupExperiment"
-            )));
-        }
-    }
-    let mut log = Log::default();
-    let result = inst.core.model.do_step(t, h, &mut log);
-    inst.dirty = true;
-    let success = inst.forward(f, &log);
-    match result.map_err(|e| inst.model_failure(e))? {
-        StepEnd::Complete => {
-            inst.core.time = end;
-            inst.core.last_successful_time = end;
-            Ok(success)
-        }
-        StepEnd::Stopped {
-            time: stopped,
-            terminated,
-            reason,
-        } => {
-            if !(t..=end).contains(&stopped) {
-                return Err(inst.fail(CallError::InvalidArgument(format!(
-                    "model error: stopped at {stopped}, outside the step [{t}, {end}]"
-                ))));
-            }
-            let core = &mut inst.core;
-            core.time = stopped;
-            core.last_successful_time = stopped;
-            core.terminated = terminated;
-            core.state = State::StepFailed;
+    match fmi_export::step::advance(inst, Function::DoStep, t, h)? {
+        (success, Advance::Complete) => Ok(success),
+        (
+            _,
+            Advance::Stopped {
+                at,
+                terminated,
+                reason,
+            },
+        ) => {
+            inst.core.state = State::StepFailed;
             Err(CallError::Discard(format!(
-                "step ended early at t = {stopped}{}: {reason}",
+                "step ended early at t = {at}{}: {reason}",
                 if terminated { " (terminated)" } else { "" }
             )))
         }

@@ -3,8 +3,8 @@
 //! model crates' tests and before any XML is written.
 use crate::index::BaseType;
 use crate::model::Model;
-use crate::units::base_unit;
 use crate::variable::{variables, Access, Causality, Initial, Variability, Variable};
+use fmi_export::base_unit;
 use std::collections::HashSet;
 
 /// Everything wrong with a table, one line per problem.

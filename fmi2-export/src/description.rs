@@ -1,9 +1,9 @@
 //! `modelDescription.xml` and the GUID, both produced from the variable table.
 use crate::check::{check_table, effective_initial};
-use crate::logging::Category;
 use crate::model::{Dependencies, Model};
-use crate::units::base_unit;
 use crate::variable::{variables, Access, Causality, EnumType, Initial, Variability, Variable};
+use crate::version::CATEGORIES;
+use fmi_export::base_unit;
 use model_description as md;
 use std::collections::BTreeSet;
 use std::fmt::Write;
@@ -84,7 +84,7 @@ pub fn model_description<M: Model>() -> md::ModelDescription {
         unit_definitions: unit_definitions(&table),
         type_definitions: type_definitions::<M>(),
         log_categories: Some(md::LogCategories {
-            categories: Category::ALL
+            categories: CATEGORIES
                 .iter()
                 .map(|c| md::Category {
                     name: c.name().to_string_lossy().into_owned(),

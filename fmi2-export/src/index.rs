@@ -10,9 +10,9 @@
 //!
 //! Reals, the bulk of what a co-simulation exchanges, also get a [`RealSlot`] each: their
 //! accessors and the value checks in a form that needs no matching on the table row.
-use crate::rules::settable;
 use crate::state::{State, StateMask};
 use crate::variable::{Access, Limit, Variable};
+use fmi_export::setters::settable;
 
 /// The four base types of the C API.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -235,8 +235,8 @@ mod tests {
     /// variables (causality, variability, bounds) and awkward values.
     #[test]
     fn a_real_slot_accepts_exactly_what_the_checks_accept() {
-        use crate::rules::real_in_range;
         use crate::variable::{Causality, Variability};
+        use fmi_export::setters::real_in_range;
         use Limit::{Exclusive, Inclusive};
         let bounds = [
             (None, None),

@@ -9,65 +9,8 @@
 //! never be observed. `Fatal` has an empty row everywhere (the standard allows no further
 //! call), except that `fmi2FreeInstance` is always honoured: it returns `void`, so refusing
 //! it could only leak memory, and a caught panic leaves our memory intact.
-use serde::{Deserialize, Serialize};
-
-/// States of an instance. The discriminants are the bits of a [`StateMask`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[repr(u16)]
-pub enum State {
-    Instantiated = 1 << 0,
-    InitializationMode = 1 << 1,
-    StepComplete = 1 << 2,
-    StepFailed = 1 << 3,
-    StepCanceled = 1 << 4,
-    Terminated = 1 << 5,
-    Error = 1 << 6,
-    Fatal = 1 << 7,
-    /// Model Exchange only.
-    EventMode = 1 << 8,
-    /// Model Exchange only.
-    ContinuousTimeMode = 1 << 9,
-}
-
-impl State {
-    pub const ALL: [State; 10] = [
-        State::Instantiated,
-        State::InitializationMode,
-        State::StepComplete,
-        State::StepFailed,
-        State::StepCanceled,
-        State::Terminated,
-        State::Error,
-        State::Fatal,
-        State::EventMode,
-        State::ContinuousTimeMode,
-    ];
-}
-
-/// A set of [`State`]s.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct StateMask(u16);
-
-impl StateMask {
-    pub const fn of(states: &[State]) -> StateMask {
-        let mut bits = 0;
-        let mut i = 0;
-        while i < states.len() {
-            bits |= states[i] as u16;
-            i += 1;
-        }
-        StateMask(bits)
-    }
-
-    pub const fn contains(self, state: State) -> bool {
-        self.0 & state as u16 != 0
-    }
-
-    /// The states as bits (each `State as u16`).
-    pub const fn bits(self) -> u16 {
-        self.0
-    }
-}
+use fmi_export::{Interface, Refusal};
+pub use fmi_export::{State, StateMask};
 
 use State::*;
 
@@ -185,6 +128,40 @@ functions! {
     GetNominalsOfContinuousStates => CONTINUOUS_READS,
 }
 
+impl fmi_export::Function for Function {
+    fn name(self) -> &'static str {
+        Function::name(self)
+    }
+
+    /// The interface needs no check of its own: a Co-Simulation instance is never in a
+    /// Model Exchange state and the reverse, so the states refuse the other interface's
+    /// functions.
+    #[inline(always)]
+    fn admit(self, _interface: Interface, state: State) -> Result<(), Refusal> {
+        if self.legal_states().contains(state) {
+            Ok(())
+        } else {
+            Err(Refusal::IllegalState(state, state_name(state)))
+        }
+    }
+}
+
+/// A state as FMI 2.0.4 §4.2.4 and §3.2.3 name it.
+pub const fn state_name(state: State) -> &'static str {
+    match state {
+        State::Instantiated => "Instantiated",
+        State::InitializationMode => "InitializationMode",
+        State::StepComplete => "StepComplete",
+        State::StepFailed => "StepFailed",
+        State::StepCanceled => "StepCanceled",
+        State::Terminated => "Terminated",
+        State::Error => "Error",
+        State::Fatal => "Fatal",
+        State::EventMode => "EventMode",
+        State::ContinuousTimeMode => "ContinuousTimeMode",
+    }
+}
+
 impl Function {
     /// The 10 functions of Model Exchange only (a Co-Simulation-only FMU does not export them).
     pub const MODEL_EXCHANGE: &'static [Function] = &[
@@ -249,15 +226,6 @@ mod tests {
         }
         for state in [EventMode, ContinuousTimeMode] {
             assert!(!Function::DoStep.legal_states().contains(state));
-        }
-    }
-
-    #[test]
-    fn the_bits_of_the_states_are_distinct() {
-        let mut seen = 0u16;
-        for s in State::ALL {
-            assert_eq!(seen & s as u16, 0);
-            seen |= s as u16;
         }
     }
 }

@@ -1,153 +1,53 @@
 //! The generic bodies of the `fmi3*` functions; [`export_fmi3!`](crate::export_fmi3)
 //! generates the `#[no_mangle]` symbols, each a one-line call into here or into [`crate::me`].
 //!
-//! Every function that takes an instance goes through [`call`]: NULL, freed or foreign
-//! instance -> `fmi3Error` (no logger to tell; the address is looked up in a registry of live
-//! instances before anything is read through it); a call while another call on the same
-//! instance has not returned (from inside its logMessage callback, or from a second thread)
-//! -> `fmi3Error` and one log line; call trace (`logCalls`); the state table
-//! ([`Function::admit`], which also refuses the other interface's functions and the
-//! features we lack); the body under `catch_unwind` (a panic becomes `fmi3Fatal` and state
-//! Fatal); a refusal is logged as one line "fmi3Xxx: reason". Refused arguments leave the
-//! instance as it was; a failure of the model itself moves it to state Error.
+//! This layer unpacks the C arguments and reports results in FMI 3.0's words; what the two
+//! FMI versions share (the call guard, the state rules, the step, FMU states, the setter
+//! checks) is the export core's ([`fmi_export`]). Every function that takes an instance goes
+//! through [`call`], the core's guard: a handle that is no live instance -> `fmi3Error` with
+//! nothing read through it, a re-entrant call refused with a log line, the call trace, the
+//! state table ([`Function::admit`], which also refuses the other interface's functions and
+//! the features we lack), a panic caught as `fmi3Fatal`, one log line per refusal.
 //!
 //! # Safety
 //! Every function here is `unsafe`: the master must pass pointers that are valid as the
 //! FMI 3.0 standard requires for the function.
 #![allow(unsafe_code)]
 
-use crate::error::{CallError, Success};
 use crate::ffi::*;
-use crate::instance::{Core, Instance, Tag};
-use crate::logging::{Category, Logger};
 use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Float64Slot, Type};
-pub(crate) use fmi_abi::args::{out, panic_text, show, slice, slice_mut};
+use crate::version::{Fmi3, Sink};
+pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
+use fmi_export::call::{shown, Request};
+use fmi_export::setters::{check_enumeration, check_integer, check_real};
+use fmi_export::step::Advance;
+use fmi_export::{
+    fmu_state, lifecycle, Abi, CallError, Category, Logger, Options, Status, Success,
+};
 use fmi_model::prepared::{Getter, Setter};
-use fmi_model::registry::{self, Entered, Registry, Reporting};
-use fmi_model::{snapshot, Declaration, Kind, Limit, Log, Model, StepEnd};
+use fmi_model::{Declaration, Kind, Model};
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
-/// Relative tolerance on communication points, as in the FMI 2.0 layer.
-pub const TIME_TOLERANCE: f64 = 1e-9;
+/// An FMI 3.0 instance of `M`.
+pub type Instance<M> = fmi_export::Instance<M, Fmi3>;
 
-fn time_tolerance(reference: f64) -> f64 {
-    TIME_TOLERANCE * reference.abs().max(1.0)
-}
-
-// ---------------------------------------------------------------------------------------
-// Plumbing
-// ---------------------------------------------------------------------------------------
-
-/// Every live instance of this FMU, with a copy of its logger to report a refused nested
-/// call without reading the busy instance.
-static LIVE: Registry<Logger> = Registry::new();
-
-/// The instance behind `c`, marked busy until the returned guard drops. `None` (the call
-/// returns `fmi3Error`) when `c` is no live instance of `M` (NULL, freed, foreign: nothing
-/// is read through it), or when another call on it has not returned (a call from inside its
-/// logMessage callback, or from a second thread: refused with a log line, see
-/// [`fmi_model::registry`]).
+/// Runs one FMI call on an instance through the core's guard (see the module docs).
 #[inline(always)]
-unsafe fn enter<'a, M: Model>(
-    c: fmi3Instance,
-    function: Function,
-) -> Option<(Entered<'static, Logger>, &'a mut Instance<M>)> {
-    let entered = match LIVE.enter(c as usize) {
-        Ok(entered) => entered,
-        Err(registry::Refusal::Unknown) => return None,
-        Err(registry::Refusal::Busy(report)) => {
-            refuse_nested(report, function);
-            return None;
-        }
-    };
-    // SAFETY: a registered address is a live Box<Instance<_>> from an instantiate function,
-    // whose first field is the Tag (repr(C)); the tag check guards against an instance of
-    // another model linked into the same process.
-    let tag = unsafe { ptr::read(c as *const Tag) };
-    if tag != Tag::of::<M>() {
-        return None;
-    }
-    // SAFETY: live, of type M, and no other call holds it (the registry says idle).
-    Some((entered, unsafe { &mut *(c as *mut Instance<M>) }))
-}
-
-/// Tells the master, through the busy instance's logger, that its nested call was refused
-/// (`None`: a call from inside that very report, refused silently).
-#[cold]
-#[inline(never)]
-fn refuse_nested(report: Option<Reporting<'_, Logger>>, function: Function) {
-    if let Some(logger) = report {
-        logger.status(
-            fmi3Error,
-            &format!(
-                "{}: refused: another call on this instance has not returned yet \
-                 (a call from inside its logMessage callback, or from a second thread)",
-                function.name()
-            ),
-        );
-    }
-}
-
-/// Runs one FMI call on an instance; see the module documentation.
 pub(crate) unsafe fn call<M: Model>(
     c: fmi3Instance,
     function: Function,
     trace: impl FnOnce() -> String,
     body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
 ) -> fmi3Status {
-    let Some((_entered, inst)) = (unsafe { enter::<M>(c, function) }) else {
-        return fmi3Error;
-    };
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        if inst.logger.is_on(Category::Calls) {
-            inst.logger.log(fmi3OK, Category::Calls, &trace());
-        }
-        let result = match function.admit(inst.interface, inst.core.state) {
-            Ok(()) => body(inst),
-            Err(refusal) => Err(CallError::Refused(refusal)),
-        };
-        match result {
-            Ok(success) => success.status(),
-            Err(error) => {
-                let status = error.status();
-                inst.logger
-                    .status(status, &format!("{}: {error}", function.name()));
-                status
-            }
-        }
-    }));
-    outcome.unwrap_or_else(|payload| {
-        let _ = catch_unwind(AssertUnwindSafe(|| {
-            inst.core.state = State::Fatal;
-            inst.logger.status(
-                fmi3Fatal,
-                &format!(
-                    "{}: internal error, instance unusable: {}",
-                    function.name(),
-                    panic_text(payload.as_ref())
-                ),
-            );
-        }));
-        fmi3Fatal
-    })
+    Fmi3::status(unsafe { fmi_export::call::call::<M, Fmi3>(c, function, trace, body) })
 }
 
 fn owned(s: fmi3String) -> Option<CString> {
     // SAFETY: NUL-terminated when non-null, per the standard; copied at once.
     (!s.is_null()).then(|| unsafe { CStr::from_ptr(s) }.to_owned())
-}
-
-fn shown(s: &Option<CString>) -> String {
-    s.as_ref()
-        .map_or("NULL".into(), |s| format!("\"{}\"", s.to_string_lossy()))
-}
-
-fn flag(b: bool) -> fmi3Boolean {
-    b
 }
 
 // ---------------------------------------------------------------------------------------
@@ -158,11 +58,12 @@ pub fn get_version() -> *const c_char {
     VERSION.as_ptr()
 }
 
-/// The shared body of the instantiate functions; `None` refusal means the interface is ours.
+/// The shared body of the instantiate functions.
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn instantiate<M: Model>(
     interface: Interface,
-    supported: Result<(), String>,
+    options: Options,
+    refusal: Option<String>,
     instance_name: fmi3String,
     instantiation_token: fmi3String,
     resource_path: fmi3String,
@@ -170,69 +71,40 @@ pub(crate) unsafe fn instantiate<M: Model>(
     environment: fmi3InstanceEnvironment,
     log_message: fmi3LogMessageCallback,
     extra_trace: String,
+    supports_model_exchange: bool,
 ) -> fmi3Instance {
-    let logger = Logger::new(log_message, environment, logging_on);
+    let logger = Logger::<Fmi3>::new(
+        Sink {
+            callback: log_message,
+            environment,
+        },
+        logging_on,
+    );
     let function = match interface {
         Interface::ModelExchange => "fmi3InstantiateModelExchange",
         Interface::CoSimulation => "fmi3InstantiateCoSimulation",
     };
-    let outcome = catch_unwind(AssertUnwindSafe(move || {
-        let name = owned(instance_name);
-        let token = owned(instantiation_token);
-        let resources = owned(resource_path);
-        if logger.is_on(Category::Calls) {
-            logger.log(
-                fmi3OK,
-                Category::Calls,
-                &format!(
-                    "{function}(instanceName={}, instantiationToken={}, resourcePath={}, \
-                     loggingOn={logging_on}{extra_trace})",
-                    shown(&name),
-                    shown(&token),
-                    shown(&resources)
-                ),
-            );
-        }
-        let expected = crate::instantiation_token::<M>();
-        let refusal = if name.as_ref().is_none_or(|n| n.is_empty()) {
-            Some("instanceName is NULL or empty".to_string())
-        } else if let Err(reason) = supported {
-            Some(reason)
-        } else if token.as_ref().map(|t| t.to_bytes()) != Some(expected.as_bytes()) {
-            Some(format!(
-                "instantiationToken {} does not match this FMU's {expected}",
-                shown(&token)
-            ))
-        } else {
-            None
-        };
-        if let Some(reason) = refusal {
-            logger.status(fmi3Error, &format!("{function}: {reason}"));
-            return ptr::null_mut();
-        }
-        let report = logger.clone();
-        let c = Box::into_raw(Box::new(Instance::<M>::new(logger, interface))) as fmi3Instance;
-        if let Err(full) = LIVE.insert(c as usize, report) {
-            // SAFETY: `c` came from Box::into_raw just above and was never handed out.
-            let instance = unsafe { Box::from_raw(c as *mut Instance<M>) };
-            instance
-                .logger
-                .status(fmi3Error, &format!("{function}: {full}"));
-            return ptr::null_mut();
-        }
-        c
-    }));
-    outcome.unwrap_or_else(|payload| {
-        let logger = Logger::new(log_message, environment, false);
-        logger.status(
-            fmi3Fatal,
-            &format!(
-                "{function}: internal error: {}",
-                panic_text(payload.as_ref())
-            ),
-        );
-        ptr::null_mut()
-    })
+    let name = owned(instance_name);
+    let token = owned(instantiation_token);
+    let resources = owned(resource_path);
+    let trace = format!(
+        "{function}(instanceName={}, instantiationToken={}, resourcePath={}, \
+         loggingOn={logging_on}{extra_trace})",
+        shown(&name),
+        shown(&token),
+        shown(&resources)
+    );
+    let request = Request {
+        function,
+        interface,
+        options,
+        instance_name: name,
+        token,
+        resource_location: resources,
+        trace,
+        refusal,
+    };
+    fmi_export::call::instantiate::<M, Fmi3>(logger, request, supports_model_exchange)
 }
 
 /// # Safety
@@ -252,26 +124,21 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
     log_message: fmi3LogMessageCallback,
     _intermediate_update: fmi3IntermediateUpdateCallback,
 ) -> fmi3Instance {
-    // An early return is only ever offered, never required: allowing it changes nothing.
-    let supported = if event_mode_used {
-        Err(
-            "eventModeUsed = true: this FMU has no event mode in Co-Simulation \
-             (hasEventMode = false)"
-                .to_string(),
-        )
-    } else if n_required_intermediate_variables > 0 {
-        Err("intermediate variables are not supported".to_string())
-    } else {
-        Ok(())
-    };
+    let refusal = (n_required_intermediate_variables > 0)
+        .then(|| "intermediate variables are not supported".to_string());
     let trace = format!(
         ", eventModeUsed={event_mode_used}, earlyReturnAllowed={early_return_allowed}, \
          nRequiredIntermediateVariables={n_required_intermediate_variables}"
     );
+    let options = Options {
+        early_return_allowed,
+        event_mode_used,
+    };
     unsafe {
         instantiate::<M>(
             Interface::CoSimulation,
-            supported,
+            options,
+            refusal,
             instance_name,
             instantiation_token,
             resource_path,
@@ -279,6 +146,7 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
             environment,
             log_message,
             trace,
+            false,
         )
     }
 }
@@ -300,14 +168,17 @@ pub unsafe fn instantiate_scheduled_execution<M: Model>(
     _lock_preemption: fmi3LockPreemptionCallback,
     _unlock_preemption: fmi3UnlockPreemptionCallback,
 ) -> fmi3Instance {
-    let _ = catch_unwind(|| {
-        Logger::new(log_message, environment, false).status(
-            fmi3Error,
+    let _ = std::panic::catch_unwind(|| {
+        let sink = Sink {
+            callback: log_message,
+            environment,
+        };
+        Logger::<Fmi3>::new(sink, false).status(
+            Status::Error,
             &format!(
-                "fmi3InstantiateScheduledExecution: {} offers Co-Simulation{}, not Scheduled \
+                "fmi3InstantiateScheduledExecution: {} offers Co-Simulation, not Scheduled \
                  Execution",
-                M::MODEL_IDENTIFIER,
-                ""
+                M::MODEL_IDENTIFIER
             ),
         );
     });
@@ -317,27 +188,7 @@ pub unsafe fn instantiate_scheduled_execution<M: Model>(
 /// # Safety
 /// See the module documentation.
 pub unsafe fn free_instance<M: Model>(c: fmi3Instance) {
-    let Some((entered, inst)) = (unsafe { enter::<M>(c, Function::FreeInstance) }) else {
-        return;
-    };
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        if inst.logger.is_on(Category::Calls) {
-            inst.logger
-                .log(fmi3OK, Category::Calls, "fmi3FreeInstance()");
-        }
-    }));
-    // Unregistered before the memory goes: a second free, or any later call, is refused
-    // by address without reading it.
-    inst.tag = Tag::cleared();
-    entered.remove();
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: `c` came from Box::into_raw in instantiate; `inst` is not used again.
-        let mut boxed = unsafe { Box::from_raw(c as *mut Instance<M>) };
-        for address in boxed.fmu_states.drain() {
-            // SAFETY: only addresses from Box::into_raw of a Core<M> are registered.
-            drop(unsafe { Box::from_raw(address as *mut Core<M>) });
-        }
-    }));
+    unsafe { fmi_export::call::free_instance::<M, Fmi3>(c, Function::FreeInstance) }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -361,27 +212,12 @@ pub unsafe fn set_debug_logging<M: Model>(
     };
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            let names = slice(categories, n_categories, "categories")?;
-            if names.is_empty() {
-                inst.logger.set_all(logging_on);
-                return Ok(Success::Ok);
-            }
-            let mut chosen = Vec::new();
-            for &name in names {
-                let text = owned(name).ok_or(CallError::NullArgument("categories[i]"))?;
-                let category =
-                    crate::logging::Category::from_name(text.to_bytes()).ok_or_else(|| {
-                        CallError::InvalidArgument(format!(
-                            "unknown log category \"{}\"",
-                            text.to_string_lossy()
-                        ))
-                    })?;
-                chosen.push(category);
-            }
-            for category in chosen {
-                inst.logger.set(category, logging_on);
-            }
-            Ok(Success::Ok)
+            let names: Vec<Option<&[u8]>> = slice(categories, n_categories, "categories")?
+                .iter()
+                // SAFETY: non-null names are NUL-terminated per the standard.
+                .map(|&p| (!p.is_null()).then(|| CStr::from_ptr(p).to_bytes()))
+                .collect();
+            lifecycle::set_debug_logging(inst, logging_on, &names)
         })
     }
 }
@@ -404,25 +240,11 @@ pub unsafe fn enter_initialization_mode<M: Model>(
             f.name()
         )
     };
+    let stop = stop_time_defined.then_some(stop_time);
     unsafe {
         call::<M>(c, f, trace, |inst| {
-            if !start_time.is_finite() {
-                return Err(CallError::InvalidArgument(format!(
-                    "startTime {start_time} is not finite"
-                )));
-            }
-            if stop_time_defined && !(stop_time.is_finite() && stop_time >= start_time) {
-                return Err(CallError::InvalidArgument(format!(
-                    "stopTime {stop_time} is not a finite time at or after startTime {start_time}"
-                )));
-            }
-            let core = &mut inst.core;
-            core.start_time = start_time;
-            core.time = start_time;
-            core.stop_time = stop_time_defined.then_some(stop_time);
-            core.state = State::InitializationMode;
-            inst.dirty = true;
-            Ok(Success::Ok)
+            lifecycle::set_experiment(inst, start_time, stop)?;
+            lifecycle::enter_initialization(inst)
         })
     }
 }
@@ -436,19 +258,7 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: fmi3Instance) -> fmi3Status 
             c,
             f,
             || format!("{}()", f.name()),
-            |inst| {
-                let mut log = Log::default();
-                let start_time = inst.core.start_time;
-                let result = inst.core.model.exit_initialization(start_time, &mut log);
-                let success = inst.forward(f, &log);
-                result.map_err(|e| inst.model_failure(e))?;
-                inst.core.state = match inst.interface {
-                    Interface::ModelExchange => State::EventMode,
-                    Interface::CoSimulation => State::StepMode,
-                };
-                inst.dirty = true;
-                Ok(success)
-            },
+            |inst| lifecycle::exit_initialization(inst, f),
         )
     }
 }
@@ -457,37 +267,16 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: fmi3Instance) -> fmi3Status 
 /// See the module documentation.
 pub unsafe fn terminate<M: Model>(c: fmi3Instance) -> fmi3Status {
     let f = Function::Terminate;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            |inst| {
-                inst.core.state = State::Terminated;
-                Ok(Success::Ok)
-            },
-        )
-    }
+    unsafe { call::<M>(c, f, || format!("{}()", f.name()), lifecycle::terminate) }
 }
 
-/// Back to the freshly instantiated state (logging flags and FMU states stay).
+/// Back to the freshly instantiated state (see [`lifecycle::reset`]).
 ///
 /// # Safety
 /// See the module documentation.
 pub unsafe fn reset<M: Model>(c: fmi3Instance) -> fmi3Status {
     let f = Function::Reset;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            |inst| {
-                inst.core = Core::fresh();
-                inst.dirty = true;
-                Ok(Success::Ok)
-            },
-        )
-    }
+    unsafe { call::<M>(c, f, || format!("{}()", f.name()), lifecycle::reset) }
 }
 
 /// Any function of a feature this FMU lacks: the table refuses it with the reason.
@@ -519,7 +308,7 @@ fn lookup<M: Model>(
     vr: fmi3ValueReference,
     ty: Type,
 ) -> Result<&'static Declaration<M>, CallError> {
-    match inst.index.get::<M>(vr) {
+    match inst.view.index.get::<M>(vr) {
         Some(d) if Type::of(d) == ty => Ok(d),
         _ => Err(CallError::UnknownValueReference {
             vr,
@@ -556,7 +345,8 @@ fn wrong_count(n_values: usize, n_vrs: usize, total: usize) -> CallError {
 
 /// The declaration at a reference `count_elements` has accepted.
 fn checked<M: Model>(inst: &Instance<M>, vr: fmi3ValueReference) -> &'static Declaration<M> {
-    inst.index
+    inst.view
+        .index
         .get::<M>(vr)
         .expect("looked up by count_elements in this call")
 }
@@ -588,7 +378,7 @@ pub unsafe fn get_float64<M: Model>(
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
-            let (index, table) = (&inst.index, &inst.float64);
+            let (index, table) = (&inst.view.index, &inst.view.float64);
             let prepared = inst
                 .prepared_get
                 .read(vrs, values, &inst.core.model, |vr, out| {
@@ -641,7 +431,12 @@ fn float64<M: Model>(
     inst: &Instance<M>,
     vr: fmi3ValueReference,
 ) -> Result<&Float64Slot<M>, CallError> {
-    match inst.index.row(vr).and_then(|row| inst.float64.get(row)) {
+    match inst
+        .view
+        .index
+        .row(vr)
+        .and_then(|row| inst.view.float64.get(row))
+    {
         Some(Some(slot)) => Ok(slot),
         _ => Err(unknown_float64(vr)),
     }
@@ -684,29 +479,25 @@ fn refused_float64<M>(
     len: usize,
     i: usize,
     v: f64,
-    min: Option<Limit>,
-    max: Option<Limit>,
+    min: Option<fmi_model::Limit>,
+    max: Option<fmi_model::Limit>,
 ) -> CallError {
-    let element = if len > 1 {
-        format!("[{}]", i + 1)
-    } else {
-        String::new()
+    let name = || {
+        if len > 1 {
+            format!("{}[{}]", d.name, i + 1)
+        } else {
+            d.name.to_string()
+        }
     };
-    let reason = if v.is_finite() {
-        format!("value{element} {v} is outside {}", bounds(min, max))
-    } else {
-        format!("value{element} {v} is not finite")
-    };
-    CallError::InvalidValue {
-        name: d.name,
-        vr: d.value_reference,
-        reason,
+    match check_real(name, d.value_reference, v, min, max) {
+        Err(error) => error,
+        Ok(()) => CallError::InvalidArgument(format!("{}: value {v} refused", d.name)),
     }
 }
 
 fn refuse_set<M>(d: &Declaration<M>, reason: &'static str) -> CallError {
     CallError::NotSettable {
-        name: d.name,
+        name: d.name.to_string(),
         vr: d.value_reference,
         reason,
     }
@@ -718,7 +509,7 @@ const INITIALIZING: u16 = 1;
 const RUNNING: u16 = 2;
 
 fn initializing(state: State) -> bool {
-    matches!(state, State::Instantiated | State::InitializationMode)
+    state.initializing()
 }
 
 /// # Safety
@@ -744,7 +535,7 @@ pub unsafe fn set_float64<M: Model>(
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
             let initializing = initializing(inst.core.state);
-            let (index, table) = (&inst.index, &inst.float64);
+            let (index, table) = (&inst.view.index, &inst.view.float64);
             let prepared = inst.prepared_set.write(
                 vrs,
                 values,
@@ -818,21 +609,6 @@ pub unsafe fn set_float64<M: Model>(
     }
 }
 
-fn bounds(min: Option<fmi_model::Limit>, max: Option<fmi_model::Limit>) -> String {
-    use fmi_model::Limit;
-    let low = match min {
-        Some(Limit::Inclusive(v)) => format!("[{v}"),
-        Some(Limit::Exclusive(v)) => format!("({v}"),
-        None => "(-inf".into(),
-    };
-    let high = match max {
-        Some(Limit::Inclusive(v)) => format!("{v}]"),
-        Some(Limit::Exclusive(v)) => format!("{v})"),
-        None => "inf)".into(),
-    };
-    format!("{low}, {high}")
-}
-
 /// The shared body of the gets of one-element types: look every value reference up as
 /// `ty`, check `nValues`, and let `read` give each declaration's value.
 #[allow(clippy::too_many_arguments)]
@@ -874,7 +650,7 @@ unsafe fn set_scalars<M: Model, V: Copy + std::fmt::Debug>(
     n_vrs: usize,
     values: *const V,
     n_values: usize,
-    check: fn(&Kind<M>, V) -> Result<(), String>,
+    check: fn(&Declaration<M>, V) -> Result<(), CallError>,
     write: fn(&Kind<M>, &mut M, V),
 ) -> fmi3Status {
     let trace = || unsafe {
@@ -892,11 +668,7 @@ unsafe fn set_scalars<M: Model, V: Copy + std::fmt::Debug>(
             let decls = check_count(inst, vrs, ty, n_values)?;
             for (d, &v) in decls.iter().zip(values) {
                 settable(d, initializing(inst.core.state)).map_err(|r| refuse_set(d, r))?;
-                check(&d.kind, v).map_err(|reason| CallError::InvalidValue {
-                    name: d.name,
-                    vr: d.value_reference,
-                    reason,
-                })?;
+                check(d, v)?;
             }
             for (d, &v) in decls.iter().zip(values) {
                 write(&d.kind, &mut inst.core.model, v);
@@ -943,16 +715,12 @@ pub unsafe fn set_int32<M: Model>(
     values: *const fmi3Int32,
     n_values: usize,
 ) -> fmi3Status {
-    let check = |kind: &Kind<M>, v: i32| match kind {
-        Kind::Integer { min, max, .. }
-            if min.is_some_and(|m| v < m) || max.is_some_and(|m| v > m) =>
-        {
-            let low = min.map_or("(-inf".to_string(), |m| format!("[{m}"));
-            let high = max.map_or("inf)".to_string(), |m| format!("{m}]"));
-            Err(format!("value {v} is outside {low}, {high}"))
+    let check = |d: &Declaration<M>, v: i32| match d.kind {
+        Kind::Integer { min, max, .. } => {
+            check_integer(|| d.name.to_string(), d.value_reference, v.into(), min, max)
         }
-        Kind::Enumeration { ty, .. } if ty.item(v).is_none() => {
-            Err(format!("{v} is not one of {}", ty.listing()))
+        Kind::Enumeration { ty, .. } => {
+            check_enumeration(|| d.name.to_string(), d.value_reference, v.into(), ty)
         }
         _ => Ok(()),
     };
@@ -1015,12 +783,10 @@ pub unsafe fn set_int64<M: Model>(
     values: *const fmi3Int64,
     n_values: usize,
 ) -> fmi3Status {
-    let check = |kind: &Kind<M>, v: i64| match kind {
-        Kind::Enumeration { ty, .. } => i32::try_from(v)
-            .ok()
-            .filter(|&v| ty.item(v).is_some())
-            .map(|_| ())
-            .ok_or_else(|| format!("{v} is not an item of {}", ty.listing())),
+    let check = |d: &Declaration<M>, v: i64| match d.kind {
+        Kind::Enumeration { ty, .. } => {
+            check_enumeration(|| d.name.to_string(), d.value_reference, v, ty)
+        }
         _ => Ok(()),
     };
     let write = |kind: &Kind<M>, m: &mut M, v: i64| {
@@ -1124,7 +890,9 @@ pub unsafe fn get_string<M: Model>(
             let strings: Vec<CString> = decls
                 .iter()
                 .map(|d| match &d.kind {
-                    Kind::String { get, .. } => crate::logging::sanitize(get(&inst.core.model)),
+                    Kind::String { get, .. } => {
+                        fmi_export::logging::sanitize(get(&inst.core.model))
+                    }
                     _ => CString::default(),
                 })
                 .collect();
@@ -1204,46 +972,6 @@ pub unsafe fn no_variables<M: Model>(
 // FMU state
 // ---------------------------------------------------------------------------------------
 
-fn owned_state<M: Model>(
-    inst: &Instance<M>,
-    state: fmi3FMUState,
-) -> Result<&'static mut Core<M>, CallError> {
-    if state.is_null() {
-        return Err(CallError::NullArgument("FMUState"));
-    }
-    if !inst.fmu_states.contains(&(state as usize)) {
-        return Err(CallError::InvalidArgument(format!(
-            "FMUState {state:p} was not created by this instance (or was freed)"
-        )));
-    }
-    // SAFETY: registered addresses come from Box::into_raw of a Core<M> and are removed
-    // when freed.
-    Ok(unsafe { &mut *(state as *mut Core<M>) })
-}
-
-fn store_state<M: Model>(
-    inst: &mut Instance<M>,
-    slot: &mut fmi3FMUState,
-    core: Core<M>,
-) -> Result<Success, CallError> {
-    if slot.is_null() {
-        let address = Box::into_raw(Box::new(core));
-        inst.fmu_states.insert(address as usize);
-        *slot = address as fmi3FMUState;
-    } else {
-        *owned_state(inst, *slot)? = core;
-    }
-    Ok(Success::Ok)
-}
-
-fn snapshot_header<M: Model>(inst: &Instance<M>) -> snapshot::Header {
-    snapshot::Header {
-        magic: crate::SNAPSHOT_MAGIC,
-        state_version: M::STATE_VERSION,
-        guid: inst.token,
-    }
-}
-
 /// # Safety
 /// See the module documentation.
 pub unsafe fn get_fmu_state<M: Model>(c: fmi3Instance, state: *mut fmi3FMUState) -> fmi3Status {
@@ -1253,11 +981,7 @@ pub unsafe fn get_fmu_state<M: Model>(c: fmi3Instance, state: *mut fmi3FMUState)
             c,
             f,
             || format!("{}()", f.name()),
-            |inst| {
-                let slot = out(state, "FMUState")?;
-                let core = inst.core.clone();
-                store_state(inst, slot, core)
-            },
+            |inst| fmu_state::get(inst, out(state, "FMUState")?),
         )
     }
 }
@@ -1266,20 +990,8 @@ pub unsafe fn get_fmu_state<M: Model>(c: fmi3Instance, state: *mut fmi3FMUState)
 /// See the module documentation.
 pub unsafe fn set_fmu_state<M: Model>(c: fmi3Instance, state: fmi3FMUState) -> fmi3Status {
     let f = Function::SetFMUState;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(FMUState={state:p})", f.name()),
-            |inst| {
-                let core = owned_state(inst, state)?;
-                crate::restore::validate(core)?;
-                inst.core = core.clone();
-                inst.dirty = true;
-                Ok(Success::Ok)
-            },
-        )
-    }
+    let trace = || format!("{}(FMUState={state:p})", f.name());
+    unsafe { call::<M>(c, f, trace, |inst| fmu_state::set(inst, state)) }
 }
 
 /// # Safety
@@ -1291,18 +1003,7 @@ pub unsafe fn free_fmu_state<M: Model>(c: fmi3Instance, state: *mut fmi3FMUState
             c,
             f,
             || format!("{}()", f.name()),
-            |inst| {
-                let slot = out(state, "FMUState")?;
-                if slot.is_null() {
-                    return Ok(Success::Ok);
-                }
-                owned_state(inst, *slot)?;
-                inst.fmu_states.remove(&(*slot as usize));
-                // SAFETY: registered (checked above), hence a live Box<Core<M>>.
-                drop(Box::from_raw(*slot as *mut Core<M>));
-                *slot = ptr::null_mut();
-                Ok(Success::Ok)
-            },
+            |inst| fmu_state::free(inst, out(state, "FMUState")?),
         )
     }
 }
@@ -1315,18 +1016,13 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
     size: *mut usize,
 ) -> fmi3Status {
     let f = Function::SerializedFMUStateSize;
+    let trace = || format!("{}(FMUState={state:p})", f.name());
     unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(FMUState={state:p})", f.name()),
-            |inst| {
-                let size = out(size, "size")?;
-                *size =
-                    snapshot::encode(owned_state(inst, state)?, snapshot_header::<M>(inst))?.len();
-                Ok(Success::Ok)
-            },
-        )
+        call::<M>(c, f, trace, |inst| {
+            let size = out(size, "size")?;
+            *size = fmu_state::serialize(inst, state)?.len();
+            Ok(Success::Ok)
+        })
     }
 }
 
@@ -1339,24 +1035,12 @@ pub unsafe fn serialize_fmu_state<M: Model>(
     size: usize,
 ) -> fmi3Status {
     let f = Function::SerializeFMUState;
+    let trace = || format!("{}(FMUState={state:p}, size={size})", f.name());
     unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(FMUState={state:p}, size={size})", f.name()),
-            |inst| {
-                let bytes =
-                    snapshot::encode(owned_state(inst, state)?, snapshot_header::<M>(inst))?;
-                if size != bytes.len() {
-                    return Err(CallError::InvalidArgument(format!(
-                        "size {size} differs from fmi3SerializedFMUStateSize = {}",
-                        bytes.len()
-                    )));
-                }
-                slice_mut(serialized, size, "serializedState")?.copy_from_slice(&bytes);
-                Ok(Success::Ok)
-            },
-        )
+        call::<M>(c, f, trace, |inst| {
+            let buffer = slice_mut(serialized, size, "serializedState")?;
+            fmu_state::serialize_into(inst, state, buffer, Function::SerializedFMUStateSize.name())
+        })
     }
 }
 
@@ -1376,10 +1060,7 @@ pub unsafe fn deserialize_fmu_state<M: Model>(
             || format!("{}(size={size})", f.name()),
             |inst| {
                 let bytes = slice(serialized, size, "serializedState")?;
-                let slot = out(state, "FMUState")?;
-                let core = snapshot::decode::<Core<M>>(bytes, snapshot_header::<M>(inst))?;
-                crate::restore::validate(&core)?;
-                store_state(inst, slot, core)
+                fmu_state::deserialize(inst, bytes, out(state, "FMUState")?)
             },
         )
     }
@@ -1388,6 +1069,15 @@ pub unsafe fn deserialize_fmu_state<M: Model>(
 // ---------------------------------------------------------------------------------------
 // Co-Simulation
 // ---------------------------------------------------------------------------------------
+
+/// What `fmi3DoStep` tells the master besides its status.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct StepReport {
+    event_handling_needed: bool,
+    terminate: bool,
+    early_return: bool,
+    last_successful_time: f64,
+}
 
 /// # Safety
 /// See the module documentation.
@@ -1417,73 +1107,168 @@ pub unsafe fn do_step<M: Model>(
             let terminate = out(terminate_simulation, "terminateSimulation")?;
             let early = out(early_return, "earlyReturn")?;
             let last = out(last_successful_time, "lastSuccessfulTime")?;
-            *event = flag(false);
-            *early = flag(false);
-            *terminate = flag(inst.core.terminated);
-            *last = inst.core.time;
-            let result = step(inst, t, h);
-            *terminate = flag(inst.core.terminated);
-            *last = inst.core.time;
+            let mut report = StepReport {
+                event_handling_needed: false,
+                terminate: inst.core.terminated,
+                early_return: false,
+                last_successful_time: inst.core.time,
+            };
+            let result = step(inst, t, h, &mut report);
+            *event = report.event_handling_needed;
+            *terminate = report.terminate;
+            *early = report.early_return;
+            *last = report.last_successful_time;
             result
         })
     }
 }
 
-fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, CallError> {
+/// Most events one step may pass through when it must not return early: each ends a model
+/// step strictly inside the communication step, so a model that reports more is broken.
+const MAX_EVENTS_PER_STEP: usize = 64;
+
+/// A step as FMI 3.0 §4.2 wants it: `fmi3OK` whenever the step was carried out. At an event
+/// inside the step (touchdown, propellant exhaustion) the FMU returns early at the event
+/// (`earlyReturn`, `lastSuccessfulTime` at it, the outputs the event's) if the master
+/// allowed early return; otherwise it goes on to the step's end: a model that ends its run
+/// (touchdown) stays frozen at the event and asks to terminate (`terminateSimulation`), one
+/// that goes on is stepped on from the event. `fmi3Discard` is never the answer to an
+/// event: it means the step did not succeed.
+fn step<M: Model>(
+    inst: &mut Instance<M>,
+    t: f64,
+    h: f64,
+    report: &mut StepReport,
+) -> Result<Success, CallError> {
     let f = Function::DoStep;
-    if !(h.is_finite() && h > 0.0) {
-        return Err(CallError::InvalidArgument(format!(
-            "communicationStepSize {h} is not a finite positive number"
-        )));
-    }
-    let time = inst.core.time;
-    // Written so that a NaN anywhere refuses: a corrupt own time must not let any point in.
-    if !(t.is_finite() && time.is_finite() && (t - time).abs() <= time_tolerance(time)) {
-        return Err(CallError::InvalidArgument(format!(
-            "currentCommunicationPoint {t} does not match the FMU's time {time} \
-             (relative tolerance {TIME_TOLERANCE:e})"
-        )));
-    }
-    let end = t + h;
-    if !(end.is_finite() && end > t) {
-        return Err(CallError::InvalidArgument(format!(
-            "currentCommunicationPoint {t} + communicationStepSize {h} = {end}: the step \
-             does not advance a finite time"
-        )));
-    }
-    if let Some(stop) = inst.core.stop_time {
-        if end > stop + time_tolerance(stop) {
-            return Err(CallError::InvalidArgument(format!(
-                "step to {end} passes the stop time {stop} given to fmi3EnterInitializationMode"
-            )));
-        }
-    }
-    let mut log = Log::default();
-    let result = inst.core.model.do_step(t, h, &mut log);
-    inst.dirty = true;
-    let success = inst.forward(f, &log);
-    match result.map_err(|e| inst.model_failure(e))? {
-        StepEnd::Complete => {
-            inst.core.time = end;
-            Ok(success)
-        }
-        StepEnd::Stopped {
-            time: stopped,
-            terminated,
-            reason,
-        } => {
-            if !(t..=end).contains(&stopped) {
-                inst.core.state = State::Error;
-                return Err(CallError::Model(format!(
-                    "model error: stopped at {stopped}, outside the step [{t}, {end}]"
-                )));
+    let end = fmi_export::step::check(inst, t, h)?;
+    let mut success = Success::Ok;
+    let mut from = t;
+    let mut finished = false;
+    for _ in 0..=MAX_EVENTS_PER_STEP {
+        let (outcome, advance) = fmi_export::step::advance(inst, f, from, end - from)?;
+        success = success.and(outcome);
+        let (at, terminated, reason) = match advance {
+            Advance::Complete => {
+                finished = true;
+                break;
             }
-            inst.core.time = stopped;
-            inst.core.terminated = terminated;
-            Err(CallError::Discard(format!(
-                "step ended early at t = {stopped}{}: {reason}",
-                if terminated { " (terminated)" } else { "" }
-            )))
+            Advance::Stopped {
+                at,
+                terminated,
+                reason,
+            } => (at, terminated, reason),
+        };
+        if inst.logger.is_on(Category::Events) {
+            inst.logger.log(
+                Status::Ok,
+                Category::Events,
+                &format!("{}: event at t = {at}: {reason}", f.name()),
+            );
         }
+        report.terminate |= terminated;
+        report.event_handling_needed |= inst.options.event_mode_used && !terminated;
+        if inst.options.early_return_allowed && at < end {
+            report.early_return = true;
+            report.last_successful_time = at;
+            return Ok(success);
+        }
+        if terminated || at >= end {
+            finished = true;
+            break;
+        }
+        from = at;
+    }
+    if !finished {
+        return Err(inst.fail(CallError::Model(format!(
+            "model error: more than {MAX_EVENTS_PER_STEP} events in the step from t = {t} s"
+        ))));
+    }
+    // The step is complete at the master's own t + h (the next call's t must match it).
+    inst.core.time = end;
+    inst.core.last_successful_time = end;
+    report.last_successful_time = end;
+    Ok(success)
+}
+
+// ---------------------------------------------------------------------------------------
+// Event Mode (Model Exchange, and Co-Simulation with eventModeUsed)
+// ---------------------------------------------------------------------------------------
+
+/// Model Exchange: from Continuous-Time Mode. Co-Simulation: from Step Mode, when the
+/// master chose `eventModeUsed` at instantiation. In Co-Simulation's Event Mode inputs may
+/// be set and outputs read in any order, the outputs computed from the inputs at this
+/// instant (FMI 3.0 §4.2: in Step Mode a get must not follow a set before the next step).
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn enter_event_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
+    let f = Function::EnterEventMode;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}()", f.name()),
+            |inst| {
+                if inst.interface() == Interface::CoSimulation && !inst.options.event_mode_used {
+                    return Err(CallError::InvalidArgument(
+                        "Event Mode in Co-Simulation needs eventModeUsed = true at \
+                         fmi3InstantiateCoSimulation"
+                            .into(),
+                    ));
+                }
+                inst.core.state = State::EventMode;
+                Ok(Success::Ok)
+            },
+        )
+    }
+}
+
+/// The event update of a Co-Simulation instance: our models have no discrete states that
+/// an event at a communication point changes, so there is nothing to update; what the
+/// outputs depend on is computed on the next get.
+pub(crate) fn co_simulation_event_update<M: Model>(
+    inst: &mut Instance<M>,
+) -> (Success, fmi_model::EventUpdate) {
+    inst.dirty = true;
+    (Success::Ok, fmi_model::EventUpdate::default())
+}
+
+/// Co-Simulation: back from Event Mode to Step Mode.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn enter_step_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
+    let f = Function::EnterStepMode;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}()", f.name()),
+            |inst| {
+                inst.core.state = State::StepComplete;
+                Ok(Success::Ok)
+            },
+        )
+    }
+}
+
+/// Co-Simulation's Event Mode: the discrete equations at the current instant. Ours are
+/// evaluated on every get, so this only marks the outputs for recomputation.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn evaluate_discrete_states<M: Model>(c: fmi3Instance) -> fmi3Status {
+    let f = Function::EvaluateDiscreteStates;
+    unsafe {
+        call::<M>(
+            c,
+            f,
+            || format!("{}()", f.name()),
+            |inst| {
+                inst.dirty = true;
+                Ok(Success::Ok)
+            },
+        )
     }
 }

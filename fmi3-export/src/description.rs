@@ -1,7 +1,6 @@
 //! The FMI 3.0 `modelDescription.xml` and the `instantiationToken`, both from the
 //! declarations. A vector is one `<Float64>` with a `<Dimension start="n"/>`; an enumeration
 //! is an `<Enumeration>` of an `<EnumerationType>`; `time` is the independent variable.
-use crate::logging::Category;
 use crate::variables::{self, Type, TIME_VR};
 use fmi_model::{
     Causality, ContinuousModel, Declaration, Dependencies, Initial, Kind, Model, Shape, Variability,
@@ -144,7 +143,13 @@ fn has_start<M>(d: &Declaration<M>) -> bool {
         || matches!(effective_initial(d), Some(Initial::Exact | Initial::Approx))
 }
 
+/// Panics (at build time: the description is written by `cargo xtask fmus` and the tests,
+/// never by the FMU) on a declaration table that no description may be written for, as the
+/// FMI 2.0 writer refuses it.
 fn write_description<M: Model>(me: Option<ModelExchange>) -> String {
+    if let Err(problem) = fmi_export::check_units::<M>() {
+        panic!("{}: {problem}", M::MODEL_IDENTIFIER);
+    }
     let problems = variables::check::<M>();
     assert!(
         problems.is_empty(),
@@ -172,12 +177,12 @@ fn write_description<M: Model>(me: Option<ModelExchange>) -> String {
     }
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" canSerializeFMUState="true" hasEventMode="false" canReturnEarlyAfterIntermediateUpdate="false" providesIntermediateUpdate="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" canSerializeFMUState="true" hasEventMode="true" canReturnEarlyAfterIntermediateUpdate="false" providesIntermediateUpdate="false"/>"#
     );
     write_units::<M>(&mut x);
     write_types::<M>(&mut x);
     x.push_str("  <LogCategories>\n");
-    for c in Category::ALL {
+    for c in crate::version::CATEGORIES {
         let _ = writeln!(
             x,
             r#"    <Category name="{}" description="{}"/>"#,
@@ -223,7 +228,7 @@ fn write_units<M: Model>(x: &mut String) {
     x.push_str("  <UnitDefinitions>\n");
     for name in used {
         let _ = write!(x, r#"    <Unit name="{}">"#, escape(name));
-        if let Some(b) = fmi2_export::base_unit(name) {
+        if let Some(b) = fmi_export::base_unit(name) {
             let mut attributes = String::new();
             for (key, value) in [("kg", b.kg), ("m", b.m), ("s", b.s), ("rad", b.rad)] {
                 if let Some(v) = value {

@@ -485,7 +485,7 @@ macro_rules! export_fmi3 {
             fmi3EvaluateDiscreteStates(
                 instance: $crate::ffi::fmi3Instance
             ) -> $crate::ffi::fmi3Status
-                => $crate::abi::unsupported::<$model>(instance, $crate::state::Function::EvaluateDiscreteStates);
+                => $crate::abi::evaluate_discrete_states::<$model>(instance);
             fmi3UpdateDiscreteStates(
                 instance: $crate::ffi::fmi3Instance,
                 discreteStatesNeedUpdate: *mut $crate::ffi::fmi3Boolean,
@@ -555,7 +555,7 @@ macro_rules! export_fmi3 {
             fmi3EnterStepMode(
                 instance: $crate::ffi::fmi3Instance
             ) -> $crate::ffi::fmi3Status
-                => $crate::abi::unsupported::<$model>(instance, $crate::state::Function::EnterStepMode);
+                => $crate::abi::enter_step_mode::<$model>(instance);
             fmi3GetOutputDerivatives(
                 instance: $crate::ffi::fmi3Instance,
                 valueReferences: *const $crate::ffi::fmi3ValueReference,

@@ -1,18 +1,19 @@
 //! The Model Exchange functions of FMI 3.0 (§3), for a model that implements
-//! [`ContinuousModel`]; [`no_me`] has the same functions for a Co-Simulation-only model,
-//! each refusing with a log line. They go through the same [`call`] as everything else.
+//! [`ContinuousModel`]: argument unpacking around the core's accessors
+//! ([`fmi_export::model_exchange`]). [`no_me`] has the same functions for a
+//! Co-Simulation-only model, refusing what is Model Exchange's. `fmi3EnterEventMode` and
+//! `fmi3UpdateDiscreteStates` serve Co-Simulation's Event Mode too ([`crate::abi`]).
 //!
 //! # Safety
 //! As for [`crate::abi`]: the master passes pointers valid as the standard requires.
 #![allow(unsafe_code)]
 
-use crate::abi::{call, instantiate, out, show, slice, slice_mut};
-use crate::error::{CallError, Success};
+use crate::abi::{self, call, instantiate, out, show, slice, slice_mut, Instance};
 use crate::ffi::*;
-use crate::instance::Instance;
-use crate::state::{Function, Interface, State};
-use fmi_model::continuous::{check_length, check_states};
-use fmi_model::{ContinuousModel, Log};
+use crate::state::{Function, Interface};
+use fmi_export::model_exchange::{self as me, Vector};
+use fmi_export::{CallError, Options, Success};
+use fmi_model::ContinuousModel;
 
 /// # Safety
 /// See the module documentation.
@@ -29,7 +30,8 @@ pub unsafe fn instantiate_model_exchange<M: ContinuousModel>(
     unsafe {
         instantiate::<M>(
             Interface::ModelExchange,
-            Ok(()),
+            Options::default(),
+            None,
             instance_name,
             instantiation_token,
             resource_path,
@@ -37,6 +39,7 @@ pub unsafe fn instantiate_model_exchange<M: ContinuousModel>(
             environment,
             log_message,
             String::new(),
+            true,
         )
     }
 }
@@ -52,26 +55,23 @@ unsafe fn simple<M: ContinuousModel>(
 /// # Safety
 /// See the module documentation.
 pub unsafe fn enter_event_mode<M: ContinuousModel>(c: fmi3Instance) -> fmi3Status {
-    unsafe {
-        simple::<M>(c, Function::EnterEventMode, |inst| {
-            inst.core.state = State::EventMode;
-            Ok(Success::Ok)
-        })
-    }
+    unsafe { abi::enter_event_mode::<M>(c) }
 }
 
 /// # Safety
 /// See the module documentation.
 pub unsafe fn enter_continuous_time_mode<M: ContinuousModel>(c: fmi3Instance) -> fmi3Status {
     unsafe {
-        simple::<M>(c, Function::EnterContinuousTimeMode, |inst| {
-            inst.core.state = State::ContinuousTimeMode;
-            Ok(Success::Ok)
-        })
+        simple::<M>(
+            c,
+            Function::EnterContinuousTimeMode,
+            me::enter_continuous_time_mode,
+        )
     }
 }
 
-/// The model's event update; `terminateSimulation` when it asks to end (touchdown).
+/// The model's event update (Model Exchange) or the Co-Simulation event's (nothing to
+/// update); `terminateSimulation` when the model asks to end (touchdown).
 ///
 /// # Safety
 /// See the module documentation.
@@ -94,14 +94,12 @@ pub unsafe fn update_discrete_states<M: ContinuousModel>(
             let values = out(values_changed, "valuesOfContinuousStatesChanged")?;
             let time_defined = out(next_event_time_defined, "nextEventTimeDefined")?;
             let time = out(next_event_time, "nextEventTime")?;
-            let mut log = Log::default();
-            let result = inst.core.model.update_discrete_states(&mut log);
-            inst.dirty = true;
-            let success = inst.forward(f, &log);
-            let update = result.map_err(|e| inst.model_failure(e))?;
-            inst.core.terminated |= update.terminate;
+            let (success, update) = match inst.interface() {
+                Interface::ModelExchange => me::update_discrete_states(inst, f)?,
+                Interface::CoSimulation => abi::co_simulation_event_update(inst),
+            };
             *need = false;
-            *terminate = update.terminate;
+            *terminate = inst.core.terminated;
             *nominals = update.nominals_changed;
             *values = update.states_changed;
             *time_defined = false;
@@ -139,25 +137,7 @@ pub unsafe fn set_time<M: ContinuousModel>(c: fmi3Instance, time: fmi3Float64) -
             c,
             f,
             || format!("{}(time={time})", f.name()),
-            |inst| {
-                if !time.is_finite() {
-                    return Err(CallError::InvalidArgument(format!(
-                        "time {time} is not finite"
-                    )));
-                }
-                // Against the start time, which a restored state guarantees finite: the
-                // instance's own time may be what is corrupt.
-                let start = inst.core.start_time;
-                if time < start - crate::abi::TIME_TOLERANCE * start.abs().max(1.0) {
-                    return Err(CallError::InvalidArgument(format!(
-                        "time {time} is before the start time {start}"
-                    )));
-                }
-                inst.core.time = time;
-                inst.core.model.set_time(time);
-                inst.dirty = true;
-                Ok(Success::Ok)
-            },
+            |inst| me::set_time(inst, time),
         )
     }
 }
@@ -175,16 +155,7 @@ pub unsafe fn set_continuous_states<M: ContinuousModel>(
             c,
             f,
             || format!("{}(nx={nx}, x={})", f.name(), show(x, nx)),
-            |inst| {
-                let x = slice(x, nx, "continuousStates")?;
-                check_states(&inst.core.model, x).map_err(CallError::InvalidArgument)?;
-                inst.core
-                    .model
-                    .set_states(x)
-                    .map_err(|e| inst.model_failure(e))?;
-                inst.dirty = true;
-                Ok(Success::Ok)
-            },
+            |inst| me::set_states(inst, slice(x, nx, "continuousStates")?),
         )
     }
 }
@@ -192,24 +163,16 @@ pub unsafe fn set_continuous_states<M: ContinuousModel>(
 unsafe fn read_vector<M: ContinuousModel>(
     c: fmi3Instance,
     f: Function,
-    ptr: *mut fmi3Float64,
+    vector: Vector,
+    values: *mut fmi3Float64,
     n: usize,
-    count: fn(&M) -> usize,
-    read: fn(&mut Instance<M>, &mut [f64]) -> Result<(), CallError>,
 ) -> fmi3Status {
     unsafe {
         call::<M>(
             c,
             f,
             || format!("{}(n={n})", f.name()),
-            |inst| {
-                let values = slice_mut(ptr, n, "values")?;
-                check_length::<M>("values", n, count(&inst.core.model))
-                    .map_err(CallError::InvalidArgument)?;
-                let success = inst.refresh(f);
-                read(inst, values)?;
-                Ok(success)
-            },
+            |inst| me::read(inst, f, vector, slice_mut(values, n, "values")?),
         )
     }
 }
@@ -221,19 +184,8 @@ pub unsafe fn get_continuous_state_derivatives<M: ContinuousModel>(
     derivatives: *mut fmi3Float64,
     nx: usize,
 ) -> fmi3Status {
-    unsafe {
-        read_vector::<M>(
-            c,
-            Function::GetContinuousStateDerivatives,
-            derivatives,
-            nx,
-            M::state_count,
-            |inst, dx| {
-                let result = inst.core.model.derivatives(dx);
-                result.map_err(|e| inst.model_failure(e))
-            },
-        )
-    }
+    let f = Function::GetContinuousStateDerivatives;
+    unsafe { read_vector::<M>(c, f, Vector::Derivatives, derivatives, nx) }
 }
 
 /// # Safety
@@ -247,13 +199,9 @@ pub unsafe fn get_event_indicators<M: ContinuousModel>(
         read_vector::<M>(
             c,
             Function::GetEventIndicators,
+            Vector::EventIndicators,
             z,
             nz,
-            M::event_indicator_count,
-            |inst, z| {
-                let result = inst.core.model.event_indicators(z);
-                result.map_err(|e| inst.model_failure(e))
-            },
         )
     }
 }
@@ -265,19 +213,7 @@ pub unsafe fn get_continuous_states<M: ContinuousModel>(
     x: *mut fmi3Float64,
     nx: usize,
 ) -> fmi3Status {
-    unsafe {
-        read_vector::<M>(
-            c,
-            Function::GetContinuousStates,
-            x,
-            nx,
-            M::state_count,
-            |inst, x| {
-                inst.core.model.states(x);
-                Ok(())
-            },
-        )
-    }
+    unsafe { read_vector::<M>(c, Function::GetContinuousStates, Vector::States, x, nx) }
 }
 
 /// # Safety
@@ -287,19 +223,8 @@ pub unsafe fn get_nominals_of_continuous_states<M: ContinuousModel>(
     nominals: *mut fmi3Float64,
     nx: usize,
 ) -> fmi3Status {
-    unsafe {
-        read_vector::<M>(
-            c,
-            Function::GetNominalsOfContinuousStates,
-            nominals,
-            nx,
-            M::state_count,
-            |inst, n| {
-                inst.core.model.nominals(n);
-                Ok(())
-            },
-        )
-    }
+    let f = Function::GetNominalsOfContinuousStates;
+    unsafe { read_vector::<M>(c, f, Vector::Nominals, nominals, nx) }
 }
 
 /// # Safety
@@ -332,13 +257,13 @@ pub unsafe fn get_number_of_continuous_states<M: ContinuousModel>(
 
 /// The same functions for a model without Model Exchange: instantiation is refused (NULL,
 /// logged), the rest refused by the state table of a Co-Simulation instance, and the
-/// counts are 0.
+/// counts are 0. Event Mode of Co-Simulation is served as for any model.
 pub mod no_me {
     #![allow(clippy::too_many_arguments, clippy::missing_safety_doc)]
-    use crate::abi::{call, instantiate, out};
-    use crate::error::{CallError, Success};
+    use crate::abi::{self, call, instantiate, out};
     use crate::ffi::*;
     use crate::state::{Function, Interface, Refusal};
+    use fmi_export::{CallError, Options, Success};
     use fmi_model::Model;
 
     fn refuse<M: Model>(c: fmi3Instance, f: Function) -> fmi3Status {
@@ -350,7 +275,7 @@ pub mod no_me {
                 || format!("{}(...)", f.name()),
                 |inst| {
                     Err(CallError::Refused(
-                        f.admit(inst.interface, inst.core.state)
+                        f.admit(inst.interface(), inst.core.state)
                             .err()
                             .unwrap_or(Refusal::WrongInterface(Interface::CoSimulation)),
                     ))
@@ -371,10 +296,8 @@ pub mod no_me {
         unsafe {
             instantiate::<M>(
                 Interface::ModelExchange,
-                Err(format!(
-                    "{} offers Co-Simulation only, not Model Exchange",
-                    M::MODEL_IDENTIFIER
-                )),
+                Options::default(),
+                None,
                 instance_name,
                 instantiation_token,
                 resource_path,
@@ -382,25 +305,51 @@ pub mod no_me {
                 environment,
                 log_message,
                 String::new(),
+                false,
             )
         }
     }
     pub unsafe fn enter_event_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
-        refuse::<M>(c, Function::EnterEventMode)
+        unsafe { abi::enter_event_mode::<M>(c) }
     }
     pub unsafe fn enter_continuous_time_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
         refuse::<M>(c, Function::EnterContinuousTimeMode)
     }
     pub unsafe fn update_discrete_states<M: Model>(
         c: fmi3Instance,
-        _need_update: *mut fmi3Boolean,
-        _terminate: *mut fmi3Boolean,
-        _nominals_changed: *mut fmi3Boolean,
-        _values_changed: *mut fmi3Boolean,
-        _time_defined: *mut fmi3Boolean,
-        _next_time: *mut fmi3Float64,
+        need_update: *mut fmi3Boolean,
+        terminate: *mut fmi3Boolean,
+        nominals_changed: *mut fmi3Boolean,
+        values_changed: *mut fmi3Boolean,
+        time_defined: *mut fmi3Boolean,
+        next_time: *mut fmi3Float64,
     ) -> fmi3Status {
-        refuse::<M>(c, Function::UpdateDiscreteStates)
+        let f = Function::UpdateDiscreteStates;
+        unsafe {
+            call::<M>(
+                c,
+                f,
+                || format!("{}()", f.name()),
+                |inst| {
+                    let outs = (
+                        out(need_update, "discreteStatesNeedUpdate")?,
+                        out(terminate, "terminateSimulation")?,
+                        out(nominals_changed, "nominalsOfContinuousStatesChanged")?,
+                        out(values_changed, "valuesOfContinuousStatesChanged")?,
+                        out(time_defined, "nextEventTimeDefined")?,
+                        out(next_time, "nextEventTime")?,
+                    );
+                    let (success, _) = abi::co_simulation_event_update(inst);
+                    *outs.0 = false;
+                    *outs.1 = inst.core.terminated;
+                    *outs.2 = false;
+                    *outs.3 = false;
+                    *outs.4 = false;
+                    *outs.5 = 0.0;
+                    Ok(success)
+                },
+            )
+        }
     }
     pub unsafe fn completed_integrator_step<M: Model>(
         c: fmi3Instance,

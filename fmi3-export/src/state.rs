@@ -7,64 +7,7 @@
 //! function of such a feature is `Unsupported`: it answers `fmi3Error` with a log line
 //! saying so, in every state. `Error` is entered when the model itself fails; `Fatal` after a
 //! caught panic, where only `fmi3FreeInstance` is honoured (it returns `void`).
-use serde::{Deserialize, Serialize};
-
-/// States of an instance. The discriminants are the bits of a [`StateMask`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[repr(u16)]
-pub enum State {
-    Instantiated = 1 << 0,
-    InitializationMode = 1 << 1,
-    /// Model Exchange only (no event mode in our Co-Simulation).
-    EventMode = 1 << 2,
-    /// Model Exchange only.
-    ContinuousTimeMode = 1 << 3,
-    /// Co-Simulation only.
-    StepMode = 1 << 4,
-    Terminated = 1 << 5,
-    Error = 1 << 6,
-    Fatal = 1 << 7,
-}
-
-impl State {
-    pub const ALL: [State; 8] = [
-        State::Instantiated,
-        State::InitializationMode,
-        State::EventMode,
-        State::ContinuousTimeMode,
-        State::StepMode,
-        State::Terminated,
-        State::Error,
-        State::Fatal,
-    ];
-}
-
-/// A set of [`State`]s.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct StateMask(u16);
-
-impl StateMask {
-    pub const fn of(states: &[State]) -> StateMask {
-        let mut bits = 0;
-        let mut i = 0;
-        while i < states.len() {
-            bits |= states[i] as u16;
-            i += 1;
-        }
-        StateMask(bits)
-    }
-
-    pub const fn contains(self, state: State) -> bool {
-        self.0 & state as u16 != 0
-    }
-}
-
-/// The interface an instance was created for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum Interface {
-    ModelExchange,
-    CoSimulation,
-}
+pub use fmi_export::{Interface, Refusal, State, StateMask};
 
 /// Which interfaces a function belongs to, and whether we implement it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -72,6 +15,11 @@ pub enum Scope {
     Both(StateMask),
     ModelExchange(StateMask),
     CoSimulation(StateMask),
+    /// Both interfaces, in different states.
+    Each {
+        model_exchange: StateMask,
+        co_simulation: StateMask,
+    },
     /// A feature none of our FMUs has (clocks, configuration mode, derivatives, ...).
     Unsupported(&'static str),
 }
@@ -83,7 +31,7 @@ const ANY_BUT_FATAL: StateMask = StateMask::of(&[
     InitializationMode,
     EventMode,
     ContinuousTimeMode,
-    StepMode,
+    StepComplete,
     Terminated,
     Error,
 ]);
@@ -91,7 +39,7 @@ const GETTERS: StateMask = StateMask::of(&[
     InitializationMode,
     EventMode,
     ContinuousTimeMode,
-    StepMode,
+    StepComplete,
     Terminated,
     Error,
 ]);
@@ -101,7 +49,7 @@ const SETTERS: StateMask = StateMask::of(&[
     InitializationMode,
     EventMode,
     ContinuousTimeMode,
-    StepMode,
+    StepComplete,
 ]);
 const CONTINUOUS_READS: StateMask = StateMask::of(&[
     InitializationMode,
@@ -133,27 +81,30 @@ macro_rules! functions {
     };
 }
 
-/// Why a call is refused before its body runs, if it is.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Refusal {
-    Unsupported(&'static str),
-    /// A function of the other interface than this instance's (given).
-    WrongInterface(Interface),
-    IllegalState(State),
+/// A state as FMI 3.0 §3.2 and §4.2 name it.
+pub const fn state_name(state: State) -> &'static str {
+    match state {
+        State::Instantiated => "Instantiated",
+        State::InitializationMode => "Initialization Mode",
+        State::StepComplete => "Step Mode",
+        // Never entered by an FMI 3.0 instance.
+        State::StepFailed | State::StepCanceled => "Step Mode (discarded)",
+        State::Terminated => "Terminated",
+        State::Error => "Error",
+        State::Fatal => "Fatal",
+        State::EventMode => "Event Mode",
+        State::ContinuousTimeMode => "Continuous-Time Mode",
+    }
 }
 
-impl std::fmt::Display for Refusal {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Refusal::Unsupported(feature) => write!(f, "not supported: this FMU has no {feature}"),
-            Refusal::WrongInterface(Interface::CoSimulation) => {
-                f.write_str("not a Co-Simulation function; this instance is Co-Simulation")
-            }
-            Refusal::WrongInterface(Interface::ModelExchange) => {
-                f.write_str("not a Model Exchange function; this instance is Model Exchange")
-            }
-            Refusal::IllegalState(state) => write!(f, "not allowed in state {state:?}"),
-        }
+impl fmi_export::Function for Function {
+    fn name(self) -> &'static str {
+        Function::name(self)
+    }
+
+    #[inline(always)]
+    fn admit(self, interface: Interface, state: State) -> Result<(), Refusal> {
+        Function::admit(self, interface, state)
     }
 }
 
@@ -165,6 +116,8 @@ impl Function {
         let mask = match (self.scope(), interface) {
             (Scope::Unsupported(feature), _) => return Err(Refusal::Unsupported(feature)),
             (Scope::Both(mask), _) => mask,
+            (Scope::Each { model_exchange, .. }, Interface::ModelExchange) => model_exchange,
+            (Scope::Each { co_simulation, .. }, Interface::CoSimulation) => co_simulation,
             (Scope::ModelExchange(mask), Interface::ModelExchange) => mask,
             (Scope::CoSimulation(mask), Interface::CoSimulation) => mask,
             (Scope::ModelExchange(_), Interface::CoSimulation) => {
@@ -177,7 +130,7 @@ impl Function {
         if mask.contains(state) {
             Ok(())
         } else {
-            Err(Refusal::IllegalState(state))
+            Err(Refusal::IllegalState(state, state_name(state)))
         }
     }
 }
@@ -189,8 +142,12 @@ functions! {
     FreeInstance => Scope::Both(StateMask::of(&State::ALL)),
     EnterInitializationMode => Scope::Both(StateMask::of(&[Instantiated])),
     ExitInitializationMode => Scope::Both(StateMask::of(&[InitializationMode])),
-    EnterEventMode => Scope::ModelExchange(StateMask::of(&[ContinuousTimeMode])),
-    Terminate => Scope::Both(StateMask::of(&[EventMode, ContinuousTimeMode, StepMode])),
+    // Co-Simulation: only with eventModeUsed (checked by the function itself).
+    EnterEventMode => Scope::Each {
+        model_exchange: StateMask::of(&[ContinuousTimeMode]),
+        co_simulation: StateMask::of(&[StepComplete]),
+    },
+    Terminate => Scope::Both(StateMask::of(&[EventMode, ContinuousTimeMode, StepComplete])),
     Reset => Scope::Both(ANY_BUT_FATAL),
     GetFloat32 => Scope::Both(GETTERS),
     GetFloat64 => Scope::Both(GETTERS),
@@ -240,8 +197,8 @@ functions! {
     SetIntervalFraction => CLOCKS,
     SetShiftDecimal => CLOCKS,
     SetShiftFraction => CLOCKS,
-    EvaluateDiscreteStates => Scope::Unsupported("event mode in Co-Simulation"),
-    UpdateDiscreteStates => Scope::ModelExchange(StateMask::of(&[EventMode])),
+    EvaluateDiscreteStates => Scope::CoSimulation(StateMask::of(&[EventMode])),
+    UpdateDiscreteStates => Scope::Both(StateMask::of(&[EventMode])),
     EnterContinuousTimeMode => Scope::ModelExchange(StateMask::of(&[EventMode])),
     CompletedIntegratorStep => Scope::ModelExchange(StateMask::of(&[ContinuousTimeMode])),
     SetTime => Scope::ModelExchange(StateMask::of(&[EventMode, ContinuousTimeMode])),
@@ -252,9 +209,9 @@ functions! {
     GetNominalsOfContinuousStates => Scope::ModelExchange(CONTINUOUS_READS),
     GetNumberOfEventIndicators => Scope::Both(ANY_BUT_FATAL),
     GetNumberOfContinuousStates => Scope::Both(ANY_BUT_FATAL),
-    EnterStepMode => Scope::Unsupported("event mode in Co-Simulation"),
+    EnterStepMode => Scope::CoSimulation(StateMask::of(&[EventMode])),
     GetOutputDerivatives => Scope::Unsupported("output derivatives"),
-    DoStep => Scope::CoSimulation(StateMask::of(&[StepMode])),
+    DoStep => Scope::CoSimulation(StateMask::of(&[StepComplete])),
     ActivateModelPartition => Scope::Unsupported("Scheduled Execution"),
 }
 
@@ -290,11 +247,11 @@ mod tests {
     #[test]
     fn interface_functions_are_refused_on_the_other_interface() {
         assert_eq!(
-            Function::DoStep.admit(Interface::ModelExchange, StepMode),
+            Function::DoStep.admit(Interface::ModelExchange, StepComplete),
             Err(Refusal::WrongInterface(Interface::ModelExchange))
         );
         assert_eq!(
-            Function::SetContinuousStates.admit(Interface::CoSimulation, StepMode),
+            Function::SetContinuousStates.admit(Interface::CoSimulation, StepComplete),
             Err(Refusal::WrongInterface(Interface::CoSimulation))
         );
         let message = Function::DoStep
@@ -329,22 +286,13 @@ mod tests {
             .is_ok());
         assert_eq!(
             Function::SetContinuousStates.admit(me, EventMode),
-            Err(Refusal::IllegalState(EventMode))
+            Err(Refusal::IllegalState(EventMode, "Event Mode"))
         );
         assert!(Function::DoStep
-            .admit(Interface::CoSimulation, StepMode)
+            .admit(Interface::CoSimulation, StepComplete)
             .is_ok());
         assert!(Function::DoStep
             .admit(Interface::CoSimulation, InitializationMode)
             .is_err());
-    }
-
-    #[test]
-    fn the_bits_of_the_states_are_distinct() {
-        let mut seen = 0u16;
-        for s in State::ALL {
-            assert_eq!(seen & s as u16, 0);
-            seen |= s as u16;
-        }
     }
 }

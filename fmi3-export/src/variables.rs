@@ -1,6 +1,6 @@
 //! The FMI 3.0 view of a model's declarations: one variable per declaration (a vector is
 //! one Float64 array with one `Dimension`), found by its value reference.
-use fmi_model::{Causality, Declaration, Kind, Limit, Model, Variability};
+use fmi_model::{Declaration, Kind, Limit, Model};
 use std::collections::HashMap;
 
 /// Value reference of the independent variable `time`, which FMI 3.0 requires to be
@@ -168,25 +168,15 @@ pub fn check<M: Model>() -> Vec<String> {
     problems
 }
 
-/// Why the master may not set `d` in `state`, if it may not.
+/// Why the master may not set `d`, before the end of initialization (`initializing`) or
+/// after it: the core's rule.
 pub fn settable<M>(d: &Declaration<M>, initializing: bool) -> Result<(), &'static str> {
-    if d.variability == Variability::Constant {
-        return Err("a constant is never settable");
-    }
-    match d.causality {
-        Causality::Input => Ok(()),
-        Causality::Parameter => {
-            if d.variability == Variability::Tunable || initializing {
-                Ok(())
-            } else {
-                Err("a fixed parameter can only be set before fmi3ExitInitializationMode")
-            }
-        }
-        Causality::Output => Err("an output is computed by the FMU"),
-        Causality::CalculatedParameter => Err("a calculated parameter is computed by the FMU"),
-        Causality::Local => Err("a local variable is computed by the FMU"),
-        Causality::Independent => Err("the independent variable is set by the master's calls"),
-    }
+    let state = if initializing {
+        fmi_export::State::InitializationMode
+    } else {
+        fmi_export::State::StepComplete
+    };
+    fmi_export::setters::settable(d.causality, d.variability, state)
 }
 
 #[cfg(test)]

@@ -670,6 +670,7 @@ mod tests {
             magic: *b"testtest",
             state_version: 2,
             guid: Default::default(),
+            interface: fmi_model::Interface::CoSimulation,
         };
         let bytes = fmi_model::snapshot::encode(&gnc, header).unwrap();
         let mut restored: LanderGnc = fmi_model::snapshot::decode(&bytes, header).unwrap();

@@ -1,5 +1,6 @@
 //! The unit symbols our variables may use and their SI base-unit exponents, in one table.
-//! A symbol missing here is refused by `check_table` rather than written without meaning.
+//! A symbol missing here is refused by [`check_units`] (which both model-description writers
+//! run) rather than written without meaning.
 use model_description::BaseUnit;
 
 /// Exponents of (kg, m, s, rad).
@@ -44,6 +45,21 @@ pub fn base_unit(symbol: &str) -> Option<BaseUnit> {
         rad: exponent(rad),
         ..BaseUnit::default()
     })
+}
+
+/// Every unit symbol `M` declares is in the table, else the first one that is not.
+pub fn check_units<M: fmi_model::Model>() -> Result<(), String> {
+    match M::declarations()
+        .iter()
+        .find(|d| d.unit.is_some_and(|u| base_unit(u).is_none()))
+    {
+        Some(d) => Err(format!(
+            "variable {}: unit {:?} is not in the unit table (fmi-export/src/units.rs)",
+            d.name,
+            d.unit.unwrap_or_default()
+        )),
+        None => Ok(()),
+    }
 }
 
 #[cfg(test)]

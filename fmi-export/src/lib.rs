@@ -1,0 +1,51 @@
+//! The one export core of our FMUs: everything the FMI 2.0 and FMI 3.0 layers share, once.
+//!
+//! ```text
+//! fmi-model (declarations, Model)  ->  fmi-export (this crate)  ->  fmi2-export / fmi3-export
+//! ```
+//!
+//! A version layer implements [`Abi`] (its status codes, its state table, its logger call,
+//! its variable view, its symbol prefix and state magic) and keeps only what is its own: the
+//! exported symbols, the unpacking of C arguments, its XML writer and its view of the
+//! variables (FMI 2.0 scalars, FMI 3.0 arrays). Everything else lives here: the instance and
+//! its copied core, the call guard (registry lookup, re-entrancy, panic guard, call trace,
+//! state check, one log line per refusal), the step rules with a version-neutral outcome,
+//! FMU-state storage and serialization, the setter rules and their messages, the
+//! description of a model's errors, the Model Exchange accessors and the unit table.
+//!
+//! Nothing here names an FMI version: messages speak of "initialization", "the step" and
+//! "the FMU state"; a version's function names come from its own table.
+#![deny(unsafe_code)]
+
+pub mod call;
+mod describe;
+pub mod fmu_state;
+pub mod instance;
+pub mod lifecycle;
+pub mod logging;
+pub mod model_exchange;
+pub mod setters;
+pub mod state;
+pub mod status;
+pub mod step;
+mod units;
+mod version;
+
+pub use describe::describe_model_error;
+pub use instance::{Core, Instance, Options};
+pub use logging::{Category, Logger};
+pub use state::{Interface, State, StateMask};
+pub use status::{CallError, Refusal, Status, Success};
+pub use units::{base_unit, check_units};
+pub use version::{Abi, Function};
+
+/// Relative tolerance on communication points and times: masters accumulate `t += h` and
+/// arrive a few ulps off (fmpy reaches step 1200 of 0.01 s at 11.999999999999789). A point
+/// `t` is accepted when `|t - time| <= 1e-9 * max(1, |time|)`; the same bound applies to the
+/// declared stop time and to a restored state's bookkeeping.
+pub const TIME_TOLERANCE: f64 = 1e-9;
+
+/// The tolerance of [`TIME_TOLERANCE`] around `reference`.
+pub fn time_tolerance(reference: f64) -> f64 {
+    TIME_TOLERANCE * reference.abs().max(1.0)
+}

@@ -1,0 +1,51 @@
+//! What a version layer tells the core about itself.
+use crate::logging::{Category, Logger};
+use crate::state::{Interface, State};
+use crate::status::{Refusal, Status};
+use fmi_model::registry::Registry;
+use fmi_model::Model;
+use std::ffi::CStr;
+
+/// One FMI version's function table: each function's C name and the states (and interface)
+/// in which it may be called.
+pub trait Function: Copy + std::fmt::Debug + 'static {
+    /// The C name, e.g. `"fmi3DoStep"`.
+    fn name(self) -> &'static str;
+    /// `Ok` when the function may run on an instance of `interface` in `state`.
+    fn admit(self, interface: Interface, state: State) -> Result<(), Refusal>;
+}
+
+/// One FMI version, as the core needs to know it.
+pub trait Abi: Sized + 'static {
+    /// The symbol prefix, `"fmi2"` or `"fmi3"`, for the few messages that name a function
+    /// outside a call (instantiation).
+    const PREFIX: &'static str;
+    /// Magic bytes of a serialized FMU state of this version ([`fmi_model::snapshot`]).
+    const SNAPSHOT_MAGIC: [u8; 8];
+    /// The version's C status type.
+    type CStatus: Copy;
+    /// The version's function table.
+    type Function: Function;
+    /// What the logger callback needs (the copied callback, its environment, for FMI 2.0
+    /// the instance name).
+    type Sink: Clone + Send;
+    /// The version's view of the variables of `M` (FMI 2.0 scalars, FMI 3.0 arrays), built
+    /// once per instance.
+    type View<M: Model>;
+
+    fn status(status: Status) -> Self::CStatus;
+    /// Calls the master's logger. `message` is complete text (never a format string).
+    fn emit(sink: &Self::Sink, status: Status, category: Category, message: &CStr);
+    fn view<M: Model>() -> Self::View<M>;
+    /// The registry of this version's live instances of this FMU.
+    fn registry() -> &'static Registry<Logger<Self>>;
+    /// The interface identity of `M` written into its model description (GUID or
+    /// instantiation token); a serialized FMU state carries it.
+    fn interface_uuid<M: Model>() -> uuid::Uuid;
+    /// The instantiation argument that carries the model description's identity.
+    const TOKEN_ARGUMENT: &'static str;
+    /// The function that declares the stop time, named when a step passes it.
+    const EXPERIMENT: &'static str;
+    /// The categories this version declares in its model description.
+    const CATEGORIES: &'static [Category];
+}

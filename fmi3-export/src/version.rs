@@ -1,0 +1,92 @@
+//! FMI 3.0 as the export core sees it: its statuses, its logger call, its variable view.
+#![allow(unsafe_code)]
+
+use crate::ffi::*;
+use crate::state::Function;
+use crate::variables::{Float64Slot, Index};
+use fmi_export::{Abi, Category, Logger, Status};
+use fmi_model::registry::Registry;
+use fmi_model::Model;
+use std::ffi::CStr;
+
+/// The FMI 3.0 version of the export core.
+#[derive(Debug)]
+pub struct Fmi3;
+
+/// The copied `logMessage` callback and its environment.
+#[derive(Debug, Clone)]
+pub struct Sink {
+    pub callback: fmi3LogMessageCallback,
+    pub environment: fmi3InstanceEnvironment,
+}
+
+// SAFETY: the environment pointer is only handed back to the master's callback, never
+// dereferenced by us; the master may drive an instance from any thread, one at a time.
+unsafe impl Send for Sink {}
+
+/// The FMI 3.0 variables of a model (one per declaration) and their lookup.
+pub struct View<M: 'static> {
+    pub index: Index,
+    /// The Float64 declarations by row, ready for the exchange.
+    pub float64: Box<[Option<Float64Slot<M>>]>,
+}
+
+/// Every live FMI 3.0 instance of this FMU.
+static LIVE: Registry<Logger<Fmi3>> = Registry::new();
+
+pub(crate) const CATEGORIES: &[Category] = &Category::ALL;
+
+impl Abi for Fmi3 {
+    const PREFIX: &'static str = "fmi3";
+    const SNAPSHOT_MAGIC: [u8; 8] = crate::SNAPSHOT_MAGIC;
+    const TOKEN_ARGUMENT: &'static str = "instantiationToken";
+    const EXPERIMENT: &'static str = "fmi3EnterInitializationMode";
+    const CATEGORIES: &'static [Category] = CATEGORIES;
+    type CStatus = fmi3Status;
+    type Function = Function;
+    type Sink = Sink;
+    type View<M: Model> = View<M>;
+
+    #[inline(always)]
+    fn status(status: Status) -> fmi3Status {
+        match status {
+            Status::Ok => fmi3OK,
+            Status::Warning => fmi3Warning,
+            Status::Discard => fmi3Discard,
+            Status::Error => fmi3Error,
+            Status::Fatal => fmi3Fatal,
+        }
+    }
+
+    fn emit(sink: &Sink, status: Status, category: Category, message: &CStr) {
+        let Some(callback) = sink.callback else {
+            return;
+        };
+        // SAFETY: the callback was non-null at instantiation and stays callable for the
+        // instance's lifetime; both strings are NUL-terminated and outlive the call.
+        unsafe {
+            callback(
+                sink.environment,
+                Self::status(status),
+                category.name().as_ptr(),
+                message.as_ptr(),
+            );
+        }
+    }
+
+    fn view<M: Model>() -> View<M> {
+        View {
+            index: Index::new::<M>(),
+            float64: Float64Slot::table(),
+        }
+    }
+
+    #[inline(always)]
+    fn registry() -> &'static Registry<Logger<Fmi3>> {
+        &LIVE
+    }
+
+    fn interface_uuid<M: Model>() -> uuid::Uuid {
+        crate::description::interface_uuid::<M>()
+    }
+}
