@@ -44,6 +44,13 @@ pub trait ContinuousModel: Model {
     fn states(&self, x: &mut [f64]);
     /// Take the states from the solver.
     fn set_states(&mut self, x: &[f64]) -> Result<(), ModelError>;
+    /// Whether the model can evaluate the state vector `x` (of the right length, every
+    /// element finite): a vector whose derivatives or outputs would not be finite is refused
+    /// here, naming the element (`InvalidInput` with the declaration's field), before
+    /// `set_states` sees it; the instance stays usable. Default: every finite vector.
+    fn check_state_vector(&self, _x: &[f64]) -> Result<(), ModelError> {
+        Ok(())
+    }
     /// Nominal magnitudes of the states (for the solver's error control).
     fn nominals(&self, nominal: &mut [f64]);
     /// Time derivatives of the states at the current time, states and inputs.
@@ -74,8 +81,36 @@ pub fn check_length<M: ContinuousModel>(
 /// refusal to log (the model then never sees it).
 pub fn check_states<M: ContinuousModel>(model: &M, x: &[f64]) -> Result<(), String> {
     check_length::<M>("states", x.len(), model.state_count())?;
-    match x.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(format!("state {i} is {}: not finite", x[i])),
-        None => Ok(()),
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(format!("state {i} is {}: not finite", x[i]));
     }
+    model
+        .check_state_vector(x)
+        .map_err(|e| state_refusal::<M>(&e))
+}
+
+/// A refusal of [`ContinuousModel::check_state_vector`] in the master's words: the field
+/// becomes the declared variable, its element 1-based (`state attitude_state[2] = ...`).
+fn state_refusal<M: Model>(error: &ModelError) -> String {
+    let (field, index, value, reason) = match error {
+        ModelError::InvalidInput {
+            field,
+            index,
+            value,
+            reason,
+        }
+        | ModelError::InvalidParameter {
+            field,
+            index,
+            value,
+            reason,
+        } => (field, index, value, reason),
+        ModelError::Other(text) => return text.clone(),
+    };
+    let name = M::declarations()
+        .iter()
+        .find(|d| d.has_field(field))
+        .map_or(*field, |d| d.name);
+    let element = index.map(|i| format!("[{}]", i + 1)).unwrap_or_default();
+    format!("state {name}{element} = {value}: {reason}")
 }

@@ -2,7 +2,9 @@
 //! layers' continuous-state calls. The state vector has a fixed length (a model description
 //! is static): all 18 states, the lag states with a zero derivative while their lag is off.
 use super::LanderPlant;
-use crate::physics::continuous::{LengthMismatch, StateLayout, EVENT_INDICATOR_COUNT};
+use crate::physics::continuous::{
+    LengthMismatch, StateElement, StateLayout, Unevaluable, EVENT_INDICATOR_COUNT,
+};
 use crate::physics::plant::{Plant, PlantRun};
 use fmi_model::{ContinuousModel, EventUpdate, Log, ModelError};
 use std::borrow::Cow;
@@ -21,6 +23,65 @@ fn not_running() -> ModelError {
 
 fn length(e: LengthMismatch) -> ModelError {
     ModelError::Other(format!("continuous state vector: {e}"))
+}
+
+/// A refused state element as the layers name it: the declaration's field (see the
+/// `field` options of the continuous-state declarations) and the 0-based element.
+pub(super) fn refused_state(e: Unevaluable) -> ModelError {
+    let (field, index) = match e.element {
+        StateElement::Translation(i) => ("translation_state", Some(i)),
+        StateElement::Attitude => ("attitude_state", None),
+        StateElement::AttitudeComponent(i) => ("attitude_state", Some(i)),
+        StateElement::OmegaBody(i) => ("omega_body", Some(i)),
+        StateElement::Mass => ("mass", None),
+        StateElement::ThrustLag => ("thrust_lag_state", None),
+        StateElement::TorqueLag(i) => ("torque_lag_state_body", Some(i)),
+    };
+    ModelError::InvalidInput {
+        field,
+        index,
+        value: e.value,
+        reason: e.reason,
+    }
+}
+
+/// The declared name of element `i` of a vector laid out as `names` (each with its length),
+/// 1-based: `der_omega_body[2]`.
+fn element_name(names: &[(&str, usize)], mut i: usize) -> String {
+    for (name, len) in names {
+        if i < *len {
+            return if *len == 1 {
+                (*name).to_string()
+            } else {
+                format!("{name}[{}]", i + 1)
+            };
+        }
+        i -= len;
+    }
+    format!("element {i}")
+}
+
+const DERIVATIVE_NAMES: &[(&str, usize)] = &[
+    ("der_translation_state", 6),
+    ("der_attitude_state", 4),
+    ("der_omega_body", 3),
+    ("der_mass", 1),
+    ("der_thrust_lag_state", 1),
+    ("der_torque_lag_state_body", 3),
+];
+
+/// The second net behind `check_evaluable`: a value computed at an accepted state that is
+/// still not finite (e.g. under a parameter such as a denormal time constant) is an error
+/// naming it, never a NaN handed out with status OK.
+fn all_finite(values: &[f64], name: impl Fn(usize) -> String) -> Result<(), ModelError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(ModelError::Other(format!(
+            "{} = {} at the current state: not finite",
+            name(i),
+            values[i]
+        ))),
+    }
 }
 
 impl LanderPlant {
@@ -92,9 +153,24 @@ impl ContinuousModel for LanderPlant {
         }
     }
 
+    fn check_state_vector(&self, x: &[f64]) -> Result<(), ModelError> {
+        let (plant, _) = self.running.as_ref().ok_or_else(not_running)?;
+        let candidate = LAYOUT.unpack(x).map_err(length)?;
+        plant.check_evaluable(&candidate).map_err(refused_state)
+    }
+
     fn set_states(&mut self, x: &[f64]) -> Result<(), ModelError> {
         let (plant, run) = self.running.as_mut().ok_or_else(not_running)?;
-        plant.set_continuous_states(&LAYOUT, run, x).map_err(length)
+        // Checked before it replaces anything: a refused vector leaves the run as it was.
+        let mut candidate = *run;
+        plant
+            .set_continuous_states(&LAYOUT, &mut candidate, x)
+            .map_err(length)?;
+        plant
+            .check_evaluable(&candidate.state)
+            .map_err(refused_state)?;
+        *run = candidate;
+        Ok(())
     }
 
     fn nominals(&self, nominal: &mut [f64]) {
@@ -108,7 +184,8 @@ impl ContinuousModel for LanderPlant {
         let (plant, run) = view.as_ref();
         plant
             .continuous_derivative(&LAYOUT, run, &self.commands, dx)
-            .map_err(length)
+            .map_err(length)?;
+        all_finite(dx, |i| element_name(DERIVATIVE_NAMES, i))
     }
 
     fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), ModelError> {
@@ -121,6 +198,7 @@ impl ContinuousModel for LanderPlant {
                 got: z.len(),
             }));
         }
+        all_finite(&values, |i| Self::EVENT_INDICATOR_VARIABLES[i].to_string())?;
         z.copy_from_slice(&values);
         Ok(())
     }
@@ -133,8 +211,16 @@ impl ContinuousModel for LanderPlant {
             // The initial event update at the end of initialization has nothing to do.
             return Ok(EventUpdate::default());
         };
-        let before = run.state;
+        let before = *run;
         let outcome = plant.update_at_event(run, t);
+        // set_states admits only states the update can renormalise; should one still come
+        // out unevaluable, the run stays as it was rather than poisoned for good.
+        if let Err(e) = plant.check_evaluable(&run.state) {
+            *run = before;
+            return Err(ModelError::Other(format!(
+                "the event update at t = {t} s would leave {e}; the state is kept as it was"
+            )));
+        }
         if outcome.exhausted {
             log.warning(format!(
                 "propellant exhausted at t = {t} s: mass = dry_mass = {} kg, engines cut",
@@ -152,7 +238,7 @@ impl ContinuousModel for LanderPlant {
         }
         Ok(EventUpdate {
             terminate: run.touchdown.is_some(),
-            states_changed: run.state != before,
+            states_changed: run.state != before.state,
             nominals_changed: false,
         })
     }

@@ -26,6 +26,77 @@ pub const EVENT_INDICATOR_COUNT: usize = 2;
 /// zero, so no integrator sees another crossing.
 const SPENT_INDICATOR: f64 = -1.0;
 
+/// Smallest and largest |q| of an attitude state. The equations use only the direction of
+/// `q`, and the norm term pulls |q| to 1; a reasonable integrator keeps |q| within about
+/// `h omega^2 / (16 k)` of 1 (explicit Euler; RK4 far closer), and even a rejected trial step
+/// of a variable-step solver with h omega = 2000 rad grows |q| only by ~1e3. A norm off by a
+/// factor 1e6 is no attitude: the integrator's error is a million times the signal, and near
+/// zero (or at a denormal) the direction cannot be computed at all. At 1e6 the norm term
+/// `k (1 - |q|^2) q` is 1e18 /s, still finite.
+pub const QUATERNION_NORM_RANGE: (f64, f64) = (1e-6, 1e6);
+
+/// Fastest velocity element, m/s: the speed of light. The equations are Newtonian and no
+/// lander moves faster; below it every square of a velocity (the spherical model's
+/// `(u^2 + v^2) / r`, `u v tan(lat) / r`) is far from overflowing.
+pub const SPEED_LIMIT_MPS: f64 = 299_792_458.0;
+
+/// Farthest position, m (flat: each r_nue element; spherical: the radius minus the Moon's
+/// radius): 1e12 m, beyond the Sun from the Moon, where a Moon-only gravity model describes
+/// nothing. It keeps the spherical model's Moon-fixed position sums finite.
+pub const DISTANCE_LIMIT_M: f64 = 1e12;
+
+/// Smallest radius of the spherical model, as a fraction of the Moon's radius: there the
+/// central gravity `mu / r^2` is 1e12 g and `lon' = u / (r cos lat)` stays finite for any
+/// velocity below the speed of light; at `r = 0` the equations are singular.
+pub const MIN_RADIUS_FRACTION: f64 = 1e-6;
+
+/// One element of the state, as the declarations name it (vector elements 0-based).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StateElement {
+    Translation(usize),
+    /// The quaternion as a whole (refused for its norm).
+    Attitude,
+    /// One quaternion component (refused for not being finite).
+    AttitudeComponent(usize),
+    OmegaBody(usize),
+    Mass,
+    ThrustLag,
+    TorqueLag(usize),
+}
+
+impl StateElement {
+    /// The declared name, 1-based as in the model description (`attitude_state[2]`).
+    pub fn name(&self) -> String {
+        match self {
+            Self::Translation(i) => format!("translation_state[{}]", i + 1),
+            Self::Attitude => "attitude_state".into(),
+            Self::AttitudeComponent(i) => format!("attitude_state[{}]", i + 1),
+            Self::OmegaBody(i) => format!("omega_body[{}]", i + 1),
+            Self::Mass => "mass".into(),
+            Self::ThrustLag => "thrust_lag_state".into(),
+            Self::TorqueLag(i) => format!("torque_lag_state_body[{}]", i + 1),
+        }
+    }
+}
+
+/// A state the equations cannot evaluate (some derivative, indicator or output would not
+/// be finite, or the value means nothing physical): the element at fault and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{} = {value}: {reason}", element.name())]
+pub struct Unevaluable {
+    pub element: StateElement,
+    pub value: String,
+    pub reason: String,
+}
+
+fn refuse(element: StateElement, value: impl std::fmt::Display, reason: String) -> Unevaluable {
+    Unevaluable {
+        element,
+        value: value.to_string(),
+        reason,
+    }
+}
+
 /// Which states the flat vector holds. Position and velocity (the translation model's six),
 /// the scalar-first quaternion, body rates and mass always; each actuator's lag states only
 /// when that lag is on, unless a fixed layout is asked for (a model description is static).
@@ -170,6 +241,157 @@ impl Plant {
             x.torque_lag_body_nm = run.state.torque_lag_body_nm;
         }
         run.state = x;
+        Ok(())
+    }
+
+    /// Whether every derivative, event indicator and output at `x` is finite and `x` is a
+    /// physical state, whatever the commands (they are saturated): the check of a state set
+    /// by a foreign integrator or restored. The rules, element by element:
+    /// * translation: flat positions within [`DISTANCE_LIMIT_M`]; spherical radius in
+    ///   `[MIN_RADIUS_FRACTION R, R + DISTANCE_LIMIT_M]`, latitude within +-pi/2 (beyond it
+    ///   is no latitude; `cos lat >= 6e-17` there), longitude finite; every velocity element
+    ///   within [`SPEED_LIMIT_MPS`];
+    /// * attitude: |q| within [`QUATERNION_NORM_RANGE`];
+    /// * body rate: `4 |omega|^2 I_max / I_min`, a bound of the gyroscopic acceleration
+    ///   `|omega x (I omega)| / I`, finite;
+    /// * mass > 0 (the derivative uses `max(mass, dry mass)`; a state just past the dry mass
+    ///   is an integrator that stepped over the exhaustion event before locating it);
+    /// * lag states within what explicit Euler at its stability limit (`h = 2 tau`) reaches
+    ///   from delivered values: thrust in `[-T_max, 2 T_max]`, each torque in `[-3 L, 3 L]`
+    ///   (`T_max` all engines at full thrust, `L` the per-axis RCS torque limit).
+    pub fn check_evaluable(&self, x: &PlantState) -> Result<(), Unevaluable> {
+        let finite = |element: StateElement, v: f64| {
+            if v.is_finite() {
+                Ok(())
+            } else {
+                Err(refuse(element, v, "not finite".into()))
+            }
+        };
+        for (i, v) in x.translation.iter().enumerate() {
+            finite(StateElement::Translation(i), *v)?;
+        }
+        for (i, v) in [
+            x.q_body_to_nue.w,
+            x.q_body_to_nue.i,
+            x.q_body_to_nue.j,
+            x.q_body_to_nue.k,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            finite(StateElement::AttitudeComponent(i), v)?;
+        }
+        for (i, v) in x.omega_body.iter().enumerate() {
+            finite(StateElement::OmegaBody(i), *v)?;
+        }
+        finite(StateElement::Mass, x.mass_kg)?;
+        finite(StateElement::ThrustLag, x.thrust_lag_n)?;
+        for (i, v) in x.torque_lag_body_nm.iter().enumerate() {
+            finite(StateElement::TorqueLag(i), *v)?;
+        }
+
+        let within = |element: StateElement, v: f64, low: f64, high: f64, why: &str| {
+            if (low..=high).contains(&v) {
+                Ok(())
+            } else {
+                Err(refuse(
+                    element,
+                    v,
+                    format!("outside [{low:e}, {high:e}]: {why}"),
+                ))
+            }
+        };
+        let t = &x.translation;
+        let light = "faster than light";
+        match &self.translation {
+            Translation::Flat { .. } => {
+                for i in 0..3 {
+                    let d = DISTANCE_LIMIT_M;
+                    within(
+                        StateElement::Translation(i),
+                        t[i],
+                        -d,
+                        d,
+                        "too far from the Moon",
+                    )?;
+                }
+            }
+            Translation::Spherical(moon) => {
+                let r = moon.radius_m;
+                let why = "no radius the spherical equations hold at";
+                within(
+                    StateElement::Translation(0),
+                    t[0],
+                    MIN_RADIUS_FRACTION * r,
+                    r + DISTANCE_LIMIT_M,
+                    why,
+                )?;
+                let half_pi = std::f64::consts::FRAC_PI_2;
+                within(
+                    StateElement::Translation(2),
+                    t[2],
+                    -half_pi,
+                    half_pi,
+                    "not a latitude",
+                )?;
+            }
+        }
+        for i in 3..6 {
+            let c = SPEED_LIMIT_MPS;
+            within(StateElement::Translation(i), t[i], -c, c, light)?;
+        }
+
+        let q = &x.q_body_to_nue;
+        let norm = q.norm();
+        let (low, high) = QUATERNION_NORM_RANGE;
+        if !(low..=high).contains(&norm) {
+            return Err(refuse(
+                StateElement::Attitude,
+                format!("[{}, {}, {}, {}]", q.w, q.i, q.j, q.k),
+                format!(
+                    "|q| = {norm:e} outside [{low:e}, {high:e}]: no attitude can be taken from it"
+                ),
+            ));
+        }
+
+        let inertia = &self.inertia_body_kgm2;
+        let gyroscopic = 4.0 * x.omega_body.norm_squared() * (inertia.max() / inertia.min());
+        if !gyroscopic.is_finite() {
+            let i = x.omega_body.iamax();
+            return Err(refuse(
+                StateElement::OmegaBody(i),
+                x.omega_body[i],
+                "4 |omega_body|^2 I_max / I_min (a bound of the gyroscopic acceleration) overflows"
+                    .into(),
+            ));
+        }
+
+        if x.mass_kg <= 0.0 {
+            return Err(refuse(
+                StateElement::Mass,
+                x.mass_kg,
+                "not > 0: a body's mass is positive".into(),
+            ));
+        }
+
+        let max_thrust_n = f64::from(self.engines.count) * self.engines.max_thrust_per_engine_n;
+        within(
+            StateElement::ThrustLag,
+            x.thrust_lag_n,
+            -max_thrust_n,
+            2.0 * max_thrust_n,
+            "beyond what a stable integration of the thrust lag reaches",
+        )?;
+        let limit = 3.0 * self.rcs.torque_limit_nm().abs();
+        for (i, v) in x.torque_lag_body_nm.iter().enumerate() {
+            within(
+                StateElement::TorqueLag(i),
+                *v,
+                -limit,
+                limit,
+                "beyond what a stable integration of the torque lag reaches",
+            )?;
+        }
         Ok(())
     }
 

@@ -432,6 +432,12 @@ impl Plant {
         h: f64,
         end_time: f64,
     ) -> Option<f64> {
+        // A state at or past the dry mass with the engines still on (restored from a Model
+        // Exchange run whose integrator stepped over the exhaustion event) has no crossing
+        // left to find: the exhaustion happens now.
+        if !run.propellant_exhausted && run.state.mass_kg <= self.dry_mass_kg {
+            self.exhaust(run);
+        }
         let schedule = SubSteps::new(h, self.integration_step_s);
         for k in 0..schedule.count {
             let (offset, size) = schedule.get(k);
