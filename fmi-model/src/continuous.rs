@@ -105,7 +105,7 @@ fn state_refusal<M: Model>(error: &ModelError) -> String {
             value,
             reason,
         } => (field, index, value, reason),
-        ModelError::Other(text) => return text.clone(),
+        ModelError::Other(text) | ModelError::Refused(text) => return text.clone(),
     };
     let name = M::declarations()
         .iter()

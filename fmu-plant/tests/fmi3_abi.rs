@@ -33,6 +33,11 @@ struct Plant {
 
 impl Plant {
     fn co_simulation() -> Plant {
+        Plant::co_simulation_with(false)
+    }
+
+    /// A Co-Simulation instance; `early_return_allowed` as the master chooses it.
+    fn co_simulation_with(early_return_allowed: bool) -> Plant {
         let sink = Box::<Sink>::default();
         let token = CString::new(fmi3_export::instantiation_token::<fmu::LanderPlant>()).unwrap();
         // SAFETY: valid strings; the sink outlives the instance.
@@ -44,7 +49,7 @@ impl Plant {
                 false,
                 false,
                 false,
-                false,
+                early_return_allowed,
                 std::ptr::null(),
                 0,
                 &*sink as *const Sink as *mut c_void,
@@ -101,6 +106,13 @@ impl Plant {
     }
 
     fn step(&self, t: f64, h: f64) -> (fmi3Status, bool, f64) {
+        let (status, terminate, early, last) = self.step_early(t, h);
+        assert!(!early);
+        (status, terminate, last)
+    }
+
+    /// A step, with `earlyReturn` (`eventHandlingNeeded` must stay false: no Event Mode).
+    fn step_early(&self, t: f64, h: f64) -> (fmi3Status, bool, bool, f64) {
         let (mut event, mut terminate, mut early, mut last) = (true, true, true, f64::NAN);
         // SAFETY: a live instance and valid out-parameters.
         let status = unsafe {
@@ -115,8 +127,8 @@ impl Plant {
                 &mut last,
             )
         };
-        assert!(!event && !early);
-        (status, terminate, last)
+        assert!(!event);
+        (status, terminate, early, last)
     }
 }
 
@@ -155,16 +167,37 @@ fn vectors_are_arrays_and_the_plant_falls() {
     assert_eq!((values[0], values[3]), (900.0, r[1]));
 }
 
+/// FMI 3.0 §4.2: `fmi3Discard` means the step did not succeed; an FMU that ends its own
+/// run answers `fmi3OK` with `terminateSimulation`.
 #[test]
-fn touchdown_ends_the_step_early_with_terminate_and_the_touchdown_time() {
-    let plant = Plant::co_simulation();
-    plant.set("r0_nue", &[0.0, 0.81, 0.0]);
-    plant.init();
-    // free fall from 0.81 m reaches the ground at t = 1 s
-    let (status, terminate, last) = plant.step(0.0, 2.0);
-    assert_eq!(status, fmi3Discard);
-    assert!(terminate);
-    assert!((last - 1.0).abs() < 1e-9, "{last}");
+fn touchdown_returns_ok_with_terminate_early_where_the_master_allows_it() {
+    let mut outputs = Vec::new();
+    for early_return_allowed in [true, false] {
+        // GIVEN a plant in free fall from 0.81 m, which reaches the ground at t = 1 s
+        let plant = Plant::co_simulation_with(early_return_allowed);
+        plant.set("r0_nue", &[0.0, 0.81, 0.0]);
+        plant.init();
+        // WHEN a step of 2 s passes the touchdown
+        let (status, terminate, early, last) = plant.step_early(0.0, 2.0);
+        // THEN the step succeeded and the FMU asks to end the run
+        assert_eq!(status, fmi3OK, "{}", plant.log());
+        assert!(terminate);
+        if early_return_allowed {
+            // returning at the touchdown
+            assert!(early);
+            assert!((last - 1.0).abs() < 1e-9, "{last}");
+        } else {
+            // or, without early return, at the step's end, frozen at the touchdown
+            assert!(!early);
+            assert_eq!(last, 2.0);
+        }
+        assert!((plant.get("touchdown_time", 1)[0] - 1.0).abs() < 1e-9);
+        assert!(plant.get("altitude", 1)[0].abs() < 1e-9);
+        outputs.push((plant.get("v_nue", 3), plant.get("r_nue", 3)));
+    }
+    // AND the outputs are the event's in both cases
+    assert_eq!(outputs[0], outputs[1]);
+    assert!((outputs[0].0[1] + 1.62).abs() < 1e-6, "{:?}", outputs[0]);
 }
 
 #[test]
@@ -185,7 +218,7 @@ fn refused_values_name_the_variable_and_change_nothing() {
         "fmi3SetFloat64: nValues = 2, the 1 variables asked for have 3 elements",
         "fmi3SetFloat64: variable m0 (vr 113): value -5 is outside (0, inf)",
         "fmi3SetFloat64: variable m0 (vr 113): value NaN is not finite",
-        "a fixed parameter can only be set before fmi3ExitInitializationMode",
+        "a fixed parameter can only be set before the end of initialization",
         "variable mass (vr 23) cannot be set: an output is computed by the FMU",
     ] {
         assert!(log.contains(expected), "missing {expected:?} in\n{log}");
@@ -353,10 +386,10 @@ fn integers_and_booleans_cross_with_their_checks() {
     let log = plant.log();
     for expected in [
         "fmi3SetInt32: variable engine_count (vr 130): value 0 is outside [1, inf)",
-        "fmi3GetInt32: not allowed in state Instantiated",
-        "fmi3SetInt32: variable translation_model (vr 150): 3 is not one of 1 flat, 2 spherical",
+        "fmi3GetInt32: illegal call in state Instantiated",
+        "fmi3SetInt32: variable translation_model (vr 150): value 3 is not an item of enumeration TranslationModel: allowed 1 (flat), 2 (spherical)",
         "fmi3SetBoolean: variable touchdown (vr 34) cannot be set: an output is computed by the FMU",
-        "fmi3GetInt32: unknown value reference 23 for Int32",
+        "fmi3GetInt32: unknown value reference 23 for type Int32",
     ] {
         assert!(log.contains(expected), "missing {expected:?} in\n{log}");
     }

@@ -114,7 +114,10 @@ fn bad_calls_are_refused_with_a_log_line_and_change_nothing() {
         log.contains("fmi2SetContinuousStates: 17 states given, LanderPlant has 18"),
         "{log}"
     );
-    assert!(log.contains("state 3 is NaN: not finite"), "{log}");
+    assert!(
+        log.contains("state 3 (translation_state[4]) = NaN: not finite"),
+        "{log}"
+    );
     assert!(
         log.contains("fmi2DoStep: illegal call in state ContinuousTimeMode"),
         "{log}"

@@ -155,7 +155,7 @@ fn truncated_extended_and_corrupted_buffers_are_refused() {
     refused_with(
         &fmu,
         &flipped(8),
-        "fmi2DeSerializeFMUstate: FMU state: format version 65, this FMU reads version 1",
+        "fmi2DeSerializeFMUstate: FMU state: format version 66, this FMU reads version 2",
     );
     refused_with(
         &fmu,
@@ -204,7 +204,7 @@ fn foreign_and_freed_state_pointers_are_refused() {
     assert_eq!(
         fmu.last_message(),
         format!(
-            "fmi2SetFMUstate: FMUstate {theirs:p} was not created by this instance (or was freed)"
+            "fmi2SetFMUstate: FMU state {theirs:p} was not created by this instance (or was freed)"
         )
     );
 

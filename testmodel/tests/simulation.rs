@@ -231,7 +231,7 @@ fn stop_time_is_honoured_with_tolerance() {
         fmu.last_message(),
         format!(
             "fmi2DoStep: step to {} (currentCommunicationPoint {t} + communicationStepSize \
-             0.01) passes the stop time 0.03 declared in fmi2SetupExperiment",
+             0.01) passes the stop time 0.03 given to fmi2SetupExperiment",
             t + H
         )
     );
