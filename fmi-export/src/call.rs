@@ -24,6 +24,10 @@ use std::os::raw::c_void;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
+/// A call's hold on an instance: the registry's busy mark (dropped at the end of the
+/// call) and the instance itself.
+pub type Held<'a, M, A> = (Entered<'static, Logger<A>>, &'a mut Instance<M, A>);
+
 /// The instance behind `handle` (the registry's, never an address), marked busy until the returned guard drops. `None` (the
 /// call returns Error) when it is no live instance of `M` and `A`, or when another call on
 /// it has not returned (refused with a log line, see [`fmi_model::registry`]).
@@ -35,7 +39,7 @@ use std::ptr;
 pub unsafe fn enter<'a, M: Model, A: Abi>(
     handle: *mut c_void,
     function: A::Function,
-) -> Option<(Entered<'static, Logger<A>>, &'a mut Instance<M, A>)> {
+) -> Option<Held<'a, M, A>> {
     let entered = match A::registry().enter(handle as usize) {
         Ok(entered) => entered,
         Err(Refusal::Unknown) => return None,

@@ -98,8 +98,9 @@ impl Shape {
 }
 
 /// A bound of a Real variable. The FMI `min`/`max` attributes are inclusive; an exclusive
-/// bound ("> 0") is written as the attribute of the same value and the layer also refuses
-/// the bound itself, so that what the description says and what a set does agree.
+/// bound ("> 0") is written as the nearest value it admits (`min="5e-324"`, see
+/// [`Limit::fmi_min`]) and stated in words in the variable's description ([`bounds_note`]),
+/// so that what the description says and what a set does agree.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Limit {
     Inclusive(f64),
@@ -145,6 +146,19 @@ impl Limit {
         -Limit::lowest_admitted(max.map(Limit::negated))
     }
 
+    /// FMI's inclusive `min` attribute for this lower bound: the lowest value it admits.
+    pub fn fmi_min(self) -> f64 {
+        match self {
+            Limit::Inclusive(v) => v,
+            Limit::Exclusive(v) => v.next_up(),
+        }
+    }
+
+    /// FMI's inclusive `max` attribute for this upper bound: the highest value it admits.
+    pub fn fmi_max(self) -> f64 {
+        -self.negated().fmi_min()
+    }
+
     /// Whether `value` respects this limit as a lower bound.
     pub fn admits_above(self, value: f64) -> bool {
         match self {
@@ -159,6 +173,23 @@ impl Limit {
             Limit::Inclusive(b) => value <= b,
             Limit::Exclusive(b) => value < b,
         }
+    }
+}
+
+/// The exclusive bounds of a real range in words ("> 0", "> -1.5707963267948966 and
+/// < 1.5707963267948966"), for the description: FMI's `min`/`max` cannot say "excluded".
+pub fn bounds_note(min: Option<Limit>, max: Option<Limit>) -> Option<String> {
+    let low = match min {
+        Some(Limit::Exclusive(v)) => Some(format!("> {}", crate::readable(v))),
+        _ => None,
+    };
+    let high = match max {
+        Some(Limit::Exclusive(v)) => Some(format!("< {}", crate::readable(v))),
+        _ => None,
+    };
+    match (low, high) {
+        (Some(l), Some(h)) => Some(format!("{l} and {h}")),
+        (l, h) => l.or(h),
     }
 }
 
@@ -464,6 +495,19 @@ impl<M> Declaration<M> {
 
     /// Whether `field` (a path such as `inertia_body_kgm2` or `engines.count`, as a model
     /// error gives it) names this declaration's field: the declared path ends with it.
+    /// The description a model description writes: the declared text, with the exclusive
+    /// bounds of a real in words when it has any ([`bounds_note`]).
+    pub fn described(&self) -> std::borrow::Cow<'static, str> {
+        let note = match self.kind {
+            Kind::Real { min, max, .. } => bounds_note(min, max),
+            _ => None,
+        };
+        match note {
+            Some(note) => format!("{} ({note})", self.description).into(),
+            None => self.description.into(),
+        }
+    }
+
     pub fn has_field(&self, field: &str) -> bool {
         if field.is_empty() || self.field.is_empty() {
             return false;

@@ -29,7 +29,8 @@ pub mod snapshot;
 pub use check::check_declarations;
 pub use continuous::{ContinuousModel, EventUpdate};
 pub use declaration::{
-    role, Causality, Declaration, Dependencies, Initial, Kind, Limit, Role, Shape, Variability,
+    bounds_note, role, Causality, Declaration, Dependencies, Initial, Kind, Limit, Role, Shape,
+    Variability,
 };
 pub use enumeration::{EnumItem, EnumType, EnumValue, Enumeration};
 pub use interface::Interface;

@@ -199,11 +199,10 @@ fn scalar_variable<M: Model>(var: &Variable<M>) -> md::ScalarVariable {
         } => {
             sv.real = Some(md::RealVariable {
                 unit: var.unit.map(Into::into),
-                // FMI 2.0 bounds are inclusive: an exclusive bound is written as its value
-                // (the closest statement the standard allows); the layer refuses the value
-                // itself on set.
-                min: min.map(|m| m.value()),
-                max: max.map(|m| m.value()),
+                // FMI 2.0 bounds are inclusive: an exclusive bound is written as the nearest
+                // value it admits, and said in words in the description.
+                min: min.map(|m| m.fmi_min()),
+                max: max.map(|m| m.fmi_max()),
                 start: *start,
                 ..md::RealVariable::default()
             })

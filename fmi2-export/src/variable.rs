@@ -102,13 +102,14 @@ impl<M: Model> Variable<M> {
         {
             return Cow::Owned(format!("{}: {}", d.description, ty.listing()));
         }
+        let described = d.described();
         match d.shape() {
-            Shape::Scalar => Cow::Borrowed(d.description),
+            Shape::Scalar => described,
             Shape::Vector(_) => {
                 let element = self.element();
                 Cow::Owned(match d.components.get(element) {
-                    Some(word) => format!("{}, {word}", d.description),
-                    None => format!("{} (element {})", d.description, element + 1),
+                    Some(word) => format!("{described}, {word}"),
+                    None => format!("{described} (element {})", element + 1),
                 })
             }
         }

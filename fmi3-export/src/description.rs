@@ -308,7 +308,7 @@ fn write_variable<M>(x: &mut String, d: &Declaration<M>, fresh: &M, derivative: 
         r#"    <{element} name="{}" valueReference="{}" description="{}" causality="{}" variability="{}""#,
         d.name,
         d.value_reference,
-        escape(d.description),
+        escape(&d.described()),
         causality(d.causality),
         variability(d.variability)
     );
@@ -328,11 +328,13 @@ fn write_variable<M>(x: &mut String, d: &Declaration<M>, fresh: &M, derivative: 
             if let Some(unit) = d.unit {
                 let _ = write!(x, r#" declaredType="{}""#, escape(unit));
             }
+            // Inclusive, as FMI defines them: an exclusive bound is the nearest value it
+            // admits, and said in words in the description.
             if let Some(m) = min {
-                let _ = write!(x, r#" min="{}""#, real(m.value()));
+                let _ = write!(x, r#" min="{}""#, real(m.fmi_min()));
             }
             if let Some(m) = max {
-                let _ = write!(x, r#" max="{}""#, real(m.value()));
+                let _ = write!(x, r#" max="{}""#, real(m.fmi_max()));
             }
             if let Some(state) = derivative {
                 let _ = write!(x, r#" derivative="{state}""#);

@@ -86,7 +86,7 @@ pub struct GncOutputs {
 impl GncOutputs {
     /// Replaces every non-finite value by 0 and says whether there was one. Validated
     /// parameters never produce one; this is for outputs read in initialization mode, before
-    /// `fmi2ExitInitializationMode` has checked the parameters (a master may set an absurd
+    /// the end of initialization has checked the parameters (a master may set an absurd
     /// bandwidth and read the outputs first): never NaN out of the FMU.
     pub fn zero_non_finite(&mut self) -> bool {
         if self.all_finite() {

@@ -55,8 +55,8 @@ pub struct LanderGnc {
 /// evaluated at. It is only valid while the parameters, the start time and the guidance
 /// state are those it was evaluated with: these change only in `exit_initialization`
 /// (which evaluates and stores afresh) and in `do_step` (which consumes it); a parameter
-/// set in initialization mode is followed by `exit_initialization`; `fmi2Reset` and
-/// `fmi2SetFMUstate` replace the whole instance, this cache included.
+/// set in initialization mode is followed by `exit_initialization`; a reset and
+/// restoring an FMU state replace the whole instance, this cache included.
 #[derive(Debug, Clone)]
 struct Evaluated {
     /// The time it was evaluated at, exactly: a step from that very time needs no
@@ -164,7 +164,7 @@ impl LanderGnc {
         if !self.initialized {
             if let Err(e) = self.params.validate() {
                 log.warning(format!(
-                    "{e}: fmi2ExitInitializationMode will refuse it; the outputs shown until \
+                    "{e}: the end of initialization will refuse it; the outputs shown until \
                      then are provisional"
                 ));
             }
@@ -175,7 +175,7 @@ impl LanderGnc {
         if self.outputs.zero_non_finite() {
             log.warning(format!(
                 "t = {} s: the parameters give non-finite outputs (shown as 0); \
-                 fmi2ExitInitializationMode will name the parameter",
+                 the end of initialization will name the parameter",
                 self.time_s
             ));
         }

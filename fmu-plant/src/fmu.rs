@@ -220,7 +220,7 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
     Ok(())
 }
 
-/// Most RK4 sub-steps one `fmi2DoStep` may take (about a second of CPU). Without a bound, a
+/// Most RK4 sub-steps one Co-Simulation step may take (about a second of CPU). Without a bound, a
 /// huge communication step never returns: 1e300 s in orbit about the spherical Moon, or 1 s
 /// with `integration_step` = 1e-12 s, would hang the master's call for minutes or forever.
 const MAX_SUB_STEPS_PER_STEP: f64 = 1e6;
@@ -309,9 +309,9 @@ impl Model for LanderPlant {
         }
         let sub_steps = h / plant.integration_step_s;
         if sub_steps > MAX_SUB_STEPS_PER_STEP {
-            return Err(ModelError::Other(format!(
+            return Err(ModelError::Refused(format!(
                 "communicationStepSize {h} s would take {sub_steps:e} RK4 sub-steps of \
-                 integration_step = {} s; at most {MAX_SUB_STEPS_PER_STEP:e} per fmi2DoStep: \
+                 integration_step = {} s; at most {MAX_SUB_STEPS_PER_STEP:e} per step: \
                  use shorter communication steps",
                 plant.integration_step_s
             )));
@@ -467,7 +467,7 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(29, output engine_torque_body[3]: get |m, i| m.delivered().engine_torque_body_nm[i], "N.m", "Disturbance torque of the misaligned/offset thrust line", components = BODY_AXES),
     decl!(32, output propellant_used: outputs.propellant_used, "kg", "m0 minus the current mass"),
     Declaration::boolean(33, "propellant_exhausted", role::discrete_output, "True once the mass has reached dry_mass; the engines deliver no thrust from then on", |m| running_flag(m, |r| r.propellant_exhausted), |_, _| {}),
-    Declaration::boolean(34, "touchdown", role::discrete_output, "True once the altitude has reached 0; the simulation ends there (fmi2Terminated)", |m| running_flag(m, |r| r.touchdown.is_some()), |_, _| {}),
+    Declaration::boolean(34, "touchdown", role::discrete_output, "True once the altitude has reached 0; the simulation ends there (the FMU asks the master to terminate)", |m| running_flag(m, |r| r.touchdown.is_some()), |_, _| {}),
     decl!(35, discrete_output touchdown_time: get |m, _| m.touchdown_field(|t| t.time_s), "s", "Time of touchdown (0 before touchdown)"),
     decl!(36, discrete_output touchdown_v_nue[3]: get |m, i| m.touchdown_field(|t| t.v_nue_mps[i]), "m/s", "Velocity at touchdown (0 before touchdown)", components = NUE),
     decl!(39, discrete_output touchdown_q_body_to_nue[4]: get |m, i| m.touchdown_field(|t| quaternion_to_scalar_first(&t.q_body_to_nue)[i]), "1", "Attitude at touchdown (0 before touchdown)", components = QUATERNION),
