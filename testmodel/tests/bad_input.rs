@@ -136,17 +136,17 @@ fn bounds_of_the_table_are_enforced() {
     refused(
         &fmu,
         fmu.set_integer(vr::SUBSTEPS, 0),
-        "fmi2SetInteger: variable substeps (vr 1): value 0 is outside [1, 1000]",
+        "fmi2SetInteger: variable substeps (vr 13): value 0 is outside [1, 1000]",
     );
     refused(
         &fmu,
         fmu.set_integer(vr::SUBSTEPS, 1001),
-        "fmi2SetInteger: variable substeps (vr 1): value 1001 is outside [1, 1000]",
+        "fmi2SetInteger: variable substeps (vr 13): value 1001 is outside [1, 1000]",
     );
     refused(
         &fmu,
         fmu.set_integer(vr::CROSSING, 7),
-        "fmi2SetInteger: variable crossing_direction (vr 2): value 7 is not an item of enumeration \
+        "fmi2SetInteger: variable crossing_direction (vr 14): value 7 is not an item of enumeration \
          Oscillator.Crossing: allowed 1 (either), 2 (falling), 3 (rising)",
     );
     assert_eq!(
@@ -176,14 +176,14 @@ fn invalid_strings_are_refused() {
     refused(
         &fmu,
         unsafe { fmu::fmi2SetString(fmu.c, &vr::LABEL, 1, &p) },
-        "fmi2SetString: variable label (vr 0): value is a NULL string",
+        "fmi2SetString: variable label (vr 16): value is a NULL string",
     );
     let latin1 = b"caf\xe9\0";
     let p = latin1.as_ptr() as fmi2String;
     refused(
         &fmu,
         unsafe { fmu::fmi2SetString(fmu.c, &vr::LABEL, 1, &p) },
-        "fmi2SetString: variable label (vr 0): value is not valid UTF-8",
+        "fmi2SetString: variable label (vr 16): value is not valid UTF-8",
     );
 }
 

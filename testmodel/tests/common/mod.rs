@@ -23,11 +23,11 @@ pub mod vr {
     pub const V: u32 = 6;
     pub const OMEGA_N: u32 = 7;
     pub const MASS: u32 = 8;
-    pub const STEP_COUNT: u32 = 0;
-    pub const SUBSTEPS: u32 = 1;
-    pub const CROSSING: u32 = 2;
-    pub const STOP_AT_THRESHOLD: u32 = 0;
-    pub const LABEL: u32 = 0;
+    pub const STEP_COUNT: u32 = 12;
+    pub const SUBSTEPS: u32 = 13;
+    pub const CROSSING: u32 = 14;
+    pub const STOP_AT_THRESHOLD: u32 = 15;
+    pub const LABEL: u32 = 16;
 }
 
 /// One logged message, NULL strings read as empty.
