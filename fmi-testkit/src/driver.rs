@@ -504,11 +504,11 @@ impl Driver for Fmi3Instance {
     }
 
     fn set_booleans(&self, vrs: &[u32], values: &[bool]) -> Status {
-        self.set_boolean(vrs, values).into()
+        Fmi3Instance::set_booleans(self, vrs, values).into()
     }
 
     fn get_booleans(&self, vrs: &[u32]) -> (Status, Vec<bool>) {
-        let (s, v) = self.get_boolean(vrs);
+        let (s, v) = Fmi3Instance::get_booleans(self, vrs);
         (s.into(), v)
     }
 

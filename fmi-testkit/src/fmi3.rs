@@ -488,7 +488,7 @@ impl Fmi3Instance {
         }
     }
 
-    pub fn get_boolean(&self, vrs: &[u32]) -> (fmi3Status, Vec<bool>) {
+    pub fn get_booleans(&self, vrs: &[u32]) -> (fmi3Status, Vec<bool>) {
         let mut values = vec![false; vrs.len()];
         // SAFETY: arrays of the lengths passed.
         let status = unsafe {
@@ -497,7 +497,7 @@ impl Fmi3Instance {
         (status, values)
     }
 
-    pub fn set_boolean(&self, vrs: &[u32], values: &[bool]) -> fmi3Status {
+    pub fn set_booleans(&self, vrs: &[u32], values: &[bool]) -> fmi3Status {
         // SAFETY: arrays of the lengths passed.
         unsafe {
             (self.functions.set_boolean)(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr(), values.len())

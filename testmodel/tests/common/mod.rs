@@ -147,3 +147,84 @@ pub fn analytic_x(t: f64, x0: f64, k: f64, c: f64, u: f64) -> f64 {
     let b = zeta_omega * a / omega_d;
     x_eq + (-zeta_omega * t).exp() * (a * (omega_d * t).cos() + b * (omega_d * t).sin())
 }
+
+// ---- Both versions: one test body for FMI 2.0 and FMI 3.0 ----
+
+pub use fmi_testkit::{Driver, Fmi2, Fmi3, Interface, Status, Version};
+
+pub static FUNCTIONS3: fmi_testkit::Fmi3Functions = fmi_testkit::fmi3_functions!(fmu_testmodel);
+
+/// A driver of the Oscillator: the version's function table and token.
+pub trait Osc: Driver {
+    fn functions() -> &'static Self::Functions;
+    fn token() -> String;
+
+    /// A Co-Simulation instance named "osc".
+    fn open(logging_on: bool) -> Self {
+        Self::open_as(Interface::CoSimulation, "osc", logging_on)
+    }
+
+    fn open_as(interface: Interface, name: &str, logging_on: bool) -> Self {
+        Self::instantiate(Self::functions(), name, &Self::token(), interface, logging_on)
+            .unwrap_or_else(|log| panic!("instantiate failed: {log:?}"))
+    }
+
+    /// The C name of a function of this version: `f("DoStep")` is `fmi2DoStep` or
+    /// `fmi3DoStep`.
+    fn f(name: &str) -> String {
+        format!("{}{name}", Self::VERSION.prefix())
+    }
+
+    /// The C name of the Real setter or getter: `fmi2SetReal`, `fmi3SetFloat64`.
+    fn real_fn(set: bool) -> String {
+        let verb = if set { "Set" } else { "Get" };
+        match Self::VERSION {
+            Version::Fmi2 => format!("fmi2{verb}Real"),
+            Version::Fmi3 => format!("fmi3{verb}Float64"),
+        }
+    }
+
+    /// The C name of the Integer setter: `fmi2SetInteger`, `fmi3SetInt32`.
+    fn integer_setter() -> &'static str {
+        match Self::VERSION {
+            Version::Fmi2 => "fmi2SetInteger",
+            Version::Fmi3 => "fmi3SetInt32",
+        }
+    }
+}
+
+impl Osc for Fmi2 {
+    fn functions() -> &'static fmi_testkit::Fmi2Functions {
+        &FUNCTIONS
+    }
+    fn token() -> String {
+        fmi2_export::guid::<fmu_testmodel::Oscillator>()
+    }
+}
+
+impl Osc for Fmi3 {
+    fn functions() -> &'static fmi_testkit::Fmi3Functions {
+        &FUNCTIONS3
+    }
+    fn token() -> String {
+        fmi3_export::instantiation_token::<fmu_testmodel::Oscillator>()
+    }
+}
+
+/// `both!(case, ...)`: for each generic `fn case<D: Osc>()`, a module `case` with the tests
+/// `fmi2` and `fmi3`.
+#[macro_export]
+macro_rules! both {
+    ($($case:ident),* $(,)?) => {$(
+        mod $case {
+            #[test]
+            fn fmi2() {
+                super::$case::<fmi_testkit::Fmi2>()
+            }
+            #[test]
+            fn fmi3() {
+                super::$case::<fmi_testkit::Fmi3>()
+            }
+        }
+    )*};
+}
