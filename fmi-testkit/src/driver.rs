@@ -3,6 +3,8 @@
 //! body runs as FMI 2.0 ([`Fmi2`]) and as FMI 3.0 ([`Fmi3`]). Where the versions differ by
 //! standard (state names, a step that ends early), the test asks [`Driver::VERSION`] and
 //! asserts each version's own behaviour.
+// FMU states are opaque handles passed on to the FMU, which must refuse a bad one.
+#![allow(clippy::not_unsafe_ptr_arg_deref)]
 use crate::fmi3::{CoSimulationOptions, Fmi3Functions, Fmi3Instance};
 use crate::functions::Fmi2Functions;
 use crate::instance::Instance;
@@ -323,7 +325,12 @@ impl Driver for Instance {
             .collect();
         // SAFETY: arrays of the length passed.
         unsafe {
-            (self.functions().set_boolean)(self.component(), vrs.as_ptr(), vrs.len(), values.as_ptr())
+            (self.functions().set_boolean)(
+                self.component(),
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_ptr(),
+            )
         }
         .into()
     }
@@ -339,7 +346,10 @@ impl Driver for Instance {
                 values.as_mut_ptr(),
             )
         };
-        (status.into(), values.iter().map(|&b| b != fmi2False).collect())
+        (
+            status.into(),
+            values.iter().map(|&b| b != fmi2False).collect(),
+        )
     }
 
     fn set_string(&self, vr: u32, value: &str) -> Status {
@@ -349,8 +359,7 @@ impl Driver for Instance {
     fn get_string(&self, vr: u32) -> (Status, Option<String>) {
         let mut value: fmi2String = std::ptr::null();
         // SAFETY: one element each; the FMU keeps the string alive until its next call.
-        let status =
-            unsafe { (self.functions().get_string)(self.component(), &vr, 1, &mut value) };
+        let status = unsafe { (self.functions().get_string)(self.component(), &vr, 1, &mut value) };
         let text = (status.is_success() && !value.is_null()).then(|| {
             // SAFETY: non-null and NUL-terminated, per the standard.
             unsafe { std::ffi::CStr::from_ptr(value) }

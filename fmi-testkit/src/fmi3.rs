@@ -21,7 +21,8 @@ type Vector = unsafe extern "C" fn(Inst, *mut f64, usize) -> fmi3Status;
 #[derive(Debug, Clone, Copy)]
 pub struct Fmi3Functions {
     pub get_version: unsafe extern "C" fn() -> *const std::os::raw::c_char,
-    pub set_debug_logging: unsafe extern "C" fn(Inst, fmi3Boolean, usize, *const fmi3String) -> fmi3Status,
+    pub set_debug_logging:
+        unsafe extern "C" fn(Inst, fmi3Boolean, usize, *const fmi3String) -> fmi3Status,
     pub instantiate_model_exchange: unsafe extern "C" fn(
         fmi3String,
         fmi3String,
@@ -66,7 +67,8 @@ pub struct Fmi3Functions {
     pub get_fmu_state: unsafe extern "C" fn(Inst, *mut fmi3FMUState) -> fmi3Status,
     pub set_fmu_state: unsafe extern "C" fn(Inst, fmi3FMUState) -> fmi3Status,
     pub free_fmu_state: unsafe extern "C" fn(Inst, *mut fmi3FMUState) -> fmi3Status,
-    pub serialized_fmu_state_size: unsafe extern "C" fn(Inst, fmi3FMUState, *mut usize) -> fmi3Status,
+    pub serialized_fmu_state_size:
+        unsafe extern "C" fn(Inst, fmi3FMUState, *mut usize) -> fmi3Status,
     pub serialize_fmu_state:
         unsafe extern "C" fn(Inst, fmi3FMUState, *mut fmi3Byte, usize) -> fmi3Status,
     pub deserialize_fmu_state:
@@ -459,7 +461,13 @@ impl Fmi3Instance {
         let mut values = vec![0; vrs.len()];
         // SAFETY: arrays of the lengths passed.
         let status = unsafe {
-            (self.functions.get_int32)(self.c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr(), vrs.len())
+            (self.functions.get_int32)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_mut_ptr(),
+                vrs.len(),
+            )
         };
         (status, values)
     }
@@ -467,7 +475,13 @@ impl Fmi3Instance {
     pub fn set_int32(&self, vrs: &[u32], values: &[i32]) -> fmi3Status {
         // SAFETY: arrays of the lengths passed.
         unsafe {
-            (self.functions.set_int32)(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr(), values.len())
+            (self.functions.set_int32)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_ptr(),
+                values.len(),
+            )
         }
     }
 
@@ -476,7 +490,13 @@ impl Fmi3Instance {
         let mut values = vec![0; vrs.len()];
         // SAFETY: arrays of the lengths passed.
         let status = unsafe {
-            (self.functions.get_int64)(self.c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr(), vrs.len())
+            (self.functions.get_int64)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_mut_ptr(),
+                vrs.len(),
+            )
         };
         (status, values)
     }
@@ -484,7 +504,13 @@ impl Fmi3Instance {
     pub fn set_int64(&self, vrs: &[u32], values: &[i64]) -> fmi3Status {
         // SAFETY: arrays of the lengths passed.
         unsafe {
-            (self.functions.set_int64)(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr(), values.len())
+            (self.functions.set_int64)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_ptr(),
+                values.len(),
+            )
         }
     }
 
@@ -492,7 +518,13 @@ impl Fmi3Instance {
         let mut values = vec![false; vrs.len()];
         // SAFETY: arrays of the lengths passed.
         let status = unsafe {
-            (self.functions.get_boolean)(self.c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr(), vrs.len())
+            (self.functions.get_boolean)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_mut_ptr(),
+                vrs.len(),
+            )
         };
         (status, values)
     }
@@ -500,7 +532,13 @@ impl Fmi3Instance {
     pub fn set_booleans(&self, vrs: &[u32], values: &[bool]) -> fmi3Status {
         // SAFETY: arrays of the lengths passed.
         unsafe {
-            (self.functions.set_boolean)(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr(), values.len())
+            (self.functions.set_boolean)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_ptr(),
+                values.len(),
+            )
         }
     }
 
@@ -511,7 +549,9 @@ impl Fmi3Instance {
         let status = unsafe { (self.functions.get_string)(self.c, &vr, 1, &mut value, 1) };
         let text = (status.is_success() && !value.is_null()).then(|| {
             // SAFETY: non-null and NUL-terminated, per the standard.
-            unsafe { CStr::from_ptr(value) }.to_string_lossy().into_owned()
+            unsafe { CStr::from_ptr(value) }
+                .to_string_lossy()
+                .into_owned()
         });
         (status, text)
     }

@@ -360,7 +360,8 @@ fn foreign_freed_and_null_states_are_refused_in_each_version<D: Osc>() {
     let (_, theirs) = other.get_state();
     assert_eq!(fmu.set_state(theirs), Status::Error);
     assert!(
-        fmu.last_message().contains("was not created by this instance"),
+        fmu.last_message()
+            .contains("was not created by this instance"),
         "{}",
         fmu.last_message()
     );
@@ -370,7 +371,11 @@ fn foreign_freed_and_null_states_are_refused_in_each_version<D: Osc>() {
     assert_eq!(fmu.serialize(mine).0, Status::Error, "freed");
     assert_eq!(fmu.free_state(mine), Status::Error, "double free");
     assert_eq!(fmu.set_state(D::null_state()), Status::Error);
-    assert!(fmu.last_message().ends_with("is NULL"), "{}", fmu.last_message());
+    assert!(
+        fmu.last_message().ends_with("is NULL"),
+        "{}",
+        fmu.last_message()
+    );
     // The instance goes on.
     run_any(&fmu, 100.0 * H, 3);
 }

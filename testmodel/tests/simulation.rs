@@ -421,7 +421,10 @@ fn invalid_parameter_fails_initialization_and_reset_recovers_in_each_version<D: 
     assert_eq!(fmu.set_real(vr::U, 1.0), Status::Error, "state Error");
     assert_eq!(fmu.reset(), Status::Ok);
     fmu.initialize();
-    assert!(!fmu.boolean(vr::STOP_AT_THRESHOLD), "Reset restores the start values");
+    assert!(
+        !fmu.boolean(vr::STOP_AT_THRESHOLD),
+        "Reset restores the start values"
+    );
     assert_eq!(fmu.step(0.0, H).status, Status::Ok);
 }
 
@@ -445,7 +448,10 @@ fn fmi3_model_exchange_integrates_and_stops_at_the_state_event() {
     let update = fmu.update_discrete_states();
     assert_eq!(update.status, fmi_testkit::fmi3_ffi::fmi3OK);
     assert!(!update.terminate_simulation, "no event at the start");
-    assert_eq!(fmu.enter_continuous_time_mode(), fmi_testkit::fmi3_ffi::fmi3OK);
+    assert_eq!(
+        fmu.enter_continuous_time_mode(),
+        fmi_testkit::fmi3_ffi::fmi3OK
+    );
     let (_, mut x) = fmu.continuous_states(2);
     assert_eq!(x, vec![1.0, 0.0]);
     let eval = |t: f64, x: &[f64]| {
@@ -494,7 +500,12 @@ fn fmi3_model_exchange_integrates_and_stops_at_the_state_event() {
     }
     assert_eq!(fmu.enter_event_mode(), fmi_testkit::fmi3_ffi::fmi3OK);
     let update = fmu.update_discrete_states();
-    assert_eq!(update.status, fmi_testkit::fmi3_ffi::fmi3OK, "{:?}", fmu.messages());
+    assert_eq!(
+        update.status,
+        fmi_testkit::fmi3_ffi::fmi3OK,
+        "{:?}",
+        fmu.messages()
+    );
     assert!(update.terminate_simulation);
     assert!((t - std::f64::consts::FRAC_PI_2).abs() < 1e-9, "t = {t}");
     assert_eq!(Driver::terminate(&fmu), Status::Ok);

@@ -2,7 +2,7 @@
 //! Messages reach the test through the real variadic logger (the C shim of `fmi-abi`),
 //! which formats them as a C master does: a message the layer passed as a format string
 //! instead of an argument would show up garbled.
-#![allow(dead_code, unsafe_code)]
+#![allow(dead_code, unsafe_code, unused_imports)]
 
 use fmi_testkit::fmi2::*;
 use fmi_testkit::{fmi2_functions, Fmi2Functions, Instance};
@@ -165,8 +165,14 @@ pub trait Osc: Driver {
     }
 
     fn open_as(interface: Interface, name: &str, logging_on: bool) -> Self {
-        Self::instantiate(Self::functions(), name, &Self::token(), interface, logging_on)
-            .unwrap_or_else(|log| panic!("instantiate failed: {log:?}"))
+        Self::instantiate(
+            Self::functions(),
+            name,
+            &Self::token(),
+            interface,
+            logging_on,
+        )
+        .unwrap_or_else(|log| panic!("instantiate failed: {log:?}"))
     }
 
     /// The C name of a function of this version: `f("DoStep")` is `fmi2DoStep` or
