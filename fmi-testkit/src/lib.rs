@@ -4,6 +4,9 @@
 //!   the test ([`fmi2_functions!`]) or from a shared library loaded at run time;
 //! - [`Instance`]: one instance driven through those entry points exactly as a C master
 //!   drives it, freed on drop;
+//! - [`Fmi3Functions`] and [`Fmi3Instance`]: the same for FMI 3.0 ([`fmi3_functions!`]);
+//! - [`Driver`]: one interface over both ([`Fmi2`], [`Fmi3`]), so that one test body runs
+//!   for each version, with a version-neutral [`Status`] and [`StepOutcome`];
 //! - [`TestLogger`]: records every message through the real variadic callback (the C shim
 //!   of `fmi-abi`), no transmuted function pointers;
 //! - [`MeSolver`]: a Model Exchange master of the kit's own (fixed-step RK4, events by
@@ -18,6 +21,8 @@
 mod alloc;
 mod bounds;
 mod drift;
+mod driver;
+mod fmi3;
 mod functions;
 mod instance;
 mod logger;
@@ -26,7 +31,10 @@ mod model_exchange;
 pub use alloc::{CountingAllocator, HeapUse};
 pub use bounds::assert_declared_bounds_are_validated;
 pub use drift::assert_file_matches;
+pub use driver::{Driver, Fmi2, Fmi3, Interface, Status, StepOutcome, Version};
+pub use fmi3::{CoSimulationOptions, Fmi3EventUpdate, Fmi3Functions, Fmi3Instance, Fmi3Step};
 pub use fmi_abi::fmi2;
+pub use fmi_abi::fmi3 as fmi3_ffi;
 pub use fmi_abi::unpack;
 pub use functions::Fmi2Functions;
 pub use instance::Instance;

@@ -48,6 +48,10 @@ impl TestLogger {
         self.records.lock().unwrap_or_else(|p| p.into_inner())
     }
 
+    pub(crate) fn push(&self, record: Record) {
+        self.lock().push(record);
+    }
+
     /// Everything logged since the last `take` (or `clear`).
     pub fn take(&self) -> Vec<Record> {
         std::mem::take(&mut *self.lock())

@@ -1,6 +1,9 @@
 //! The model: parameters, state, and the `fmi2_export::Model` implementation.
 use crate::dynamics::{Coefficients, State};
-use fmi_model::{Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd};
+use fmi_model::{
+    ContinuousModel, Declaration, Dependencies, EventUpdate, Experiment, Log, Model, ModelError,
+    StepEnd,
+};
 use serde::{Deserialize, Serialize};
 
 /// The constant mass (kg) of the oscillator.
@@ -56,6 +59,10 @@ pub struct Oscillator {
     pub(crate) step_count: i32,
     pub(crate) omega_n_rad_per_s: f64,
     initialized: bool,
+    /// Model Exchange: the time the solver set, and x - threshold at the end of
+    /// initialization or at the last event (the side a crossing starts from).
+    time_s: f64,
+    event_offset_m: f64,
 }
 
 impl Default for Oscillator {
@@ -76,6 +83,8 @@ impl Default for Oscillator {
             step_count: 0,
             omega_n_rad_per_s: 0.0,
             initialized: false,
+            time_s: 0.0,
+            event_offset_m: 0.0,
         }
     }
 }
@@ -94,6 +103,20 @@ impl Oscillator {
         State {
             x_m: self.x_m,
             v_m_per_s: self.v_m_per_s,
+        }
+    }
+
+    /// x'' at the current state and input.
+    pub(crate) fn acceleration(&self) -> f64 {
+        (-self.k_n_per_m * self.x_m - self.c_ns_per_m * self.v_m_per_s + self.u_n) / MASS_KG
+    }
+
+    /// The event indicator: x - threshold while stop_at_threshold is set, else 1 (no event).
+    pub(crate) fn threshold_offset(&self) -> f64 {
+        if self.stop_at_threshold {
+            self.x_m - self.threshold_m
+        } else {
+            1.0
         }
     }
 
@@ -122,7 +145,7 @@ impl Model for Oscillator {
     const MODEL_IDENTIFIER: &'static str = "Oscillator";
     const MODEL_NAME: &'static str = "Oscillator";
     const DESCRIPTION: &'static str =
-        "Damped spring-mass oscillator, the test model of the fmi2-export layer";
+        "Damped spring-mass oscillator, the test model of the FMI 2.0 and 3.0 export layers";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 10.0,
@@ -165,7 +188,7 @@ impl Model for Oscillator {
         Ok(())
     }
 
-    fn exit_initialization(&mut self, _start_time: f64, log: &mut Log) -> Result<(), ModelError> {
+    fn exit_initialization(&mut self, start_time: f64, log: &mut Log) -> Result<(), ModelError> {
         if self.stop_at_threshold && self.x0_m == self.threshold_m {
             return Err(ModelError::InvalidParameter {
                 field: "threshold_m",
@@ -179,6 +202,8 @@ impl Model for Oscillator {
         self.v_m_per_s = 0.0;
         self.step_count = 0;
         self.initialized = true;
+        self.time_s = start_time;
+        self.event_offset_m = self.x_m - self.threshold_m;
         log.info(format!(
             "{}: x0 = {} m, k = {} N/m, c = {} N.s/m",
             self.label, self.x0_m, self.k_n_per_m, self.c_ns_per_m
@@ -230,5 +255,75 @@ impl Model for Oscillator {
             }
         }
         Ok(StepEnd::Complete)
+    }
+}
+
+/// Model Exchange: the states x and v, one event indicator (x - threshold) while
+/// stop_at_threshold is set; a crossing in the selected direction ends the simulation.
+impl ContinuousModel for Oscillator {
+    const STATE_DERIVATIVES: &'static [(&'static str, &'static str)] =
+        &[("x", "der_x"), ("v", "der_v")];
+    const EVENT_INDICATORS: usize = 1;
+    const EVENT_INDICATOR_VARIABLES: &'static [&'static str] = &["threshold_offset"];
+
+    fn state_count(&self) -> usize {
+        2
+    }
+
+    fn event_indicator_count(&self) -> usize {
+        1
+    }
+
+    fn set_time(&mut self, t: f64) {
+        self.time_s = t;
+    }
+
+    fn states(&self, x: &mut [f64]) {
+        x.copy_from_slice(&[self.x_m, self.v_m_per_s]);
+    }
+
+    fn set_states(&mut self, x: &[f64]) -> Result<(), ModelError> {
+        let [x_m, v_m_per_s] = *x else {
+            return Err(ModelError::Other(format!(
+                "{} states given, 2 expected",
+                x.len()
+            )));
+        };
+        self.x_m = x_m;
+        self.v_m_per_s = v_m_per_s;
+        Ok(())
+    }
+
+    fn nominals(&self, nominal: &mut [f64]) {
+        nominal.fill(1.0);
+    }
+
+    fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), ModelError> {
+        dx.copy_from_slice(&[self.v_m_per_s, self.acceleration()]);
+        Ok(())
+    }
+
+    fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), ModelError> {
+        z.fill(self.threshold_offset());
+        Ok(())
+    }
+
+    fn update_discrete_states(&mut self, log: &mut Log) -> Result<EventUpdate, ModelError> {
+        if !self.initialized || !self.stop_at_threshold {
+            return Ok(EventUpdate::default());
+        }
+        let offset = self.x_m - self.threshold_m;
+        let crossed = self.crossing.crossed(self.event_offset_m, offset);
+        self.event_offset_m = offset;
+        if crossed {
+            log.info(format!(
+                "x crossed the threshold {} m at t = {} s",
+                self.threshold_m, self.time_s
+            ));
+        }
+        Ok(EventUpdate {
+            terminate: crossed,
+            ..EventUpdate::default()
+        })
     }
 }

@@ -3,7 +3,7 @@ use crate::oscillator::{Oscillator, MASS_KG};
 use fmi_model::{decl, Declaration};
 
 #[rustfmt::skip]
-pub static DECLARATIONS: [Declaration<Oscillator>; 14] = [
+pub static DECLARATIONS: [Declaration<Oscillator>; 17] = [
     // Real
     decl!(0, parameter x0: x0_m, "m", "Initial position"),
     decl!(1, tunable k: k_n_per_m, "N/m", "Spring stiffness", min = 0.0),
@@ -14,12 +14,16 @@ pub static DECLARATIONS: [Declaration<Oscillator>; 14] = [
     decl!(6, output v: v_m_per_s, "m/s", "Velocity"),
     decl!(7, calculated_tunable omega_n: omega_n_rad_per_s, "rad/s", "Undamped natural angular frequency sqrt(k / mass)"),
     decl!(8, constant mass: get |_, _| MASS_KG, "kg", "Mass"),
-    // Integer and Enumeration
-    decl!(0, discrete_output step_count: step_count as i32, "Number of completed or stopped fmi2DoStep calls"),
-    decl!(1, parameter substeps: substeps as i32, "RK4 sub-steps per communication step", int_min = 1, int_max = 1000),
-    decl!(2, parameter crossing_direction: crossing as enum crate::Crossing, "Which threshold crossings stop the simulation"),
+    // Model Exchange: the derivatives of the states x and v, and the event indicator
+    decl!(9, derivative der_x: get |m, _| m.v_m_per_s, "m/s", "Time derivative of x"),
+    decl!(10, derivative der_v: get |m, _| m.acceleration(), "m/s2", "Time derivative of v"),
+    decl!(11, local threshold_offset: get |m, _| m.threshold_offset(), "m", "Event indicator: x - threshold while stop_at_threshold is set, 1 otherwise"),
+    // Integer and Enumeration (value references unique across types, as FMI 3.0 requires)
+    decl!(12, discrete_output step_count: step_count as i32, "Number of completed or stopped communication steps"),
+    decl!(13, parameter substeps: substeps as i32, "RK4 sub-steps per communication step", int_min = 1, int_max = 1000),
+    decl!(14, parameter crossing_direction: crossing as enum crate::Crossing, "Which threshold crossings stop the simulation"),
     // Boolean
-    decl!(0, parameter stop_at_threshold: stop_at_threshold as bool, "Stop (fmi2Discard, terminated) when x crosses threshold"),
+    decl!(15, parameter stop_at_threshold: stop_at_threshold as bool, "Stop (terminated) when x crosses threshold"),
     // String
-    decl!(0, parameter label: label as String, "Name used in log messages"),
+    decl!(16, parameter label: label as String, "Name used in log messages"),
 ];

@@ -136,17 +136,17 @@ fn bounds_of_the_table_are_enforced() {
     refused(
         &fmu,
         fmu.set_integer(vr::SUBSTEPS, 0),
-        "fmi2SetInteger: variable substeps (vr 1): value 0 is outside [1, 1000]",
+        "fmi2SetInteger: variable substeps (vr 13): value 0 is outside [1, 1000]",
     );
     refused(
         &fmu,
         fmu.set_integer(vr::SUBSTEPS, 1001),
-        "fmi2SetInteger: variable substeps (vr 1): value 1001 is outside [1, 1000]",
+        "fmi2SetInteger: variable substeps (vr 13): value 1001 is outside [1, 1000]",
     );
     refused(
         &fmu,
         fmu.set_integer(vr::CROSSING, 7),
-        "fmi2SetInteger: variable crossing_direction (vr 2): value 7 is not an item of enumeration \
+        "fmi2SetInteger: variable crossing_direction (vr 14): value 7 is not an item of enumeration \
          Oscillator.Crossing: allowed 1 (either), 2 (falling), 3 (rising)",
     );
     assert_eq!(
@@ -176,14 +176,14 @@ fn invalid_strings_are_refused() {
     refused(
         &fmu,
         unsafe { fmu::fmi2SetString(fmu.c, &vr::LABEL, 1, &p) },
-        "fmi2SetString: variable label (vr 0): value is a NULL string",
+        "fmi2SetString: variable label (vr 16): value is a NULL string",
     );
     let latin1 = b"caf\xe9\0";
     let p = latin1.as_ptr() as fmi2String;
     refused(
         &fmu,
         unsafe { fmu::fmi2SetString(fmu.c, &vr::LABEL, 1, &p) },
-        "fmi2SetString: variable label (vr 0): value is not valid UTF-8",
+        "fmi2SetString: variable label (vr 16): value is not valid UTF-8",
     );
 }
 
@@ -406,3 +406,42 @@ fn instantiate_copies_the_strings_it_is_given() {
     assert_eq!(record.instance, "short-lived");
     unsafe { fmu::fmi2FreeInstance(c) };
 }
+
+// ---- Both versions, through the kit's driver ----
+
+use common::{Osc, Status};
+
+/// Values outside the declared bounds, non-finite values and variables that may not be set
+/// are refused naming the variable, in each version, and change nothing.
+fn bad_values_are_refused_by_name_in_each_version<D: Osc>() {
+    let fmu = D::open(false);
+    assert_eq!(fmu.enter_initialization_mode(0.0, None), Status::Ok);
+    let refused = |status: Status, line: String| {
+        assert_eq!(status, Status::Error, "{line}");
+        assert_eq!(fmu.last_message(), line);
+    };
+    let set = D::real_fn(true);
+    refused(
+        fmu.set_real(vr::MASS, 2.0),
+        format!("{set}: variable mass (vr 8) cannot be set: a constant is never settable"),
+    );
+    refused(
+        fmu.set_real(vr::U, f64::NAN),
+        format!("{set}: variable u (vr 4): value NaN is not finite"),
+    );
+    refused(
+        fmu.set_real(vr::K, -1.0),
+        format!("{set}: variable k (vr 1): value -1 is outside [0, inf)"),
+    );
+    refused(
+        fmu.set_integer(vr::SUBSTEPS, 0),
+        format!(
+            "{}: variable substeps (vr 13): value 0 is outside [1, 1000]",
+            D::integer_setter()
+        ),
+    );
+    assert_eq!(fmu.real(vr::K), 1.0, "a refused set changes nothing");
+    assert_eq!(fmu.integer(vr::SUBSTEPS), 8);
+}
+
+both!(bad_values_are_refused_by_name_in_each_version);

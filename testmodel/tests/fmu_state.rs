@@ -274,3 +274,132 @@ fn a_restored_integer_outside_its_declared_bounds_is_refused_by_name() {
     assert_eq!(status, fmi2OK);
     fmu.free_state(state);
 }
+
+// ---- Both versions, through the kit's driver ----
+
+use common::{Driver, Osc, Status};
+
+/// Steps n times from `t0` with a varying input; the output bits.
+fn run_any<D: Osc>(fmu: &D, t0: f64, n: usize) -> Vec<u64> {
+    (0..n)
+        .map(|i| {
+            let t = t0 + i as f64 * H;
+            fmu.set_real(vr::U, (3.0 * t).cos());
+            assert_eq!(fmu.step(t, H).status, Status::Ok, "{:?}", fmu.messages());
+            let (x, v) = (fmu.real(vr::X), fmu.real(vr::V));
+            x.to_bits() ^ v.to_bits().rotate_left(1) ^ fmu.integer(vr::STEP_COUNT) as u64
+        })
+        .collect()
+}
+
+fn started_any<D: Osc>(name: &str) -> D {
+    let fmu = D::open_as(common::Interface::CoSimulation, name, false);
+    fmu.set_real(vr::K, 3.0);
+    fmu.initialize();
+    run_any(&fmu, 0.0, 100);
+    fmu
+}
+
+fn restoring_a_state_continues_bit_exactly_in_each_version<D: Osc>() {
+    let fmu: D = started_any("osc");
+    let (status, state) = fmu.get_state();
+    assert_eq!(status, Status::Ok);
+    let first = run_any(&fmu, 100.0 * H, 200);
+    assert_eq!(fmu.set_state(state), Status::Ok);
+    assert_eq!(run_any(&fmu, 100.0 * H, 200), first);
+    assert_eq!(fmu.free_state(state), Status::Ok);
+}
+
+fn serialized_states_round_trip_also_into_another_instance_in_each_version<D: Osc>() {
+    let fmu: D = started_any("osc");
+    let (_, state) = fmu.get_state();
+    let (status, bytes) = fmu.serialize(state);
+    assert_eq!(status, Status::Ok);
+    let first = run_any(&fmu, 100.0 * H, 150);
+
+    let (status, copy) = fmu.deserialize(&bytes);
+    assert_eq!(status, Status::Ok);
+    assert_eq!(fmu.serialize(copy), (Status::Ok, bytes.clone()));
+    assert_eq!(fmu.set_state(copy), Status::Ok);
+    assert_eq!(run_any(&fmu, 100.0 * H, 150), first);
+
+    let other: D = D::open_as(common::Interface::CoSimulation, "other", false);
+    let (status, foreign_copy) = other.deserialize(&bytes);
+    assert_eq!(status, Status::Ok);
+    assert_eq!(other.set_state(foreign_copy), Status::Ok);
+    assert_eq!(run_any(&other, 100.0 * H, 150), first);
+}
+
+/// Every truncation is refused with a NULL state; the header's size is named.
+fn truncated_buffers_are_refused_in_each_version<D: Osc>() {
+    let fmu: D = started_any("osc");
+    let (_, state) = fmu.get_state();
+    let (_, bytes) = fmu.serialize(state);
+    for len in 0..bytes.len() {
+        let (status, state) = fmu.deserialize(&bytes[..len]);
+        assert_eq!(status, Status::Error, "prefix of {len} bytes");
+        assert!(D::is_null(state));
+    }
+    fmu.deserialize(&bytes[..10]);
+    assert_eq!(
+        fmu.last_message(),
+        format!(
+            "{}: FMU state: buffer of 10 bytes is shorter than the 44-byte header",
+            D::f(match D::VERSION {
+                common::Version::Fmi2 => "DeSerializeFMUstate",
+                common::Version::Fmi3 => "DeserializeFMUState",
+            })
+        )
+    );
+}
+
+/// A state of another instance, a freed one and NULL are refused, not dereferenced.
+fn foreign_freed_and_null_states_are_refused_in_each_version<D: Osc>() {
+    let fmu: D = started_any("osc");
+    let other: D = started_any("other");
+    let (_, theirs) = other.get_state();
+    assert_eq!(fmu.set_state(theirs), Status::Error);
+    assert!(
+        fmu.last_message()
+            .contains("was not created by this instance"),
+        "{}",
+        fmu.last_message()
+    );
+    let (_, mine) = fmu.get_state();
+    assert_eq!(fmu.free_state(mine), Status::Ok);
+    assert_eq!(fmu.set_state(mine), Status::Error, "freed");
+    assert_eq!(fmu.serialize(mine).0, Status::Error, "freed");
+    assert_eq!(fmu.free_state(mine), Status::Error, "double free");
+    assert_eq!(fmu.set_state(D::null_state()), Status::Error);
+    assert!(
+        fmu.last_message().ends_with("is NULL"),
+        "{}",
+        fmu.last_message()
+    );
+    // The instance goes on.
+    run_any(&fmu, 100.0 * H, 3);
+}
+
+both!(
+    restoring_a_state_continues_bit_exactly_in_each_version,
+    serialized_states_round_trip_also_into_another_instance_in_each_version,
+    truncated_buffers_are_refused_in_each_version,
+    foreign_freed_and_null_states_are_refused_in_each_version,
+);
+
+/// A serialized state of one version is no state of the other (its own magic bytes).
+#[test]
+fn a_state_of_one_version_is_refused_by_the_other() {
+    let two: common::Fmi2 = started_any("two");
+    let three: common::Fmi3 = started_any("three");
+    let (_, s2) = Driver::get_state(&two);
+    let (_, s3) = Driver::get_state(&three);
+    let (_, b2) = Driver::serialize(&two, s2);
+    let (_, b3) = Driver::serialize(&three, s3);
+    let (status, state) = Driver::deserialize(&three, &b2);
+    assert_eq!(status, Status::Error, "FMI 2.0 bytes into FMI 3.0");
+    assert!(state.is_null());
+    let (status, state) = Driver::deserialize(&two, &b3);
+    assert_eq!(status, Status::Error, "FMI 3.0 bytes into FMI 2.0");
+    assert!(state.is_null());
+}

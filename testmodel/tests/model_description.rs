@@ -79,3 +79,17 @@ fn model_structure_lists_outputs_and_initial_unknowns() {
         ));
     }
 }
+
+/// FMI 3.0 wants value references unique across types and an event indicator and state
+/// derivatives that name declared variables: the description builds without a problem.
+#[test]
+fn the_fmi3_description_is_valid() {
+    assert_eq!(
+        fmi3_export::variables::check::<Oscillator>(),
+        Vec::<String>::new()
+    );
+    let xml = fmi3_export::model_description_xml_me::<Oscillator>();
+    assert!(xml.contains("<ModelExchange modelIdentifier=\"Oscillator\""));
+    assert!(xml.contains("<EventIndicator valueReference=\"11\"/>"));
+    assert!(xml.contains("<ContinuousStateDerivative valueReference=\"9\"/>"));
+}

@@ -277,3 +277,236 @@ fn types_platform_and_version() {
     assert_eq!(text(unsafe { fmu::fmi2GetTypesPlatform() }), "default");
     assert_eq!(text(unsafe { fmu::fmi2GetVersion() }), "2.0");
 }
+
+// ---- Both versions, through the kit's driver ----
+
+use common::{Driver, Interface, Osc, Status, Version};
+
+/// The analytic solution, as above, for each version.
+fn outputs_follow_the_analytic_solution_in_each_version<D: Osc>() {
+    let fmu = D::open(false);
+    assert_eq!(fmu.set_real(vr::X0, 0.5), Status::Ok);
+    assert_eq!(fmu.set_real(vr::K, 4.0), Status::Ok);
+    assert_eq!(fmu.set_real(vr::C, 0.4), Status::Ok);
+    fmu.initialize();
+    assert_eq!(fmu.set_real(vr::U, 2.0), Status::Ok);
+    let mut t = 0.0;
+    for _ in 0..500 {
+        let step = fmu.step(t, H);
+        assert_eq!(step.status, Status::Ok, "{:?}", fmu.messages());
+        assert!(!step.ended_early && !step.terminated);
+        assert_eq!(step.last_successful_time, t + H);
+        t += H;
+        let expected = analytic_x(t, 0.5, 4.0, 0.4, 2.0);
+        assert!((fmu.real(vr::X) - expected).abs() < 1e-9, "t = {t}");
+    }
+    assert_eq!(fmu.integer(vr::STEP_COUNT), 500);
+    assert_eq!(fmu.real(vr::OMEGA_N), 2.0);
+    assert_eq!(fmu.real(vr::MASS), 1.0);
+}
+
+/// The step containing t = pi/2 ends there and the FMU asks to terminate. FMI 2.0
+/// (§4.2.2): `fmi2Discard`, then `fmi2Terminated` and `fmi2LastSuccessfulTime`, and the
+/// instance is in StepFailed. FMI 3.0 (§4.2.1): the step succeeded (`fmi3OK`) with
+/// `earlyReturn` (the master allowed it), `terminateSimulation` and `lastSuccessfulTime`
+/// at the crossing; `fmi3Discard` would mean the step was not carried out.
+fn threshold_crossing_ends_the_step_at_the_crossing<D: Osc>() {
+    let fmu = D::open(false);
+    fmu.set_real(vr::C, 0.0);
+    fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
+    fmu.initialize();
+    let mut t = 0.0;
+    let last = loop {
+        let step = fmu.step(t, H);
+        if step.ended_early {
+            break step;
+        }
+        assert_eq!(step.status, Status::Ok, "{:?}", fmu.messages());
+        assert!(!step.terminated);
+        t += H;
+        assert!(t < 2.0, "no stop: {:?}", fmu.messages());
+    };
+    let expected = match D::VERSION {
+        Version::Fmi2 => Status::Discard,
+        Version::Fmi3 => Status::Ok,
+    };
+    assert_eq!(last.status, expected);
+    assert!(last.terminated);
+    let stop = last.last_successful_time;
+    assert!(
+        (stop - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
+        "stop {stop}"
+    );
+    assert!(t < stop && stop <= t + H);
+    assert!(fmu.real(vr::X).abs() < 1e-9);
+    match D::VERSION {
+        // StepFailed: only Terminate (and the status functions) go on.
+        Version::Fmi2 => {
+            assert_eq!(fmu.step(stop, H).status, Status::Error);
+            assert!(fmu
+                .last_message()
+                .contains("illegal call in state StepFailed"));
+        }
+        // Still Step Mode: a master that steps on from the crossing gets a step and the
+        // same request to terminate; from the old grid point it is refused (time mismatch).
+        Version::Fmi3 => {
+            assert_eq!(fmu.step(t + H, H).status, Status::Error);
+            assert!(fmu.last_message().contains("does not match the FMU's time"));
+            let after = fmu.step(stop, H);
+            assert_eq!(after.status, Status::Ok);
+            assert!(after.terminated);
+        }
+    }
+    assert_eq!(fmu.terminate(), Status::Ok);
+}
+
+/// A falling-only crossing ignores the first (rising) crossing of a threshold, in each
+/// version (the enumeration is an FMI 2.0 Integer, an FMI 3.0 Int64).
+fn crossing_direction_selects_the_crossing_in_each_version<D: Osc>() {
+    let fmu = D::open(false);
+    fmu.set_real(vr::X0, -1.0);
+    fmu.set_real(vr::C, 0.0);
+    fmu.set_real(vr::THRESHOLD, 0.5);
+    fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
+    assert_eq!(fmu.set_enumeration(vr::CROSSING, 2), Status::Ok);
+    fmu.initialize();
+    assert_eq!(fmu.get_enumeration(vr::CROSSING), (Status::Ok, 2));
+    let mut t = 0.0;
+    let stop = loop {
+        let step = fmu.step(t, H);
+        if step.ended_early {
+            break step.last_successful_time;
+        }
+        t += H;
+        assert!(t < 6.0);
+    };
+    // x = -cos t rises through 0.5 at 2pi/3 and falls through it at 4pi/3.
+    assert!(
+        (stop - 4.0 * std::f64::consts::PI / 3.0).abs() < 1e-9,
+        "stop {stop}"
+    );
+}
+
+/// A coarse sub-step warns, with the version's function name, and is no failure.
+fn coarse_sub_steps_give_a_warning_in_each_version<D: Osc>() {
+    let fmu = D::open(false);
+    fmu.set_real(vr::K, 1e4);
+    fmu.set_integer(vr::SUBSTEPS, 1);
+    fmu.initialize();
+    assert_eq!(fmu.step(0.0, H).status, Status::Warning);
+    let last = fmu.logger().all().pop().unwrap();
+    assert_eq!(last.status, fmi2Warning, "the same number in both versions");
+    assert_eq!(last.category.as_deref(), Some("logStatusWarning"));
+    assert!(last
+        .message()
+        .starts_with(&format!("{}: sub-step 0.01 s is coarse", D::f("DoStep"))));
+    assert_eq!(fmu.step(H, H).status, Status::Warning);
+}
+
+/// A model error in ExitInitializationMode: Error, the model's reason, Reset recovers.
+fn invalid_parameter_fails_initialization_and_reset_recovers_in_each_version<D: Osc>() {
+    let fmu = D::open(false);
+    fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
+    fmu.set_real(vr::THRESHOLD, 1.0);
+    assert_eq!(fmu.enter_initialization_mode(0.0, None), Status::Ok);
+    assert_eq!(fmu.exit_initialization_mode(), Status::Error);
+    assert_eq!(
+        fmu.last_message(),
+        format!(
+            "{}: parameter threshold = 1: equals x0 while stop_at_threshold is set: the model \
+             would stop at once",
+            D::f("ExitInitializationMode")
+        )
+    );
+    assert_eq!(fmu.set_real(vr::U, 1.0), Status::Error, "state Error");
+    assert_eq!(fmu.reset(), Status::Ok);
+    fmu.initialize();
+    assert!(
+        !fmu.boolean(vr::STOP_AT_THRESHOLD),
+        "Reset restores the start values"
+    );
+    assert_eq!(fmu.step(0.0, H).status, Status::Ok);
+}
+
+both!(
+    outputs_follow_the_analytic_solution_in_each_version,
+    threshold_crossing_ends_the_step_at_the_crossing,
+    crossing_direction_selects_the_crossing_in_each_version,
+    coarse_sub_steps_give_a_warning_in_each_version,
+    invalid_parameter_fails_initialization_and_reset_recovers_in_each_version,
+);
+
+/// FMI 3.0 Model Exchange: a master's own RK4 over the FMU's derivatives follows the
+/// analytic solution, and the state event of the threshold (located by bisection on the
+/// event indicator) ends the simulation at pi/2 through fmi3UpdateDiscreteStates.
+#[test]
+fn fmi3_model_exchange_integrates_and_stops_at_the_state_event() {
+    let fmu = common::Fmi3::open_as(Interface::ModelExchange, "me", false);
+    fmu.set_real(vr::C, 0.0);
+    Driver::set_boolean(&fmu, vr::STOP_AT_THRESHOLD, true);
+    Driver::initialize(&fmu);
+    let update = fmu.update_discrete_states();
+    assert_eq!(update.status, fmi_testkit::fmi3_ffi::fmi3OK);
+    assert!(!update.terminate_simulation, "no event at the start");
+    assert_eq!(
+        fmu.enter_continuous_time_mode(),
+        fmi_testkit::fmi3_ffi::fmi3OK
+    );
+    let (_, mut x) = fmu.continuous_states(2);
+    assert_eq!(x, vec![1.0, 0.0]);
+    let eval = |t: f64, x: &[f64]| {
+        fmu.set_time(t);
+        assert_eq!(fmu.set_continuous_states(x), fmi_testkit::fmi3_ffi::fmi3OK);
+        let (_, dx) = fmu.derivatives(2);
+        let (_, z) = fmu.event_indicators(1);
+        (dx, z[0])
+    };
+    let rk4 = |t: f64, x: &[f64], h: f64| {
+        let at = |k: &[f64], s: f64| vec![x[0] + s * k[0], x[1] + s * k[1]];
+        let k1 = eval(t, x).0;
+        let k2 = eval(t + h / 2.0, &at(&k1, h / 2.0)).0;
+        let k3 = eval(t + h / 2.0, &at(&k2, h / 2.0)).0;
+        let k4 = eval(t + h, &at(&k3, h)).0;
+        (0..2)
+            .map(|i| x[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
+            .collect::<Vec<f64>>()
+    };
+    let h = 0.001;
+    let mut t = 0.0;
+    loop {
+        let x1 = rk4(t, &x, h);
+        if eval(t + h, &x1).1 > 0.0 {
+            t += h;
+            x = x1;
+            assert!((x[0] - t.cos()).abs() < 1e-9, "t = {t}");
+            let (status, enter, terminate) = fmu.completed_integrator_step();
+            assert_eq!(status, fmi_testkit::fmi3_ffi::fmi3OK);
+            assert!(!enter && !terminate);
+            continue;
+        }
+        let (mut lo, mut hi) = (0.0, h);
+        while hi - lo > 1e-13 {
+            let mid = 0.5 * (lo + hi);
+            if eval(t + mid, &rk4(t, &x, mid)).1 > 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        x = rk4(t, &x, hi);
+        t += hi;
+        eval(t, &x);
+        break;
+    }
+    assert_eq!(fmu.enter_event_mode(), fmi_testkit::fmi3_ffi::fmi3OK);
+    let update = fmu.update_discrete_states();
+    assert_eq!(
+        update.status,
+        fmi_testkit::fmi3_ffi::fmi3OK,
+        "{:?}",
+        fmu.messages()
+    );
+    assert!(update.terminate_simulation);
+    assert!((t - std::f64::consts::FRAC_PI_2).abs() < 1e-9, "t = {t}");
+    assert_eq!(Driver::terminate(&fmu), Status::Ok);
+}

@@ -266,3 +266,104 @@ fn table_rows_agree_with_the_standard_text() {
         }
     }
 }
+
+// ---- Both versions, through the kit's driver ----
+
+use common::{Osc, Status, Version};
+
+/// The name of a state in the version's messages: FMI 2.0's state names are the
+/// export's own (the standard's state chart has no names for messages); FMI 3.0 names its
+/// states (§3.2: "Initialization Mode", "Step Mode", "Event Mode", "Terminated").
+fn state_name<D: Osc>(fmi2: &str, fmi3: &str) -> String {
+    match D::VERSION {
+        Version::Fmi2 => fmi2.into(),
+        Version::Fmi3 => fmi3.into(),
+    }
+}
+
+/// An illegal call is refused with fmi*Error and one line naming the function and the
+/// state, and changes nothing: the normal path goes on.
+fn illegal_calls_are_refused_by_state_name_and_change_nothing<D: Osc>() {
+    let fmu = D::open(false);
+    let illegal = |status: Status, function: &str, state: &str| {
+        assert_eq!(status, Status::Error, "{:?}", fmu.messages());
+        assert_eq!(
+            fmu.messages(),
+            vec![format!("{}: illegal call in state {state}", D::f(function))]
+        );
+        fmu.clear_log();
+    };
+    illegal(fmu.step(0.0, 0.01).status, "DoStep", "Instantiated");
+    illegal(
+        fmu.exit_initialization_mode(),
+        "ExitInitializationMode",
+        "Instantiated",
+    );
+    assert_eq!(fmu.enter_initialization_mode(0.0, None), Status::Ok);
+    illegal(
+        fmu.step(0.0, 0.01).status,
+        "DoStep",
+        &state_name::<D>("InitializationMode", "Initialization Mode"),
+    );
+    assert_eq!(fmu.exit_initialization_mode(), Status::Ok);
+    illegal(
+        fmu.exit_initialization_mode(),
+        "ExitInitializationMode",
+        &state_name::<D>("StepComplete", "Step Mode"),
+    );
+    // A fixed parameter after initialization is refused as not settable (no state line).
+    assert_eq!(fmu.set_integer(vr::SUBSTEPS, 2), Status::Error);
+    fmu.clear_log();
+    assert_eq!(fmu.step(0.0, 0.01).status, Status::Ok, "nothing changed");
+    assert_eq!(fmu.integer(vr::SUBSTEPS), 8);
+    assert_eq!(fmu.terminate(), Status::Ok);
+    illegal(fmu.step(0.01, 0.01).status, "DoStep", "Terminated");
+    illegal(fmu.terminate(), "Terminate", "Terminated");
+    assert_eq!(fmu.reset(), Status::Ok);
+    fmu.initialize();
+    assert_eq!(fmu.step(0.0, 0.01).status, Status::Ok);
+}
+
+/// The Error state: after a failed initialization only Reset (and FreeInstance, and the
+/// gets) are accepted; a set is refused naming the state.
+fn the_error_state_admits_reset_in_each_version<D: Osc>() {
+    let fmu = D::open(false);
+    fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
+    fmu.set_real(vr::THRESHOLD, 1.0);
+    fmu.enter_initialization_mode(0.0, None);
+    assert_eq!(fmu.exit_initialization_mode(), Status::Error);
+    fmu.clear_log();
+    assert_eq!(fmu.set_real(vr::U, 1.0), Status::Error);
+    assert_eq!(
+        fmu.last_message(),
+        format!("{}: illegal call in state Error", D::real_fn(true))
+    );
+    assert_eq!(fmu.real(vr::X), 1.0, "gets are legal in Error");
+    assert_eq!(fmu.reset(), Status::Ok);
+    fmu.initialize();
+}
+
+/// FreeInstance in every reachable state, with an FMU state still held.
+fn free_instance_is_accepted_in_every_state_in_each_version<D: Osc>() {
+    for stage in 0..4 {
+        let fmu = D::open(false);
+        if stage >= 1 {
+            fmu.enter_initialization_mode(0.0, None);
+        }
+        if stage >= 2 {
+            fmu.exit_initialization_mode();
+            fmu.step(0.0, 0.01);
+        }
+        if stage >= 3 {
+            fmu.terminate();
+        }
+        let _ = fmu.get_state(); // owned states are released with the instance
+        drop(fmu);
+    }
+}
+
+both!(
+    illegal_calls_are_refused_by_state_name_and_change_nothing,
+    the_error_state_admits_reset_in_each_version,
+    free_instance_is_accepted_in_every_state_in_each_version,
+);

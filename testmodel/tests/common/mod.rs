@@ -2,7 +2,7 @@
 //! Messages reach the test through the real variadic logger (the C shim of `fmi-abi`),
 //! which formats them as a C master does: a message the layer passed as a format string
 //! instead of an argument would show up garbled.
-#![allow(dead_code, unsafe_code)]
+#![allow(dead_code, unsafe_code, unused_imports)]
 
 use fmi_testkit::fmi2::*;
 use fmi_testkit::{fmi2_functions, Fmi2Functions, Instance};
@@ -23,11 +23,11 @@ pub mod vr {
     pub const V: u32 = 6;
     pub const OMEGA_N: u32 = 7;
     pub const MASS: u32 = 8;
-    pub const STEP_COUNT: u32 = 0;
-    pub const SUBSTEPS: u32 = 1;
-    pub const CROSSING: u32 = 2;
-    pub const STOP_AT_THRESHOLD: u32 = 0;
-    pub const LABEL: u32 = 0;
+    pub const STEP_COUNT: u32 = 12;
+    pub const SUBSTEPS: u32 = 13;
+    pub const CROSSING: u32 = 14;
+    pub const STOP_AT_THRESHOLD: u32 = 15;
+    pub const LABEL: u32 = 16;
 }
 
 /// One logged message, NULL strings read as empty.
@@ -146,4 +146,91 @@ pub fn analytic_x(t: f64, x0: f64, k: f64, c: f64, u: f64) -> f64 {
     let a = x0 - x_eq;
     let b = zeta_omega * a / omega_d;
     x_eq + (-zeta_omega * t).exp() * (a * (omega_d * t).cos() + b * (omega_d * t).sin())
+}
+
+// ---- Both versions: one test body for FMI 2.0 and FMI 3.0 ----
+
+pub use fmi_testkit::{Driver, Fmi2, Fmi3, Interface, Status, Version};
+
+pub static FUNCTIONS3: fmi_testkit::Fmi3Functions = fmi_testkit::fmi3_functions!(fmu_testmodel);
+
+/// A driver of the Oscillator: the version's function table and token.
+pub trait Osc: Driver {
+    fn functions() -> &'static Self::Functions;
+    fn token() -> String;
+
+    /// A Co-Simulation instance named "osc".
+    fn open(logging_on: bool) -> Self {
+        Self::open_as(Interface::CoSimulation, "osc", logging_on)
+    }
+
+    fn open_as(interface: Interface, name: &str, logging_on: bool) -> Self {
+        Self::instantiate(
+            Self::functions(),
+            name,
+            &Self::token(),
+            interface,
+            logging_on,
+        )
+        .unwrap_or_else(|log| panic!("instantiate failed: {log:?}"))
+    }
+
+    /// The C name of a function of this version: `f("DoStep")` is `fmi2DoStep` or
+    /// `fmi3DoStep`.
+    fn f(name: &str) -> String {
+        format!("{}{name}", Self::VERSION.prefix())
+    }
+
+    /// The C name of the Real setter or getter: `fmi2SetReal`, `fmi3SetFloat64`.
+    fn real_fn(set: bool) -> String {
+        let verb = if set { "Set" } else { "Get" };
+        match Self::VERSION {
+            Version::Fmi2 => format!("fmi2{verb}Real"),
+            Version::Fmi3 => format!("fmi3{verb}Float64"),
+        }
+    }
+
+    /// The C name of the Integer setter: `fmi2SetInteger`, `fmi3SetInt32`.
+    fn integer_setter() -> &'static str {
+        match Self::VERSION {
+            Version::Fmi2 => "fmi2SetInteger",
+            Version::Fmi3 => "fmi3SetInt32",
+        }
+    }
+}
+
+impl Osc for Fmi2 {
+    fn functions() -> &'static fmi_testkit::Fmi2Functions {
+        &FUNCTIONS
+    }
+    fn token() -> String {
+        fmi2_export::guid::<fmu_testmodel::Oscillator>()
+    }
+}
+
+impl Osc for Fmi3 {
+    fn functions() -> &'static fmi_testkit::Fmi3Functions {
+        &FUNCTIONS3
+    }
+    fn token() -> String {
+        fmi3_export::instantiation_token::<fmu_testmodel::Oscillator>()
+    }
+}
+
+/// `both!(case, ...)`: for each generic `fn case<D: Osc>()`, a module `case` with the tests
+/// `fmi2` and `fmi3`.
+#[macro_export]
+macro_rules! both {
+    ($($case:ident),* $(,)?) => {$(
+        mod $case {
+            #[test]
+            fn fmi2() {
+                super::$case::<fmi_testkit::Fmi2>()
+            }
+            #[test]
+            fn fmi3() {
+                super::$case::<fmi_testkit::Fmi3>()
+            }
+        }
+    )*};
 }

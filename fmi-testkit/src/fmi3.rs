@@ -1,0 +1,663 @@
+//! FMI 3.0: the entry points of one FMU as a table of function pointers ([`Fmi3Functions`],
+//! from a crate linked into the test with [`fmi3_functions!`](crate::fmi3_functions)), and
+//! one instance driven through them ([`Fmi3Instance`]), freed on drop.
+//!
+//! FMU states are opaque handles the FMU hands out; passing any handle (even a foreign or
+//! stale one) is what the robustness tests do on purpose, and the FMU must refuse it.
+#![allow(clippy::not_unsafe_ptr_arg_deref)]
+use crate::logger::{Record, TestLogger};
+use fmi_abi::fmi3::*;
+use std::ffi::{c_void, CStr, CString};
+
+type Vr = fmi3ValueReference;
+type Inst = fmi3Instance;
+type Get<T> = unsafe extern "C" fn(Inst, *const Vr, usize, *mut T, usize) -> fmi3Status;
+type Set<T> = unsafe extern "C" fn(Inst, *const Vr, usize, *const T, usize) -> fmi3Status;
+type Only = unsafe extern "C" fn(Inst) -> fmi3Status;
+type Vector = unsafe extern "C" fn(Inst, *mut f64, usize) -> fmi3Status;
+
+/// The FMI 3.0 functions the kit drives (Co-Simulation, Model Exchange, FMU state), typed
+/// after `fmi3FunctionTypes.h`.
+#[derive(Debug, Clone, Copy)]
+pub struct Fmi3Functions {
+    pub get_version: unsafe extern "C" fn() -> *const std::os::raw::c_char,
+    pub set_debug_logging:
+        unsafe extern "C" fn(Inst, fmi3Boolean, usize, *const fmi3String) -> fmi3Status,
+    pub instantiate_model_exchange: unsafe extern "C" fn(
+        fmi3String,
+        fmi3String,
+        fmi3String,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3InstanceEnvironment,
+        fmi3LogMessageCallback,
+    ) -> Inst,
+    #[allow(clippy::type_complexity)]
+    pub instantiate_co_simulation: unsafe extern "C" fn(
+        fmi3String,
+        fmi3String,
+        fmi3String,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3Boolean,
+        *const Vr,
+        usize,
+        fmi3InstanceEnvironment,
+        fmi3LogMessageCallback,
+        fmi3IntermediateUpdateCallback,
+    ) -> Inst,
+    pub free_instance: unsafe extern "C" fn(Inst),
+    pub enter_initialization_mode:
+        unsafe extern "C" fn(Inst, fmi3Boolean, f64, f64, fmi3Boolean, f64) -> fmi3Status,
+    pub exit_initialization_mode: Only,
+    pub enter_event_mode: Only,
+    pub terminate: Only,
+    pub reset: Only,
+    pub get_float64: Get<f64>,
+    pub get_int32: Get<i32>,
+    pub get_int64: Get<i64>,
+    pub get_boolean: Get<fmi3Boolean>,
+    pub get_string: Get<fmi3String>,
+    pub set_float64: Set<f64>,
+    pub set_int32: Set<i32>,
+    pub set_int64: Set<i64>,
+    pub set_boolean: Set<fmi3Boolean>,
+    pub set_string: Set<fmi3String>,
+    pub get_fmu_state: unsafe extern "C" fn(Inst, *mut fmi3FMUState) -> fmi3Status,
+    pub set_fmu_state: unsafe extern "C" fn(Inst, fmi3FMUState) -> fmi3Status,
+    pub free_fmu_state: unsafe extern "C" fn(Inst, *mut fmi3FMUState) -> fmi3Status,
+    pub serialized_fmu_state_size:
+        unsafe extern "C" fn(Inst, fmi3FMUState, *mut usize) -> fmi3Status,
+    pub serialize_fmu_state:
+        unsafe extern "C" fn(Inst, fmi3FMUState, *mut fmi3Byte, usize) -> fmi3Status,
+    pub deserialize_fmu_state:
+        unsafe extern "C" fn(Inst, *const fmi3Byte, usize, *mut fmi3FMUState) -> fmi3Status,
+    pub enter_step_mode: Only,
+    #[allow(clippy::type_complexity)]
+    pub do_step: unsafe extern "C" fn(
+        Inst,
+        f64,
+        f64,
+        fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut f64,
+    ) -> fmi3Status,
+    #[allow(clippy::type_complexity)]
+    pub update_discrete_states: unsafe extern "C" fn(
+        Inst,
+        *mut fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut f64,
+    ) -> fmi3Status,
+    pub enter_continuous_time_mode: Only,
+    pub completed_integrator_step:
+        unsafe extern "C" fn(Inst, fmi3Boolean, *mut fmi3Boolean, *mut fmi3Boolean) -> fmi3Status,
+    pub set_time: unsafe extern "C" fn(Inst, f64) -> fmi3Status,
+    pub set_continuous_states: unsafe extern "C" fn(Inst, *const f64, usize) -> fmi3Status,
+    pub get_continuous_state_derivatives: Vector,
+    pub get_event_indicators: Vector,
+    pub get_continuous_states: Vector,
+    pub get_nominals_of_continuous_states: Vector,
+    pub get_number_of_event_indicators: unsafe extern "C" fn(Inst, *mut usize) -> fmi3Status,
+    pub get_number_of_continuous_states: unsafe extern "C" fn(Inst, *mut usize) -> fmi3Status,
+}
+
+/// The [`Fmi3Functions`] of an FMU crate linked into the test (its `export_fmi3!` symbols),
+/// e.g. `static FMU: Fmi3Functions = fmi3_functions!(fmu_plant);`.
+#[macro_export]
+macro_rules! fmi3_functions {
+    ($fmu:path) => {{
+        use $fmu as fmu;
+        $crate::Fmi3Functions {
+            get_version: fmu::fmi3GetVersion,
+            set_debug_logging: fmu::fmi3SetDebugLogging,
+            instantiate_model_exchange: fmu::fmi3InstantiateModelExchange,
+            instantiate_co_simulation: fmu::fmi3InstantiateCoSimulation,
+            free_instance: fmu::fmi3FreeInstance,
+            enter_initialization_mode: fmu::fmi3EnterInitializationMode,
+            exit_initialization_mode: fmu::fmi3ExitInitializationMode,
+            enter_event_mode: fmu::fmi3EnterEventMode,
+            terminate: fmu::fmi3Terminate,
+            reset: fmu::fmi3Reset,
+            get_float64: fmu::fmi3GetFloat64,
+            get_int32: fmu::fmi3GetInt32,
+            get_int64: fmu::fmi3GetInt64,
+            get_boolean: fmu::fmi3GetBoolean,
+            get_string: fmu::fmi3GetString,
+            set_float64: fmu::fmi3SetFloat64,
+            set_int32: fmu::fmi3SetInt32,
+            set_int64: fmu::fmi3SetInt64,
+            set_boolean: fmu::fmi3SetBoolean,
+            set_string: fmu::fmi3SetString,
+            get_fmu_state: fmu::fmi3GetFMUState,
+            set_fmu_state: fmu::fmi3SetFMUState,
+            free_fmu_state: fmu::fmi3FreeFMUState,
+            serialized_fmu_state_size: fmu::fmi3SerializedFMUStateSize,
+            serialize_fmu_state: fmu::fmi3SerializeFMUState,
+            deserialize_fmu_state: fmu::fmi3DeserializeFMUState,
+            enter_step_mode: fmu::fmi3EnterStepMode,
+            do_step: fmu::fmi3DoStep,
+            update_discrete_states: fmu::fmi3UpdateDiscreteStates,
+            enter_continuous_time_mode: fmu::fmi3EnterContinuousTimeMode,
+            completed_integrator_step: fmu::fmi3CompletedIntegratorStep,
+            set_time: fmu::fmi3SetTime,
+            set_continuous_states: fmu::fmi3SetContinuousStates,
+            get_continuous_state_derivatives: fmu::fmi3GetContinuousStateDerivatives,
+            get_event_indicators: fmu::fmi3GetEventIndicators,
+            get_continuous_states: fmu::fmi3GetContinuousStates,
+            get_nominals_of_continuous_states: fmu::fmi3GetNominalsOfContinuousStates,
+            get_number_of_event_indicators: fmu::fmi3GetNumberOfEventIndicators,
+            get_number_of_continuous_states: fmu::fmi3GetNumberOfContinuousStates,
+        }
+    }};
+}
+
+/// The out-arguments of `fmi3DoStep`, with its status.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fmi3Step {
+    pub status: fmi3Status,
+    pub event_handling_needed: bool,
+    pub terminate_simulation: bool,
+    pub early_return: bool,
+    pub last_successful_time: f64,
+}
+
+/// The out-arguments of `fmi3UpdateDiscreteStates`, with its status.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fmi3EventUpdate {
+    pub status: fmi3Status,
+    pub discrete_states_need_update: bool,
+    pub terminate_simulation: bool,
+    pub nominals_changed: bool,
+    pub values_changed: bool,
+    pub next_event_time: Option<f64>,
+}
+
+/// How a Co-Simulation instance is created: the master's choices at instantiation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct CoSimulationOptions {
+    pub logging_on: bool,
+    pub event_mode_used: bool,
+    pub early_return_allowed: bool,
+}
+
+/// One FMI 3.0 instance and its logger; freed on drop. Every method is one FMI call.
+#[derive(Debug)]
+pub struct Fmi3Instance {
+    functions: Fmi3Functions,
+    c: Inst,
+    logger: Box<TestLogger>,
+}
+
+impl Fmi3Instance {
+    /// `fmi3InstantiateCoSimulation`; `Err` with what the FMU logged when it returns NULL.
+    pub fn co_simulation(
+        functions: &Fmi3Functions,
+        instance_name: &str,
+        token: &str,
+        options: CoSimulationOptions,
+    ) -> Result<Fmi3Instance, Vec<Record>> {
+        let logger = Box::<TestLogger>::default();
+        let name = CString::new(instance_name).expect("no NUL in the instance name");
+        let token = CString::new(token).expect("no NUL in the token");
+        // SAFETY: valid strings; the logger outlives the instance (kept in it).
+        let c = unsafe {
+            (functions.instantiate_co_simulation)(
+                name.as_ptr(),
+                token.as_ptr(),
+                std::ptr::null(),
+                false,
+                options.logging_on,
+                options.event_mode_used,
+                options.early_return_allowed,
+                std::ptr::null(),
+                0,
+                logger.environment(),
+                Some(TestLogger::log_message),
+                None,
+            )
+        };
+        Fmi3Instance::made(functions, c, logger)
+    }
+
+    /// `fmi3InstantiateModelExchange`; `Err` with what the FMU logged when it returns NULL.
+    pub fn model_exchange(
+        functions: &Fmi3Functions,
+        instance_name: &str,
+        token: &str,
+        logging_on: bool,
+    ) -> Result<Fmi3Instance, Vec<Record>> {
+        let logger = Box::<TestLogger>::default();
+        let name = CString::new(instance_name).expect("no NUL in the instance name");
+        let token = CString::new(token).expect("no NUL in the token");
+        // SAFETY: as in `co_simulation`.
+        let c = unsafe {
+            (functions.instantiate_model_exchange)(
+                name.as_ptr(),
+                token.as_ptr(),
+                std::ptr::null(),
+                false,
+                logging_on,
+                logger.environment(),
+                Some(TestLogger::log_message),
+            )
+        };
+        Fmi3Instance::made(functions, c, logger)
+    }
+
+    fn made(
+        functions: &Fmi3Functions,
+        c: Inst,
+        logger: Box<TestLogger>,
+    ) -> Result<Fmi3Instance, Vec<Record>> {
+        if c.is_null() {
+            return Err(logger.all());
+        }
+        Ok(Fmi3Instance {
+            functions: *functions,
+            c,
+            logger,
+        })
+    }
+
+    pub fn instance(&self) -> fmi3Instance {
+        self.c
+    }
+
+    pub fn functions(&self) -> &Fmi3Functions {
+        &self.functions
+    }
+
+    pub fn logger(&self) -> &TestLogger {
+        &self.logger
+    }
+
+    pub fn messages(&self) -> Vec<String> {
+        self.logger.messages()
+    }
+
+    pub fn last_message(&self) -> String {
+        self.messages().pop().unwrap_or_default()
+    }
+
+    // ---- life cycle ----
+
+    pub fn set_debug_logging(&self, on: bool) -> fmi3Status {
+        // SAFETY: a live instance, no categories.
+        unsafe { (self.functions.set_debug_logging)(self.c, on, 0, std::ptr::null()) }
+    }
+
+    pub fn enter_initialization_mode(&self, start: f64, stop: Option<f64>) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe {
+            (self.functions.enter_initialization_mode)(
+                self.c,
+                false,
+                0.0,
+                start,
+                stop.is_some(),
+                stop.unwrap_or(0.0),
+            )
+        }
+    }
+
+    pub fn exit_initialization_mode(&self) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe { (self.functions.exit_initialization_mode)(self.c) }
+    }
+
+    pub fn enter_event_mode(&self) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe { (self.functions.enter_event_mode)(self.c) }
+    }
+
+    pub fn enter_step_mode(&self) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe { (self.functions.enter_step_mode)(self.c) }
+    }
+
+    pub fn enter_continuous_time_mode(&self) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe { (self.functions.enter_continuous_time_mode)(self.c) }
+    }
+
+    pub fn terminate(&self) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe { (self.functions.terminate)(self.c) }
+    }
+
+    pub fn reset(&self) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe { (self.functions.reset)(self.c) }
+    }
+
+    /// `fmi3DoStep` with `noSetFMUStatePriorToCurrentPoint = true`.
+    pub fn do_step(&self, t: f64, h: f64) -> Fmi3Step {
+        // Out-arguments start at the opposite of what a quiet step reports, so a step that
+        // leaves one unwritten shows.
+        let (mut event, mut terminate, mut early, mut last) = (true, true, true, f64::NAN);
+        // SAFETY: a live instance and valid out-pointers.
+        let status = unsafe {
+            (self.functions.do_step)(
+                self.c,
+                t,
+                h,
+                true,
+                &mut event,
+                &mut terminate,
+                &mut early,
+                &mut last,
+            )
+        };
+        Fmi3Step {
+            status,
+            event_handling_needed: event,
+            terminate_simulation: terminate,
+            early_return: early,
+            last_successful_time: last,
+        }
+    }
+
+    pub fn update_discrete_states(&self) -> Fmi3EventUpdate {
+        let (mut again, mut terminate, mut nominals, mut values, mut defined, mut next) =
+            (true, true, true, true, true, f64::NAN);
+        // SAFETY: a live instance and valid out-pointers.
+        let status = unsafe {
+            (self.functions.update_discrete_states)(
+                self.c,
+                &mut again,
+                &mut terminate,
+                &mut nominals,
+                &mut values,
+                &mut defined,
+                &mut next,
+            )
+        };
+        Fmi3EventUpdate {
+            status,
+            discrete_states_need_update: again,
+            terminate_simulation: terminate,
+            nominals_changed: nominals,
+            values_changed: values,
+            next_event_time: defined.then_some(next),
+        }
+    }
+
+    /// `fmi3CompletedIntegratorStep`: status, enterEventMode, terminateSimulation.
+    pub fn completed_integrator_step(&self) -> (fmi3Status, bool, bool) {
+        let (mut enter, mut terminate) = (true, true);
+        // SAFETY: a live instance and valid out-pointers.
+        let status = unsafe {
+            (self.functions.completed_integrator_step)(self.c, true, &mut enter, &mut terminate)
+        };
+        (status, enter, terminate)
+    }
+
+    pub fn set_time(&self, t: f64) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe { (self.functions.set_time)(self.c, t) }
+    }
+
+    pub fn set_continuous_states(&self, x: &[f64]) -> fmi3Status {
+        // SAFETY: an array of the length passed.
+        unsafe { (self.functions.set_continuous_states)(self.c, x.as_ptr(), x.len()) }
+    }
+
+    fn vector(&self, read: Vector, n: usize) -> (fmi3Status, Vec<f64>) {
+        let mut values = vec![f64::NAN; n];
+        // SAFETY: an array of the length passed.
+        let status = unsafe { read(self.c, values.as_mut_ptr(), n) };
+        (status, values)
+    }
+
+    pub fn continuous_states(&self, n: usize) -> (fmi3Status, Vec<f64>) {
+        self.vector(self.functions.get_continuous_states, n)
+    }
+
+    pub fn derivatives(&self, n: usize) -> (fmi3Status, Vec<f64>) {
+        self.vector(self.functions.get_continuous_state_derivatives, n)
+    }
+
+    pub fn event_indicators(&self, n: usize) -> (fmi3Status, Vec<f64>) {
+        self.vector(self.functions.get_event_indicators, n)
+    }
+
+    pub fn nominals(&self, n: usize) -> (fmi3Status, Vec<f64>) {
+        self.vector(self.functions.get_nominals_of_continuous_states, n)
+    }
+
+    // ---- get and set ----
+
+    /// `fmi3GetFloat64` of `vrs`, `n` values in all (arrays take one per element).
+    pub fn get_float64(&self, vrs: &[u32], n: usize) -> (fmi3Status, Vec<f64>) {
+        let mut values = vec![f64::NAN; n];
+        // SAFETY: arrays of the lengths passed.
+        let status = unsafe {
+            (self.functions.get_float64)(self.c, vrs.as_ptr(), vrs.len(), values.as_mut_ptr(), n)
+        };
+        (status, values)
+    }
+
+    pub fn set_float64(&self, vrs: &[u32], values: &[f64]) -> fmi3Status {
+        // SAFETY: arrays of the lengths passed.
+        unsafe {
+            (self.functions.set_float64)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_ptr(),
+                values.len(),
+            )
+        }
+    }
+
+    pub fn get_int32(&self, vrs: &[u32]) -> (fmi3Status, Vec<i32>) {
+        let mut values = vec![0; vrs.len()];
+        // SAFETY: arrays of the lengths passed.
+        let status = unsafe {
+            (self.functions.get_int32)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_mut_ptr(),
+                vrs.len(),
+            )
+        };
+        (status, values)
+    }
+
+    pub fn set_int32(&self, vrs: &[u32], values: &[i32]) -> fmi3Status {
+        // SAFETY: arrays of the lengths passed.
+        unsafe {
+            (self.functions.set_int32)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_ptr(),
+                values.len(),
+            )
+        }
+    }
+
+    /// Int64: how FMI 3.0 exchanges an enumeration.
+    pub fn get_int64(&self, vrs: &[u32]) -> (fmi3Status, Vec<i64>) {
+        let mut values = vec![0; vrs.len()];
+        // SAFETY: arrays of the lengths passed.
+        let status = unsafe {
+            (self.functions.get_int64)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_mut_ptr(),
+                vrs.len(),
+            )
+        };
+        (status, values)
+    }
+
+    pub fn set_int64(&self, vrs: &[u32], values: &[i64]) -> fmi3Status {
+        // SAFETY: arrays of the lengths passed.
+        unsafe {
+            (self.functions.set_int64)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_ptr(),
+                values.len(),
+            )
+        }
+    }
+
+    pub fn get_booleans(&self, vrs: &[u32]) -> (fmi3Status, Vec<bool>) {
+        let mut values = vec![false; vrs.len()];
+        // SAFETY: arrays of the lengths passed.
+        let status = unsafe {
+            (self.functions.get_boolean)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_mut_ptr(),
+                vrs.len(),
+            )
+        };
+        (status, values)
+    }
+
+    pub fn set_booleans(&self, vrs: &[u32], values: &[bool]) -> fmi3Status {
+        // SAFETY: arrays of the lengths passed.
+        unsafe {
+            (self.functions.set_boolean)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_ptr(),
+                values.len(),
+            )
+        }
+    }
+
+    /// One String, `None` unless the get succeeds with a non-NULL string.
+    pub fn get_string(&self, vr: u32) -> (fmi3Status, Option<String>) {
+        let mut value: fmi3String = std::ptr::null();
+        // SAFETY: one element each; the FMU keeps the string alive until its next call.
+        let status = unsafe { (self.functions.get_string)(self.c, &vr, 1, &mut value, 1) };
+        let text = (status.is_success() && !value.is_null()).then(|| {
+            // SAFETY: non-null and NUL-terminated, per the standard.
+            unsafe { CStr::from_ptr(value) }
+                .to_string_lossy()
+                .into_owned()
+        });
+        (status, text)
+    }
+
+    pub fn set_string(&self, vr: u32, value: &str) -> fmi3Status {
+        let value = CString::new(value).expect("no NUL in the value");
+        let pointer = value.as_ptr();
+        // SAFETY: one element each; the string outlives the call.
+        unsafe { (self.functions.set_string)(self.c, &vr, 1, &pointer, 1) }
+    }
+
+    // ---- FMU state ----
+
+    /// A new FMU state (NULL when refused), with the status.
+    pub fn get_state(&self) -> (fmi3Status, fmi3FMUState) {
+        let mut state: fmi3FMUState = std::ptr::null_mut();
+        // SAFETY: an out-pointer to a NULL state: the FMU allocates one.
+        let status = unsafe { (self.functions.get_fmu_state)(self.c, &mut state) };
+        (status, state)
+    }
+
+    /// Overwrites `state` in place with the instance's current state.
+    pub fn get_state_into(&self, state: &mut fmi3FMUState) -> fmi3Status {
+        // SAFETY: a state of this instance (or one the test wants refused).
+        unsafe { (self.functions.get_fmu_state)(self.c, state) }
+    }
+
+    pub fn set_state(&self, state: fmi3FMUState) -> fmi3Status {
+        // SAFETY: a state of this instance (or one the test wants refused).
+        unsafe { (self.functions.set_fmu_state)(self.c, state) }
+    }
+
+    pub fn free_state(&self, mut state: fmi3FMUState) -> fmi3Status {
+        // SAFETY: as above; the FMU sets the pointer to NULL.
+        unsafe { (self.functions.free_fmu_state)(self.c, &mut state) }
+    }
+
+    /// The serialized `state` with the status of the failing call (or fmi3OK).
+    pub fn serialize(&self, state: fmi3FMUState) -> (fmi3Status, Vec<u8>) {
+        let mut size = 0;
+        // SAFETY: one out-element.
+        let status =
+            unsafe { (self.functions.serialized_fmu_state_size)(self.c, state, &mut size) };
+        if status != fmi3OK {
+            return (status, Vec::new());
+        }
+        let mut bytes = vec![0u8; size];
+        // SAFETY: a buffer of the announced size.
+        let status = unsafe {
+            (self.functions.serialize_fmu_state)(self.c, state, bytes.as_mut_ptr(), size)
+        };
+        (status, bytes)
+    }
+
+    /// `bytes` deserialized into a new FMU state (NULL when refused), with the status.
+    pub fn deserialize(&self, bytes: &[u8]) -> (fmi3Status, fmi3FMUState) {
+        let mut state: fmi3FMUState = std::ptr::null_mut();
+        // SAFETY: a buffer of the length passed, an out-pointer to a NULL state.
+        let status = unsafe {
+            (self.functions.deserialize_fmu_state)(self.c, bytes.as_ptr(), bytes.len(), &mut state)
+        };
+        (status, state)
+    }
+}
+
+impl Drop for Fmi3Instance {
+    fn drop(&mut self) {
+        // SAFETY: the instance is live and not used again.
+        unsafe { (self.functions.free_instance)(self.c) };
+    }
+}
+
+impl TestLogger {
+    /// `instanceEnvironment` for FMI 3.0: this logger.
+    pub fn environment(&self) -> fmi3InstanceEnvironment {
+        self as *const TestLogger as *mut c_void
+    }
+
+    /// The FMI 3.0 `logMessage` callback (not variadic: the FMU formats the message) whose
+    /// environment is [`TestLogger::environment`]. Records carry no instance name (FMI 3.0
+    /// passes none) and the FMI 3.0 status in [`Record::status`] (the same numbers).
+    ///
+    /// # Safety
+    /// `environment` must be a live `TestLogger`, the strings NULL or NUL-terminated.
+    pub unsafe extern "C" fn log_message(
+        environment: fmi3InstanceEnvironment,
+        status: fmi3Status,
+        category: fmi3String,
+        message: fmi3String,
+    ) {
+        // Nothing may unwind into the FMU.
+        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            // SAFETY: the caller's promise.
+            let Some(logger) = (unsafe { (environment as *const TestLogger).as_ref() }) else {
+                return;
+            };
+            // SAFETY: as above.
+            let record = unsafe {
+                Record {
+                    instance_name: None,
+                    status: fmi_abi::fmi2::fmi2Status(status.0),
+                    category: fmi_abi::callbacks::text(category),
+                    message: fmi_abi::callbacks::text(message),
+                }
+            };
+            logger.push(record);
+        }));
+    }
+}
