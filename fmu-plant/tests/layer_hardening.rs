@@ -67,22 +67,25 @@ fn a_nonzero_reserved_header_byte_is_refused() {
 
 #[test]
 fn a_stale_instance_handle_is_refused_when_its_memory_is_reused() {
-    // GIVEN an instance freed, and a new one the allocator may place at the same address
     let guid = fmi2_export::guid::<fmu_plant::LanderPlant>();
-    let old = Instance::instantiate(&FUNCTIONS, "old", &guid);
-    let stale = old.component();
-    drop(old);
-    let fresh = Plant::new();
-    // WHEN the master calls through the stale handle
-    // SAFETY: the stale handle is exactly what a buggy master passes; the FMU must refuse
-    // it without reading memory through it.
-    let status = unsafe { (FUNCTIONS.enter_initialization_mode)(stale) };
-    // THEN the call is refused and the new instance is untouched (still Instantiated)
-    assert_eq!(status, fmi2Error);
-    assert_ne!(stale, fresh.component(), "handles are never reused");
-    assert!(fresh.messages().is_empty(), "{:?}", fresh.messages());
-    assert_eq!(fresh.setup_experiment(0.0, None), fmi2OK);
-    fresh.init();
+    let mut stale = Vec::new();
+    // GIVEN instances freed one after the other, each new one where the allocator puts it
+    // (often the memory of the one freed just before)
+    for _ in 0..32 {
+        let fresh = Instance::instantiate(&FUNCTIONS, "fresh", &guid);
+        // WHEN the master calls through the handles of the freed ones
+        for &old in &stale {
+            // SAFETY: a stale handle is what a buggy master passes; the FMU must refuse it
+            // without reading memory through it.
+            let status = unsafe { (FUNCTIONS.enter_initialization_mode)(old) };
+            // THEN each call is refused and the live instance is untouched
+            assert_eq!(status, fmi2Error);
+            assert_ne!(old, fresh.component(), "handles are never reused");
+        }
+        assert!(fresh.messages().is_empty(), "{:?}", fresh.messages());
+        assert_eq!(fresh.setup_experiment(0.0, None), fmi2OK, "still Instantiated");
+        stale.push(fresh.component());
+    }
 }
 
 #[test]
