@@ -1141,6 +1141,19 @@ fn step<M: Model>(
     report: &mut StepReport,
 ) -> Result<Success, CallError> {
     let f = Function::DoStep;
+    if inst.core.terminated {
+        // Once terminateSimulation was returned the importer must end the run with
+        // fmi3Terminate (FMI 3.0, fmi3DoStep); a step past it would integrate a model that
+        // has ended.
+        return Err(CallError::InvalidArgument(format!(
+            "the FMU ended the simulation at t = {} (terminateSimulation); only {}, {} or \
+             {} lead on",
+            inst.core.last_successful_time,
+            Function::Terminate.name(),
+            Function::Reset.name(),
+            Function::SetFMUState.name()
+        )));
+    }
     let end = fmi_export::step::check(inst, t, h)?;
     let mut success = Success::Ok;
     let mut from = t;
