@@ -24,6 +24,7 @@ pub mod instance;
 pub mod lifecycle;
 pub mod logging;
 pub mod model_exchange;
+pub mod raw;
 pub mod setters;
 pub mod state;
 pub mod status;

@@ -24,7 +24,7 @@ pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 use fmi_export::call::{shown, Request};
 use fmi_export::setters::{check_enumeration, check_integer, check_real, check_settable};
 use fmi_export::step::Advance;
-use fmi_export::{fmu_state, lifecycle, Abi, CallError, Interface, Logger, Options, Success};
+use fmi_export::{lifecycle, Abi, CallError, Interface, Logger, Options, Success};
 use fmi_model::prepared::{Getter, Setter};
 use fmi_model::Model;
 use std::ffi::{CStr, CString};
@@ -281,36 +281,6 @@ pub unsafe fn enter_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Statu
             lifecycle::enter_initialization,
         )
     }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status {
-    let f = Function::ExitInitializationMode;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            |inst| lifecycle::exit_initialization(inst, f),
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn terminate<M: Model>(c: fmi2Component) -> fmi2Status {
-    let f = Function::Terminate;
-    unsafe { call::<M>(c, f, || format!("{}()", f.name()), lifecycle::terminate) }
-}
-
-/// Back to the freshly instantiated state (see [`lifecycle::reset`]).
-///
-/// # Safety
-/// See the module documentation.
-pub unsafe fn reset<M: Model>(c: fmi2Component) -> fmi2Status {
-    let f = Function::Reset;
-    unsafe { call::<M>(c, f, || format!("{}()", f.name()), lifecycle::reset) }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -726,96 +696,6 @@ pub unsafe fn set_string<M: Model>(
                     }
                 },
             )
-        })
-    }
-}
-
-// ---------------------------------------------------------------------------------------
-// FMU state
-// ---------------------------------------------------------------------------------------
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
-    let f = Function::GetFMUstate;
-    let trace = || format!("{}(FMUstate={state:p})", f.name());
-    unsafe {
-        call::<M>(c, f, trace, |inst| {
-            fmu_state::get(inst, out(state, "FMUstate")?)
-        })
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn set_fmu_state<M: Model>(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
-    let f = Function::SetFMUstate;
-    let trace = || format!("{}(FMUstate={state:p})", f.name());
-    unsafe { call::<M>(c, f, trace, |inst| fmu_state::set(inst, state)) }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn free_fmu_state<M: Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
-    let f = Function::FreeFMUstate;
-    let trace = || format!("{}(FMUstate={state:p})", f.name());
-    unsafe {
-        call::<M>(c, f, trace, |inst| {
-            fmu_state::free(inst, out(state, "FMUstate")?)
-        })
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn serialized_fmu_state_size<M: Model>(
-    c: fmi2Component,
-    state: fmi2FMUstate,
-    size: *mut usize,
-) -> fmi2Status {
-    let f = Function::SerializedFMUstateSize;
-    let trace = || format!("{}(FMUstate={state:p})", f.name());
-    unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let size = out(size, "size")?;
-            *size = fmu_state::serialize(inst, state)?.len();
-            Ok(Success::Ok)
-        })
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn serialize_fmu_state<M: Model>(
-    c: fmi2Component,
-    state: fmi2FMUstate,
-    serialized: *mut fmi2Byte,
-    size: usize,
-) -> fmi2Status {
-    let f = Function::SerializeFMUstate;
-    let trace = || format!("{}(FMUstate={state:p}, size={size})", f.name());
-    unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let buffer = slice_mut(serialized as *mut u8, size, "serializedState")?;
-            fmu_state::serialize_into(inst, state, buffer, Function::SerializedFMUstateSize.name())
-        })
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn de_serialize_fmu_state<M: Model>(
-    c: fmi2Component,
-    serialized: *const fmi2Byte,
-    size: usize,
-    state: *mut fmi2FMUstate,
-) -> fmi2Status {
-    let f = Function::DeSerializeFMUstate;
-    let trace = || format!("{}(size={size}, FMUstate={state:p})", f.name());
-    unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let bytes = slice(serialized as *const u8, size, "serializedState")?;
-            fmu_state::deserialize(inst, bytes, out(state, "FMUstate")?)
         })
     }
 }

@@ -36,6 +36,17 @@ macro_rules! export_fmi2 {
     // A model that implements `fmi_model::ContinuousModel`: Co-Simulation and Model Exchange.
     ($model:ty, model_exchange) => {
         $crate::export_fmi2! { @co_simulation $model, true }
+        $crate::fmi_export::export_shared! {
+            model = $model, abi = $crate::Fmi2, function = $crate::state::Function,
+            types = { instance: $crate::ffi::fmi2Component, status: $crate::ffi::fmi2Status },
+            model_exchange = {
+                fmi2SetTime = SetTime, fmi2SetContinuousStates = SetContinuousStates,
+                fmi2GetDerivatives = GetDerivatives, fmi2GetEventIndicators = GetEventIndicators,
+                fmi2GetContinuousStates = GetContinuousStates,
+                fmi2GetNominalsOfContinuousStates = GetNominalsOfContinuousStates,
+                fmi2EnterContinuousTimeMode = EnterContinuousTimeMode
+            }
+        }
         $crate::export_fmi2! { @export
             fmi2EnterEventMode(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
                 => $crate::model_exchange::enter_event_mode::<$model>(c);
@@ -44,8 +55,6 @@ macro_rules! export_fmi2 {
                 fmi2eventInfo: *mut $crate::ffi::fmi2EventInfo
             ) -> $crate::ffi::fmi2Status
                 => $crate::model_exchange::new_discrete_states::<$model>(c, fmi2eventInfo);
-            fmi2EnterContinuousTimeMode(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
-                => $crate::model_exchange::enter_continuous_time_mode::<$model>(c);
             fmi2CompletedIntegratorStep(
                 c: $crate::ffi::fmi2Component,
                 noSetFMUStatePriorToCurrentPoint: $crate::ffi::fmi2Boolean,
@@ -55,41 +64,25 @@ macro_rules! export_fmi2 {
                 => $crate::model_exchange::completed_integrator_step::<$model>(
                     c, noSetFMUStatePriorToCurrentPoint, enterEventMode, terminateSimulation,
                 );
-            fmi2SetTime(c: $crate::ffi::fmi2Component, time: $crate::ffi::fmi2Real) -> $crate::ffi::fmi2Status
-                => $crate::model_exchange::set_time::<$model>(c, time);
-            fmi2SetContinuousStates(
-                c: $crate::ffi::fmi2Component,
-                x: *const $crate::ffi::fmi2Real,
-                nx: usize
-            ) -> $crate::ffi::fmi2Status
-                => $crate::model_exchange::set_continuous_states::<$model>(c, x, nx);
-            fmi2GetDerivatives(
-                c: $crate::ffi::fmi2Component,
-                derivatives: *mut $crate::ffi::fmi2Real,
-                nx: usize
-            ) -> $crate::ffi::fmi2Status
-                => $crate::model_exchange::get_derivatives::<$model>(c, derivatives, nx);
-            fmi2GetEventIndicators(
-                c: $crate::ffi::fmi2Component,
-                eventIndicators: *mut $crate::ffi::fmi2Real,
-                ni: usize
-            ) -> $crate::ffi::fmi2Status
-                => $crate::model_exchange::get_event_indicators::<$model>(c, eventIndicators, ni);
-            fmi2GetContinuousStates(
-                c: $crate::ffi::fmi2Component,
-                x: *mut $crate::ffi::fmi2Real,
-                nx: usize
-            ) -> $crate::ffi::fmi2Status
-                => $crate::model_exchange::get_continuous_states::<$model>(c, x, nx);
-            fmi2GetNominalsOfContinuousStates(
-                c: $crate::ffi::fmi2Component,
-                x_nominal: *mut $crate::ffi::fmi2Real,
-                nx: usize
-            ) -> $crate::ffi::fmi2Status
-                => $crate::model_exchange::get_nominals_of_continuous_states::<$model>(c, x_nominal, nx);
         }
     };
     (@co_simulation $model:ty, $model_exchange:literal) => {
+        $crate::fmi_export::export_shared! {
+            model = $model, abi = $crate::Fmi2, function = $crate::state::Function,
+            types = {
+                instance: $crate::ffi::fmi2Component, state: $crate::ffi::fmi2FMUstate,
+                byte: $crate::ffi::fmi2Byte, status: $crate::ffi::fmi2Status
+            },
+            fmu_state = {
+                fmi2GetFMUstate = GetFMUstate, fmi2SetFMUstate = SetFMUstate,
+                fmi2FreeFMUstate = FreeFMUstate, fmi2SerializedFMUstateSize = SerializedFMUstateSize,
+                fmi2SerializeFMUstate = SerializeFMUstate, fmi2DeSerializeFMUstate = DeSerializeFMUstate
+            },
+            lifecycle = {
+                fmi2ExitInitializationMode = ExitInitializationMode, fmi2Terminate = Terminate,
+                fmi2Reset = Reset
+            }
+        }
         $crate::export_fmi2! { @export
             fmi2GetTypesPlatform() -> *const ::std::os::raw::c_char
                 => $crate::abi::get_types_platform();
@@ -130,12 +123,6 @@ macro_rules! export_fmi2 {
                 );
             fmi2EnterInitializationMode(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
                 => $crate::abi::enter_initialization_mode::<$model>(c);
-            fmi2ExitInitializationMode(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
-                => $crate::abi::exit_initialization_mode::<$model>(c);
-            fmi2Terminate(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
-                => $crate::abi::terminate::<$model>(c);
-            fmi2Reset(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
-                => $crate::abi::reset::<$model>(c);
             fmi2GetReal(
                 c: $crate::ffi::fmi2Component,
                 vr: *const $crate::ffi::fmi2ValueReference,
@@ -192,41 +179,6 @@ macro_rules! export_fmi2 {
                 value: *const $crate::ffi::fmi2String
             ) -> $crate::ffi::fmi2Status
                 => $crate::abi::set_string::<$model>(c, vr, nvr, value);
-            fmi2GetFMUstate(
-                c: $crate::ffi::fmi2Component,
-                FMUstate: *mut $crate::ffi::fmi2FMUstate
-            ) -> $crate::ffi::fmi2Status
-                => $crate::abi::get_fmu_state::<$model>(c, FMUstate);
-            fmi2SetFMUstate(
-                c: $crate::ffi::fmi2Component,
-                FMUstate: $crate::ffi::fmi2FMUstate
-            ) -> $crate::ffi::fmi2Status
-                => $crate::abi::set_fmu_state::<$model>(c, FMUstate);
-            fmi2FreeFMUstate(
-                c: $crate::ffi::fmi2Component,
-                FMUstate: *mut $crate::ffi::fmi2FMUstate
-            ) -> $crate::ffi::fmi2Status
-                => $crate::abi::free_fmu_state::<$model>(c, FMUstate);
-            fmi2SerializedFMUstateSize(
-                c: $crate::ffi::fmi2Component,
-                FMUstate: $crate::ffi::fmi2FMUstate,
-                size: *mut usize
-            ) -> $crate::ffi::fmi2Status
-                => $crate::abi::serialized_fmu_state_size::<$model>(c, FMUstate, size);
-            fmi2SerializeFMUstate(
-                c: $crate::ffi::fmi2Component,
-                FMUstate: $crate::ffi::fmi2FMUstate,
-                serializedState: *mut $crate::ffi::fmi2Byte,
-                size: usize
-            ) -> $crate::ffi::fmi2Status
-                => $crate::abi::serialize_fmu_state::<$model>(c, FMUstate, serializedState, size);
-            fmi2DeSerializeFMUstate(
-                c: $crate::ffi::fmi2Component,
-                serializedState: *const $crate::ffi::fmi2Byte,
-                size: usize,
-                FMUstate: *mut $crate::ffi::fmi2FMUstate
-            ) -> $crate::ffi::fmi2Status
-                => $crate::abi::de_serialize_fmu_state::<$model>(c, serializedState, size, FMUstate);
             fmi2GetDirectionalDerivative(
                 c: $crate::ffi::fmi2Component,
                 vUnknown_ref: *const $crate::ffi::fmi2ValueReference,

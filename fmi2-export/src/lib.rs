@@ -23,6 +23,8 @@ pub mod version;
 
 /// The FMI 2.0 C types (one copy, in `fmi-abi`).
 pub use fmi_abi::fmi2 as ffi;
+/// The export core, for the symbols [`export_fmi2!`] generates through it.
+pub use fmi_export;
 /// The version-neutral core the models are written against.
 pub use fmi_model::{
     self as model, decl, Causality, Declaration, Dependencies, EnumItem, EnumType, Enumeration,

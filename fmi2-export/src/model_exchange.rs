@@ -6,10 +6,10 @@
 //! As for [`crate::abi`]: the master passes pointers valid as the standard requires.
 #![allow(unsafe_code)]
 
-use crate::abi::{call, out, show, slice, slice_mut};
+use crate::abi::{call, out};
 use crate::ffi::*;
 use crate::state::Function;
-use fmi_export::model_exchange::{self as me, Vector};
+use fmi_export::model_exchange as me;
 use fmi_export::{Category, Status, Success};
 use fmi_model::ContinuousModel;
 
@@ -19,106 +19,6 @@ fn flag(b: bool) -> fmi2Boolean {
     } else {
         fmi2False
     }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn set_time<M: ContinuousModel>(c: fmi2Component, time: fmi2Real) -> fmi2Status {
-    let f = Function::SetTime;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(time={time})", f.name()),
-            |inst| me::set_time(inst, time),
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn set_continuous_states<M: ContinuousModel>(
-    c: fmi2Component,
-    x: *const fmi2Real,
-    nx: usize,
-) -> fmi2Status {
-    let f = Function::SetContinuousStates;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(nx={nx}, x={})", f.name(), show(x, nx)),
-            |inst| me::set_states(inst, slice(x, nx, "x")?),
-        )
-    }
-}
-
-/// The shared body of the four reads of a continuous vector.
-unsafe fn read_vector<M: ContinuousModel>(
-    c: fmi2Component,
-    f: Function,
-    vector: Vector,
-    values: *mut fmi2Real,
-    n: usize,
-) -> fmi2Status {
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(n={n})", f.name()),
-            |inst| me::read(inst, f, vector, slice_mut(values, n, "values")?),
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_derivatives<M: ContinuousModel>(
-    c: fmi2Component,
-    derivatives: *mut fmi2Real,
-    nx: usize,
-) -> fmi2Status {
-    unsafe {
-        read_vector::<M>(
-            c,
-            Function::GetDerivatives,
-            Vector::Derivatives,
-            derivatives,
-            nx,
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_event_indicators<M: ContinuousModel>(
-    c: fmi2Component,
-    indicators: *mut fmi2Real,
-    ni: usize,
-) -> fmi2Status {
-    let f = Function::GetEventIndicators;
-    unsafe { read_vector::<M>(c, f, Vector::EventIndicators, indicators, ni) }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_continuous_states<M: ContinuousModel>(
-    c: fmi2Component,
-    x: *mut fmi2Real,
-    nx: usize,
-) -> fmi2Status {
-    unsafe { read_vector::<M>(c, Function::GetContinuousStates, Vector::States, x, nx) }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_nominals_of_continuous_states<M: ContinuousModel>(
-    c: fmi2Component,
-    x_nominal: *mut fmi2Real,
-    nx: usize,
-) -> fmi2Status {
-    let f = Function::GetNominalsOfContinuousStates;
-    unsafe { read_vector::<M>(c, f, Vector::Nominals, x_nominal, nx) }
 }
 
 /// # Safety
@@ -162,20 +62,6 @@ pub unsafe fn new_discrete_states<M: ContinuousModel>(
                 };
                 Ok(success)
             },
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn enter_continuous_time_mode<M: ContinuousModel>(c: fmi2Component) -> fmi2Status {
-    let f = Function::EnterContinuousTimeMode;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            me::enter_continuous_time_mode,
         )
     }
 }

@@ -10,6 +10,24 @@ use fmi_testkit::TestLogger;
 use serde::{Deserialize, Serialize};
 use std::ffi::CString;
 
+/// The FMI 2.0 face of the core's argument-free lifecycle calls (the layer exports them
+/// through `export_shared!`).
+mod lifecycle {
+    use fmi2_export::ffi::{fmi2Component, fmi2Status};
+    use fmi2_export::state::Function;
+    use fmi2_export::{Fmi2, Model};
+    use fmi_export::Abi;
+
+    pub unsafe fn exit_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status {
+        let f = Function::ExitInitializationMode;
+        Fmi2::status(unsafe { fmi_export::raw::exit_initialization_mode::<M, Fmi2>(c, f) })
+    }
+
+    pub unsafe fn reset<M: Model>(c: fmi2Component) -> fmi2Status {
+        Fmi2::status(unsafe { fmi_export::raw::reset::<M, Fmi2>(c, Function::Reset) })
+    }
+}
+
 // ---- a model that panics in do_step ----------------------------------------------------
 
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -60,7 +78,7 @@ fn a_panic_becomes_fatal_and_never_unwinds() {
         assert!(!c.is_null());
         abi::setup_experiment::<Panicky>(c, 0, 0.0, 0.0, 0, 0.0);
         abi::enter_initialization_mode::<Panicky>(c);
-        abi::exit_initialization_mode::<Panicky>(c);
+        lifecycle::exit_initialization_mode::<Panicky>(c);
         assert_eq!(abi::do_step::<Panicky>(c, 0.0, 0.1, 0), fmi2Fatal);
         let last = logger.all().pop().unwrap();
         assert_eq!(last.status, fmi2Fatal);
@@ -75,7 +93,7 @@ fn a_panic_becomes_fatal_and_never_unwinds() {
             logger.messages().pop().unwrap(),
             "fmi2GetReal: illegal call in state Fatal"
         );
-        assert_eq!(abi::reset::<Panicky>(c), fmi2Error);
+        assert_eq!(lifecycle::reset::<Panicky>(c), fmi2Error);
         abi::free_instance::<Panicky>(c);
     }
 }
@@ -96,9 +114,9 @@ fn a_component_of_another_model_is_refused() {
             0,
             0,
         );
-        assert_eq!(abi::reset::<Small>(c), fmi2Error);
+        assert_eq!(lifecycle::reset::<Small>(c), fmi2Error);
         abi::free_instance::<Small>(c); // ignored: not a Small
-        assert_eq!(abi::reset::<Panicky>(c), fmi2OK);
+        assert_eq!(lifecycle::reset::<Panicky>(c), fmi2OK);
         abi::free_instance::<Panicky>(c);
     }
 }
@@ -348,7 +366,7 @@ fn a_repeated_list_is_refused_as_a_new_one_and_changes_nothing() {
             );
             assert_eq!(get(), [2.0, 0.25, 0.5, 1.5], "{values:?}");
         }
-        abi::exit_initialization_mode::<Bounded>(c);
+        lifecycle::exit_initialization_mode::<Bounded>(c);
         // The same list after initialization: the fixed parameter is no longer settable.
         assert_eq!(set([2.0, 0.75, 0.5]), fmi2Error);
         let message = logger.messages().pop().unwrap();

@@ -22,9 +22,7 @@ pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 use fmi_export::call::{shown, Request};
 use fmi_export::setters::{check_enumeration, check_integer, check_real};
 use fmi_export::step::Advance;
-use fmi_export::{
-    fmu_state, lifecycle, Abi, CallError, Category, Logger, Options, Status, Success,
-};
+use fmi_export::{lifecycle, Abi, CallError, Category, Logger, Options, Status, Success};
 use fmi_model::prepared::{Getter, Setter};
 use fmi_model::{Declaration, Kind, Model};
 use std::ffi::{CStr, CString};
@@ -247,36 +245,6 @@ pub unsafe fn enter_initialization_mode<M: Model>(
             lifecycle::enter_initialization(inst)
         })
     }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn exit_initialization_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
-    let f = Function::ExitInitializationMode;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            |inst| lifecycle::exit_initialization(inst, f),
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn terminate<M: Model>(c: fmi3Instance) -> fmi3Status {
-    let f = Function::Terminate;
-    unsafe { call::<M>(c, f, || format!("{}()", f.name()), lifecycle::terminate) }
-}
-
-/// Back to the freshly instantiated state (see [`lifecycle::reset`]).
-///
-/// # Safety
-/// See the module documentation.
-pub unsafe fn reset<M: Model>(c: fmi3Instance) -> fmi3Status {
-    let f = Function::Reset;
-    unsafe { call::<M>(c, f, || format!("{}()", f.name()), lifecycle::reset) }
 }
 
 /// Any function of a feature this FMU lacks: the table refuses it with the reason.
@@ -971,100 +939,6 @@ pub unsafe fn no_variables<M: Model>(
 // ---------------------------------------------------------------------------------------
 // FMU state
 // ---------------------------------------------------------------------------------------
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_fmu_state<M: Model>(c: fmi3Instance, state: *mut fmi3FMUState) -> fmi3Status {
-    let f = Function::GetFMUState;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            |inst| fmu_state::get(inst, out(state, "FMUState")?),
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn set_fmu_state<M: Model>(c: fmi3Instance, state: fmi3FMUState) -> fmi3Status {
-    let f = Function::SetFMUState;
-    let trace = || format!("{}(FMUState={state:p})", f.name());
-    unsafe { call::<M>(c, f, trace, |inst| fmu_state::set(inst, state)) }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn free_fmu_state<M: Model>(c: fmi3Instance, state: *mut fmi3FMUState) -> fmi3Status {
-    let f = Function::FreeFMUState;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}()", f.name()),
-            |inst| fmu_state::free(inst, out(state, "FMUState")?),
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn serialized_fmu_state_size<M: Model>(
-    c: fmi3Instance,
-    state: fmi3FMUState,
-    size: *mut usize,
-) -> fmi3Status {
-    let f = Function::SerializedFMUStateSize;
-    let trace = || format!("{}(FMUState={state:p})", f.name());
-    unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let size = out(size, "size")?;
-            *size = fmu_state::serialize(inst, state)?.len();
-            Ok(Success::Ok)
-        })
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn serialize_fmu_state<M: Model>(
-    c: fmi3Instance,
-    state: fmi3FMUState,
-    serialized: *mut fmi3Byte,
-    size: usize,
-) -> fmi3Status {
-    let f = Function::SerializeFMUState;
-    let trace = || format!("{}(FMUState={state:p}, size={size})", f.name());
-    unsafe {
-        call::<M>(c, f, trace, |inst| {
-            let buffer = slice_mut(serialized, size, "serializedState")?;
-            fmu_state::serialize_into(inst, state, buffer, Function::SerializedFMUStateSize.name())
-        })
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn deserialize_fmu_state<M: Model>(
-    c: fmi3Instance,
-    serialized: *const fmi3Byte,
-    size: usize,
-    state: *mut fmi3FMUState,
-) -> fmi3Status {
-    let f = Function::DeserializeFMUState;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(size={size})", f.name()),
-            |inst| {
-                let bytes = slice(serialized, size, "serializedState")?;
-                fmu_state::deserialize(inst, bytes, out(state, "FMUState")?)
-            },
-        )
-    }
-}
 
 // ---------------------------------------------------------------------------------------
 // Co-Simulation

@@ -29,11 +29,81 @@ macro_rules! export_fmi3 {
     };
     ($model:ty) => {
         $crate::export_fmi3! { @all $model, no_me }
+        // A Co-Simulation-only model: the Model Exchange functions refuse.
+        $crate::export_fmi3! { @export
+            fmi3EnterContinuousTimeMode(
+                instance: $crate::ffi::fmi3Instance
+            ) -> $crate::ffi::fmi3Status
+                => $crate::no_me::enter_continuous_time_mode::<$model>(instance);
+            fmi3SetTime(
+                instance: $crate::ffi::fmi3Instance,
+                time: $crate::ffi::fmi3Float64
+            ) -> $crate::ffi::fmi3Status
+                => $crate::no_me::set_time::<$model>(instance, time);
+            fmi3SetContinuousStates(
+                instance: $crate::ffi::fmi3Instance,
+                continuousStates: *const $crate::ffi::fmi3Float64,
+                nContinuousStates: usize
+            ) -> $crate::ffi::fmi3Status
+                => $crate::no_me::set_continuous_states::<$model>(instance, continuousStates, nContinuousStates);
+            fmi3GetContinuousStateDerivatives(
+                instance: $crate::ffi::fmi3Instance,
+                derivatives: *mut $crate::ffi::fmi3Float64,
+                nContinuousStates: usize
+            ) -> $crate::ffi::fmi3Status
+                => $crate::no_me::get_continuous_state_derivatives::<$model>(instance, derivatives, nContinuousStates);
+            fmi3GetEventIndicators(
+                instance: $crate::ffi::fmi3Instance,
+                eventIndicators: *mut $crate::ffi::fmi3Float64,
+                nEventIndicators: usize
+            ) -> $crate::ffi::fmi3Status
+                => $crate::no_me::get_event_indicators::<$model>(instance, eventIndicators, nEventIndicators);
+            fmi3GetContinuousStates(
+                instance: $crate::ffi::fmi3Instance,
+                continuousStates: *mut $crate::ffi::fmi3Float64,
+                nContinuousStates: usize
+            ) -> $crate::ffi::fmi3Status
+                => $crate::no_me::get_continuous_states::<$model>(instance, continuousStates, nContinuousStates);
+            fmi3GetNominalsOfContinuousStates(
+                instance: $crate::ffi::fmi3Instance,
+                nominals: *mut $crate::ffi::fmi3Float64,
+                nContinuousStates: usize
+            ) -> $crate::ffi::fmi3Status
+                => $crate::no_me::get_nominals_of_continuous_states::<$model>(instance, nominals, nContinuousStates);
+        }
     };
     ($model:ty, model_exchange) => {
         $crate::export_fmi3! { @all $model, me }
+        $crate::fmi_export::export_shared! {
+            model = $model, abi = $crate::Fmi3, function = $crate::state::Function,
+            types = { instance: $crate::ffi::fmi3Instance, status: $crate::ffi::fmi3Status },
+            model_exchange = {
+                fmi3SetTime = SetTime, fmi3SetContinuousStates = SetContinuousStates,
+                fmi3GetContinuousStateDerivatives = GetContinuousStateDerivatives,
+                fmi3GetEventIndicators = GetEventIndicators,
+                fmi3GetContinuousStates = GetContinuousStates,
+                fmi3GetNominalsOfContinuousStates = GetNominalsOfContinuousStates,
+                fmi3EnterContinuousTimeMode = EnterContinuousTimeMode
+            }
+        }
     };
     (@all $model:ty, $me:ident) => {
+        $crate::fmi_export::export_shared! {
+            model = $model, abi = $crate::Fmi3, function = $crate::state::Function,
+            types = {
+                instance: $crate::ffi::fmi3Instance, state: $crate::ffi::fmi3FMUState,
+                byte: $crate::ffi::fmi3Byte, status: $crate::ffi::fmi3Status
+            },
+            fmu_state = {
+                fmi3GetFMUState = GetFMUState, fmi3SetFMUState = SetFMUState,
+                fmi3FreeFMUState = FreeFMUState, fmi3SerializedFMUStateSize = SerializedFMUStateSize,
+                fmi3SerializeFMUState = SerializeFMUState, fmi3DeserializeFMUState = DeserializeFMUState
+            },
+            lifecycle = {
+                fmi3ExitInitializationMode = ExitInitializationMode, fmi3Terminate = Terminate,
+                fmi3Reset = Reset
+            }
+        }
         $crate::export_fmi3! { @export
             fmi3GetVersion(
 
@@ -97,22 +167,10 @@ macro_rules! export_fmi3 {
                 stopTime: $crate::ffi::fmi3Float64
             ) -> $crate::ffi::fmi3Status
                 => $crate::abi::enter_initialization_mode::<$model>(instance, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime);
-            fmi3ExitInitializationMode(
-                instance: $crate::ffi::fmi3Instance
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::exit_initialization_mode::<$model>(instance);
             fmi3EnterEventMode(
                 instance: $crate::ffi::fmi3Instance
             ) -> $crate::ffi::fmi3Status
                 => $crate::$me::enter_event_mode::<$model>(instance);
-            fmi3Terminate(
-                instance: $crate::ffi::fmi3Instance
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::terminate::<$model>(instance);
-            fmi3Reset(
-                instance: $crate::ffi::fmi3Instance
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::reset::<$model>(instance);
             fmi3GetFloat32(
                 instance: $crate::ffi::fmi3Instance,
                 valueReferences: *const $crate::ffi::fmi3ValueReference,
@@ -353,41 +411,6 @@ macro_rules! export_fmi3 {
                 nDependencies: usize
             ) -> $crate::ffi::fmi3Status
                 => $crate::abi::unsupported::<$model>(instance, $crate::state::Function::GetVariableDependencies);
-            fmi3GetFMUState(
-                instance: $crate::ffi::fmi3Instance,
-                FMUState: *mut $crate::ffi::fmi3FMUState
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::get_fmu_state::<$model>(instance, FMUState);
-            fmi3SetFMUState(
-                instance: $crate::ffi::fmi3Instance,
-                FMUState: $crate::ffi::fmi3FMUState
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::set_fmu_state::<$model>(instance, FMUState);
-            fmi3FreeFMUState(
-                instance: $crate::ffi::fmi3Instance,
-                FMUState: *mut $crate::ffi::fmi3FMUState
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::free_fmu_state::<$model>(instance, FMUState);
-            fmi3SerializedFMUStateSize(
-                instance: $crate::ffi::fmi3Instance,
-                FMUState: $crate::ffi::fmi3FMUState,
-                size: *mut usize
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::serialized_fmu_state_size::<$model>(instance, FMUState, size);
-            fmi3SerializeFMUState(
-                instance: $crate::ffi::fmi3Instance,
-                FMUState: $crate::ffi::fmi3FMUState,
-                serializedState: *mut $crate::ffi::fmi3Byte,
-                size: usize
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::serialize_fmu_state::<$model>(instance, FMUState, serializedState, size);
-            fmi3DeserializeFMUState(
-                instance: $crate::ffi::fmi3Instance,
-                serializedState: *const $crate::ffi::fmi3Byte,
-                size: usize,
-                FMUState: *mut $crate::ffi::fmi3FMUState
-            ) -> $crate::ffi::fmi3Status
-                => $crate::abi::deserialize_fmu_state::<$model>(instance, serializedState, size, FMUState);
             fmi3GetDirectionalDerivative(
                 instance: $crate::ffi::fmi3Instance,
                 unknowns: *const $crate::ffi::fmi3ValueReference,
@@ -496,10 +519,6 @@ macro_rules! export_fmi3 {
                 nextEventTime: *mut $crate::ffi::fmi3Float64
             ) -> $crate::ffi::fmi3Status
                 => $crate::$me::update_discrete_states::<$model>(instance, discreteStatesNeedUpdate, terminateSimulation, nominalsOfContinuousStatesChanged, valuesOfContinuousStatesChanged, nextEventTimeDefined, nextEventTime);
-            fmi3EnterContinuousTimeMode(
-                instance: $crate::ffi::fmi3Instance
-            ) -> $crate::ffi::fmi3Status
-                => $crate::$me::enter_continuous_time_mode::<$model>(instance);
             fmi3CompletedIntegratorStep(
                 instance: $crate::ffi::fmi3Instance,
                 noSetFMUStatePriorToCurrentPoint: $crate::ffi::fmi3Boolean,
@@ -507,41 +526,6 @@ macro_rules! export_fmi3 {
                 terminateSimulation: *mut $crate::ffi::fmi3Boolean
             ) -> $crate::ffi::fmi3Status
                 => $crate::$me::completed_integrator_step::<$model>(instance, noSetFMUStatePriorToCurrentPoint, enterEventMode, terminateSimulation);
-            fmi3SetTime(
-                instance: $crate::ffi::fmi3Instance,
-                time: $crate::ffi::fmi3Float64
-            ) -> $crate::ffi::fmi3Status
-                => $crate::$me::set_time::<$model>(instance, time);
-            fmi3SetContinuousStates(
-                instance: $crate::ffi::fmi3Instance,
-                continuousStates: *const $crate::ffi::fmi3Float64,
-                nContinuousStates: usize
-            ) -> $crate::ffi::fmi3Status
-                => $crate::$me::set_continuous_states::<$model>(instance, continuousStates, nContinuousStates);
-            fmi3GetContinuousStateDerivatives(
-                instance: $crate::ffi::fmi3Instance,
-                derivatives: *mut $crate::ffi::fmi3Float64,
-                nContinuousStates: usize
-            ) -> $crate::ffi::fmi3Status
-                => $crate::$me::get_continuous_state_derivatives::<$model>(instance, derivatives, nContinuousStates);
-            fmi3GetEventIndicators(
-                instance: $crate::ffi::fmi3Instance,
-                eventIndicators: *mut $crate::ffi::fmi3Float64,
-                nEventIndicators: usize
-            ) -> $crate::ffi::fmi3Status
-                => $crate::$me::get_event_indicators::<$model>(instance, eventIndicators, nEventIndicators);
-            fmi3GetContinuousStates(
-                instance: $crate::ffi::fmi3Instance,
-                continuousStates: *mut $crate::ffi::fmi3Float64,
-                nContinuousStates: usize
-            ) -> $crate::ffi::fmi3Status
-                => $crate::$me::get_continuous_states::<$model>(instance, continuousStates, nContinuousStates);
-            fmi3GetNominalsOfContinuousStates(
-                instance: $crate::ffi::fmi3Instance,
-                nominals: *mut $crate::ffi::fmi3Float64,
-                nContinuousStates: usize
-            ) -> $crate::ffi::fmi3Status
-                => $crate::$me::get_nominals_of_continuous_states::<$model>(instance, nominals, nContinuousStates);
             fmi3GetNumberOfEventIndicators(
                 instance: $crate::ffi::fmi3Instance,
                 nEventIndicators: *mut usize

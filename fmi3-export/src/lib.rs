@@ -18,6 +18,8 @@ pub mod version;
 pub use description::{instantiation_token, model_description_xml, model_description_xml_me};
 /// The FMI 3.0 C types (one copy, in `fmi-abi`).
 pub use fmi_abi::fmi3 as ffi;
+/// The export core, for the symbols [`export_fmi3!`] generates through it.
+pub use fmi_export;
 pub use me::no_me;
 pub use version::Fmi3;
 

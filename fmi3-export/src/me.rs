@@ -8,10 +8,10 @@
 //! As for [`crate::abi`]: the master passes pointers valid as the standard requires.
 #![allow(unsafe_code)]
 
-use crate::abi::{self, call, instantiate, out, show, slice, slice_mut, Instance};
+use crate::abi::{self, call, instantiate, out, Instance};
 use crate::ffi::*;
 use crate::state::{Function, Interface};
-use fmi_export::model_exchange::{self as me, Vector};
+use fmi_export::model_exchange as me;
 use fmi_export::{CallError, Options, Success};
 use fmi_model::ContinuousModel;
 
@@ -56,18 +56,6 @@ unsafe fn simple<M: ContinuousModel>(
 /// See the module documentation.
 pub unsafe fn enter_event_mode<M: ContinuousModel>(c: fmi3Instance) -> fmi3Status {
     unsafe { abi::enter_event_mode::<M>(c) }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn enter_continuous_time_mode<M: ContinuousModel>(c: fmi3Instance) -> fmi3Status {
-    unsafe {
-        simple::<M>(
-            c,
-            Function::EnterContinuousTimeMode,
-            me::enter_continuous_time_mode,
-        )
-    }
 }
 
 /// The model's event update (Model Exchange) or the Co-Simulation event's (nothing to
@@ -126,105 +114,6 @@ pub unsafe fn completed_integrator_step<M: ContinuousModel>(
             Ok(Success::Ok)
         })
     }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn set_time<M: ContinuousModel>(c: fmi3Instance, time: fmi3Float64) -> fmi3Status {
-    let f = Function::SetTime;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(time={time})", f.name()),
-            |inst| me::set_time(inst, time),
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn set_continuous_states<M: ContinuousModel>(
-    c: fmi3Instance,
-    x: *const fmi3Float64,
-    nx: usize,
-) -> fmi3Status {
-    let f = Function::SetContinuousStates;
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(nx={nx}, x={})", f.name(), show(x, nx)),
-            |inst| me::set_states(inst, slice(x, nx, "continuousStates")?),
-        )
-    }
-}
-
-unsafe fn read_vector<M: ContinuousModel>(
-    c: fmi3Instance,
-    f: Function,
-    vector: Vector,
-    values: *mut fmi3Float64,
-    n: usize,
-) -> fmi3Status {
-    unsafe {
-        call::<M>(
-            c,
-            f,
-            || format!("{}(n={n})", f.name()),
-            |inst| me::read(inst, f, vector, slice_mut(values, n, "values")?),
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_continuous_state_derivatives<M: ContinuousModel>(
-    c: fmi3Instance,
-    derivatives: *mut fmi3Float64,
-    nx: usize,
-) -> fmi3Status {
-    let f = Function::GetContinuousStateDerivatives;
-    unsafe { read_vector::<M>(c, f, Vector::Derivatives, derivatives, nx) }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_event_indicators<M: ContinuousModel>(
-    c: fmi3Instance,
-    z: *mut fmi3Float64,
-    nz: usize,
-) -> fmi3Status {
-    unsafe {
-        read_vector::<M>(
-            c,
-            Function::GetEventIndicators,
-            Vector::EventIndicators,
-            z,
-            nz,
-        )
-    }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_continuous_states<M: ContinuousModel>(
-    c: fmi3Instance,
-    x: *mut fmi3Float64,
-    nx: usize,
-) -> fmi3Status {
-    unsafe { read_vector::<M>(c, Function::GetContinuousStates, Vector::States, x, nx) }
-}
-
-/// # Safety
-/// See the module documentation.
-pub unsafe fn get_nominals_of_continuous_states<M: ContinuousModel>(
-    c: fmi3Instance,
-    nominals: *mut fmi3Float64,
-    nx: usize,
-) -> fmi3Status {
-    let f = Function::GetNominalsOfContinuousStates;
-    unsafe { read_vector::<M>(c, f, Vector::Nominals, nominals, nx) }
 }
 
 /// # Safety
