@@ -6,13 +6,47 @@
 #![deny(unsafe_code)]
 
 use fmi_abi::unpack::Unpacked;
+pub use fmu_metadata::{Fmi, FmuCrate};
 use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
-/// The `modelIdentifier` of every FMU `cargo xtask fmus` packages (xtask/src/fmus.rs).
-/// Every system test checks all of them: one missing from `target/fmu` fails the tests
-/// instead of being skipped.
-pub const SHIPPED_FMUS: [&str; 4] = ["Oscillator", "LanderGnc", "LanderNav", "LanderPlant"];
+/// Every FMU crate of the workspace with what its `[package.metadata.fmu]` promises: the
+/// list `cargo xtask fmus` packages from. The tests read the Cargo.toml files themselves
+/// rather than a list xtask writes, so an FMU xtask failed to package fails the tests
+/// instead of vanishing from them.
+pub fn fmu_crates() -> Vec<FmuCrate> {
+    fmu_metadata::workspace_fmus(&workspace_root()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The `modelIdentifier` of every FMU packaged in `version`, from the metadata. Every system
+/// test checks all of them: one missing from `target/fmu` fails the tests instead of being
+/// skipped.
+pub fn shipped(version: Fmi) -> Vec<String> {
+    fmu_crates()
+        .into_iter()
+        .filter(|f| f.ships(version))
+        .map(|f| f.model_identifier)
+        .collect()
+}
+
+/// The FMI 2.0 FMUs (`target/fmu/<id>.fmu`).
+pub fn shipped_fmus() -> Vec<String> {
+    shipped(Fmi::V2)
+}
+
+/// The FMI 3.0 FMUs (`target/fmu/fmi3/<id>.fmu`; 75 `fmi3*` functions in the library).
+pub fn fmi3_fmus() -> Vec<String> {
+    shipped(Fmi::V3)
+}
+
+/// The FMUs packaged in `version` that also declare Model Exchange.
+pub fn model_exchange_fmus(version: Fmi) -> Vec<String> {
+    fmu_crates()
+        .into_iter()
+        .filter(|f| f.ships_model_exchange(version))
+        .map(|f| f.model_identifier)
+        .collect()
+}
 
 pub fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -46,6 +80,19 @@ pub fn fmi3_fmu_path(model_identifier: &str) -> PathBuf {
         path.display()
     );
     path
+}
+
+/// The host's library in an unpacked FMI 3.0 FMU: `binaries/<arch>-<system>/<id>.<ext>`.
+pub fn fmi3_binary_path(root: &Path, model_identifier: &str) -> PathBuf {
+    let (system, extension) = match std::env::consts::OS {
+        "linux" => ("linux", "so"),
+        "macos" => ("darwin", "dylib"),
+        "windows" => ("windows", "dll"),
+        other => panic!("no FMI 3.0 platform folder for {other}"),
+    };
+    root.join("binaries")
+        .join(format!("{}-{system}", std::env::consts::ARCH))
+        .join(format!("{model_identifier}.{extension}"))
 }
 
 pub fn fmu_path(model_identifier: &str) -> PathBuf {
@@ -102,13 +149,6 @@ impl UnpackedFmu {
         self.unpacked.resource_uri()
     }
 }
-
-/// The shipped FMUs whose library also carries the FMI 3.0 layer (75 `fmi3*` functions;
-/// packaged as target/fmu/fmi3/<id>.fmu).
-pub const FMI3_FMUS: [&str; 2] = ["LanderGnc", "LanderPlant"];
-
-/// The shipped FMUs that also declare Model Exchange (and export its 10 functions).
-pub const MODEL_EXCHANGE_FMUS: [&str; 1] = ["LanderPlant"];
 
 /// The 10 functions FMI 2.0 Model Exchange adds to the common ones.
 pub const FMI2_ME_FUNCTIONS: [&str; 10] = [

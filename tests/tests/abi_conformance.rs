@@ -1,9 +1,10 @@
 //! C ABI conformance of the packaged FMUs, checked the way a C master sees them.
 //!
-//! 1. `nm -D --defined-only` on each packaged library lists exactly the 34 `fmi2*`
-//!    functions of FMI 2.0 Co-Simulation, plus the 10 of Model Exchange for LanderPlant and
-//!    the 75 `fmi3*` functions for the landers (one library serves both standards):
-//!    nothing missing, nothing of ours leaking.
+//! 1. `nm -D --defined-only` on the library of each packaged FMU, FMI 2.0 and FMI 3.0, lists
+//!    exactly what its `[package.metadata.fmu]` promises (one library serves both
+//!    standards): the 34 `fmi2*` functions of FMI 2.0 Co-Simulation, plus the 10 of Model
+//!    Exchange when FMI 2.0 offers it, plus the 75 `fmi3*` functions when FMI 3.0 is
+//!    shipped; nothing missing, nothing of ours leaking.
 //! 2. cbindgen writes a C header of the functions the export macro generates (from the
 //!    macro-expanded plant crate, whose export adds Model Exchange to the macro's
 //!    Co-Simulation functions that every FMU uses), and
@@ -13,12 +14,13 @@
 //!    i.e. a compile error.
 //! 3. The compiled program dlopens each packaged library, binds all 34 functions through
 //!    their typedefs and runs a short simulation with its checks (see abi_check.c).
+use fmi_abi::unpack::Unpacked;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use system_tests::{
-    target_dir, workspace_root, UnpackedFmu, FMI2_CS_FUNCTIONS, FMI2_ME_FUNCTIONS, FMI3_FMUS,
-    MODEL_EXCHANGE_FMUS, SHIPPED_FMUS,
+    fmi3_binary_path, fmi3_fmu_path, fmu_crates, shipped_fmus, target_dir, workspace_root, Fmi,
+    FmuCrate, UnpackedFmu, FMI2_CS_FUNCTIONS, FMI2_ME_FUNCTIONS,
 };
 
 /// Communication steps of the C program's simulation: enough for a state round trip in
@@ -29,14 +31,18 @@ fn fmi2_function_names() -> BTreeSet<String> {
     FMI2_CS_FUNCTIONS.iter().map(|s| s.to_string()).collect()
 }
 
-/// The 34 Co-Simulation functions, plus the 10 of Model Exchange for an FMU that offers it,
-/// plus every function of the official FMI 3.0 header for an FMU with the FMI 3.0 layer.
-fn expected_exports(fmu: &str) -> BTreeSet<String> {
-    let mut names = fmi2_function_names();
-    if MODEL_EXCHANGE_FMUS.contains(&fmu) {
+/// What the metadata promises: the 34 Co-Simulation functions when FMI 2.0 is shipped, plus
+/// the 10 of Model Exchange when it offers ME, plus every function of the official FMI 3.0
+/// header when FMI 3.0 is shipped (the FMI 3.0 export has no optional part).
+fn expected_exports(fmu: &FmuCrate) -> BTreeSet<String> {
+    let mut names = BTreeSet::new();
+    if fmu.ships(Fmi::V2) {
+        names.extend(fmi2_function_names());
+    }
+    if fmu.ships_model_exchange(Fmi::V2) {
         names.extend(FMI2_ME_FUNCTIONS.iter().map(|s| s.to_string()));
     }
-    if FMI3_FMUS.contains(&fmu) {
+    if fmu.ships(Fmi::V3) {
         names.extend(fmi3_function_names());
     }
     names
@@ -56,50 +62,74 @@ fn fmi3_function_names() -> BTreeSet<String> {
     names
 }
 
+/// The names `nm -D --defined-only` lists for a library.
+fn dynamic_symbols(library: &Path) -> BTreeSet<String> {
+    let output = Command::new("nm")
+        .args(["-D", "--defined-only"])
+        .arg(library)
+        .output()
+        .expect("cannot run nm (binutils)");
+    assert!(
+        output.status.success(),
+        "nm failed on {}",
+        library.display()
+    );
+    // Lines read "<address> <type> <name>"; the name is the last field.
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .filter_map(|line| line.split_whitespace().last())
+        .map(str::to_owned)
+        .collect()
+}
+
 #[test]
-fn each_library_exports_exactly_the_fmi2_functions_of_its_interfaces() {
-    for fmu in SHIPPED_FMUS {
-        let unpacked = UnpackedFmu::open(fmu);
-        let output = Command::new("nm")
-            .args(["-D", "--defined-only"])
-            .arg(unpacked.library())
-            .output()
-            .expect("cannot run nm (binutils)");
-        assert!(output.status.success(), "nm failed on {}", fmu);
-        // Lines read "<address> <type> <name>"; the name is the last field.
-        let exported: BTreeSet<String> = String::from_utf8_lossy(&output.stdout)
-            .lines()
-            .filter_map(|line| line.split_whitespace().last())
-            .map(str::to_owned)
-            .collect();
-        assert_eq!(
-            exported,
-            expected_exports(fmu),
-            "dynamic symbols of {}",
-            fmu
-        );
+fn each_packaged_library_exports_exactly_what_its_metadata_promises() {
+    let mut checked = 0;
+    for fmu in fmu_crates() {
+        let id = &fmu.model_identifier;
+        let expected = expected_exports(&fmu);
+        if fmu.ships(Fmi::V2) {
+            let unpacked = UnpackedFmu::open(id);
+            let exported = dynamic_symbols(&unpacked.library());
+            assert_eq!(exported, expected, "dynamic symbols of the FMI 2.0 {id}");
+            checked += 1;
+        }
+        if fmu.ships(Fmi::V3) {
+            let path = fmi3_fmu_path(id);
+            let unpacked = Unpacked::open(&path).unwrap_or_else(|e| panic!("{e}"));
+            let exported = dynamic_symbols(&fmi3_binary_path(unpacked.root(), id));
+            assert_eq!(exported, expected, "dynamic symbols of the FMI 3.0 {id}");
+            checked += 1;
+        }
     }
+    assert!(checked > 0, "the metadata lists no packaged FMU");
 }
 
 #[test]
 fn c_master_binds_every_function_through_the_official_typedefs_and_simulates() {
     let work = tempfile::tempdir().unwrap();
     let header = work.path().join("fmi2_exports.h");
-    // The plant's crate: its export is the Co-Simulation one plus Model Exchange, so the
-    // header declares all 44 functions and each is checked against the official typedefs.
-    generate_exports_header("fmu-plant", &header);
+    // A crate whose metadata ships everything (the plant): its export is the Co-Simulation
+    // one plus Model Exchange in both versions, so the header declares every function and
+    // each is checked against the official typedefs.
+    let fullest = fmu_crates()
+        .into_iter()
+        .find(|f| f.ships_model_exchange(Fmi::V2) && f.ships(Fmi::V3))
+        .expect("no FMU crate ships FMI 2.0 Model Exchange and FMI 3.0");
+    generate_exports_header(&fullest.package, &header);
     let declared = declared_functions(&std::fs::read_to_string(&header).unwrap());
     assert_eq!(
         declared,
-        expected_exports("LanderPlant"),
-        "functions declared in the cbindgen header"
+        expected_exports(&fullest),
+        "functions declared in the cbindgen header of {}",
+        fullest.package
     );
 
     let program = work.path().join("abi_check");
     compile_abi_check(work.path(), &program);
 
-    for fmu in SHIPPED_FMUS {
-        let unpacked = UnpackedFmu::open(fmu);
+    for fmu in shipped_fmus() {
+        let unpacked = UnpackedFmu::open(&fmu);
         let description = &unpacked.description;
         let step_size = description
             .default_experiment

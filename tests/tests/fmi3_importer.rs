@@ -4,7 +4,7 @@
 use fmi::fmi3::import::Fmi3Import;
 use fmi::fmi3::{CoSimulation, Common, Fmi3Model, Fmi3Res, GetSet, ModelExchange};
 use fmi::traits::FmiImport;
-use system_tests::{fmi3_fmu_path, FMI3_FMUS};
+use system_tests::{fmi3_fmu_path, fmi3_fmus};
 
 fn import(model_identifier: &str) -> Fmi3Import {
     fmi::import::from_path(fmi3_fmu_path(model_identifier)).unwrap_or_else(|e| {
@@ -24,9 +24,9 @@ fn vr(import: &Fmi3Import, name: &str) -> u32 {
 }
 
 #[test]
-fn both_fmus_load_initialize_and_step_in_the_fmi3_importer() {
-    for fmu in FMI3_FMUS {
-        let import = import(fmu);
+fn every_fmi3_fmu_loads_initializes_and_steps_in_the_fmi3_importer() {
+    for fmu in fmi3_fmus() {
+        let import = import(&fmu);
         let mut instance = import
             .instantiate_cs("fmi-crate", false, false, false, false, &[])
             .unwrap();

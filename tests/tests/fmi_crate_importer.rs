@@ -7,7 +7,7 @@ use fmi::fmi2::Fmi2Res;
 use fmi::schema::fmi2::{Causality, ScalarVariableElement};
 use fmi::schema::traits::DefaultExperiment;
 use fmi::traits::{FmiImport, FmiStatus};
-use system_tests::{fmu_path, SHIPPED_FMUS};
+use system_tests::{fmu_path, shipped_fmus};
 
 const STEPS: u32 = 20;
 
@@ -63,8 +63,8 @@ fn get_reals(instance: &mut InstanceCS, vrs: &[u32]) -> Vec<f64> {
 
 #[test]
 fn every_fmu_loads_initializes_and_steps_in_the_fmi_crate() {
-    for fmu in SHIPPED_FMUS {
-        let import = import(fmu);
+    for fmu in shipped_fmus() {
+        let import = import(&fmu);
         let h = import.model_description().step_size().unwrap_or(1e-2);
         let outputs = real_outputs(&import);
         assert!(!outputs.is_empty(), "{} has no Real output", fmu);

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 use system_tests::{
-    fmi3_fmu_path, fmu_path, workspace_root, FMI3_FMUS, MODEL_EXCHANGE_FMUS, SHIPPED_FMUS,
+    fmi3_fmu_path, fmi3_fmus, fmu_path, model_exchange_fmus, shipped_fmus, workspace_root, Fmi,
 };
 
 /// Every script in tests/python, each run by one test below.
@@ -26,11 +26,8 @@ fn venv_python() -> PathBuf {
 
 /// Runs a script with the path of every shipped FMU as arguments; it must exit 0.
 fn run_script(script: &str) {
-    run_script_on(script, &SHIPPED_FMUS);
-}
-
-fn run_script_on(script: &str, fmus: &[&str]) {
-    run_script_on_paths(script, fmus.iter().copied().map(fmu_path).collect());
+    let fmus = shipped_fmus();
+    run_script_on_paths(script, fmus.iter().map(|id| fmu_path(id)).collect());
 }
 
 fn run_script_on_paths(script: &str, fmus: Vec<PathBuf>) {
@@ -64,17 +61,26 @@ fn fmpy_simulate_runs_every_fmu_and_the_oscillator_matches_the_closed_form() {
 fn fmpy_validate_finds_no_problem_in_the_fmi3_fmus() {
     run_script_on_paths(
         "fmpy_validate.py",
-        FMI3_FMUS.into_iter().map(fmi3_fmu_path).collect(),
+        fmi3_fmus().iter().map(|id| fmi3_fmu_path(id)).collect(),
     );
 }
 
 /// FMI 2.0 and FMI 3.0: CVode through Model Exchange against the analytic free fall and
-/// against the same FMU's Co-Simulation.
+/// against the same FMU's Co-Simulation. The script's checks are the plant's physics, so it
+/// names the plant; the metadata must offer ME in both versions for it.
 #[test]
 fn fmpy_cvode_integrates_the_model_exchange_plant_like_the_analytic_and_cs_solutions() {
-    let mut fmus: Vec<PathBuf> = MODEL_EXCHANGE_FMUS.into_iter().map(fmu_path).collect();
-    fmus.extend(MODEL_EXCHANGE_FMUS.into_iter().map(fmi3_fmu_path));
-    run_script_on_paths("fmpy_model_exchange.py", fmus);
+    let plant = "LanderPlant";
+    for version in Fmi::ALL {
+        assert!(
+            model_exchange_fmus(version).iter().any(|id| id == plant),
+            "the metadata of {plant} does not ship {version} Model Exchange"
+        );
+    }
+    run_script_on_paths(
+        "fmpy_model_exchange.py",
+        vec![fmu_path(plant), fmi3_fmu_path(plant)],
+    );
 }
 
 #[test]

@@ -5,45 +5,73 @@ use crate::platform::{FmiVersion, Platform};
 use crate::ssp;
 use crate::workspace::{self, Workspace};
 use anyhow::{bail, Context, Result};
+use fmu_metadata::{Fmi, FmuCrate};
 use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
-/// A workspace crate that builds an FMU's shared library.
-struct FmuCrate {
-    package: &'static str,
-    /// Folder of the crate, relative to the workspace root.
-    dir: &'static str,
-    /// `[lib] name`, so the cdylib is `lib<lib_name>.so`.
-    lib_name: &'static str,
-}
-
-const FMU_CRATES: [FmuCrate; 4] = [
-    FmuCrate {
-        package: "fmu-gnc",
-        dir: "fmu-gnc",
-        lib_name: "fmu_gnc",
-    },
-    FmuCrate {
-        package: "fmu-nav",
-        dir: "fmu-nav",
-        lib_name: "fmu_nav",
-    },
-    FmuCrate {
-        package: "fmu-plant",
-        dir: "fmu-plant",
-        lib_name: "fmu_plant",
-    },
-    FmuCrate {
-        package: "fmu-testmodel",
-        dir: "testmodel",
-        lib_name: "fmu_testmodel",
-    },
-];
-
-/// The example each FMU crate provides to print its generated modelDescription.xml.
+/// The example each FMU crate provides to print its generated FMI 2.0 modelDescription.xml.
 const DESCRIPTION_EXAMPLE: &str = "model_description";
 
-/// Build and package every FMU whose crate can describe itself, for the host, then the SSP
+/// The example of an FMU crate that prints its FMI 3.0 modelDescription.xml.
+const DESCRIPTION_EXAMPLE_FMI3: &str = "model_description_fmi3";
+
+fn description_example(version: Fmi) -> &'static str {
+    match version {
+        Fmi::V2 => DESCRIPTION_EXAMPLE,
+        Fmi::V3 => DESCRIPTION_EXAMPLE_FMI3,
+    }
+}
+
+/// The FMU crates of the workspace, from their `[package.metadata.fmu]` tables, each
+/// checked against what its `src/lib.rs` exports and which description examples it has:
+/// what is promised, exported and described must be the same before anything is packaged.
+fn fmu_crates(ws: &Workspace) -> Result<Vec<FmuCrate>> {
+    let fmus = fmu_metadata::workspace_fmus(&ws.root).map_err(anyhow::Error::msg)?;
+    let mut problems = Vec::new();
+    for fmu in &fmus {
+        let lib_rs = ws.root.join(&fmu.dir).join("src").join("lib.rs");
+        let source = std::fs::read_to_string(&lib_rs)
+            .with_context(|| format!("cannot read {}", lib_rs.display()))?;
+        let exports = fmu_metadata::exports_in_source(&source)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", lib_rs.display()))?;
+        problems.extend(fmu_metadata::check_exports(fmu, &exports));
+        for version in Fmi::ALL {
+            let example = example_path(ws, fmu, version);
+            match (fmu.ships(version), example.is_file()) {
+                (true, false) => problems.push(format!(
+                    "{}: the metadata ships {version} but {} is missing",
+                    fmu.model_identifier,
+                    example.display()
+                )),
+                (false, true) if fmu.offer(version).is_none() => problems.push(format!(
+                    "{}: {} exists but the metadata offers no {version}",
+                    fmu.model_identifier,
+                    example.display()
+                )),
+                _ => {}
+            }
+        }
+    }
+    if !problems.is_empty() {
+        bail!(
+            "the FMU crates disagree with their [package.metadata.fmu]:\n  {}",
+            problems.join("\n  ")
+        );
+    }
+    if fmus.is_empty() {
+        bail!("no workspace member has a [package.metadata.fmu] table: nothing to package");
+    }
+    Ok(fmus)
+}
+
+fn example_path(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> PathBuf {
+    ws.root
+        .join(&fmu.dir)
+        .join("examples")
+        .join(format!("{}.rs", description_example(version)))
+}
+
+/// Build and package every FMU of the metadata tables, for the host, then the SSP
 /// of the paper scenario that holds two of them; returns the written files.
 pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
     package_for(ws, &[])
@@ -56,7 +84,7 @@ struct Build {
 }
 
 /// Builds the release cdylibs for each target triple (the host when none is given).
-fn build_all(ws: &Workspace, triples: &[String]) -> Result<Vec<Build>> {
+fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Vec<Build>> {
     let mut problems = Vec::new();
     let mut builds = Vec::new();
     if triples.is_empty() {
@@ -101,8 +129,8 @@ fn build_all(ws: &Workspace, triples: &[String]) -> Result<Vec<Build>> {
         if !triples.is_empty() {
             build.args(["--target", &target.platform.triple]);
         }
-        for fmu in &FMU_CRATES {
-            build.args(["-p", fmu.package]);
+        for fmu in fmus {
+            build.args(["-p", &fmu.package]);
         }
         workspace::run(&mut build).with_context(|| {
             format!(
@@ -118,37 +146,36 @@ fn build_all(ws: &Workspace, triples: &[String]) -> Result<Vec<Build>> {
 /// As [`package_all`], with the binaries of every target triple in each FMU
 /// (`cargo xtask fmus --target T1 --target T2`).
 pub fn package_for(ws: &Workspace, triples: &[String]) -> Result<Vec<PathBuf>> {
-    let builds = build_all(ws, triples)?;
+    let fmus = fmu_crates(ws)?;
+    let builds = build_all(ws, &fmus, triples)?;
 
     let out_dir = ws.fmu_dir();
     std::fs::create_dir_all(&out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
 
     let mut written = Vec::new();
-    for fmu in &FMU_CRATES {
-        let example = ws
-            .root
-            .join(fmu.dir)
-            .join("examples")
-            .join(format!("{DESCRIPTION_EXAMPLE}.rs"));
-        if !example.is_file() {
-            println!(
-                "xtask fmus: skipping {}: it has no `{DESCRIPTION_EXAMPLE}` example yet ({} missing)",
-                fmu.package,
-                example.display()
-            );
-            continue;
-        }
-        let path = package_one(ws, fmu, &builds, &out_dir)?;
-        println!("xtask fmus: wrote {}", path.display());
-        written.push(path);
-        if let Some(path) = package_one_fmi3(ws, fmu, &builds, &out_dir.join("fmi3"))? {
+    for fmu in &fmus {
+        for version in Fmi::ALL {
+            match fmu.offer(version) {
+                None => continue,
+                Some(offer) if offer.awaiting_export => {
+                    println!(
+                        "xtask fmus: {}: {version} awaits its export (awaiting-export in \
+                         {}/Cargo.toml): not packaged",
+                        fmu.model_identifier,
+                        fmu.dir.display()
+                    );
+                    continue;
+                }
+                Some(_) => {}
+            }
+            let path = match version {
+                Fmi::V2 => package_one(ws, fmu, &builds, &out_dir)?,
+                Fmi::V3 => package_one_fmi3(ws, fmu, &builds, &out_dir.join("fmi3"))?,
+            };
             println!("xtask fmus: wrote {}", path.display());
             written.push(path);
         }
-    }
-    if written.is_empty() {
-        bail!("no FMU crate has a `{DESCRIPTION_EXAMPLE}` example: nothing was packaged");
     }
     let package = ssp::package(ws, &out_dir)?;
     println!("xtask fmus: wrote {}", package.display());
@@ -167,7 +194,7 @@ fn package_one(
         "--release",
         "-q",
         "-p",
-        fmu.package,
+        &fmu.package,
         "--example",
         DESCRIPTION_EXAMPLE,
     ]))?;
@@ -186,6 +213,12 @@ fn package_one(
     }
     let identifier = model_identifier(&description)
         .with_context(|| format!("in the model description of {}", fmu.package))?;
+    check_described(
+        fmu,
+        Fmi::V2,
+        identifier,
+        description.model_exchange.is_some(),
+    )?;
 
     let mut entries = vec![
         Entry::file(
@@ -200,8 +233,39 @@ fn package_one(
     Ok(fmu_path)
 }
 
-/// The example of an FMU crate that prints its FMI 3.0 modelDescription.xml.
-const DESCRIPTION_EXAMPLE_FMI3: &str = "model_description_fmi3";
+/// The description `version` printed must name the metadata's `model-identifier` and
+/// declare Model Exchange exactly when the metadata offers it.
+fn check_described(
+    fmu: &FmuCrate,
+    version: Fmi,
+    identifier: &str,
+    declares_model_exchange: bool,
+) -> Result<()> {
+    if identifier != fmu.model_identifier {
+        bail!(
+            "the {version} description of {} names modelIdentifier {identifier:?}, its \
+             [package.metadata.fmu] {:?}",
+            fmu.package,
+            fmu.model_identifier
+        );
+    }
+    let offered = fmu.ships_model_exchange(version);
+    if declares_model_exchange != offered {
+        bail!(
+            "the {version} description of {} ({}) {} <ModelExchange>, but its \
+             [package.metadata.fmu] {} model-exchange",
+            fmu.package,
+            description_example(version),
+            if declares_model_exchange {
+                "declares"
+            } else {
+                "lacks"
+            },
+            if offered { "lists" } else { "does not list" }
+        );
+    }
+    Ok(())
+}
 
 /// `binaries/<folder>/<identifier>.<ext>` for every build that has a folder in `version`;
 /// a platform FMI 2.0 has no folder for is left out of the FMI 2.0 FMU with a note.
@@ -224,7 +288,7 @@ fn binaries(
         };
         let library = build
             .release_dir
-            .join(build.platform.cargo_library_file(fmu.lib_name));
+            .join(build.platform.cargo_library_file(&fmu.lib_name));
         // The host's strip does not know a foreign object format.
         let binary = if build.platform == host {
             stripped_library(&library, scratch_dir, identifier)?
@@ -240,22 +304,14 @@ fn binaries(
     Ok(entries)
 }
 
-/// The FMI 3.0 FMU of a crate that can print an FMI 3.0 model description (the same library:
-/// it exports the `fmi3*` functions beside the `fmi2*` ones); `None` when it cannot yet.
+/// The FMI 3.0 FMU of a crate (the same library: it exports the `fmi3*` functions beside the
+/// `fmi2*` ones).
 fn package_one_fmi3(
     ws: &Workspace,
     fmu: &FmuCrate,
     builds: &[Build],
     out_dir: &Path,
-) -> Result<Option<PathBuf>> {
-    let example = ws
-        .root
-        .join(fmu.dir)
-        .join("examples")
-        .join(format!("{DESCRIPTION_EXAMPLE_FMI3}.rs"));
-    if !example.is_file() {
-        return Ok(None);
-    }
+) -> Result<PathBuf> {
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
     let xml = workspace::output(ws.cargo().args([
@@ -263,12 +319,13 @@ fn package_one_fmi3(
         "--release",
         "-q",
         "-p",
-        fmu.package,
+        &fmu.package,
         "--example",
         DESCRIPTION_EXAMPLE_FMI3,
     ]))?;
     let identifier = fmi3_model_identifier(&xml)
         .with_context(|| format!("in the FMI 3.0 model description of {}", fmu.package))?;
+    check_described(fmu, Fmi::V3, &identifier, xml.contains("<ModelExchange"))?;
     let mut entries = vec![Entry::file(
         "modelDescription.xml",
         xml.clone().into_bytes(),
@@ -276,7 +333,7 @@ fn package_one_fmi3(
     entries.extend(binaries(fmu, builds, out_dir, &identifier, FmiVersion::V3)?);
     let fmu_path = out_dir.join(format!("{identifier}.fmu"));
     fmu_zip::write(&fmu_path, entries)?;
-    Ok(Some(fmu_path))
+    Ok(fmu_path)
 }
 
 /// The `modelIdentifier` of an FMI 3.0 description: every interface element must name the
