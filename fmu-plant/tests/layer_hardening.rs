@@ -83,7 +83,11 @@ fn a_stale_instance_handle_is_refused_when_its_memory_is_reused() {
             assert_ne!(old, fresh.component(), "handles are never reused");
         }
         assert!(fresh.messages().is_empty(), "{:?}", fresh.messages());
-        assert_eq!(fresh.setup_experiment(0.0, None), fmi2OK, "still Instantiated");
+        assert_eq!(
+            fresh.setup_experiment(0.0, None),
+            fmi2OK,
+            "still Instantiated"
+        );
         stale.push(fresh.component());
     }
 }
