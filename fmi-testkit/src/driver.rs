@@ -131,6 +131,9 @@ pub trait Driver: Sized {
 
     fn set_debug_logging(&self, on: bool) -> Status;
 
+    /// SetDebugLogging for the named categories only (all of them when empty).
+    fn set_debug_logging_categories(&self, on: bool, categories: &[&str]) -> Status;
+
     /// Into initialization mode at `start` (FMI 2.0: `fmi2SetupExperiment`, then
     /// `fmi2EnterInitializationMode`; the first status that is not OK).
     fn enter_initialization_mode(&self, start: f64, stop: Option<f64>) -> Status;
@@ -216,6 +219,16 @@ pub trait Driver: Sized {
     fn is_null(state: Self::FmuState) -> bool;
 }
 
+/// `strings` as C strings and the pointers to them (valid while the first lives).
+fn c_strings(strings: &[&str]) -> (Vec<std::ffi::CString>, Vec<*const std::os::raw::c_char>) {
+    let owned: Vec<std::ffi::CString> = strings
+        .iter()
+        .map(|s| std::ffi::CString::new(*s).expect("no NUL in a category"))
+        .collect();
+    let pointers = owned.iter().map(|s| s.as_ptr()).collect();
+    (owned, pointers)
+}
+
 /// FMI 2.0: the kit's [`Instance`].
 pub type Fmi2 = Instance;
 /// FMI 3.0: the kit's [`Fmi3Instance`].
@@ -249,6 +262,21 @@ impl Driver for Instance {
         // SAFETY: a live instance, no categories.
         unsafe { (self.functions().set_debug_logging)(self.component(), on, 0, std::ptr::null()) }
             .into()
+    }
+
+    fn set_debug_logging_categories(&self, on: bool, categories: &[&str]) -> Status {
+        let on = if on { fmi2True } else { fmi2False };
+        let (_owned, pointers) = c_strings(categories);
+        // SAFETY: a live instance, `pointers.len()` NUL-terminated strings.
+        unsafe {
+            (self.functions().set_debug_logging)(
+                self.component(),
+                on,
+                pointers.len(),
+                pointers.as_ptr(),
+            )
+        }
+        .into()
     }
 
     fn enter_initialization_mode(&self, start: f64, stop: Option<f64>) -> Status {
@@ -449,6 +477,20 @@ impl Driver for Fmi3Instance {
 
     fn set_debug_logging(&self, on: bool) -> Status {
         Fmi3Instance::set_debug_logging(self, on).into()
+    }
+
+    fn set_debug_logging_categories(&self, on: bool, categories: &[&str]) -> Status {
+        let (_owned, pointers) = c_strings(categories);
+        // SAFETY: a live instance, `pointers.len()` NUL-terminated strings.
+        unsafe {
+            (self.functions().set_debug_logging)(
+                self.instance(),
+                on,
+                pointers.len(),
+                pointers.as_ptr(),
+            )
+        }
+        .into()
     }
 
     fn enter_initialization_mode(&self, start: f64, stop: Option<f64>) -> Status {

@@ -158,6 +158,63 @@ macro_rules! fmi3_functions {
     }};
 }
 
+impl Fmi3Functions {
+    /// The entry points of a loaded shared library (an FMU's binary). The library must stay
+    /// loaded while the table is used.
+    ///
+    /// # Safety
+    /// The library's `fmi3*` symbols must have the standard's signatures.
+    pub unsafe fn load(library: &libloading::Library) -> Result<Fmi3Functions, libloading::Error> {
+        macro_rules! symbol {
+            ($name:literal) => {
+                // SAFETY: the caller promises the standard's signature.
+                *unsafe { library.get(concat!($name, "\0").as_bytes()) }?
+            };
+        }
+        Ok(Fmi3Functions {
+            get_version: symbol!("fmi3GetVersion"),
+            set_debug_logging: symbol!("fmi3SetDebugLogging"),
+            instantiate_model_exchange: symbol!("fmi3InstantiateModelExchange"),
+            instantiate_co_simulation: symbol!("fmi3InstantiateCoSimulation"),
+            free_instance: symbol!("fmi3FreeInstance"),
+            enter_initialization_mode: symbol!("fmi3EnterInitializationMode"),
+            exit_initialization_mode: symbol!("fmi3ExitInitializationMode"),
+            enter_event_mode: symbol!("fmi3EnterEventMode"),
+            terminate: symbol!("fmi3Terminate"),
+            reset: symbol!("fmi3Reset"),
+            get_float64: symbol!("fmi3GetFloat64"),
+            get_int32: symbol!("fmi3GetInt32"),
+            get_int64: symbol!("fmi3GetInt64"),
+            get_boolean: symbol!("fmi3GetBoolean"),
+            get_string: symbol!("fmi3GetString"),
+            set_float64: symbol!("fmi3SetFloat64"),
+            set_int32: symbol!("fmi3SetInt32"),
+            set_int64: symbol!("fmi3SetInt64"),
+            set_boolean: symbol!("fmi3SetBoolean"),
+            set_string: symbol!("fmi3SetString"),
+            get_fmu_state: symbol!("fmi3GetFMUState"),
+            set_fmu_state: symbol!("fmi3SetFMUState"),
+            free_fmu_state: symbol!("fmi3FreeFMUState"),
+            serialized_fmu_state_size: symbol!("fmi3SerializedFMUStateSize"),
+            serialize_fmu_state: symbol!("fmi3SerializeFMUState"),
+            deserialize_fmu_state: symbol!("fmi3DeserializeFMUState"),
+            enter_step_mode: symbol!("fmi3EnterStepMode"),
+            do_step: symbol!("fmi3DoStep"),
+            update_discrete_states: symbol!("fmi3UpdateDiscreteStates"),
+            enter_continuous_time_mode: symbol!("fmi3EnterContinuousTimeMode"),
+            completed_integrator_step: symbol!("fmi3CompletedIntegratorStep"),
+            set_time: symbol!("fmi3SetTime"),
+            set_continuous_states: symbol!("fmi3SetContinuousStates"),
+            get_continuous_state_derivatives: symbol!("fmi3GetContinuousStateDerivatives"),
+            get_event_indicators: symbol!("fmi3GetEventIndicators"),
+            get_continuous_states: symbol!("fmi3GetContinuousStates"),
+            get_nominals_of_continuous_states: symbol!("fmi3GetNominalsOfContinuousStates"),
+            get_number_of_event_indicators: symbol!("fmi3GetNumberOfEventIndicators"),
+            get_number_of_continuous_states: symbol!("fmi3GetNumberOfContinuousStates"),
+        })
+    }
+}
+
 /// The out-arguments of `fmi3DoStep`, with its status.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fmi3Step {
@@ -203,15 +260,28 @@ impl Fmi3Instance {
         token: &str,
         options: CoSimulationOptions,
     ) -> Result<Fmi3Instance, Vec<Record>> {
+        Fmi3Instance::co_simulation_in(functions, instance_name, token, None, options)
+    }
+
+    /// As [`co_simulation`](Self::co_simulation) with a `resourcePath` (NULL when `None`).
+    pub fn co_simulation_in(
+        functions: &Fmi3Functions,
+        instance_name: &str,
+        token: &str,
+        resource_path: Option<&str>,
+        options: CoSimulationOptions,
+    ) -> Result<Fmi3Instance, Vec<Record>> {
         let logger = Box::<TestLogger>::default();
         let name = CString::new(instance_name).expect("no NUL in the instance name");
         let token = CString::new(token).expect("no NUL in the token");
+        let resources =
+            resource_path.map(|r| CString::new(r).expect("no NUL in the resource path"));
         // SAFETY: valid strings; the logger outlives the instance (kept in it).
         let c = unsafe {
             (functions.instantiate_co_simulation)(
                 name.as_ptr(),
                 token.as_ptr(),
-                std::ptr::null(),
+                resources.as_ref().map_or(std::ptr::null(), |r| r.as_ptr()),
                 false,
                 options.logging_on,
                 options.event_mode_used,
@@ -278,6 +348,11 @@ impl Fmi3Instance {
         &self.logger
     }
 
+    /// Every record the FMU logged (status, category, message), in order.
+    pub fn records(&self) -> Vec<Record> {
+        self.logger.all()
+    }
+
     pub fn messages(&self) -> Vec<String> {
         self.logger.messages()
     }
@@ -338,6 +413,7 @@ impl Fmi3Instance {
     }
 
     /// `fmi3DoStep` with `noSetFMUStatePriorToCurrentPoint = true`.
+    #[inline]
     pub fn do_step(&self, t: f64, h: f64) -> Fmi3Step {
         // Out-arguments start at the opposite of what a quiet step reports, so a step that
         // leaves one unwritten shows.
@@ -409,6 +485,22 @@ impl Fmi3Instance {
         unsafe { (self.functions.set_continuous_states)(self.c, x.as_ptr(), x.len()) }
     }
 
+    /// `fmi3GetNumberOfContinuousStates`.
+    pub fn number_of_continuous_states(&self) -> (fmi3Status, usize) {
+        let mut n = usize::MAX;
+        // SAFETY: one out-element.
+        let status = unsafe { (self.functions.get_number_of_continuous_states)(self.c, &mut n) };
+        (status, n)
+    }
+
+    /// `fmi3GetNumberOfEventIndicators`.
+    pub fn number_of_event_indicators(&self) -> (fmi3Status, usize) {
+        let mut n = usize::MAX;
+        // SAFETY: one out-element.
+        let status = unsafe { (self.functions.get_number_of_event_indicators)(self.c, &mut n) };
+        (status, n)
+    }
+
     fn vector(&self, read: Vector, n: usize) -> (fmi3Status, Vec<f64>) {
         let mut values = vec![f64::NAN; n];
         // SAFETY: an array of the length passed.
@@ -444,6 +536,22 @@ impl Fmi3Instance {
         (status, values)
     }
 
+    /// `fmi3GetFloat64` of `vrs` into `values` (`nValues` its length), allocating nothing.
+    #[inline]
+    pub fn get_float64_into(&self, vrs: &[u32], values: &mut [f64]) -> fmi3Status {
+        // SAFETY: arrays of the lengths passed.
+        unsafe {
+            (self.functions.get_float64)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                values.as_mut_ptr(),
+                values.len(),
+            )
+        }
+    }
+
+    #[inline]
     pub fn set_float64(&self, vrs: &[u32], values: &[f64]) -> fmi3Status {
         // SAFETY: arrays of the lengths passed.
         unsafe {

@@ -8,37 +8,35 @@
 //! provide intermediate update), however the step ends.
 #![allow(unsafe_code)]
 
-use fmi3_export::ffi::*;
-use fmi_model::Model;
-use fmu_plant as fmu;
+mod fmi3_common;
+
+use fmi3_common::vr;
+use fmi_testkit::fmi3_ffi::*;
+use fmi_testkit::Fmi3Functions;
 use std::ffi::{c_void, CStr, CString};
 use std::ptr;
 use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-fn vr(name: &str) -> u32 {
-    fmu::LanderPlant::declarations()
-        .iter()
-        .find(|d| d.name == name)
-        .unwrap_or_else(|| panic!("no declaration {name}"))
-        .value_reference
-}
+/// The kit's table of the plant's FMI 3.0 entry points: every call below goes through it,
+/// as a C master's function pointers.
+static FMU: &Fmi3Functions = &fmi3_common::FUNCTIONS;
 
 /// A function a hostile logger calls on the instance that is logging.
 type Nested = unsafe fn(fmi3Instance) -> fmi3Status;
 
 unsafe fn nested_reset(c: fmi3Instance) -> fmi3Status {
-    unsafe { fmu::fmi3Reset(c) }
+    unsafe { (FMU.reset)(c) }
 }
 unsafe fn nested_free(c: fmi3Instance) -> fmi3Status {
-    unsafe { fmu::fmi3FreeInstance(c) };
+    unsafe { (FMU.free_instance)(c) };
     // Void: whether it was refused shows afterwards, in the instance still working.
     fmi3Error
 }
 unsafe fn nested_step(c: fmi3Instance) -> fmi3Status {
     let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
     unsafe {
-        fmu::fmi3DoStep(
+        (FMU.do_step)(
             c,
             0.0,
             0.01,
@@ -52,27 +50,27 @@ unsafe fn nested_step(c: fmi3Instance) -> fmi3Status {
 }
 unsafe fn nested_get(c: fmi3Instance) -> fmi3Status {
     let (vr, mut x) = (vr("mass"), 0.0);
-    unsafe { fmu::fmi3GetFloat64(c, &vr, 1, &mut x, 1) }
+    unsafe { (FMU.get_float64)(c, &vr, 1, &mut x, 1) }
 }
 unsafe fn nested_set(c: fmi3Instance) -> fmi3Status {
     let (vr, u) = (vr("thrust_cmd"), 1.0);
-    unsafe { fmu::fmi3SetFloat64(c, &vr, 1, &u, 1) }
+    unsafe { (FMU.set_float64)(c, &vr, 1, &u, 1) }
 }
 unsafe fn nested_terminate(c: fmi3Instance) -> fmi3Status {
-    unsafe { fmu::fmi3Terminate(c) }
+    unsafe { (FMU.terminate)(c) }
 }
 unsafe fn nested_debug_logging(c: fmi3Instance) -> fmi3Status {
-    unsafe { fmu::fmi3SetDebugLogging(c, false, 0, ptr::null()) }
+    unsafe { (FMU.set_debug_logging)(c, false, 0, ptr::null()) }
 }
 unsafe fn nested_get_state(c: fmi3Instance) -> fmi3Status {
     let mut state: fmi3FMUState = ptr::null_mut();
-    unsafe { fmu::fmi3GetFMUState(c, &mut state) }
+    unsafe { (FMU.get_fmu_state)(c, &mut state) }
 }
 unsafe fn nested_enter_init(c: fmi3Instance) -> fmi3Status {
-    unsafe { fmu::fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0) }
+    unsafe { (FMU.enter_initialization_mode)(c, false, 0.0, 0.0, false, 0.0) }
 }
 unsafe fn nested_set_time(c: fmi3Instance) -> fmi3Status {
-    unsafe { fmu::fmi3SetTime(c, 0.0) }
+    unsafe { (FMU.set_time)(c, 0.0) }
 }
 /// A second thread calls while the first one's call is still running.
 unsafe fn nested_from_thread(c: fmi3Instance) -> fmi3Status {
@@ -156,7 +154,7 @@ unsafe extern "C" fn intermediate_update(
         if !early_return_requested.is_null() {
             *early_return_requested = true;
         }
-        fmu::fmi3Reset(hostile.component.load(Ordering::SeqCst));
+        (FMU.reset)(hostile.component.load(Ordering::SeqCst));
     }
 }
 
@@ -175,10 +173,10 @@ impl Hostile {
     }
 
     fn instantiate(&self, logging_on: bool) -> fmi3Instance {
-        let token = CString::new(fmi3_export::instantiation_token::<fmu::LanderPlant>()).unwrap();
+        let token = CString::new(fmi3_common::token()).unwrap();
         // SAFETY: valid strings and callbacks; `self` outlives the instance.
         let c = unsafe {
-            fmu::fmi3InstantiateCoSimulation(
+            (FMU.instantiate_co_simulation)(
                 c"hostile".as_ptr(),
                 token.as_ptr(),
                 ptr::null(),
@@ -223,7 +221,7 @@ fn step(c: fmi3Instance, t: f64, h: f64) -> fmi3Status {
     let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
     // SAFETY: valid out-parameters; the instance is the test's.
     unsafe {
-        fmu::fmi3DoStep(
+        (FMU.do_step)(
             c,
             t,
             h,
@@ -236,10 +234,10 @@ fn step(c: fmi3Instance, t: f64, h: f64) -> fmi3Status {
     }
 }
 fn enter_init(c: fmi3Instance) -> fmi3Status {
-    unsafe { fmu::fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0) }
+    unsafe { (FMU.enter_initialization_mode)(c, false, 0.0, 0.0, false, 0.0) }
 }
 fn exit_init(c: fmi3Instance) -> fmi3Status {
-    unsafe { fmu::fmi3ExitInitializationMode(c) }
+    unsafe { (FMU.exit_initialization_mode)(c) }
 }
 fn illegal_step(c: fmi3Instance) -> fmi3Status {
     // fmi3DoStep before initialization: an error.
@@ -249,7 +247,7 @@ fn set_tilted_start(c: fmi3Instance) -> fmi3Status {
     // An initial attitude 5e-4 off unit norm: normalised with a warning at exit.
     let q = [1.0005, 0.0, 0.0, 0.0];
     let vr = vr("q0_body_to_nue");
-    unsafe { fmu::fmi3SetFloat64(c, &vr, 1, q.as_ptr(), 4) }
+    unsafe { (FMU.set_float64)(c, &vr, 1, q.as_ptr(), 4) }
 }
 
 /// How each logging path is triggered: the outer call, what runs unarmed before it, and
@@ -293,11 +291,11 @@ fn every_nested_call_from_every_logging_path_is_refused_and_named() {
             assert!(hostile.max_depth.load(Ordering::SeqCst) <= 2, "{path}");
             // AND the instance is intact: it resets, and it is freed once
             assert_eq!(
-                unsafe { fmu::fmi3Reset(c) },
+                unsafe { (FMU.reset)(c) },
                 fmi3OK,
                 "{path}, nested {function}"
             );
-            unsafe { fmu::fmi3FreeInstance(c) };
+            unsafe { (FMU.free_instance)(c) };
         }
     }
 }
@@ -307,15 +305,15 @@ fn a_nested_call_during_the_trace_of_free_instance_is_refused_and_the_free_compl
     for (function, nested) in NESTED {
         let hostile = Hostile::new();
         let c = hostile.instantiate(true);
-        hostile.while_armed(nested, || unsafe { fmu::fmi3FreeInstance(c) });
+        hostile.while_armed(nested, || unsafe { (FMU.free_instance)(c) });
         assert!(hostile.refusals(function) >= 1, "nested {function}");
         let statuses = hostile.statuses.lock().unwrap().clone();
         assert!(statuses.iter().all(|&s| s == fmi3Error), "{statuses:?}");
         // The instance is gone: any call is refused without a log line (no logger left),
         // and a second free does nothing (valgrind: no read of the freed memory).
         let logged = hostile.messages.lock().unwrap().len();
-        assert_eq!(unsafe { fmu::fmi3Reset(c) }, fmi3Error);
-        unsafe { fmu::fmi3FreeInstance(c) };
+        assert_eq!(unsafe { (FMU.reset)(c) }, fmi3Error);
+        unsafe { (FMU.free_instance)(c) };
         assert_eq!(hostile.messages.lock().unwrap().len(), logged);
     }
 }
@@ -324,8 +322,8 @@ fn a_nested_call_during_the_trace_of_free_instance_is_refused_and_the_free_compl
 fn calls_on_a_freed_instance_are_refused_and_a_new_instance_is_unaffected() {
     let hostile = Hostile::new();
     let old = hostile.instantiate(false);
-    unsafe { fmu::fmi3FreeInstance(old) };
-    unsafe { fmu::fmi3FreeInstance(old) };
+    unsafe { (FMU.free_instance)(old) };
+    unsafe { (FMU.free_instance)(old) };
     assert_eq!(enter_init(old), fmi3Error);
     assert_eq!(exit_init(old), fmi3Error);
     assert_eq!(step(old, 0.0, 0.1), fmi3Error);
@@ -333,7 +331,7 @@ fn calls_on_a_freed_instance_are_refused_and_a_new_instance_is_unaffected() {
     let fresh = hostile.instantiate(false);
     assert_eq!(enter_init(fresh), fmi3OK);
     assert_eq!(exit_init(fresh), fmi3OK);
-    unsafe { fmu::fmi3FreeInstance(fresh) };
+    unsafe { (FMU.free_instance)(fresh) };
 }
 
 #[test]
@@ -344,7 +342,7 @@ fn the_intermediate_update_callback_is_never_called() {
     let r0 = [0.0, 5.0, 0.0];
     let vr0 = vr("r0_nue");
     assert_eq!(
-        unsafe { fmu::fmi3SetFloat64(c, &vr0, 1, r0.as_ptr(), 3) },
+        unsafe { (FMU.set_float64)(c, &vr0, 1, r0.as_ptr(), 3) },
         fmi3OK
     );
     assert_eq!(enter_init(c), fmi3OK);
@@ -359,5 +357,5 @@ fn the_intermediate_update_callback_is_never_called() {
     step(c, t, 0.1);
     // THEN the callback never ran
     assert_eq!(hostile.intermediate_updates.load(Ordering::SeqCst), 0);
-    unsafe { fmu::fmi3FreeInstance(c) };
+    unsafe { (FMU.free_instance)(c) };
 }

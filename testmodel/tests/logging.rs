@@ -1,32 +1,39 @@
-//! What reaches the master's logger, under which category, with which arguments.
+//! What reaches the master's logger, under which category, with which arguments; for both
+//! FMI versions (FMI 2.0's logger is variadic and gets the instance name; FMI 3.0's gets
+//! the instance environment only, and a message the FMU formatted).
 mod common;
 
-use common::{vr, Fmu};
-use fmi_testkit::fmi2::*;
-use fmu_testmodel as fmu;
-use std::ptr::null;
+use common::{vr, Osc, Status, Version};
+use fmi_testkit::Record;
 
-#[test]
-fn environment_and_instance_name_are_passed_back_on_every_message() {
-    let fmu = Fmu::named("lander-1", true);
-    fmu.init();
-    fmu.set_real(vr::U, f64::NAN);
-    let records = fmu.records();
-    assert!(records.len() > 3);
-    // Every message reached this instance's logger through the environment it was given
-    // (the C shim reads the sink through it), with the instance name.
-    assert!(records.iter().all(|r| r.instance == "lander-1"));
+fn category(r: &Record) -> &str {
+    r.category.as_deref().unwrap_or_default()
 }
 
-/// The layer passes every message as the argument of a fixed "%s" format: text with
-/// conversion specifiers in it reaches the master unchanged (the test kit's logger formats
-/// with vsnprintf, as a C master does).
-#[test]
-fn a_message_with_conversion_specifiers_arrives_verbatim() {
-    let fmu = Fmu::new(true);
+fn environment_and_instance_name_are_passed_back_on_every_message<D: Osc>() {
+    let fmu = D::open_as(common::Interface::CoSimulation, "lander-1", true);
+    fmu.initialize();
+    fmu.set_real(vr::U, f64::NAN);
+    let records = fmu.logger().all();
+    assert!(records.len() > 3);
+    // Every message reached this instance's logger through the environment it was given
+    // (the sink is read through it); FMI 2.0 passes the instance name with each, FMI 3.0's
+    // logMessage has no such argument.
+    let expected = match D::VERSION {
+        Version::Fmi2 => Some("lander-1".to_string()),
+        Version::Fmi3 => None,
+    };
+    assert!(records.iter().all(|r| r.instance_name == expected));
+}
+
+/// The layer passes every message as the argument of a fixed "%s" format (FMI 2.0), or as
+/// the message itself (FMI 3.0): text with conversion specifiers in it reaches the master
+/// unchanged (the kit's FMI 2.0 logger formats with vsnprintf, as a C master does).
+fn a_message_with_conversion_specifiers_arrives_verbatim<D: Osc>() {
+    let fmu = D::open(true);
     let label = "100% %s %d %n %%";
-    assert_eq!(fmu.set_string(vr::LABEL, label), fmi2OK);
-    fmu.init();
+    assert_eq!(fmu.set_string(vr::LABEL, label), Status::Ok);
+    fmu.initialize();
     assert!(
         fmu.messages()
             .iter()
@@ -36,84 +43,110 @@ fn a_message_with_conversion_specifiers_arrives_verbatim() {
     );
 }
 
-#[test]
-fn with_logging_off_only_warnings_errors_and_fatals_are_passed_on() {
-    let fmu = Fmu::new(false);
+fn with_logging_off_only_warnings_errors_and_fatals_are_passed_on<D: Osc>() {
+    let fmu = D::open(false);
     fmu.set_boolean(vr::STOP_AT_THRESHOLD, true);
     fmu.set_real(vr::THRESHOLD, 0.99999);
-    fmu.init();
-    assert_eq!(fmu.step(0.0, 0.01), fmi2Discard);
-    assert!(
-        fmu.records().is_empty(),
-        "no trace, info or discard: {:?}",
-        fmu.records()
-    );
+    fmu.initialize();
+    // The threshold ends the run: FMI 2.0 fmi2Discard; FMI 3.0 fmi3OK with
+    // terminateSimulation (neither is a warning or an error).
+    let step = fmu.step(0.0, 0.01);
+    assert!(step.terminated, "{step:?}");
+    match D::VERSION {
+        Version::Fmi2 => assert_eq!(step.status, Status::Discard),
+        Version::Fmi3 => assert_eq!(step.status, Status::Ok),
+    }
+    let records = fmu.logger().all();
+    assert!(records.is_empty(), "no trace, info or discard: {records:?}");
     fmu.set_real(vr::U, f64::NAN);
-    let records = fmu.records();
+    let records = fmu.logger().all();
     assert_eq!(records.len(), 1);
-    assert_eq!(records[0].category, "logStatusError");
+    assert_eq!(category(&records[0]), "logStatusError");
 }
 
-#[test]
-fn with_logging_on_calls_are_traced_with_their_arguments() {
-    let fmu = Fmu::new(true);
-    fmu.init();
-    fmu.clear();
-    let refs = [vr::U, vr::K];
-    let values = [0.25, 2.0];
-    unsafe { fmu::fmi2SetReal(fmu.c, refs.as_ptr(), 2, values.as_ptr()) };
+fn with_logging_on_calls_are_traced_with_their_arguments<D: Osc>() {
+    let fmu = D::open(true);
+    fmu.initialize();
+    fmu.clear_log();
+    assert_eq!(fmu.set_reals(&[vr::U, vr::K], &[0.25, 2.0]), Status::Ok);
     fmu.step(0.0, 0.01);
     let calls: Vec<String> = fmu
-        .records()
+        .logger()
+        .all()
         .into_iter()
-        .filter(|r| r.category == "logCalls")
-        .map(|r| r.message)
+        .filter(|r| category(r) == "logCalls")
+        .filter_map(|r| r.message)
         .collect();
-    assert_eq!(
-        calls,
-        [
+    let expected = match D::VERSION {
+        Version::Fmi2 => [
             "fmi2SetReal(nvr=2, vr=[4, 1], value=[0.25, 2.0])",
             "fmi2DoStep(currentCommunicationPoint=0, communicationStepSize=0.01, noSetFMUStatePriorToCurrentPoint=1)",
-        ]
-    );
+        ],
+        Version::Fmi3 => [
+            "fmi3SetFloat64(vr=[4, 1], values=[0.25, 2.0])",
+            "fmi3DoStep(currentCommunicationPoint=0, communicationStepSize=0.01, noSetFMUStatePriorToCurrentPoint=true)",
+        ],
+    };
+    assert_eq!(calls, expected);
 }
 
-#[test]
-fn model_info_messages_are_logged_under_status_ok_when_on() {
-    let fmu = Fmu::new(true);
+fn model_info_messages_are_logged_under_status_ok_when_on<D: Osc>() {
+    let fmu = D::open(true);
     fmu.set_string(vr::LABEL, "osc-7");
-    fmu.init();
+    fmu.initialize();
     let info = fmu
-        .records()
+        .logger()
+        .all()
         .into_iter()
-        .find(|r| r.category == "logStatusOK")
+        .find(|r| category(r) == "logStatusOK")
         .expect("info");
-    assert_eq!(info.status, fmi2OK);
+    assert_eq!(Status::from(info.status), Status::Ok);
     assert_eq!(
-        info.message,
-        "fmi2ExitInitializationMode: osc-7: x0 = 1 m, k = 1 N/m, c = 0.1 N.s/m"
+        info.message.as_deref().unwrap_or_default(),
+        format!(
+            "{}: osc-7: x0 = 1 m, k = 1 N/m, c = 0.1 N.s/m",
+            D::f("ExitInitializationMode")
+        )
     );
 }
 
 /// SetDebugLogging with categories switches exactly those; with none, all of them.
-#[test]
-fn set_debug_logging_switches_the_named_categories() {
-    let fmu = Fmu::new(false);
-    let calls = [c"logCalls".as_ptr()];
+fn set_debug_logging_switches_the_named_categories<D: Osc>() {
+    let fmu = D::open(false);
     assert_eq!(
-        unsafe { fmu::fmi2SetDebugLogging(fmu.c, fmi2True, 1, calls.as_ptr()) },
-        fmi2OK
+        fmu.set_debug_logging_categories(true, &["logCalls"]),
+        Status::Ok
     );
-    fmu.clear();
-    fmu.init();
-    let categories: Vec<String> = fmu.records().into_iter().map(|r| r.category).collect();
-    assert_eq!(categories, ["logCalls"; 3], "trace only, no info message");
+    fmu.clear_log();
+    fmu.initialize();
+    let categories: Vec<String> = fmu
+        .logger()
+        .all()
+        .iter()
+        .map(|r| category(r).to_string())
+        .collect();
+    // FMI 2.0: fmi2SetupExperiment, then enter and exit; FMI 3.0: enter and exit.
+    let calls = match D::VERSION {
+        Version::Fmi2 => 3,
+        Version::Fmi3 => 2,
+    };
+    assert_eq!(
+        categories,
+        vec!["logCalls"; calls],
+        "trace only, no info message"
+    );
 
-    assert_eq!(
-        unsafe { fmu::fmi2SetDebugLogging(fmu.c, fmi2False, 0, null()) },
-        fmi2OK
-    );
-    fmu.clear();
+    assert_eq!(fmu.set_debug_logging_categories(false, &[]), Status::Ok);
+    fmu.clear_log();
     fmu.step(0.0, 0.01);
-    assert!(fmu.records().is_empty());
+    assert!(fmu.logger().all().is_empty());
 }
+
+both!(
+    environment_and_instance_name_are_passed_back_on_every_message,
+    a_message_with_conversion_specifiers_arrives_verbatim,
+    with_logging_off_only_warnings_errors_and_fatals_are_passed_on,
+    with_logging_on_calls_are_traced_with_their_arguments,
+    model_info_messages_are_logged_under_status_ok_when_on,
+    set_debug_logging_switches_the_named_categories,
+);

@@ -367,3 +367,225 @@ both!(
     the_error_state_admits_reset_in_each_version,
     free_instance_is_accepted_in_every_state_in_each_version,
 );
+
+// ---- FMI 3.0: every function in every reachable state, as fmi3-export's table says ----
+
+mod fmi3_table {
+    use super::common::{vr, FUNCTIONS3};
+    use fmi3_export::state::{state_name, Function, Interface, Refusal, State};
+    use fmi_testkit::fmi3_ffi::*;
+    use fmi_testkit::{CoSimulationOptions, Fmi3Instance};
+
+    fn open(interface: Interface) -> Fmi3Instance {
+        let token = fmi3_export::instantiation_token::<fmu_testmodel::Oscillator>();
+        match interface {
+            // With Event Mode, so that a Co-Simulation instance can reach it.
+            Interface::CoSimulation => {
+                let options = CoSimulationOptions {
+                    event_mode_used: true,
+                    ..CoSimulationOptions::default()
+                };
+                Fmi3Instance::co_simulation(&FUNCTIONS3, "osc", &token, options)
+            }
+            Interface::ModelExchange => {
+                Fmi3Instance::model_exchange(&FUNCTIONS3, "osc", &token, false)
+            }
+        }
+        .unwrap_or_else(|log| panic!("{log:?}"))
+    }
+
+    /// A fresh instance of `interface` driven into `state`.
+    fn in_state(interface: Interface, state: State) -> Fmi3Instance {
+        let fmu = open(interface);
+        let init = |fmu: &Fmi3Instance| {
+            assert_eq!(fmu.enter_initialization_mode(0.0, None), fmi3OK);
+            assert_eq!(
+                fmu.exit_initialization_mode(),
+                fmi3OK,
+                "{:?}",
+                fmu.messages()
+            );
+        };
+        match state {
+            State::Instantiated => {}
+            State::InitializationMode => {
+                assert_eq!(fmu.enter_initialization_mode(0.0, None), fmi3OK);
+            }
+            // After initialization Model Exchange is in Event Mode (FMI 3.0 §3.2), and so
+            // is Co-Simulation with eventModeUsed (§4.2).
+            State::EventMode => init(&fmu),
+            State::StepComplete => {
+                init(&fmu);
+                assert_eq!(fmu.enter_step_mode(), fmi3OK, "{:?}", fmu.messages());
+            }
+            State::ContinuousTimeMode => {
+                init(&fmu);
+                assert_eq!(fmu.enter_continuous_time_mode(), fmi3OK);
+            }
+            State::Terminated => {
+                init(&fmu);
+                assert_eq!(fmu.terminate(), fmi3OK, "{:?}", fmu.messages());
+            }
+            State::Error => {
+                let stop = [vr::STOP_AT_THRESHOLD];
+                assert_eq!(fmu.set_booleans(&stop, &[true]), fmi3OK);
+                assert_eq!(fmu.set_float64(&[vr::THRESHOLD], &[1.0]), fmi3OK);
+                assert_eq!(fmu.enter_initialization_mode(0.0, None), fmi3OK);
+                assert_eq!(fmu.exit_initialization_mode(), fmi3Error);
+            }
+            other => unreachable!("{other:?} is not reached by this model"),
+        }
+        fmu.logger().clear();
+        fmu
+    }
+
+    /// The functions the kit calls, with valid arguments.
+    const CALLED: [Function; 33] = [
+        Function::SetDebugLogging,
+        Function::EnterInitializationMode,
+        Function::ExitInitializationMode,
+        Function::EnterEventMode,
+        Function::Terminate,
+        Function::Reset,
+        Function::GetFloat64,
+        Function::GetInt32,
+        Function::GetBoolean,
+        Function::GetString,
+        Function::SetFloat64,
+        Function::SetInt32,
+        Function::SetBoolean,
+        Function::SetString,
+        Function::GetFMUState,
+        Function::SetFMUState,
+        Function::FreeFMUState,
+        Function::SerializedFMUStateSize,
+        Function::SerializeFMUState,
+        Function::DeserializeFMUState,
+        Function::UpdateDiscreteStates,
+        Function::EnterContinuousTimeMode,
+        Function::CompletedIntegratorStep,
+        Function::SetTime,
+        Function::SetContinuousStates,
+        Function::GetContinuousStateDerivatives,
+        Function::GetEventIndicators,
+        Function::GetContinuousStates,
+        Function::GetNominalsOfContinuousStates,
+        Function::GetNumberOfEventIndicators,
+        Function::GetNumberOfContinuousStates,
+        Function::EnterStepMode,
+        Function::DoStep,
+    ];
+
+    fn call(fmu: &Fmi3Instance, f: Function) -> fmi3Status {
+        match f {
+            Function::SetDebugLogging => fmu.set_debug_logging(true),
+            Function::EnterInitializationMode => fmu.enter_initialization_mode(0.0, None),
+            Function::ExitInitializationMode => fmu.exit_initialization_mode(),
+            Function::EnterEventMode => fmu.enter_event_mode(),
+            Function::Terminate => fmu.terminate(),
+            Function::Reset => fmu.reset(),
+            Function::GetFloat64 => fmu.get_float64(&[vr::X], 1).0,
+            Function::GetInt32 => fmu.get_int32(&[vr::STEP_COUNT]).0,
+            Function::GetBoolean => fmu.get_booleans(&[vr::STOP_AT_THRESHOLD]).0,
+            Function::GetString => fmu.get_string(vr::LABEL).0,
+            Function::SetFloat64 => fmu.set_float64(&[vr::U], &[0.5]),
+            Function::SetInt32 => fmu.set_int32(&[vr::SUBSTEPS], &[4]),
+            Function::SetBoolean => fmu.set_booleans(&[vr::STOP_AT_THRESHOLD], &[false]),
+            Function::SetString => fmu.set_string(vr::LABEL, "l"),
+            Function::GetFMUState => {
+                let (s, state) = fmu.get_state();
+                fmu.free_state(state);
+                s
+            }
+            Function::FreeFMUState => fmu.free_state(std::ptr::null_mut()),
+            Function::SetFMUState
+            | Function::SerializedFMUStateSize
+            | Function::SerializeFMUState
+            | Function::DeserializeFMUState => {
+                // GetFMUState is legal wherever these are (the same mask in the table).
+                let (_, state) = fmu.get_state();
+                let (_, bytes) = fmu.serialize(state);
+                fmu.logger().clear();
+                let s = match f {
+                    Function::SetFMUState => fmu.set_state(state),
+                    Function::DeserializeFMUState => {
+                        let (s, copy) = fmu.deserialize(&bytes);
+                        fmu.free_state(copy);
+                        s
+                    }
+                    // Size, then the bytes: the first refusal or the last status.
+                    _ => fmu.serialize(state).0,
+                };
+                fmu.free_state(state);
+                s
+            }
+            Function::UpdateDiscreteStates => fmu.update_discrete_states().status,
+            Function::EnterContinuousTimeMode => fmu.enter_continuous_time_mode(),
+            Function::CompletedIntegratorStep => fmu.completed_integrator_step().0,
+            Function::SetTime => fmu.set_time(0.0),
+            Function::SetContinuousStates => fmu.set_continuous_states(&[1.0, 0.0]),
+            Function::GetContinuousStateDerivatives => fmu.derivatives(2).0,
+            Function::GetEventIndicators => fmu.event_indicators(1).0,
+            Function::GetContinuousStates => fmu.continuous_states(2).0,
+            Function::GetNominalsOfContinuousStates => fmu.nominals(2).0,
+            Function::GetNumberOfEventIndicators => fmu.number_of_event_indicators().0,
+            Function::GetNumberOfContinuousStates => fmu.number_of_continuous_states().0,
+            Function::EnterStepMode => fmu.enter_step_mode(),
+            Function::DoStep => fmu.do_step(0.0, 0.01).status,
+            other => unreachable!("{} is not called here", other.name()),
+        }
+    }
+
+    fn reachable(interface: Interface) -> [State; 6] {
+        use State::*;
+        match interface {
+            Interface::CoSimulation => [
+                Instantiated,
+                InitializationMode,
+                EventMode,
+                StepComplete,
+                Terminated,
+                Error,
+            ],
+            Interface::ModelExchange => [
+                Instantiated,
+                InitializationMode,
+                EventMode,
+                ContinuousTimeMode,
+                Terminated,
+                Error,
+            ],
+        }
+    }
+
+    #[test]
+    fn every_function_in_every_state_is_legal_or_refused_as_the_table_says() {
+        let mut checked = 0;
+        for interface in [Interface::CoSimulation, Interface::ModelExchange] {
+            for f in CALLED {
+                for state in reachable(interface) {
+                    let fmu = in_state(interface, state);
+                    let status = call(&fmu, f);
+                    let illegal_line =
+                        format!("{}: illegal call in state {}", f.name(), state_name(state));
+                    let refused = fmu.messages().contains(&illegal_line);
+                    let illegal =
+                        matches!(f.admit(interface, state), Err(Refusal::IllegalState(..)));
+                    assert_eq!(
+                        refused,
+                        illegal,
+                        "{} in {state:?} ({interface:?}): {:?}",
+                        f.name(),
+                        fmu.messages()
+                    );
+                    if refused {
+                        assert_eq!(status, fmi3Error);
+                        assert_eq!(fmu.messages().len(), 1, "one line: {:?}", fmu.messages());
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 33 * 6 * 2);
+    }
+}

@@ -175,6 +175,11 @@ pub trait Osc: Driver {
         .unwrap_or_else(|log| panic!("instantiate failed: {log:?}"))
     }
 
+    /// The instance's own time: FMI 2.0 `fmi2LastSuccessfulTime` (fmi2GetRealStatus); FMI
+    /// 3.0 the independent variable `time` (fmi3GetFloat64), as FMI 3.0 defines no
+    /// out-arguments after a refused step.
+    fn own_time(&self) -> f64;
+
     /// The C name of a function of this version: `f("DoStep")` is `fmi2DoStep` or
     /// `fmi3DoStep`.
     fn f(name: &str) -> String {
@@ -206,6 +211,9 @@ impl Osc for Fmi2 {
     fn token() -> String {
         fmi2_export::guid::<fmu_testmodel::Oscillator>()
     }
+    fn own_time(&self) -> f64 {
+        self.last_successful_time()
+    }
 }
 
 impl Osc for Fmi3 {
@@ -214,6 +222,9 @@ impl Osc for Fmi3 {
     }
     fn token() -> String {
         fmi3_export::instantiation_token::<fmu_testmodel::Oscillator>()
+    }
+    fn own_time(&self) -> f64 {
+        self.real(fmi3_export::variables::TIME_VR)
     }
 }
 

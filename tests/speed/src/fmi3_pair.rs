@@ -1,93 +1,37 @@
-//! The paper flight's two FMUs through their FMI 3.0 Co-Simulation entry points, declared
-//! here by hand as any C master would: the same exchange as the FMI 2.0 pair, with the
-//! vector variables set and read as arrays (5 value references for the 14 navigation values).
+//! The paper flight's two FMUs through their FMI 3.0 Co-Simulation entry points, loaded
+//! from their binaries into the test kit's FMI 3.0 table (`Fmi3Functions::load`) and driven
+//! by its instance, as the FMI 2.0 pair is by the kit's FMI 2.0 one: the same exchange, with
+//! the vector variables set and read as arrays (5 value references for the 14 navigation
+//! values). Each exchange is one FMI call through a function pointer, as from a C master.
 use crate::call_orders::{Binaries, Exchange, PAPER_STEPS, PHI_CMD_RAD, Q0_BODY_TO_NUE, STEP_S};
 use anyhow::{anyhow, Context, Result};
 use fmi_abi::fmi3::*;
 use fmi_model::Model;
-use std::ffi::{c_char, CString};
+use fmi_testkit::{CoSimulationOptions, Fmi3Functions, Fmi3Instance};
 use std::path::Path;
 
-type Instantiate = unsafe extern "C" fn(
-    *const c_char,
-    *const c_char,
-    *const c_char,
-    fmi3Boolean,
-    fmi3Boolean,
-    fmi3Boolean,
-    fmi3Boolean,
-    *const fmi3ValueReference,
-    usize,
-    fmi3InstanceEnvironment,
-    fmi3LogMessageCallback,
-    fmi3IntermediateUpdateCallback,
-) -> fmi3Instance;
-type EnterInit = unsafe extern "C" fn(
-    fmi3Instance,
-    fmi3Boolean,
-    fmi3Float64,
-    fmi3Float64,
-    fmi3Boolean,
-    fmi3Float64,
-) -> fmi3Status;
-type InstanceOnly = unsafe extern "C" fn(fmi3Instance) -> fmi3Status;
-type Free = unsafe extern "C" fn(fmi3Instance);
-type SetFloat64 = unsafe extern "C" fn(
-    fmi3Instance,
-    *const fmi3ValueReference,
-    usize,
-    *const fmi3Float64,
-    usize,
-) -> fmi3Status;
-type GetFloat64 = unsafe extern "C" fn(
-    fmi3Instance,
-    *const fmi3ValueReference,
-    usize,
-    *mut fmi3Float64,
-    usize,
-) -> fmi3Status;
-type SetInt32 = unsafe extern "C" fn(
-    fmi3Instance,
-    *const fmi3ValueReference,
-    usize,
-    *const i32,
-    usize,
-) -> fmi3Status;
-type DoStep = unsafe extern "C" fn(
-    fmi3Instance,
-    fmi3Float64,
-    fmi3Float64,
-    fmi3Boolean,
-    *mut fmi3Boolean,
-    *mut fmi3Boolean,
-    *mut fmi3Boolean,
-    *mut fmi3Float64,
-) -> fmi3Status;
-
-/// One loaded FMU's functions and instance.
+/// One loaded FMU's instance.
 struct Side {
-    instance: fmi3Instance,
-    set_float64: SetFloat64,
-    get_float64: GetFloat64,
-    do_step: DoStep,
-    free: Free,
+    // Field order is drop order: the instance is freed before its library is unloaded.
+    instance: Fmi3Instance,
     _library: libloading::Library,
     _unpacked: fmi_abi::unpack::Unpacked,
 }
 
-impl Drop for Side {
-    fn drop(&mut self) {
-        // SAFETY: our live instance, freed once, before its library is unloaded.
-        unsafe { (self.free)(self.instance) };
-    }
-}
-
-fn check(status: fmi3Status, what: &str) -> Result<()> {
+/// A master's status check: inline, its error built out of line.
+#[inline(always)]
+fn check(status: fmi3Status, what: &str, side: &Side) -> Result<()> {
     if status == fmi3OK {
         Ok(())
     } else {
-        Err(anyhow!("{what}: {status:?}"))
+        Err(failed(status, what, side))
     }
+}
+
+#[cold]
+#[inline(never)]
+fn failed(status: fmi3Status, what: &str, side: &Side) -> anyhow::Error {
+    anyhow!("{what}: {status:?}, {:?}", side.instance.messages())
 }
 
 /// The value references of `names` among the model's declarations (FMI 3.0 keeps one
@@ -119,107 +63,50 @@ impl Side {
                 _ => "libfmu_plant.so",
             }),
         };
-        // SAFETY: our own FMU's binary; the symbols below have the standard's signatures.
+        // SAFETY: our own FMU's binary; its fmi3* symbols have the standard's signatures.
         let library = unsafe { libloading::Library::new(&binary) }
             .with_context(|| format!("loading {}", binary.display()))?;
-        macro_rules! symbol {
-            ($t:ty, $name:literal) => {
-                // SAFETY: as above.
-                *unsafe { library.get::<$t>(concat!($name, "\0").as_bytes()) }?
-            };
-        }
-        let instantiate = symbol!(Instantiate, "fmi3InstantiateCoSimulation");
-        let enter: EnterInit = symbol!(EnterInit, "fmi3EnterInitializationMode");
-        let token = CString::new(fmi3_export::instantiation_token::<M>())?;
-        let name = CString::new(name)?;
-        let resources = CString::new(format!("file://{}/resources/", unpacked.root().display()))?;
-        // SAFETY: valid strings; no callbacks.
-        let instance = unsafe {
-            instantiate(
-                name.as_ptr(),
-                token.as_ptr(),
-                resources.as_ptr(),
-                false,
-                false,
-                false,
-                false,
-                std::ptr::null(),
-                0,
-                std::ptr::null_mut(),
-                None,
-                None,
-            )
-        };
-        if instance.is_null() {
-            return Err(anyhow!(
-                "{identifier}: fmi3InstantiateCoSimulation returned NULL"
-            ));
-        }
+        // SAFETY: as above.
+        let functions = unsafe { Fmi3Functions::load(&library) }?;
+        let token = fmi3_export::instantiation_token::<M>();
+        let resources = format!("file://{}/resources/", unpacked.root().display());
+        let instance = Fmi3Instance::co_simulation_in(
+            &functions,
+            name,
+            &token,
+            Some(&resources),
+            CoSimulationOptions::default(),
+        )
+        .map_err(|log| {
+            anyhow!("{identifier}: fmi3InstantiateCoSimulation returned NULL: {log:?}")
+        })?;
         let side = Side {
             instance,
-            set_float64: symbol!(SetFloat64, "fmi3SetFloat64"),
-            get_float64: symbol!(GetFloat64, "fmi3GetFloat64"),
-            do_step: symbol!(DoStep, "fmi3DoStep"),
-            free: symbol!(Free, "fmi3FreeInstance"),
             _library: library,
             _unpacked: unpacked,
         };
         let stop = PAPER_STEPS as f64 * STEP_S;
-        // SAFETY: our live instance.
         check(
-            unsafe { enter(instance, false, 0.0, 0.0, true, stop) },
+            side.instance.enter_initialization_mode(0.0, Some(stop)),
             "enter init",
+            &side,
         )?;
         Ok(side)
     }
 
     #[inline(always)]
     fn set(&self, vrs: &[u32], values: &[f64], what: &str) -> Result<()> {
-        // SAFETY: arrays of the lengths passed; a live instance.
-        let status = unsafe {
-            (self.set_float64)(
-                self.instance,
-                vrs.as_ptr(),
-                vrs.len(),
-                values.as_ptr(),
-                values.len(),
-            )
-        };
-        check(status, what)
+        check(self.instance.set_float64(vrs, values), what, self)
     }
 
     #[inline(always)]
     fn get(&self, vrs: &[u32], values: &mut [f64], what: &str) -> Result<()> {
-        // SAFETY: as in `set`.
-        let status = unsafe {
-            (self.get_float64)(
-                self.instance,
-                vrs.as_ptr(),
-                vrs.len(),
-                values.as_mut_ptr(),
-                values.len(),
-            )
-        };
-        check(status, what)
+        check(self.instance.get_float64_into(vrs, values), what, self)
     }
 
     #[inline(always)]
     fn step(&self, t: f64, h: f64, what: &str) -> Result<()> {
-        let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
-        // SAFETY: a live instance; the out-pointers are ours.
-        let status = unsafe {
-            (self.do_step)(
-                self.instance,
-                t,
-                h,
-                true,
-                &mut event,
-                &mut terminate,
-                &mut early,
-                &mut last,
-            )
-        };
-        check(status, what)
+        check(self.instance.do_step(t, h).status, what, self)
     }
 }
 
@@ -242,16 +129,8 @@ impl Fmi3Pair {
         use fmu_plant::LanderPlant;
         let gnc = Side::load::<LanderGnc>(fmu_dir, binaries, "gnc")?;
         let plant = Side::load::<LanderPlant>(fmu_dir, binaries, "plant")?;
-        let set_int32: SetInt32 = {
-            // SAFETY: the standard's signature.
-            *unsafe { gnc._library.get::<SetInt32>(b"fmi3SetInt32\0") }?
-        };
         let law = references::<LanderGnc, 1>(["control_law"])?;
-        // SAFETY: a live instance, arrays of the lengths passed.
-        check(
-            unsafe { set_int32(gnc.instance, law.as_ptr(), 1, [2].as_ptr(), 1) },
-            "control_law",
-        )?;
+        check(gnc.instance.set_int32(&law, &[2]), "control_law", &gnc)?;
         let phi = references::<LanderGnc, 2>(["phi_cmd", "phi_cmd_time"])?;
         gnc.set(&phi, &[PHI_CMD_RAD, 0.0], "phi_cmd")?;
         let initial = references::<LanderPlant, 3>(["r0_nue", "q0_body_to_nue", "m0"])?;
@@ -259,15 +138,7 @@ impl Fmi3Pair {
         let values = [0.0, 800.0, 0.0, q[0], q[1], q[2], q[3], 900.0];
         plant.set(&initial, &values, "plant initial state")?;
         for (side, what) in [(&gnc, "gnc"), (&plant, "plant")] {
-            let exit: InstanceOnly = {
-                // SAFETY: the standard's signature.
-                *unsafe {
-                    side._library
-                        .get::<InstanceOnly>(b"fmi3ExitInitializationMode\0")
-                }?
-            };
-            // SAFETY: a live instance.
-            check(unsafe { exit(side.instance) }, what)?;
+            check(side.instance.exit_initialization_mode(), what, side)?;
         }
         Ok(Fmi3Pair {
             nav_in_gnc: references::<LanderGnc, 5>(NAVIGATION)?,

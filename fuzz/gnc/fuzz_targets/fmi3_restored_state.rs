@@ -1,0 +1,11 @@
+#![no_main]
+//! (a) FMI 3.0: a crafted FMU-state payload with a valid header and checksum, then gets and
+//! a step.
+#[path = "../../common/driver3.rs"]
+mod driver3;
+
+static FUNCTIONS: fmi_testkit::Fmi3Functions = fmi_testkit::fmi3_functions!(fmu_gnc);
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    driver3::restored_state::<fmu_gnc::LanderGnc>(&FUNCTIONS, data);
+});
