@@ -11,7 +11,7 @@
 //! the instance could have reached is accepted. A refusal names the field at fault and
 //! leaves the instance as it was.
 use crate::instance::{Core, Instance};
-use crate::state::State;
+use crate::state::{Interface, State, StateMask};
 use crate::status::{CallError, Success};
 use crate::version::Abi;
 use fmi_model::restored::{check_bookkeeping, check_declared_values, Bookkeeping};
@@ -115,6 +115,13 @@ pub fn validate<M: Model, A: Abi>(inst: &Instance<M, A>, core: &Core<M>) -> Resu
             inst.interface().name()
         )));
     }
+    if !reachable(inst, core.state) {
+        return Err(CallError::InvalidArgument(format!(
+            "FMU state in state {:?}, which a {} instance of this FMU never enters",
+            core.state,
+            inst.interface().name()
+        )));
+    }
     let bookkeeping = Bookkeeping {
         time: core.time,
         start_time: core.start_time,
@@ -134,6 +141,39 @@ pub fn validate<M: Model, A: Abi>(inst: &Instance<M, A>, core: &Core<M>) -> Resu
                 crate::describe_model_error::<M>(&e)
             ))
         })
+}
+
+/// Whether an instance like `inst` (its version, interface and options) can be in `state`.
+fn reachable<A: Abi, M: Model>(inst: &Instance<M, A>, state: State) -> bool {
+    use State::*;
+    let interface_states = match inst.interface() {
+        Interface::ModelExchange => StateMask::of(&[
+            Instantiated,
+            InitializationMode,
+            EventMode,
+            ContinuousTimeMode,
+            Terminated,
+            Error,
+        ]),
+        Interface::CoSimulation if inst.options.event_mode_used => StateMask::of(&[
+            Instantiated,
+            InitializationMode,
+            StepComplete,
+            StepFailed,
+            EventMode,
+            Terminated,
+            Error,
+        ]),
+        Interface::CoSimulation => StateMask::of(&[
+            Instantiated,
+            InitializationMode,
+            StepComplete,
+            StepFailed,
+            Terminated,
+            Error,
+        ]),
+    };
+    interface_states.contains(state) && A::STATES.contains(state)
 }
 
 /// A copy of the instance's state into `*slot`.

@@ -46,6 +46,9 @@ pub trait Abi: Sized + 'static {
     const TOKEN_ARGUMENT: &'static str;
     /// The function that declares the stop time, named when a step passes it.
     const EXPERIMENT: &'static str;
+    /// The states an instance of this version can be in (a restored FMU state in any other
+    /// is refused: FMI 3.0 has no StepFailed, FMI 2.0's Co-Simulation no Event Mode).
+    const STATES: crate::StateMask;
     /// The categories this version declares in its model description.
     const CATEGORIES: &'static [Category];
 }

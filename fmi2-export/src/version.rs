@@ -5,7 +5,7 @@ use crate::ffi::*;
 use crate::index::VariableIndex;
 use crate::state::Function;
 use crate::variable::Variable;
-use fmi_export::{Abi, Category, Logger, Status};
+use fmi_export::{Abi, Category, Logger, State, StateMask, Status};
 use fmi_model::registry::Registry;
 use fmi_model::Model;
 use std::ffi::{CStr, CString};
@@ -54,6 +54,17 @@ impl Abi for Fmi2 {
     const TOKEN_ARGUMENT: &'static str = "fmuGUID";
     const EXPERIMENT: &'static str = "fmi2SetupExperiment";
     const CATEGORIES: &'static [Category] = CATEGORIES;
+    // StepCanceled is never entered (steps are synchronous); Fatal is never restored.
+    const STATES: StateMask = StateMask::of(&[
+        State::Instantiated,
+        State::InitializationMode,
+        State::StepComplete,
+        State::StepFailed,
+        State::Terminated,
+        State::Error,
+        State::EventMode,
+        State::ContinuousTimeMode,
+    ]);
     type CStatus = fmi2Status;
     type Function = Function;
     type Sink = Sink;

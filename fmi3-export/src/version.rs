@@ -4,7 +4,7 @@
 use crate::ffi::*;
 use crate::state::Function;
 use crate::variables::{Float64Slot, Index};
-use fmi_export::{Abi, Category, Logger, Status};
+use fmi_export::{Abi, Category, Logger, State, StateMask, Status};
 use fmi_model::registry::Registry;
 use fmi_model::Model;
 use std::ffi::CStr;
@@ -42,6 +42,16 @@ impl Abi for Fmi3 {
     const TOKEN_ARGUMENT: &'static str = "instantiationToken";
     const EXPERIMENT: &'static str = "fmi3EnterInitializationMode";
     const CATEGORIES: &'static [Category] = CATEGORIES;
+    // FMI 3.0 has no StepFailed or StepCanceled (a step either succeeds or changes nothing).
+    const STATES: StateMask = StateMask::of(&[
+        State::Instantiated,
+        State::InitializationMode,
+        State::StepComplete,
+        State::Terminated,
+        State::Error,
+        State::EventMode,
+        State::ContinuousTimeMode,
+    ]);
     type CStatus = fmi3Status;
     type Function = Function;
     type Sink = Sink;

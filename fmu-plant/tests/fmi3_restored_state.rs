@@ -165,13 +165,10 @@ fn model_exchange_set_time_refuses_a_time_that_is_not_finite_or_before_the_start
 }
 
 /// Found by the FMI 3.0 `restored_state` fuzz target (input `7b0b0f0400ff5f`: two payload
-/// bytes of a genuine state after initialization edited, then resealed): the state is
-/// accepted, and the instance is left in FMI 2.0's StepFailed ("Step Mode (discarded)"),
-/// a state no FMI 3.0 instance may be in, where every call is refused, fmi3SetFMUState
-/// and fmi3Reset included. Open: the restored-state checks should refuse a state of the
-/// machine the version does not have.
+/// bytes of a genuine state after initialization edited, then resealed): the state put the
+/// instance in FMI 2.0's StepFailed, a state no FMI 3.0 instance may be in. A restored
+/// state must be one the version and interface can be in.
 #[test]
-#[ignore = "open finding: a crafted FMI 3.0 state restores FMI 2.0's StepFailed"]
 fn a_restored_state_of_a_step_mode_fmi3_does_not_have_is_refused() {
     let plant = Plant::co_simulation(true);
     plant.init();
