@@ -18,7 +18,8 @@ State: Step Mode). Which orders are left, and the delay each gives:
 - Step Mode alone: set the inputs at t_k, fmi3DoStep, get the outputs after the step. The
   GNC's outputs read at t_k+1 were computed from the inputs set at t_k, so the plant applies
   over [t_k+1, t_k+2] a command computed from its state at t_k: one communication step of
-  delay (the Jacobi loop of docs/interface.md, whatever the exchange order).
+  delay (the Jacobi loop of docs/interface.md, whatever the exchange order). `--step-mode`
+  flies that loop; it matches the harness's Jacobi run bit for bit.
 - A unit whose outputs depend on no input (none in this system; LanderNav in FMI 2.0) could
   stay in Step Mode: its inputs are set before the step and nothing is read after them; the
   values read right after the previous step are its outputs at t_k. Such a unit is
@@ -33,7 +34,9 @@ each FMU path is mapped to its FMI 3.0 twin in the `fmi3` folder beside it. Earl
 not allowed (`earlyReturnAllowed = false`): a step that meets touchdown still ends at t + h
 with `terminateSimulation`, and the loop stops after recording that row.
 
-Usage: python fmpy3_master.py SYSTEM.json OUT.csv
+Usage: python fmpy3_master.py SYSTEM.json OUT.csv [--step-mode]
+
+--step-mode: Step Mode alone for every unit (eventModeUsed = false), to measure the delay.
 """
 import json
 import os
@@ -65,7 +68,7 @@ def start_values(variable) -> list:
 
 
 class Unit:
-    def __init__(self, name: str, fmu_path: str):
+    def __init__(self, name: str, fmu_path: str, step_mode: bool = False):
         self.name = name
         self.description = read_model_description(fmu_path)
         self.variables = {v.name: v for v in self.description.modelVariables}
@@ -88,7 +91,7 @@ class Unit:
         inputs = {v.name for v in self.description.modelVariables if v.causality == "input"}
         self.event_mode = any(
             u.dependencies is None or any(d.name in inputs for d in u.dependencies)
-            for u in self.description.outputs)
+            for u in self.description.outputs) and not step_mode
         self.in_event_mode = False
         self.in_step_mode = False
         # Step Mode only: an input was set since the last fmi3DoStep, so no get may follow.
@@ -209,8 +212,9 @@ def fmi3_twin(path: str) -> str:
     return os.path.join(folder, "fmi3", file)
 
 
-def simulate(system: dict):
-    units = [Unit(i["name"], fmi3_twin(i["fmu"])) for i in system["instances"]]
+def simulate(system: dict, step_mode: bool = False):
+    """`step_mode`: no unit uses Event Mode, whatever its feedthrough (the one-step delay)."""
+    units = [Unit(i["name"], fmi3_twin(i["fmu"]), step_mode) for i in system["instances"]]
     by_name = {u.name: u for u in units}
     for source, destination in system["connections"]:
         from_unit, from_var = source.split(".", 1)
@@ -284,10 +288,11 @@ def simulate(system: dict):
     return [f"{u.name}.{c}" for u, c in columns], times, rows
 
 
-def main(system_path: str, out_path: str) -> int:
+def main(system_path: str, out_path: str, *flags: str) -> int:
     with open(system_path) as f:
         system = json.load(f)
-    names, times, rows = simulate(system)
+    assert set(flags) <= {"--step-mode"}, f"unknown options {flags}"
+    names, times, rows = simulate(system, step_mode="--step-mode" in flags)
     write_csv(out_path, names, times, rows)
     print(f"fmpy3_master: {len(times)} rows of {len(names)} outputs, t = {times[0]} .. {times[-1]} s")
     return 0
