@@ -73,8 +73,15 @@ fn fmpy_simulate_fmu_runs_the_fmi3_plant_through_touchdown_like_the_fmi2_plant()
         v_td[1] - v_exact
     );
     assert!((t_td - t_exact).abs() < 1e-6, "touchdown time {t_td}");
-    assert!((v_td[1] - v_exact).abs() < 1e-5, "touchdown velocity {v_td:?}");
-    assert_eq!(reference.f("time"), t_td, "FMI 2.0: the last row is the touchdown");
+    assert!(
+        (v_td[1] - v_exact).abs() < 1e-5,
+        "touchdown velocity {v_td:?}"
+    );
+    assert_eq!(
+        reference.f("time"),
+        t_td,
+        "FMI 2.0: the last row is the touchdown"
+    );
 
     for name in [
         "fmi2_cs",
@@ -104,23 +111,53 @@ fn fmpy_simulate_fmu_runs_the_fmi3_plant_through_touchdown_like_the_fmi2_plant()
         );
         // the run ended at the touchdown, before the stop time, on the touchdown state
         assert!(time < 35.0, "{name}: ran to {time} s");
-        assert!(r.f("altitude").abs() < 1e-6, "{name}: altitude {}", r.f("altitude"));
-        assert!(r.f("r_nue_2").abs() < 1e-6, "{name}: r_nue[2] {}", r.f("r_nue_2"));
+        assert!(
+            r.f("altitude").abs() < 1e-6,
+            "{name}: altitude {}",
+            r.f("altitude")
+        );
+        assert!(
+            r.f("r_nue_2").abs() < 1e-6,
+            "{name}: r_nue[2] {}",
+            r.f("r_nue_2")
+        );
         // touched down, and the last row's state is the touchdown state
-        assert_eq!(after.json["touchdown"], Value::Bool(true), "{name}: touchdown flag");
-        assert_eq!(r.f("v_nue_2"), after_v[1], "{name}: v_nue[2] at the last row");
+        assert_eq!(
+            after.json["touchdown"],
+            Value::Bool(true),
+            "{name}: touchdown flag"
+        );
+        assert_eq!(
+            r.f("v_nue_2"),
+            after_v[1],
+            "{name}: v_nue[2] at the last row"
+        );
         if name == "fmi3_me" {
             // CVode's own event location. fmpy records the event row before the event
             // update that sets the touchdown outputs, so they are read after the run.
-            assert!((after_time - t_td).abs() < 1e-6, "{name}: touchdown at {after_time} s");
-            assert!((after_v[1] - v_td[1]).abs() < 1e-5, "{name}: touchdown v {after_v:?}");
+            assert!(
+                (after_time - t_td).abs() < 1e-6,
+                "{name}: touchdown at {after_time} s"
+            );
+            assert!(
+                (after_v[1] - v_td[1]).abs() < 1e-5,
+                "{name}: touchdown v {after_v:?}"
+            );
             assert_eq!(time, after_time, "{name}: the last row is the event");
             continue;
         }
-        assert_eq!((td_time, td_v), (after_time, after_v), "{name}: frozen outputs");
+        assert_eq!(
+            (td_time, td_v),
+            (after_time, after_v),
+            "{name}: frozen outputs"
+        );
         // Co-Simulation: the same integrator on the same grid as the FMI 2.0 run, and the
         // last row already carries the touchdown outputs
-        assert_eq!(r.json["touchdown"], Value::Bool(true), "{name}: touchdown flag");
+        assert_eq!(
+            r.json["touchdown"],
+            Value::Bool(true),
+            "{name}: touchdown flag"
+        );
         assert_eq!(td_time, t_td, "{name}: touchdown time");
         assert_eq!(td_v, v_td, "{name}: touchdown velocity");
         match name {
