@@ -81,6 +81,8 @@ def last_row(path, **kwargs):
         "v_nue_2": element("v_nue", 1),
         "touchdown_v_nue": [element("touchdown_v_nue", i) for i in range(3)],
         "after": after,
+        # The FMI 3.0 capability flag an FMU that returns early must declare.
+        "might_return_early": bool(fmi3 and description.coSimulation.mightReturnEarlyFromDoStep),
     }
     print(f"  {json.dumps(summary)}")
     return summary

@@ -167,7 +167,13 @@ fn fmpy_simulate_fmu_runs_the_fmi3_plant_through_touchdown_like_the_fmi2_plant()
                 "{name}: last row at {time} s, touchdown at {td_time} s"
             ),
             "fmi3_cs_early_return" | "fmi3_cs_event_mode" => {
-                assert_eq!(time, td_time, "{name}: early return at the touchdown")
+                assert_eq!(time, td_time, "{name}: early return at the touchdown");
+                // an FMU that returns early says so in its model description
+                assert_eq!(
+                    r.json["might_return_early"],
+                    Value::Bool(true),
+                    "{name}: mightReturnEarlyFromDoStep"
+                );
             }
             _ => {}
         }
