@@ -177,7 +177,7 @@ fn write_description<M: Model>(me: Option<ModelExchange>) -> String {
     }
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" canSerializeFMUState="true" hasEventMode="true" canReturnEarlyAfterIntermediateUpdate="false" providesIntermediateUpdate="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" canSerializeFMUState="true" hasEventMode="true" mightReturnEarlyFromDoStep="true" canReturnEarlyAfterIntermediateUpdate="false" providesIntermediateUpdate="false"/>"#
     );
     write_units::<M>(&mut x);
     write_types::<M>(&mut x);

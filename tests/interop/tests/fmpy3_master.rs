@@ -1,11 +1,18 @@
 //! The paper scenario flown through FMI 3.0 (fmpy's FMU3Slave over target/fmu/fmi3/, in
 //! tests/interop/python/fmpy3_master.py) against the Rust harness flying the FMI 2.0 pair.
 //!
+//! The FMI 3.0 master exchanges in Co-Simulation Event Mode (`eventModeUsed`): FMI 3.0 allows
+//! no get after a set in Step Mode, and LanderGnc's outputs depend on its inputs at the same
+//! instant. In Step Mode alone the command lags one step: the harness's Jacobi loop.
+//!
 //! Tolerance: none. The FMI 3.0 and 2.0 layers sit on the same declarations and the same
 //! model code in the same library; the masters exchange the same values in the same order
 //! at the same communication points. Every recorded value must be bit-identical.
+use harness::system::Ordering;
 use interop_tests::compare::compare;
-use interop_tests::{python, read_trajectory, run_harness, scenario, scratch, write_system_json};
+use interop_tests::{
+    python, read_trajectory, run_harness, scenario, scratch, write_system_json, PLANT_NAVIGATION,
+};
 
 #[test]
 fn fmi3_fmu3slave_loop_flies_the_paper_scenario_bit_identically_to_the_fmi2_pair() {
@@ -34,4 +41,55 @@ fn fmi3_fmu3slave_loop_flies_the_paper_scenario_bit_identically_to_the_fmi2_pair
         comparison.identical(),
         "expected bit-identical trajectories:\n{comparison}"
     );
+}
+
+/// Step Mode alone (no unit uses Event Mode) can only set inputs, step, and read outputs
+/// after the step: LanderGnc's command reaches the plant one step late. That loop is the
+/// harness's Jacobi loop: every row bit-identical but the last, where the harness's final
+/// exchange (set, then get) answers newer inputs in the feedthrough outputs, so there only
+/// the plant's navigation outputs are compared.
+#[test]
+fn fmi3_step_mode_alone_delays_the_command_one_step_like_the_harness_jacobi_loop() {
+    // GIVEN the paper scenario flown by the harness with the FMI 2.0 pair, both orderings
+    let system = scenario("paper");
+    let gauss_seidel = run_harness(system.clone(), Default::default());
+    let mut jacobi_system = system.clone();
+    jacobi_system.ordering = Ordering::Jacobi;
+    let jacobi = run_harness(jacobi_system, Default::default());
+
+    // WHEN fmpy flies it through FMI 3.0 in Step Mode only
+    let dir = scratch("interop-fmpy3-step-mode-");
+    let spec = write_system_json(&system, dir.path());
+    let csv = dir.path().join("fmpy3-step-mode.csv");
+    python::run(
+        "fmpy3_master.py",
+        [spec.as_os_str(), csv.as_os_str(), "--step-mode".as_ref()],
+    );
+    let fmi3 = read_trajectory(&csv);
+
+    // THEN it is the Jacobi loop, bit for bit
+    assert_eq!(fmi3.times, jacobi.times, "communication points");
+    let last = fmi3.len() - 1;
+    let mut head = fmi3.clone();
+    head.times.truncate(last);
+    head.values.truncate(last * head.names.len());
+    let comparison = compare(&jacobi, &head, 0, &jacobi.names);
+    println!("fmpy FMU3Slave, Step Mode only (FMI 3.0) vs harness Jacobi (FMI 2.0):\n{comparison}");
+    assert!(
+        comparison.identical(),
+        "expected bit-identical trajectories:\n{comparison}"
+    );
+    for (j, name) in fmi3.names.iter().enumerate() {
+        if PLANT_NAVIGATION.iter().any(|p| name.starts_with(p)) {
+            let expected = jacobi.row(last)[jacobi.column_index(name).unwrap()];
+            assert_eq!(fmi3.row(last)[j], expected, "{name} at the end");
+        }
+    }
+    // AND not the Gauss-Seidel loop: the delay changes the flight
+    let delayed = compare(&gauss_seidel, &fmi3, 0, &["plant.r_nue[2]".to_string()]);
+    println!(
+        "one step of delay vs Gauss-Seidel: plant.r_nue[2] differs by up to {:.3e} m",
+        delayed.max_abs()
+    );
+    assert!(delayed.max_abs() > 0.0);
 }
