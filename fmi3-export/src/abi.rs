@@ -1054,8 +1054,10 @@ fn step<M: Model>(
             );
         }
         report.terminate |= terminated;
-        report.event_handling_needed |= inst.options.event_mode_used && !terminated;
         if inst.options.early_return_allowed && at < end {
+            // eventHandlingNeeded speaks of an event at lastSuccessfulTime: only when the
+            // step returns at it (a step that went on past it has handled it).
+            report.event_handling_needed = inst.options.event_mode_used && !terminated;
             report.early_return = true;
             report.last_successful_time = at;
             return Ok(success);

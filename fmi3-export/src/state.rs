@@ -2,8 +2,9 @@
 //! for each function, the interfaces it belongs to and the states in which it may be called.
 //!
 //! Only what the FMUs implement has states: no configuration mode (no structural
-//! parameters), no clocks, no event mode in Co-Simulation (`hasEventMode` is false, so
-//! `fmi3ExitInitializationMode` leads straight to step mode), no intermediate update. A
+//! parameters), no clocks, no intermediate update. Co-Simulation has Event Mode when the
+//! master chose `eventModeUsed` (`fmi3ExitInitializationMode` then leads to Event Mode, and
+//! `fmi3EnterEventMode` back to it from Step Mode); otherwise straight to Step Mode. A
 //! function of such a feature is `Unsupported`: it answers `fmi3Error` with a log line
 //! saying so, in every state. `Error` is entered when the model itself fails; `Fatal` after a
 //! caught panic, where only `fmi3FreeInstance` is honoured (it returns `void`).
