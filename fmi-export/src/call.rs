@@ -107,6 +107,20 @@ pub unsafe fn call<M: Model, A: Abi>(
     outcome.unwrap_or_else(|payload| fatal(inst, function, payload.as_ref()))
 }
 
+/// [`call`], answering in the version's C status.
+///
+/// # Safety
+/// As [`enter`].
+#[inline(always)]
+pub unsafe fn c_call<M: Model, A: Abi>(
+    handle: *mut c_void,
+    function: A::Function,
+    trace: impl FnOnce() -> String,
+    body: impl FnOnce(&mut Instance<M, A>) -> Result<Success, CallError>,
+) -> A::CStatus {
+    A::status(unsafe { call::<M, A>(handle, function, trace, body) })
+}
+
 #[cold]
 #[inline(never)]
 fn report<M: Model, A: Abi>(

@@ -10,6 +10,7 @@ use fmi_model::{Level, Log, Model, ModelError};
 use serde::{Deserialize, Serialize};
 use std::any::TypeId;
 use std::ffi::CString;
+use std::os::raw::c_char;
 
 /// Everything an FMU state copies: the model and the simulation bookkeeping. Callbacks,
 /// names and logging flags belong to the instance and are not part of an FMU state.
@@ -173,6 +174,15 @@ impl<M: Model, A: Abi> Instance<M, A> {
             Success::Warning
         } else {
             Success::Ok
+        }
+    }
+
+    /// Hands the master pointers to `strings`, kept alive until the next string get (or the
+    /// instance's end), as both standards require of returned strings.
+    pub fn hand_out_strings(&mut self, strings: Vec<CString>, out: &mut [*const c_char]) {
+        self.returned_strings = strings;
+        for (value, s) in out.iter_mut().zip(&self.returned_strings) {
+            *value = s.as_ptr();
         }
     }
 

@@ -4,14 +4,23 @@
 use crate::state::{Interface, State};
 use fmi_model::snapshot::SnapshotError;
 
-/// The five statuses both FMI versions share (FMI 2.0's `fmi2Pending` is never returned).
+/// The five statuses both FMI versions share (FMI 2.0's `fmi2Pending` is never returned),
+/// with the codes both C enumerations give them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(i32)]
 pub enum Status {
-    Ok,
-    Warning,
-    Discard,
-    Error,
-    Fatal,
+    Ok = 0,
+    Warning = 1,
+    Discard = 2,
+    Error = 3,
+    Fatal = 4,
+}
+
+impl Status {
+    /// The C code: `fmi2OK` = `fmi3OK` = 0, ..., `fmi2Fatal` = `fmi3Fatal` = 4.
+    pub const fn code(self) -> std::os::raw::c_int {
+        self as std::os::raw::c_int
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

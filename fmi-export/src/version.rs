@@ -15,6 +15,21 @@ pub trait Function: Copy + std::fmt::Debug + 'static {
     fn admit(self, interface: Interface, state: State) -> Result<(), Refusal>;
 }
 
+/// The functions of `table` that a Fatal instance admits, of either interface: the
+/// standards allow nothing after Fatal but freeing the instance, so a sound table answers
+/// exactly `[free]`. For each version's table test.
+pub fn admitted_when_fatal<F: Function + PartialEq>(table: &[F]) -> Vec<F> {
+    table
+        .iter()
+        .copied()
+        .filter(|f| {
+            [Interface::ModelExchange, Interface::CoSimulation]
+                .into_iter()
+                .any(|interface| f.admit(interface, State::Fatal).is_ok())
+        })
+        .collect()
+}
+
 /// One FMI version, as the core needs to know it.
 pub trait Abi: Sized + 'static {
     /// The symbol prefix, `"fmi2"` or `"fmi3"`, for the few messages that name a function

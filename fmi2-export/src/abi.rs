@@ -21,10 +21,11 @@ use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
 use crate::version::{Fmi2, Sink};
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
+pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{shown, Request};
 use fmi_export::setters::{check_enumeration, check_integer, check_real, check_settable};
 use fmi_export::step::Advance;
-use fmi_export::{lifecycle, Abi, CallError, Interface, Logger, Options, Success};
+use fmi_export::{lifecycle, CallError, Interface, Logger, Options, Success};
 use fmi_model::prepared::{Getter, Setter};
 use fmi_model::Model;
 use std::ffi::{CStr, CString};
@@ -33,17 +34,6 @@ use std::ptr;
 
 /// An FMI 2.0 instance of `M`.
 pub type Instance<M> = fmi_export::Instance<M, Fmi2>;
-
-/// Runs one FMI call on an instance through the core's guard (see the module docs).
-#[inline(always)]
-pub(crate) unsafe fn call<M: Model>(
-    c: fmi2Component,
-    function: Function,
-    trace: impl FnOnce() -> String,
-    body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
-) -> fmi2Status {
-    Fmi2::status(unsafe { fmi_export::call::call::<M, Fmi2>(c, function, trace, body) })
-}
 
 unsafe fn show_str(s: fmi2String) -> String {
     if s.is_null() {
@@ -231,7 +221,7 @@ pub unsafe fn set_debug_logging<M: Model>(
         )
     };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi2>(c, f, trace, |inst| {
             let names: Vec<Option<&[u8]>> = slice(categories, n_categories, "categories")?
                 .iter()
                 // SAFETY: non-null names are NUL-terminated per the standard.
@@ -263,7 +253,7 @@ pub unsafe fn setup_experiment<M: Model>(
     };
     let stop = (stop_time_defined != fmi2False).then_some(stop_time);
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi2>(c, f, trace, |inst| {
             lifecycle::set_experiment(inst, start_time, stop)
         })
     }
@@ -274,7 +264,7 @@ pub unsafe fn setup_experiment<M: Model>(
 pub unsafe fn enter_initialization_mode<M: Model>(c: fmi2Component) -> fmi2Status {
     let f = Function::EnterInitializationMode;
     unsafe {
-        call::<M>(
+        call::<M, Fmi2>(
             c,
             f,
             || format!("{}()", f.name()),
@@ -353,7 +343,7 @@ pub unsafe fn get_real<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetReal;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice_mut(value, nvr, "value")?;
             let success = inst.refresh(f);
@@ -398,7 +388,7 @@ pub unsafe fn get_integer<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetInteger;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice_mut(value, nvr, "value")?;
             get_values(
@@ -426,7 +416,7 @@ pub unsafe fn get_boolean<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetBoolean;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice_mut(value, nvr, "value")?;
             get_values(
@@ -457,7 +447,7 @@ pub unsafe fn get_string<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetString;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice_mut(value, nvr, "value")?;
             let mut strings = vec![CString::default(); nvr];
@@ -473,10 +463,7 @@ pub unsafe fn get_string<M: Model>(
                         _ => CString::default(),
                     },
                 )?;
-            inst.returned_strings = strings;
-            for (out, s) in values.iter_mut().zip(&inst.returned_strings) {
-                *out = s.as_ptr();
-            }
+            inst.hand_out_strings(strings, values);
             Ok(success)
         })
     }
@@ -492,7 +479,7 @@ pub unsafe fn set_real<M: Model>(
 ) -> fmi2Status {
     let f = Function::SetReal;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
             let state = inst.core.state;
@@ -577,7 +564,7 @@ pub unsafe fn set_integer<M: Model>(
 ) -> fmi2Status {
     let f = Function::SetInteger;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
             set_values(
@@ -623,7 +610,7 @@ pub unsafe fn set_boolean<M: Model>(
 ) -> fmi2Status {
     let f = Function::SetBoolean;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
             set_values(
@@ -679,7 +666,7 @@ pub unsafe fn set_string<M: Model>(
             .map_err(|_| invalid("value is not valid UTF-8"))
     };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi2>(c, f, trace, |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
             set_values(
@@ -718,7 +705,7 @@ pub unsafe fn get_directional_derivative<M: Model>(
     let f = Function::GetDirectionalDerivative;
     let trace = || format!("{}(nUnknown={n_unknown}, nKnown={n_known})", f.name());
     unsafe {
-        call::<M>(c, f, trace, |_| {
+        call::<M, Fmi2>(c, f, trace, |_| {
             Err(CallError::Unsupported(
                 "not provided (providesDirectionalDerivative = false)",
             ))
@@ -737,7 +724,7 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
 ) -> fmi2Status {
     let f = Function::SetRealInputDerivatives;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr), |_| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr), |_| {
             Err(CallError::Unsupported(
                 "not supported (canInterpolateInputs = false)",
             ))
@@ -756,7 +743,7 @@ pub unsafe fn get_real_output_derivatives<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetRealOutputDerivatives;
     unsafe {
-        call::<M>(c, f, trace_array_call!(f, vr, nvr), |_| {
+        call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr), |_| {
             Err(CallError::Unsupported(
                 "not supported (maxOutputDerivativeOrder = 0)",
             ))
@@ -785,7 +772,7 @@ pub unsafe fn do_step<M: Model>(
             f.name()
         )
     };
-    unsafe { call::<M>(c, f, trace, |inst| step(inst, t, h)) }
+    unsafe { call::<M, Fmi2>(c, f, trace, |inst| step(inst, t, h)) }
 }
 
 /// A step that ended early is `fmi2Discard`, state StepFailed, with `fmi2LastSuccessfulTime`
@@ -816,7 +803,7 @@ pub unsafe fn cancel_step<M: Model>(c: fmi2Component) -> fmi2Status {
     // Never legal: fmi2DoStep is synchronous and never returns fmi2Pending, so the table
     // refuses it in every state with "illegal call".
     let f = Function::CancelStep;
-    unsafe { call::<M>(c, f, || format!("{}()", f.name()), |_| Ok(Success::Ok)) }
+    unsafe { call::<M, Fmi2>(c, f, || format!("{}()", f.name()), |_| Ok(Success::Ok)) }
 }
 
 #[allow(non_upper_case_globals)]
@@ -850,7 +837,7 @@ pub unsafe fn get_status<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetStatus;
     unsafe {
-        call::<M>(
+        call::<M, Fmi2>(
             c,
             f,
             || format!("{}(s={kind})", f.name()),
@@ -871,7 +858,7 @@ pub unsafe fn get_real_status<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetRealStatus;
     unsafe {
-        call::<M>(
+        call::<M, Fmi2>(
             c,
             f,
             || format!("{}(s={kind})", f.name()),
@@ -896,7 +883,7 @@ pub unsafe fn get_integer_status<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetIntegerStatus;
     unsafe {
-        call::<M>(
+        call::<M, Fmi2>(
             c,
             f,
             || format!("{}(s={kind})", f.name()),
@@ -917,7 +904,7 @@ pub unsafe fn get_boolean_status<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetBooleanStatus;
     unsafe {
-        call::<M>(
+        call::<M, Fmi2>(
             c,
             f,
             || format!("{}(s={kind})", f.name()),
@@ -946,7 +933,7 @@ pub unsafe fn get_string_status<M: Model>(
 ) -> fmi2Status {
     let f = Function::GetStringStatus;
     unsafe {
-        call::<M>(
+        call::<M, Fmi2>(
             c,
             f,
             || format!("{}(s={kind})", f.name()),

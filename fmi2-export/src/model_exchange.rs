@@ -9,6 +9,7 @@
 use crate::abi::{call, out};
 use crate::ffi::*;
 use crate::state::Function;
+use crate::Fmi2;
 use fmi_export::model_exchange as me;
 use fmi_export::{Category, Status, Success};
 use fmi_model::ContinuousModel;
@@ -25,7 +26,7 @@ fn flag(b: bool) -> fmi2Boolean {
 /// See the module documentation.
 pub unsafe fn enter_event_mode<M: ContinuousModel>(c: fmi2Component) -> fmi2Status {
     let f = Function::EnterEventMode;
-    unsafe { call::<M>(c, f, || format!("{}()", f.name()), me::enter_event_mode) }
+    unsafe { call::<M, Fmi2>(c, f, || format!("{}()", f.name()), me::enter_event_mode) }
 }
 
 /// The model's event update; `terminateSimulation` when it asks to end (touchdown).
@@ -38,7 +39,7 @@ pub unsafe fn new_discrete_states<M: ContinuousModel>(
 ) -> fmi2Status {
     let f = Function::NewDiscreteStates;
     unsafe {
-        call::<M>(
+        call::<M, Fmi2>(
             c,
             f,
             || format!("{}()", f.name()),
@@ -85,7 +86,7 @@ pub unsafe fn completed_integrator_step<M: ContinuousModel>(
         )
     };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi2>(c, f, trace, |inst| {
             *out(enter_event_mode, "enterEventMode")? = fmi2False;
             *out(terminate_simulation, "terminateSimulation")? = flag(inst.core.terminated);
             Ok(Success::Ok)

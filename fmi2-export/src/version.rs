@@ -72,13 +72,7 @@ impl Abi for Fmi2 {
 
     #[inline(always)]
     fn status(status: Status) -> fmi2Status {
-        match status {
-            Status::Ok => fmi2OK,
-            Status::Warning => fmi2Warning,
-            Status::Discard => fmi2Discard,
-            Status::Error => fmi2Error,
-            Status::Fatal => fmi2Fatal,
-        }
+        fmi2Status(status.code())
     }
 
     fn emit(sink: &Sink, status: Status, category: Category, message: &CStr) {

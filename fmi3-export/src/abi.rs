@@ -19,10 +19,11 @@ use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Float64Slot, Type};
 use crate::version::{Fmi3, Sink};
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
+pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{shown, Request};
 use fmi_export::setters::{check_enumeration, check_integer, check_real};
 use fmi_export::step::Advance;
-use fmi_export::{lifecycle, Abi, CallError, Category, Logger, Options, Status, Success};
+use fmi_export::{lifecycle, CallError, Category, Logger, Options, Status, Success};
 use fmi_model::prepared::{Getter, Setter};
 use fmi_model::{Declaration, Kind, Model};
 use std::ffi::{CStr, CString};
@@ -31,17 +32,6 @@ use std::ptr;
 
 /// An FMI 3.0 instance of `M`.
 pub type Instance<M> = fmi_export::Instance<M, Fmi3>;
-
-/// Runs one FMI call on an instance through the core's guard (see the module docs).
-#[inline(always)]
-pub(crate) unsafe fn call<M: Model>(
-    c: fmi3Instance,
-    function: Function,
-    trace: impl FnOnce() -> String,
-    body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
-) -> fmi3Status {
-    Fmi3::status(unsafe { fmi_export::call::call::<M, Fmi3>(c, function, trace, body) })
-}
 
 fn owned(s: fmi3String) -> Option<CString> {
     // SAFETY: NUL-terminated when non-null, per the standard; copied at once.
@@ -209,7 +199,7 @@ pub unsafe fn set_debug_logging<M: Model>(
         )
     };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             let names: Vec<Option<&[u8]>> = slice(categories, n_categories, "categories")?
                 .iter()
                 // SAFETY: non-null names are NUL-terminated per the standard.
@@ -240,7 +230,7 @@ pub unsafe fn enter_initialization_mode<M: Model>(
     };
     let stop = stop_time_defined.then_some(stop_time);
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             lifecycle::set_experiment(inst, start_time, stop)?;
             lifecycle::enter_initialization(inst)
         })
@@ -253,7 +243,7 @@ pub unsafe fn enter_initialization_mode<M: Model>(
 /// See the module documentation.
 pub unsafe fn unsupported<M: Model>(c: fmi3Instance, f: Function) -> fmi3Status {
     unsafe {
-        call::<M>(
+        call::<M, Fmi3>(
             c,
             f,
             || format!("{}(...)", f.name()),
@@ -342,7 +332,7 @@ pub unsafe fn get_float64<M: Model>(
     let f = Function::GetFloat64;
     let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
@@ -499,7 +489,7 @@ pub unsafe fn set_float64<M: Model>(
         )
     };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
             let initializing = initializing(inst.core.state);
@@ -592,7 +582,7 @@ unsafe fn get_scalars<M: Model, V>(
 ) -> fmi3Status {
     let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
@@ -630,7 +620,7 @@ unsafe fn set_scalars<M: Model, V: Copy + std::fmt::Debug>(
         )
     };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
             let decls = check_count(inst, vrs, ty, n_values)?;
@@ -850,7 +840,7 @@ pub unsafe fn get_string<M: Model>(
     let f = Function::GetString;
     let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
@@ -864,10 +854,7 @@ pub unsafe fn get_string<M: Model>(
                     _ => CString::default(),
                 })
                 .collect();
-            inst.returned_strings = strings;
-            for (value, s) in values.iter_mut().zip(&inst.returned_strings) {
-                *value = s.as_ptr();
-            }
+            inst.hand_out_strings(strings, values);
             Ok(success)
         })
     }
@@ -885,7 +872,7 @@ pub unsafe fn set_string<M: Model>(
     let f = Function::SetString;
     let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
             let decls = check_count(inst, vrs, Type::String, n_values)?;
@@ -919,7 +906,7 @@ pub unsafe fn no_variables<M: Model>(
     let type_name = &f.name()[7..];
     let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
     unsafe {
-        call::<M>(c, f, trace, |_| {
+        call::<M, Fmi3>(c, f, trace, |_| {
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             match vrs.first() {
                 None => Ok(Success::Ok),
@@ -976,7 +963,7 @@ pub unsafe fn do_step<M: Model>(
         )
     };
     unsafe {
-        call::<M>(c, f, trace, |inst| {
+        call::<M, Fmi3>(c, f, trace, |inst| {
             let event = out(event_handling_needed, "eventHandlingNeeded")?;
             let terminate = out(terminate_simulation, "terminateSimulation")?;
             let early = out(early_return, "earlyReturn")?;
@@ -1094,7 +1081,7 @@ fn step<M: Model>(
 pub unsafe fn enter_event_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
     let f = Function::EnterEventMode;
     unsafe {
-        call::<M>(
+        call::<M, Fmi3>(
             c,
             f,
             || format!("{}()", f.name()),
@@ -1130,7 +1117,7 @@ pub(crate) fn co_simulation_event_update<M: Model>(
 pub unsafe fn enter_step_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
     let f = Function::EnterStepMode;
     unsafe {
-        call::<M>(
+        call::<M, Fmi3>(
             c,
             f,
             || format!("{}()", f.name()),
@@ -1150,7 +1137,7 @@ pub unsafe fn enter_step_mode<M: Model>(c: fmi3Instance) -> fmi3Status {
 pub unsafe fn evaluate_discrete_states<M: Model>(c: fmi3Instance) -> fmi3Status {
     let f = Function::EvaluateDiscreteStates;
     unsafe {
-        call::<M>(
+        call::<M, Fmi3>(
             c,
             f,
             || format!("{}()", f.name()),

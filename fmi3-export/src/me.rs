@@ -11,6 +11,7 @@
 use crate::abi::{self, call, instantiate, out, Instance};
 use crate::ffi::*;
 use crate::state::{Function, Interface};
+use crate::Fmi3;
 use fmi_export::model_exchange as me;
 use fmi_export::{CallError, Options, Success};
 use fmi_model::ContinuousModel;
@@ -49,7 +50,7 @@ unsafe fn simple<M: ContinuousModel>(
     f: Function,
     body: impl FnOnce(&mut Instance<M>) -> Result<Success, CallError>,
 ) -> fmi3Status {
-    unsafe { call::<M>(c, f, || format!("{}()", f.name()), body) }
+    unsafe { call::<M, Fmi3>(c, f, || format!("{}()", f.name()), body) }
 }
 
 /// # Safety
@@ -152,13 +153,14 @@ pub mod no_me {
     use crate::abi::{self, call, instantiate, out};
     use crate::ffi::*;
     use crate::state::{Function, Interface, Refusal};
+    use crate::Fmi3;
     use fmi_export::{CallError, Options, Success};
     use fmi_model::Model;
 
     fn refuse<M: Model>(c: fmi3Instance, f: Function) -> fmi3Status {
         // A Co-Simulation instance: the table answers for the interface.
         unsafe {
-            call::<M>(
+            call::<M, Fmi3>(
                 c,
                 f,
                 || format!("{}(...)", f.name()),
@@ -215,7 +217,7 @@ pub mod no_me {
     ) -> fmi3Status {
         let f = Function::UpdateDiscreteStates;
         unsafe {
-            call::<M>(
+            call::<M, Fmi3>(
                 c,
                 f,
                 || format!("{}()", f.name()),
@@ -292,7 +294,7 @@ pub mod no_me {
     ) -> fmi3Status {
         let f = Function::GetNumberOfEventIndicators;
         unsafe {
-            call::<M>(
+            call::<M, Fmi3>(
                 c,
                 f,
                 || format!("{}()", f.name()),
@@ -309,7 +311,7 @@ pub mod no_me {
     ) -> fmi3Status {
         let f = Function::GetNumberOfContinuousStates;
         unsafe {
-            call::<M>(
+            call::<M, Fmi3>(
                 c,
                 f,
                 || format!("{}()", f.name()),

@@ -59,13 +59,7 @@ impl Abi for Fmi3 {
 
     #[inline(always)]
     fn status(status: Status) -> fmi3Status {
-        match status {
-            Status::Ok => fmi3OK,
-            Status::Warning => fmi3Warning,
-            Status::Discard => fmi3Discard,
-            Status::Error => fmi3Error,
-            Status::Fatal => fmi3Fatal,
-        }
+        fmi3Status(status.code())
     }
 
     fn emit(sink: &Sink, status: Status, category: Category, message: &CStr) {
