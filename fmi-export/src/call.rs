@@ -155,6 +155,27 @@ fn fatal<M: Model, A: Abi>(
     Status::Fatal
 }
 
+/// The position of the first value of a read that is not finite, if any: no NaN or
+/// infinity is handed to a master with an OK status (the version names the variable).
+#[inline]
+pub fn first_non_finite(values: &[f64]) -> Option<usize> {
+    if values.iter().all(|v| v.is_finite()) {
+        None
+    } else {
+        values.iter().position(|v| !v.is_finite())
+    }
+}
+
+/// The refusal of a read whose value for `name` (vr `vr`) is not finite.
+#[cold]
+#[inline(never)]
+pub fn non_finite_read(name: String, vr: u32, value: f64) -> CallError {
+    CallError::Model(format!(
+        "variable {name} (vr {vr}) is {value} at the current state: not finite; the model \
+         cannot evaluate this state"
+    ))
+}
+
 /// What a master passed to an instantiate function, copied.
 #[derive(Debug)]
 pub struct Request {

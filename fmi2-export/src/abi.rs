@@ -22,7 +22,7 @@ use crate::variable::{Access, Variable};
 use crate::version::{Fmi2, Sink};
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
-use fmi_export::call::{shown, Request};
+use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
 use fmi_export::setters::{check_enumeration, check_integer, check_real, check_settable};
 use fmi_export::step::Advance;
 use fmi_export::{lifecycle, CallError, Interface, Logger, Options, Success};
@@ -362,16 +362,19 @@ pub unsafe fn get_real<M: Model>(
                         None => false,
                     }
                 });
-            if prepared {
-                return Ok(success);
+            if !prepared {
+                for (&vr, value) in vrs.iter().zip(values.iter_mut()) {
+                    let slot = inst
+                        .view
+                        .index
+                        .real(vr)
+                        .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
+                    *value = slot.read(&inst.core.model);
+                }
             }
-            for (&vr, value) in vrs.iter().zip(values) {
-                let slot = inst
-                    .view
-                    .index
-                    .real(vr)
-                    .ok_or_else(|| unknown_value_reference(BaseType::Real, vr))?;
-                *value = slot.read(&inst.core.model);
+            if let Some(i) = first_non_finite(values) {
+                let name = row(inst, BaseType::Real, vrs[i])?.name().into_owned();
+                return Err(non_finite_read(name, vrs[i], values[i]));
             }
             Ok(success)
         })

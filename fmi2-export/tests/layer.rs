@@ -382,3 +382,53 @@ fn a_repeated_list_is_refused_as_a_new_one_and_changes_nothing() {
         abi::free_instance::<Bounded>(c);
     }
 }
+
+/// No NaN or infinity reaches the master with an OK status: a read whose value is not
+/// finite is refused naming the variable, and the instance answers again once its inputs
+/// give finite values.
+#[test]
+fn a_non_finite_output_is_refused_and_the_instance_stays_usable() {
+    let logger = Box::<TestLogger>::default();
+    let functions = logger.callbacks();
+    let guid = CString::new(guid::<Bounded>()).unwrap();
+    unsafe {
+        let c = abi::instantiate::<Bounded>(
+            c"b".as_ptr(),
+            fmi2CoSimulation,
+            guid.as_ptr(),
+            std::ptr::null(),
+            &functions,
+            0,
+            0,
+        );
+        abi::setup_experiment::<Bounded>(c, 0, 0.0, 0.0, 0, 0.0);
+        abi::enter_initialization_mode::<Bounded>(c);
+        // GIVEN a gain whose product with the inputs overflows
+        let refs = [0, 1, 2];
+        let huge = [f64::MAX, 1.0, 1.0];
+        assert_eq!(
+            abi::set_real::<Bounded>(c, refs.as_ptr(), 3, huge.as_ptr()),
+            fmi2OK
+        );
+        // WHEN the output is read THEN it is refused, naming it
+        let mut y = [0.0];
+        assert_eq!(
+            abi::get_real::<Bounded>(c, &3, 1, y.as_mut_ptr()),
+            fmi2Error
+        );
+        let message = logger.messages().pop().unwrap();
+        assert!(
+            message.starts_with("fmi2GetReal: variable y (vr 3) is inf"),
+            "{message}"
+        );
+        // AND with inputs that give a finite value the same read answers
+        let fine = [0.25, 0.25];
+        assert_eq!(
+            abi::set_real::<Bounded>(c, refs[1..].as_ptr(), 2, fine.as_ptr()),
+            fmi2OK
+        );
+        assert_eq!(abi::get_real::<Bounded>(c, &3, 1, y.as_mut_ptr()), fmi2OK);
+        assert_eq!(y[0], f64::MAX * 0.5);
+        abi::free_instance::<Bounded>(c);
+    }
+}

@@ -20,7 +20,7 @@ use crate::variables::{settable, Float64Slot, Type};
 use crate::version::{Fmi3, Sink};
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
-use fmi_export::call::{shown, Request};
+use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
 use fmi_export::setters::{check_enumeration, check_integer, check_real};
 use fmi_export::step::Advance;
 use fmi_export::{lifecycle, CallError, Category, Logger, Options, Status, Success};
@@ -352,7 +352,7 @@ pub unsafe fn get_float64<M: Model>(
                     }
                 });
             if prepared {
-                return Ok(success);
+                return finite(inst, vrs, values).map(|()| success);
             }
             // `time` may stand anywhere in the list, as one element. One pass: each
             // variable's elements are written as it is found; a wrong count or an unknown
@@ -378,9 +378,50 @@ pub unsafe fn get_float64<M: Model>(
             if k != n_values {
                 return Err(count_error(inst, vrs, n_values));
             }
-            Ok(success)
+            finite(inst, vrs, values).map(|()| success)
         })
     }
+}
+
+/// `Ok` unless a value read is not finite; then the refusal naming its variable element.
+#[inline]
+fn finite<M: Model>(
+    inst: &Instance<M>,
+    vrs: &[fmi3ValueReference],
+    values: &[f64],
+) -> Result<(), CallError> {
+    match first_non_finite(values) {
+        None => Ok(()),
+        Some(at) => Err(non_finite_element(inst, vrs, values, at)),
+    }
+}
+
+/// Which variable element of the list the value at `at` belongs to, as a refusal.
+#[cold]
+#[inline(never)]
+fn non_finite_element<M: Model>(
+    inst: &Instance<M>,
+    vrs: &[fmi3ValueReference],
+    values: &[f64],
+    at: usize,
+) -> CallError {
+    let mut k = 0;
+    for &vr in vrs {
+        let (name, len) = match float64(inst, vr) {
+            Ok(slot) => (slot.declaration.name, slot.len),
+            Err(_) => ("time", 1),
+        };
+        if at < k + len {
+            let name = if len > 1 {
+                format!("{name}[{}]", at - k + 1)
+            } else {
+                name.to_string()
+            };
+            return non_finite_read(name, vr, values[at]);
+        }
+        k += len;
+    }
+    non_finite_read(format!("value {at}"), 0, values[at])
 }
 
 /// The Float64 variable at `vr`, in the exchange's form.
