@@ -78,6 +78,18 @@ pub fn advance<M: Model, A: Abi>(
     h: f64,
 ) -> Result<(Success, Advance), CallError> {
     let end = check(inst, t, h)?;
+    advance_checked(inst, f, t, h, end)
+}
+
+/// [`advance`] of a step [`check`] has accepted, ending at `end` (= `t + h` as the master
+/// computed it); also the rest of a step after an event inside it.
+pub fn advance_checked<M: Model, A: Abi>(
+    inst: &mut Instance<M, A>,
+    f: A::Function,
+    t: f64,
+    h: f64,
+    end: f64,
+) -> Result<(Success, Advance), CallError> {
     let mut log = Log::default();
     let result = inst.core.model.do_step(t, h, &mut log);
     inst.dirty = true;

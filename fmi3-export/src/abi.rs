@@ -1061,7 +1061,7 @@ fn step<M: Model>(
     let mut from = t;
     let mut finished = false;
     for _ in 0..=MAX_EVENTS_PER_STEP {
-        let (outcome, advance) = fmi_export::step::advance(inst, f, from, end - from)?;
+        let (outcome, advance) = fmi_export::step::advance_checked(inst, f, from, end - from, end)?;
         success = success.and(outcome);
         let (at, terminated, reason) = match advance {
             Advance::Complete => {
