@@ -410,8 +410,10 @@ impl PlantParameters {
                 ],
             },
             Combined {
-                what: "rcs_thruster_force x rcs_moment_arm (torque limit)",
-                value: self.rcs.thruster_force_n * self.rcs.moment_arm_m,
+                // The limit itself (two thrusters on each arm), which a master reads as
+                // rcs_torque_limit: the product alone can be finite while twice it is not.
+                what: "2 x rcs_thruster_force x rcs_moment_arm (torque limit)",
+                value: self.rcs.torque_limit_nm(),
                 of: [
                     (("rcs.thruster_force_n", None), self.rcs.thruster_force_n),
                     (("rcs.moment_arm_m", None), self.rcs.moment_arm_m),
