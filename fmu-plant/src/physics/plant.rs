@@ -284,8 +284,20 @@ impl Plant {
         firing: &Firing,
         exhausted: bool,
     ) -> PlantState {
-        let targets = self.targets(commands, exhausted);
-        let d = self.delivered_from(x, &targets, firing, exhausted);
+        self.derivative_from(x, &self.targets(commands, exhausted), firing, exhausted)
+    }
+
+    /// [`Plant::derivative_firing`] with the commands already saturated: they are constant
+    /// over a step, so an RK4 step saturates them once, not at each of its four stages.
+    #[inline]
+    fn derivative_from(
+        &self,
+        x: &PlantState,
+        targets: &Targets,
+        firing: &Firing,
+        exhausted: bool,
+    ) -> PlantState {
+        let d = self.delivered_from(x, targets, firing, exhausted);
         // Until the exhaustion event the engines burn on, so the mass stays linear in time
         // across the dry mass and the event search sees a smooth function. An RK4 stage of
         // the sub-step holding the event can lie past the dry mass (never the accepted
@@ -362,8 +374,9 @@ impl Plant {
         t: f64,
         h: f64,
     ) -> PlantState {
+        let targets = self.targets(commands, exhausted);
         rk4_step(
-            |_t, s: &PlantState| self.derivative_firing(s, commands, firing, exhausted),
+            |_t, s: &PlantState| self.derivative_from(s, &targets, firing, exhausted),
             t,
             x,
             h,

@@ -6,6 +6,7 @@
 //! the table; see the README there for what each row measures.
 #![deny(unsafe_code)]
 
+pub mod c_floor;
 /// Loads FMU binaries itself (the one unsafe part: foreign code).
 #[allow(unsafe_code)]
 pub mod call_orders;

@@ -10,7 +10,7 @@
 use anyhow::{ensure, Context, Result};
 use clap::{Parser, Subcommand};
 use speed_bench::call_orders::{measured_flight, Order, Pair, PAPER_STEPS};
-use speed_bench::callgrind;
+use speed_bench::{c_floor, callgrind};
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -112,8 +112,24 @@ fn count(cli: &Cli) -> Result<()> {
             order.name()
         );
     }
+    // The C floor flies the paper flight in plain C; its final state is compared with the
+    // plain Rust loop's (the same equations, evaluated in a different order in places).
+    let c_exe = c_floor::compile(scratch.path())?;
+    let c_counts = c_floor::count(&c_exe, scratch.path()).context("counting the C floor")?;
+    let c_per_step = c_counts.instructions as f64 / c_floor::STEPS as f64;
+    let c_state = c_floor::final_state(&c_exe)?;
     let steps = cli.steps as f64;
     let floor = rows[0].2.instructions as f64 / steps;
+    if cli.steps == c_floor::STEPS {
+        let mut pair = Pair::new(Order::Plain, 2, &cli.fmu_dir, None)?;
+        let rust_state = measured_flight(&mut pair, Order::Plain, cli.steps)?;
+        print_state_comparison(&c_state, &rust_state);
+    } else {
+        println!(
+            "(the C floor flies {} steps whatever --steps says; its count is per its own step)\n",
+            c_floor::STEPS
+        );
+    }
     println!(
         "Instructions per closed-loop step, paper flight ({} steps of 0.01 s, both FMUs), \
          callgrind:\n",
@@ -123,9 +139,15 @@ fn count(cli: &Cli) -> Result<()> {
         println!("(a debug build: the plain loop is unoptimised, the ratios mean nothing)\n");
     }
     println!(
-        "| FMI | Call order | Instructions per step | Ratio to plain | GNC evaluations per step |"
+        "| FMI | Call order | Instructions per step | Ratio to C floor | Ratio to plain | \
+         GNC evaluations per step |"
     );
-    println!("| --- | --- | --- | --- | --- |");
+    println!("| --- | --- | --- | --- | --- | --- |");
+    println!(
+        "| none | C floor: the same math in plain C (tests/speed/c, cc -O2), `run_loop` | \
+         {c_per_step:.0} | 1.00x | {:.2}x | 1.000 |",
+        c_per_step / floor
+    );
     for (order, fmi, counts) in &rows {
         let per_step = counts.instructions as f64 / steps;
         let evaluations = counts.calls_of("gnc_sample") as f64 / steps;
@@ -141,11 +163,34 @@ fn count(cli: &Cli) -> Result<()> {
             "(stripped: use --binaries)".to_string()
         };
         println!(
-            "| {version} | {} | {:.0} | {:.2}x | {evaluations} |",
+            "| {version} | {} | {:.0} | {:.2}x | {:.2}x | {evaluations} |",
             order.describe(),
             per_step,
+            per_step / c_per_step,
             per_step / floor,
         );
     }
     Ok(())
+}
+
+/// How far the C floor's final state lies from the plain Rust loop's, component by component.
+fn print_state_comparison(c: &[f64; 14], rust: &[f64; 14]) {
+    const NAMES: [&str; 14] = [
+        "r_nue[1]", "r_nue[2]", "r_nue[3]", "v_nue[1]", "v_nue[2]", "v_nue[3]", "q[1]", "q[2]",
+        "q[3]", "q[4]", "omega[1]", "omega[2]", "omega[3]", "mass",
+    ];
+    let equal = c
+        .iter()
+        .zip(rust)
+        .filter(|(a, b)| a.to_bits() == b.to_bits())
+        .count();
+    println!(
+        "Final state after the paper flight, C floor against the plain Rust loop: \
+         {equal} of 14 components bit for bit equal."
+    );
+    println!("\n| Output | C floor | plain Rust | difference |\n| --- | --- | --- | --- |");
+    for ((name, a), b) in NAMES.iter().zip(c).zip(rust) {
+        println!("| {name} | {a:.12e} | {b:.12e} | {:.2e} |", a - b);
+    }
+    println!();
 }
