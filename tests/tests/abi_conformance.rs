@@ -14,73 +14,21 @@
 //!    i.e. a compile error.
 //! 3. The compiled program dlopens each packaged library, binds all 34 functions through
 //!    their typedefs and runs a short simulation with its checks (see abi_check.c).
+mod exports;
+
+use exports::{dynamic_symbols, expected_exports, official_headers};
 use fmi_abi::unpack::Unpacked;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use system_tests::{
     fmi3_binary_path, fmi3_fmu_path, fmu_crates, shipped_fmus, target_dir, workspace_root, Fmi,
-    FmuCrate, UnpackedFmu, FMI2_CS_FUNCTIONS, FMI2_ME_FUNCTIONS,
+    UnpackedFmu,
 };
 
 /// Communication steps of the C program's simulation: enough for a state round trip in
 /// the second half, short enough to stay far from any lander touchdown.
 const C_CHECK_STEPS: u32 = 20;
-
-fn fmi2_function_names() -> BTreeSet<String> {
-    FMI2_CS_FUNCTIONS.iter().map(|s| s.to_string()).collect()
-}
-
-/// What the metadata promises: the 34 Co-Simulation functions when FMI 2.0 is shipped, plus
-/// the 10 of Model Exchange when it offers ME, plus every function of the official FMI 3.0
-/// header when FMI 3.0 is shipped (the FMI 3.0 export has no optional part).
-fn expected_exports(fmu: &FmuCrate) -> BTreeSet<String> {
-    let mut names = BTreeSet::new();
-    if fmu.ships(Fmi::V2) {
-        names.extend(fmi2_function_names());
-    }
-    if fmu.ships_model_exchange(Fmi::V2) {
-        names.extend(FMI2_ME_FUNCTIONS.iter().map(|s| s.to_string()));
-    }
-    if fmu.ships(Fmi::V3) {
-        names.extend(fmi3_function_names());
-    }
-    names
-}
-
-/// The functions `fmi3Functions.h` declares (`FMI3_Export fmi3XxxTYPE fmi3Xxx;`).
-fn fmi3_function_names() -> BTreeSet<String> {
-    let header = official_headers("fmi-standard3").join("fmi3Functions.h");
-    let text = std::fs::read_to_string(&header).unwrap();
-    let names: BTreeSet<String> = text
-        .lines()
-        .filter_map(|line| line.trim().strip_prefix("FMI3_Export "))
-        .filter_map(|rest| rest.split_whitespace().nth(1))
-        .map(|name| name.trim_end_matches(';').to_owned())
-        .collect();
-    assert_eq!(names.len(), 75, "functions of {}", header.display());
-    names
-}
-
-/// The names `nm -D --defined-only` lists for a library.
-fn dynamic_symbols(library: &Path) -> BTreeSet<String> {
-    let output = Command::new("nm")
-        .args(["-D", "--defined-only"])
-        .arg(library)
-        .output()
-        .expect("cannot run nm (binutils)");
-    assert!(
-        output.status.success(),
-        "nm failed on {}",
-        library.display()
-    );
-    // Lines read "<address> <type> <name>"; the name is the last field.
-    String::from_utf8_lossy(&output.stdout)
-        .lines()
-        .filter_map(|line| line.split_whitespace().last())
-        .map(str::to_owned)
-        .collect()
-}
 
 #[test]
 fn each_packaged_library_exports_exactly_what_its_metadata_promises() {
@@ -90,14 +38,14 @@ fn each_packaged_library_exports_exactly_what_its_metadata_promises() {
         let expected = expected_exports(&fmu);
         if fmu.ships(Fmi::V2) {
             let unpacked = UnpackedFmu::open(id);
-            let exported = dynamic_symbols(&unpacked.library());
+            let exported = dynamic_symbols("nm", &unpacked.library());
             assert_eq!(exported, expected, "dynamic symbols of the FMI 2.0 {id}");
             checked += 1;
         }
         if fmu.ships(Fmi::V3) {
             let path = fmi3_fmu_path(id);
             let unpacked = Unpacked::open(&path).unwrap_or_else(|e| panic!("{e}"));
-            let exported = dynamic_symbols(&fmi3_binary_path(unpacked.root(), id));
+            let exported = dynamic_symbols("nm", &fmi3_binary_path(unpacked.root(), id));
             assert_eq!(exported, expected, "dynamic symbols of the FMI 3.0 {id}");
             checked += 1;
         }
@@ -249,31 +197,6 @@ fn compile_abi_check(include_dir: &Path, program: &Path) {
 /// this crate, so cargo has downloaded it), found through `cargo metadata`.
 fn official_fmi2_headers() -> PathBuf {
     official_headers("fmi-standard2")
-}
-
-/// `<folder>/headers` of the fmi-sys crate in the cargo registry.
-fn official_headers(folder: &str) -> PathBuf {
-    let output = Command::new(env!("CARGO"))
-        .current_dir(workspace_root())
-        .args(["metadata", "--format-version", "1"])
-        .output()
-        .expect("cannot run cargo metadata");
-    assert!(output.status.success(), "cargo metadata failed");
-    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
-    let manifest = metadata["packages"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|p| p["name"] == "fmi-sys")
-        .and_then(|p| p["manifest_path"].as_str())
-        .expect("fmi-sys is not in the dependency graph");
-    let headers = Path::new(manifest)
-        .parent()
-        .unwrap()
-        .join(folder)
-        .join("headers");
-    assert!(headers.is_dir(), "no {}", headers.display());
-    headers
 }
 
 #[test]

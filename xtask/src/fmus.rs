@@ -81,22 +81,102 @@ pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
 struct Build {
     platform: Platform,
     release_dir: PathBuf,
+    /// The `strip` that knows the platform's object format (the host's for the host).
+    strip: String,
+}
+
+/// The `strip` of binutils for a foreign rustup target, by the GNU triple Debian names its
+/// cross binutils with; the host's `strip` for the host.
+fn strip_for(platform: &Platform, host: &Platform) -> String {
+    if platform == host {
+        return "strip".into();
+    }
+    crate::cross::TARGETS
+        .iter()
+        .find(|t| t.triple == platform.triple)
+        .map_or_else(|| "(none)".into(), |t| t.strip.into())
+}
+
+/// Prints the folders a platform's binaries go to.
+fn announce(platform: &Platform) -> Result<()> {
+    let fmi3 = platform.folder(FmiVersion::V3)?;
+    let fmi2 = platform
+        .folder(FmiVersion::V2)
+        .map_or_else(|_| "(none)".to_owned(), |f| format!("binaries/{f}"));
+    println!(
+        "xtask fmus: {} -> {fmi2} (FMI 2.0), binaries/{fmi3} (FMI 3.0)",
+        platform.triple
+    );
+    Ok(())
+}
+
+/// The host build of today's `cargo xtask fmus`, with rustup's (the invoking) cargo.
+fn build_host(ws: &Workspace, fmus: &[FmuCrate]) -> Result<Build> {
+    let platform = Platform::host()?;
+    announce(&platform)?;
+    let mut build = ws.cargo();
+    build.args(["build", "--release", "--lib"]);
+    for fmu in fmus {
+        build.args(["-p", &fmu.package]);
+    }
+    workspace::run(&mut build)?;
+    Ok(Build {
+        strip: strip_for(&platform, &platform),
+        platform,
+        release_dir: ws.target_dir.join("release"),
+    })
+}
+
+/// The output folder of `--all-platforms`, beside the host-only FMUs of `target/fmu`.
+pub fn all_platforms_dir(ws: &Workspace) -> PathBuf {
+    ws.target_dir.join("fmu-all-platforms")
+}
+
+/// `cargo xtask fmus --all-platforms`: the host build, then aarch64 Linux and x86_64 Windows
+/// with Debian's toolchain ([`crate::cross`]), packaged into FMUs that carry all three under
+/// [`all_platforms_dir`] (FMI 2.0 has no aarch64 Linux folder: those FMUs carry two).
+pub fn package_all_platforms(ws: &Workspace) -> Result<Vec<PathBuf>> {
+    let (packages, architectures) = crate::system_packages::for_all_platforms();
+    crate::system_packages::ensure_with_architectures(&packages, architectures)?;
+    let fmus = fmu_crates(ws)?;
+    let names: Vec<&str> = fmus.iter().map(|f| f.package.as_str()).collect();
+    let mut builds = Vec::new();
+    let mut timings = Vec::new();
+    let started = std::time::Instant::now();
+    builds.push(build_host(ws, &fmus)?);
+    timings.push((builds[0].platform.triple.clone(), started.elapsed()));
+    let host = Platform::host()?;
+    for target in &crate::cross::TARGETS {
+        let started = std::time::Instant::now();
+        let platform = Platform::from_triple(target.triple)?;
+        announce(&platform)?;
+        let release_dir = crate::cross::build(ws, target, &names)?;
+        builds.push(Build {
+            strip: strip_for(&platform, &host),
+            platform,
+            release_dir,
+        });
+        timings.push((target.triple.to_owned(), started.elapsed()));
+    }
+    for (triple, took) in &timings {
+        println!("xtask fmus: built {triple} in {:.1} s", took.as_secs_f64());
+    }
+    package(ws, &fmus, &builds, &all_platforms_dir(ws))
 }
 
 /// Builds the release cdylibs for each target triple (the host when none is given).
 fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Vec<Build>> {
     let mut problems = Vec::new();
     let mut builds = Vec::new();
+    let host = Platform::host()?;
     if triples.is_empty() {
-        builds.push(Build {
-            platform: Platform::host()?,
-            release_dir: ws.target_dir.join("release"),
-        });
+        return Ok(vec![build_host(ws, fmus)?]);
     }
     for triple in triples {
         match Platform::from_triple(triple) {
             Ok(platform) => builds.push(Build {
                 release_dir: ws.target_dir.join(triple).join("release"),
+                strip: strip_for(&platform, &host),
                 platform,
             }),
             Err(error) => problems.push(format!("--target {triple}: {error:#}")),
@@ -115,20 +195,10 @@ fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Ve
         bail!("{}", problems.join("\n"));
     }
     for target in &builds {
-        let fmi3 = target.platform.folder(FmiVersion::V3)?;
-        let fmi2 = target
-            .platform
-            .folder(FmiVersion::V2)
-            .map_or_else(|_| "(none)".to_owned(), |f| format!("binaries/{f}"));
-        println!(
-            "xtask fmus: {} -> {fmi2} (FMI 2.0), binaries/{fmi3} (FMI 3.0)",
-            target.platform.triple
-        );
+        announce(&target.platform)?;
         let mut build = ws.cargo();
         build.args(["build", "--release", "--lib"]);
-        if !triples.is_empty() {
-            build.args(["--target", &target.platform.triple]);
-        }
+        build.args(["--target", &target.platform.triple]);
         for fmu in fmus {
             build.args(["-p", &fmu.package]);
         }
@@ -148,13 +218,23 @@ fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Ve
 pub fn package_for(ws: &Workspace, triples: &[String]) -> Result<Vec<PathBuf>> {
     let fmus = fmu_crates(ws)?;
     let builds = build_all(ws, &fmus, triples)?;
+    package(ws, &fmus, &builds, &ws.fmu_dir())
+}
 
-    let out_dir = ws.fmu_dir();
+/// Packages every FMU of `fmus` with the libraries of `builds` into `out_dir` (FMI 3.0 in
+/// `out_dir/fmi3`), and the SSP of the paper scenario beside them.
+fn package(
+    ws: &Workspace,
+    fmus: &[FmuCrate],
+    builds: &[Build],
+    out_dir: &Path,
+) -> Result<Vec<PathBuf>> {
+    let out_dir = out_dir.to_path_buf();
     std::fs::create_dir_all(&out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
 
     let mut written = Vec::new();
-    for fmu in &fmus {
+    for fmu in fmus {
         for version in Fmi::ALL {
             match fmu.offer(version) {
                 None => continue,
@@ -170,8 +250,8 @@ pub fn package_for(ws: &Workspace, triples: &[String]) -> Result<Vec<PathBuf>> {
                 Some(_) => {}
             }
             let path = match version {
-                Fmi::V2 => package_one(ws, fmu, &builds, &out_dir)?,
-                Fmi::V3 => package_one_fmi3(ws, fmu, &builds, &out_dir.join("fmi3"))?,
+                Fmi::V2 => package_one(ws, fmu, builds, &out_dir)?,
+                Fmi::V3 => package_one_fmi3(ws, fmu, builds, &out_dir.join("fmi3"))?,
             };
             println!("xtask fmus: wrote {}", path.display());
             written.push(path);
@@ -276,7 +356,6 @@ fn binaries(
     identifier: &str,
     version: FmiVersion,
 ) -> Result<Vec<Entry>> {
-    let host = Platform::host()?;
     let mut entries = Vec::new();
     for build in builds {
         let folder = match build.platform.folder(version) {
@@ -289,12 +368,8 @@ fn binaries(
         let library = build
             .release_dir
             .join(build.platform.cargo_library_file(&fmu.lib_name));
-        // The host's strip does not know a foreign object format.
-        let binary = if build.platform == host {
-            stripped_library(&library, scratch_dir, identifier)?
-        } else {
-            std::fs::read(&library).with_context(|| format!("cannot read {}", library.display()))?
-        };
+        // The host's strip does not know a foreign object format: each has its own.
+        let binary = stripped_library(&build.strip, &library, scratch_dir, identifier)?;
         let file = build.platform.fmu_binary_file(identifier);
         entries.push(Entry::executable(
             format!("binaries/{folder}/{file}"),
@@ -379,16 +454,22 @@ fn model_identifier(description: &ModelDescription) -> Result<&str> {
     Ok(id)
 }
 
-/// The shared library's bytes, without its static symbol table when `strip` is available.
-/// Stripping leaves `.dynsym` (the exported fmi2* functions) untouched.
-fn stripped_library(library: &Path, scratch_dir: &Path, identifier: &str) -> Result<Vec<u8>> {
+/// The shared library's bytes, without its static symbol table when `strip` (the program
+/// that knows the library's format) is available. Stripping leaves `.dynsym` (the exported
+/// fmi2* functions) and a DLL's export table untouched.
+fn stripped_library(
+    strip: &str,
+    library: &Path,
+    scratch_dir: &Path,
+    identifier: &str,
+) -> Result<Vec<u8>> {
     if !library.is_file() {
         bail!("{} was not built", library.display());
     }
-    let source = if workspace::on_path("strip") {
+    let source = if workspace::on_path(strip) {
         let stripped = scratch_dir.join(format!(".{identifier}.stripped.so"));
         workspace::run(
-            std::process::Command::new("strip")
+            std::process::Command::new(strip)
                 .arg("--strip-unneeded")
                 .arg("-o")
                 .arg(&stripped)
@@ -396,7 +477,10 @@ fn stripped_library(library: &Path, scratch_dir: &Path, identifier: &str) -> Res
         )?;
         stripped
     } else {
-        println!("xtask fmus: `strip` not found, packaging the unstripped library");
+        println!(
+            "xtask fmus: `{strip}` not found, packaging the unstripped {}",
+            library.display()
+        );
         library.to_path_buf()
     };
     let bytes =

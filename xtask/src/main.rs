@@ -5,6 +5,7 @@
 
 mod bench;
 mod campaign_dask;
+mod cross;
 mod demo;
 mod doc_page;
 mod fmu_zip;
@@ -39,6 +40,11 @@ enum Command {
         /// installed (`rustup target add TRIPLE`).
         #[arg(long = "target", value_name = "TRIPLE")]
         targets: Vec<String>,
+        /// Also build aarch64-unknown-linux-gnu and x86_64-pc-windows-gnu with Debian's Rust
+        /// toolchain (its Debian packages are installed first) and write FMUs carrying all
+        /// three platforms to target/fmu-all-platforms/.
+        #[arg(long, conflicts_with = "targets")]
+        all_platforms: bool,
     },
     /// Merge FMUs of one model built on different platforms into one FMU with all their
     /// binaries (everything outside binaries/ must be identical).
@@ -73,7 +79,11 @@ enum Command {
 fn main() -> ExitCode {
     let command = Cli::parse().command;
     let result = workspace::Workspace::locate().and_then(|ws| match command {
-        Command::Fmus { targets } => fmus::package_for(&ws, &targets).map(|_| ()),
+        Command::Fmus {
+            all_platforms: true,
+            ..
+        } => fmus::package_all_platforms(&ws).map(|_| ()),
+        Command::Fmus { targets, .. } => fmus::package_for(&ws, &targets).map(|_| ()),
         Command::MergeFmus { out, inputs } => platform::merge_files(&out, &inputs),
         Command::Test => test::run_all(&ws),
         Command::Demo => demo::run(&ws),
