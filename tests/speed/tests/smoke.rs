@@ -99,7 +99,12 @@ fn call_orders_count_prints_every_order_of_both_versions() {
     println!("{stdout}");
     let rows: Vec<_> = rows(&stdout).into_iter().skip(1).collect(); // the header
     let versions: Vec<&str> = rows.iter().map(|(fmi, _)| fmi.as_str()).collect();
-    assert_eq!(versions, ["none", "2.0", "2.0", "2.0", "3.0", "3.0", "3.0"]);
+    // The C floor, the plain Rust loop, then three call orders of each version.
+    assert_eq!(
+        versions,
+        ["none", "none", "2.0", "2.0", "2.0", "3.0", "3.0", "3.0"]
+    );
+    assert!(rows[0].1[0].contains("plain C"), "{stdout}");
     let ratios: Vec<f64> = rows.iter().map(|(_, c)| leading_number(&c[2])).collect();
     assert_eq!(ratios[0], 1.0);
     assert!(
