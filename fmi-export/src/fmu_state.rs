@@ -79,14 +79,6 @@ impl<M: Model> FmuStates<M> {
         *slot = std::ptr::null_mut();
         Ok(())
     }
-
-    pub fn len(&self) -> usize {
-        self.states.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.states.is_empty()
-    }
 }
 
 #[cold]

@@ -32,9 +32,6 @@ pub fn admitted_when_fatal<F: Function + PartialEq>(table: &[F]) -> Vec<F> {
 
 /// One FMI version, as the core needs to know it.
 pub trait Abi: Sized + 'static {
-    /// The symbol prefix, `"fmi2"` or `"fmi3"`, for the few messages that name a function
-    /// outside a call (instantiation).
-    const PREFIX: &'static str;
     /// Magic bytes of a serialized FMU state of this version ([`fmi_model::snapshot`]).
     const SNAPSHOT_MAGIC: [u8; 8];
     /// The version's C status type.

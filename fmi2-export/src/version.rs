@@ -49,7 +49,6 @@ pub(crate) const CATEGORIES: &[Category] = &[
 ];
 
 impl Abi for Fmi2 {
-    const PREFIX: &'static str = "fmi2";
     const SNAPSHOT_MAGIC: [u8; 8] = crate::SNAPSHOT_MAGIC;
     const TOKEN_ARGUMENT: &'static str = "fmuGUID";
     const EXPERIMENT: &'static str = "fmi2SetupExperiment";

@@ -37,7 +37,6 @@ static LIVE: Registry<Logger<Fmi3>> = Registry::new();
 pub(crate) const CATEGORIES: &[Category] = &Category::ALL;
 
 impl Abi for Fmi3 {
-    const PREFIX: &'static str = "fmi3";
     const SNAPSHOT_MAGIC: [u8; 8] = crate::SNAPSHOT_MAGIC;
     const TOKEN_ARGUMENT: &'static str = "instantiationToken";
     const EXPERIMENT: &'static str = "fmi3EnterInitializationMode";
