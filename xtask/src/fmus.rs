@@ -9,16 +9,14 @@ use fmu_metadata::{Fmi, FmuCrate};
 use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
-/// The example each FMU crate provides to print its generated FMI 2.0 modelDescription.xml.
-const DESCRIPTION_EXAMPLE: &str = "model_description";
-
-/// The example of an FMU crate that prints its FMI 3.0 modelDescription.xml.
-const DESCRIPTION_EXAMPLE_FMI3: &str = "model_description_fmi3";
-
-fn description_example(version: Fmi) -> &'static str {
+/// The example of an FMU crate that prints its generated modelDescription.xml for `version`:
+/// `<crate>_model_description` (FMI 2.0) and `<crate>_model_description_fmi3`, named after
+/// the crate because examples of one name in several packages collide in `target/`.
+fn description_example(fmu: &FmuCrate, version: Fmi) -> String {
+    let stem = fmu.package.replace('-', "_");
     match version {
-        Fmi::V2 => DESCRIPTION_EXAMPLE,
-        Fmi::V3 => DESCRIPTION_EXAMPLE_FMI3,
+        Fmi::V2 => format!("{stem}_model_description"),
+        Fmi::V3 => format!("{stem}_model_description_fmi3"),
     }
 }
 
@@ -68,7 +66,7 @@ fn example_path(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> PathBuf {
     ws.root
         .join(&fmu.dir)
         .join("examples")
-        .join(format!("{}.rs", description_example(version)))
+        .join(format!("{}.rs", description_example(fmu, version)))
 }
 
 /// Build and package every FMU of the metadata tables, for the host, then the SSP
@@ -276,7 +274,7 @@ fn package_one(
         "-p",
         &fmu.package,
         "--example",
-        DESCRIPTION_EXAMPLE,
+        &description_example(fmu, Fmi::V2),
     ]))?;
     let description = ModelDescription::from_xml(&xml).with_context(|| {
         format!(
@@ -335,7 +333,7 @@ fn check_described(
             "the {version} description of {} ({}) {} <ModelExchange>, but its \
              [package.metadata.fmu] {} model-exchange",
             fmu.package,
-            description_example(version),
+            description_example(fmu, version),
             if declares_model_exchange {
                 "declares"
             } else {
@@ -396,7 +394,7 @@ fn package_one_fmi3(
         "-p",
         &fmu.package,
         "--example",
-        DESCRIPTION_EXAMPLE_FMI3,
+        &description_example(fmu, Fmi::V3),
     ]))?;
     let identifier = fmi3_model_identifier(&xml)
         .with_context(|| format!("in the FMI 3.0 model description of {}", fmu.package))?;
