@@ -96,6 +96,9 @@ pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static
     /// `modelIdentifier` (also the shared-library name in the FMU).
     const MODEL_IDENTIFIER: &'static str;
     const MODEL_NAME: &'static str;
+    /// The model description's `version`: the FMU crate's own `env!("CARGO_PKG_VERSION")`,
+    /// so a released FMU says which release it is.
+    const VERSION: &'static str;
     const DESCRIPTION: &'static str;
     const DEFAULT_EXPERIMENT: Experiment;
     /// Bumped by hand when the serialized state of the model changes shape.

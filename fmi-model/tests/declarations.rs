@@ -54,6 +54,7 @@ static DECLARATIONS: [Declaration<Toy>; 4] = [
 impl Model for Toy {
     const MODEL_IDENTIFIER: &'static str = "Toy";
     const MODEL_NAME: &'static str = "Toy";
+    const VERSION: &'static str = "0.0.0";
     const DESCRIPTION: &'static str = "";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
@@ -147,6 +148,7 @@ fn the_toy_passes_the_checks_and_a_start_outside_its_bounds_does_not() {
     impl Model for Bad {
         const MODEL_IDENTIFIER: &'static str = "Bad";
         const MODEL_NAME: &'static str = "Bad";
+        const VERSION: &'static str = "0.0.0";
         const DESCRIPTION: &'static str = "";
         const DEFAULT_EXPERIMENT: Experiment = Toy::DEFAULT_EXPERIMENT;
         fn declarations() -> &'static [Declaration<Self>] {

@@ -19,6 +19,7 @@ struct Exchange {
 impl Model for Exchange {
     const MODEL_IDENTIFIER: &'static str = "Exchange";
     const MODEL_NAME: &'static str = "Exchange";
+    const VERSION: &'static str = "0.0.0";
     const DESCRIPTION: &'static str = "14 inputs copied to 14 outputs";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,

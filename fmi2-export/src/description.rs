@@ -63,6 +63,7 @@ pub fn model_description<M: Model>() -> md::ModelDescription {
         model_name: M::MODEL_NAME.into(),
         guid: guid::<M>(),
         description: Some(M::DESCRIPTION.into()),
+        version: Some(M::VERSION.into()),
         generation_tool: Some(format!(
             "lander-fmi fmi2-export {}",
             env!("CARGO_PKG_VERSION")

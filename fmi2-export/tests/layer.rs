@@ -40,6 +40,7 @@ static PANICKY: [Declaration<Panicky>; 1] = [decl!(0, output y: y, "1", "")];
 impl Model for Panicky {
     const MODEL_IDENTIFIER: &'static str = "Panicky";
     const MODEL_NAME: &'static str = "Panicky";
+    const VERSION: &'static str = "0.0.0";
     const DESCRIPTION: &'static str = "panics in do_step";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
@@ -138,6 +139,7 @@ macro_rules! small_model {
         impl Model for $name {
             const MODEL_IDENTIFIER: &'static str = "Small";
             const MODEL_NAME: &'static str = "Small";
+            const VERSION: &'static str = "0.0.0";
             const DESCRIPTION: &'static str = "";
             const DEFAULT_EXPERIMENT: Experiment = Experiment {
                 start_time: 0.0,
@@ -232,6 +234,7 @@ static BROKEN: [Declaration<Broken>; 5] = [
 impl Model for Broken {
     const MODEL_IDENTIFIER: &'static str = "Broken-1";
     const MODEL_NAME: &'static str = "Broken";
+    const VERSION: &'static str = "0.0.0";
     const DESCRIPTION: &'static str = "";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
@@ -302,6 +305,7 @@ static BOUNDED: [Declaration<Bounded>; 3] = [
 impl Model for Bounded {
     const MODEL_IDENTIFIER: &'static str = "Bounded";
     const MODEL_NAME: &'static str = "Bounded";
+    const VERSION: &'static str = "0.0.0";
     const DESCRIPTION: &'static str = "bounded inputs";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,

@@ -163,10 +163,11 @@ fn write_description<M: Model>(me: Option<ModelExchange>) -> String {
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<fmiModelDescription fmiVersion="3.0" modelName="{}" instantiationToken="{}" description="{}" generationTool="lander-fmi fmi3-export {}" variableNamingConvention="structured">"#,
+        r#"<fmiModelDescription fmiVersion="3.0" modelName="{}" instantiationToken="{}" description="{}" version="{}" generationTool="lander-fmi fmi3-export {}" variableNamingConvention="structured">"#,
         escape(M::MODEL_NAME),
         instantiation_token::<M>(),
         escape(M::DESCRIPTION),
+        escape(M::VERSION),
         env!("CARGO_PKG_VERSION")
     );
     if me.is_some() {

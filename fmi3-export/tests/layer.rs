@@ -20,6 +20,7 @@ static PRODUCT: [Declaration<Product>; 3] = [
 impl Model for Product {
     const MODEL_IDENTIFIER: &'static str = "Product";
     const MODEL_NAME: &'static str = "Product";
+    const VERSION: &'static str = "0.0.0";
     const DESCRIPTION: &'static str = "an output that overflows for large inputs";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,

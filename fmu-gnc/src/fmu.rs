@@ -261,6 +261,7 @@ fn report_inputs(advance: &Advance, time_s: f64, log: &mut Log) {
 impl Model for LanderGnc {
     const MODEL_IDENTIFIER: &'static str = "LanderGnc";
     const MODEL_NAME: &'static str = "LanderGnc";
+    const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str =
         "Lunar lander guidance (PV hover, cubic-polynomial descent) and \
         attitude control (coupled, decoupled thrust-axis, reduced) after Rallapalli et al., \

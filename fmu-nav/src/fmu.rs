@@ -32,6 +32,7 @@ impl LanderNav {
 impl Model for LanderNav {
     const MODEL_IDENTIFIER: &'static str = "LanderNav";
     const MODEL_NAME: &'static str = "LanderNav";
+    const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str = "Navigation errors between the lunar lander plant and its GNC: white noise, \
          bias, random walk, quantisation and latency per signal group, seeded and reproducible; the identity by default";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {

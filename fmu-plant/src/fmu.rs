@@ -231,6 +231,7 @@ impl Model for LanderPlant {
     /// 3: the delivered actuation is no longer stored (computed when read).
     const STATE_VERSION: u32 = 3;
     const MODEL_NAME: &'static str = "LanderPlant";
+    const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
          (eq. 1) translation, throttleable engines and RCS with saturation, RK4, touchdown and propellant events";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {

@@ -144,6 +144,7 @@ impl Oscillator {
 impl Model for Oscillator {
     const MODEL_IDENTIFIER: &'static str = "Oscillator";
     const MODEL_NAME: &'static str = "Oscillator";
+    const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str =
         "Damped spring-mass oscillator, the test model of the FMI 2.0 and 3.0 export layers";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {

@@ -1,4 +1,4 @@
-//! The multi-platform FMUs of `cargo xtask fmus --all-platforms` (target/fmu-all-platforms),
+//! The multi-platform FMUs of `cargo xtask fmus --all-platforms` (target/fmu),
 //! checked the way an importer on each platform sees them: the binaries folders each
 //! standard names, the object format and architecture of every binary, fmpy's validation
 //! and its list of supported platforms, and the exports and imports of every library.
@@ -45,7 +45,7 @@ fn platforms(version: Fmi) -> &'static [(&'static str, &'static str, Object)] {
 }
 
 fn fmu_path(version: Fmi, model_identifier: &str) -> PathBuf {
-    let dir = target_dir().join("fmu-all-platforms");
+    let dir = target_dir().join("fmu");
     let path = match version {
         Fmi::V2 => dir.join(format!("{model_identifier}.fmu")),
         Fmi::V3 => dir.join("fmi3").join(format!("{model_identifier}.fmu")),

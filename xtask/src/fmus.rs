@@ -125,14 +125,10 @@ fn build_host(ws: &Workspace, fmus: &[FmuCrate]) -> Result<Build> {
     })
 }
 
-/// The output folder of `--all-platforms`, beside the host-only FMUs of `target/fmu`.
-pub fn all_platforms_dir(ws: &Workspace) -> PathBuf {
-    ws.target_dir.join("fmu-all-platforms")
-}
-
 /// `cargo xtask fmus --all-platforms`: the host build, then aarch64 Linux and x86_64 Windows
 /// with Debian's toolchain ([`crate::cross`]), packaged into FMUs that carry all three under
-/// [`all_platforms_dir`] (FMI 2.0 has no aarch64 Linux folder: those FMUs carry two).
+/// `target/fmu`, where the host-only FMUs go too: the FMUs every test loads are the ones a
+/// release ships (FMI 2.0 has no aarch64 Linux folder: those FMUs carry two).
 pub fn package_all_platforms(ws: &Workspace) -> Result<Vec<PathBuf>> {
     let (packages, architectures) = crate::system_packages::for_all_platforms();
     crate::system_packages::ensure_with_architectures(&packages, architectures)?;
@@ -159,7 +155,7 @@ pub fn package_all_platforms(ws: &Workspace) -> Result<Vec<PathBuf>> {
     for (triple, took) in &timings {
         println!("xtask fmus: built {triple} in {:.1} s", took.as_secs_f64());
     }
-    package(ws, &fmus, &builds, &all_platforms_dir(ws))
+    package(ws, &fmus, &builds, &ws.fmu_dir())
 }
 
 /// Builds the release cdylibs for each target triple (the host when none is given).

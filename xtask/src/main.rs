@@ -7,6 +7,7 @@ mod bench;
 mod campaign_dask;
 mod cross;
 mod demo;
+mod dist;
 mod doc_page;
 mod fmu_zip;
 mod fmus;
@@ -42,7 +43,7 @@ enum Command {
         targets: Vec<String>,
         /// Also build aarch64-unknown-linux-gnu and x86_64-pc-windows-gnu with Debian's Rust
         /// toolchain (its Debian packages are installed first) and write FMUs carrying all
-        /// three platforms to target/fmu-all-platforms/.
+        /// three platforms to target/fmu/.
         #[arg(long, conflicts_with = "targets")]
         all_platforms: bool,
     },
@@ -56,6 +57,9 @@ enum Command {
         #[arg(required = true, value_name = "FMU")]
         inputs: Vec<std::path::PathBuf>,
     },
+    /// Build the FMUs for every platform (as `fmus --all-platforms`) and write the release
+    /// directory target/dist/lander-fmi-<version>/: FMUs, SSP, documentation, SHA256SUMS.
+    Dist,
     /// Run every check in order (fmt, clippy, FMUs, Python venv, cargo tests), stopping at
     /// the first failure.
     Test,
@@ -85,6 +89,7 @@ fn main() -> ExitCode {
         } => fmus::package_all_platforms(&ws).map(|_| ()),
         Command::Fmus { targets, .. } => fmus::package_for(&ws, &targets).map(|_| ()),
         Command::MergeFmus { out, inputs } => platform::merge_files(&out, &inputs),
+        Command::Dist => dist::run(&ws).map(|_| ()),
         Command::Test => test::run_all(&ws),
         Command::Demo => demo::run(&ws),
         Command::PythonEnv => python_env::ensure(&ws),

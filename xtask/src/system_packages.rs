@@ -97,6 +97,22 @@ const ALL_PLATFORMS: &[Package] = &[
     },
 ];
 
+/// What the platform tests of `cargo xtask test` run the foreign binaries with.
+const PLATFORM_TESTS: &[Package] = &[
+    Package {
+        name: "qemu-user",
+        why: "runs the aarch64 Linux test master and FMU binaries (qemu-aarch64)",
+    },
+    Package {
+        name: "wine",
+        why: "runs the Windows test master and FMU DLLs",
+    },
+    Package {
+        name: "wine64",
+        why: "the 64-bit Wine loader for the x86_64 Windows DLLs",
+    },
+];
+
 /// The foreign dpkg architectures [`ALL_PLATFORMS`] installs packages of (`name:arch`).
 const ALL_PLATFORMS_ARCHITECTURES: &[&str] = &["arm64"];
 
@@ -117,13 +133,21 @@ fn python_can_make_venvs() -> bool {
         .unwrap_or(false)
 }
 
-/// Everything `cargo xtask test` needs.
+/// Everything the host-only checks need (`cargo xtask bench`).
 pub fn for_test() -> Vec<&'static Package> {
     let mut all: Vec<&Package> = DEMO.iter().chain(TEST.iter()).collect();
     if !python_can_make_venvs() {
         all.push(&PYTHON_VENV);
     }
     all
+}
+
+/// Everything `cargo xtask test` needs (it builds and runs every platform), and the foreign
+/// dpkg architectures its packages come from.
+pub fn for_test_all_platforms() -> (Vec<&'static Package>, &'static [&'static str]) {
+    let mut all = for_test();
+    all.extend(ALL_PLATFORMS.iter().chain(PLATFORM_TESTS.iter()));
+    (all, ALL_PLATFORMS_ARCHITECTURES)
 }
 
 /// Everything `cargo xtask fmus --all-platforms` needs beyond the host build, and the

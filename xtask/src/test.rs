@@ -9,11 +9,14 @@ struct Stage {
     run: fn(&Workspace) -> Result<()>,
 }
 
-const STAGES: [Stage; 6] = [
+const STAGES: [Stage; 7] = [
     // First: a missing C library otherwise fails deep inside a build script.
     Stage {
         name: "system packages",
-        run: |_| system_packages::ensure(&system_packages::for_test()),
+        run: |_| {
+            let (packages, architectures) = system_packages::for_test_all_platforms();
+            system_packages::ensure_with_architectures(&packages, architectures)
+        },
     },
     Stage {
         name: "rustfmt",
@@ -32,9 +35,10 @@ const STAGES: [Stage; 6] = [
             ]))
         },
     },
+    // Every platform, so that every later test loads the FMUs a release ships.
     Stage {
         name: "package FMUs",
-        run: |ws| fmus::package_all(ws).map(|_| ()),
+        run: |ws| fmus::package_all_platforms(ws).map(|_| ()),
     },
     // Before the cargo tests: the fmpy system tests run in this venv.
     Stage {
@@ -46,6 +50,23 @@ const STAGES: [Stage; 6] = [
     Stage {
         name: "cargo test",
         run: |ws| workspace::run(ws.cargo().args(["test", "--workspace"])),
+    },
+    // The foreign binaries as their platforms see them, natively, under qemu-aarch64 and
+    // under wine: outside `cargo test --workspace` because a plain `cargo xtask fmus`
+    // writes host-only FMUs.
+    Stage {
+        name: "platforms",
+        run: |ws| {
+            workspace::run(ws.cargo().args([
+                "test",
+                "-p",
+                "system-tests",
+                "--test",
+                "all_platforms",
+                "--",
+                "--ignored",
+            ]))
+        },
     },
 ];
 
