@@ -14,7 +14,7 @@ fn checked_in_model_description_matches_the_variable_table() {
     fmi_testkit::assert_file_matches(
         concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
         &fmi2_export::model_description_xml::<LanderGnc>(),
-        "cargo run -p fmu-gnc --example fmu_gnc_model_description > fmu-gnc/modelDescription.xml",
+        "cargo run -p fmu-gnc --bin fmu_gnc_model_description > fmu-gnc/modelDescription.xml",
     );
 }
 

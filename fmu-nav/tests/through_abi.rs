@@ -142,7 +142,7 @@ fn checked_in_model_description_matches_the_table() {
     fmi_testkit::assert_file_matches(
         concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
         &fmi2_export::model_description_xml::<LanderNav>(),
-        "cargo run -p fmu-nav --example fmu_nav_model_description > fmu-nav/modelDescription.xml",
+        "cargo run -p fmu-nav --bin fmu_nav_model_description > fmu-nav/modelDescription.xml",
     );
 }
 

@@ -11,7 +11,7 @@ fn checked_in_model_description_matches_the_table() {
     fmi_testkit::assert_file_matches(
         concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
         &fmi2_export::model_description_xml_me::<fmu_plant::LanderPlant>(),
-        "cargo run -p fmu-plant --example fmu_plant_model_description > fmu-plant/modelDescription.xml",
+        "cargo run -p fmu-plant --bin fmu_plant_model_description > fmu-plant/modelDescription.xml",
     );
 }
 

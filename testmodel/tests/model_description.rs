@@ -12,7 +12,7 @@ fn checked_in_xml_matches_the_code() {
     fmi_testkit::assert_file_matches(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("modelDescription.xml"),
         &model_description_xml::<Oscillator>(),
-        "cargo run -p fmu-testmodel --example fmu_testmodel_model_description > testmodel/modelDescription.xml",
+        "cargo run -p fmu-testmodel --bin fmu_testmodel_model_description > testmodel/modelDescription.xml",
     );
 }
 

@@ -9,10 +9,12 @@ use fmu_metadata::{Fmi, FmuCrate};
 use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
-/// The example of an FMU crate that prints its generated modelDescription.xml for `version`:
+/// The binary of an FMU crate that prints its generated modelDescription.xml for `version`:
 /// `<crate>_model_description` (FMI 2.0) and `<crate>_model_description_fmi3`, named after
-/// the crate because examples of one name in several packages collide in `target/`.
-fn description_example(fmu: &FmuCrate, version: Fmi) -> String {
+/// the crate because binaries of one name in several packages collide in `target/`. A
+/// binary, not an example: an example would build the crate's dev-dependencies (the test
+/// kit, bindgen, criterion) in release mode only to print a file.
+fn description_binary(fmu: &FmuCrate, version: Fmi) -> String {
     let stem = fmu.package.replace('-', "_");
     match version {
         Fmi::V2 => format!("{stem}_model_description"),
@@ -21,7 +23,7 @@ fn description_example(fmu: &FmuCrate, version: Fmi) -> String {
 }
 
 /// The FMU crates of the workspace, from their `[package.metadata.fmu]` tables, each
-/// checked against what its `src/lib.rs` exports and which description examples it has:
+/// checked against what its `src/lib.rs` exports and which description binaries it has:
 /// what is promised, exported and described must be the same before anything is packaged.
 fn fmu_crates(ws: &Workspace) -> Result<Vec<FmuCrate>> {
     let fmus = fmu_metadata::workspace_fmus(&ws.root).map_err(anyhow::Error::msg)?;
@@ -34,17 +36,17 @@ fn fmu_crates(ws: &Workspace) -> Result<Vec<FmuCrate>> {
             .map_err(|e| anyhow::anyhow!("{}: {e}", lib_rs.display()))?;
         problems.extend(fmu_metadata::check_exports(fmu, &exports));
         for version in Fmi::ALL {
-            let example = example_path(ws, fmu, version);
-            match (fmu.ships(version), example.is_file()) {
+            let binary = binary_path(ws, fmu, version);
+            match (fmu.ships(version), binary.is_file()) {
                 (true, false) => problems.push(format!(
                     "{}: the metadata ships {version} but {} is missing",
                     fmu.model_identifier,
-                    example.display()
+                    binary.display()
                 )),
                 (false, true) if fmu.offer(version).is_none() => problems.push(format!(
                     "{}: {} exists but the metadata offers no {version}",
                     fmu.model_identifier,
-                    example.display()
+                    binary.display()
                 )),
                 _ => {}
             }
@@ -62,11 +64,12 @@ fn fmu_crates(ws: &Workspace) -> Result<Vec<FmuCrate>> {
     Ok(fmus)
 }
 
-fn example_path(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> PathBuf {
+fn binary_path(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> PathBuf {
     ws.root
         .join(&fmu.dir)
-        .join("examples")
-        .join(format!("{}.rs", description_example(fmu, version)))
+        .join("src")
+        .join("bin")
+        .join(format!("{}.rs", description_binary(fmu, version)))
 }
 
 /// Build and package every FMU of the metadata tables, for the host, then the SSP
@@ -269,8 +272,8 @@ fn package_one(
         "-q",
         "-p",
         &fmu.package,
-        "--example",
-        &description_example(fmu, Fmi::V2),
+        "--bin",
+        &description_binary(fmu, Fmi::V2),
     ]))?;
     let description = ModelDescription::from_xml(&xml).with_context(|| {
         format!(
@@ -329,7 +332,7 @@ fn check_described(
             "the {version} description of {} ({}) {} <ModelExchange>, but its \
              [package.metadata.fmu] {} model-exchange",
             fmu.package,
-            description_example(fmu, version),
+            description_binary(fmu, version),
             if declares_model_exchange {
                 "declares"
             } else {
@@ -389,8 +392,8 @@ fn package_one_fmi3(
         "-q",
         "-p",
         &fmu.package,
-        "--example",
-        &description_example(fmu, Fmi::V3),
+        "--bin",
+        &description_binary(fmu, Fmi::V3),
     ]))?;
     let identifier = fmi3_model_identifier(&xml)
         .with_context(|| format!("in the FMI 3.0 model description of {}", fmu.package))?;
