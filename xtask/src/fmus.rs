@@ -111,16 +111,14 @@ fn announce(platform: &Platform) -> Result<()> {
     Ok(())
 }
 
-/// The host build of today's `cargo xtask fmus`, with rustup's (the invoking) cargo.
+/// The host build of today's `cargo xtask fmus`, with rustup's (the invoking) cargo: the
+/// libraries and, in the same invocation, the description binaries. One invocation for both
+/// resolves the dependencies' features once, so neither a later run of the binaries nor a
+/// rerun of this build recompiles anything.
 fn build_host(ws: &Workspace, fmus: &[FmuCrate]) -> Result<Build> {
     let platform = Platform::host()?;
     announce(&platform)?;
-    let mut build = ws.cargo();
-    build.args(["build", "--release", "--lib"]);
-    for fmu in fmus {
-        build.args(["-p", &fmu.package]);
-    }
-    workspace::run(&mut build)?;
+    build_host_targets(ws, fmus, &["--lib", "--bins"])?;
     Ok(Build {
         strip: strip_for(&platform, &platform),
         platform,
@@ -161,6 +159,25 @@ pub fn package_all_platforms(ws: &Workspace) -> Result<Vec<PathBuf>> {
     package(ws, &fmus, &builds, &ws.fmu_dir())
 }
 
+fn build_host_targets(ws: &Workspace, fmus: &[FmuCrate], targets: &[&str]) -> Result<()> {
+    let mut build = ws.cargo();
+    build.args(["build", "--release"]).args(targets);
+    for fmu in fmus {
+        build.args(["-p", &fmu.package]);
+    }
+    workspace::run(&mut build)
+}
+
+/// The model description `fmu`'s binary (built by [`build_host_targets`]) prints for
+/// `version`.
+fn describe(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> Result<String> {
+    let binary = ws
+        .target_dir
+        .join("release")
+        .join(description_binary(fmu, version));
+    workspace::output(&mut std::process::Command::new(&binary))
+}
+
 /// Builds the release cdylibs for each target triple (the host when none is given).
 fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Vec<Build>> {
     let mut problems = Vec::new();
@@ -191,6 +208,8 @@ fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Ve
     if !problems.is_empty() {
         bail!("{}", problems.join("\n"));
     }
+    // The descriptions are printed on the host whatever the targets.
+    build_host_targets(ws, fmus, &["--bins"])?;
     for target in &builds {
         announce(&target.platform)?;
         let mut build = ws.cargo();
@@ -266,15 +285,7 @@ fn package_one(
     builds: &[Build],
     out_dir: &Path,
 ) -> Result<PathBuf> {
-    let xml = workspace::output(ws.cargo().args([
-        "run",
-        "--release",
-        "-q",
-        "-p",
-        &fmu.package,
-        "--bin",
-        &description_binary(fmu, Fmi::V2),
-    ]))?;
+    let xml = describe(ws, fmu, Fmi::V2)?;
     let description = ModelDescription::from_xml(&xml).with_context(|| {
         format!(
             "{} printed a modelDescription.xml that does not parse",
@@ -386,15 +397,7 @@ fn package_one_fmi3(
 ) -> Result<PathBuf> {
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
-    let xml = workspace::output(ws.cargo().args([
-        "run",
-        "--release",
-        "-q",
-        "-p",
-        &fmu.package,
-        "--bin",
-        &description_binary(fmu, Fmi::V3),
-    ]))?;
+    let xml = describe(ws, fmu, Fmi::V3)?;
     let identifier = fmi3_model_identifier(&xml)
         .with_context(|| format!("in the FMI 3.0 model description of {}", fmu.package))?;
     check_described(fmu, Fmi::V3, &identifier, xml.contains("<ModelExchange"))?;
