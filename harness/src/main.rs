@@ -161,9 +161,29 @@ fn init_logging() {
     }
 }
 
-fn main() -> anyhow::Result<()> {
+fn main() {
     init_logging();
     let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => std::process::exit(code),
+        Err(error) => {
+            // A user's mistake is said in words: `main` returning the error would print its
+            // backtrace too whenever RUST_BACKTRACE is set. Internal panics keep theirs.
+            eprintln!("Error: {error}");
+            let causes: Vec<_> = error.chain().skip(1).collect();
+            if !causes.is_empty() {
+                eprintln!("\nCaused by:");
+                for cause in causes {
+                    eprintln!("    {cause}");
+                }
+            }
+            std::process::exit(1);
+        }
+    }
+}
+
+/// The command's exit code, or the error that stopped it (exit code 1).
+fn run(cli: Cli) -> anyhow::Result<i32> {
     // 0, or harness::verdict::EXIT_FAILED_VERDICT when a run did not end as expected; errors
     // return through `?` (exit code 1).
     let mut exit_code = harness::verdict::EXIT_OK;
@@ -261,10 +281,7 @@ fn main() -> anyhow::Result<()> {
             println!("wrote {}", harness::report::for_directory(&dir)?.display())
         }
     }
-    if exit_code != harness::verdict::EXIT_OK {
-        std::process::exit(exit_code);
-    }
-    Ok(())
+    Ok(exit_code)
 }
 
 #[cfg(test)]

@@ -84,3 +84,25 @@ fn replay_from_a_manifest_refuses_the_options_it_would_ignore() {
         );
     }
 }
+
+/// A user's mistake is one readable message and exit code 1 even where the developer's
+/// environment asks for backtraces.
+#[test]
+fn a_user_error_prints_no_backtrace_even_with_rust_backtrace_set() {
+    for setting in ["1", "full"] {
+        let output = Command::new(env!("CARGO_BIN_EXE_harness"))
+            .args(["run", "/nonexistent/scenario.toml"])
+            .env("RUST_BACKTRACE", setting)
+            .env("RUST_LIB_BACKTRACE", setting)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.starts_with("Error: "), "{stderr}");
+        assert!(stderr.contains("/nonexistent/scenario.toml"), "{stderr}");
+        assert!(
+            !stderr.to_lowercase().contains("backtrace"),
+            "RUST_BACKTRACE={setting}: {stderr}"
+        );
+    }
+}
