@@ -42,7 +42,8 @@ enum Command {
     /// (CSV, or an Arrow IPC file for a .arrow/.feather/.ipc name or --format arrow).
     #[command(allow_negative_numbers = true)]
     Run {
-        /// paper, upright, descent-roll, landing, or a path to a .toml/.ssd scenario or .ssp package.
+        /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters (the files of
+        /// harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp package.
         scenario: String,
         /// Output file (columns: time, instance.variable...).
         #[arg(long, short, default_value = "target/harness/run.csv")]

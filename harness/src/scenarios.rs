@@ -13,7 +13,33 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         include_str!("../scenarios/descent-roll.toml"),
     ),
     ("landing", include_str!("../scenarios/landing.toml")),
+    ("paper-nav", include_str!("../scenarios/paper-nav.toml")),
+    (
+        "paper-thrusters",
+        include_str!("../scenarios/paper-thrusters.toml"),
+    ),
 ];
+
+/// The error for a scenario argument that is neither a file nor a built-in name: it lists
+/// the built-in names (and the closest one), so a user who typed a name learns the others.
+pub fn not_found(name_or_path: &str, source: std::io::Error) -> SystemError {
+    if source.kind() != std::io::ErrorKind::NotFound {
+        return SystemError::Io {
+            path: name_or_path.into(),
+            source,
+        };
+    }
+    let names: Vec<&str> = BUILT_IN.iter().map(|(name, _)| *name).collect();
+    SystemError::Syntax {
+        path: name_or_path.into(),
+        message: format!(
+            "no such file, and no built-in scenario of that name{}; the built-in scenarios \
+             (harness/scenarios/<name>.toml): {}",
+            crate::master::suggest::hint(name_or_path, names.iter().copied()),
+            names.join(", ")
+        ),
+    }
+}
 
 /// The terminal hover target of the shipped timeline (LanderGnc's default descent target).
 pub const TERMINAL_TARGET_NUE: [f64; 3] = [0.0, 150.0, 0.0];
@@ -34,7 +60,10 @@ pub fn load(name_or_path: &str) -> Result<SystemDescription, SystemError> {
     match path.extension().and_then(|e| e.to_str()) {
         Some("ssd") => read_ssd(path),
         Some("ssp") => read_package(path),
-        _ => crate::verdict::scenario::read_toml(path),
+        _ => {
+            let text = std::fs::read_to_string(path).map_err(|e| not_found(name_or_path, e))?;
+            crate::verdict::scenario::parse_toml(&text, path)
+        }
     }
 }
 
@@ -141,17 +170,33 @@ mod tests {
     fn every_built_in_scenario_parses_and_connects_the_contract_signals() {
         for (name, _) in BUILT_IN {
             let system = load(name).unwrap();
-            assert_eq!(system.instances.len(), 2, "{name}");
+            assert!(system.instance("plant").is_some(), "{name}");
+            assert!(system.instance("gnc").is_some(), "{name}");
+            // Straight from the plant, or through the navigation errors (LanderNav).
+            let nav = system.instance("nav").is_some();
             for signal in ["r_nue", "v_nue", "q_body_to_nue", "omega_body", "mass"] {
+                let from = if nav { "nav" } else { "plant" };
                 assert!(
                     system
                         .connections
                         .iter()
-                        .any(|c| c.from == format!("plant.{signal}")
+                        .any(|c| c.from == format!("{from}.{signal}")
                             && c.to == format!("gnc.{signal}")),
                     "{name}: {signal}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn an_unknown_name_lists_the_built_in_scenarios_and_suggests_the_closest() {
+        let message = load("paper-thruster").unwrap_err().to_string();
+        assert!(
+            message.contains("did you mean 'paper-thrusters'"),
+            "{message}"
+        );
+        for (name, _) in BUILT_IN {
+            assert!(message.contains(name), "{message}");
         }
     }
 

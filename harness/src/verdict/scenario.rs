@@ -20,10 +20,7 @@ fn toml_text(name_or_path: &str) -> Result<Option<(String, String)>, SystemError
     ) {
         return Ok(None);
     }
-    let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let text = std::fs::read_to_string(path).map_err(|e| scenarios::not_found(name_or_path, e))?;
     Ok(Some((name_or_path.to_owned(), text)))
 }
 
