@@ -189,6 +189,23 @@ mod tests {
     }
 
     #[test]
+    fn every_shipped_toml_scenario_is_a_built_in_name_with_the_same_text() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+        let mut shipped = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                shipped += 1;
+                let stem = path.file_stem().unwrap().to_str().unwrap();
+                let built_in = BUILT_IN.iter().find(|(name, _)| *name == stem);
+                let text = std::fs::read_to_string(&path).unwrap();
+                assert_eq!(built_in.map(|(_, t)| *t), Some(text.as_str()), "{stem}");
+            }
+        }
+        assert_eq!(shipped, BUILT_IN.len());
+    }
+
+    #[test]
     fn an_unknown_name_lists_the_built_in_scenarios_and_suggests_the_closest() {
         let message = load("paper-thruster").unwrap_err().to_string();
         assert!(
