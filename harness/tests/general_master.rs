@@ -314,7 +314,7 @@ fn the_cli_reports_every_bad_set_at_once_and_an_fmu_error_once() {
     assert!(stderr.contains("did you mean 'gnc'"), "{stderr}");
     assert!(stderr.contains("did you mean 'phi_cmd'"), "{stderr}");
     assert!(stderr.contains("connected from 'plant.mass'"), "{stderr}");
-    // An FMU refusing a parameter: its log line appears once, in the error.
+    // A value outside its declared range: refused before the run, naming both.
     let stderr = harness(&[
         "run",
         "paper",
@@ -323,6 +323,11 @@ fn the_cli_reports_every_bad_set_at_once_and_an_fmu_error_once() {
         "--set",
         "gnc.control_bandwidth=0",
     ]);
-    let line = "control_bandwidth (vr 203): value 0 is outside (0, inf)";
+    let line = "'control_bandwidth' = 0 is below its declared min 5e-324";
+    assert_eq!(stderr.matches(line).count(), 1, "{stderr}");
+    // An FMU refusing parameters that are each within range but not together: its log line
+    // appears once, in the error.
+    let stderr = harness(&["run", "paper", "-o", csv, "--set", "gnc.thrust_min=2000"]);
+    let line = "parameter thrust_max = 1600: must be >= thrust_min";
     assert_eq!(stderr.matches(line).count(), 1, "{stderr}");
 }

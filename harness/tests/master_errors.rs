@@ -55,3 +55,32 @@ fn a_refused_parameter_ends_the_run_with_the_fmu_log() {
     assert!(text.contains("fmi2ExitInitializationMode"), "{text}");
     assert!(text.contains("thrust_max"), "{text}");
 }
+
+#[test]
+fn an_output_and_values_outside_their_declared_range_are_refused_before_the_run() {
+    // GIVEN the paper scenario asking to set the plant's output `altitude`, the control law 7
+    // (declared 1 to 3) and phi_cmd 20 rad (declared within +-4 pi)
+    let mut system = scenarios::load("paper").unwrap();
+    system.set_parameter("plant", "altitude", ParamValue::Real(5.0));
+    system.set_parameter("gnc", "control_law", ParamValue::Integer(7));
+    system.set_parameter("gnc", "phi_cmd", ParamValue::Real(20.0));
+    // WHEN it is resolved against the FMUs, before any FMU is instantiated
+    let error = match Simulation::new(system, &common::fmu_dir()) {
+        Err(error @ MasterError::Resolve { .. }) => error.to_string(),
+        Err(other) => panic!("wrong error: {other}"),
+        Ok(_) => panic!("the system was accepted"),
+    };
+    // THEN one error names each value and what the FMU declares
+    assert!(
+        error.contains("'altitude' is an output with initial=\"calculated\""),
+        "{error}"
+    );
+    assert!(
+        error.contains("'control_law' = 7 is above its declared max 3"),
+        "{error}"
+    );
+    assert!(
+        error.contains("'phi_cmd' = 20 is above its declared max"),
+        "{error}"
+    );
+}

@@ -5,7 +5,7 @@ use super::loops::{self, Edge, Feedthrough};
 use super::suggest;
 use crate::loader::{Fmu, VariableKind};
 use crate::system::{split_path, ParamValue, SystemDescription};
-use model_description::Causality;
+use model_description::{Causality, Initial, ScalarVariable, Variability};
 
 /// A scalar variable of an instance, by value reference and exchange type.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -226,6 +226,12 @@ pub fn parameter_problem(
             info.kind
         ));
     }
+    if let Some(declared) = fmu.model_description().variable(variable) {
+        if let Some(problem) = settable_problem(declared).or_else(|| range_problem(declared, value))
+        {
+            return Some(format!("instance '{name}': {problem}"));
+        }
+    }
     let path = format!("{name}.{variable}");
     if let Some((from, _)) = connections.iter().find(|(_, to)| *to == path) {
         return Some(format!(
@@ -234,6 +240,94 @@ pub fn parameter_problem(
         ));
     }
     None
+}
+
+/// Why the master may not set `variable` before initialization, if it may not: FMI 2.0
+/// (3.2.3 and 4.2.4) allows a set there only for a variable that is not a constant and has
+/// `initial` exact or approx, and for inputs; the FMU would refuse the rest, late.
+fn settable_problem(variable: &ScalarVariable) -> Option<String> {
+    let name = &variable.name;
+    let causality = variable.causality_or_default();
+    if causality == Causality::Independent {
+        return Some(format!(
+            "'{name}' is the independent variable (time): the master advances it, it cannot \
+             be set"
+        ));
+    }
+    if variable.variability_or_default() == Variability::Constant {
+        return Some(format!("'{name}' is a constant: it cannot be set"));
+    }
+    if causality == Causality::Input {
+        return None;
+    }
+    match variable.initial_or_default() {
+        Some(Initial::Calculated) | None => Some(format!(
+            "'{name}' is {} with initial=\"calculated\": the FMU computes it, so it cannot be \
+             set; set a parameter or an input instead",
+            match causality {
+                Causality::Output => "an output",
+                Causality::CalculatedParameter => "a calculated parameter",
+                _ => "a local variable",
+            }
+        )),
+        Some(Initial::Exact | Initial::Approx) => None,
+    }
+}
+
+/// A value outside the variable's declared `min`/`max`, naming both.
+fn range_problem(variable: &ScalarVariable, value: &ParamValue) -> Option<String> {
+    let (min, max, given) = match value {
+        ParamValue::Real(x) => real_range(variable).map(|(lo, hi)| (lo, hi, *x))?,
+        ParamValue::Integer(i) => {
+            if let Some((lo, hi)) = integer_range(variable) {
+                (lo.map(f64::from), hi.map(f64::from), *i as f64)
+            } else {
+                real_range(variable).map(|(lo, hi)| (lo, hi, *i as f64))?
+            }
+        }
+        _ => return None,
+    };
+    let name = &variable.name;
+    let value = match value {
+        ParamValue::Integer(i) => i.to_string(),
+        _ => number(given),
+    };
+    let range = match (min, max) {
+        (Some(lo), Some(hi)) => format!(" (range [{}, {}])", number(lo), number(hi)),
+        _ => String::new(),
+    };
+    match (min, max) {
+        (Some(lo), _) if given < lo => Some(format!(
+            "'{name}' = {value} is below its declared min {}{range}",
+            number(lo)
+        )),
+        (_, Some(hi)) if given > hi => Some(format!(
+            "'{name}' = {value} is above its declared max {}{range}",
+            number(hi)
+        )),
+        _ => None,
+    }
+}
+
+/// A bound as the model description writes it: integers without a fraction, others in the
+/// shortest form that reads back exactly (`5e-324`, not 324 digits).
+fn number(x: f64) -> String {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{}", x as i64)
+    } else {
+        format!("{x:?}")
+    }
+}
+
+fn real_range(variable: &ScalarVariable) -> Option<(Option<f64>, Option<f64>)> {
+    variable.real.as_ref().map(|r| (r.min, r.max))
+}
+
+fn integer_range(variable: &ScalarVariable) -> Option<(Option<i32>, Option<i32>)> {
+    if let Some(integer) = &variable.integer {
+        return Some((integer.min, integer.max));
+    }
+    variable.enumeration.as_ref().map(|e| (e.min, e.max))
 }
 
 /// The SSD's declared connectors against the FMUs, and the connections against the declared
