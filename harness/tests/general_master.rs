@@ -152,6 +152,27 @@ fn a_gnc_wired_to_itself_is_an_algebraic_loop_named_in_the_error() {
 }
 
 #[test]
+fn a_declared_feedthrough_loop_is_accepted_under_jacobi_ordering_where_every_link_is_delayed() {
+    // GIVEN the loop through the plant's delivered thrust that Gauss-Seidel refuses
+    let mut system = scenarios::load("paper").unwrap();
+    for c in &mut system.connections {
+        if c.to == "gnc.mass" {
+            c.from = "plant.thrust_actual".into();
+        }
+    }
+    let mut gauss_seidel = system.clone();
+    gauss_seidel.ordering = harness::system::Ordering::GaussSeidel;
+    assert!(refused(gauss_seidel).contains("algebraic loop"));
+    // WHEN it is resolved for Jacobi ordering THEN it is accepted and flies its first second
+    system.ordering = harness::system::Ordering::Jacobi;
+    system.stop_time = 1.0;
+    let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
+    let mut trajectory = harness::master::Trajectory::default();
+    simulation.run(&mut trajectory).unwrap();
+    assert_eq!(trajectory.len(), 101);
+}
+
+#[test]
 fn a_loop_through_the_plants_feedthrough_output_is_refused_and_the_paper_loop_is_not() {
     // GIVEN the paper loop with the GNC's mass taken from the plant's delivered thrust, an
     // output that depends on the thrust command

@@ -418,13 +418,17 @@ pub fn declared_connectors(system: &SystemDescription, fmus: &[Fmu], problems: &
 /// Refuses an algebraic loop through the resolved connections whose every hop is declared,
 /// naming it; a loop that exists only through outputs that declare no dependencies (FMI 2.0's
 /// worst case, "depends on every input") is a warning on stderr, and the exchange order
-/// breaks it.
+/// breaks it. Under Jacobi ordering there is no loop to solve: every input takes the
+/// outputs of the communication point before, so every connection is one step of delay.
 pub fn algebraic_loop(
     system: &SystemDescription,
     fmus: &[Fmu],
     pairs: &[(Port, Port)],
     problems: &mut Vec<String>,
 ) {
+    if system.ordering == crate::system::Ordering::Jacobi {
+        return;
+    }
     let feedthrough: Vec<Feedthrough> = fmus
         .iter()
         .map(|fmu| Feedthrough::from_description(fmu.model_description()))
