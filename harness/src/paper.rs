@@ -218,7 +218,10 @@ mod tests {
         let flights = [
             flight(
                 Law::Coupled,
-                Verdict::Completed { end_time_s: 142.01 },
+                Verdict::Completed {
+                    end_time_s: 142.01,
+                    touchdown_recorded: true,
+                },
                 RunEnd::Completed,
             ),
             flight(

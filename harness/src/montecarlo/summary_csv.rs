@@ -20,6 +20,7 @@ pub fn requirement(expect: Expect) -> &'static str {
     match expect {
         Expect::Landed => "touchdown inside the envelope",
         Expect::Completed => "completes without touchdown or error",
+        Expect::Stopped => "an FMU ends the run before the stop time",
     }
 }
 

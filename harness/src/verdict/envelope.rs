@@ -25,6 +25,9 @@ pub enum Expect {
     Completed,
     /// Touches down inside the envelope.
     Landed,
+    /// An FMU ends the run itself before the stop time (`fmi2Terminated` /
+    /// `terminateSimulation`), not a touchdown: for models that are not landers.
+    Stopped,
 }
 
 impl Expect {
@@ -32,6 +35,7 @@ impl Expect {
         match self {
             Expect::Completed => "completed",
             Expect::Landed => "landed",
+            Expect::Stopped => "stopped",
         }
     }
 }

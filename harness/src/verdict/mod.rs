@@ -63,6 +63,9 @@ impl fmt::Display for Exceedance {
 pub enum Verdict {
     Completed {
         end_time_s: f64,
+        /// Whether the plant's touchdown flag was recorded (a lander run), so that "without
+        /// touching the ground" is a fact, not a guess about an FMU that is not a lander.
+        touchdown_recorded: bool,
     },
     Landed(Touchdown),
     HardLanding {
@@ -101,7 +104,9 @@ impl Verdict {
     pub fn meets(&self, expect: Expect) -> bool {
         matches!(
             (self, expect),
-            (Verdict::Completed { .. }, Expect::Completed) | (Verdict::Landed(_), Expect::Landed)
+            (Verdict::Completed { .. }, Expect::Completed)
+                | (Verdict::Landed(_), Expect::Landed)
+                | (Verdict::Stopped { .. }, Expect::Stopped)
         )
     }
 
@@ -117,8 +122,12 @@ impl Verdict {
     /// One line for a person: the verdict, its numbers, and whether it is what was expected.
     pub fn describe(&self, expect: Expect) -> String {
         let body = match self {
-            Verdict::Completed { end_time_s } => {
-                format!("completed at t = {end_time_s:.2} s without touching the ground")
+            Verdict::Completed {
+                end_time_s,
+                touchdown_recorded: true,
+            } => format!("completed at t = {end_time_s:.2} s without touching the ground"),
+            Verdict::Completed { end_time_s, .. } => {
+                format!("completed at t = {end_time_s:.2} s")
             }
             Verdict::Landed(t) => format!("landed inside the envelope, {}", touchdown_text(t)),
             Verdict::HardLanding { touchdown, broken } => format!(
@@ -180,6 +189,8 @@ pub fn judge(trajectory: &Trajectory, end: &RunEnd, envelope: &Envelope) -> Verd
             .map(|j| trajectory.row(trajectory.len() - 1)[j])
     };
     let touched = last("plant.touchdown").map(|x| x != 0.0);
+    // A system with a `plant` instance is judged as a lander; any other only by how it ended.
+    let lander = trajectory.names.iter().any(|n| n.starts_with("plant."));
     let exhausted = last("plant.propellant_exhausted").is_some_and(|x| x != 0.0);
     match (end, touched) {
         (_, Some(true)) => {
@@ -208,16 +219,18 @@ pub fn judge(trajectory: &Trajectory, end: &RunEnd, envelope: &Envelope) -> Verd
             time_s: trajectory.times.last().copied().unwrap_or(f64::NAN),
             reason: "propellant exhausted before the end of the run".into(),
         },
-        (RunEnd::Completed, _) => Verdict::Completed {
+        (RunEnd::Completed, touched) => Verdict::Completed {
             end_time_s: trajectory.times.last().copied().unwrap_or(f64::NAN),
+            touchdown_recorded: touched.is_some(),
         },
         (RunEnd::Terminated { instance, time }, touched) => Verdict::Stopped {
             instance: instance.clone(),
             time_s: *time,
             reason: match touched {
-                None => {
+                None if lander => {
                     "no touchdown columns recorded to judge it (record plant.touchdown*)".into()
                 }
+                None => "the FMU ended the run".into(),
                 Some(_) if exhausted => "propellant exhausted".into(),
                 Some(_) => "terminated without a touchdown".into(),
             },

@@ -104,7 +104,13 @@ fn limits_are_inclusive_and_unknown_values_fail() {
 fn a_run_to_the_stop_time_completes_and_a_stop_without_touchdown_fails() {
     let hover = touchdown_row([0.0; 3], 0.0, [0.0; 3], false);
     let verdict = judge(&hover, &RunEnd::Completed, &Envelope::default());
-    assert_eq!(verdict, Verdict::Completed { end_time_s: 141.73 });
+    assert_eq!(
+        verdict,
+        Verdict::Completed {
+            end_time_s: 141.73,
+            touchdown_recorded: true
+        }
+    );
     assert_eq!(verdict.exit_code(Expect::Completed), EXIT_OK);
     assert_eq!(verdict.exit_code(Expect::Landed), EXIT_FAILED_VERDICT);
     let stopped = judge(&hover, &terminated(), &Envelope::default());
@@ -113,5 +119,33 @@ fn a_run_to_the_stop_time_completes_and_a_stop_without_touchdown_fails() {
     assert_eq!(
         Verdict::Error("x".into()).exit_code(Expect::Completed),
         EXIT_ERROR
+    );
+}
+
+#[test]
+fn a_model_that_is_not_a_lander_is_judged_only_by_how_its_run_ended() {
+    // GIVEN the trajectory of an oscillator: no plant columns at all
+    let run = Trajectory {
+        names: vec!["osc.x".into(), "osc.v".into()],
+        times: vec![10.0],
+        values: vec![0.5, -0.1],
+    };
+    // WHEN it reaches the stop time THEN it completed, with no word about the ground
+    let completed = judge(&run, &RunEnd::Completed, &Envelope::default());
+    assert_eq!(completed.exit_code(Expect::Completed), EXIT_OK);
+    let text = completed.describe(Expect::Completed);
+    assert!(!text.contains("ground"), "{text}");
+    // WHEN it ends the run itself THEN it stopped, which a scenario may expect
+    let end = RunEnd::Terminated {
+        instance: "osc".into(),
+        time: 4.0,
+    };
+    let stopped = judge(&run, &end, &Envelope::default());
+    assert_eq!(stopped.exit_code(Expect::Stopped), EXIT_OK);
+    assert_eq!(stopped.exit_code(Expect::Completed), EXIT_FAILED_VERDICT);
+    let text = stopped.describe(Expect::Stopped);
+    assert!(
+        text.contains("the FMU ended the run") && !text.contains("touchdown"),
+        "{text}"
     );
 }
