@@ -187,7 +187,7 @@ static int failed(Unit *u, const char *function, int status) {
 #define CALL(u, function, call)                                                                \
     do {                                                                                       \
         int s_ = (call);                                                                       \
-        if (s_ > STATUS_WARNING) return failed(u, function, s_);                                      \
+        if (s_ > STATUS_WARNING) return failed(u, function, s_);                               \
     } while (0)
 
 /* Writes n values of one variable; FMI 2.0 variables are scalars (n = 1). */
