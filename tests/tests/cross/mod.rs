@@ -120,8 +120,8 @@ pub fn run_ok(cmd: &mut Command, what: &str) -> Output {
     output
 }
 
-/// Compiles a C source of tests/c for `platform` with every warning an error; returns the
-/// program.
+/// Compiles a C source of tests/c for `platform` into `output`, every warning an error: the
+/// C must stay clean on all three compilers.
 fn compile(platform: Platform, source: &str, output: &Path, extra: &[&str]) {
     let (compiler, libraries, package) = platform.compiler();
     require(compiler, package);
