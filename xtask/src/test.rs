@@ -63,6 +63,10 @@ const STAGES: [Stage; 7] = [
                 "system-tests",
                 "--test",
                 "all_platforms",
+                "--test",
+                "same_bits",
+                "--test",
+                "windows_users",
                 "--",
                 "--ignored",
             ]))

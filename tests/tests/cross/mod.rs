@@ -347,7 +347,7 @@ pub struct Fmu {
 }
 
 impl Fmu {
-    /// `<target>/fmu-all-platforms/[fmi3/]<id>.fmu`, unpacked once per test process.
+    /// `<target>/fmu/[fmi3/]<id>.fmu` (written by `cargo xtask fmus --all-platforms`), unpacked once per test process.
     pub fn open(version: Fmi, model_identifier: &str) -> Fmu {
         static OPENED: Mutex<Vec<Fmu>> = Mutex::new(Vec::new());
         let mut opened = OPENED.lock().unwrap_or_else(|e| e.into_inner());
@@ -357,7 +357,7 @@ impl Fmu {
         {
             return fmu.clone();
         }
-        let dir = target_dir().join("fmu-all-platforms");
+        let dir = target_dir().join("fmu");
         let (archive, sub) = match version {
             Fmi::V2 => (dir.join(format!("{model_identifier}.fmu")), "fmi2"),
             Fmi::V3 => (
