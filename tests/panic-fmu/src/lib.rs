@@ -36,6 +36,7 @@ static DECLARATIONS: [Declaration<Panicky>; 2] = [
 impl Model for Panicky {
     const MODEL_IDENTIFIER: &'static str = "Panicky";
     const MODEL_NAME: &'static str = "Panicky";
+    const VERSION: &'static str = "0.0.0";
     const DESCRIPTION: &'static str = "A test model that panics in fmi2DoStep on request";
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
