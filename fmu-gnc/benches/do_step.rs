@@ -4,6 +4,8 @@
 //! tenth step re-solves the polynomial guidance; the FMU state is rewound (untimed) every
 //! 100 steps to stay there.
 #![allow(unsafe_code)]
+// std's transcendental functions here are outside the model.
+#![allow(clippy::disallowed_methods)]
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use fmi_testkit::fmi2::*;

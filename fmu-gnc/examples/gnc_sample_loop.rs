@@ -6,6 +6,8 @@
 //! `valgrind --tool=callgrind target/debug/examples/gnc_sample_loop N` for two values of N:
 //! the difference of the totals over the difference of N is the cost of one evaluation,
 //! free of start-up.
+// std's transcendental functions here are outside the model.
+#![allow(clippy::disallowed_methods)]
 use fmu_gnc::attitude::profile::PhiProfile;
 use fmu_gnc::controller::{gnc_sample, NavigationInputs};
 use fmu_gnc::guidance::sequencer::GuidanceState;

@@ -340,6 +340,8 @@ fn safe_outputs(params: &GncParameters, guidance: &GuidanceState, phi_cmd_rad: f
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
 

@@ -62,14 +62,22 @@ pub fn dcm_nue_to_body(q_body_to_nue: &Attitude) -> Matrix3<f64> {
 /// A rotation by `angle_rad` about the body y (thrust) axis, as an attitude quaternion
 /// `[cos(angle/2), 0, sin(angle/2), 0]`.
 pub fn rotation_about_thrust_axis(angle_rad: f64) -> Attitude {
-    let (s, c) = (0.5 * angle_rad).sin_cos();
+    let (s, c) = libm::sincos(0.5 * angle_rad);
     UnitQuaternion::new_unchecked(Quaternion::new(c, 0.0, s, 0.0))
+}
+
+/// A rotation by `angle_rad` about unit axis `axis`, as an attitude quaternion
+/// `[cos(angle/2), sin(angle/2) axis]`: nalgebra's `from_axis_angle` through libm, so that
+/// every platform computes the same bits.
+pub fn rotation_about(axis: &Unit<Vector3<f64>>, angle_rad: f64) -> Attitude {
+    let (s, c) = libm::sincos(0.5 * angle_rad);
+    UnitQuaternion::new_unchecked(Quaternion::from_parts(c, axis.into_inner() * s))
 }
 
 /// The rotation angle of `q` about unit axis `axis` from its swing-twist split, in (-pi, pi].
 pub fn twist_angle(q: &Attitude, axis: &Unit<Vector3<f64>>) -> f64 {
     let projection = q.imag().dot(axis);
-    wrap_angle(2.0 * projection.atan2(q.w))
+    wrap_angle(2.0 * libm::atan2(projection, q.w))
 }
 
 /// Wrap an angle to (-pi, pi].
@@ -89,10 +97,12 @@ pub fn wrap_angle(angle_rad: f64) -> f64 {
 /// Angle between two non-zero vectors in [0, pi], accurate near 0 and pi (atan2, not acos).
 /// Returns 0 when either vector is zero.
 pub fn angle_between(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-    a.cross(b).norm().atan2(a.dot(b))
+    libm::atan2(a.cross(b).norm(), a.dot(b))
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
     use std::f64::consts::{FRAC_PI_2, PI};

@@ -575,15 +575,15 @@ mod tests {
     /// degenerate sample whose warning must appear in both runs.
     fn navigation(k: usize) -> NavigationInputs {
         let s = k as f64 * H;
-        let half = 0.05 * (0.7 * s).sin();
+        let half = 0.05 * libm::sin(0.7 * s);
         let mut nav = NavigationInputs {
             r_nue_m: [0.3, 800.0 - 2.0 * s, -0.2],
             v_nue_mps: [0.01, -2.0, 0.02],
             q_body_to_nue: [
-                half.cos(),
-                0.2 * half.sin(),
-                0.5 * half.sin(),
-                0.84 * half.sin(),
+                libm::cos(half),
+                0.2 * libm::sin(half),
+                0.5 * libm::sin(half),
+                0.84 * libm::sin(half),
             ],
             omega_body_radps: [0.01, -0.02, 0.005],
             mass_kg: 880.0,

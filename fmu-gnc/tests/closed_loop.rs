@@ -1,5 +1,7 @@
 //! Closed loop against a rigid body (no FMI): every law converges from a grid of initial
 //! attitudes, with the state quaternion's sign flipped at every control step (no unwinding).
+// std's transcendental functions here are a reference independent of the libm the model uses.
+#![allow(clippy::disallowed_methods)]
 mod common;
 
 use common::{paper_settings, RigidBody};

@@ -1,5 +1,7 @@
 //! LanderGnc through its exported C functions: model description drift, table defaults,
 //! timing, degenerate inputs, parameter refusal, FMU-state save/restore.
+// std's transcendental functions here are a reference independent of the libm the model uses.
+#![allow(clippy::disallowed_methods)]
 mod fmi;
 
 use fmi::{vr, Gnc};

@@ -1,5 +1,7 @@
 //! Parameters are validated as far as the outputs: any parameter set that passes validation
 //! yields finite derived quantities and, for every admissible input, finite outputs.
+// std's transcendental functions here are a reference independent of the libm the model uses.
+#![allow(clippy::disallowed_methods)]
 use fmu_gnc::actuation::PwpfBank;
 use fmu_gnc::attitude::profile::PhiProfile;
 use fmu_gnc::controller::{actuate, gnc_sample, NavigationInputs};

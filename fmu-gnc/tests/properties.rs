@@ -1,5 +1,7 @@
 //! Property tests: no NaN for finite input, invariants of the thrust-axis split, sign
 //! invariance of the laws (no unwinding).
+// std's transcendental functions here are a reference independent of the libm the model uses.
+#![allow(clippy::disallowed_methods)]
 use fmu_gnc::attitude::errors::thrust_axis_errors;
 use fmu_gnc::attitude::phi_b::phi_b;
 use fmu_gnc::attitude::profile::PhiProfile;

@@ -1,5 +1,7 @@
 //! The paper's Section IV illustration: thrust axis 15 deg from vertical toward North, pitch
 //! axis along East, guidance wants the thrust axis vertical.
+// std's transcendental functions here are a reference independent of the libm the model uses.
+#![allow(clippy::disallowed_methods)]
 mod common;
 
 use common::{paper_settings, RigidBody};

@@ -5,6 +5,8 @@
 //! Statistical bounds are 4 standard errors of the estimator for the sample size (mean:
 //! sigma / sqrt(n); variance: sigma^2 sqrt(2 / n); autocorrelation: 1 / sqrt(n)), with
 //! fixed seeds, so each test is deterministic and a wrong model misses by far more.
+// std's transcendental functions here make test inputs and references, outside the model.
+#![allow(clippy::disallowed_methods)]
 use fmu_nav::errors::attitude::body_error;
 use fmu_nav::errors::{Group, GroupErrors, NavErrors, NavParameters, Navigation};
 

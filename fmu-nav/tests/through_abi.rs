@@ -1,6 +1,8 @@
 //! LanderNav through its exported C functions, as a master drives it (the workspace's test
 //! kit): model description drift, the identity with direct feedthrough, reads that never
 //! change the sequence, FMU-state save/restore and serialization, refused parameters.
+// std's transcendental functions here make test inputs and references, outside the model.
+#![allow(clippy::disallowed_methods)]
 use fmi_testkit::fmi2::*;
 use fmi_testkit::{fmi2_functions, Fmi2Functions, Instance};
 use fmu_nav::LanderNav;

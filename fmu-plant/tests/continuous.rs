@@ -2,6 +2,8 @@
 //! the 3/8-rule Runge-Kutta method, a different method from the Co-Simulation RK4, with
 //! events located by bisection on the event indicators. Cross-checked against analytic
 //! solutions and against the Co-Simulation plant.
+// std's transcendental functions here are a reference independent of the libm the model uses.
+#![allow(clippy::disallowed_methods)]
 use fmu_plant::physics::continuous::{StateLayout, EVENT_INDICATOR_COUNT};
 use fmu_plant::physics::parameters::PlantParameters;
 use fmu_plant::physics::plant::{Advance, Commands, Plant, PlantRun};

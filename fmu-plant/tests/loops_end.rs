@@ -1,6 +1,8 @@
 //! Every loop of a plant step ends: sub-stepping and event location at any time magnitude
 //! (far beyond 2^16 s, where doubles are coarser than the crossing tolerance, up to 1e300)
 //! and any integration step, run under a watchdog because a hang never reports by itself.
+// std's transcendental functions here are a reference independent of the libm the model uses.
+#![allow(clippy::disallowed_methods)]
 use fmu_plant::physics::parameters::PlantParameters;
 use fmu_plant::physics::plant::{Advance, Commands, Plant};
 use proptest::prelude::*;

@@ -1,5 +1,7 @@
 //! Analytic, invariant and convergence tests of the plant physics, on the pure
 //! Rust API: no FMI involved.
+// std's transcendental functions here are a reference independent of the libm the model uses.
+#![allow(clippy::disallowed_methods)]
 use fmu_plant::physics::parameters::PlantParameters;
 use fmu_plant::physics::plant::{Advance, Commands, Plant, PlantRun};
 use fmu_plant::physics::rigid_body::{angular_momentum_nue, rotational_energy};

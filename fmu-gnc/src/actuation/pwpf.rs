@@ -37,7 +37,7 @@ pub struct Pwpf {
 impl PwpfSettings {
     /// The filter value after `dt` s towards `target` from `x`.
     fn relax(&self, x: f64, target: f64, dt: f64) -> f64 {
-        target + (x - target) * (-dt / self.time_constant_s).exp()
+        target + (x - target) * libm::exp(-dt / self.time_constant_s)
     }
 }
 
@@ -66,7 +66,7 @@ impl Pwpf {
         let target_on = s.gain * (compensated - 1.0);
         // While on, x falls towards Km (u - 1); it crosses Uoff after t_off.
         let t_off = if target_on < s.off_threshold && self.filter > s.off_threshold {
-            s.time_constant_s * ((self.filter - target_on) / (s.off_threshold - target_on)).ln()
+            s.time_constant_s * libm::log((self.filter - target_on) / (s.off_threshold - target_on))
         } else if self.filter <= s.off_threshold {
             0.0
         } else {
@@ -83,6 +83,8 @@ impl Pwpf {
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
 

@@ -123,6 +123,8 @@ pub fn saturate_torque_body(torque_body: &Vector3<f64>, limit_body: &Vector3<f64
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
     use nalgebra::Matrix2;

@@ -19,7 +19,7 @@ pub fn phi_b(q_body_to_nue: &Attitude) -> f64 {
     );
     let a31 = 2.0 * (q1 * q3 + q0 * q2);
     let a11 = q0 * q0 + q1 * q1 - q2 * q2 - q3 * q3;
-    let angle = a31.atan2(a11);
+    let angle = libm::atan2(a31, a11);
     // atan2 returns [-pi, pi]; the controller's convention is the half-open (-pi, pi].
     if angle == -std::f64::consts::PI {
         std::f64::consts::PI
@@ -29,6 +29,8 @@ pub fn phi_b(q_body_to_nue: &Attitude) -> f64 {
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
     use crate::attitude::reference::q_phi;

@@ -9,7 +9,9 @@
 use super::coupled::coupled_angle_error_body;
 use super::gains::{pd_torque_body, AttitudeGains};
 use super::profile::RollReference;
-use crate::conventions::{canonical, rotation_about_thrust_axis, thrust_axis_body, Attitude};
+use crate::conventions::{
+    canonical, rotation_about, rotation_about_thrust_axis, thrust_axis_body, Attitude,
+};
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 
 /// Beyond this tilt between current and reference thrust axes (rad) the shortest tilt has no
@@ -22,19 +24,19 @@ pub fn reduced_reference(q_body_to_nue: &Attitude, q_ref: &Attitude, weight: f64
     let thrust_now_nue = q_body_to_nue * thrust_axis_body();
     let thrust_ref_nue = q_ref * thrust_axis_body();
     let axis = thrust_now_nue.cross(&thrust_ref_nue);
-    let tilt_rad = axis.norm().atan2(thrust_now_nue.dot(&thrust_ref_nue));
+    let tilt_rad = libm::atan2(axis.norm(), thrust_now_nue.dot(&thrust_ref_nue));
     if tilt_rad > ANTIPODAL_TILT_RAD {
         return *q_ref;
     }
     // The tilt is a rotation in NUE applied to the current attitude (left product).
     let tilt_nue = match Unit::try_new(axis, 0.0) {
-        Some(axis) => UnitQuaternion::from_axis_angle(&axis, tilt_rad),
+        Some(axis) => rotation_about(&axis, tilt_rad),
         None => UnitQuaternion::identity(),
     };
     let q_tilted = tilt_nue * q_body_to_nue;
     // What remains between the tilted attitude and the reference is a rotation about body y.
     let remaining = canonical(&(q_tilted.inverse() * q_ref));
-    let alpha_rad = 2.0 * remaining.j.atan2(remaining.w);
+    let alpha_rad = 2.0 * libm::atan2(remaining.j, remaining.w);
     q_tilted * rotation_about_thrust_axis(weight.clamp(0.0, 1.0) * alpha_rad)
 }
 

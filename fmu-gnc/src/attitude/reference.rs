@@ -16,7 +16,7 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 /// treated as `t`: the identity. Always a unit quaternion for finite input.
 pub fn q_guid(a_thrust_nue: &Vector3<f64>) -> Attitude {
     let (ax, ay, az) = (a_thrust_nue.x, a_thrust_nue.y, a_thrust_nue.z);
-    let sin_norm = ax.hypot(az);
+    let sin_norm = libm::hypot(ax, az);
     if sin_norm == 0.0 {
         return if ay < 0.0 {
             UnitQuaternion::new_unchecked(Quaternion::new(0.0, 0.0, 0.0, 1.0))
@@ -24,13 +24,13 @@ pub fn q_guid(a_thrust_nue: &Vector3<f64>) -> Attitude {
             UnitQuaternion::identity()
         };
     }
-    let theta = sin_norm.atan2(ay);
-    let (s, c) = (0.5 * theta).sin_cos();
+    let theta = libm::atan2(sin_norm, ay);
+    let (s, c) = libm::sincos(0.5 * theta);
     // Normalise the axis after scaling to the larger component: subnormal inputs would
     // otherwise give an axis that is not unit.
     let scale = ax.abs().max(az.abs());
     let (sx, sz) = (ax / scale, az / scale);
-    let norm = sx.hypot(sz);
+    let norm = libm::hypot(sx, sz);
     let (nx, nz) = (sz / norm, -sx / norm);
     UnitQuaternion::new_unchecked(Quaternion::new(c, nx * s, 0.0, nz * s))
 }
@@ -38,7 +38,7 @@ pub fn q_guid(a_thrust_nue: &Vector3<f64>) -> Attitude {
 /// Paper Sec. III, A[phi] (and Sec. IV A[phi_b]): the frame rotation (NUE to body) by `+phi`
 /// about body y, `[[c, 0, -s], [0, 1, 0], [s, 0, c]]`.
 pub fn a_phi_dcm(phi_rad: f64) -> Matrix3<f64> {
-    let (s, c) = phi_rad.sin_cos();
+    let (s, c) = libm::sincos(phi_rad);
     Matrix3::new(c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c)
 }
 
@@ -56,6 +56,8 @@ pub fn q_ref(q_guid: &Attitude, phi_cmd_rad: f64) -> Attitude {
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
     use crate::conventions::{dcm_nue_to_body, thrust_axis_body};

@@ -91,6 +91,8 @@ pub fn solve_cubic(bc: &BoundaryConditions, tgo_s: f64) -> CubicAcceleration {
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
 

@@ -247,6 +247,8 @@ fn terminal_descent(scenario: &Scenario, nav: &GuidanceInputs) -> Vector3<f64> {
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
 

@@ -7,7 +7,7 @@
 //! so the estimated body axes are the true ones rotated by `theta`. The product of a unit
 //! quaternion with a unit rotation stays unit (to rounding); the input's norm is kept, and
 //! nothing is renormalised, so a degenerate input passes through as degenerate as it came.
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{Quaternion, Unit, UnitQuaternion, Vector3};
 
 /// `q` (scalar first, Hamilton) with the body-axis rotation `theta_body_rad` applied; `q`
 /// itself, bit for bit, when the rotation is exactly zero.
@@ -15,8 +15,8 @@ pub fn rotate_body(q: [f64; 4], theta_body_rad: [f64; 3]) -> [f64; 4] {
     if theta_body_rad.iter().all(|&a| a == 0.0) {
         return q;
     }
-    let error = UnitQuaternion::from_scaled_axis(Vector3::from(theta_body_rad));
-    let rotated = Quaternion::new(q[0], q[1], q[2], q[3]) * error.into_inner();
+    let error = from_scaled_axis(Vector3::from(theta_body_rad));
+    let rotated = Quaternion::new(q[0], q[1], q[2], q[3]) * error;
     [rotated.w, rotated.i, rotated.j, rotated.k]
 }
 
@@ -26,10 +26,36 @@ pub fn body_error(truth: [f64; 4], estimate: [f64; 4]) -> [f64; 3] {
     let unit =
         |q: [f64; 4]| UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]));
     let error = unit(truth).inverse() * unit(estimate);
-    error.scaled_axis().into()
+    scaled_axis(&error).into()
+}
+
+/// `exp(theta / 2)`: nalgebra's `UnitQuaternion::from_scaled_axis`, step for step (the same
+/// identity below machine epsilon), with libm's sine and cosine so that every platform gives
+/// the same bits.
+fn from_scaled_axis(theta: Vector3<f64>) -> Quaternion<f64> {
+    let half = theta / 2.0;
+    let nn = half.norm_squared();
+    if nn <= f64::EPSILON * f64::EPSILON {
+        return Quaternion::identity();
+    }
+    let n = nn.sqrt();
+    let (s, c) = libm::sincos(n);
+    Quaternion::from_parts(c, half * (s / n))
+}
+
+/// The rotation vector (axis times angle in [0, pi]) of a unit quaternion: nalgebra's
+/// `scaled_axis`, step for step, with libm's atan2.
+fn scaled_axis(q: &UnitQuaternion<f64>) -> Vector3<f64> {
+    let v = if q.w >= 0.0 { q.imag() } else { -q.imag() };
+    match Unit::try_new(v, 0.0) {
+        Some(axis) => axis.into_inner() * (2.0 * libm::atan2(q.imag().norm(), q.w.abs())),
+        None => Vector3::zeros(),
+    }
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
 

@@ -7,10 +7,10 @@
 //! expansion) on stream `k`, and always draws the same values in the same order: per group
 //! (position, velocity, attitude, rate, mass), per axis, the white-noise value then the
 //! random-walk value. Switching one error on therefore changes no other group's numbers.
+use super::normal::standard_normal;
 use super::parameters::Group;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha12Rng;
-use rand_distr::StandardNormal;
 
 /// Standard normal values of one interval, per group (indexed by [`Group`]) and axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,8 +29,8 @@ impl Draws {
         };
         for g in Group::ALL {
             for axis in 0..3 {
-                draws.white[g as usize][axis] = rng.sample(StandardNormal);
-                draws.walk[g as usize][axis] = rng.sample(StandardNormal);
+                draws.white[g as usize][axis] = standard_normal(&mut rng);
+                draws.walk[g as usize][axis] = standard_normal(&mut rng);
             }
         }
         draws

@@ -5,6 +5,7 @@ pub mod attitude;
 pub mod draws;
 pub mod history;
 pub mod navigation;
+mod normal;
 pub mod parameters;
 pub mod signal;
 

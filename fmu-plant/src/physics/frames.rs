@@ -43,7 +43,7 @@ pub fn body_to_nue(q_body_to_nue: &Quaternion<f64>, v_body: &Vector3<f64>) -> Ve
 /// Angle between the thrust axis and the local vertical, in [0, pi] rad.
 pub fn tilt_from_vertical(q_body_to_nue: &Quaternion<f64>) -> f64 {
     let thrust_nue = body_to_nue(q_body_to_nue, &thrust_axis_body());
-    thrust_nue.dot(&up_nue()).clamp(-1.0, 1.0).acos()
+    libm::acos(thrust_nue.dot(&up_nue()).clamp(-1.0, 1.0))
 }
 
 #[cfg(test)]

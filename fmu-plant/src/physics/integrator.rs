@@ -80,6 +80,8 @@ impl SubSteps {
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
     use nalgebra::Vector2;

@@ -452,7 +452,9 @@ impl PlantParameters {
                 },
                 Combined {
                     what: "moon_rotation_rate^2 x distance (centrifugal acceleration)",
-                    value: self.moon_rotation_rate_radps.powi(2) * distance_m,
+                    value: self.moon_rotation_rate_radps
+                        * self.moon_rotation_rate_radps
+                        * distance_m,
                     of: [
                         (
                             ("moon_rotation_rate_radps", None),

@@ -43,8 +43,8 @@ struct Horizon {
 
 impl Horizon {
     fn at(lon: f64, lat: f64) -> Self {
-        let (slon, clon) = lon.sin_cos();
-        let (slat, clat) = lat.sin_cos();
+        let (slon, clon) = libm::sincos(lon);
+        let (slat, clat) = libm::sincos(lat);
         Self {
             east: Vector3::new(-slon, clon, 0.0),
             north: Vector3::new(-slat * clon, -slat * slon, clat),
@@ -82,8 +82,8 @@ impl SphericalMoon {
         let p_mf = self.site_mf + site_nue_to_mf * r_nue;
         let v_mf = site_nue_to_mf * v_nue;
         let r = p_mf.norm();
-        let lon = p_mf.y.atan2(p_mf.x);
-        let lat = (p_mf.z / r).clamp(-1.0, 1.0).asin();
+        let lon = libm::atan2(p_mf.y, p_mf.x);
+        let lat = libm::asin((p_mf.z / r).clamp(-1.0, 1.0));
         let h = Horizon::at(lon, lat);
         Vector6::new(
             r,
@@ -117,7 +117,7 @@ impl SphericalMoon {
         let h = Horizon::at(lon, lat);
         let a_mf = self.mf_to_site_nue.transpose() * a_thrust_nue;
         let (a_east, a_north, a_up) = (h.east.dot(&a_mf), h.north.dot(&a_mf), h.up.dot(&a_mf));
-        let (slat, clat) = lat.sin_cos();
+        let (slat, clat) = libm::sincos(lat);
         let tan_lat = slat / clat;
         let om = self.rotation_rate_radps;
 
@@ -134,6 +134,8 @@ impl SphericalMoon {
 }
 
 #[cfg(test)]
+// std's functions here are a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
     use crate::physics::integrator::rk4_step;
