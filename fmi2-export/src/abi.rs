@@ -356,6 +356,7 @@ pub unsafe fn get_real<M: Model>(
                             out.push(Getter {
                                 get: slot.get,
                                 element: slot.element,
+                                place: slot.place,
                             });
                             true
                         }
@@ -497,6 +498,7 @@ pub unsafe fn set_real<M: Model>(
                         out.push(Setter {
                             set,
                             element: slot.element,
+                            place: slot.place,
                             lowest: slot.lowest,
                             highest: slot.highest,
                             settable_in: slot.settable_in.bits(),

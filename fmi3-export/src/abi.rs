@@ -345,6 +345,7 @@ pub unsafe fn get_float64<M: Model>(
                             out.extend((0..slot.len).map(|element| Getter {
                                 get: slot.get,
                                 element,
+                                place: slot.place,
                             }));
                             true
                         }
@@ -547,6 +548,7 @@ pub unsafe fn set_float64<M: Model>(
                         out.extend((0..slot.len).map(|element| Setter {
                             set,
                             element,
+                            place: slot.place,
                             lowest: slot.lowest,
                             highest: slot.highest,
                             settable_in,
