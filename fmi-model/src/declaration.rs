@@ -205,7 +205,10 @@ pub enum Kind<M> {
         set: Option<fn(&mut M, usize, f64)>,
         /// Where element `i` is stored, for a Real that is a field of the model (`None`
         /// for a computed one): a layer that finds it inside the model's own bytes reads
-        /// and writes it there directly, without calling `get` or `set` per value.
+        /// and writes it there directly, without calling `get` or `set` per value. It must
+        /// give the address of the very `f64` that `get` reads and `set` writes, in every
+        /// value of the model; [`decl!`](crate::decl) derives it from the field path, and a
+        /// declaration written by hand should leave it `None`.
         place: Option<fn(&M, usize) -> *const f64>,
     },
     Integer {
@@ -417,8 +420,8 @@ impl<M> Declaration<M> {
         self
     }
 
-    /// Where a Real field's elements are stored (see [`Kind::Real`]); [`decl!`](crate::decl)
-    /// gives it for every field it is written with.
+    /// Where a Real field's elements are stored (see [`Kind::Real`] for what `at` must
+    /// give); [`decl!`](crate::decl) gives it for every field it is written with.
     pub const fn stored(mut self, at: fn(&M, usize) -> *const f64) -> Self {
         if let Kind::Real { place, .. } = &mut self.kind {
             *place = Some(at);
