@@ -31,6 +31,9 @@ pub struct Setter<M> {
     pub set: fn(&mut M, usize, f64),
     pub element: usize,
     pub place: Place<M>,
+    /// Where the element is in the model, filled in when the list is kept (the lookup
+    /// leaves it 0).
+    pub offset: usize,
     /// The closed range of finite values the bounds admit (`Limit::lowest_admitted`).
     pub lowest: f64,
     pub highest: f64,
@@ -42,6 +45,8 @@ pub struct Getter<M> {
     pub get: fn(&M, usize) -> f64,
     pub element: usize,
     pub place: Place<M>,
+    /// As [`Setter::offset`].
+    pub offset: usize,
 }
 
 /// The most elements a kept list may have (a co-simulation exchanges tens per call).
@@ -59,41 +64,46 @@ fn offset_in<M>(model: &M, place: Place<M>, element: usize) -> Option<usize> {
     (inside && at.is_multiple_of(align_of::<f64>())).then_some(offset)
 }
 
-/// Where the elements of a kept list are in the model.
-#[derive(Default)]
+/// Where the elements of a kept list are in the model. Kept in the entries themselves
+/// (`offset`), so that keeping a list allocates nothing beyond the list.
+#[derive(Default, Clone, Copy)]
 enum Layout {
     /// One after the other from this offset (a list of whole vectors and neighbouring
     /// fields, the usual case): copied as one block.
     Contiguous(usize),
-    /// At these offsets.
-    Scattered(Box<[usize]>),
+    /// At the entries' offsets.
+    Scattered,
     /// Not all inside the model: through the accessors.
     #[default]
     Accessors,
 }
 
 impl Layout {
-    fn of<M, E>(model: &M, entries: &[E], place: impl Fn(&E) -> (Place<M>, usize)) -> Layout {
-        let offsets: Option<Box<[usize]>> = entries
-            .iter()
-            .map(|e| {
-                let (at, element) = place(e);
-                offset_in(model, at, element)
-            })
-            .collect();
-        match offsets {
-            None => Layout::Accessors,
-            Some(offsets) => match offsets.first() {
-                Some(&first)
-                    if offsets
-                        .iter()
-                        .enumerate()
-                        .all(|(k, &o)| o == first + k * size_of::<f64>()) =>
-                {
-                    Layout::Contiguous(first)
-                }
-                _ => Layout::Scattered(offsets),
-            },
+    /// Fills in each entry's offset and says how the list is laid out.
+    fn of<M, E>(
+        model: &M,
+        entries: &mut [E],
+        place: impl Fn(&E) -> (Place<M>, usize),
+        offset: impl Fn(&mut E) -> &mut usize,
+    ) -> Layout {
+        for e in entries.iter_mut() {
+            let (at, element) = place(e);
+            match offset_in(model, at, element) {
+                Some(o) => *offset(e) = o,
+                None => return Layout::Accessors,
+            }
+        }
+        let mut offsets = entries.iter_mut().map(|e| *offset(e));
+        let Some(first) = offsets.next() else {
+            return Layout::Scattered;
+        };
+        let contiguous = offsets
+            .enumerate()
+            .all(|(k, o)| o == first + (k + 1) * size_of::<f64>());
+        if contiguous {
+            Layout::Contiguous(first)
+        } else {
+            Layout::Scattered
         }
     }
 }
@@ -136,7 +146,7 @@ impl<E, X> Lists<E, X> {
         &mut self,
         vrs: &[u32],
         lookup: impl FnMut(u32, &mut Vec<E>) -> bool,
-        derive: impl FnOnce(&[E]) -> X,
+        derive: impl FnOnce(&mut [E]) -> X,
     ) -> Option<&List<E, X>> {
         match self.lists.iter().position(|list| list.vrs == vrs) {
             Some(i) => Some(&self.lists[i]),
@@ -149,7 +159,7 @@ impl<E, X> Lists<E, X> {
         &mut self,
         vrs: &[u32],
         mut lookup: impl FnMut(u32, &mut Vec<E>) -> bool,
-        derive: impl FnOnce(&[E]) -> X,
+        derive: impl FnOnce(&mut [E]) -> X,
     ) -> Option<&List<E, X>> {
         let list = &mut self.lists[self.next];
         list.vrs.clear();
@@ -166,20 +176,17 @@ impl<E, X> Lists<E, X> {
             return None;
         }
         list.vrs.extend_from_slice(vrs);
-        list.derived = derive(&list.entries);
+        list.derived = derive(&mut list.entries);
         self.next = (self.next + 1) % KEPT;
         Some(list)
     }
 }
 
 /// What a kept set list derives: the states in which every element of it is settable,
-/// each element's admitted range (apart, so that the check of a whole list runs without
-/// branching over two dense arrays) and where the elements are.
+/// and where the elements are.
 #[derive(Default)]
 struct SetPlan {
     settable_in: u16,
-    lowest: Box<[f64]>,
-    highest: Box<[f64]>,
     layout: Layout,
 }
 
@@ -211,45 +218,43 @@ impl<M> PreparedSet<M> {
         lookup: impl FnMut(u32, &mut Vec<Setter<M>>) -> bool,
     ) -> bool {
         let shown: &M = model;
-        let plan = |entries: &[Setter<M>]| SetPlan {
+        let plan = |entries: &mut [Setter<M>]| SetPlan {
             settable_in: entries.iter().fold(u16::MAX, |all, e| all & e.settable_in),
-            lowest: entries.iter().map(|e| e.lowest).collect(),
-            highest: entries.iter().map(|e| e.highest).collect(),
-            layout: Layout::of(shown, entries, |e| (e.place, e.element)),
+            layout: Layout::of(shown, entries, |e| (e.place, e.element), |e| &mut e.offset),
         };
         let Some(list) = self.lists.ready(vrs, lookup, plan) else {
             return false;
         };
-        let plan = &list.derived;
-        if plan.settable_in & state_bit == 0 || plan.lowest.len() != values.len() {
+        let (plan, entries) = (&list.derived, &list.entries);
+        if plan.settable_in & state_bit == 0 || entries.len() != values.len() {
             return false;
         }
         // Checked before anything is written, so a refused call changes nothing. The
         // comparisons are combined without branching: a refusal is the rare case.
-        let admitted = values
+        let admitted = entries
             .iter()
-            .zip(plan.lowest.iter().zip(plan.highest.iter()))
-            .fold(true, |ok, (&v, (&lo, &hi))| ok & (v >= lo) & (v <= hi));
+            .zip(values)
+            .fold(true, |ok, (e, &v)| ok & (v >= e.lowest) & (v <= e.highest));
         if !admitted {
             return false;
         }
         let base = (model as *mut M).cast::<u8>();
-        match &plan.layout {
+        match plan.layout {
             // SAFETY (both arms): each offset is where an element's f64 lies in every `M`
             // (a field of the model, found inside its bytes and aligned when the list was
             // kept; a contiguous run was found element by element), and `model` is
             // borrowed mutably for this write.
             Layout::Contiguous(first) => unsafe {
-                let to = base.add(*first).cast::<f64>();
+                let to = base.add(first).cast::<f64>();
                 std::ptr::copy_nonoverlapping(values.as_ptr(), to, values.len());
             },
-            Layout::Scattered(offsets) => {
-                for (&offset, &value) in offsets.iter().zip(values) {
-                    unsafe { base.add(offset).cast::<f64>().write(value) };
+            Layout::Scattered => {
+                for (e, &value) in entries.iter().zip(values) {
+                    unsafe { base.add(e.offset).cast::<f64>().write(value) };
                 }
             }
             Layout::Accessors => {
-                for (e, &value) in list.entries.iter().zip(values) {
+                for (e, &value) in entries.iter().zip(values) {
                     (e.set)(model, e.element, value);
                 }
             }
@@ -283,7 +288,9 @@ impl<M> PreparedGet<M> {
         model: &M,
         lookup: impl FnMut(u32, &mut Vec<Getter<M>>) -> bool,
     ) -> bool {
-        let plan = |entries: &[Getter<M>]| Layout::of(model, entries, |e| (e.place, e.element));
+        let plan = |entries: &mut [Getter<M>]| {
+            Layout::of(model, entries, |e| (e.place, e.element), |e| &mut e.offset)
+        };
         let Some(list) = self.lists.ready(vrs, lookup, plan) else {
             return false;
         };
@@ -291,15 +298,15 @@ impl<M> PreparedGet<M> {
             return false;
         }
         let base = (model as *const M).cast::<u8>();
-        match &list.derived {
+        match list.derived {
             // SAFETY (both arms): as in `PreparedSet::write`, for a shared borrow.
             Layout::Contiguous(first) => unsafe {
-                let from = base.add(*first).cast::<f64>();
+                let from = base.add(first).cast::<f64>();
                 std::ptr::copy_nonoverlapping(from, values.as_mut_ptr(), values.len());
             },
-            Layout::Scattered(offsets) => {
-                for (&offset, value) in offsets.iter().zip(values) {
-                    *value = unsafe { base.add(offset).cast::<f64>().read() };
+            Layout::Scattered => {
+                for (e, value) in list.entries.iter().zip(values) {
+                    *value = unsafe { base.add(e.offset).cast::<f64>().read() };
                 }
             }
             Layout::Accessors => {
@@ -327,6 +334,7 @@ mod tests {
             set: |m: &mut M, i, v| m[i] = v,
             element,
             place: Some(|m: &M, i| &m[i] as *const f64),
+            offset: 0,
             lowest,
             highest,
             settable_in,
@@ -389,6 +397,7 @@ mod tests {
                             get: |m: &M, i| m[i],
                             element: vr as usize % 4,
                             place: None,
+                            offset: 0,
                         });
                         true
                     };
@@ -442,6 +451,7 @@ mod tests {
                     get: |m: &M, i| m[i] * 10.0,
                     element: vr as usize,
                     place: None,
+                    offset: 0,
                 });
             }
             ok
@@ -466,6 +476,7 @@ mod tests {
             get: |m: &M, i| m[i] * 10.0,
             element,
             place,
+            offset: 0,
         };
         let inside: Place<M> = Some(|m, i| &m[i] as *const f64);
         let outside: Place<M> = Some(|_, _| &ELSEWHERE as *const f64);
@@ -493,6 +504,7 @@ mod tests {
                 set: |m: &mut M, i, v| m[i] = -v,
                 element: vr as usize,
                 place: outside,
+                offset: 0,
                 lowest: -f64::MAX,
                 highest: f64::MAX,
                 settable_in: INIT,

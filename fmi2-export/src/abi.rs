@@ -357,6 +357,7 @@ pub unsafe fn get_real<M: Model>(
                                 get: slot.get,
                                 element: slot.element,
                                 place: slot.place,
+                                offset: 0,
                             });
                             true
                         }
@@ -499,6 +500,7 @@ pub unsafe fn set_real<M: Model>(
                             set,
                             element: slot.element,
                             place: slot.place,
+                            offset: 0,
                             lowest: slot.lowest,
                             highest: slot.highest,
                             settable_in: slot.settable_in.bits(),

@@ -346,6 +346,7 @@ pub unsafe fn get_float64<M: Model>(
                                 get: slot.get,
                                 element,
                                 place: slot.place,
+                                offset: 0,
                             }));
                             true
                         }
@@ -549,6 +550,7 @@ pub unsafe fn set_float64<M: Model>(
                             set,
                             element,
                             place: slot.place,
+                            offset: 0,
                             lowest: slot.lowest,
                             highest: slot.highest,
                             settable_in,
