@@ -203,6 +203,13 @@ pub enum Kind<M> {
         max: Option<Limit>,
         get: fn(&M, usize) -> f64,
         set: Option<fn(&mut M, usize, f64)>,
+        /// Where element `i` is stored, for a Real that is a field of the model (`None`
+        /// for a computed one): a layer that finds it inside the model's own bytes reads
+        /// and writes it there directly, without calling `get` or `set` per value. It must
+        /// give the address of the very `f64` that `get` reads and `set` writes, in every
+        /// value of the model; [`decl!`](crate::decl) derives it from the field path, and a
+        /// declaration written by hand should leave it `None`.
+        place: Option<fn(&M, usize) -> *const f64>,
     },
     Integer {
         min: Option<i32>,
@@ -316,6 +323,7 @@ impl<M> Declaration<M> {
             max: None,
             get,
             set,
+            place: None,
         };
         let mut d = Self::base(vr, name, role, description, kind);
         // "1" is how every unitless Real is declared, so that all layers write one symbol.
@@ -409,6 +417,17 @@ impl<M> Declaration<M> {
 
     pub const fn field(mut self, field: &'static str) -> Self {
         self.field = field;
+        self
+    }
+
+    /// Where a Real field's elements are stored (see [`Kind::Real`] for what `at` must
+    /// give); [`decl!`](crate::decl) gives it for every field it is written with.
+    pub const fn stored(mut self, at: fn(&M, usize) -> *const f64) -> Self {
+        if let Kind::Real { place, .. } = &mut self.kind {
+            *place = Some(at);
+        } else {
+            panic!("stored applies to Real declarations");
+        }
         self
     }
 
@@ -574,12 +593,12 @@ macro_rules! decl {
         $crate::decl!(@apply $crate::Declaration::real(
             $vr, stringify!($name), $crate::role::$role, $crate::Shape::Vector($n), $unit, $desc,
             |m, i| m.$($path).+[i], |m, i, v| m.$($path).+[i] = v,
-        ) ; field = stringify!($($path).+) $(, $opt = $val)*)
+        ) ; field = stringify!($($path).+), stored = |m, i| &m.$($path).+[i] as *const f64 $(, $opt = $val)*)
     };
     ($vr:literal, $role:ident $name:ident : $($path:ident).+, $unit:expr, $desc:expr $(, $opt:ident = $val:expr)* $(,)?) => {
         $crate::decl!(@apply $crate::Declaration::real(
             $vr, stringify!($name), $crate::role::$role, $crate::Shape::Scalar, $unit, $desc,
             |m, _| m.$($path).+, |m, _, v| m.$($path).+ = v,
-        ) ; field = stringify!($($path).+) $(, $opt = $val)*)
+        ) ; field = stringify!($($path).+), stored = |m, _| &m.$($path).+ as *const f64 $(, $opt = $val)*)
     };
 }

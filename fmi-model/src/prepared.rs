@@ -4,20 +4,36 @@
 //! Each instance keeps the last few lists of its Real sets and of its Real gets (a master
 //! may read the feedthrough outputs and then all outputs, say) with what the lookup found
 //! for them, so a repeated call compares the list with the kept ones (a memcmp each)
-//! and goes straight to the accessors: no per-reference lookup, and the settable check done
+//! and goes straight to the values: no per-reference lookup, and the settable check done
 //! once for the whole list. Anything unusual (an unknown reference, a value out of range, a
 //! variable not settable in this state, a wrong value count) leaves the decision, and its
 //! message, to the layer's generic path, which looks at each reference again.
 //!
+//! When every element of a list is a field of the model (`Kind::Real::place`), the list
+//! also keeps each element's offset in the model's bytes, and a call reads or writes the
+//! values there: a load and a store per value instead of a call of its accessor. An element
+//! found anywhere else (a computed output, a field behind a pointer) leaves the whole list
+//! to the accessors.
+//!
 //! The lists depend only on the model's static declarations, so nothing makes them stale.
 //! The layer supplies the lookup (one entry per FMI 2.0 scalar, one per element of an FMI
 //! 3.0 array) and its states as bits (`settable_in`, `state_bit`).
+#![allow(unsafe_code)]
+
+use std::mem::{align_of, size_of};
+
+/// Where an element is stored, as a declaration gives it (`Kind::Real::place`).
+pub type Place<M> = Option<fn(&M, usize) -> *const f64>;
 
 /// One element a set writes: its setter, the bounds it admits, the states (as the layer's
 /// bits) in which it is settable.
 pub struct Setter<M> {
     pub set: fn(&mut M, usize, f64),
     pub element: usize,
+    pub place: Place<M>,
+    /// Where the element is in the model, filled in when the list is kept (the lookup
+    /// leaves it 0).
+    pub offset: usize,
     /// The closed range of finite values the bounds admit (`Limit::lowest_admitted`).
     pub lowest: f64,
     pub highest: f64,
@@ -28,10 +44,69 @@ pub struct Setter<M> {
 pub struct Getter<M> {
     pub get: fn(&M, usize) -> f64,
     pub element: usize,
+    pub place: Place<M>,
+    /// As [`Setter::offset`].
+    pub offset: usize,
 }
 
 /// The most elements a kept list may have (a co-simulation exchanges tens per call).
 pub const MAX_ELEMENTS: usize = 1024;
+
+/// The byte offset of `element` in `model` if it is stored inside the model's own bytes,
+/// aligned as an `f64` there.
+fn offset_in<M>(model: &M, place: Place<M>, element: usize) -> Option<usize> {
+    let base = model as *const M as usize;
+    let at = place?(model, element) as usize;
+    let offset = at.checked_sub(base)?;
+    let inside = offset
+        .checked_add(size_of::<f64>())
+        .is_some_and(|end| end <= size_of::<M>());
+    (inside && at.is_multiple_of(align_of::<f64>())).then_some(offset)
+}
+
+/// Where the elements of a kept list are in the model. Kept in the entries themselves
+/// (`offset`), so that keeping a list allocates nothing beyond the list.
+#[derive(Default, Clone, Copy)]
+enum Layout {
+    /// One after the other from this offset (a list of whole vectors and neighbouring
+    /// fields, the usual case): copied as one block.
+    Contiguous(usize),
+    /// At the entries' offsets.
+    Scattered,
+    /// Not all inside the model: through the accessors.
+    #[default]
+    Accessors,
+}
+
+impl Layout {
+    /// Fills in each entry's offset and says how the list is laid out.
+    fn of<M, E>(
+        model: &M,
+        entries: &mut [E],
+        place: impl Fn(&E) -> (Place<M>, usize),
+        offset: impl Fn(&mut E) -> &mut usize,
+    ) -> Layout {
+        for e in entries.iter_mut() {
+            let (at, element) = place(e);
+            match offset_in(model, at, element) {
+                Some(o) => *offset(e) = o,
+                None => return Layout::Accessors,
+            }
+        }
+        let mut offsets = entries.iter_mut().map(|e| *offset(e));
+        let Some(first) = offsets.next() else {
+            return Layout::Scattered;
+        };
+        let contiguous = offsets
+            .enumerate()
+            .all(|(k, o)| o == first + (k + 1) * size_of::<f64>());
+        if contiguous {
+            Layout::Contiguous(first)
+        } else {
+            Layout::Scattered
+        }
+    }
+}
 
 /// One kept list of references, with the entries the lookup gave and what the direction
 /// derives from them (`X`).
@@ -71,7 +146,7 @@ impl<E, X> Lists<E, X> {
         &mut self,
         vrs: &[u32],
         lookup: impl FnMut(u32, &mut Vec<E>) -> bool,
-        derive: impl FnOnce(&[E]) -> X,
+        derive: impl FnOnce(&mut [E]) -> X,
     ) -> Option<&List<E, X>> {
         match self.lists.iter().position(|list| list.vrs == vrs) {
             Some(i) => Some(&self.lists[i]),
@@ -84,7 +159,7 @@ impl<E, X> Lists<E, X> {
         &mut self,
         vrs: &[u32],
         mut lookup: impl FnMut(u32, &mut Vec<E>) -> bool,
-        derive: impl FnOnce(&[E]) -> X,
+        derive: impl FnOnce(&mut [E]) -> X,
     ) -> Option<&List<E, X>> {
         let list = &mut self.lists[self.next];
         list.vrs.clear();
@@ -101,16 +176,23 @@ impl<E, X> Lists<E, X> {
             return None;
         }
         list.vrs.extend_from_slice(vrs);
-        list.derived = derive(&list.entries);
+        list.derived = derive(&mut list.entries);
         self.next = (self.next + 1) % KEPT;
         Some(list)
     }
 }
 
-/// The last lists of a Real set; each derives the states in which every element of it is
-/// settable.
+/// What a kept set list derives: the states in which every element of it is settable,
+/// and where the elements are.
+#[derive(Default)]
+struct SetPlan {
+    settable_in: u16,
+    layout: Layout,
+}
+
+/// The last lists of a Real set.
 pub struct PreparedSet<M> {
-    lists: Lists<Setter<M>, u16>,
+    lists: Lists<Setter<M>, SetPlan>,
 }
 
 impl<M> Default for PreparedSet<M> {
@@ -135,13 +217,16 @@ impl<M> PreparedSet<M> {
         state_bit: u16,
         lookup: impl FnMut(u32, &mut Vec<Setter<M>>) -> bool,
     ) -> bool {
-        let settable_in =
-            |entries: &[Setter<M>]| entries.iter().fold(u16::MAX, |all, e| all & e.settable_in);
-        let Some(list) = self.lists.ready(vrs, lookup, settable_in) else {
+        let shown: &M = model;
+        let plan = |entries: &mut [Setter<M>]| SetPlan {
+            settable_in: entries.iter().fold(u16::MAX, |all, e| all & e.settable_in),
+            layout: Layout::of(shown, entries, |e| (e.place, e.element), |e| &mut e.offset),
+        };
+        let Some(list) = self.lists.ready(vrs, lookup, plan) else {
             return false;
         };
-        let entries = &list.entries;
-        if list.derived & state_bit == 0 || entries.len() != values.len() {
+        let (plan, entries) = (&list.derived, &list.entries);
+        if plan.settable_in & state_bit == 0 || entries.len() != values.len() {
             return false;
         }
         // Checked before anything is written, so a refused call changes nothing. The
@@ -153,16 +238,34 @@ impl<M> PreparedSet<M> {
         if !admitted {
             return false;
         }
-        for (e, &value) in entries.iter().zip(values) {
-            (e.set)(model, e.element, value);
+        let base = (model as *mut M).cast::<u8>();
+        match plan.layout {
+            // SAFETY (both arms): each offset is where an element's f64 lies in every `M`
+            // (a field of the model, found inside its bytes and aligned when the list was
+            // kept; a contiguous run was found element by element), and `model` is
+            // borrowed mutably for this write.
+            Layout::Contiguous(first) => unsafe {
+                let to = base.add(first).cast::<f64>();
+                std::ptr::copy_nonoverlapping(values.as_ptr(), to, values.len());
+            },
+            Layout::Scattered => {
+                for (e, &value) in entries.iter().zip(values) {
+                    unsafe { base.add(e.offset).cast::<f64>().write(value) };
+                }
+            }
+            Layout::Accessors => {
+                for (e, &value) in entries.iter().zip(values) {
+                    (e.set)(model, e.element, value);
+                }
+            }
         }
         true
     }
 }
 
-/// The last lists of a Real get.
+/// The last lists of a Real get; each derives where its elements are.
 pub struct PreparedGet<M> {
-    lists: Lists<Getter<M>, ()>,
+    lists: Lists<Getter<M>, Layout>,
 }
 
 impl<M> Default for PreparedGet<M> {
@@ -185,14 +288,32 @@ impl<M> PreparedGet<M> {
         model: &M,
         lookup: impl FnMut(u32, &mut Vec<Getter<M>>) -> bool,
     ) -> bool {
-        let Some(list) = self.lists.ready(vrs, lookup, |_| ()) else {
+        let plan = |entries: &mut [Getter<M>]| {
+            Layout::of(model, entries, |e| (e.place, e.element), |e| &mut e.offset)
+        };
+        let Some(list) = self.lists.ready(vrs, lookup, plan) else {
             return false;
         };
         if list.entries.len() != values.len() {
             return false;
         }
-        for (e, value) in list.entries.iter().zip(values) {
-            *value = (e.get)(model, e.element);
+        let base = (model as *const M).cast::<u8>();
+        match list.derived {
+            // SAFETY (both arms): as in `PreparedSet::write`, for a shared borrow.
+            Layout::Contiguous(first) => unsafe {
+                let from = base.add(first).cast::<f64>();
+                std::ptr::copy_nonoverlapping(from, values.as_mut_ptr(), values.len());
+            },
+            Layout::Scattered => {
+                for (e, value) in list.entries.iter().zip(values) {
+                    *value = unsafe { base.add(e.offset).cast::<f64>().read() };
+                }
+            }
+            Layout::Accessors => {
+                for (e, value) in list.entries.iter().zip(values) {
+                    *value = (e.get)(model, e.element);
+                }
+            }
         }
         true
     }
@@ -212,6 +333,8 @@ mod tests {
         let setter = |element, lowest, highest, settable_in| Setter {
             set: |m: &mut M, i, v| m[i] = v,
             element,
+            place: Some(|m: &M, i| &m[i] as *const f64),
+            offset: 0,
             lowest,
             highest,
             settable_in,
@@ -273,6 +396,8 @@ mod tests {
                         out.push(Getter {
                             get: |m: &M, i| m[i],
                             element: vr as usize % 4,
+                            place: None,
+                            offset: 0,
                         });
                         true
                     };
@@ -325,6 +450,8 @@ mod tests {
                 out.push(Getter {
                     get: |m: &M, i| m[i] * 10.0,
                     element: vr as usize,
+                    place: None,
+                    offset: 0,
                 });
             }
             ok
@@ -338,5 +465,54 @@ mod tests {
         }
         assert!(!get.read(&[0, 4, 1], &mut values, &model, getters));
         assert!(!get.read(&[0, 1], &mut values, &model, getters), "count");
+    }
+
+    /// Elements stored in the model are read and written in place; a list with one element
+    /// stored elsewhere goes through the accessors, whole.
+    #[test]
+    fn stored_elements_are_exchanged_in_place_and_others_through_their_accessors() {
+        static ELSEWHERE: f64 = 0.0;
+        let getter = |element, place: Place<M>| Getter {
+            get: |m: &M, i| m[i] * 10.0,
+            element,
+            place,
+            offset: 0,
+        };
+        let inside: Place<M> = Some(|m, i| &m[i] as *const f64);
+        let outside: Place<M> = Some(|_, _| &ELSEWHERE as *const f64);
+        let model: M = [1.0, 2.0, 3.0, 4.0];
+        let mut get = PreparedGet::default();
+        let mut values = [0.0; 2];
+        // The accessor multiplies by 10: a value read in place is not.
+        assert!(get.read(&[3, 0], &mut values, &model, |vr, out| {
+            out.push(getter(vr as usize, inside));
+            true
+        }));
+        assert_eq!(values, [4.0, 1.0]);
+        assert!(get.read(&[2, 1], &mut values, &model, |vr, out| {
+            out.push(getter(vr as usize, if vr == 1 { outside } else { inside }));
+            true
+        }));
+        assert_eq!(values, [30.0, 20.0]);
+
+        let mut set = PreparedSet::default();
+        let mut model: M = [0.0; 4];
+        assert!(set.write(&[1], &[7.0, 0.5], &mut model, INIT, setters));
+        assert_eq!(model, [0.0, 7.0, 0.5, 0.0]);
+        let elsewhere = |vr: u32, out: &mut Vec<Setter<M>>| {
+            out.push(Setter {
+                set: |m: &mut M, i, v| m[i] = -v,
+                element: vr as usize,
+                place: outside,
+                offset: 0,
+                lowest: -f64::MAX,
+                highest: f64::MAX,
+                settable_in: INIT,
+            });
+            true
+        };
+        assert!(set.write(&[3], &[2.0], &mut model, INIT, elsewhere));
+        assert_eq!(model, [0.0, 7.0, 0.5, -2.0]);
+        assert_eq!(ELSEWHERE, 0.0);
     }
 }

@@ -356,6 +356,8 @@ pub unsafe fn get_real<M: Model>(
                             out.push(Getter {
                                 get: slot.get,
                                 element: slot.element,
+                                place: slot.place,
+                                offset: 0,
                             });
                             true
                         }
@@ -497,6 +499,8 @@ pub unsafe fn set_real<M: Model>(
                         out.push(Setter {
                             set,
                             element: slot.element,
+                            place: slot.place,
+                            offset: 0,
                             lowest: slot.lowest,
                             highest: slot.highest,
                             settable_in: slot.settable_in.bits(),

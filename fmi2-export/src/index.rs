@@ -101,6 +101,7 @@ pub struct RealSlot<M> {
     pub set: Option<fn(&mut M, usize, f64)>,
     /// The element of the declaration, passed to `get` and `set`.
     pub element: usize,
+    pub place: fmi_model::prepared::Place<M>,
     /// The lowest and highest finite values the declared bounds admit (an exclusive bound
     /// moved one ulp inwards; no bound: the largest finite magnitude); NaN for a NaN bound.
     pub lowest: f64,
@@ -117,6 +118,7 @@ impl<M> RealSlot<M> {
             get,
             set,
             element,
+            place,
             ..
         } = var.access
         else {
@@ -131,6 +133,7 @@ impl<M> RealSlot<M> {
             get,
             set,
             element,
+            place,
             lowest: Limit::lowest_admitted(min),
             highest: Limit::highest_admitted(max),
             settable_in: StateMask::of(&settable_in),
@@ -305,6 +308,7 @@ mod tests {
                             get: |_, _| 0.0,
                             set: Some(|_, _, _| {}),
                             element: 0,
+                            place: None,
                         },
                     };
                     let slot = RealSlot::new(0, &var).unwrap();
@@ -350,6 +354,7 @@ mod tests {
             get: |_, _| 1.5,
             set: None,
             element: 0,
+            place: None,
         };
         let integer = || Access::Integer {
             start: None,

@@ -19,6 +19,7 @@ pub enum Access<M> {
         set: Option<fn(&mut M, usize, f64)>,
         /// The element of the declaration this scalar is (0 for a scalar declaration).
         element: usize,
+        place: fmi_model::prepared::Place<M>,
     },
     Integer {
         start: Option<i32>,
@@ -143,7 +144,12 @@ pub fn variables<M: Model>() -> Vec<Variable<M>> {
         match (&d.kind, d.shape()) {
             (
                 Kind::Real {
-                    min, max, get, set, ..
+                    min,
+                    max,
+                    get,
+                    set,
+                    place,
+                    ..
                 },
                 shape,
             ) => {
@@ -157,6 +163,7 @@ pub fn variables<M: Model>() -> Vec<Variable<M>> {
                             get: *get,
                             set: *set,
                             element,
+                            place: *place,
                         },
                         ..scalar(d, index)
                     });

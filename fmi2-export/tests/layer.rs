@@ -214,6 +214,7 @@ static BROKEN: [Declaration<Broken>; 5] = [
             max: None,
             get: |m, _| m.a,
             set: Some(|m, _, v| m.a = v),
+            place: None,
         },
         ..decl!(0, output a: a, "1", "")
     },

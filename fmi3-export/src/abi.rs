@@ -345,6 +345,8 @@ pub unsafe fn get_float64<M: Model>(
                             out.extend((0..slot.len).map(|element| Getter {
                                 get: slot.get,
                                 element,
+                                place: slot.place,
+                                offset: 0,
                             }));
                             true
                         }
@@ -547,6 +549,8 @@ pub unsafe fn set_float64<M: Model>(
                         out.extend((0..slot.len).map(|element| Setter {
                             set,
                             element,
+                            place: slot.place,
+                            offset: 0,
                             lowest: slot.lowest,
                             highest: slot.highest,
                             settable_in,

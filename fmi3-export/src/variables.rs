@@ -61,6 +61,7 @@ pub struct Float64Slot<M: 'static> {
     pub len: usize,
     pub get: fn(&M, usize) -> f64,
     pub set: Option<fn(&mut M, usize, f64)>,
+    pub place: fmi_model::prepared::Place<M>,
     /// The closed range of finite values the bounds admit ([`Limit::lowest_admitted`]).
     pub lowest: f64,
     pub highest: f64,
@@ -81,11 +82,13 @@ impl<M: Model> Float64Slot<M> {
                     max,
                     get,
                     set,
+                    place,
                 } => Some(Float64Slot {
                     declaration: d,
                     len: shape.len(),
                     get,
                     set,
+                    place,
                     lowest: Limit::lowest_admitted(min),
                     highest: Limit::highest_admitted(max),
                     settable_initializing: settable(d, true).is_ok(),

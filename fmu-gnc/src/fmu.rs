@@ -20,6 +20,7 @@ use crate::attitude::profile::PhiProfile;
 use crate::attitude::ControlLaw;
 use crate::controller::{
     actuate, gnc_advance, gnc_sample, Advance, GncOutputs, NavigationInputs, Sample,
+    QUATERNION_NORM_TOLERANCE,
 };
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::{GncDesign, GncParameters};
@@ -81,6 +82,9 @@ struct Evaluated {
 struct SampleTime {
     phi_cmd_applies: bool,
     cycle: i64,
+    /// The sample solves the guidance cycle (the guidance state has not yet): only then do
+    /// the navigation inputs reach the guidance memory.
+    opens_cycle: bool,
     off_nominal_bits: Option<u64>,
     /// A shaped thrust-axis profile moves with `t` itself.
     profile_bits: Option<u64>,
@@ -116,6 +120,7 @@ impl LanderGnc {
         SampleTime {
             phi_cmd_applies: has_reached(t_s, self.params.phi_cmd_time_s),
             cycle,
+            opens_cycle,
             off_nominal_bits: (opens_cycle && !on_boundary).then_some(elapsed_s.to_bits()),
             profile_bits: (self.params.phi_rate_limit_radps > 0.0
                 || self.params.phi_accel_limit_radps2 > 0.0)
@@ -189,23 +194,30 @@ impl LanderGnc {
     }
 
     /// Commit the sample at the current time: the memory of the evaluated one if it was
-    /// evaluated at the same sample time with these very inputs; otherwise computed afresh,
-    /// without the attitude law unless the thruster modulators need its torque. The outputs
-    /// are left as the last get showed them: the layer evaluates at `t + h` for the next get.
+    /// evaluated at the same sample time with these very inputs, or with other inputs when
+    /// these cannot reach the memory (see [`Self::inputs_reach_memory`]); otherwise computed
+    /// afresh, without the attitude law unless the thruster modulators need its torque. The
+    /// outputs are left as the last get showed them: the layer evaluates at `t + h` for the
+    /// next get.
     fn commit(&mut self, log: &mut Log) {
         self.keep_design();
         // Read in place: the kept memory is a few hundred bytes, worth not moving twice.
         let bits = self.inputs.to_bits();
+        let same_time = |e: &Evaluated| {
+            e.t_bits == self.time_s.to_bits() || e.time == self.sample_time(self.time_s)
+        };
         match &self.evaluated {
-            Some(e)
-                if e.input_bits == bits
-                    && (e.t_bits == self.time_s.to_bits()
-                        || e.time == self.sample_time(self.time_s)) =>
-            {
+            Some(e) if e.input_bits == bits && same_time(e) => {
                 report(&e.advance, self.time_s, log);
                 self.guidance = e.advance.guidance;
                 self.profile = e.advance.profile;
                 self.pwpf = e.pwpf;
+            }
+            // A master that steps before it reads (fmpy's loop, Jacobi) evaluated the
+            // previous inputs at this time.
+            Some(e) if !self.inputs_reach_memory(e) && same_time(e) => {
+                self.guidance = e.advance.guidance;
+                self.profile = e.advance.profile;
             }
             _ => {
                 let (advance, pwpf) = self.advance_without_outputs();
@@ -216,6 +228,21 @@ impl LanderGnc {
             }
         }
         self.evaluated = None;
+    }
+
+    /// Whether the memory a sample at the time of `e` commits may differ from `e`'s for the
+    /// current inputs, or they are to be reported. They reach the guidance memory only
+    /// when the sample opens a guidance cycle, the modulators only in the thruster model
+    /// (the profile is a function of time alone); inputs with a quaternion of norm near 1
+    /// and a positive mass are used as they are, with nothing to report (conservatively
+    /// what `gnc_advance` accepts without a warning).
+    fn inputs_reach_memory(&self, e: &Evaluated) -> bool {
+        let torque_model = self.design.as_ref().is_some_and(|d| d.thrusters.is_none());
+        let q = self.inputs.q_body_to_nue;
+        let norm_squared: f64 = q.iter().map(|c| c * c).sum();
+        let plain =
+            (norm_squared - 1.0).abs() <= QUATERNION_NORM_TOLERANCE && self.inputs.mass_kg > 0.0;
+        e.time.opens_cycle || !torque_model || !plain
     }
 
     /// The memory of the sample at the current time, with the modulators after it.

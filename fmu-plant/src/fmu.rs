@@ -15,8 +15,11 @@ use fmi_model::{
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
 
-/// Values the master reads, refreshed by `calculate_values`.
+/// Values the master reads, refreshed by `calculate_values`. In declaration order
+/// (`repr(C)`), so that a master reading the navigation outputs in that order gets them
+/// copied as one block.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[repr(C)]
 struct Outputs {
     r_nue: [f64; 3],
     v_nue: [f64; 3],
