@@ -208,8 +208,12 @@ pub enum Kind<M> {
         /// and writes it there directly, without calling `get` or `set` per value. It must
         /// give the address of the very `f64` that `get` reads and `set` writes, in every
         /// value of the model; [`decl!`](crate::decl) derives it from the field path, and a
-        /// declaration written by hand should leave it `None`.
-        place: Option<fn(&M, usize) -> *const f64>,
+        /// declaration written by hand should leave it `None`. A reference, not an address:
+        /// what it points at is an `f64` that exists; the layer uses it only where it lies
+        /// inside the model's own bytes, aligned, and keeps its offset, which is why the
+        /// model must be a struct (a field path has one offset in every value; an enum's
+        /// variants do not).
+        place: Option<fn(&M, usize) -> &f64>,
     },
     Integer {
         min: Option<i32>,
@@ -422,7 +426,7 @@ impl<M> Declaration<M> {
 
     /// Where a Real field's elements are stored (see [`Kind::Real`] for what `at` must
     /// give); [`decl!`](crate::decl) gives it for every field it is written with.
-    pub const fn stored(mut self, at: fn(&M, usize) -> *const f64) -> Self {
+    pub const fn stored(mut self, at: fn(&M, usize) -> &f64) -> Self {
         if let Kind::Real { place, .. } = &mut self.kind {
             *place = Some(at);
         } else {
@@ -593,12 +597,12 @@ macro_rules! decl {
         $crate::decl!(@apply $crate::Declaration::real(
             $vr, stringify!($name), $crate::role::$role, $crate::Shape::Vector($n), $unit, $desc,
             |m, i| m.$($path).+[i], |m, i, v| m.$($path).+[i] = v,
-        ) ; field = stringify!($($path).+), stored = |m, i| &m.$($path).+[i] as *const f64 $(, $opt = $val)*)
+        ) ; field = stringify!($($path).+), stored = |m, i| &m.$($path).+[i] $(, $opt = $val)*)
     };
     ($vr:literal, $role:ident $name:ident : $($path:ident).+, $unit:expr, $desc:expr $(, $opt:ident = $val:expr)* $(,)?) => {
         $crate::decl!(@apply $crate::Declaration::real(
             $vr, stringify!($name), $crate::role::$role, $crate::Shape::Scalar, $unit, $desc,
             |m, _| m.$($path).+, |m, _, v| m.$($path).+ = v,
-        ) ; field = stringify!($($path).+), stored = |m, _| &m.$($path).+ as *const f64 $(, $opt = $val)*)
+        ) ; field = stringify!($($path).+), stored = |m, _| &m.$($path).+ $(, $opt = $val)*)
     };
 }

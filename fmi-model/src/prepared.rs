@@ -22,8 +22,9 @@
 
 use std::mem::{align_of, size_of};
 
-/// Where an element is stored, as a declaration gives it (`Kind::Real::place`).
-pub type Place<M> = Option<fn(&M, usize) -> *const f64>;
+/// Where an element is stored, as a declaration gives it (`Kind::Real::place`): a reference,
+/// so that safe code can only point at an `f64` that exists.
+pub type Place<M> = Option<fn(&M, usize) -> &f64>;
 
 /// One element a set writes: its setter, the bounds it admits, the states (as the layer's
 /// bits) in which it is settable.
@@ -56,7 +57,7 @@ pub const MAX_ELEMENTS: usize = 1024;
 /// aligned as an `f64` there.
 fn offset_in<M>(model: &M, place: Place<M>, element: usize) -> Option<usize> {
     let base = model as *const M as usize;
-    let at = place?(model, element) as usize;
+    let at = place?(model, element) as *const f64 as usize;
     let offset = at.checked_sub(base)?;
     let inside = offset
         .checked_add(size_of::<f64>())
@@ -333,7 +334,7 @@ mod tests {
         let setter = |element, lowest, highest, settable_in| Setter {
             set: |m: &mut M, i, v| m[i] = v,
             element,
-            place: Some(|m: &M, i| &m[i] as *const f64),
+            place: Some(|m: &M, i| &m[i]),
             offset: 0,
             lowest,
             highest,
@@ -478,8 +479,8 @@ mod tests {
             place,
             offset: 0,
         };
-        let inside: Place<M> = Some(|m, i| &m[i] as *const f64);
-        let outside: Place<M> = Some(|_, _| &ELSEWHERE as *const f64);
+        let inside: Place<M> = Some(|m, i| &m[i]);
+        let outside: Place<M> = Some(|_, _| &ELSEWHERE);
         let model: M = [1.0, 2.0, 3.0, 4.0];
         let mut get = PreparedGet::default();
         let mut values = [0.0; 2];
