@@ -172,7 +172,53 @@ fn collect_files(root: &Path, dir: &Path, files: &mut Vec<String>) -> Result<()>
 
 #[cfg(test)]
 mod tests {
-    use super::root_attribute;
+    use super::{released_fmu_problems, root_attribute, VERSION};
+    use crate::fmu_zip::{self, Entry};
+
+    /// An FMU archive in the temporary directory with the given version and binaries.
+    fn fmu(name: &str, version: &str, binaries: &[&str]) -> std::path::PathBuf {
+        let xml = format!(
+            "<?xml version=\"1.0\"?>\n<fmiModelDescription fmiVersion=\"3.0\" \
+             version=\"{version}\"/>"
+        );
+        let mut entries = vec![Entry::file("modelDescription.xml", xml.into_bytes())];
+        for folder in binaries {
+            entries.push(Entry::executable(
+                format!("binaries/{folder}/M.so"),
+                vec![0],
+            ));
+        }
+        let path =
+            std::env::temp_dir().join(format!("xtask-dist-{}-{name}.fmu", std::process::id()));
+        fmu_zip::write(&path, entries).unwrap();
+        path
+    }
+
+    #[test]
+    fn an_fmu_of_another_version_or_without_a_platform_is_not_released() {
+        let all = ["x86_64-linux", "aarch64-linux", "x86_64-windows"];
+        let good = fmu("good", VERSION, &all);
+        assert_eq!(
+            released_fmu_problems(&good, &all).unwrap(),
+            Vec::<String>::new()
+        );
+        let old = fmu("old", "0.0.1", &all);
+        let problems = released_fmu_problems(&old, &all).unwrap();
+        assert!(
+            problems.len() == 1 && problems[0].contains("version=\"0.0.1\""),
+            "{problems:?}"
+        );
+        let host_only = fmu("host", VERSION, &all[..1]);
+        let problems = released_fmu_problems(&host_only, &all).unwrap();
+        assert_eq!(problems.len(), 2, "{problems:?}");
+        assert!(
+            problems[1].contains("binaries/x86_64-windows/"),
+            "{problems:?}"
+        );
+        for path in [good, old, host_only] {
+            let _ = std::fs::remove_file(path);
+        }
+    }
 
     #[test]
     fn the_version_is_read_from_the_root_element_only() {
