@@ -216,6 +216,9 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 }
             }
 
+            let format = harness::results::Format::for_output(&out, format)
+                .map_err(|problem| problems.push(format!("-o/--format: {problem}")))
+                .ok();
             if !record.is_empty() {
                 system.record = Some(record);
             }
@@ -239,7 +242,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 ..Default::default()
             };
             let end = simulation.run(&mut trajectory)?;
-            let format = format.unwrap_or_else(|| harness::results::Format::of_path(&out));
+            let format = format.expect("refused before the run");
             harness::results::write(&out, &trajectory, format)
                 .with_context(|| format!("writing {}", out.display()))?;
             let verdict = harness::verdict::judge(&trajectory, &end, &spec.envelope);

@@ -145,6 +145,20 @@ pub fn for_directory(dir: &Path) -> anyhow::Result<PathBuf> {
     } else {
         Vec::new()
     };
+    let found = !files(dir, "-summary.txt")?.is_empty()
+        || !files(dir, ".png")?.is_empty()
+        || dir
+            .join(crate::montecarlo::summary_csv::FILE_NAME)
+            .is_file()
+        || manifest.is_file();
+    if !found {
+        anyhow::bail!(
+            "{} holds no results to report (no *-summary.txt, summary.csv, {} or *.png): \
+             write them first with `harness paper` or `harness monte-carlo --out-dir {0}`",
+            dir.display(),
+            crate::montecarlo::manifest::FILE_NAME
+        );
+    }
     let title = format!("lander-fmi results: {}", dir.display());
     write(dir, &title, &failed)
 }
@@ -152,6 +166,16 @@ pub fn for_directory(dir: &Path) -> anyhow::Result<PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_directory_without_results_is_refused_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let message = for_directory(dir.path()).unwrap_err().to_string();
+        assert!(message.contains("holds no results"), "{message}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        let missing = dir.path().join("nonexistent");
+        assert!(for_directory(&missing).is_err());
+    }
 
     #[test]
     fn the_page_embeds_images_and_escapes_text() {

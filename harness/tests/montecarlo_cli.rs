@@ -106,3 +106,29 @@ fn a_user_error_prints_no_backtrace_even_with_rust_backtrace_set() {
         );
     }
 }
+
+/// An output name that says another format than the one written is refused before the
+/// flight, and nothing is written.
+#[test]
+fn an_output_name_that_is_no_result_format_is_refused_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, format, expected) in [
+        ("run.parquet", None, ".parquet is not a result format"),
+        ("run.csv", Some("arrow"), "--format arrow asks for Arrow"),
+    ] {
+        let out = dir.path().join(name);
+        let mut args = vec!["run", "paper", "-o", out.to_str().unwrap()];
+        if let Some(format) = format {
+            args.extend(["--format", format]);
+        }
+        let output = harness(&args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains(expected), "{stderr}");
+        assert!(!out.exists(), "{name} was written");
+    }
+    let output = harness(&["report", dir.path().to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("holds no results"), "{stderr}");
+}

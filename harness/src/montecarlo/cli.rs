@@ -271,6 +271,8 @@ pub fn merge_mc(args: &MergeArgs) -> anyhow::Result<i32> {
 }
 
 pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
+    // Before the flight: a name that is no result format is refused at once.
+    let format = crate::results::Format::for_output(&args.out, None).map_err(anyhow::Error::msg)?;
     let (row, trajectory, verdict) = match (&args.manifest, args.index) {
         (Some(manifest), Some(index)) => {
             let r = replay::from_manifest(manifest, index, fmu_dir)?;
@@ -304,7 +306,6 @@ pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
             (row, trajectory, "flown from the seed".to_owned())
         }
     };
-    let format = crate::results::Format::of_path(&args.out);
     crate::results::write(&args.out, &trajectory, format)?;
     let m = &row.metrics;
     println!(
