@@ -48,8 +48,8 @@ enum Command {
         /// Output file (columns: time, instance.variable...).
         #[arg(long, short, default_value = "target/harness/run.csv")]
         out: PathBuf,
-        /// Output format; default: by the output's extension (.arrow, .feather, .ipc: Arrow
-        /// IPC file; anything else: CSV).
+        /// Output format; default: by the output's extension (.csv or none: CSV; .arrow,
+        /// .feather, .ipc: Arrow IPC file); any other extension needs --format.
         #[arg(long, value_enum)]
         format: Option<harness::results::Format>,
         /// Override a parameter, e.g. --set gnc.phi_cmd=0.5 (repeatable).
