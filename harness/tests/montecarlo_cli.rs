@@ -132,3 +132,46 @@ fn an_output_name_that_is_no_result_format_is_refused_before_the_run() {
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("holds no results"), "{stderr}");
 }
+
+/// A phi_cmd outside LanderGnc's declared range is refused before any flight, in degrees,
+/// by monte-carlo and by replay alike.
+#[test]
+fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("mc");
+    let output = harness(&[
+        "monte-carlo",
+        "--phi-cmd-deg",
+        "1000,30",
+        "-n",
+        "1",
+        "--out-dir",
+        out_dir.to_str().unwrap(),
+        "--quiet",
+        "--no-plots",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr
+            .contains("--phi-cmd-deg 1000: LanderGnc's phi_cmd is declared within -720 to 720 deg"),
+        "{stderr}"
+    );
+    assert!(!out_dir.exists(), "the campaign wrote files");
+    let csv = dir.path().join("replay.csv");
+    let output = harness(&[
+        "replay",
+        "--seed",
+        "1",
+        "--run",
+        "3",
+        "--phi-cmd-deg",
+        "1e6",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("--phi-cmd-deg 1000000"), "{stderr}");
+    assert!(!csv.exists());
+}

@@ -192,7 +192,28 @@ fn report(
     })
 }
 
+/// LanderGnc declares `phi_cmd` within +-4 pi rad; said in the unit the option takes.
+const PHI_CMD_MAX_DEG: f64 = 720.0;
+
+/// Every `--phi-cmd-deg` value outside LanderGnc's declared range, at once, in degrees.
+fn check_phi_cmd_deg(values: &[f64]) -> anyhow::Result<()> {
+    let bad: Vec<String> = values
+        .iter()
+        .filter(|deg| !deg.is_finite() || deg.abs() > PHI_CMD_MAX_DEG)
+        .map(|deg| format!("--phi-cmd-deg {deg}"))
+        .collect();
+    if !bad.is_empty() {
+        anyhow::bail!(
+            "{}: LanderGnc's phi_cmd is declared within -{PHI_CMD_MAX_DEG} to \
+             {PHI_CMD_MAX_DEG} deg (+-4 pi rad)",
+            bad.join(", ")
+        );
+    }
+    Ok(())
+}
+
 pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32> {
+    check_phi_cmd_deg(&args.campaign.phi_cmd_deg)?;
     let spec = args.campaign.spec();
     let options = runner::RunOptions {
         fmu_dir: fmu_dir.to_owned(),
@@ -273,6 +294,9 @@ pub fn merge_mc(args: &MergeArgs) -> anyhow::Result<i32> {
 pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
     // Before the flight: a name that is no result format is refused at once.
     let format = crate::results::Format::for_output(&args.out, None).map_err(anyhow::Error::msg)?;
+    if args.manifest.is_none() {
+        check_phi_cmd_deg(&[args.phi_cmd_deg])?;
+    }
     let (row, trajectory, verdict) = match (&args.manifest, args.index) {
         (Some(manifest), Some(index)) => {
             let r = replay::from_manifest(manifest, index, fmu_dir)?;
@@ -306,16 +330,28 @@ pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
             (row, trajectory, "flown from the seed".to_owned())
         }
     };
+    if let manifest::End::Error { message } = &row.end {
+        anyhow::bail!(
+            "run {} (seed {}), {} at phi_cmd {} deg could not be flown: {message}",
+            row.flight.run,
+            row.flight.run_seed,
+            row.flight.law.name(),
+            row.flight.phi_cmd_deg
+        );
+    }
     crate::results::write(&args.out, &trajectory, format)?;
     let m = &row.metrics;
+    let end = match &row.end {
+        manifest::End::Terminated { instance } => format!("stopped by '{instance}'"),
+        _ => "completed".to_owned(),
+    };
     println!(
-        "run {} (seed {}), {} at phi_cmd {} deg: {:?}, verdict {}{}; max horizontal deviation \
+        "run {} (seed {}), {} at phi_cmd {} deg: {end}, verdict {}{}; max horizontal deviation \
          {:.3} m, end-of-descent position error {:.4} m; {verdict}; {} rows -> {}",
         row.flight.run,
         row.flight.run_seed,
         row.flight.law.name(),
         row.flight.phi_cmd_deg,
-        row.end,
         row.verdict.word,
         if row.verdict.detail.is_empty() {
             String::new()
