@@ -115,9 +115,18 @@ pub fn run_resumed(
             (manifest::Writer::append(&manifest_path, keep)?, done)
         }
     };
-    let todo: Vec<u64> = shard.indices(total).filter(|i| !done.contains(i)).collect();
+    // A fresh campaign's flights are the shard's stride, computed as needed: a list of them
+    // would be 8 bytes per flight before the first one flies (6 GB for -n 100000000).
+    let todo: Option<Vec<u64>> =
+        (!done.is_empty()).then(|| shard.indices(total).filter(|i| !done.contains(i)).collect());
     let kept = done.len() as u64;
-    let count = todo.len() as u64;
+    let count = todo
+        .as_ref()
+        .map_or_else(|| shard.len(total), |t| t.len() as u64);
+    let todo_at = |j: u64| match &todo {
+        Some(listed) => listed[j as usize],
+        None => (shard.k - 1) + j * shard.n,
+    };
     let progress = progress_bar(count, options.progress);
     let next = AtomicU64::new(0);
     let stop = AtomicBool::new(false);
@@ -156,7 +165,7 @@ pub fn run_resumed(
                 if j >= count {
                     return Ok(());
                 }
-                let flight = spec.flight(todo[j as usize]);
+                let flight = spec.flight(todo_at(j));
                 let row = flyer.fly(&flight, &spec.dispersions);
                 let failed = row.end.is_error();
                 if sender.send(row).is_err() {
