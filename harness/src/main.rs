@@ -153,6 +153,39 @@ impl log::Log for Logger {
     }
 }
 
+/// `harness run` keeps every recorded row in memory: a run that cannot fit is refused
+/// before it starts, with its numbers, instead of growing until the allocator aborts.
+fn fits_in_memory(simulation: &Simulation) -> anyhow::Result<()> {
+    let system = simulation.system();
+    let points = ((system.stop_time - system.start_time) / system.step_size).ceil() + 1.0;
+    let columns = simulation.column_names().len() + 1;
+    let bytes = points * columns as f64 * 8.0;
+    let Some(available) = memory_available_bytes() else {
+        return Ok(());
+    };
+    if bytes > 0.8 * available {
+        anyhow::bail!(
+            "{} s in steps of {} s is {points:.3e} communication points; recording {columns} \
+             columns of each would take {:.3e} bytes of memory, more than the {:.1} GB this \
+             machine has available: use a larger step_size or record fewer columns \
+             (`record = [...]` in the scenario, or --record)",
+            system.stop_time - system.start_time,
+            system.step_size,
+            bytes,
+            available / 1e9
+        );
+    }
+    Ok(())
+}
+
+/// `MemAvailable` of /proc/meminfo (Linux); `None` where there is no such file.
+fn memory_available_bytes() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
 fn init_logging() {
     let logger =
         env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).build();
@@ -236,7 +269,9 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 }
                 anyhow::bail!("{}", problems.join("\n"));
             }
-            let mut simulation = simulation?;
+            let simulation = simulation?;
+            fits_in_memory(&simulation)?;
+            let mut simulation = simulation;
             let mut trajectory = Trajectory {
                 names: simulation.column_names().to_vec(),
                 ..Default::default()

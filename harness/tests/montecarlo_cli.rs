@@ -175,3 +175,33 @@ fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight(
     assert!(stderr.contains("--phi-cmd-deg 1000000"), "{stderr}");
     assert!(!csv.exists());
 }
+
+/// A run whose recorded rows cannot fit in memory is refused before it starts, with its
+/// numbers, instead of growing until the allocator aborts.
+#[test]
+fn a_step_too_small_to_record_in_memory_is_refused_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("tiny-step.toml");
+    let paper = harness::scenarios::BUILT_IN
+        .iter()
+        .find(|(name, _)| *name == "paper")
+        .unwrap()
+        .1;
+    std::fs::write(
+        &scenario,
+        paper.replace("step_size = 0.01", "step_size = 1e-9"),
+    )
+    .unwrap();
+    let out = dir.path().join("run.csv");
+    let output = harness(&[
+        "run",
+        scenario.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("1.720e11 communication points"), "{stderr}");
+    assert!(stderr.contains("use a larger step_size"), "{stderr}");
+    assert!(!out.exists());
+}
