@@ -205,3 +205,21 @@ fn a_step_too_small_to_record_in_memory_is_refused_before_the_run() {
     assert!(stderr.contains("use a larger step_size"), "{stderr}");
     assert!(!out.exists());
 }
+
+/// A campaign path that does not exist is named as given.
+#[test]
+fn a_missing_campaign_path_is_named_as_given() {
+    for args in [
+        vec!["replay", "--manifest", "/nonexistent", "--index", "1"],
+        vec!["merge-mc", "/nonexistent", "--out-dir", "/tmp/unused-merge"],
+    ] {
+        let output = harness(&args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains("/nonexistent: no such file or directory"),
+            "{args:?}: {stderr}"
+        );
+        assert!(!stderr.contains("/campaign.toml"), "{stderr}");
+    }
+}

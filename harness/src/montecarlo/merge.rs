@@ -38,7 +38,7 @@ pub fn merge(inputs: &[PathBuf], allow_missing: bool) -> anyhow::Result<Merged> 
     let mut rows: BTreeMap<u64, (Row, usize)> = BTreeMap::new();
     let mut duplicates = Vec::new();
     for (source, input) in inputs.iter().enumerate() {
-        let (manifest_path, config_path) = locate(input);
+        let (manifest_path, config_path) = locate(input)?;
         let file = CampaignFile::read(&config_path)?;
         let spec = file.campaign.to_spec()?;
         match &first {

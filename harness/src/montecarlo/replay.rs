@@ -42,7 +42,7 @@ impl Replayed {
 
 /// Replays flight `index` of the campaign whose manifest (or directory) is `manifest_path`.
 pub fn from_manifest(manifest_path: &Path, index: u64, fmu_dir: &Path) -> anyhow::Result<Replayed> {
-    let (manifest_path, config_path) = locate(manifest_path);
+    let (manifest_path, config_path) = locate(manifest_path)?;
     let spec = super::config::CampaignFile::read(&config_path)?
         .campaign
         .to_spec()?;

@@ -311,8 +311,15 @@ pub fn default_workers() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
-/// The manifest and campaign file of a directory (or of the directory of a manifest).
-pub fn locate(path: &Path) -> (PathBuf, PathBuf) {
+/// The manifest and campaign file of a directory (or of the directory of a manifest); a
+/// path that does not exist is named as given, not as the campaign file it would imply.
+pub fn locate(path: &Path) -> anyhow::Result<(PathBuf, PathBuf)> {
+    anyhow::ensure!(
+        path.exists(),
+        "{}: no such file or directory (give a campaign's output directory or its {})",
+        path.display(),
+        manifest::FILE_NAME
+    );
     let dir = if path.is_dir() {
         path.to_owned()
     } else {
@@ -323,5 +330,5 @@ pub fn locate(path: &Path) -> (PathBuf, PathBuf) {
     } else {
         path.to_owned()
     };
-    (manifest, dir.join(config::FILE_NAME))
+    Ok((manifest, dir.join(config::FILE_NAME)))
 }
