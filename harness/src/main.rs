@@ -234,9 +234,23 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             // Every bad --set at once; names and types are checked against the FMUs when the
             // simulation is built, with the rest of the scenario.
             let mut problems = Vec::new();
+            let mut seen: Vec<(String, String, &str)> = Vec::new();
             for set in &sets {
                 match parse_set(set) {
                     Ok((instance, variable, value)) => {
+                        // Two values for one variable: which one was meant is not ours to
+                        // guess (a last-wins rule would drop one silently).
+                        if let Some((_, _, first)) = seen
+                            .iter()
+                            .find(|(i, v, _)| *i == instance && *v == variable)
+                        {
+                            problems.push(format!(
+                                "--set {set}: {instance}.{variable} is already set by --set \
+                                 {first}"
+                            ));
+                            continue;
+                        }
+                        seen.push((instance.clone(), variable.clone(), set.as_str()));
                         if !system.set_parameter(&instance, &variable, value) {
                             let names = system.instances.iter().map(|i| i.name.as_str());
                             problems.push(format!(

@@ -223,3 +223,27 @@ fn a_missing_campaign_path_is_named_as_given() {
         assert!(!stderr.contains("/campaign.toml"), "{stderr}");
     }
 }
+
+/// One variable given two values by --set is refused, naming both, before the run.
+#[test]
+fn a_variable_set_twice_is_refused_naming_both_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run.csv");
+    let output = harness(&[
+        "run",
+        "paper",
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "gnc.phi_cmd=1",
+        "--set",
+        "gnc.phi_cmd=2",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("--set gnc.phi_cmd=2: gnc.phi_cmd is already set by --set gnc.phi_cmd=1"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}
