@@ -276,6 +276,9 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 Some(OrderingArg::Jacobi) => system.ordering = harness::system::Ordering::Jacobi,
                 None => {}
             }
+            if let Some(note) = system.partial_last_step() {
+                eprintln!("harness: warning: {note}");
+            }
             let simulation = Simulation::new(system, &cli.fmu_dir);
             if !problems.is_empty() {
                 if let Err(MasterError::Resolve { problems: more, .. }) = &simulation {

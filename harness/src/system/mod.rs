@@ -106,6 +106,22 @@ pub enum SystemError {
 }
 
 impl SystemDescription {
+    /// What the step size does to the last step when the run is not a whole number of steps
+    /// (172 s in steps of 0.03 s ends with a step of 0.01 s), for a warning.
+    pub fn partial_last_step(&self) -> Option<String> {
+        let span = self.stop_time - self.start_time;
+        let steps = span / self.step_size;
+        if !steps.is_finite() || (steps - steps.round()).abs() <= 1e-9 * steps.max(1.0) {
+            return None;
+        }
+        let last = span - steps.floor() * self.step_size;
+        Some(format!(
+            "{span} s is not a whole number of steps of {} s ({steps:.3}): the last step is \
+             {last:.6} s",
+            self.step_size
+        ))
+    }
+
     /// Checks that do not need the FMUs: times, names, connection syntax. Every problem is
     /// reported, in one error.
     pub fn validate(&self) -> Result<(), SystemError> {
@@ -195,4 +211,16 @@ impl SystemDescription {
 pub fn split_path(path: &str) -> Option<(&str, &str)> {
     let (instance, variable) = path.split_once('.')?;
     (!instance.is_empty() && !variable.is_empty()).then_some((instance, variable))
+}
+
+#[cfg(test)]
+mod partial_step_tests {
+    #[test]
+    fn a_run_that_is_not_a_whole_number_of_steps_is_noted_with_its_last_step() {
+        let mut system = crate::scenarios::load("paper").unwrap();
+        assert_eq!(system.partial_last_step(), None);
+        system.step_size = 0.03;
+        let note = system.partial_last_step().unwrap();
+        assert!(note.contains("the last step is 0.010000 s"), "{note}");
+    }
 }
