@@ -84,3 +84,24 @@ fn an_output_and_values_outside_their_declared_range_are_refused_before_the_run(
         "{error}"
     );
 }
+
+#[test]
+fn a_vector_set_whole_names_its_elements_and_suggestions_are_only_settable_variables() {
+    let mut system = scenarios::load("paper").unwrap();
+    system.set_parameter("plant", "r0_nue", ParamValue::Real(100.0));
+    system.set_parameter("plant", "altitde", ParamValue::Real(3.0));
+    let error = match Simulation::new(system, &common::fmu_dir()) {
+        Err(error @ MasterError::Resolve { .. }) => error.to_string(),
+        Err(other) => panic!("wrong error: {other}"),
+        Ok(_) => panic!("the system was accepted"),
+    };
+    assert!(
+        error.contains("'r0_nue' is a vector of 3: set its elements, e.g. plant.r0_nue[1]"),
+        "{error}"
+    );
+    // `altitude` is an output: not a suggestion for a value to set.
+    assert!(
+        error.contains("'altitde'") && !error.contains("did you mean 'altitude'"),
+        "{error}"
+    );
+}

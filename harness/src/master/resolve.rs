@@ -196,10 +196,30 @@ pub fn parameter_problem(
     let info = match fmu.variable(variable) {
         Ok(info) => info,
         Err(error) => {
+            let description = fmu.model_description();
+            let elements = description
+                .variables()
+                .filter(|v| {
+                    v.name
+                        .strip_prefix(variable)
+                        .is_some_and(|rest| rest.starts_with('['))
+                })
+                .count();
+            if elements > 0 {
+                return Some(format!(
+                    "instance '{name}': '{variable}' is a vector of {elements}: set its \
+                     elements, e.g. {name}.{variable}[1]"
+                ));
+            }
+            // Only what may be set is a useful suggestion (not the output of a similar name).
+            let settable = description
+                .variables()
+                .filter(|v| settable_problem(v).is_none())
+                .map(|v| v.name.as_str());
             return Some(format!(
                 "instance '{name}': cannot set '{variable}': {error}{}",
-                suggest::hint(variable, suggest::variable_names(fmu.model_description()))
-            ))
+                suggest::hint(variable, settable)
+            ));
         }
     };
     let fits = match (info.kind.accessed_as(), value) {
