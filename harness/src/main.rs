@@ -280,11 +280,27 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 eprintln!("harness: warning: {note}");
             }
             let simulation = Simulation::new(system, &cli.fmu_dir);
+            if let Err(MasterError::Resolve { problems: more, .. }) = &simulation {
+                // Say which problems come from the command line, not the scenario file.
+                problems.extend(more.iter().map(|problem| {
+                    let from = seen.iter().find(|(instance, variable, _)| {
+                        problem.starts_with(&format!("instance '{instance}': "))
+                            && problem.contains(&format!("'{variable}'"))
+                    });
+                    match from {
+                        Some((_, _, text)) => format!("{problem} (from --set {text})"),
+                        None => problem.clone(),
+                    }
+                }));
+            }
             if !problems.is_empty() {
-                if let Err(MasterError::Resolve { problems: more, .. }) = &simulation {
-                    problems.extend(more.iter().cloned());
+                match &simulation {
+                    Err(MasterError::Resolve { system, .. }) => anyhow::bail!(
+                        "system '{system}' does not match its FMUs:\n  {}",
+                        problems.join("\n  ")
+                    ),
+                    _ => anyhow::bail!("{}", problems.join("\n")),
                 }
-                anyhow::bail!("{}", problems.join("\n"));
             }
             let simulation = simulation?;
             fits_in_memory(&simulation)?;

@@ -247,3 +247,31 @@ fn a_variable_set_twice_is_refused_naming_both_values() {
     );
     assert!(!out.exists());
 }
+
+/// Every value refused before the run, and which of them came from the command line.
+#[test]
+fn bad_set_values_are_all_reported_before_the_run_naming_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run.csv");
+    let output = harness(&[
+        "run",
+        "paper",
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "gnc.control_law=7",
+        "--set",
+        "plant.m0=-5",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("'control_law' = 7 is above its declared max 3 (range [1, 3]) (from --set gnc.control_law=7)"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("'m0' = -5 is below its declared min 5e-324 (from --set plant.m0=-5)"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}
