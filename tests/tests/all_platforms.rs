@@ -198,20 +198,26 @@ fn objdump_section<'a>(text: &'a str, heading: &str) -> Vec<&'a str> {
         .collect()
 }
 
-/// The exported names and the imported DLLs of a PE file, from `objdump -p`.
-fn pe_exports_and_imports(dll: &Path) -> (BTreeSet<String>, BTreeSet<String>) {
-    let objdump = "x86_64-w64-mingw32-objdump";
-    let output = Command::new(objdump)
+/// `objdump -p` of `file`; `objdump` is the program, optionally followed by the package
+/// that provides it in parentheses (for the message when it cannot run).
+fn objdump_headers(objdump: &str, file: &Path) -> String {
+    let program = objdump.split(' ').next().unwrap_or(objdump);
+    let output = Command::new(program)
         .arg("-p")
-        .arg(dll)
+        .arg(file)
         .output()
-        .unwrap_or_else(|e| panic!("cannot run {objdump} (gcc-mingw-w64-x86-64): {e}"));
+        .unwrap_or_else(|e| panic!("cannot run {objdump}: {e}"));
     assert!(
         output.status.success(),
-        "{objdump} failed on {}",
-        dll.display()
+        "{program} failed on {}",
+        file.display()
     );
-    let text = String::from_utf8_lossy(&output.stdout);
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+/// The exported names and the imported DLLs of a PE file, from `objdump -p`.
+fn pe_exports_and_imports(dll: &Path) -> (BTreeSet<String>, BTreeSet<String>) {
+    let text = objdump_headers("x86_64-w64-mingw32-objdump (gcc-mingw-w64-x86-64)", dll);
     // "[Ordinal/Name Pointer] Table" lines read "\t[   0] fmi2CancelStep".
     let exports = objdump_section(&text, "[Ordinal/Name Pointer] Table")
         .iter()
@@ -228,17 +234,7 @@ fn pe_exports_and_imports(dll: &Path) -> (BTreeSet<String>, BTreeSet<String>) {
 
 /// The shared objects an ELF library needs (`NEEDED` entries of `objdump -p`).
 fn elf_needed(objdump: &str, library: &Path) -> BTreeSet<String> {
-    let output = Command::new(objdump)
-        .arg("-p")
-        .arg(library)
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run {objdump}: {e}"));
-    assert!(
-        output.status.success(),
-        "{objdump} failed on {}",
-        library.display()
-    );
-    String::from_utf8_lossy(&output.stdout)
+    objdump_headers(objdump, library)
         .lines()
         .filter_map(|line| line.trim().strip_prefix("NEEDED"))
         .map(|name| name.trim().to_owned())
