@@ -14,6 +14,14 @@ fn harness(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// The stderr of a harness command that must exit 1 (a user's error).
+fn refused(args: &[&str]) -> String {
+    let output = harness(args);
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+    stderr
+}
+
 #[test]
 fn a_negative_phi_cmd_grid_needs_no_equals_sign() {
     let dir = tempfile::tempdir().unwrap();
@@ -121,15 +129,11 @@ fn an_output_name_that_is_no_result_format_is_refused_before_the_run() {
         if let Some(format) = format {
             args.extend(["--format", format]);
         }
-        let output = harness(&args);
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        let stderr = refused(&args);
         assert!(stderr.contains(expected), "{stderr}");
         assert!(!out.exists(), "{name} was written");
     }
-    let output = harness(&["report", dir.path().to_str().unwrap()]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let stderr = refused(&["report", dir.path().to_str().unwrap()]);
     assert!(stderr.contains("holds no results"), "{stderr}");
 }
 
@@ -139,7 +143,7 @@ fn an_output_name_that_is_no_result_format_is_refused_before_the_run() {
 fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("mc");
-    let output = harness(&[
+    let stderr = refused(&[
         "monte-carlo",
         "--phi-cmd-deg",
         "1000,30",
@@ -150,8 +154,6 @@ fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight(
         "--quiet",
         "--no-plots",
     ]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(
         stderr
             .contains("--phi-cmd-deg 1000: LanderGnc's phi_cmd is declared within -720 to 720 deg"),
@@ -159,7 +161,7 @@ fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight(
     );
     assert!(!out_dir.exists(), "the campaign wrote files");
     let csv = dir.path().join("replay.csv");
-    let output = harness(&[
+    let stderr = refused(&[
         "replay",
         "--seed",
         "1",
@@ -170,8 +172,6 @@ fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight(
         "-o",
         csv.to_str().unwrap(),
     ]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("--phi-cmd-deg 1000000"), "{stderr}");
     assert!(!csv.exists());
 }
@@ -193,14 +193,12 @@ fn a_step_too_small_to_record_in_memory_is_refused_before_the_run() {
     )
     .unwrap();
     let out = dir.path().join("run.csv");
-    let output = harness(&[
+    let stderr = refused(&[
         "run",
         scenario.to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
     ]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("1.720e11 communication points"), "{stderr}");
     assert!(stderr.contains("use a larger step_size"), "{stderr}");
     assert!(!out.exists());
@@ -213,9 +211,7 @@ fn a_missing_campaign_path_is_named_as_given() {
         vec!["replay", "--manifest", "/nonexistent", "--index", "1"],
         vec!["merge-mc", "/nonexistent", "--out-dir", "/tmp/unused-merge"],
     ] {
-        let output = harness(&args);
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        let stderr = refused(&args);
         assert!(
             stderr.contains("/nonexistent: no such file or directory"),
             "{args:?}: {stderr}"
@@ -229,7 +225,7 @@ fn a_missing_campaign_path_is_named_as_given() {
 fn a_variable_set_twice_is_refused_naming_both_values() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run.csv");
-    let output = harness(&[
+    let stderr = refused(&[
         "run",
         "paper",
         "-o",
@@ -239,8 +235,6 @@ fn a_variable_set_twice_is_refused_naming_both_values() {
         "--set",
         "gnc.phi_cmd=2",
     ]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(
         stderr.contains("--set gnc.phi_cmd=2: gnc.phi_cmd is already set by --set gnc.phi_cmd=1"),
         "{stderr}"
@@ -253,7 +247,7 @@ fn a_variable_set_twice_is_refused_naming_both_values() {
 fn bad_set_values_are_all_reported_before_the_run_naming_the_option() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run.csv");
-    let output = harness(&[
+    let stderr = refused(&[
         "run",
         "paper",
         "-o",
@@ -263,8 +257,6 @@ fn bad_set_values_are_all_reported_before_the_run_naming_the_option() {
         "--set",
         "plant.m0=-5",
     ]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(
         stderr.contains("'control_law' = 7 is above its declared max 3 (range [1, 3]) (from --set gnc.control_law=7)"),
         "{stderr}"
