@@ -5,7 +5,7 @@ use crate::actuation::pwpf::PwpfSettings;
 use crate::actuation::{RcsModel, THRUSTER_COUNT};
 use crate::attitude::gains::AttitudeGains;
 use crate::attitude::profile::ProfileLimits;
-use crate::attitude::{AttitudeSettings, ControlLaw};
+use crate::attitude::{AttitudeSettings, ControlLaw, ThrustAxisRotation};
 use crate::guidance::pv::PvGains;
 use crate::guidance::sequencer::Scenario;
 use nalgebra::Vector3;
@@ -542,6 +542,7 @@ impl GncParameters {
             gains: self.attitude_gains(),
             torque_limit_body_nm: Vector3::from(self.torque_limit_body_nm),
             reduced_yaw_weight: self.reduced_yaw_weight,
+            phi_cmd_rotation: ThrustAxisRotation::new(self.phi_cmd_rad),
         }
     }
 }

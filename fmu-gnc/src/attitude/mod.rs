@@ -45,6 +45,35 @@ pub struct AttitudeSettings {
     pub torque_limit_body_nm: Vector3<f64>,
     /// Weight of the rotation about the thrust axis in the reduced law, [0, 1].
     pub reduced_yaw_weight: f64,
+    /// The rotation to the commanded angle about the thrust axis, computed once: the
+    /// reference of every sample once phi_cmd is active.
+    pub phi_cmd_rotation: ThrustAxisRotation,
+}
+
+/// A rotation about the thrust axis, kept with its angle: `q_phi(phi_rad)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ThrustAxisRotation {
+    phi_rad: f64,
+    q_phi: Attitude,
+}
+
+impl ThrustAxisRotation {
+    pub fn new(phi_rad: f64) -> Self {
+        Self {
+            phi_rad,
+            q_phi: reference::q_phi(phi_rad),
+        }
+    }
+
+    /// `q_phi(phi_rad)`: the kept rotation when the angle is its own (to the bit), else
+    /// computed.
+    pub fn at(&self, phi_rad: f64) -> Attitude {
+        if phi_rad.to_bits() == self.phi_rad.to_bits() {
+            self.q_phi
+        } else {
+            reference::q_phi(phi_rad)
+        }
+    }
 }
 
 /// The attitude command of one control sample, with the diagnostics of the law that ran.
@@ -87,7 +116,7 @@ pub fn tracking_attitude_command(
     roll: &RollReference,
 ) -> AttitudeCommand {
     let q_guid = reference::q_guid(a_thrust_cmd_nue);
-    let q_ref = reference::q_ref(&q_guid, roll.phi_rad);
+    let q_ref = q_guid * settings.phi_cmd_rotation.at(roll.phi_rad);
     let split = errors::thrust_axis_errors(q_body_to_nue, &q_guid, roll.phi_rad);
     let gains = &settings.gains;
     let (torque, angle_error_body) = match settings.law {

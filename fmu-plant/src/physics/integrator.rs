@@ -49,6 +49,15 @@ pub struct SubSteps {
 
 impl SubSteps {
     pub fn new(h: f64, h_sub: f64) -> Self {
+        // The common case (the communication step is one sub-step): what the general rule
+        // below gives for it, without its division and floor.
+        if h <= h_sub {
+            return Self {
+                count: 1,
+                size: h_sub,
+                last: h,
+            };
+        }
         let ratio = h / h_sub;
         let full = (ratio + REMAINDER_MERGE_FRACTION).floor().max(0.0);
         let remainder = h - full * h_sub;

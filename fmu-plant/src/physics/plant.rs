@@ -298,6 +298,13 @@ impl Plant {
         exhausted: bool,
     ) -> PlantState {
         let d = self.delivered_from(x, targets, firing, exhausted);
+        self.derivative_delivered(x, &d, targets)
+    }
+
+    /// The derivative at `x` with the actuators delivering `d` (from [`Plant::delivered_from`]
+    /// at `x`; without lags it does not depend on `x`, and an RK4 step computes it once).
+    #[inline]
+    fn derivative_delivered(&self, x: &PlantState, d: &Delivered, targets: &Targets) -> PlantState {
         // Until the exhaustion event the engines burn on, so the mass stays linear in time
         // across the dry mass and the event search sees a smooth function. An RK4 stage of
         // the sub-step holding the event can lie past the dry mass (never the accepted
@@ -375,13 +382,25 @@ impl Plant {
         h: f64,
     ) -> PlantState {
         let targets = self.targets(commands, exhausted);
-        rk4_step(
-            |_t, s: &PlantState| self.derivative_from(s, &targets, firing, exhausted),
-            t,
-            x,
-            h,
-        )
-        .renormalised()
+        if self.has_actuator_lags() {
+            rk4_step(
+                |_t, s: &PlantState| self.derivative_from(s, &targets, firing, exhausted),
+                t,
+                x,
+                h,
+            )
+            .renormalised()
+        } else {
+            // Without lags what the actuators deliver is constant over the step.
+            let d = self.delivered_from(x, &targets, firing, exhausted);
+            rk4_step(
+                |_t, s: &PlantState| self.derivative_delivered(s, &d, &targets),
+                t,
+                x,
+                h,
+            )
+            .renormalised()
+        }
     }
 
     pub fn altitude(&self, x: &PlantState) -> f64 {
@@ -481,33 +500,35 @@ impl Plant {
         // is not worth an RK4 step (it would only add round-off).
         while end - t > super::events::crossing_tolerance_s(end) {
             let h = end - t;
-            let x0 = run.state;
             let exhausted = run.propellant_exhausted;
-            let x1 = self.rk4(&x0, commands, firing, exhausted, t, h);
-            let altitude_event = |x: &PlantState| self.altitude(x);
-            let mass_event = |x: &PlantState| x.mass_kg - self.dry_mass_kg;
-
-            let mut first: Option<(f64, Event)> = None;
-            let mut consider = |event: Event, g: &dyn Fn(&PlantState) -> f64| {
-                let (g0, g1) = (g(&x0), g(&x1));
-                if g0 > 0.0 && g1 <= 0.0 {
-                    let tau = find_crossing(
-                        |s| g(&self.rk4(&x0, commands, firing, exhausted, t, s)),
-                        g0,
-                        g1,
-                        h,
-                        t,
-                    );
-                    if first.is_none_or(|(best, _)| tau < best) {
-                        first = Some((tau, event));
-                    }
-                }
+            let x1 = self.rk4(&run.state, commands, firing, exhausted, t, h);
+            let x0 = &run.state;
+            let crossing = |g: &dyn Fn(&PlantState) -> f64, g0: f64, g1: f64| {
+                find_crossing(
+                    |s| g(&self.rk4(x0, commands, firing, exhausted, t, s)),
+                    g0,
+                    g1,
+                    h,
+                    t,
+                )
             };
+            let mut first: Option<(f64, Event)> = None;
+            // The event functions are evaluated directly on both ends; only a sign change
+            // (rare) searches through the dynamically dispatched re-integration.
             if !exhausted {
-                consider(Event::Exhaustion, &mass_event);
+                let (g0, g1) = (x0.mass_kg - self.dry_mass_kg, x1.mass_kg - self.dry_mass_kg);
+                if g0 > 0.0 && g1 <= 0.0 {
+                    let tau = crossing(&|x: &PlantState| x.mass_kg - self.dry_mass_kg, g0, g1);
+                    first = Some((tau, Event::Exhaustion));
+                }
             }
-            consider(Event::Touchdown, &altitude_event);
-
+            let (g0, g1) = (self.altitude(x0), self.altitude(&x1));
+            if g0 > 0.0 && g1 <= 0.0 {
+                let tau = crossing(&|x: &PlantState| self.altitude(x), g0, g1);
+                if first.is_none_or(|(best, _)| tau < best) {
+                    first = Some((tau, Event::Touchdown));
+                }
+            }
             let Some((tau, event)) = first else {
                 run.state = x1;
                 return None;
@@ -515,7 +536,7 @@ impl Plant {
             run.state = if tau >= h {
                 x1
             } else {
-                self.rk4(&x0, commands, firing, exhausted, t, tau)
+                self.rk4(&run.state, commands, firing, exhausted, t, tau)
             };
             t = if tau >= h { end } else { t + tau };
             match event {
