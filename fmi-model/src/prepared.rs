@@ -188,6 +188,9 @@ impl<E, X> Lists<E, X> {
 #[derive(Default)]
 struct SetPlan {
     settable_in: u16,
+    /// Whether an element has a bound narrower than the doubles' own range (else the
+    /// check is one of finiteness).
+    bounded: bool,
     layout: Layout,
 }
 
@@ -221,6 +224,9 @@ impl<M> PreparedSet<M> {
         let shown: &M = model;
         let plan = |entries: &mut [Setter<M>]| SetPlan {
             settable_in: entries.iter().fold(u16::MAX, |all, e| all & e.settable_in),
+            bounded: entries
+                .iter()
+                .any(|e| e.lowest > -f64::MAX || e.highest < f64::MAX),
             layout: Layout::of(shown, entries, |e| (e.place, e.element), |e| &mut e.offset),
         };
         let Some(list) = self.lists.ready(vrs, lookup, plan) else {
@@ -232,10 +238,16 @@ impl<M> PreparedSet<M> {
         }
         // Checked before anything is written, so a refused call changes nothing. The
         // comparisons are combined without branching: a refusal is the rare case.
-        let admitted = entries
-            .iter()
-            .zip(values)
-            .fold(true, |ok, (e, &v)| ok & (v >= e.lowest) & (v <= e.highest));
+        let admitted = if plan.bounded {
+            entries
+                .iter()
+                .zip(values)
+                .fold(true, |ok, (e, &v)| ok & (v >= e.lowest) & (v <= e.highest))
+        } else {
+            // Within [-MAX, MAX] is finite: `v - v` is 0 exactly then (NaN otherwise).
+            #[allow(clippy::eq_op)]
+            values.iter().fold(true, |ok, &v| ok & (v - v == 0.0))
+        };
         if !admitted {
             return false;
         }
@@ -378,6 +390,20 @@ mod tests {
         assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
         assert!(!set.write(&[1, 3], &[5.0, 0.0, 5.0], &mut model, INIT, setters));
         assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn a_list_without_bounds_admits_every_finite_value_and_nothing_else() {
+        let mut set = PreparedSet::default();
+        let mut model: M = [0.0; 4];
+        for v in [f64::MAX, -f64::MAX, f64::MIN_POSITIVE, -0.0, 1e-310] {
+            assert!(set.write(&[0], &[v], &mut model, INIT, setters), "{v}");
+            assert_eq!(model[0].to_bits(), v.to_bits());
+        }
+        for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(!set.write(&[0], &[v], &mut model, INIT, setters), "{v}");
+            assert_eq!(model[0], 1e-310);
+        }
     }
 
     /// Lists taking turns (the feedthrough outputs, then all of them) are each looked up

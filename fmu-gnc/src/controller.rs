@@ -14,7 +14,10 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 /// The navigation state (LanderPlant outputs), as exchanged: scalar-first quaternion.
+/// `repr(C)`: the 14 values lie in the order a master exchanges them (the plant's outputs),
+/// so a set of all of them is one block copy.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[repr(C)]
 pub struct NavigationInputs {
     pub r_nue_m: [f64; 3],
     pub v_nue_mps: [f64; 3],
@@ -269,12 +272,22 @@ pub fn gnc_sample(
     t_s: f64,
 ) -> Sample {
     let advance = gnc_advance(design, start_time_s, guidance, profile, nav, t_s);
+    let outputs = gnc_outputs(design, &advance, guidance, nav);
+    Sample { advance, outputs }
+}
+
+/// The outputs of the sample whose memory is `advance` ([`gnc_advance`] from the guidance
+/// state `guidance` and `nav`): [`gnc_sample`] after its first part, for a caller that keeps
+/// the two apart (the FMU builds each where it keeps it).
+pub fn gnc_outputs(
+    design: &GncDesign,
+    advance: &Advance,
+    guidance: &GuidanceState,
+    nav: &NavigationInputs,
+) -> GncOutputs {
     let params = &design.params;
     let Some(q) = advance.attitude else {
-        return Sample {
-            advance,
-            outputs: safe_outputs(params, guidance, advance.roll.phi_rad),
-        };
+        return safe_outputs(params, guidance, advance.roll.phi_rad);
     };
     let next = &advance.guidance;
     let attitude = tracking_attitude_command(
@@ -284,7 +297,7 @@ pub fn gnc_sample(
         &next.a_thrust_cmd_nue,
         &advance.roll,
     );
-    let outputs = GncOutputs {
+    GncOutputs {
         thrust_cmd_n: thrust_magnitude_n(
             nav.mass_kg,
             &next.a_thrust_cmd_nue,
@@ -302,8 +315,7 @@ pub fn gnc_sample(
         tilt_error_rad: attitude.tilt_rad,
         guidance_phase: next.phase as i32,
         time_to_go_s: next.time_to_go_s,
-    };
-    Sample { advance, outputs }
+    }
 }
 
 /// In the thruster model, turns the sample's torque command into the duties of the coming

@@ -49,9 +49,11 @@ pub struct SubSteps {
 
 impl SubSteps {
     pub fn new(h: f64, h_sub: f64) -> Self {
-        // The common case (the communication step is one sub-step): what the general rule
-        // below gives for it, without its division and floor.
-        if h <= h_sub {
+        // The common case (the communication step is one sub-step, up to the rounding of a
+        // master's `(t + h) - t`): what the general rule below gives for it, without its
+        // division and floor. For `h_sub <= h <= 2 h_sub` the difference is exact, and it is
+        // the rule's remainder with one full sub-step.
+        if h - h_sub <= REMAINDER_MERGE_FRACTION * h_sub {
             return Self {
                 count: 1,
                 size: h_sub,
@@ -113,6 +115,45 @@ mod tests {
                 "h = {h}: {total}"
             );
             assert!(s.last > 0.0 && s.last <= h_sub * (1.0 + 1e-9));
+        }
+    }
+
+    #[test]
+    fn the_one_sub_step_shortcut_agrees_with_the_general_rule() {
+        // The general rule, written out without the shortcut.
+        let general = |h: f64, h_sub: f64| {
+            let full = (h / h_sub + REMAINDER_MERGE_FRACTION).floor().max(0.0);
+            let remainder = h - full * h_sub;
+            if full >= 1.0 && remainder <= REMAINDER_MERGE_FRACTION * h_sub {
+                (full as usize, h - (full - 1.0) * h_sub)
+            } else {
+                (full as usize + 1, remainder)
+            }
+        };
+        let h_sub: f64 = 0.01;
+        let mut cases = vec![
+            h_sub,
+            0.004,
+            1e-300,
+            (17.2 + 0.01) - 17.2,
+            (0.03 + 0.01) - 0.03,
+        ];
+        let mut h = h_sub;
+        for _ in 0..64 {
+            h = f64::from_bits(h.to_bits() + (1 << 20));
+            cases.push(h);
+            cases.push(f64::from_bits(
+                h_sub.to_bits() - (h.to_bits() - h_sub.to_bits()),
+            ));
+        }
+        for h in cases {
+            let s = SubSteps::new(h, h_sub);
+            let (count, last) = general(h, h_sub);
+            assert_eq!(
+                (s.count, s.last.to_bits()),
+                (count, last.to_bits()),
+                "h = {h:e}"
+            );
         }
     }
 
