@@ -278,7 +278,9 @@ pub fn gnc_sample(
 
 /// The outputs of the sample whose memory is `advance` ([`gnc_advance`] from the guidance
 /// state `guidance` and `nav`): [`gnc_sample`] after its first part, for a caller that keeps
-/// the two apart (the FMU builds each where it keeps it).
+/// the two apart (the FMU builds each where it keeps it). Never inlined: one call is one
+/// evaluation of the attitude law, which is what a profile counts (tests/speed).
+#[inline(never)]
 pub fn gnc_outputs(
     design: &GncDesign,
     advance: &Advance,

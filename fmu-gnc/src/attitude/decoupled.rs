@@ -9,6 +9,7 @@ use nalgebra::Vector3;
 /// of angle gains, `omega_ref = 0` (but for a shaped manoeuvre), gyroscopic feed-forward kept.
 /// Unsaturated. The errors are [`thrust_axis_errors`](super::errors::thrust_axis_errors) of the
 /// sample, computed once for the law and the diagnostics.
+#[inline(always)]
 pub fn decoupled_torque_body(
     gains: &AttitudeGains,
     errors: &ThrustAxisErrors,

@@ -29,6 +29,7 @@ impl ThrustAxisErrors {
 
 /// Angle between the body thrust axis and the thrust direction of the guidance attitude
 /// `q_guid`; unchanged by any rotation of `q` about the thrust axis.
+#[inline(always)]
 pub fn tilt_angle(q_body_to_nue: &Attitude, q_guid: &Attitude) -> f64 {
     angle_between(
         &(q_body_to_nue * thrust_axis_body()),
@@ -43,6 +44,7 @@ pub fn tilt_angle(q_body_to_nue: &Attitude, q_guid: &Attitude) -> f64 {
 /// Because `q_refL` carries the attitude's own 1-3-2 angle about the thrust axis, `q_e` has no
 /// share of the roll command: the lateral errors only move the thrust axis toward guidance
 /// and are exactly zero when it is on target, whatever the roll (ERRATA 7).
+#[inline(always)]
 pub fn thrust_axis_errors(
     q_body_to_nue: &Attitude,
     q_guid: &Attitude,

@@ -79,6 +79,7 @@ pub fn braking_limited_error(
 /// 0 (ERRATA defaults), a shaped manoeuvre feeds its rate and, as `I alpha_ref`, its
 /// acceleration forward (`reference`). `e` is braking-limited per axis when the gains ask for
 /// it ([`braking_limited_error`]).
+#[inline(always)]
 pub fn pd_torque_body(
     gains: &AttitudeGains,
     angle_error_body: &Vector3<f64>,

@@ -108,6 +108,7 @@ pub fn attitude_command(
 
 /// As [`attitude_command`], with a moving reference about the thrust axis (a shaped manoeuvre,
 /// see [`profile`]): its angle in place of `phi_cmd`, its rate and acceleration fed forward.
+#[inline(always)]
 pub fn tracking_attitude_command(
     settings: &AttitudeSettings,
     q_body_to_nue: &Attitude,

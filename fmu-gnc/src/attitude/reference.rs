@@ -14,6 +14,7 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 /// this choice is the limit along the pitch plane (body x-y), the way a pitching lander gets
 /// there, so inputs near `-t` in that plane map next to it. A zero vector (no direction) is
 /// treated as `t`: the identity. Always a unit quaternion for finite input.
+#[inline(always)]
 pub fn q_guid(a_thrust_nue: &Vector3<f64>) -> Attitude {
     let (ax, ay, az) = (a_thrust_nue.x, a_thrust_nue.y, a_thrust_nue.z);
     let sin_norm = libm::hypot(ax, az);

@@ -17,6 +17,7 @@ impl<const N: usize> OdeState for SVector<f64, N> {
 }
 
 /// One classical RK4 step of size `h` from `(t, x)` for `x' = f(t, x)`.
+#[inline(always)]
 pub fn rk4_step<S: OdeState>(f: impl Fn(f64, &S) -> S, t: f64, x: &S, h: f64) -> S {
     let half = 0.5 * h;
     let k1 = f(t, x);

@@ -303,7 +303,7 @@ impl Plant {
 
     /// The derivative at `x` with the actuators delivering `d` (from [`Plant::delivered_from`]
     /// at `x`; without lags it does not depend on `x`, and an RK4 step computes it once).
-    #[inline]
+    #[inline(always)]
     fn derivative_delivered(&self, x: &PlantState, d: &Delivered, targets: &Targets) -> PlantState {
         // Until the exhaustion event the engines burn on, so the mass stays linear in time
         // across the dry mass and the event search sees a smooth function. An RK4 stage of
@@ -394,6 +394,7 @@ impl Plant {
             // Without lags what the actuators deliver is constant over the step.
             let d = self.delivered_from(x, &targets, firing, exhausted);
             rk4_step(
+                #[inline(always)]
                 |_t, s: &PlantState| self.derivative_delivered(s, &d, &targets),
                 t,
                 x,
