@@ -159,6 +159,10 @@ pub enum DegenerateInput {
 /// close samples (1e-5) is not.
 pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-3;
 
+/// Distance of a sum of squares from 1 inside which the norm is surely within
+/// [`QUATERNION_NORM_TOLERANCE`] of 1 (its square's band is 2e-3 wide on either side).
+const UNIT_SQUARES_MARGIN: f64 = 1.9 * QUATERNION_NORM_TOLERANCE;
+
 /// The norm of `q`, computed without overflow or underflow (components scaled by the largest
 /// before squaring), and `q` scaled by that largest component.
 pub fn quaternion_norm(q: [f64; 4]) -> (f64, [f64; 4]) {
@@ -173,6 +177,13 @@ pub fn quaternion_norm(q: [f64; 4]) -> (f64, [f64; 4]) {
 
 /// The attitude of a quaternion input and, when its norm is far from 1, that norm.
 fn input_attitude(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
+    // The common case without the scaling: a sum of squares this close to 1 has a norm
+    // within the tolerance whatever the rounding ((1 -+ 1e-3)^2 = 1 -+ 2e-3 + 1e-6), so the
+    // exact test below would take the first branch too.
+    let squares = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    if (squares - 1.0).abs() <= UNIT_SQUARES_MARGIN {
+        return (attitude_from_scalar_first(q), None);
+    }
     let (norm, scaled) = quaternion_norm(q);
     if (norm - 1.0).abs() <= QUATERNION_NORM_TOLERANCE || norm < MIN_QUATERNION_NORM {
         // Unit-norm inputs exactly as they come (trajectories bit for bit); (near) zero ones
@@ -201,6 +212,21 @@ pub struct Advance {
     attitude: Option<Attitude>,
 }
 
+impl Default for Advance {
+    /// A placeholder for storage marked as holding no sample; never read as a sample's
+    /// memory (its gravity is 0).
+    fn default() -> Self {
+        Self {
+            guidance: GuidanceState::initial(0.0),
+            profile: PhiProfile::default(),
+            degenerate: None,
+            non_unit_quaternion_norm: None,
+            roll: RollReference::default(),
+            attitude: None,
+        }
+    }
+}
+
 /// Result of one sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
@@ -210,7 +236,9 @@ pub struct Sample {
 }
 
 /// The memory a sample at absolute time `t_s` leaves behind (see [`Advance`]); the part of
-/// [`gnc_sample`] before the attitude law, so the two cannot disagree.
+/// [`gnc_sample`] before the attitude law, so the two cannot disagree. Inlined: each caller
+/// gets the memory built where it keeps it.
+#[inline(always)]
 pub fn gnc_advance(
     design: &GncDesign,
     start_time_s: f64,
@@ -271,25 +299,31 @@ pub fn gnc_sample(
     nav: &NavigationInputs,
     t_s: f64,
 ) -> Sample {
-    let advance = gnc_advance(design, start_time_s, guidance, profile, nav, t_s);
-    let outputs = gnc_outputs(design, &advance, guidance, nav);
-    Sample { advance, outputs }
+    let mut sample = Sample {
+        advance: gnc_advance(design, start_time_s, guidance, profile, nav, t_s),
+        outputs: GncOutputs::default(),
+    };
+    gnc_outputs(design, &sample.advance, guidance, nav, &mut sample.outputs);
+    sample
 }
 
 /// The outputs of the sample whose memory is `advance` ([`gnc_advance`] from the guidance
-/// state `guidance` and `nav`): [`gnc_sample`] after its first part, for a caller that keeps
-/// the two apart (the FMU builds each where it keeps it). Never inlined: one call is one
-/// evaluation of the attitude law, which is what a profile counts (tests/speed).
+/// state `guidance` and `nav`), written to `out`: [`gnc_sample`] after its first part, for
+/// a caller that keeps the two apart (the FMU writes each where it keeps it). Never inlined:
+/// one call is one evaluation of the attitude law, which is what a profile counts
+/// (tests/speed).
 #[inline(never)]
 pub fn gnc_outputs(
     design: &GncDesign,
     advance: &Advance,
     guidance: &GuidanceState,
     nav: &NavigationInputs,
-) -> GncOutputs {
+    out: &mut GncOutputs,
+) {
     let params = &design.params;
     let Some(q) = advance.attitude else {
-        return safe_outputs(params, guidance, advance.roll.phi_rad);
+        *out = safe_outputs(params, guidance, advance.roll.phi_rad);
+        return;
     };
     let next = &advance.guidance;
     let attitude = tracking_attitude_command(
@@ -299,7 +333,7 @@ pub fn gnc_outputs(
         &next.a_thrust_cmd_nue,
         &advance.roll,
     );
-    GncOutputs {
+    *out = GncOutputs {
         thrust_cmd_n: thrust_magnitude_n(
             nav.mass_kg,
             &next.a_thrust_cmd_nue,
@@ -317,7 +351,7 @@ pub fn gnc_outputs(
         tilt_error_rad: attitude.tilt_rad,
         guidance_phase: next.phase as i32,
         time_to_go_s: next.time_to_go_s,
-    }
+    };
 }
 
 /// In the thruster model, turns the sample's torque command into the duties of the coming
@@ -366,6 +400,28 @@ mod tests {
     fn sample(params: &GncParameters, nav: &NavigationInputs, t_s: f64) -> Sample {
         let design = params.design().unwrap();
         gnc_sample(&design, 0.0, &initial(), &PhiProfile::default(), nav, t_s)
+    }
+
+    #[test]
+    fn the_unit_shortcut_decides_as_the_scaled_norm_does() {
+        // Norms swept across both edges of the tolerance band, in four directions.
+        for k in 0..=4000 {
+            let norm = 1.0 - 2e-3 + 1e-6 * f64::from(k);
+            for dir in [
+                [1.0, 0.0, 0.0, 0.0],
+                [0.5, -0.5, 0.5, 0.5],
+                [0.1, 0.7, -0.7, 0.1],
+            ] {
+                let unit = quaternion_norm(dir).0;
+                let q = dir.map(|c| c / unit * norm);
+                let (exact, _) = quaternion_norm(q);
+                let expected_warning =
+                    ((exact - 1.0).abs() > QUATERNION_NORM_TOLERANCE).then_some(exact);
+                let (attitude, warning) = input_attitude(q);
+                assert_eq!(warning, expected_warning, "norm {norm}");
+                assert!(attitude.is_some());
+            }
+        }
     }
 
     #[test]

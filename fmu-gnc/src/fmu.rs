@@ -49,7 +49,7 @@ pub struct LanderGnc {
     design: Option<GncDesign>,
     /// A cache, not state: a restored or deserialized instance evaluates afresh.
     #[serde(skip)]
-    evaluated: Option<Evaluated>,
+    evaluated: Evaluated,
 }
 
 /// The latest sample evaluated without being committed, with the time and inputs it was
@@ -57,9 +57,13 @@ pub struct LanderGnc {
 /// state are those it was evaluated with: these change only in `exit_initialization`
 /// (which evaluates and stores afresh) and in `do_step` (which consumes it); a parameter
 /// set in initialization mode is followed by `exit_initialization`; a reset and
-/// restoring an FMU state replace the whole instance, this cache included.
-#[derive(Debug, Clone)]
+/// restoring an FMU state replace the whole instance, this cache included. Kept in place
+/// with a validity mark rather than as an `Option`: a read writes the memory where it
+/// stays, not into a value moved there.
+#[derive(Debug, Clone, Default)]
 struct Evaluated {
+    /// Whether the rest holds a sample not yet consumed.
+    valid: bool,
     /// The time it was evaluated at, exactly: a step from that very time needs no
     /// [`SampleTime`] comparison.
     t_bits: u64,
@@ -78,7 +82,7 @@ struct Evaluated {
 /// ulps off ours (`k h` against our `(k - 1) h + h`, a third of the steps of a 0.01 s grid)
 /// still commits the kept sample; tests below check the equivalence against `gnc_sample`.
 /// A shaped thrust-axis profile is a function of `t` itself: with it on, the key holds `t`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 struct SampleTime {
     phi_cmd_applies: bool,
     cycle: i64,
@@ -105,7 +109,7 @@ impl Default for LanderGnc {
             time_s: 0.0,
             initialized: false,
             design: None,
-            evaluated: None,
+            evaluated: Evaluated::default(),
         }
     }
 }
@@ -185,7 +189,9 @@ impl LanderGnc {
                 &unchecked
             }
         };
-        let advance = gnc_advance(
+        let time = self.sample_time(self.time_s);
+        let kept = &mut self.evaluated;
+        kept.advance = gnc_advance(
             design,
             self.start_time_s,
             &self.guidance,
@@ -193,9 +199,19 @@ impl LanderGnc {
             &self.inputs,
             self.time_s,
         );
-        self.outputs = gnc_outputs(design, &advance, &self.guidance, &self.inputs);
-        let pwpf = actuate(design, &mut self.outputs, &self.pwpf);
-        report(&advance, self.time_s, log);
+        gnc_outputs(
+            design,
+            &kept.advance,
+            &self.guidance,
+            &self.inputs,
+            &mut self.outputs,
+        );
+        kept.pwpf = actuate(design, &mut self.outputs, &self.pwpf);
+        kept.t_bits = self.time_s.to_bits();
+        kept.time = time;
+        kept.input_bits = self.inputs.to_bits();
+        kept.valid = true;
+        report(&kept.advance, self.time_s, log);
         // Validated parameters give finite outputs for the finite inputs the layer admits;
         // before the end of initialization has validated them, the outputs shown are
         // provisional and may not be.
@@ -206,13 +222,6 @@ impl LanderGnc {
                 self.time_s
             ));
         }
-        self.evaluated = Some(Evaluated {
-            t_bits: self.time_s.to_bits(),
-            time: self.sample_time(self.time_s),
-            input_bits: self.inputs.to_bits(),
-            advance,
-            pwpf,
-        });
     }
 
     /// Commit the sample at the current time: the memory of the evaluated one if it was
@@ -229,7 +238,7 @@ impl LanderGnc {
             e.t_bits == self.time_s.to_bits() || e.time == self.sample_time(self.time_s)
         };
         match &self.evaluated {
-            Some(e) if e.input_bits == bits && same_time(e) => {
+            e if e.valid && e.input_bits == bits && same_time(e) => {
                 report(&e.advance, self.time_s, log);
                 self.guidance = e.advance.guidance;
                 self.profile = e.advance.profile;
@@ -237,7 +246,7 @@ impl LanderGnc {
             }
             // A master that steps before it reads (fmpy's loop, Jacobi) evaluated the
             // previous inputs at this time.
-            Some(e) if !self.inputs_reach_memory(e) && same_time(e) => {
+            e if e.valid && !self.inputs_reach_memory(e) && same_time(e) => {
                 self.guidance = e.advance.guidance;
                 self.profile = e.advance.profile;
             }
@@ -249,7 +258,7 @@ impl LanderGnc {
                 self.pwpf = pwpf;
             }
         }
-        self.evaluated = None;
+        self.evaluated.valid = false;
     }
 
     /// Whether the memory a sample at the time of `e` commits may differ from `e`'s for the

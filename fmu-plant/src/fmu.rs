@@ -80,7 +80,7 @@ impl LanderPlant {
         };
         let x = &run.state;
         let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
-        self.delivered.take();
+        self.delivered = OnceCell::new();
         self.outputs = Outputs {
             r_nue: r_nue.into(),
             v_nue: v_nue.into(),
