@@ -10,7 +10,7 @@ use fmi_abi::unpack::Unpacked;
 use fmi_testkit::{Fmi2Functions, Instance};
 use fmu_gnc::actuation::PwpfBank;
 use fmu_gnc::attitude::profile::PhiProfile;
-use fmu_gnc::controller::{actuate, gnc_sample, NavigationInputs};
+use fmu_gnc::controller::{actuate, gnc_advance, gnc_outputs, GncOutputs, NavigationInputs};
 use fmu_gnc::guidance::sequencer::GuidanceState;
 use fmu_gnc::params::{GncDesign, GncParameters};
 use fmu_plant::physics::continuous::unit_attitude;
@@ -230,6 +230,7 @@ pub struct PlainPair {
     guidance: GuidanceState,
     profile: PhiProfile,
     pwpf: PwpfBank,
+    outputs: GncOutputs,
     plant: Plant,
     run: PlantRun,
 }
@@ -245,6 +246,7 @@ impl PlainPair {
             guidance: GuidanceState::initial(design.params.gravity_mps2),
             profile: PhiProfile::default(),
             pwpf: PwpfBank::default(),
+            outputs: GncOutputs::default(),
             design,
             plant,
             run,
@@ -311,16 +313,18 @@ fn plain(p: &mut PlainPair, steps: usize) -> [f64; 14] {
     for k in 0..steps {
         let t = k as f64 * STEP_S;
         let nav = p.navigation();
-        let mut sample = gnc_sample(&p.design, 0.0, &p.guidance, &p.profile, &nav, t);
-        p.pwpf = actuate(&p.design, &mut sample.outputs, &p.pwpf);
-        p.guidance = sample.advance.guidance;
-        p.profile = sample.advance.profile;
+        // `gnc_sample` in its two parts, the outputs kept in place as the FMU keeps them.
+        let advance = gnc_advance(&p.design, 0.0, &p.guidance, &p.profile, &nav, t);
+        gnc_outputs(&p.design, &advance, &p.guidance, &nav, &mut p.outputs);
+        p.pwpf = actuate(&p.design, &mut p.outputs, &p.pwpf);
+        p.guidance = advance.guidance;
+        p.profile = advance.profile;
         let commands = Commands {
-            thrust_cmd_n: sample.outputs.thrust_cmd_n,
-            torque_cmd_body_nm: Vector3::from(sample.outputs.torque_cmd_body_nm),
+            thrust_cmd_n: p.outputs.thrust_cmd_n,
+            torque_cmd_body_nm: Vector3::from(p.outputs.torque_cmd_body_nm),
         };
         p.plant
-            .advance_with_duty(&mut p.run, &commands, &sample.outputs.rcs_duty, t, STEP_S);
+            .advance_with_duty(&mut p.run, &commands, &p.outputs.rcs_duty, t, STEP_S);
     }
     p.navigation_array()
 }
