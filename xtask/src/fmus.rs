@@ -401,14 +401,38 @@ fn package_one_fmi3(
     let identifier = fmi3_model_identifier(&xml)
         .with_context(|| format!("in the FMI 3.0 model description of {}", fmu.package))?;
     check_described(fmu, Fmi::V3, &identifier, xml.contains("<ModelExchange"))?;
-    let mut entries = vec![Entry::file(
-        "modelDescription.xml",
-        xml.clone().into_bytes(),
-    )];
+    // The page lists the variables of the one declaration, read from the FMI 2.0 description.
+    let fmi2 = ModelDescription::from_xml(&describe(ws, fmu, Fmi::V2)?).with_context(|| {
+        format!(
+            "{} printed an FMI 2.0 model description that does not parse",
+            fmu.package
+        )
+    })?;
+    let facts = doc_page::Fmi3Facts {
+        instantiation_token: xml_attribute(&xml, "instantiationToken")
+            .with_context(|| format!("in the FMI 3.0 model description of {}", fmu.package))?,
+        generation_tool: xml_attribute(&xml, "generationTool").ok(),
+    };
+    let mut entries = vec![
+        Entry::file(
+            "documentation/index.html",
+            doc_page::render_fmi3(&fmi2, &facts).into_bytes(),
+        ),
+        Entry::file("modelDescription.xml", xml.clone().into_bytes()),
+    ];
     entries.extend(binaries(fmu, builds, out_dir, &identifier, FmiVersion::V3)?);
     let fmu_path = out_dir.join(format!("{identifier}.fmu"));
     fmu_zip::write(&fmu_path, entries)?;
     Ok(fmu_path)
+}
+
+/// The first value of attribute `name` in `xml`.
+fn xml_attribute(xml: &str, name: &str) -> Result<String> {
+    xml.split(&format!(" {name}=\""))
+        .nth(1)
+        .and_then(|rest| rest.split('"').next())
+        .map(str::to_owned)
+        .with_context(|| format!("no {name} attribute"))
 }
 
 /// The `modelIdentifier` of an FMI 3.0 description: every interface element must name the
