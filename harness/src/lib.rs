@@ -5,6 +5,7 @@
 
 pub mod loader;
 pub mod master;
+pub mod memory;
 pub mod metrics;
 pub mod montecarlo;
 pub mod paper;

@@ -160,10 +160,10 @@ fn fits_in_memory(simulation: &Simulation) -> anyhow::Result<()> {
     let points = ((system.stop_time - system.start_time) / system.step_size).ceil() + 1.0;
     let columns = simulation.column_names().len() + 1;
     let bytes = points * columns as f64 * 8.0;
-    let Some(available) = memory_available_bytes() else {
+    let Some(available) = harness::memory::available_bytes() else {
         return Ok(());
     };
-    if bytes > 0.8 * available {
+    if bytes > harness::memory::USABLE_FRACTION * available {
         anyhow::bail!(
             "{} s in steps of {} s is {points:.3e} communication points; recording {columns} \
              columns of each would take {:.3e} bytes of memory, more than the {:.1} GB this \
@@ -176,14 +176,6 @@ fn fits_in_memory(simulation: &Simulation) -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-/// `MemAvailable` of /proc/meminfo (Linux); `None` where there is no such file.
-fn memory_available_bytes() -> Option<f64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
 }
 
 fn init_logging() {

@@ -204,6 +204,45 @@ fn a_step_too_small_to_record_in_memory_is_refused_before_the_run() {
     assert!(!out.exists());
 }
 
+/// A campaign whose rows could not be summarised in memory is refused before any flight,
+/// with its numbers (flights, memory, manifest size, the largest -n that fits); one that
+/// fits runs.
+#[test]
+fn a_campaign_too_large_to_summarise_is_refused_before_any_flight_with_the_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("mc");
+    let stderr = refused(&[
+        "monte-carlo",
+        "-n",
+        "100000000",
+        "--out-dir",
+        out_dir.to_str().unwrap(),
+        "--quiet",
+        "--no-plots",
+    ]);
+    assert!(
+        stderr.contains("2100000000 flights (100000000 runs x 7 phi_cmd x 3 laws)"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("bytes of memory"), "{stderr}");
+    assert!(
+        stderr.contains("manifest.csv would take about 1.680e12 bytes"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("flights fit (-n "), "{stderr}");
+    assert!(!out_dir.exists(), "the refused campaign wrote files");
+    // The largest count of all: no overflow, the same refusal.
+    let stderr = refused(&[
+        "monte-carlo",
+        "-n",
+        &u64::MAX.to_string(),
+        "--out-dir",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(stderr.contains("too many for one campaign"), "{stderr}");
+    assert!(!out_dir.exists());
+}
+
 /// A campaign path that does not exist is named as given.
 #[test]
 fn a_missing_campaign_path_is_named_as_given() {

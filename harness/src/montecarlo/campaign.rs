@@ -36,7 +36,9 @@ pub struct Flight {
 
 impl CampaignSpec {
     pub fn flight_count(&self) -> u64 {
-        self.runs_per_point * (self.phi_cmd_deg.len() * self.laws.len()) as u64
+        // Saturating: a count beyond u64 is refused by the size check, never wrapped.
+        self.runs_per_point
+            .saturating_mul((self.phi_cmd_deg.len() * self.laws.len()) as u64)
     }
 
     /// The flight with index `index` (< [`CampaignSpec::flight_count`]).

@@ -212,9 +212,51 @@ fn check_phi_cmd_deg(values: &[f64]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Memory a flight's row takes once read back for the summary: the row and its strings.
+const ROW_HEAP_BYTES: usize = 128;
+/// Bytes a flight's row takes in manifest.csv (the paper scenario's rows: 804 on average).
+const MANIFEST_ROW_BYTES: f64 = 800.0;
+
+/// Refuses, before any flight, a campaign whose rows could not be summarised in this
+/// machine's memory (the summary, the report and the figure read every row back), with the
+/// numbers that decide it.
+fn check_campaign_size(spec: &CampaignSpec, shard: Shard) -> anyhow::Result<()> {
+    let flights = shard.len(spec.flight_count());
+    let row_bytes = (std::mem::size_of::<Row>() + ROW_HEAP_BYTES) as f64;
+    let memory = flights as f64 * row_bytes;
+    let Some(available) = crate::memory::available_bytes() else {
+        return Ok(());
+    };
+    let usable = crate::memory::USABLE_FRACTION * available;
+    if memory > usable {
+        anyhow::bail!(
+            "{flights} flights ({} runs x {} phi_cmd x {} laws{}) are too many for one \
+             campaign on this machine: the summary reads every row back, about {:.3e} bytes \
+             of memory ({row_bytes:.0} per flight) against the {:.1} GB available, and \
+             manifest.csv would take about {:.3e} bytes; at most {} flights fit (-n {} \
+             with these points)",
+            spec.runs_per_point,
+            spec.phi_cmd_deg.len(),
+            spec.laws.len(),
+            if shard.is_whole() {
+                String::new()
+            } else {
+                format!(", shard {shard}")
+            },
+            memory,
+            available / 1e9,
+            flights as f64 * MANIFEST_ROW_BYTES,
+            (usable / row_bytes).floor(),
+            (usable / row_bytes / (spec.phi_cmd_deg.len() * spec.laws.len()) as f64).floor()
+        );
+    }
+    Ok(())
+}
+
 pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32> {
     check_phi_cmd_deg(&args.campaign.phi_cmd_deg)?;
     let spec = args.campaign.spec();
+    check_campaign_size(&spec, args.shard.unwrap_or(Shard::WHOLE))?;
     let options = runner::RunOptions {
         fmu_dir: fmu_dir.to_owned(),
         out_dir: args.out_dir.clone(),
