@@ -4,6 +4,16 @@ use crate::master::{MasterError, Simulation};
 use crate::system::{ssp, PackageDir, ParamValue, SystemDescription, SystemError};
 use std::path::Path;
 
+/// The `--scenario` help of the campaign commands, naming every built-in scenario.
+pub fn campaign_scenario_help() -> String {
+    let names: Vec<&str> = BUILT_IN.iter().map(|(name, _)| *name).collect();
+    format!(
+        "Scenario: a built-in one ({}) or a .toml or .ssd scenario or .ssp package with \
+         instances named `gnc` and `plant`",
+        names.join(", ")
+    )
+}
+
 /// Built-in scenarios: name, TOML text (the same files as `harness/scenarios/*.toml`).
 pub const BUILT_IN: &[(&str, &str)] = &[
     ("paper", include_str!("../scenarios/paper.toml")),

@@ -243,6 +243,17 @@ fn a_campaign_too_large_to_summarise_is_refused_before_any_flight_with_the_estim
     assert!(!out_dir.exists());
 }
 
+/// The campaign help names every built-in scenario and the file kinds a campaign takes.
+#[test]
+fn the_campaign_help_names_every_built_in_scenario() {
+    let output = harness(&["monte-carlo", "--help"]);
+    let help = String::from_utf8_lossy(&output.stdout);
+    for (name, _) in harness::scenarios::BUILT_IN {
+        assert!(help.contains(name), "{name} missing from: {help}");
+    }
+    assert!(help.contains(".ssp package"), "{help}");
+}
+
 /// A campaign path that does not exist is named as given.
 #[test]
 fn a_missing_campaign_path_is_named_as_given() {

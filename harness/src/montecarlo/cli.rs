@@ -11,9 +11,7 @@ use std::path::{Path, PathBuf};
 /// flights bit for bit, on any machine, with any number of workers or shards.
 #[derive(Debug, Clone, clap::Args)]
 pub struct CampaignArgs {
-    /// Scenario: paper, upright, descent-roll, or a .toml/.ssd file with instances named
-    /// `gnc` and `plant`.
-    #[arg(long, default_value = "paper")]
+    #[arg(long, default_value = "paper", help = crate::scenarios::campaign_scenario_help())]
     pub scenario: String,
     /// Campaign seed (0 ..= 2^63 - 1). Run j draws its dispersions from ChaCha8 seeded
     /// with output j of SplitMix64 seeded with this.
@@ -131,7 +129,7 @@ pub struct ReplayArgs {
         allow_negative_numbers = true
     )]
     pub phi_cmd_deg: f64,
-    /// Scenario (without --manifest).
+    /// The scenario without --manifest: as for monte-carlo.
     #[arg(long, default_value = "paper")]
     pub scenario: String,
     #[command(flatten)]
