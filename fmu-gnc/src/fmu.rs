@@ -496,7 +496,6 @@ fmi_model::enumeration! {
 }
 
 const THRUSTERS: &[&str] = &[
-    "thruster 0",
     "thruster 1",
     "thruster 2",
     "thruster 3",
@@ -504,11 +503,9 @@ const THRUSTERS: &[&str] = &[
     "thruster 5",
     "thruster 6",
     "thruster 7",
+    "thruster 8",
 ];
 const THRUSTER_XYZ: &[&str] = &[
-    "thruster 0, body x",
-    "thruster 0, body y",
-    "thruster 0, body z",
     "thruster 1, body x",
     "thruster 1, body y",
     "thruster 1, body z",
@@ -530,6 +527,9 @@ const THRUSTER_XYZ: &[&str] = &[
     "thruster 7, body x",
     "thruster 7, body y",
     "thruster 7, body z",
+    "thruster 8, body x",
+    "thruster 8, body y",
+    "thruster 8, body z",
 ];
 const NUE: &[&str] = &["North", "Up", "East"];
 const BODY: &[&str] = &[

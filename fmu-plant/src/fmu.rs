@@ -403,7 +403,6 @@ const QUATERNION: &[&str] = &[
 ];
 const Q_NUE: &[&str] = &["scalar part", NUE_AXES[0], NUE_AXES[1], NUE_AXES[2]];
 const THRUSTERS: &[&str] = &[
-    "thruster 0",
     "thruster 1",
     "thruster 2",
     "thruster 3",
@@ -411,11 +410,9 @@ const THRUSTERS: &[&str] = &[
     "thruster 5",
     "thruster 6",
     "thruster 7",
+    "thruster 8",
 ];
 const THRUSTER_XYZ: &[&str] = &[
-    "thruster 0, body x",
-    "thruster 0, body y",
-    "thruster 0, body z",
     "thruster 1, body x",
     "thruster 1, body y",
     "thruster 1, body z",
@@ -437,6 +434,9 @@ const THRUSTER_XYZ: &[&str] = &[
     "thruster 7, body x",
     "thruster 7, body y",
     "thruster 7, body z",
+    "thruster 8, body x",
+    "thruster 8, body y",
+    "thruster 8, body z",
 ];
 const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
 const TRANSLATION_STATE: &[&str] = &[

@@ -64,7 +64,7 @@ fn torque_free_tumbling_is_unchanged_with_zero_duty() {
 
 #[test]
 fn a_single_pulse_gives_the_analytic_changes_of_angular_and_linear_velocity() {
-    // GIVEN the lander at rest, upright, engines off; thruster 0 sits at (1, 0, 0) m and
+    // GIVEN the lander at rest, upright, engines off; thruster 1 sits at (1, 0, 0) m and
     // pushes along body +y: torque (0, 0, F) about the pitch axis alone (no gyroscopic term)
     let p = thruster_model();
     let (plant, mut run) = start(&p);
@@ -190,7 +190,8 @@ fn a_thruster_direction_that_is_not_a_unit_vector_is_refused_by_name() {
     p.thrusters.direction_body[3 * 5 + 2] = -0.5;
     let e = p.validate().unwrap_err();
     assert_eq!((e.field, e.index), ("thrusters.direction_body", Some(15)));
-    assert!(e.reason.contains("thruster 5"), "{e}");
+    // Elements 16..18 (1-based) are the sixth thruster's.
+    assert!(e.reason.contains("thruster 6"), "{e}");
     let mut p = thruster_model();
     p.rcs_model = 3;
     assert_eq!(p.validate().unwrap_err().field, "rcs_model");

@@ -223,7 +223,10 @@ impl PlantParameters {
                 (norm - 1.0).abs() <= 1e-6,
                 ("thrusters.direction_body", Some(3 * k)),
                 layout.direction_body[3 * k],
-                &format!("thruster {k}'s direction has norm {norm}; it must be a unit vector"),
+                &format!(
+                    "thruster {}'s direction has norm {norm}; it must be a unit vector",
+                    k + 1
+                ),
             )?;
         }
         non_negative(
