@@ -11,6 +11,7 @@ pub mod montecarlo;
 pub mod paper;
 pub mod plots;
 pub mod report;
+pub mod requirements;
 pub mod results;
 pub mod scenarios;
 pub mod system;

@@ -61,6 +61,9 @@ enum Command {
         /// Exchange ordering, overriding the scenario's.
         #[arg(long, value_enum)]
         ordering: Option<OrderingArg>,
+        /// Also write the verdict and every requirement as a JUnit XML report here.
+        #[arg(long, value_name = "FILE")]
+        junit: Option<PathBuf>,
     },
     /// Fly a scenario with the coupled, decoupled and reduced laws: table, CSVs and plots.
     #[command(allow_negative_numbers = true)]
@@ -221,8 +224,11 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             record,
             ordering,
             format,
+            junit,
         } => {
+            let started = std::time::Instant::now();
             let (mut system, spec) = harness::verdict::scenario::load(&scenario)?;
+            let requirements = harness::verdict::scenario::requirements(&scenario)?;
             // Every bad --set at once; names and types are checked against the FMUs when the
             // simulation is built, with the rest of the scenario.
             let mut problems = Vec::new();
@@ -285,6 +291,12 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                     }
                 }));
             }
+            if let Ok(simulation) = &simulation {
+                problems.extend(harness::requirements::unrecorded(
+                    &requirements,
+                    simulation.column_names(),
+                ));
+            }
             if !problems.is_empty() {
                 match &simulation {
                     Err(MasterError::Resolve { system, .. }) => anyhow::bail!(
@@ -315,6 +327,24 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 verdict.describe(spec.expect)
             );
             exit_code = verdict.exit_code(spec.expect);
+            let judged = harness::requirements::judge(&requirements, &trajectory);
+            for j in &judged {
+                println!("{}", j.describe());
+                if !j.holds() {
+                    exit_code = exit_code.max(harness::verdict::EXIT_FAILED_VERDICT);
+                }
+            }
+            if let Some(path) = junit {
+                let suite = harness::requirements::junit::suite(
+                    &simulation.system().name,
+                    started.elapsed().as_secs_f64(),
+                    (verdict.exit_code(spec.expect) == harness::verdict::EXIT_OK).then(String::new),
+                    &verdict.describe(spec.expect),
+                    &judged,
+                );
+                harness::requirements::junit::write(&path, &[suite])?;
+                println!("wrote {}", path.display());
+            }
         }
         Command::Paper {
             scenario,

@@ -105,6 +105,8 @@ pub fn split_scenario(text: &str) -> Result<(String, Spec), String> {
         .map_err(|e| e.to_string())
         .and_then(|mut table| {
             let verdict = table.remove("verdict");
+            // Requirements are read by `crate::requirements::from_toml`.
+            table.remove("requirement");
             let mut only = toml::Table::new();
             if let Some(v) = verdict {
                 only.insert("verdict".into(), v);
@@ -121,7 +123,8 @@ pub fn split_scenario(text: &str) -> Result<(String, Spec), String> {
                 let name = head.trim_start_matches('[').trim_start();
                 inside = name.starts_with("verdict]")
                     || name.starts_with("verdict.")
-                    || name.starts_with("verdict ");
+                    || name.starts_with("verdict ")
+                    || name.starts_with("requirement]");
             }
             if inside {
                 ""

@@ -57,3 +57,18 @@ pub fn read_toml(path: &Path) -> Result<SystemDescription, SystemError> {
     })?;
     parse_toml(&text, path)
 }
+
+/// The `[[requirement]]` entries of a scenario (none for an SSP file).
+pub fn requirements(
+    name_or_path: &str,
+) -> Result<Vec<crate::requirements::Requirement>, SystemError> {
+    match toml_text(name_or_path)? {
+        None => Ok(Vec::new()),
+        Some((origin, text)) => {
+            crate::requirements::from_toml(&text).map_err(|message| SystemError::Syntax {
+                path: origin.into(),
+                message,
+            })
+        }
+    }
+}

@@ -1,0 +1,174 @@
+//! `[[requirement]]` entries of a scenario: judged after the run with their robustness,
+//! part of the exit code, written as JUnit XML; a bad one refused before the run.
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn harness(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_harness"))
+        .arg("--fmu-dir")
+        .arg(common::fmu_dir())
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .unwrap()
+}
+
+/// The landing scenario (it lands at 323.61 s) with these requirements appended.
+fn landing_with(dir: &Path, requirements: &[(&str, &str)]) -> String {
+    let landing = harness::scenarios::BUILT_IN
+        .iter()
+        .find(|(name, _)| *name == "landing")
+        .unwrap()
+        .1;
+    let mut text = landing.to_owned();
+    for (name, formula) in requirements {
+        text.push_str(&format!(
+            "\n[[requirement]]\nname = \"{name}\"\nformula = \"{formula}\"\n"
+        ));
+    }
+    let path = dir.join("landing-requirements.toml");
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_owned()
+}
+
+/// What a CI system reads of a JUnit report.
+#[derive(serde::Deserialize)]
+struct TestSuites {
+    #[serde(rename = "@tests")]
+    tests: usize,
+    #[serde(rename = "@failures")]
+    failures: usize,
+    testsuite: Vec<TestSuite>,
+}
+
+#[derive(serde::Deserialize)]
+struct TestSuite {
+    #[serde(rename = "@name")]
+    name: String,
+    testcase: Vec<TestCase>,
+}
+
+#[derive(serde::Deserialize)]
+struct TestCase {
+    #[serde(rename = "@name")]
+    name: String,
+    failure: Option<Failure>,
+}
+
+#[derive(serde::Deserialize)]
+struct Failure {
+    #[serde(rename = "@message")]
+    message: String,
+}
+
+#[test]
+fn a_violated_requirement_fails_the_run_with_its_robustness_and_in_the_junit_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = landing_with(
+        dir.path(),
+        &[
+            ("above 700 m", "always [0, 100] plant.r_nue[2] > 700"),
+            ("above ground", "always [0, 300] plant.r_nue[2] > -0.01"),
+        ],
+    );
+    let junit = dir.path().join("reports/junit.xml");
+    let out = dir.path().join("run.csv");
+    let output = harness(&[
+        "run",
+        &scenario,
+        "-o",
+        out.to_str().unwrap(),
+        "--junit",
+        junit.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(3), "{stdout}");
+    // The altitude at t = 100 s is 276.7 m: 423.3 m short of 700 m.
+    assert!(
+        stdout.contains("requirement above 700 m: VIOLATED (robustness -4.23"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("at t = 100 s"), "{stdout}");
+    assert!(
+        stdout.contains("requirement above ground: holds (robustness +"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("landed inside the envelope"), "{stdout}");
+
+    let report: TestSuites =
+        serde_xml_rs::from_str(&std::fs::read_to_string(&junit).unwrap()).unwrap();
+    assert_eq!((report.tests, report.failures), (3, 1));
+    let suite = &report.testsuite[0];
+    assert_eq!(suite.name, "landing");
+    let names: Vec<&str> = suite.testcase.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["verdict", "above 700 m", "above ground"]);
+    assert!(suite.testcase[0].failure.is_none());
+    let failure = suite.testcase[1]
+        .failure
+        .as_ref()
+        .expect("the violated one fails");
+    assert!(
+        failure.message.contains("robustness -4.23"),
+        "{}",
+        failure.message
+    );
+    assert!(suite.testcase[2].failure.is_none());
+}
+
+#[test]
+fn requirements_that_hold_leave_the_exit_code_of_the_verdict() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = landing_with(
+        dir.path(),
+        &[
+            ("above ground", "always [0, 300] plant.r_nue[2] > -0.01"),
+            ("descends", "eventually [0, 320] plant.r_nue[2] < 10"),
+        ],
+    );
+    let out = dir.path().join("run.csv");
+    let output = harness(&["run", &scenario, "-o", out.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}");
+    assert_eq!(
+        stdout.matches(": holds (robustness +").count(),
+        2,
+        "{stdout}"
+    );
+}
+
+#[test]
+fn a_bad_requirement_is_refused_before_the_run_naming_it_and_the_position() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = landing_with(
+        dir.path(),
+        &[
+            ("typo", "always [0, 100 plant.r_nue[2] > 700"),
+            ("unknown signal", "always [0, 10] plant.altitude_m > 0"),
+        ],
+    );
+    let out = dir.path().join("run.csv");
+    let output = harness(&["run", &scenario, "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("requirement 1 (\"typo\"): formula \"always [0, 100 plant.r_nue[2] > 700\" at character 16: expected \"]\""),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "refused before the run");
+
+    let scenario = landing_with(
+        dir.path(),
+        &[("unknown signal", "always [0, 10] plant.altitude_m > 0")],
+    );
+    let output = harness(&["run", &scenario, "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr
+            .contains("requirement \"unknown signal\": plant.altitude_m is not a recorded signal"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "refused before the run");
+}
