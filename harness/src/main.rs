@@ -65,6 +65,20 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         junit: Option<PathBuf>,
     },
+    /// Run every scenario of a folder (.toml, .ssd, .ssp, in name order) as `run` does and
+    /// write one JUnit XML report: a test suite per scenario, a test case for its verdict and
+    /// one per requirement. Exit code 0 when all pass, 3 when one failed, 1 when one could
+    /// not be run.
+    Test {
+        /// The folder of scenarios.
+        dir: PathBuf,
+        /// The JUnit XML report.
+        #[arg(long, value_name = "FILE", default_value = "target/harness/junit.xml")]
+        junit: PathBuf,
+        /// Where each scenario's results go (<scenario file stem>.csv).
+        #[arg(long, default_value = "target/harness/test")]
+        out_dir: PathBuf,
+    },
     /// Fly a scenario with the coupled, decoupled and reduced laws: table, CSVs and plots.
     #[command(allow_negative_numbers = true)]
     Paper {
@@ -226,126 +240,28 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             format,
             junit,
         } => {
-            let started = std::time::Instant::now();
-            let (mut system, spec) = harness::verdict::scenario::load(&scenario)?;
-            let requirements = harness::verdict::scenario::requirements(&scenario)?;
-            // Every bad --set at once; names and types are checked against the FMUs when the
-            // simulation is built, with the rest of the scenario.
-            let mut problems = Vec::new();
-            let mut seen: Vec<(String, String, &str)> = Vec::new();
-            for set in &sets {
-                match parse_set(set) {
-                    Ok((instance, variable, value)) => {
-                        // Two values for one variable: which one was meant is not ours to
-                        // guess (a last-wins rule would drop one silently).
-                        if let Some((_, _, first)) = seen
-                            .iter()
-                            .find(|(i, v, _)| *i == instance && *v == variable)
-                        {
-                            problems.push(format!(
-                                "--set {set}: {instance}.{variable} is already set by --set \
-                                 {first}"
-                            ));
-                            continue;
-                        }
-                        seen.push((instance.clone(), variable.clone(), set.as_str()));
-                        if !system.set_parameter(&instance, &variable, value) {
-                            let names = system.instances.iter().map(|i| i.name.as_str());
-                            problems.push(format!(
-                                "--set {set}: no instance '{instance}'{}",
-                                harness::master::suggest::hint(&instance, names)
-                            ));
-                        }
-                    }
-                    Err(error) => problems.push(error.to_string()),
-                }
-            }
-
-            let format = harness::results::Format::for_output(&out, format)
-                .map_err(|problem| problems.push(format!("-o/--format: {problem}")))
-                .ok();
-            if !record.is_empty() {
-                system.record = Some(record);
-            }
-            match ordering {
-                Some(OrderingArg::GaussSeidel) => {
-                    system.ordering = harness::system::Ordering::GaussSeidel
-                }
-                Some(OrderingArg::Jacobi) => system.ordering = harness::system::Ordering::Jacobi,
-                None => {}
-            }
-            if let Some(note) = system.partial_last_step() {
-                eprintln!("harness: warning: {note}");
-            }
-            let simulation = Simulation::new(system, &cli.fmu_dir);
-            if let Err(MasterError::Resolve { problems: more, .. }) = &simulation {
-                // Say which problems come from the command line, not the scenario file.
-                problems.extend(more.iter().map(|problem| {
-                    let from = seen.iter().find(|(instance, variable, _)| {
-                        problem.starts_with(&format!("instance '{instance}': "))
-                            && problem.contains(&format!("'{variable}'"))
-                    });
-                    match from {
-                        Some((_, _, text)) => format!("{problem} (from --set {text})"),
-                        None => problem.clone(),
-                    }
-                }));
-            }
-            if let Ok(simulation) = &simulation {
-                problems.extend(harness::requirements::unrecorded(
-                    &requirements,
-                    simulation.column_names(),
-                ));
-            }
-            if !problems.is_empty() {
-                match &simulation {
-                    Err(MasterError::Resolve { system, .. }) => anyhow::bail!(
-                        "system '{system}' does not match its FMUs:\n  {}",
-                        problems.join("\n  ")
-                    ),
-                    _ => anyhow::bail!("{}", problems.join("\n")),
-                }
-            }
-            let simulation = simulation?;
-            fits_in_memory(&simulation)?;
-            let mut simulation = simulation;
-            let mut trajectory = Trajectory {
-                names: simulation.column_names().to_vec(),
-                ..Default::default()
-            };
-            let end = simulation.run(&mut trajectory)?;
-            let format = format.expect("refused before the run");
-            harness::results::write(&out, &trajectory, format)
-                .with_context(|| format!("writing {}", out.display()))?;
-            let verdict = harness::verdict::judge(&trajectory, &end, &spec.envelope);
-            println!(
-                "{}: {} rows x {} columns -> {}\nverdict: {}",
-                simulation.system().name,
-                trajectory.len(),
-                trajectory.names.len() + 1,
-                out.display(),
-                verdict.describe(spec.expect)
-            );
-            exit_code = verdict.exit_code(spec.expect);
-            let judged = harness::requirements::judge(&requirements, &trajectory);
-            for j in &judged {
-                println!("{}", j.describe());
-                if !j.holds() {
-                    exit_code = exit_code.max(harness::verdict::EXIT_FAILED_VERDICT);
-                }
-            }
+            let flown = run_scenario(
+                &RunRequest {
+                    scenario,
+                    out,
+                    sets,
+                    record,
+                    ordering,
+                    format,
+                },
+                &cli.fmu_dir,
+            )?;
+            exit_code = flown.exit_code;
             if let Some(path) = junit {
-                let suite = harness::requirements::junit::suite(
-                    &simulation.system().name,
-                    started.elapsed().as_secs_f64(),
-                    (verdict.exit_code(spec.expect) == harness::verdict::EXIT_OK).then(String::new),
-                    &verdict.describe(spec.expect),
-                    &judged,
-                );
-                harness::requirements::junit::write(&path, &[suite])?;
+                harness::requirements::junit::write(&path, &[flown.suite])?;
                 println!("wrote {}", path.display());
             }
         }
+        Command::Test {
+            dir,
+            junit,
+            out_dir,
+        } => exit_code = test_folder(&dir, &junit, &out_dir, &cli.fmu_dir)?,
         Command::Paper {
             scenario,
             out_dir,
@@ -376,6 +292,223 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         }
     }
     Ok(exit_code)
+}
+
+/// `harness test DIR`: see its help.
+fn test_folder(
+    dir: &std::path::Path,
+    junit: &std::path::Path,
+    out_dir: &std::path::Path,
+    fmu_dir: &std::path::Path,
+) -> anyhow::Result<i32> {
+    use harness::requirements::junit::{Case, Suite};
+    let entries =
+        std::fs::read_dir(dir).with_context(|| format!("reading the folder {}", dir.display()))?;
+    let mut scenarios: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("toml" | "ssd" | "ssp")
+            )
+        })
+        .collect();
+    scenarios.sort();
+    if scenarios.is_empty() {
+        anyhow::bail!("{}: no scenario (.toml, .ssd or .ssp) in it", dir.display());
+    }
+    let (mut failed, mut broken) = (0, 0);
+    let mut suites = Vec::new();
+    for path in &scenarios {
+        let stem = path
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        let request = RunRequest {
+            scenario: path.to_string_lossy().into_owned(),
+            out: out_dir.join(format!("{stem}.csv")),
+            sets: Vec::new(),
+            record: Vec::new(),
+            ordering: None,
+            format: None,
+        };
+        match run_scenario(&request, fmu_dir) {
+            Ok(flown) => {
+                failed += usize::from(flown.exit_code != harness::verdict::EXIT_OK);
+                suites.push(flown.suite);
+            }
+            Err(error) => {
+                broken += 1;
+                let message = format!("could not be run: {error:#}");
+                eprintln!("{}: {message}", path.display());
+                suites.push(Suite {
+                    name: stem,
+                    time_s: 0.0,
+                    cases: vec![Case {
+                        name: "run".into(),
+                        failure: Some(message.clone()),
+                        detail: message,
+                    }],
+                });
+            }
+        }
+    }
+    harness::requirements::junit::write(junit, &suites)?;
+    println!(
+        "{} scenarios: {} passed, {failed} failed, {broken} could not be run -> {}",
+        scenarios.len(),
+        scenarios.len() - failed - broken,
+        junit.display()
+    );
+    Ok(if broken > 0 {
+        harness::verdict::EXIT_ERROR
+    } else if failed > 0 {
+        harness::verdict::EXIT_FAILED_VERDICT
+    } else {
+        harness::verdict::EXIT_OK
+    })
+}
+
+/// What `harness run` flies.
+struct RunRequest {
+    scenario: String,
+    out: PathBuf,
+    sets: Vec<String>,
+    record: Vec<String>,
+    ordering: Option<OrderingArg>,
+    format: Option<harness::results::Format>,
+}
+
+/// A flown scenario: the exit code its verdict and requirements give, and its JUnit suite.
+struct Flown {
+    exit_code: i32,
+    suite: harness::requirements::junit::Suite,
+}
+
+/// `harness run`: every problem refused before the run, the run, its results written, the
+/// verdict and the requirements printed.
+fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Result<Flown> {
+    let RunRequest {
+        scenario,
+        out,
+        sets,
+        record,
+        ordering,
+        format,
+    } = request;
+    let started = std::time::Instant::now();
+    let (mut system, spec) = harness::verdict::scenario::load(scenario)?;
+    let requirements = harness::verdict::scenario::requirements(scenario)?;
+    // Every bad --set at once; names and types are checked against the FMUs when the
+    // simulation is built, with the rest of the scenario.
+    let mut problems = Vec::new();
+    let mut seen: Vec<(String, String, &str)> = Vec::new();
+    for set in sets {
+        match parse_set(set) {
+            Ok((instance, variable, value)) => {
+                // Two values for one variable: which one was meant is not ours to
+                // guess (a last-wins rule would drop one silently).
+                if let Some((_, _, first)) = seen
+                    .iter()
+                    .find(|(i, v, _)| *i == instance && *v == variable)
+                {
+                    problems.push(format!(
+                        "--set {set}: {instance}.{variable} is already set by --set \
+                         {first}"
+                    ));
+                    continue;
+                }
+                seen.push((instance.clone(), variable.clone(), set.as_str()));
+                if !system.set_parameter(&instance, &variable, value) {
+                    let names = system.instances.iter().map(|i| i.name.as_str());
+                    problems.push(format!(
+                        "--set {set}: no instance '{instance}'{}",
+                        harness::master::suggest::hint(&instance, names)
+                    ));
+                }
+            }
+            Err(error) => problems.push(error.to_string()),
+        }
+    }
+
+    let format = harness::results::Format::for_output(out, *format)
+        .map_err(|problem| problems.push(format!("-o/--format: {problem}")))
+        .ok();
+    if !record.is_empty() {
+        system.record = Some(record.clone());
+    }
+    match ordering {
+        Some(OrderingArg::GaussSeidel) => system.ordering = harness::system::Ordering::GaussSeidel,
+        Some(OrderingArg::Jacobi) => system.ordering = harness::system::Ordering::Jacobi,
+        None => {}
+    }
+    if let Some(note) = system.partial_last_step() {
+        eprintln!("harness: warning: {note}");
+    }
+    let simulation = Simulation::new(system, fmu_dir);
+    if let Err(MasterError::Resolve { problems: more, .. }) = &simulation {
+        // Say which problems come from the command line, not the scenario file.
+        problems.extend(more.iter().map(|problem| {
+            let from = seen.iter().find(|(instance, variable, _)| {
+                problem.starts_with(&format!("instance '{instance}': "))
+                    && problem.contains(&format!("'{variable}'"))
+            });
+            match from {
+                Some((_, _, text)) => format!("{problem} (from --set {text})"),
+                None => problem.clone(),
+            }
+        }));
+    }
+    if let Ok(simulation) = &simulation {
+        problems.extend(harness::requirements::unrecorded(
+            &requirements,
+            simulation.column_names(),
+        ));
+    }
+    if !problems.is_empty() {
+        match &simulation {
+            Err(MasterError::Resolve { system, .. }) => anyhow::bail!(
+                "system '{system}' does not match its FMUs:\n  {}",
+                problems.join("\n  ")
+            ),
+            _ => anyhow::bail!("{}", problems.join("\n")),
+        }
+    }
+    let simulation = simulation?;
+    fits_in_memory(&simulation)?;
+    let mut simulation = simulation;
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    let end = simulation.run(&mut trajectory)?;
+    let format = format.expect("refused before the run");
+    harness::results::write(out, &trajectory, format)
+        .with_context(|| format!("writing {}", out.display()))?;
+    let verdict = harness::verdict::judge(&trajectory, &end, &spec.envelope);
+    println!(
+        "{}: {} rows x {} columns -> {}\nverdict: {}",
+        simulation.system().name,
+        trajectory.len(),
+        trajectory.names.len() + 1,
+        out.display(),
+        verdict.describe(spec.expect)
+    );
+    let mut exit_code = verdict.exit_code(spec.expect);
+    let judged = harness::requirements::judge(&requirements, &trajectory);
+    for j in &judged {
+        println!("{}", j.describe());
+        if !j.holds() {
+            exit_code = exit_code.max(harness::verdict::EXIT_FAILED_VERDICT);
+        }
+    }
+    let suite = harness::requirements::junit::suite(
+        &simulation.system().name,
+        started.elapsed().as_secs_f64(),
+        (verdict.exit_code(spec.expect) == harness::verdict::EXIT_OK).then(String::new),
+        &verdict.describe(spec.expect),
+        &judged,
+    );
+    Ok(Flown { exit_code, suite })
 }
 
 #[cfg(test)]

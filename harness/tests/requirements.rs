@@ -172,3 +172,75 @@ fn a_bad_requirement_is_refused_before_the_run_naming_it_and_the_position() {
     );
     assert!(!out.exists(), "refused before the run");
 }
+
+#[test]
+fn harness_test_runs_every_scenario_of_a_folder_into_one_junit_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenarios = dir.path().join("scenarios");
+    std::fs::create_dir(&scenarios).unwrap();
+    let built_in = |name: &str| {
+        harness::scenarios::BUILT_IN
+            .iter()
+            .find(|(n, _)| *n == name)
+            .unwrap()
+            .1
+    };
+    std::fs::write(scenarios.join("a-upright.toml"), built_in("upright")).unwrap();
+    let landing = landing_with(
+        dir.path(),
+        &[("above ground", "always [0, 300] plant.r_nue[2] > -0.01")],
+    );
+    std::fs::copy(&landing, scenarios.join("b-landing.toml")).unwrap();
+    std::fs::write(scenarios.join("notes.txt"), "not a scenario").unwrap();
+    let junit = dir.path().join("junit.xml");
+    let out_dir = dir.path().join("out");
+    let run = |junit: &Path| {
+        harness(&[
+            "test",
+            scenarios.to_str().unwrap(),
+            "--junit",
+            junit.to_str().unwrap(),
+            "--out-dir",
+            out_dir.to_str().unwrap(),
+        ])
+    };
+    let output = run(&junit);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}");
+    assert!(
+        stdout.contains("2 scenarios: 2 passed, 0 failed, 0 could not be run"),
+        "{stdout}"
+    );
+    let report: TestSuites =
+        serde_xml_rs::from_str(&std::fs::read_to_string(&junit).unwrap()).unwrap();
+    assert_eq!((report.tests, report.failures), (3, 0));
+    let names: Vec<&str> = report.testsuite.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["upright", "landing"]);
+    assert!(out_dir.join("a-upright.csv").exists() && out_dir.join("b-landing.csv").exists());
+
+    // A violated requirement fails its scenario (3); one that cannot be run makes it 1.
+    let violated = landing_with(
+        dir.path(),
+        &[("above 700 m", "always [0, 100] plant.r_nue[2] > 700")],
+    );
+    std::fs::copy(&violated, scenarios.join("b-landing.toml")).unwrap();
+    let output = run(&junit);
+    assert_eq!(output.status.code(), Some(3));
+    std::fs::write(scenarios.join("c-broken.toml"), "name = \"broken\"\n").unwrap();
+    let output = run(&junit);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("3 scenarios: 1 passed, 1 failed, 1 could not be run"),
+        "{stdout}"
+    );
+    let report: TestSuites =
+        serde_xml_rs::from_str(&std::fs::read_to_string(&junit).unwrap()).unwrap();
+    assert_eq!((report.tests, report.failures), (4, 2));
+    let broken = &report.testsuite[2];
+    assert_eq!(broken.name, "c-broken");
+    assert!(broken.testcase[0]
+        .failure
+        .as_ref()
+        .is_some_and(|f| f.message.contains("could not be run")));
+}
