@@ -15,6 +15,7 @@ pub mod requirements;
 pub mod results;
 pub mod scenarios;
 pub mod system;
+pub mod vars;
 pub mod verdict;
 
 pub use loader::{Fmu, Instance};

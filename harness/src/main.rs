@@ -79,6 +79,16 @@ enum Command {
         #[arg(long, default_value = "target/harness/test")]
         out_dir: PathBuf,
     },
+    /// List an FMU's variables: name, causality, variability, type, start, unit,
+    /// description (tab-separated, one per line).
+    Vars {
+        /// The FMU file (a relative path is also looked up in the FMU directory).
+        fmu: PathBuf,
+        /// Only variables of this causality (parameter, calculatedParameter, input, output,
+        /// local, independent).
+        #[arg(long)]
+        causality: Option<String>,
+    },
     /// Fly a scenario with the coupled, decoupled and reduced laws: table, CSVs and plots.
     #[command(allow_negative_numbers = true)]
     Paper {
@@ -262,6 +272,25 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             junit,
             out_dir,
         } => exit_code = test_folder(&dir, &junit, &out_dir, &cli.fmu_dir)?,
+        Command::Vars { fmu, causality } => {
+            let only = match causality.as_deref() {
+                None => None,
+                Some(text) => Some(harness::vars::parse_causality(text).ok_or_else(|| {
+                    anyhow::anyhow!(
+                        "--causality {text}: not a causality (parameter, calculatedParameter, \
+                         input, output, local, independent)"
+                    )
+                })?),
+            };
+            let path = if fmu.exists() || fmu.is_absolute() {
+                fmu.clone()
+            } else {
+                cli.fmu_dir.join(&fmu)
+            };
+            let loaded = harness::loader::Fmu::load(&path)
+                .with_context(|| format!("loading {}", fmu.display()))?;
+            print!("{}", harness::vars::table(loaded.model_description(), only));
+        }
         Command::Paper {
             scenario,
             out_dir,

@@ -1,0 +1,52 @@
+//! `harness vars FMU`: an FMU's variables as a user wires them.
+mod common;
+
+use std::process::Command;
+
+fn harness(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_harness"))
+        .arg("--fmu-dir")
+        .arg(common::fmu_dir())
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn vars_lists_the_declared_variables_and_filters_by_causality() {
+    let output = harness(&["vars", "LanderPlant.fmu", "--causality", "input"]);
+    assert_eq!(output.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(
+        lines[0],
+        "name\tcausality\tvariability\ttype\tstart\tunit\tdescription"
+    );
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.starts_with("thrust_cmd\tinput\tcontinuous\tReal\t0\tN\t")),
+        "{stdout}"
+    );
+    assert!(
+        lines[1..]
+            .iter()
+            .all(|l| l.split('\t').nth(1) == Some("input")),
+        "{stdout}"
+    );
+    // All causalities: the parameters with their start values and units too.
+    let all = String::from_utf8_lossy(&harness(&["vars", "LanderPlant.fmu"]).stdout).into_owned();
+    assert!(
+        all.contains("m0\tparameter\tfixed\tReal\t900\tkg\t"),
+        "{all}"
+    );
+    assert!(all.lines().count() > lines.len());
+
+    let bad = harness(&["vars", "LanderPlant.fmu", "--causality", "outputs"]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--causality outputs: not a causality"));
+    let missing = harness(&["vars", "nosuch.fmu"]);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("loading nosuch.fmu"));
+}
