@@ -1,9 +1,12 @@
 //! The paper's Monte Carlo figure (its Fig. 6), one panel per metric that isolates the
 //! controller's effect, against phi_cmd: per law, the median (line, law's pattern and
-//! marker), the 5-95 % band (shaded) and the 99.73 % percentile (thin line). The error after
-//! the final hover is not shown: the hover removes what the controller did.
+//! marker), the range of all runs (shaded, minimum to maximum) and, where the runs support it
+//! (45 or more), the 90 %-confidence upper bound of the 95th percentile (thin line): no
+//! percentile is drawn that the run count cannot support. The error after the final hover is
+//! not shown: the hover removes what the controller did.
 use super::manifest::Row;
-use super::stats::{percentile, THREE_SIGMA};
+use super::stats::{percentile_of_sorted, quantile_upper_bound};
+use super::summary_csv::CONFIDENCE;
 use crate::plots::style::{self, tick, DRAW_ORDER};
 use crate::scenarios::Law;
 use plotters::coord::types::RangedCoordf64;
@@ -39,7 +42,8 @@ const PANELS: [Panel; 4] = [
     },
 ];
 
-/// Per law and phi_cmd: (phi, p5, p50, p95, p99.73) of one metric, NaN values left out.
+/// Per law and phi_cmd: (phi, minimum, median, maximum, p95 upper bound or NaN) of one
+/// metric, NaN values left out.
 fn bands(rows: &[Row], law: Law, value: fn(&Row) -> f64) -> Vec<[f64; 5]> {
     let mut phis: Vec<f64> = rows
         .iter()
@@ -50,19 +54,20 @@ fn bands(rows: &[Row], law: Law, value: fn(&Row) -> f64) -> Vec<[f64; 5]> {
     phis.dedup();
     phis.into_iter()
         .filter_map(|phi| {
-            let v: Vec<f64> = rows
+            let mut v: Vec<f64> = rows
                 .iter()
                 .filter(|r| r.flight.law == law && r.flight.phi_cmd_deg == phi)
                 .map(value)
                 .filter(|x| x.is_finite())
                 .collect();
+            v.sort_by(f64::total_cmp);
             (!v.is_empty()).then(|| {
                 [
                     phi,
-                    percentile(&v, 0.05),
-                    percentile(&v, 0.5),
-                    percentile(&v, 0.95),
-                    percentile(&v, THREE_SIGMA),
+                    v[0],
+                    percentile_of_sorted(&v, 0.5),
+                    v[v.len() - 1],
+                    quantile_upper_bound(&v, 0.95, CONFIDENCE).unwrap_or(f64::NAN),
                 ]
             })
         })
@@ -80,7 +85,10 @@ fn draw(rows: &[Row], path: &Path, title: &str) -> anyhow::Result<()> {
     let root = BitMapBackend::new(path, (1500, 1060)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(
-        &format!("{title}: median, 5-95 % band, 99.73 % (thin)"),
+        &format!(
+            "{title}: median, range of all runs, p95 upper bound at 90 % confidence (thin, \
+             from 45 runs per point)"
+        ),
         ("sans-serif", 22),
     )?;
     let laws: Vec<Law> = DRAW_ORDER
@@ -158,7 +166,7 @@ where
     Y: Ranged<ValueType = f64>,
 {
     let c = style::colour(law);
-    // The 5-95 % band: a polygon along p95 out and back along p5.
+    // The range of all runs: a polygon along the maximum out and back along the minimum.
     let outline: Vec<(f64, f64)> = b
         .iter()
         .map(|p| (p[0], p[3]))
@@ -166,7 +174,7 @@ where
         .collect();
     chart.draw_series(std::iter::once(Polygon::new(outline, c.mix(0.12).filled())))?;
     chart.draw_series(LineSeries::new(
-        b.iter().map(|p| (p[0], p[4])),
+        b.iter().filter(|p| p[4].is_finite()).map(|p| (p[0], p[4])),
         c.mix(0.8).stroke_width(1),
     ))?;
     let median: Vec<(f64, f64)> = b.iter().map(|p| (p[0], p[2])).collect();
