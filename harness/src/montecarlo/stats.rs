@@ -117,10 +117,23 @@ pub struct Ellipse {
     pub major_azimuth_deg: f64,
 }
 
-/// The 3-sigma ellipse of the points: the contour of the fitted bivariate normal (sample mean
-/// and covariance) that holds 99.73 % of its probability, i.e. the covariance ellipse scaled
-/// by sqrt(-2 ln(1 - 0.9973)) = 3.44 (the chi-square quantile with 2 degrees of freedom; the
-/// 1-D "3 sigma" scaled to two dimensions). `None` with fewer than 3 finite points.
+/// The scale of the sample covariance ellipse of `n` bivariate-normal points that holds a
+/// further point with probability `p`: the normal-theory prediction region
+/// `d^2 <= 2 (n + 1) (n - 1) / (n (n - 2)) F(2, n - 2; p)`, the F quantile with 2 numerator
+/// degrees of freedom in closed form, `F(2, m; p) = (m / 2) ((1 - p)^(-2/m) - 1)`. It grows
+/// from sqrt(-2 ln(1 - p)) (3.44 for 99.73 %, known mean and covariance) as the sample
+/// shrinks: 4.31 at n = 20, 3.58 at n = 100. `n` >= 3.
+pub fn prediction_ellipse_scale(n: usize, p: f64) -> f64 {
+    let (n, m) = (n as f64, n as f64 - 2.0);
+    let f = 0.5 * m * ((1.0 - p).powf(-2.0 / m) - 1.0);
+    (2.0 * (n + 1.0) * (n - 1.0) / (n * m) * f).sqrt()
+}
+
+/// The 3-sigma ellipse of the points: centred on their mean, along the axes of their sample
+/// covariance, sized to hold a further flight's point with probability 99.73 % if the points
+/// are bivariate normal ([`prediction_ellipse_scale`]: the small-sample factor included; a
+/// normal fit, which the report states, not a distribution-free bound). `None` with fewer
+/// than 3 finite points.
 pub fn three_sigma_ellipse(points: &[(f64, f64)]) -> Option<Ellipse> {
     let finite: Vec<(f64, f64)> = points
         .iter()
@@ -149,7 +162,7 @@ pub fn three_sigma_ellipse(points: &[(f64, f64)]) -> Option<Ellipse> {
     let radius = (0.25 * (snn - see).powi(2) + sne * sne).sqrt();
     let (major, minor) = (mean + radius, (mean - radius).max(0.0));
     let angle = 0.5 * (2.0 * sne).atan2(snn - see);
-    let scale = (-2.0 * (1.0 - THREE_SIGMA).ln()).sqrt();
+    let scale = prediction_ellipse_scale(finite.len(), THREE_SIGMA);
     Some(Ellipse {
         centre_north_m: mn,
         centre_east_m: me,
@@ -248,6 +261,52 @@ mod tests {
     }
 
     #[test]
+    fn the_prediction_scale_has_its_small_sample_factor_and_the_chi_square_limit() {
+        // 4.30 at n = 20 (the review's figure), tending to sqrt(-2 ln 0.0027) = 3.44.
+        assert!((prediction_ellipse_scale(20, THREE_SIGMA) - 4.306).abs() < 5e-3);
+        assert!((prediction_ellipse_scale(100, THREE_SIGMA) - 3.582).abs() < 1e-3);
+        let limit = (-2.0 * (1.0 - THREE_SIGMA).ln()).sqrt();
+        assert!((prediction_ellipse_scale(1_000_000, THREE_SIGMA) - limit).abs() < 1e-4);
+        // Coverage: of bivariate normal samples of 20, a further point falls inside the
+        // ellipse in 99.73 % of trials (normal draws by Box-Muller from a xorshift).
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let mut normal = || {
+            let (u, v) = (uniform(), uniform());
+            (
+                (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos(),
+                (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).sin(),
+            )
+        };
+        let trials = 40_000;
+        let mut inside = 0;
+        for _ in 0..trials {
+            let points: Vec<(f64, f64)> = (0..20)
+                .map(|_| {
+                    let (a, b) = normal();
+                    (a, 0.5 * a + b)
+                })
+                .collect();
+            let e = three_sigma_ellipse(&points).unwrap();
+            let (a, b) = normal();
+            let (n, east) = (a - e.centre_north_m, 0.5 * a + b - e.centre_east_m);
+            let t = e.major_azimuth_deg.to_radians();
+            let (along, across) = (n * t.cos() + east * t.sin(), -n * t.sin() + east * t.cos());
+            if (along / e.semi_major_m).powi(2) + (across / e.semi_minor_m).powi(2) <= 1.0 {
+                inside += 1;
+            }
+        }
+        let share = f64::from(inside) / f64::from(trials);
+        // Binomial spread of 40,000 trials at 0.9973: +-0.00026; 3.44 would give about 0.990.
+        assert!((share - THREE_SIGMA).abs() < 0.0012, "{share}");
+    }
+
+    #[test]
     fn the_ellipse_of_points_on_known_axes() {
         // GIVEN points spread +-2 along the North-East diagonal and +-1 across it, around (5, -3)
         let (c, s) = (45f64.to_radians().cos(), 45f64.to_radians().sin());
@@ -257,8 +316,8 @@ mod tests {
         }
         let e = three_sigma_ellipse(&points).unwrap();
         // THEN the centre, the axis direction and the sample standard deviations (sqrt(8/3),
-        // sqrt(2/3)) scaled by 3.44 come out
-        let k = (-2.0 * 0.0027f64.ln()).sqrt();
+        // sqrt(2/3)) scaled by the prediction factor of 4 points come out
+        let k = prediction_ellipse_scale(4, THREE_SIGMA);
         assert!((e.centre_north_m - 5.0).abs() < 1e-12 && (e.centre_east_m + 3.0).abs() < 1e-12);
         assert!((e.major_azimuth_deg - 45.0).abs() < 1e-9, "{e:?}");
         assert!((e.semi_major_m - k * (8.0f64 / 3.0).sqrt()).abs() < 1e-12);

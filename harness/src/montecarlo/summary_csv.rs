@@ -111,8 +111,11 @@ pub fn records(rows: &[Row], expect: Expect) -> Vec<Vec<String>> {
             let runs = cell.len() as u64;
             let errors = cell.iter().filter(|r| r.end.is_error()).count() as u64;
             let failures = cell.iter().filter(|r| !r.verdict.as_expected).count() as u64;
+            // A flight that failed its verdict (a hard landing, a crash) is no sample of where
+            // the lander sets down: it is counted in the statement, not in the ellipse.
             let touchdowns: Vec<(f64, f64)> = cell
                 .iter()
+                .filter(|r| r.verdict.as_expected)
                 .map(|r| (r.metrics.touchdown_north_m, r.metrics.touchdown_east_m))
                 .filter(|(n, e)| n.is_finite() && e.is_finite())
                 .collect();
