@@ -264,7 +264,8 @@ mod tests {
         assert_eq!(bound, stats::reliability_lower_bound(1, 11, 0.9));
         assert!(get("statement").starts_with("1 failures in 11 runs"));
         assert_eq!(get("ellipse_of"), "touchdown");
-        assert_eq!(get("ellipse_points"), "11");
+        // Flight 3, the hard landing, is no sample of where the lander sets down.
+        assert_eq!(get("ellipse_points"), "10");
         let azimuth: f64 = get("ellipse_major_azimuth_deg").parse().unwrap();
         assert!(
             (azimuth + 45.0).abs() < 2.0,
