@@ -302,7 +302,7 @@ mod tests {
             }
         }
         let share = f64::from(inside) / f64::from(trials);
-        // Binomial spread of 40,000 trials at 0.9973: +-0.00026; 3.44 would give about 0.990.
+        // Binomial spread of 40,000 trials at 0.9973: +-0.00026; 3.44 would give about 0.985.
         assert!((share - THREE_SIGMA).abs() < 0.0012, "{share}");
     }
 
