@@ -102,6 +102,24 @@ pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathB
          <h1>{t}</h1>\n",
         t = escape(title)
     );
+    let _ = writeln!(
+        html,
+        "<p>Written by lander-fmi harness {} at {} (UTC).</p>",
+        env!("CARGO_PKG_VERSION"),
+        utc_now()
+    );
+    // A campaign's definition holds what reproduces it: scenario, seed, grid, dispersions,
+    // and the FMUs' model names, GUIDs and generation tools.
+    let campaign = dir.join("campaign.toml");
+    if campaign.is_file() {
+        let text = std::fs::read_to_string(&campaign)
+            .with_context(|| format!("reading {}", campaign.display()))?;
+        let _ = writeln!(
+            html,
+            "<h2>Campaign definition and versions (campaign.toml)</h2>\n<pre>{}</pre>",
+            escape(&text)
+        );
+    }
     for path in files(dir, "-summary.txt")? {
         let text = std::fs::read_to_string(&path)?;
         let _ = writeln!(
@@ -137,6 +155,34 @@ pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathB
     let out = dir.join(FILE_NAME);
     std::fs::write(&out, html).with_context(|| format!("writing {}", out.display()))?;
     Ok(out)
+}
+
+/// The current time as `YYYY-MM-DD HH:MM:SS`, UTC (the civil calendar from the days since
+/// 1970, Howard Hinnant's algorithm).
+fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    civil(secs)
+}
+
+fn civil(secs: u64) -> String {
+    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1_460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02}",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60
+    )
 }
 
 /// `harness report DIR`: a campaign directory gets its summary and failed flights from its
@@ -179,6 +225,30 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
         let missing = dir.path().join("nonexistent");
         assert!(for_directory(&missing).is_err());
+    }
+
+    #[test]
+    fn the_calendar_date_of_known_instants() {
+        assert_eq!(civil(0), "1970-01-01 00:00:00");
+        assert_eq!(civil(951_782_400), "2000-02-29 00:00:00");
+        assert_eq!(civil(1_796_083_199), "2026-11-30 23:59:59");
+    }
+
+    #[test]
+    fn a_campaign_page_carries_its_definition_and_versions() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("campaign.toml"),
+            "[campaign]\nseed = 7\n[[versions.fmu]]\nguid = \"{g}\"\n",
+        )
+        .unwrap();
+        let html = std::fs::read_to_string(write(dir.path(), "t", &[]).unwrap()).unwrap();
+        assert!(html.contains("Campaign definition and versions"), "{html}");
+        assert!(
+            html.contains("seed = 7") && html.contains("guid = &quot;{g}&quot;"),
+            "{html}"
+        );
+        assert!(html.contains(concat!("harness ", env!("CARGO_PKG_VERSION"), " at ")));
     }
 
     #[test]
