@@ -19,6 +19,10 @@ pub struct Moments {
     pub std: f64,
     pub min: f64,
     pub max: f64,
+    /// Upper bounds of the 95th and 99.73rd percentiles at 90 % confidence (order
+    /// statistics); `None` where the runs cannot support them.
+    pub p95_ub90: Option<f64>,
+    pub p99_73_ub90: Option<f64>,
 }
 
 impl Moments {
@@ -34,12 +38,16 @@ impl Moments {
             n if n % 2 == 1 => sorted[half],
             _ => 0.5 * (sorted[half - 1] + sorted[half]),
         };
+        let bound =
+            |p| super::stats::quantile_upper_bound(&sorted, p, super::summary_csv::CONFIDENCE);
         Self {
             mean,
             median,
             std: if values.len() > 1 { var.sqrt() } else { 0.0 },
             min: values.iter().copied().fold(f64::INFINITY, f64::min),
             max: values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            p95_ub90: bound(0.95),
+            p99_73_ub90: bound(super::stats::THREE_SIGMA),
         }
     }
 }
@@ -103,11 +111,13 @@ pub fn summarise(rows: &[Row]) -> Vec<PointSummary> {
         .collect()
 }
 
-/// The summary as a text table: median, mean and maximum of each metric per point.
+/// The summary as a text table: median, mean and maximum of each metric per point, and the
+/// descent deviation's p95 and p99.73 as upper bounds at 90 % confidence where the runs
+/// support them (the footer says how many runs each needs).
 pub fn table(summary: &[PointSummary]) -> String {
     use std::fmt::Write;
     let mut out = format!(
-        "{:<10} {:>8} {:>7} {:>6}  {:^32}  {:^32}\n{:<35}  {:>10} {:>10} {:>10}  {:>10} {:>10} {:>10}\n",
+        "{:<10} {:>8} {:>7} {:>6}  {:^32}  {:^54}\n{:<35}  {:>10} {:>10} {:>10}  {:>10} {:>10} {:>10} {:>10} {:>10}\n",
         "law",
         "phi(deg)",
         "flights",
@@ -121,12 +131,15 @@ pub fn table(summary: &[PointSummary]) -> String {
         "median",
         "mean",
         "max",
+        "p95<=",
+        "p99.73<=",
     );
+    let shown = |b: Option<f64>| b.map_or_else(|| "-".to_owned(), |x| format!("{x:.3}"));
     for s in summary {
         let (t, d) = (s.descent_end_position_error_m, s.max_horizontal_deviation_m);
         let _ = writeln!(
             out,
-            "{:<10} {:>8.1} {:>7} {:>6}  {:>10.4} {:>10.4} {:>10.4}  {:>10.3} {:>10.3} {:>10.3}",
+            "{:<10} {:>8.1} {:>7} {:>6}  {:>10.4} {:>10.4} {:>10.4}  {:>10.3} {:>10.3} {:>10.3} {:>10} {:>10}",
             s.law.name(),
             s.phi_cmd_deg,
             s.flights,
@@ -137,8 +150,19 @@ pub fn table(summary: &[PointSummary]) -> String {
             d.median,
             d.mean,
             d.max,
+            shown(d.p95_ub90),
+            shown(d.p99_73_ub90),
         );
     }
+    let confidence = super::summary_csv::CONFIDENCE;
+    let _ = writeln!(
+        out,
+        "p95<=, p99.73<=: the smallest run that exceeds the percentile with {:.0} % confidence; \
+         '-' where the runs cannot support it: p95 needs {} runs per point, p99.73 {}",
+        100.0 * confidence,
+        super::stats::runs_for_quantile_bound(0.95, confidence),
+        super::stats::runs_for_quantile_bound(super::stats::THREE_SIGMA, confidence)
+    );
     out
 }
 
@@ -154,5 +178,42 @@ mod tests {
         assert_eq!(m.median, 3.0);
         assert!((m.std - 2f64.sqrt()).abs() < 1e-15);
         assert!(Moments::of(&[]).median.is_nan());
+        // Five runs support no tail percentile; 1,000 support both (p99.73's bound is an
+        // order statistic of the top ones).
+        assert_eq!((m.p95_ub90, m.p99_73_ub90), (None, None));
+        let many: Vec<f64> = (1..=1000).map(f64::from).collect();
+        let m = Moments::of(&many);
+        // The 960th: the smallest k with P(Binomial(1000, 0.95) <= k - 1) >= 0.9.
+        assert_eq!(m.p95_ub90, Some(960.0));
+        assert!(m.p99_73_ub90.is_some_and(|b| b > 997.3 && b <= 1000.0));
+    }
+
+    #[test]
+    fn the_printed_table_gives_tail_bounds_only_where_supported_and_says_what_they_need() {
+        let row = |p95_ub90, p99_73_ub90| PointSummary {
+            law: Law::Decoupled,
+            phi_cmd_deg: 150.0,
+            flights: 30,
+            failed: 0,
+            failed_verdicts: 0,
+            descent_end_position_error_m: Moments::of(&[1.0, 2.0]),
+            max_horizontal_deviation_m: Moments {
+                p95_ub90,
+                p99_73_ub90,
+                ..Moments::of(&[1.0, 2.0])
+            },
+        };
+        let text = table(&[row(None, None), row(Some(12.5), None)]);
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[2].ends_with("         -          -"), "{text}");
+        assert!(lines[3].ends_with("    12.500          -"), "{text}");
+        assert!(
+            text.contains("p95 needs 45 runs per point, p99.73 852"),
+            "{text}"
+        );
+        assert!(
+            !text.contains("p99.73 ") || !text.contains("p99.73 = "),
+            "{text}"
+        );
     }
 }
