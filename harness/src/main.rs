@@ -79,6 +79,12 @@ enum Command {
         #[arg(long, default_value = "target/harness/test")]
         out_dir: PathBuf,
     },
+    /// Print a shell completion script, e.g. `harness completions bash >
+    /// ~/.local/share/bash-completion/completions/harness`.
+    Completions {
+        /// bash, zsh, fish, elvish or powershell.
+        shell: clap_complete::Shell,
+    },
     /// List an FMU's variables: name, causality, variability, type, start, unit,
     /// description (tab-separated, one per line).
     Vars {
@@ -272,6 +278,15 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             junit,
             out_dir,
         } => exit_code = test_folder(&dir, &junit, &out_dir, &cli.fmu_dir)?,
+        Command::Completions { shell } => {
+            use clap::CommandFactory;
+            clap_complete::generate(
+                shell,
+                &mut Cli::command(),
+                "harness",
+                &mut std::io::stdout(),
+            );
+        }
         Command::Vars { fmu, causality } => {
             let only = match causality.as_deref() {
                 None => None,

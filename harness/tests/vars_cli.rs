@@ -1,4 +1,5 @@
-//! `harness vars FMU`: an FMU's variables as a user wires them.
+//! The small commands: `harness vars FMU` (an FMU's variables as a user wires them) and
+//! `harness completions SHELL`.
 mod common;
 
 use std::process::Command;
@@ -49,4 +50,30 @@ fn vars_lists_the_declared_variables_and_filters_by_causality() {
     let missing = harness(&["vars", "nosuch.fmu"]);
     assert_eq!(missing.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&missing.stderr).contains("loading nosuch.fmu"));
+}
+
+#[test]
+fn the_completion_scripts_know_every_command() {
+    for shell in ["bash", "zsh", "fish"] {
+        let output = harness(&["completions", shell]);
+        assert_eq!(output.status.code(), Some(0), "{shell}");
+        let script = String::from_utf8_lossy(&output.stdout);
+        for command in [
+            "run",
+            "paper",
+            "monte-carlo",
+            "merge-mc",
+            "replay",
+            "report",
+            "test",
+            "vars",
+        ] {
+            assert!(script.contains(command), "{shell} script lacks {command}");
+        }
+    }
+    assert_eq!(
+        harness(&["completions", "tcsh"]).status.code(),
+        Some(2),
+        "a usage error"
+    );
 }

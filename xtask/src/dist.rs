@@ -22,7 +22,7 @@ const FMI2_FOLDERS: [&str; 2] = ["linux64", "win64"];
 const FMI3_FOLDERS: [&str; 3] = ["x86_64-linux", "aarch64-linux", "x86_64-windows"];
 
 /// Files and folders of the workspace copied as the release's documentation.
-const DOCUMENTATION: [&str; 2] = ["README.md", "docs"];
+const DOCUMENTATION: [&str; 3] = ["README.md", "CHANGELOG.md", "docs"];
 const LICENSES: [&str; 2] = ["LICENSE-MIT", "LICENSE-APACHE"];
 
 pub fn run(ws: &Workspace) -> Result<PathBuf> {
