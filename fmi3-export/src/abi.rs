@@ -1065,7 +1065,11 @@ fn step<M: Model>(
     let mut from = t;
     let mut finished = false;
     for _ in 0..=MAX_EVENTS_PER_STEP {
-        let (outcome, advance) = fmi_export::step::advance_checked(inst, f, from, end - from, end)?;
+        // The master's own h for the step as asked (what FMI 2.0 passes too: `(t + h) - t`
+        // can differ from h in its last bit, and a model that integrates over h would then
+        // fly another trajectory); after an event, the rest of the step.
+        let span = if from == t { h } else { end - from };
+        let (outcome, advance) = fmi_export::step::advance_checked(inst, f, from, span, end)?;
         success = success.and(outcome);
         let (at, terminated, reason) = match advance {
             Advance::Complete => {
