@@ -39,6 +39,8 @@ pub struct Flyer {
     /// The last row of `trajectory` followed by the simulation's final values: all the
     /// verdict and the touchdown metrics read.
     last: Trajectory,
+    /// The scenario's requirements: a flight that violates one did not end as expected.
+    requirements: Vec<crate::requirements::Requirement>,
 }
 
 impl Flyer {
@@ -96,7 +98,21 @@ impl Flyer {
             nominal,
             trajectory,
             last,
+            requirements: Vec::new(),
         })
+    }
+
+    /// Judges every flight by these requirements too (their signals must be recorded:
+    /// [`campaign_system`] records them).
+    pub fn with_requirements(
+        mut self,
+        requirements: Vec<crate::requirements::Requirement>,
+    ) -> anyhow::Result<Self> {
+        let problems =
+            crate::requirements::unrecorded(&requirements, self.simulation.column_names());
+        anyhow::ensure!(problems.is_empty(), "{}", problems.join("\n"));
+        self.requirements = requirements;
+        Ok(self)
     }
 
     pub fn simulation(&self) -> &Simulation {
@@ -179,7 +195,24 @@ impl Flyer {
             &metrics::Columns::default(),
             TERMINAL_TARGET_NUE,
         )?;
-        Ok((metrics, end, Judged::of(&judged, self.spec.expect)))
+        let mut judged = Judged::of(&judged, self.spec.expect);
+        let violated: Vec<String> =
+            crate::requirements::judge(&self.requirements, &self.trajectory)
+                .iter()
+                .filter(|r| !r.holds())
+                .map(|r| r.describe())
+                .collect();
+        if !violated.is_empty() {
+            judged.as_expected = false;
+            let detail = std::mem::take(&mut judged.detail);
+            judged.detail = [detail]
+                .into_iter()
+                .filter(|d| !d.is_empty())
+                .chain(violated)
+                .collect::<Vec<_>>()
+                .join("; ");
+        }
+        Ok((metrics, end, judged))
     }
 }
 
@@ -199,7 +232,17 @@ pub fn campaign_system(
     system.record = if record_all {
         None
     } else {
-        Some(METRIC_COLUMNS.iter().map(|c| c.to_string()).collect())
+        let mut record: Vec<String> = METRIC_COLUMNS.iter().map(|c| c.to_string()).collect();
+        // The requirements' signals too, unless a recorded vector holds them already.
+        for r in verdict::scenario::requirements(scenario)? {
+            for signal in r.formula.signals() {
+                let base = signal.split('[').next().unwrap_or(signal);
+                if !record.iter().any(|c| c == signal || c == base) {
+                    record.push(signal.to_owned());
+                }
+            }
+        }
+        Some(record)
     };
     Ok((system, spec))
 }

@@ -17,7 +17,8 @@ pub fn fly(
     fmu_dir: &Path,
 ) -> anyhow::Result<(Row, Trajectory)> {
     let (system, spec) = campaign_system(scenario, true)?;
-    let mut flyer = Flyer::new(system, spec, fmu_dir)?;
+    let requirements = crate::verdict::scenario::requirements(scenario)?;
+    let mut flyer = Flyer::new(system, spec, fmu_dir)?.with_requirements(requirements)?;
     let row = flyer.fly(flight, ranges);
     Ok((row, flyer.trajectory().clone()))
 }

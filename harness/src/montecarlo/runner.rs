@@ -75,9 +75,11 @@ pub fn run_resumed(
     anyhow::ensure!(options.workers > 0, "--workers must be at least 1");
     let started = Instant::now();
     let (system, verdict_spec) = campaign_system(&spec.scenario, false)?;
+    let requirements = crate::verdict::scenario::requirements(&spec.scenario)?;
     // The first instance pair is loaded here, so a bad scenario or FMU directory fails before
     // any file is written; the first worker then takes it over.
-    let first = Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?;
+    let first = Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?
+        .with_requirements(requirements.clone())?;
     let manifest_path = options.out_dir.join(manifest::FILE_NAME);
     let total = spec.flight_count();
     let shard = options.shard;
@@ -155,7 +157,8 @@ pub fn run_resumed(
             let sender = sender.clone();
             let mut flyer = match spare.lock().map(|mut s| s.take()) {
                 Ok(Some(flyer)) => flyer,
-                _ => Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?,
+                _ => Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?
+                    .with_requirements(requirements.clone())?,
             };
             loop {
                 if stop.load(Ordering::Relaxed) {
@@ -174,6 +177,7 @@ pub fn run_resumed(
                 if failed {
                     // After fmi2Error/fmi2Fatal the instances may not be reusable.
                     flyer = Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)
+                        .and_then(|f| f.with_requirements(requirements.clone()))
                         .inspect_err(|_| {
                             stop.store(true, Ordering::Relaxed);
                         })?;

@@ -11,7 +11,8 @@
 //! comparison := expr ("<" | "<=" | ">" | ">=") expr
 //! expr       := term (("+" | "-") term)*
 //! term       := factor (("*" | "/") factor)*
-//! factor     := number | signal | "abs" "(" expr ")" | "(" expr ")" | "-" factor
+//! factor     := number | signal | "abs" "(" expr ")" | "sqrt" "(" expr ")"
+//!             | "hypot" "(" expr "," expr ")" | "(" expr ")" | "-" factor
 //! signal     := instance.variable, with [k] for an array element (plant.r_nue[2])
 //! ```
 //!
@@ -25,6 +26,8 @@ pub enum Expr {
     Signal(String),
     Neg(Box<Expr>),
     Abs(Box<Expr>),
+    Sqrt(Box<Expr>),
+    Hypot(Box<Expr>, Box<Expr>),
     Binary(Box<Expr>, Op, Box<Expr>),
 }
 
@@ -94,8 +97,8 @@ impl Expr {
                     out.push(name);
                 }
             }
-            Expr::Neg(e) | Expr::Abs(e) => e.collect(out),
-            Expr::Binary(a, _, b) => {
+            Expr::Neg(e) | Expr::Abs(e) | Expr::Sqrt(e) => e.collect(out),
+            Expr::Binary(a, _, b) | Expr::Hypot(a, b) => {
                 a.collect(out);
                 b.collect(out);
             }
@@ -406,12 +409,25 @@ impl Parser {
                 self.next += 1;
                 Ok(Expr::Number(x))
             }
-            Some(Token::Word(w)) if w == "abs" => {
+            Some(Token::Word(w)) if w == "abs" || w == "sqrt" => {
                 self.next += 1;
                 self.expect("(")?;
-                let inner = self.expr()?;
+                let inner = Box::new(self.expr()?);
                 self.expect(")")?;
-                Ok(Expr::Abs(Box::new(inner)))
+                Ok(if w == "abs" {
+                    Expr::Abs(inner)
+                } else {
+                    Expr::Sqrt(inner)
+                })
+            }
+            Some(Token::Word(w)) if w == "hypot" => {
+                self.next += 1;
+                self.expect("(")?;
+                let a = self.expr()?;
+                self.expect(",")?;
+                let b = self.expr()?;
+                self.expect(")")?;
+                Ok(Expr::Hypot(Box::new(a), Box::new(b)))
             }
             Some(Token::Word(w))
                 if w.contains('.') && !matches!(w.as_str(), "always" | "eventually") =>
@@ -419,7 +435,9 @@ impl Parser {
                 self.next += 1;
                 Ok(Expr::Signal(w))
             }
-            _ => Err(self.error("a number, a signal (instance.variable) or abs(...)")),
+            _ => Err(self.error(
+                "a number, a signal (instance.variable), abs(...), sqrt(...) or hypot(..., ...)",
+            )),
         }
     }
 }
@@ -450,6 +468,9 @@ mod tests {
         let f = parse("plant.mass > 700 until [0, 50] eventually [0, 5] gnc.guidance_phase >= 2")
             .unwrap();
         assert!(matches!(f, Formula::Until(..)), "{f:?}");
+        let f = parse("always [12, 142] hypot(plant.r[1], sqrt(plant.r[3] * plant.r[3])) < 20")
+            .unwrap();
+        assert_eq!(f.signals(), ["plant.r[1]", "plant.r[3]"]);
         let f = parse("(plant.a + 2) * 3 <= 1e-3 and not (plant.b > 0 or plant.c < -1)").unwrap();
         assert!(matches!(f, Formula::And(..)), "{f:?}");
         assert_eq!(f.signals(), ["plant.a", "plant.b", "plant.c"]);

@@ -83,6 +83,12 @@ fn value(e: &Expr, s: &Signals) -> Vec<f64> {
         Expr::Signal(name) => s.column(name).to_vec(),
         Expr::Neg(e) => value(e, s).into_iter().map(|x| -x).collect(),
         Expr::Abs(e) => value(e, s).into_iter().map(f64::abs).collect(),
+        Expr::Sqrt(e) => value(e, s).into_iter().map(f64::sqrt).collect(),
+        Expr::Hypot(a, b) => value(a, s)
+            .into_iter()
+            .zip(value(b, s))
+            .map(|(x, y)| x.hypot(y))
+            .collect(),
         Expr::Binary(a, op, b) => value(a, s)
             .into_iter()
             .zip(value(b, s))
@@ -222,6 +228,9 @@ mod tests {
         assert_eq!(at_start("not p.x > 3", &s).value, -7.0);
         assert_eq!(at_start("p.x > 3 and p.x < 12", &s).value, 2.0);
         assert_eq!(at_start("p.x > 30 or p.x < 12", &s).value, 2.0);
+        // hypot and sqrt: hypot(x, 0) = |x|; sqrt(x * x) = x at t = 0 (x = 10).
+        assert_eq!(at_start("hypot(p.x, 0) < 11", &s).value, 1.0);
+        assert_eq!(at_start("sqrt(p.x * p.x) > 4", &s).value, 6.0);
         // A window beyond the run: always holds vacuously, eventually fails.
         assert_eq!(
             at_start("always [20, 30] p.x > 100", &s).value,
