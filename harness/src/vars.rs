@@ -5,26 +5,7 @@ use std::fmt::Write;
 
 /// The causality a user asks for, as the standard spells it.
 pub fn parse_causality(text: &str) -> Option<Causality> {
-    Some(match text {
-        "parameter" => Causality::Parameter,
-        "calculatedParameter" => Causality::CalculatedParameter,
-        "input" => Causality::Input,
-        "output" => Causality::Output,
-        "local" => Causality::Local,
-        "independent" => Causality::Independent,
-        _ => return None,
-    })
-}
-
-fn causality_name(c: Causality) -> &'static str {
-    match c {
-        Causality::Parameter => "parameter",
-        Causality::CalculatedParameter => "calculatedParameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-        Causality::Local => "local",
-        Causality::Independent => "independent",
-    }
+    Causality::from_name(text)
 }
 
 /// One line per variable (of `only` causality if given), columns separated by tabs, with
@@ -55,8 +36,8 @@ pub fn table(md: &ModelDescription, only: Option<Causality>) -> String {
             out,
             "{}\t{}\t{}\t{kind}\t{start}\t{unit}\t{}",
             v.name,
-            causality_name(causality),
-            format!("{:?}", v.variability_or_default()).to_lowercase(),
+            causality.name(),
+            v.variability_or_default().name(),
             v.description.as_deref().unwrap_or("")
         );
     }

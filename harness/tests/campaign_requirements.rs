@@ -2,17 +2,7 @@
 //! that wanders beyond a stated limit has not ended as expected, whatever its verdict.
 mod common;
 
-use std::process::{Command, Output};
-
-fn harness(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_harness"))
-        .arg("--fmu-dir")
-        .arg(common::fmu_dir())
-        .args(args)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .unwrap()
-}
+use common::harness;
 
 /// The paper scenario with one requirement appended.
 fn paper_with(dir: &std::path::Path, formula: &str) -> String {

@@ -2,17 +2,9 @@
 //! in a readable message, options that would be ignored refused.
 mod common;
 
-use std::process::{Command, Output};
+use std::process::Command;
 
-fn harness(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_harness"))
-        .arg("--fmu-dir")
-        .arg(common::fmu_dir())
-        .args(args)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .unwrap()
-}
+use common::harness;
 
 /// The stderr of a harness command that must exit 1 (a user's error).
 fn refused(args: &[&str]) -> String {

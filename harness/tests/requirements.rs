@@ -3,17 +3,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn harness(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_harness"))
-        .arg("--fmu-dir")
-        .arg(common::fmu_dir())
-        .args(args)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .unwrap()
-}
+use common::harness;
 
 /// The landing scenario (it lands at 323.61 s) with these requirements appended.
 fn landing_with(dir: &Path, requirements: &[(&str, &str)]) -> String {

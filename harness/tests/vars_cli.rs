@@ -2,17 +2,7 @@
 //! `harness completions SHELL`.
 mod common;
 
-use std::process::Command;
-
-fn harness(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_harness"))
-        .arg("--fmu-dir")
-        .arg(common::fmu_dir())
-        .args(args)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .unwrap()
-}
+use common::harness;
 
 #[test]
 fn vars_lists_the_declared_variables_and_filters_by_causality() {

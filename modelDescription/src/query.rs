@@ -215,3 +215,47 @@ impl ModelDescription {
         })
     }
 }
+
+impl crate::types::Causality {
+    /// The attribute value as `modelDescription.xml` spells it.
+    pub fn name(self) -> &'static str {
+        use crate::types::Causality::*;
+        match self {
+            Parameter => "parameter",
+            CalculatedParameter => "calculatedParameter",
+            Input => "input",
+            Output => "output",
+            Local => "local",
+            Independent => "independent",
+        }
+    }
+
+    /// The causality an attribute value names.
+    pub fn from_name(name: &str) -> Option<Self> {
+        use crate::types::Causality::*;
+        [
+            Parameter,
+            CalculatedParameter,
+            Input,
+            Output,
+            Local,
+            Independent,
+        ]
+        .into_iter()
+        .find(|c| c.name() == name)
+    }
+}
+
+impl crate::types::Variability {
+    /// The attribute value as `modelDescription.xml` spells it.
+    pub fn name(self) -> &'static str {
+        use crate::types::Variability::*;
+        match self {
+            Constant => "constant",
+            Fixed => "fixed",
+            Tunable => "tunable",
+            Discrete => "discrete",
+            Continuous => "continuous",
+        }
+    }
+}

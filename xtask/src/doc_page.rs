@@ -2,7 +2,7 @@
 //! (`docs/interface.md`, `docs/paper-notes.md`, compiled in), then the interface rendered from
 //! the model description, so that the variable table and the FMU can never disagree. An FMU
 //! handed on alone still carries how to wire it and what it implements.
-use model_description::{Causality, ModelDescription, ScalarVariable, StartValue, Variability};
+use model_description::{Causality, ModelDescription, ScalarVariable, StartValue};
 use std::fmt::Write;
 
 /// The prose every FMU's page carries: (anchor, Markdown), in reading order.
@@ -295,8 +295,8 @@ fn render_variables(html: &mut String, md: &ModelDescription) {
                 html,
                 "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
                 escape(&variable.name),
-                causality_name(causality),
-                variability_name(variable.variability_or_default()),
+                causality.name(),
+                variable.variability_or_default().name(),
                 escape(&type_name),
                 escape(&start),
                 escape(&unit),
@@ -323,27 +323,6 @@ fn type_start_unit(md: &ModelDescription, v: &ScalarVariable) -> (String, String
     };
     let unit = md.unit_of(v).unwrap_or_default().to_owned();
     (type_name, start, unit)
-}
-
-fn causality_name(c: Causality) -> &'static str {
-    match c {
-        Causality::Parameter => "parameter",
-        Causality::CalculatedParameter => "calculatedParameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-        Causality::Local => "local",
-        Causality::Independent => "independent",
-    }
-}
-
-fn variability_name(v: Variability) -> &'static str {
-    match v {
-        Variability::Constant => "constant",
-        Variability::Fixed => "fixed",
-        Variability::Tunable => "tunable",
-        Variability::Discrete => "discrete",
-        Variability::Continuous => "continuous",
-    }
 }
 
 fn escape(text: &str) -> String {

@@ -213,3 +213,14 @@ pub fn fmu_dir() -> PathBuf {
     }
     dir
 }
+
+/// The harness binary run with these arguments on the FMU directory, with no backtrace.
+pub fn harness(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_harness"))
+        .arg("--fmu-dir")
+        .arg(fmu_dir())
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .unwrap()
+}
