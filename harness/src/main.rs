@@ -42,25 +42,8 @@ enum Command {
     /// (CSV, or an Arrow IPC file for a .arrow/.feather/.ipc name or --format arrow).
     #[command(allow_negative_numbers = true)]
     Run {
-        /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters (the files of
-        /// harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp package.
-        scenario: String,
-        /// Output file (columns: time, instance.variable...).
-        #[arg(long, short, default_value = "target/harness/run.csv")]
-        out: PathBuf,
-        /// Output format; default: by the output's extension (.csv or none: CSV; .arrow,
-        /// .feather, .ipc: Arrow IPC file); any other extension needs --format.
-        #[arg(long, value_enum)]
-        format: Option<harness::results::Format>,
-        /// Override a parameter, e.g. --set gnc.phi_cmd=0.5 (repeatable).
-        #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
-        sets: Vec<String>,
-        /// Record only these columns (instance.variable, vectors allowed); default all outputs.
-        #[arg(long)]
-        record: Vec<String>,
-        /// Exchange ordering, overriding the scenario's.
-        #[arg(long, value_enum)]
-        ordering: Option<OrderingArg>,
+        #[command(flatten)]
+        request: RunRequest,
         /// Also write the verdict and every requirement as a JUnit XML report here.
         #[arg(long, value_name = "FILE")]
         junit: Option<PathBuf>,
@@ -247,26 +230,8 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     // return through `?` (exit code 1).
     let mut exit_code = harness::verdict::EXIT_OK;
     match cli.command {
-        Command::Run {
-            scenario,
-            out,
-            sets,
-            record,
-            ordering,
-            format,
-            junit,
-        } => {
-            let flown = run_scenario(
-                &RunRequest {
-                    scenario,
-                    out,
-                    sets,
-                    record,
-                    ordering,
-                    format,
-                },
-                &cli.fmu_dir,
-            )?;
+        Command::Run { request, junit } => {
+            let flown = run_scenario(&request, &cli.fmu_dir)?;
             exit_code = flown.exit_code;
             if let Some(path) = junit {
                 harness::requirements::junit::write(&path, &[flown.suite])?;
@@ -413,13 +378,27 @@ fn test_folder(
 }
 
 /// What `harness run` flies.
+#[derive(clap::Args)]
 struct RunRequest {
+    /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters (the files of
+    /// harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp package.
     scenario: String,
+    /// Output file (columns: time, instance.variable...).
+    #[arg(long, short, default_value = "target/harness/run.csv")]
     out: PathBuf,
-    sets: Vec<String>,
-    record: Vec<String>,
-    ordering: Option<OrderingArg>,
+    /// Output format; default: by the output's extension (.csv or none: CSV; .arrow,
+    /// .feather, .ipc: Arrow IPC file); any other extension needs --format.
+    #[arg(long, value_enum)]
     format: Option<harness::results::Format>,
+    /// Override a parameter, e.g. --set gnc.phi_cmd=0.5 (repeatable).
+    #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
+    sets: Vec<String>,
+    /// Record only these columns (instance.variable, vectors allowed); default all outputs.
+    #[arg(long)]
+    record: Vec<String>,
+    /// Exchange ordering, overriding the scenario's.
+    #[arg(long, value_enum)]
+    ordering: Option<OrderingArg>,
 }
 
 /// A flown scenario: the exit code its verdict and requirements give, and its JUnit suite.
