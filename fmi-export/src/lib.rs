@@ -20,6 +20,8 @@
 pub mod call;
 mod describe;
 pub mod fmu_state;
+#[doc(hidden)]
+pub mod function_table;
 pub mod instance;
 pub mod lifecycle;
 pub mod logging;
@@ -38,7 +40,7 @@ pub use logging::{Category, Logger};
 pub use state::{Interface, State, StateMask};
 pub use status::{CallError, Refusal, Status, Success};
 pub use units::{base_unit, check_units};
-pub use version::{admitted_when_fatal, Abi, Function};
+pub use version::{admitted_when_fatal, assert_function_table, Abi, Function};
 
 /// Relative tolerance on communication points and times: masters accumulate `t += h` and
 /// arrive a few ulps off (fmpy reaches step 1200 of 0.01 s at 11.999999999999789). A point

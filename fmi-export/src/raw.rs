@@ -186,76 +186,87 @@ pub unsafe fn enter_continuous_time_mode<M: ContinuousModel, A: Abi>(
     unsafe { call::<M, A>(c, f, trace, me::enter_continuous_time_mode) }
 }
 
-/// The `#[no_mangle]` symbols of the functions [`crate::raw`] serves, from one version's
-/// names, C types and function table. Invoked by each version's export macro.
+/// `#[no_mangle] pub unsafe extern "C"` functions, one per `name(args) -> ret => body;`
+/// line: the form of every exported FMI symbol, in both versions. The items carry
+/// `#[allow(unsafe_code)]`, so the model crate that invokes a version's export macro keeps
+/// `#![deny(unsafe_code)]` for everything else.
+#[macro_export]
+macro_rules! export_symbols {
+    ($(
+        $name:ident ( $($arg:ident : $ty:ty),* $(,)? ) -> $ret:ty => $body:expr;
+    )*) => {
+        $(
+            #[allow(
+                unsafe_code, non_snake_case, unused_variables, clippy::missing_safety_doc,
+                clippy::unused_unit, clippy::too_many_arguments
+            )]
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn $name($($arg: $ty),*) -> $ret {
+                #[allow(unused_unsafe)]
+                unsafe {
+                    $body
+                }
+            }
+        )*
+    };
+}
+
+/// The `#[no_mangle]` symbols of the functions [`crate::raw`] serves, from one version's C
+/// names: each name is looked up in the version's function table at compile time.
+/// Invoked by each version's export macro.
 #[macro_export]
 macro_rules! export_shared {
-    (@symbol $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty => $body:expr) => {
-        #[allow(unsafe_code, non_snake_case, clippy::missing_safety_doc)]
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $name($($arg: $ty),*) -> $ret {
-            #[allow(unused_unsafe)]
-            unsafe {
-                $body
-            }
+    (@symbol $abi:ty, $name:ident ( $c:ident : $c_type:ty $(, $arg:ident : $ty:ty)* ) => $raw:ident::<$model:ty>($($value:expr),*)) => {
+        $crate::export_symbols! {
+            $name($c: $c_type $(, $arg: $ty)*) -> <$abi as $crate::Abi>::CStatus => {
+                const F: <$abi as $crate::Abi>::Function =
+                    <$abi as $crate::Abi>::Function::named(stringify!($name));
+                <$abi as $crate::Abi>::status($crate::raw::$raw::<$model, $abi>($c, F, $($value),*))
+            };
         }
     };
     (
-        model = $model:ty, abi = $abi:ty, function = $f:ty,
-        types = { instance: $inst:ty, state: $state:ty, byte: $byte:ty, status: $status:ty },
-        fmu_state = {
-            $get:ident = $get_f:ident, $set:ident = $set_f:ident, $free:ident = $free_f:ident,
-            $size:ident = $size_f:ident, $ser:ident = $ser_f:ident, $de:ident = $de_f:ident
-        },
-        lifecycle = { $exit:ident = $exit_f:ident, $term:ident = $term_f:ident, $reset:ident = $reset_f:ident }
+        $model:ty, $abi:ty,
+        fmu_state = [$get:ident, $set:ident, $free:ident, $size:ident, $ser:ident, $de:ident],
+        lifecycle = [$exit:ident, $term:ident, $reset:ident]
     ) => {
-        $crate::export_shared! { @symbol $get(c: $inst, state: *mut $state) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::get_fmu_state::<$model, $abi>(c, <$f>::$get_f, state)) }
-        $crate::export_shared! { @symbol $set(c: $inst, state: $state) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::set_fmu_state::<$model, $abi>(c, <$f>::$set_f, state)) }
-        $crate::export_shared! { @symbol $free(c: $inst, state: *mut $state) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::free_fmu_state::<$model, $abi>(c, <$f>::$free_f, state)) }
-        $crate::export_shared! { @symbol $size(c: $inst, state: $state, size: *mut usize) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::serialized_fmu_state_size::<$model, $abi>(c, <$f>::$size_f, state, size)) }
-        $crate::export_shared! { @symbol $ser(c: $inst, state: $state, serialized: *mut $byte, size: usize) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::serialize_fmu_state::<$model, $abi>(
-                c, <$f>::$ser_f, <$f>::$size_f, state, serialized as *mut u8, size)) }
-        $crate::export_shared! { @symbol $de(c: $inst, serialized: *const $byte, size: usize, state: *mut $state) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::deserialize_fmu_state::<$model, $abi>(
-                c, <$f>::$de_f, serialized as *const u8, size, state)) }
-        $crate::export_shared! { @symbol $exit(c: $inst) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::exit_initialization_mode::<$model, $abi>(c, <$f>::$exit_f)) }
-        $crate::export_shared! { @symbol $term(c: $inst) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::terminate::<$model, $abi>(c, <$f>::$term_f)) }
-        $crate::export_shared! { @symbol $reset(c: $inst) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::reset::<$model, $abi>(c, <$f>::$reset_f)) }
+        $crate::export_shared! { @symbol $abi, $get(c: *mut ::std::os::raw::c_void, state: *mut *mut ::std::os::raw::c_void)
+            => get_fmu_state::<$model>(state) }
+        $crate::export_shared! { @symbol $abi, $set(c: *mut ::std::os::raw::c_void, state: *mut ::std::os::raw::c_void)
+            => set_fmu_state::<$model>(state) }
+        $crate::export_shared! { @symbol $abi, $free(c: *mut ::std::os::raw::c_void, state: *mut *mut ::std::os::raw::c_void)
+            => free_fmu_state::<$model>(state) }
+        $crate::export_shared! { @symbol $abi, $size(c: *mut ::std::os::raw::c_void, state: *mut ::std::os::raw::c_void, size: *mut usize)
+            => serialized_fmu_state_size::<$model>(state, size) }
+        $crate::export_shared! { @symbol $abi, $ser(
+                c: *mut ::std::os::raw::c_void, state: *mut ::std::os::raw::c_void,
+                serialized: *mut <$abi as $crate::Abi>::CByte, size: usize
+            ) => serialize_fmu_state::<$model>(
+                <$abi as $crate::Abi>::Function::named(stringify!($size)), state, serialized as *mut u8, size
+            ) }
+        $crate::export_shared! { @symbol $abi, $de(
+                c: *mut ::std::os::raw::c_void, serialized: *const <$abi as $crate::Abi>::CByte,
+                size: usize, state: *mut *mut ::std::os::raw::c_void
+            ) => deserialize_fmu_state::<$model>(serialized as *const u8, size, state) }
+        $crate::export_shared! { @symbol $abi, $exit(c: *mut ::std::os::raw::c_void) => exit_initialization_mode::<$model>() }
+        $crate::export_shared! { @symbol $abi, $term(c: *mut ::std::os::raw::c_void) => terminate::<$model>() }
+        $crate::export_shared! { @symbol $abi, $reset(c: *mut ::std::os::raw::c_void) => reset::<$model>() }
     };
     (
-        model = $model:ty, abi = $abi:ty, function = $f:ty,
-        types = { instance: $inst:ty, status: $status:ty },
-        model_exchange = {
-            $time:ident = $time_f:ident, $states_in:ident = $states_in_f:ident,
-            $der:ident = $der_f:ident, $ind:ident = $ind_f:ident, $states:ident = $states_f:ident,
-            $nom:ident = $nom_f:ident, $ctm:ident = $ctm_f:ident
-        }
+        $model:ty, $abi:ty,
+        model_exchange = [$time:ident, $states_in:ident, $der:ident, $ind:ident, $states:ident, $nom:ident, $ctm:ident]
     ) => {
-        $crate::export_shared! { @symbol $time(c: $inst, time: f64) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::set_time::<$model, $abi>(c, <$f>::$time_f, time)) }
-        $crate::export_shared! { @symbol $states_in(c: $inst, x: *const f64, nx: usize) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::set_continuous_states::<$model, $abi>(c, <$f>::$states_in_f, x, nx)) }
-        $crate::export_shared! { @symbol $der(c: $inst, values: *mut f64, n: usize) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::read_vector::<$model, $abi>(
-                c, <$f>::$der_f, $crate::model_exchange::Vector::Derivatives, values, n)) }
-        $crate::export_shared! { @symbol $ind(c: $inst, values: *mut f64, n: usize) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::read_vector::<$model, $abi>(
-                c, <$f>::$ind_f, $crate::model_exchange::Vector::EventIndicators, values, n)) }
-        $crate::export_shared! { @symbol $states(c: $inst, values: *mut f64, n: usize) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::read_vector::<$model, $abi>(
-                c, <$f>::$states_f, $crate::model_exchange::Vector::States, values, n)) }
-        $crate::export_shared! { @symbol $nom(c: $inst, values: *mut f64, n: usize) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::read_vector::<$model, $abi>(
-                c, <$f>::$nom_f, $crate::model_exchange::Vector::Nominals, values, n)) }
-        $crate::export_shared! { @symbol $ctm(c: $inst) -> $status
-            => <$abi as $crate::Abi>::status($crate::raw::enter_continuous_time_mode::<$model, $abi>(c, <$f>::$ctm_f)) }
+        $crate::export_shared! { @symbol $abi, $time(c: *mut ::std::os::raw::c_void, time: f64) => set_time::<$model>(time) }
+        $crate::export_shared! { @symbol $abi, $states_in(c: *mut ::std::os::raw::c_void, x: *const f64, nx: usize)
+            => set_continuous_states::<$model>(x, nx) }
+        $crate::export_shared! { @symbol $abi, $der(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
+            => read_vector::<$model>($crate::model_exchange::Vector::Derivatives, values, n) }
+        $crate::export_shared! { @symbol $abi, $ind(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
+            => read_vector::<$model>($crate::model_exchange::Vector::EventIndicators, values, n) }
+        $crate::export_shared! { @symbol $abi, $states(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
+            => read_vector::<$model>($crate::model_exchange::Vector::States, values, n) }
+        $crate::export_shared! { @symbol $abi, $nom(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
+            => read_vector::<$model>($crate::model_exchange::Vector::Nominals, values, n) }
+        $crate::export_shared! { @symbol $abi, $ctm(c: *mut ::std::os::raw::c_void) => enter_continuous_time_mode::<$model>() }
     };
 }

@@ -127,3 +127,11 @@ pub fn advance_checked<M: Model, A: Abi>(
         }
     }
 }
+
+/// The call trace of a step, in the words of both standards' argument names.
+pub fn trace(function: &str, t: f64, h: f64, no_set_prior: impl std::fmt::Display) -> String {
+    format!(
+        "{function}(currentCommunicationPoint={t}, communicationStepSize={h}, \
+         noSetFMUStatePriorToCurrentPoint={no_set_prior})"
+    )
+}

@@ -30,12 +30,38 @@ pub fn admitted_when_fatal<F: Function + PartialEq>(table: &[F]) -> Vec<F> {
         .collect()
 }
 
+/// Checks a version's function table, for its own test: `count` functions, each named
+/// `prefix...` and no name twice, and nothing admitted once Fatal but `free`.
+///
+/// # Panics
+/// With the first property that does not hold.
+pub fn assert_function_table<F: Function + PartialEq>(
+    table: &[F],
+    count: usize,
+    prefix: &str,
+    free: F,
+) {
+    assert_eq!(table.len(), count, "functions in the table");
+    let mut names: Vec<&str> = table.iter().map(|f| f.name()).collect();
+    assert!(
+        names.iter().all(|n| n.starts_with(prefix)),
+        "{names:?} not all {prefix}*"
+    );
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), count, "a name twice in the table");
+    assert_eq!(admitted_when_fatal(table), [free], "admitted when Fatal");
+}
+
 /// One FMI version, as the core needs to know it.
 pub trait Abi: Sized + 'static {
     /// Magic bytes of a serialized FMU state of this version ([`fmi_model::snapshot`]).
     const SNAPSHOT_MAGIC: [u8; 8];
     /// The version's C status type.
     type CStatus: Copy;
+    /// The version's C byte of a serialized FMU state (`fmi2Byte` is a `char`, `fmi3Byte` a
+    /// `uint8_t`).
+    type CByte;
     /// The version's function table.
     type Function: Function;
     /// What the logger callback needs (the copied callback, its environment, for FMI 2.0

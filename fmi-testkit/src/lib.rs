@@ -27,6 +27,7 @@ mod functions;
 mod instance;
 mod logger;
 mod model_exchange;
+mod test_model;
 
 pub use alloc::{CountingAllocator, HeapUse};
 pub use bounds::assert_declared_bounds_are_validated;
@@ -36,6 +37,7 @@ pub use fmi3::{CoSimulationOptions, Fmi3EventUpdate, Fmi3Functions, Fmi3Instance
 pub use fmi_abi::fmi2;
 pub use fmi_abi::fmi3 as fmi3_ffi;
 pub use fmi_abi::unpack;
+pub use fmi_model;
 pub use functions::Fmi2Functions;
 pub use instance::Instance;
 pub use logger::{Record, TestLogger};

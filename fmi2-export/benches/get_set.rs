@@ -5,7 +5,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use fmi2_export::ffi::*;
-use fmi2_export::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
+use fmi2_export::{decl, Declaration};
 use serde::{Deserialize, Serialize};
 use std::ffi::CString;
 
@@ -16,30 +16,12 @@ struct Exchange {
     y: [f64; 14],
 }
 
-impl Model for Exchange {
-    const MODEL_IDENTIFIER: &'static str = "Exchange";
-    const MODEL_NAME: &'static str = "Exchange";
-    const VERSION: &'static str = "0.0.0";
-    const DESCRIPTION: &'static str = "14 inputs copied to 14 outputs";
-    const DEFAULT_EXPERIMENT: Experiment = Experiment {
-        start_time: 0.0,
-        stop_time: 1.0,
-        step_size: 0.01,
-        tolerance: None,
-    };
-    fn declarations() -> &'static [Declaration<Self>] {
-        &DECLARATIONS
-    }
-    fn calculate_values(&mut self, _: &mut Log) {
-        self.y = self.u;
-    }
-    fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
-        Ok(())
-    }
-    fn do_step(&mut self, _: f64, _: f64, _: &mut Log) -> Result<StepEnd, ModelError> {
-        Ok(StepEnd::Complete)
-    }
-}
+fmi_testkit::test_model!(
+    Exchange,
+    DECLARATIONS,
+    "14 inputs copied to 14 outputs",
+    calculate = |m| m.y = m.u
+);
 
 fmi2_export::export_fmi2!(Exchange);
 

@@ -772,13 +772,8 @@ pub unsafe fn do_step<M: Model>(
 ) -> fmi2Status {
     let f = Function::DoStep;
     let (t, h) = (current_communication_point, communication_step_size);
-    let trace = || {
-        format!(
-            "{}(currentCommunicationPoint={t}, communicationStepSize={h}, \
-             noSetFMUStatePriorToCurrentPoint={no_set_fmu_state_prior_to_current_point})",
-            f.name()
-        )
-    };
+    let no_set_prior = no_set_fmu_state_prior_to_current_point;
+    let trace = || fmi_export::step::trace(f.name(), t, h, no_set_prior);
     unsafe { call::<M, Fmi2>(c, f, trace, |inst| step(inst, t, h)) }
 }
 

@@ -16,38 +16,17 @@
 /// linked into one binary (the symbols would clash), exactly like two FMU libraries.
 #[macro_export]
 macro_rules! export_fmi2 {
-    (@export $(
-        $name:ident ( $($arg:ident : $ty:ty),* $(,)? ) -> $ret:ty => $body:expr;
-    )*) => {
-        $(
-            #[allow(unsafe_code, non_snake_case, clippy::missing_safety_doc, clippy::unused_unit)]
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn $name($($arg: $ty),*) -> $ret {
-                #[allow(unused_unsafe)]
-                unsafe {
-                    $body
-                }
-            }
-        )*
-    };
     ($model:ty) => {
         $crate::export_fmi2! { @co_simulation $model, false }
     };
     // A model that implements `fmi_model::ContinuousModel`: Co-Simulation and Model Exchange.
     ($model:ty, model_exchange) => {
         $crate::export_fmi2! { @co_simulation $model, true }
-        $crate::fmi_export::export_shared! {
-            model = $model, abi = $crate::Fmi2, function = $crate::state::Function,
-            types = { instance: $crate::ffi::fmi2Component, status: $crate::ffi::fmi2Status },
-            model_exchange = {
-                fmi2SetTime = SetTime, fmi2SetContinuousStates = SetContinuousStates,
-                fmi2GetDerivatives = GetDerivatives, fmi2GetEventIndicators = GetEventIndicators,
-                fmi2GetContinuousStates = GetContinuousStates,
-                fmi2GetNominalsOfContinuousStates = GetNominalsOfContinuousStates,
-                fmi2EnterContinuousTimeMode = EnterContinuousTimeMode
-            }
-        }
-        $crate::export_fmi2! { @export
+        $crate::fmi_export::export_shared! { $model, $crate::Fmi2, model_exchange = [
+            fmi2SetTime, fmi2SetContinuousStates, fmi2GetDerivatives, fmi2GetEventIndicators,
+            fmi2GetContinuousStates, fmi2GetNominalsOfContinuousStates, fmi2EnterContinuousTimeMode
+        ] }
+        $crate::fmi_export::export_symbols! {
             fmi2EnterEventMode(c: $crate::ffi::fmi2Component) -> $crate::ffi::fmi2Status
                 => $crate::model_exchange::enter_event_mode::<$model>(c);
             fmi2NewDiscreteStates(
@@ -67,23 +46,12 @@ macro_rules! export_fmi2 {
         }
     };
     (@co_simulation $model:ty, $model_exchange:literal) => {
-        $crate::fmi_export::export_shared! {
-            model = $model, abi = $crate::Fmi2, function = $crate::state::Function,
-            types = {
-                instance: $crate::ffi::fmi2Component, state: $crate::ffi::fmi2FMUstate,
-                byte: $crate::ffi::fmi2Byte, status: $crate::ffi::fmi2Status
-            },
-            fmu_state = {
-                fmi2GetFMUstate = GetFMUstate, fmi2SetFMUstate = SetFMUstate,
-                fmi2FreeFMUstate = FreeFMUstate, fmi2SerializedFMUstateSize = SerializedFMUstateSize,
-                fmi2SerializeFMUstate = SerializeFMUstate, fmi2DeSerializeFMUstate = DeSerializeFMUstate
-            },
-            lifecycle = {
-                fmi2ExitInitializationMode = ExitInitializationMode, fmi2Terminate = Terminate,
-                fmi2Reset = Reset
-            }
+        $crate::fmi_export::export_shared! { $model, $crate::Fmi2,
+            fmu_state = [fmi2GetFMUstate, fmi2SetFMUstate, fmi2FreeFMUstate,
+                fmi2SerializedFMUstateSize, fmi2SerializeFMUstate, fmi2DeSerializeFMUstate],
+            lifecycle = [fmi2ExitInitializationMode, fmi2Terminate, fmi2Reset]
         }
-        $crate::export_fmi2! { @export
+        $crate::fmi_export::export_symbols! {
             fmi2GetTypesPlatform() -> *const ::std::os::raw::c_char
                 => $crate::abi::get_types_platform();
             fmi2GetVersion() -> *const ::std::os::raw::c_char

@@ -54,33 +54,11 @@ const CONTINUOUS_READS: StateMask = StateMask::of(&[
 ]);
 const STATUS_QUERIES: StateMask = StateMask::of(&[StepComplete, StepFailed, Terminated]);
 
-macro_rules! functions {
-    ($($variant:ident => $mask:expr,)*) => {
-        /// The FMI functions that take an instance (all but `fmi2GetTypesPlatform`,
-        /// `fmi2GetVersion` and `fmi2Instantiate`), named as in C.
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[allow(clippy::enum_variant_names)]
-        pub enum Function { $($variant,)* }
-
-        impl Function {
-            pub const ALL: &'static [Function] = &[$(Function::$variant,)*];
-
-            /// The C name, e.g. `"fmi2DoStep"`.
-            pub const fn name(self) -> &'static str {
-                match self { $(Function::$variant => concat!("fmi2", stringify!($variant)),)* }
-            }
-
-            /// The states in which the function may be called (inlined, a constant at each
-            /// call site).
-            #[inline]
-            pub const fn legal_states(self) -> StateMask {
-                match self { $(Function::$variant => $mask,)* }
-            }
-        }
-    };
-}
-
-functions! {
+fmi_export::function_table! {
+    /// The FMI functions that take an instance (all but `fmi2GetTypesPlatform`,
+    /// `fmi2GetVersion` and `fmi2Instantiate`), named as in C; each with the states in which
+    /// it may be called.
+    prefix = "fmi2", legal_states -> StateMask;
     SetDebugLogging => ANY_BUT_FATAL,
     FreeInstance => StateMask::of(&[
         Instantiated, InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated,
@@ -186,14 +164,10 @@ mod tests {
     fn forty_one_functions_take_an_instance_and_only_free_instance_when_fatal() {
         // 34 Co-Simulation functions minus GetTypesPlatform, GetVersion and Instantiate,
         // plus the 10 of Model Exchange.
-        assert_eq!(Function::ALL.len(), 41);
+        fmi_export::assert_function_table(Function::ALL, 41, "fmi2", Function::FreeInstance);
         assert_eq!(
             Function::DeSerializeFMUstate.name(),
             "fmi2DeSerializeFMUstate"
-        );
-        assert_eq!(
-            fmi_export::admitted_when_fatal(Function::ALL),
-            [Function::FreeInstance]
         );
     }
 

@@ -65,6 +65,7 @@ impl Abi for Fmi2 {
         State::ContinuousTimeMode,
     ]);
     type CStatus = fmi2Status;
+    type CByte = fmi2Byte;
     type Function = Function;
     type Sink = Sink;
     type View<M: Model> = View<M>;

@@ -37,27 +37,12 @@ struct Panicky {
 
 static PANICKY: [Declaration<Panicky>; 1] = [decl!(0, output y: y, "1", "")];
 
-impl Model for Panicky {
-    const MODEL_IDENTIFIER: &'static str = "Panicky";
-    const MODEL_NAME: &'static str = "Panicky";
-    const VERSION: &'static str = "0.0.0";
-    const DESCRIPTION: &'static str = "panics in do_step";
-    const DEFAULT_EXPERIMENT: Experiment = Experiment {
-        start_time: 0.0,
-        stop_time: 1.0,
-        step_size: 0.1,
-        tolerance: None,
-    };
-    fn declarations() -> &'static [Declaration<Self>] {
-        &PANICKY
-    }
-    fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
-        Ok(())
-    }
-    fn do_step(&mut self, _: f64, _: f64, _: &mut Log) -> Result<StepEnd, ModelError> {
-        panic!("boom");
-    }
-}
+fmi_testkit::test_model!(
+    Panicky,
+    PANICKY,
+    "panics in do_step",
+    step = |_| panic!("boom")
+);
 
 /// A panic inside a model call is caught: fmi2Fatal, a fatal log line, state Fatal (only
 /// FreeInstance is accepted afterwards), and nothing unwinds into the caller.
@@ -136,27 +121,7 @@ macro_rules! small_model {
             }
         }
         static $table: [Declaration<$name>; 1] = [$var];
-        impl Model for $name {
-            const MODEL_IDENTIFIER: &'static str = "Small";
-            const MODEL_NAME: &'static str = "Small";
-            const VERSION: &'static str = "0.0.0";
-            const DESCRIPTION: &'static str = "";
-            const DEFAULT_EXPERIMENT: Experiment = Experiment {
-                start_time: 0.0,
-                stop_time: 1.0,
-                step_size: 0.1,
-                tolerance: None,
-            };
-            fn declarations() -> &'static [Declaration<Self>] {
-                &$table
-            }
-            fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
-                Ok(())
-            }
-            fn do_step(&mut self, _: f64, _: f64, _: &mut Log) -> Result<StepEnd, ModelError> {
-                Ok(StepEnd::Complete)
-            }
-        }
+        fmi_testkit::test_model!($name, $table, "", identifier = "Small");
     };
 }
 
@@ -232,27 +197,7 @@ static BROKEN: [Declaration<Broken>; 5] = [
     },
 ];
 
-impl Model for Broken {
-    const MODEL_IDENTIFIER: &'static str = "Broken-1";
-    const MODEL_NAME: &'static str = "Broken";
-    const VERSION: &'static str = "0.0.0";
-    const DESCRIPTION: &'static str = "";
-    const DEFAULT_EXPERIMENT: Experiment = Experiment {
-        start_time: 0.0,
-        stop_time: 0.0,
-        step_size: 0.1,
-        tolerance: None,
-    };
-    fn declarations() -> &'static [Declaration<Self>] {
-        &BROKEN
-    }
-    fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
-        Ok(())
-    }
-    fn do_step(&mut self, _: f64, _: f64, _: &mut Log) -> Result<StepEnd, ModelError> {
-        Ok(StepEnd::Complete)
-    }
-}
+fmi_testkit::test_model!(Broken, BROKEN, "", identifier = "Broken-1", stop = 0.0);
 
 #[test]
 fn check_table_reports_every_problem() {
@@ -303,27 +248,7 @@ static BOUNDED: [Declaration<Bounded>; 3] = [
     decl!(3, output y: get |m, _| m.gain * (m.u[0] + m.u[1]), "1", ""),
 ];
 
-impl Model for Bounded {
-    const MODEL_IDENTIFIER: &'static str = "Bounded";
-    const MODEL_NAME: &'static str = "Bounded";
-    const VERSION: &'static str = "0.0.0";
-    const DESCRIPTION: &'static str = "bounded inputs";
-    const DEFAULT_EXPERIMENT: Experiment = Experiment {
-        start_time: 0.0,
-        stop_time: 1.0,
-        step_size: 0.1,
-        tolerance: None,
-    };
-    fn declarations() -> &'static [Declaration<Self>] {
-        &BOUNDED
-    }
-    fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
-        Ok(())
-    }
-    fn do_step(&mut self, _: f64, _: f64, _: &mut Log) -> Result<StepEnd, ModelError> {
-        Ok(StepEnd::Complete)
-    }
-}
+fmi_testkit::test_model!(Bounded, BOUNDED, "bounded inputs");
 
 /// A master repeating one list of references (the case the layer prepares once) gets every
 /// refusal the first call of that list would get, with its reason, and a refused call

@@ -10,27 +10,10 @@
 /// one library.
 #[macro_export]
 macro_rules! export_fmi3 {
-    (@export $(
-        $name:ident ( $($arg:ident : $ty:ty),* $(,)? ) -> $ret:ty => $body:expr;
-    )*) => {
-        $(
-            #[allow(
-                unsafe_code, non_snake_case, unused_variables, clippy::missing_safety_doc,
-                clippy::unused_unit, clippy::too_many_arguments
-            )]
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn $name($($arg: $ty),*) -> $ret {
-                #[allow(unused_unsafe)]
-                unsafe {
-                    $body
-                }
-            }
-        )*
-    };
     ($model:ty) => {
         $crate::export_fmi3! { @all $model, no_me }
         // A Co-Simulation-only model: the Model Exchange functions refuse.
-        $crate::export_fmi3! { @export
+        $crate::fmi_export::export_symbols! {
             fmi3EnterContinuousTimeMode(
                 instance: $crate::ffi::fmi3Instance
             ) -> $crate::ffi::fmi3Status
@@ -74,37 +57,19 @@ macro_rules! export_fmi3 {
     };
     ($model:ty, model_exchange) => {
         $crate::export_fmi3! { @all $model, me }
-        $crate::fmi_export::export_shared! {
-            model = $model, abi = $crate::Fmi3, function = $crate::state::Function,
-            types = { instance: $crate::ffi::fmi3Instance, status: $crate::ffi::fmi3Status },
-            model_exchange = {
-                fmi3SetTime = SetTime, fmi3SetContinuousStates = SetContinuousStates,
-                fmi3GetContinuousStateDerivatives = GetContinuousStateDerivatives,
-                fmi3GetEventIndicators = GetEventIndicators,
-                fmi3GetContinuousStates = GetContinuousStates,
-                fmi3GetNominalsOfContinuousStates = GetNominalsOfContinuousStates,
-                fmi3EnterContinuousTimeMode = EnterContinuousTimeMode
-            }
-        }
+        $crate::fmi_export::export_shared! { $model, $crate::Fmi3, model_exchange = [
+            fmi3SetTime, fmi3SetContinuousStates, fmi3GetContinuousStateDerivatives,
+            fmi3GetEventIndicators, fmi3GetContinuousStates, fmi3GetNominalsOfContinuousStates,
+            fmi3EnterContinuousTimeMode
+        ] }
     };
     (@all $model:ty, $me:ident) => {
-        $crate::fmi_export::export_shared! {
-            model = $model, abi = $crate::Fmi3, function = $crate::state::Function,
-            types = {
-                instance: $crate::ffi::fmi3Instance, state: $crate::ffi::fmi3FMUState,
-                byte: $crate::ffi::fmi3Byte, status: $crate::ffi::fmi3Status
-            },
-            fmu_state = {
-                fmi3GetFMUState = GetFMUState, fmi3SetFMUState = SetFMUState,
-                fmi3FreeFMUState = FreeFMUState, fmi3SerializedFMUStateSize = SerializedFMUStateSize,
-                fmi3SerializeFMUState = SerializeFMUState, fmi3DeserializeFMUState = DeserializeFMUState
-            },
-            lifecycle = {
-                fmi3ExitInitializationMode = ExitInitializationMode, fmi3Terminate = Terminate,
-                fmi3Reset = Reset
-            }
+        $crate::fmi_export::export_shared! { $model, $crate::Fmi3,
+            fmu_state = [fmi3GetFMUState, fmi3SetFMUState, fmi3FreeFMUState,
+                fmi3SerializedFMUStateSize, fmi3SerializeFMUState, fmi3DeserializeFMUState],
+            lifecycle = [fmi3ExitInitializationMode, fmi3Terminate, fmi3Reset]
         }
-        $crate::export_fmi3! { @export
+        $crate::fmi_export::export_symbols! {
             fmi3GetVersion(
 
             ) -> *const ::std::os::raw::c_char

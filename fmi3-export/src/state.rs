@@ -60,28 +60,6 @@ const CONTINUOUS_READS: StateMask = StateMask::of(&[
     Error,
 ]);
 
-macro_rules! functions {
-    ($($variant:ident => $scope:expr,)*) => {
-        /// The FMI 3.0 functions that take an instance, named as in C.
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        pub enum Function { $($variant,)* }
-
-        impl Function {
-            pub const ALL: &'static [Function] = &[$(Function::$variant,)*];
-
-            /// The C name, e.g. `"fmi3DoStep"`.
-            pub const fn name(self) -> &'static str {
-                match self { $(Function::$variant => concat!("fmi3", stringify!($variant)),)* }
-            }
-
-            #[inline]
-            pub const fn scope(self) -> Scope {
-                match self { $(Function::$variant => $scope,)* }
-            }
-        }
-    };
-}
-
 /// A state as FMI 3.0 §3.2 and §4.2 name it.
 pub const fn state_name(state: State) -> &'static str {
     match state {
@@ -138,7 +116,10 @@ impl Function {
 
 const CLOCKS: Scope = Scope::Unsupported("clocks");
 
-functions! {
+fmi_export::function_table! {
+    /// The FMI 3.0 functions that take an instance, named as in C; each with its interfaces
+    /// and states.
+    prefix = "fmi3", scope -> Scope;
     SetDebugLogging => Scope::Both(ANY_BUT_FATAL),
     FreeInstance => Scope::Both(StateMask::of(&State::ALL)),
     EnterInitializationMode => Scope::Both(StateMask::of(&[Instantiated])),
@@ -223,15 +204,9 @@ mod tests {
     #[test]
     fn seventy_one_functions_take_an_instance_and_only_free_instance_when_fatal() {
         // 75 exported functions minus fmi3GetVersion and the three fmi3Instantiate*.
-        assert_eq!(Function::ALL.len(), 71);
-        assert_eq!(
-            Function::GetContinuousStateDerivatives.name(),
-            "fmi3GetContinuousStateDerivatives"
-        );
-        assert_eq!(
-            fmi_export::admitted_when_fatal(Function::ALL),
-            [Function::FreeInstance]
-        );
+        fmi_export::assert_function_table(Function::ALL, 71, "fmi3", Function::FreeInstance);
+        let derivatives = Function::GetContinuousStateDerivatives.name();
+        assert_eq!(derivatives, "fmi3GetContinuousStateDerivatives");
     }
 
     #[test]

@@ -52,6 +52,7 @@ impl Abi for Fmi3 {
         State::ContinuousTimeMode,
     ]);
     type CStatus = fmi3Status;
+    type CByte = fmi3Byte;
     type Function = Function;
     type Sink = Sink;
     type View<M: Model> = View<M>;

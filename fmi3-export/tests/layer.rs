@@ -1,7 +1,7 @@
 //! The FMI 3.0 layer on a model of its own, exported into this test binary.
 #![allow(unsafe_code)]
 
-use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
+use fmi_model::{decl, Declaration};
 use fmi_testkit::{CoSimulationOptions, Fmi3Instance};
 use serde::{Deserialize, Serialize};
 
@@ -17,27 +17,11 @@ static PRODUCT: [Declaration<Product>; 3] = [
     decl!(3, output y: get |m, _| m.gain * (m.u[0] + m.u[1]), "1", ""),
 ];
 
-impl Model for Product {
-    const MODEL_IDENTIFIER: &'static str = "Product";
-    const MODEL_NAME: &'static str = "Product";
-    const VERSION: &'static str = "0.0.0";
-    const DESCRIPTION: &'static str = "an output that overflows for large inputs";
-    const DEFAULT_EXPERIMENT: Experiment = Experiment {
-        start_time: 0.0,
-        stop_time: 1.0,
-        step_size: 0.1,
-        tolerance: None,
-    };
-    fn declarations() -> &'static [Declaration<Self>] {
-        &PRODUCT
-    }
-    fn exit_initialization(&mut self, _: f64, _: &mut Log) -> Result<(), ModelError> {
-        Ok(())
-    }
-    fn do_step(&mut self, _: f64, _: f64, _: &mut Log) -> Result<StepEnd, ModelError> {
-        Ok(StepEnd::Complete)
-    }
-}
+fmi_testkit::test_model!(
+    Product,
+    PRODUCT,
+    "an output that overflows for large inputs"
+);
 
 fmi3_export::export_fmi3!(Product);
 
