@@ -32,6 +32,12 @@ pub const VERSION: &std::ffi::CStr = c"2.0";
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct fmi2Status(pub c_int);
 
+impl From<c_int> for fmi2Status {
+    fn from(code: c_int) -> Self {
+        fmi2Status(code)
+    }
+}
+
 pub const fmi2OK: fmi2Status = fmi2Status(0);
 pub const fmi2Warning: fmi2Status = fmi2Status(1);
 pub const fmi2Discard: fmi2Status = fmi2Status(2);

@@ -42,6 +42,12 @@ pub const VERSION: &std::ffi::CStr = c"3.0";
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct fmi3Status(pub c_int);
 
+impl From<c_int> for fmi3Status {
+    fn from(code: c_int) -> Self {
+        fmi3Status(code)
+    }
+}
+
 pub const fmi3OK: fmi3Status = fmi3Status(0);
 pub const fmi3Warning: fmi3Status = fmi3Status(1);
 pub const fmi3Discard: fmi3Status = fmi3Status(2);

@@ -40,7 +40,7 @@ pub unsafe fn enter<'a, M: Model, A: Abi>(
     handle: *mut c_void,
     function: A::Function,
 ) -> Option<Held<'a, M, A>> {
-    let entered = match A::registry().enter(handle as usize) {
+    let entered = match A::REGISTRY.enter(handle as usize) {
         Ok(entered) => entered,
         Err(Refusal::Unknown) => return None,
         Err(Refusal::Busy(report)) => {
@@ -251,7 +251,7 @@ pub fn instantiate<M: Model, A: Abi>(
             request.resource_location,
         ));
         let address = Box::into_raw(instance);
-        match A::registry().insert(address as usize, report) {
+        match A::REGISTRY.insert(address as usize, report) {
             // The master gets the registry's handle, never the address: a stale handle is
             // refused even when the allocator hands the memory to a new instance.
             Ok(handle) => ptr::without_provenance_mut(handle),

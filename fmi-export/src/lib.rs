@@ -36,7 +36,7 @@ mod version;
 
 pub use describe::describe_model_error;
 pub use instance::{Core, Instance, Options};
-pub use logging::{Category, Logger};
+pub use logging::{Category, Logger, Sink};
 pub use state::{Interface, State, StateMask};
 pub use status::{CallError, Refusal, Status, Success};
 pub use units::{base_unit, check_units};

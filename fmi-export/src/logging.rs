@@ -89,9 +89,25 @@ impl Category {
     }
 }
 
-/// The copied callback (the version's sink), plus which debug categories are on.
+/// The master's logger as it was given at instantiation: the callback (`C`, the version's
+/// optional function pointer; none, nothing is logged), the environment pointer handed back
+/// with every line, and the instance name (FMI 2.0's logger takes it with every line).
+#[derive(Debug, Clone)]
+pub struct Sink<C> {
+    pub callback: C,
+    pub environment: *mut std::os::raw::c_void,
+    pub instance_name: CString,
+}
+
+// SAFETY: the environment pointer is only handed back to the master's logger, never
+// dereferenced by us; both standards let the master drive an instance from any thread (one
+// thread at a time), so the master must accept its logger being called from that thread.
+#[allow(unsafe_code)]
+unsafe impl<C: Send> Send for Sink<C> {}
+
+/// The copied callback, plus which debug categories are on.
 pub struct Logger<A: Abi> {
-    sink: A::Sink,
+    sink: Sink<A::Callback>,
     enabled: u8,
 }
 
@@ -113,13 +129,13 @@ impl<A: Abi> std::fmt::Debug for Logger<A> {
 }
 
 impl<A: Abi> Logger<A> {
-    pub fn new(sink: A::Sink, logging_on: bool) -> Logger<A> {
+    pub fn new(sink: Sink<A::Callback>, logging_on: bool) -> Logger<A> {
         let mut logger = Logger { sink, enabled: 0 };
         logger.set_all(logging_on);
         logger
     }
 
-    pub fn sink(&self) -> &A::Sink {
+    pub fn sink(&self) -> &Sink<A::Callback> {
         &self.sink
     }
 

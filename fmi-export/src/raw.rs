@@ -115,6 +115,25 @@ pub unsafe fn deserialize_fmu_state<M: Model, A: Abi>(
     }
 }
 
+/// The body of a debug-logging call: `categories` unpacked to their names (a NULL entry
+/// stays `None`, refused by position in [`lifecycle::set_debug_logging`]).
+///
+/// # Safety
+/// `categories` points to `n` pointers, each NULL or a NUL-terminated string.
+pub unsafe fn set_debug_logging<M: Model, A: Abi>(
+    inst: &mut crate::Instance<M, A>,
+    logging_on: bool,
+    categories: *const *const std::os::raw::c_char,
+    n: usize,
+) -> Result<Success, crate::CallError> {
+    let names: Vec<Option<&[u8]>> = unsafe { slice(categories, n, "categories")? }
+        .iter()
+        // SAFETY: non-null names are NUL-terminated per the standard.
+        .map(|&p| (!p.is_null()).then(|| unsafe { std::ffi::CStr::from_ptr(p) }.to_bytes()))
+        .collect();
+    lifecycle::set_debug_logging(inst, logging_on, &names)
+}
+
 /// # Safety
 /// See the module documentation.
 pub unsafe fn exit_initialization_mode<M: Model, A: Abi>(c: *mut c_void, f: A::Function) -> Status {

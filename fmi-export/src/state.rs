@@ -47,6 +47,16 @@ impl State {
     }
 }
 
+/// Where both standards let a Model Exchange master read the continuous part (states,
+/// derivatives, event indicators, nominals).
+pub const CONTINUOUS_READS: StateMask = StateMask::of(&[
+    State::InitializationMode,
+    State::EventMode,
+    State::ContinuousTimeMode,
+    State::Terminated,
+    State::Error,
+]);
+
 /// A set of [`State`]s.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct StateMask(u16);
@@ -62,6 +72,11 @@ impl StateMask {
         StateMask(bits)
     }
 
+    /// Every state but `states`.
+    pub const fn all_but(states: &[State]) -> StateMask {
+        StateMask(StateMask::of(&State::ALL).0 & !StateMask::of(states).0)
+    }
+
     pub const fn contains(self, state: State) -> bool {
         self.0 & state as u16 != 0
     }
@@ -75,6 +90,17 @@ impl StateMask {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn all_but_leaves_out_exactly_the_named_states() {
+        let mask = StateMask::all_but(&[State::StepFailed, State::Fatal]);
+        for s in State::ALL {
+            assert_eq!(
+                mask.contains(s),
+                !matches!(s, State::StepFailed | State::Fatal)
+            );
+        }
+    }
 
     #[test]
     fn the_bits_of_the_states_are_distinct() {

@@ -1,5 +1,5 @@
 //! What a version layer tells the core about itself.
-use crate::logging::{Category, Logger};
+use crate::logging::{Category, Logger, Sink};
 use crate::state::{Interface, State};
 use crate::status::{Refusal, Status};
 use fmi_model::registry::Registry;
@@ -57,26 +57,28 @@ pub fn assert_function_table<F: Function + PartialEq>(
 pub trait Abi: Sized + 'static {
     /// Magic bytes of a serialized FMU state of this version ([`fmi_model::snapshot`]).
     const SNAPSHOT_MAGIC: [u8; 8];
-    /// The version's C status type.
-    type CStatus: Copy;
+    /// The version's C status type (a C `int`).
+    type CStatus: Copy + From<std::os::raw::c_int>;
     /// The version's C byte of a serialized FMU state (`fmi2Byte` is a `char`, `fmi3Byte` a
     /// `uint8_t`).
     type CByte;
     /// The version's function table.
     type Function: Function;
-    /// What the logger callback needs (the copied callback, its environment, for FMI 2.0
-    /// the instance name).
-    type Sink: Clone + Send;
+    /// The version's logger callback (an optional C function pointer).
+    type Callback: Copy + Send + std::fmt::Debug;
     /// The version's view of the variables of `M` (FMI 2.0 scalars, FMI 3.0 arrays), built
     /// once per instance.
     type View<M: Model>;
 
-    fn status(status: Status) -> Self::CStatus;
+    #[inline(always)]
+    fn status(status: Status) -> Self::CStatus {
+        Self::CStatus::from(status.code())
+    }
     /// Calls the master's logger. `message` is complete text (never a format string).
-    fn emit(sink: &Self::Sink, status: Status, category: Category, message: &CStr);
+    fn emit(sink: &Sink<Self::Callback>, status: Status, category: Category, message: &CStr);
     fn view<M: Model>() -> Self::View<M>;
     /// The registry of this version's live instances of this FMU.
-    fn registry() -> &'static Registry<Logger<Self>>;
+    const REGISTRY: &'static Registry<Logger<Self>>;
     /// The interface identity of `M` written into its model description (GUID or
     /// instantiation token); a serialized FMU state carries it.
     fn interface_uuid<M: Model>() -> uuid::Uuid;

@@ -19,12 +19,13 @@ use crate::ffi::*;
 use crate::index::BaseType;
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
-use crate::version::{Fmi2, Sink};
+use crate::version::Fmi2;
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
 use fmi_export::setters::{check_enumeration, check_integer, check_real, check_settable};
 use fmi_export::step::Advance;
+use fmi_export::Sink;
 use fmi_export::{lifecycle, CallError, Interface, Logger, Options, Success};
 use fmi_model::prepared::{Getter, Setter};
 use fmi_model::Model;
@@ -222,12 +223,12 @@ pub unsafe fn set_debug_logging<M: Model>(
     };
     unsafe {
         call::<M, Fmi2>(c, f, trace, |inst| {
-            let names: Vec<Option<&[u8]>> = slice(categories, n_categories, "categories")?
-                .iter()
-                // SAFETY: non-null names are NUL-terminated per the standard.
-                .map(|&p| (!p.is_null()).then(|| CStr::from_ptr(p).to_bytes()))
-                .collect();
-            lifecycle::set_debug_logging(inst, logging_on != fmi2False, &names)
+            fmi_export::raw::set_debug_logging(
+                inst,
+                logging_on != fmi2False,
+                categories,
+                n_categories,
+            )
         })
     }
 }

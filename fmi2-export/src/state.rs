@@ -9,6 +9,7 @@
 //! never be observed. `Fatal` has an empty row everywhere (the standard allows no further
 //! call), except that `fmi2FreeInstance` is always honoured: it returns `void`, so refusing
 //! it could only leak memory, and a caught panic leaves our memory intact.
+use fmi_export::state::CONTINUOUS_READS;
 use fmi_export::{Interface, Refusal};
 pub use fmi_export::{State, StateMask};
 
@@ -43,14 +44,6 @@ const SETTERS: StateMask = StateMask::of(&[
     StepComplete,
     EventMode,
     ContinuousTimeMode,
-]);
-/// Model Exchange reads of the continuous part (§3.2.3).
-const CONTINUOUS_READS: StateMask = StateMask::of(&[
-    InitializationMode,
-    EventMode,
-    ContinuousTimeMode,
-    Terminated,
-    Error,
 ]);
 const STATUS_QUERIES: StateMask = StateMask::of(&[StepComplete, StepFailed, Terminated]);
 

@@ -5,28 +5,14 @@ use crate::ffi::*;
 use crate::index::VariableIndex;
 use crate::state::Function;
 use crate::variable::Variable;
-use fmi_export::{Abi, Category, Logger, State, StateMask, Status};
+use fmi_export::{Abi, Category, Logger, Sink, State, StateMask, Status};
 use fmi_model::registry::Registry;
 use fmi_model::Model;
-use std::ffi::{CStr, CString};
+use std::ffi::CStr;
 
 /// The FMI 2.0 version of the export core.
 #[derive(Debug)]
 pub struct Fmi2;
-
-/// The copied `fmi2CallbackFunctions.logger`, its environment and the instance name (FMI
-/// 2.0's logger takes the name with every message).
-#[derive(Debug, Clone)]
-pub struct Sink {
-    pub callback: fmi2CallbackLogger,
-    pub environment: fmi2ComponentEnvironment,
-    pub instance_name: CString,
-}
-
-// SAFETY: the environment pointer is only handed back to the master's logger, never
-// dereferenced by us; FMI 2.0 lets the master drive an instance from any thread (one
-// thread at a time), so the master must accept its logger being called from that thread.
-unsafe impl Send for Sink {}
 
 /// The FMI 2.0 scalars of a model and their lookup.
 pub struct View<M: 'static> {
@@ -53,29 +39,16 @@ impl Abi for Fmi2 {
     const TOKEN_ARGUMENT: &'static str = "fmuGUID";
     const EXPERIMENT: &'static str = "fmi2SetupExperiment";
     const CATEGORIES: &'static [Category] = CATEGORIES;
+    const REGISTRY: &'static Registry<Logger<Self>> = &LIVE;
     // StepCanceled is never entered (steps are synchronous); Fatal is never restored.
-    const STATES: StateMask = StateMask::of(&[
-        State::Instantiated,
-        State::InitializationMode,
-        State::StepComplete,
-        State::StepFailed,
-        State::Terminated,
-        State::Error,
-        State::EventMode,
-        State::ContinuousTimeMode,
-    ]);
+    const STATES: StateMask = StateMask::all_but(&[State::StepCanceled, State::Fatal]);
     type CStatus = fmi2Status;
+    type Callback = fmi2CallbackLogger;
     type CByte = fmi2Byte;
     type Function = Function;
-    type Sink = Sink;
     type View<M: Model> = View<M>;
 
-    #[inline(always)]
-    fn status(status: Status) -> fmi2Status {
-        fmi2Status(status.code())
-    }
-
-    fn emit(sink: &Sink, status: Status, category: Category, message: &CStr) {
+    fn emit(sink: &Sink<fmi2CallbackLogger>, status: Status, category: Category, message: &CStr) {
         let Some(callback) = sink.callback else {
             return;
         };
@@ -100,11 +73,6 @@ impl Abi for Fmi2 {
             index: VariableIndex::new(&table),
             table,
         }
-    }
-
-    #[inline(always)]
-    fn registry() -> &'static Registry<Logger<Fmi2>> {
-        &LIVE
     }
 
     fn interface_uuid<M: Model>() -> uuid::Uuid {

@@ -17,12 +17,13 @@
 use crate::ffi::*;
 use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Float64Slot, Type};
-use crate::version::{Fmi3, Sink};
+use crate::version::Fmi3;
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
 use fmi_export::setters::{check_enumeration, check_integer, check_real};
 use fmi_export::step::Advance;
+use fmi_export::Sink;
 use fmi_export::{lifecycle, CallError, Category, Logger, Options, Status, Success};
 use fmi_model::prepared::{Getter, Setter};
 use fmi_model::{Declaration, Kind, Model};
@@ -65,6 +66,7 @@ pub(crate) unsafe fn instantiate<M: Model>(
         Sink {
             callback: log_message,
             environment,
+            instance_name: Default::default(),
         },
         logging_on,
     );
@@ -160,6 +162,7 @@ pub unsafe fn instantiate_scheduled_execution<M: Model>(
         let sink = Sink {
             callback: log_message,
             environment,
+            instance_name: Default::default(),
         };
         Logger::<Fmi3>::new(sink, false).status(
             Status::Error,
@@ -200,12 +203,7 @@ pub unsafe fn set_debug_logging<M: Model>(
     };
     unsafe {
         call::<M, Fmi3>(c, f, trace, |inst| {
-            let names: Vec<Option<&[u8]>> = slice(categories, n_categories, "categories")?
-                .iter()
-                // SAFETY: non-null names are NUL-terminated per the standard.
-                .map(|&p| (!p.is_null()).then(|| CStr::from_ptr(p).to_bytes()))
-                .collect();
-            lifecycle::set_debug_logging(inst, logging_on, &names)
+            fmi_export::raw::set_debug_logging(inst, logging_on, categories, n_categories)
         })
     }
 }

@@ -8,6 +8,7 @@
 //! function of such a feature is `Unsupported`: it answers `fmi3Error` with a log line
 //! saying so, in every state. `Error` is entered when the model itself fails; `Fatal` after a
 //! caught panic, where only `fmi3FreeInstance` is honoured (it returns `void`).
+use fmi_export::state::CONTINUOUS_READS;
 pub use fmi_export::{Interface, Refusal, State, StateMask};
 
 /// Which interfaces a function belongs to, and whether we implement it.
@@ -51,13 +52,6 @@ const SETTERS: StateMask = StateMask::of(&[
     EventMode,
     ContinuousTimeMode,
     StepComplete,
-]);
-const CONTINUOUS_READS: StateMask = StateMask::of(&[
-    InitializationMode,
-    EventMode,
-    ContinuousTimeMode,
-    Terminated,
-    Error,
 ]);
 
 /// A state as FMI 3.0 §3.2 and §4.2 name it.

@@ -4,7 +4,7 @@
 use crate::ffi::*;
 use crate::state::Function;
 use crate::variables::{Float64Slot, Index};
-use fmi_export::{Abi, Category, Logger, State, StateMask, Status};
+use fmi_export::{Abi, Category, Logger, Sink, State, StateMask, Status};
 use fmi_model::registry::Registry;
 use fmi_model::Model;
 use std::ffi::CStr;
@@ -12,17 +12,6 @@ use std::ffi::CStr;
 /// The FMI 3.0 version of the export core.
 #[derive(Debug)]
 pub struct Fmi3;
-
-/// The copied `logMessage` callback and its environment.
-#[derive(Debug, Clone)]
-pub struct Sink {
-    pub callback: fmi3LogMessageCallback,
-    pub environment: fmi3InstanceEnvironment,
-}
-
-// SAFETY: the environment pointer is only handed back to the master's callback, never
-// dereferenced by us; the master may drive an instance from any thread, one at a time.
-unsafe impl Send for Sink {}
 
 /// The FMI 3.0 variables of a model (one per declaration) and their lookup.
 pub struct View<M: 'static> {
@@ -41,28 +30,23 @@ impl Abi for Fmi3 {
     const TOKEN_ARGUMENT: &'static str = "instantiationToken";
     const EXPERIMENT: &'static str = "fmi3EnterInitializationMode";
     const CATEGORIES: &'static [Category] = CATEGORIES;
-    // FMI 3.0 has no StepFailed or StepCanceled (a step either succeeds or changes nothing).
-    const STATES: StateMask = StateMask::of(&[
-        State::Instantiated,
-        State::InitializationMode,
-        State::StepComplete,
-        State::Terminated,
-        State::Error,
-        State::EventMode,
-        State::ContinuousTimeMode,
-    ]);
+    const REGISTRY: &'static Registry<Logger<Self>> = &LIVE;
+    // FMI 3.0 has no StepFailed or StepCanceled (a step either succeeds or changes nothing);
+    // Fatal is never restored.
+    const STATES: StateMask =
+        StateMask::all_but(&[State::StepFailed, State::StepCanceled, State::Fatal]);
     type CStatus = fmi3Status;
+    type Callback = fmi3LogMessageCallback;
     type CByte = fmi3Byte;
     type Function = Function;
-    type Sink = Sink;
     type View<M: Model> = View<M>;
 
-    #[inline(always)]
-    fn status(status: Status) -> fmi3Status {
-        fmi3Status(status.code())
-    }
-
-    fn emit(sink: &Sink, status: Status, category: Category, message: &CStr) {
+    fn emit(
+        sink: &Sink<fmi3LogMessageCallback>,
+        status: Status,
+        category: Category,
+        message: &CStr,
+    ) {
         let Some(callback) = sink.callback else {
             return;
         };
@@ -83,11 +67,6 @@ impl Abi for Fmi3 {
             index: Index::new::<M>(),
             float64: Float64Slot::table(),
         }
-    }
-
-    #[inline(always)]
-    fn registry() -> &'static Registry<Logger<Fmi3>> {
-        &LIVE
     }
 
     fn interface_uuid<M: Model>() -> uuid::Uuid {
