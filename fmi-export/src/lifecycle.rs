@@ -108,3 +108,21 @@ pub fn reset<M: Model, A: Abi>(inst: &mut Instance<M, A>) -> Result<Success, Cal
     inst.dirty = true;
     Ok(Success::Ok)
 }
+
+/// The call trace of the function that declares the experiment, in the words of both
+/// standards' argument names. The tolerance is shown but not used: the models step with a
+/// fixed schedule of their own.
+pub fn experiment_trace(
+    function: &str,
+    tolerance_defined: impl std::fmt::Display,
+    tolerance: f64,
+    start_time: f64,
+    stop_time_defined: impl std::fmt::Display,
+    stop_time: f64,
+) -> String {
+    format!(
+        "{function}(toleranceDefined={tolerance_defined}, tolerance={tolerance:e} (not used: \
+         fixed-step model), startTime={start_time}, stopTimeDefined={stop_time_defined}, \
+         stopTime={stop_time})"
+    )
+}

@@ -245,12 +245,9 @@ pub unsafe fn setup_experiment<M: Model>(
 ) -> fmi2Status {
     let f = Function::SetupExperiment;
     let trace = || {
-        format!(
-            "{}(toleranceDefined={tolerance_defined}, tolerance={tolerance:e} (not used: \
-             fixed-step model), startTime={start_time}, stopTimeDefined={stop_time_defined}, \
-             stopTime={stop_time})",
-            f.name()
-        )
+        let (tolerance_on, stop_on) = (tolerance_defined, stop_time_defined);
+        let (start, stop) = (start_time, stop_time);
+        lifecycle::experiment_trace(f.name(), tolerance_on, tolerance, start, stop_on, stop)
     };
     let stop = (stop_time_defined != fmi2False).then_some(stop_time);
     unsafe {

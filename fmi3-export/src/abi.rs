@@ -220,11 +220,9 @@ pub unsafe fn enter_initialization_mode<M: Model>(
 ) -> fmi3Status {
     let f = Function::EnterInitializationMode;
     let trace = || {
-        format!(
-            "{}(toleranceDefined={tolerance_defined}, tolerance={tolerance}, \
-             startTime={start_time}, stopTimeDefined={stop_time_defined}, stopTime={stop_time})",
-            f.name()
-        )
+        let (tolerance_on, stop_on) = (tolerance_defined, stop_time_defined);
+        let (start, stop) = (start_time, stop_time);
+        lifecycle::experiment_trace(f.name(), tolerance_on, tolerance, start, stop_on, stop)
     };
     let stop = stop_time_defined.then_some(stop_time);
     unsafe {
