@@ -6,7 +6,9 @@
 //! - [`runner`]: parallel execution, one FMU instance pair per worker, rows streamed to
 //!   `manifest.csv` ([`manifest`]) with `campaign.toml` ([`config`]) beside it.
 //! - [`merge`] joins shards; [`replay`] re-flies one flight bit-exactly; [`summary`] and
-//!   [`plots`] give the table and the paper's Monte Carlo figure; [`cli`] the subcommands.
+//!   [`plots`] give the table and the paper's Monte Carlo figure; [`analysis`] what drives
+//!   each metric and the paired law differences; [`cli`] the subcommands.
+pub mod analysis;
 pub mod attitude;
 pub mod campaign;
 pub mod cli;

@@ -55,7 +55,7 @@ pub fn runs_for_quantile_bound(p: f64, confidence: f64) -> u64 {
 }
 
 /// P(X <= k) for X ~ Binomial(n, q), summed in logarithms (n up to millions).
-fn binomial_cdf(k: u64, n: u64, q: f64) -> f64 {
+pub(crate) fn binomial_cdf(k: u64, n: u64, q: f64) -> f64 {
     if q <= 0.0 {
         return 1.0;
     }

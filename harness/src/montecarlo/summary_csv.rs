@@ -3,7 +3,12 @@
 //! scenario's requirement, the 3-sigma dispersion ellipse of the touchdown points (or, without
 //! touchdowns, of the end-of-descent points), and of every metric the median, the maximum and
 //! the 90 %-confidence upper bounds of its 95th and 99.73rd percentiles where the cell's runs
-//! support them (empty where they do not: 45 and 852 runs are needed).
+//! support them (empty where they do not: 45 and 852 runs are needed); of every metric too,
+//! the inputs that drive it (significant partial rank correlations, strongest first) and the
+//! cell's law against the reference law on the same runs (median difference and its
+//! distribution-free 90 % interval; the reference is the coupled law when the campaign flies
+//! it, else its first law).
+use super::analysis;
 use super::manifest::{self, Row, METRIC_NAMES};
 use super::stats::{self, THREE_SIGMA};
 use crate::scenarios::Law;
@@ -46,6 +51,7 @@ pub fn header() -> Vec<String> {
         "ellipse_semi_major_m",
         "ellipse_semi_minor_m",
         "ellipse_major_azimuth_deg",
+        "paired_against",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -56,8 +62,25 @@ pub fn header() -> Vec<String> {
             h.push(format!("{name}_{p}"));
         }
         h.push(format!("{name}_max"));
+        h.push(format!("{name}_influential_inputs"));
+        for column in ["paired_median_diff", "paired_ci90_low", "paired_ci90_high"] {
+            h.push(format!("{name}_{column}"));
+        }
     }
     h
+}
+
+/// How many influential inputs a `<metric>_influential_inputs` field names at most.
+const INFLUENTIAL_SHOWN: usize = 3;
+
+/// The law the others are paired against: coupled when the campaign flies it (the classical
+/// law the paper improves on), else the first law.
+pub fn reference_law(cells: &[(Law, f64)]) -> Option<Law> {
+    cells
+        .iter()
+        .map(|c| c.0)
+        .find(|l| *l == Law::Coupled)
+        .or(cells.first().map(|c| c.0))
 }
 
 /// "0 failures in 852 runs: touchdown inside the envelope holds in >= 99.73 % of cases with
@@ -101,13 +124,19 @@ fn cells(rows: &[Row]) -> Vec<(Law, f64)> {
 
 /// The records of `summary.csv`, one per cell.
 pub fn records(rows: &[Row], expect: Expect) -> Vec<Vec<String>> {
-    cells(rows)
-        .into_iter()
-        .map(|(law, phi)| {
-            let cell: Vec<&Row> = rows
-                .iter()
-                .filter(|r| r.flight.law == law && r.flight.phi_cmd_deg == phi)
-                .collect();
+    let cells = cells(rows);
+    let reference = reference_law(&cells);
+    let of = |law: Law, phi: f64| -> Vec<&Row> {
+        rows.iter()
+            .filter(|r| r.flight.law == law && r.flight.phi_cmd_deg == phi)
+            .collect()
+    };
+    cells
+        .iter()
+        .map(|&(law, phi)| {
+            let cell = of(law, phi);
+            let against = reference.filter(|r| *r != law);
+            let other = against.map(|r| of(r, phi)).unwrap_or_default();
             let runs = cell.len() as u64;
             let errors = cell.iter().filter(|r| r.end.is_error()).count() as u64;
             let failures = cell.iter().filter(|r| !r.verdict.as_expected).count() as u64;
@@ -148,6 +177,7 @@ pub fn records(rows: &[Row], expect: Expect) -> Vec<Vec<String>> {
                 e(|x| x.semi_major_m),
                 e(|x| x.semi_minor_m),
                 e(|x| x.major_azimuth_deg),
+                against.map_or_else(String::new, |l| l.name().to_owned()),
             ];
             let values: Vec<[f64; manifest::METRIC_COUNT]> = cell
                 .iter()
@@ -169,6 +199,21 @@ pub fn records(rows: &[Row], expect: Expect) -> Vec<Vec<String>> {
                     );
                 }
                 record.push(number(column.last().copied().unwrap_or(f64::NAN)));
+                let ranking = analysis::sensitivities(&cell, k);
+                record.push(analysis::ranking_text(&ranking, INFLUENTIAL_SHOWN));
+                match against {
+                    Some(reference) => {
+                        let p = analysis::paired(&cell, &other, reference, k);
+                        for v in [p.median_difference, p.low, p.high] {
+                            record.push(if p.runs == 0 {
+                                String::new()
+                            } else {
+                                number(v)
+                            });
+                        }
+                    }
+                    None => record.extend([String::new(), String::new(), String::new()]),
+                }
             }
             record
         })
