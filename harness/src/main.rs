@@ -278,13 +278,19 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             format,
         } => {
             let (system, spec) = harness::verdict::scenario::load(&scenario)?;
+            let requirements = harness::verdict::scenario::requirements(&scenario)?;
             let name = system.name.clone();
-            let flights = harness::paper::fly_all(system, &cli.fmu_dir, &Law::ALL, &spec.envelope)?;
-            let summary = harness::paper::summary(&name, &flights, spec.expect);
+            let own = harness::paper::scenario_law(&system);
+            let flights = harness::paper::fly_all(
+                system,
+                &cli.fmu_dir,
+                &Law::ALL,
+                &spec.envelope,
+                &requirements,
+            )?;
+            let summary = harness::paper::summary(&name, &flights, spec.expect, own);
             print!("{summary}");
-            for flight in &flights {
-                exit_code = exit_code.max(flight.verdict.exit_code(spec.expect));
-            }
+            exit_code = exit_code.max(harness::paper::exit_code(&flights, spec.expect, own));
             for path in harness::paper::write_outputs(
                 &flights, &out_dir, &name, &summary, !no_plots, format,
             )? {

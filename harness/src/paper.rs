@@ -1,6 +1,7 @@
 //! `harness paper`: one scenario flown with each control law, compared.
 use crate::master::{MasterError, RunEnd, Simulation, Trajectory};
 use crate::metrics::{self, Metrics};
+use crate::requirements::{Judged, Requirement};
 use crate::scenarios::{Law, TERMINAL_TARGET_NUE};
 use crate::system::SystemDescription;
 use crate::verdict::{self, Envelope, Verdict};
@@ -14,32 +15,55 @@ pub struct Flight {
     pub trajectory: Trajectory,
     pub metrics: Metrics,
     pub verdict: Verdict,
+    /// The scenario's requirements judged on this flight.
+    pub requirements: Vec<Judged>,
 }
 
 /// Flies `system` once per law (its `gnc.control_law` overridden), reusing one loaded
-/// simulation (the instances are reset between runs); touchdowns judged against `envelope`.
+/// simulation (the instances are reset between runs); touchdowns judged against `envelope`,
+/// every flight against `requirements` (refused before the first flight when one names a
+/// signal that is not recorded).
 pub fn fly_all(
     system: SystemDescription,
     fmu_dir: &Path,
     laws: &[Law],
     envelope: &Envelope,
+    requirements: &[Requirement],
 ) -> anyhow::Result<Vec<Flight>> {
     let mut simulation = Simulation::new(system, fmu_dir)?;
+    let unrecorded = crate::requirements::unrecorded(requirements, simulation.column_names());
+    if !unrecorded.is_empty() {
+        anyhow::bail!("{}", unrecorded.join("\n"));
+    }
     laws.iter()
-        .map(|&law| fly_judged(&mut simulation, law, envelope))
+        .map(|&law| fly_judged(&mut simulation, law, envelope, requirements))
         .collect()
 }
 
 /// Flies one law on a loaded simulation (touchdown judged against the default envelope).
 pub fn fly(simulation: &mut Simulation, law: Law) -> anyhow::Result<Flight> {
-    fly_judged(simulation, law, &Envelope::default())
+    fly_judged(simulation, law, &Envelope::default(), &[])
 }
 
-/// Flies one law on a loaded simulation and judges its end against `envelope`.
+/// The law a scenario itself flies (its `gnc.control_law`), when it sets one.
+pub fn scenario_law(system: &SystemDescription) -> Option<Law> {
+    let gnc = system.instance("gnc")?;
+    let (_, value) = gnc.parameters.iter().find(|(n, _)| n == "control_law")?;
+    let code = match value {
+        crate::system::ParamValue::Integer(i) => *i,
+        crate::system::ParamValue::Real(x) if x.fract() == 0.0 => *x as i64,
+        _ => return None,
+    };
+    Law::ALL.into_iter().find(|l| *l as i64 == code)
+}
+
+/// Flies one law on a loaded simulation and judges its end against `envelope` and its
+/// trajectory against `requirements`.
 pub fn fly_judged(
     simulation: &mut Simulation,
     law: Law,
     envelope: &Envelope,
+    requirements: &[Requirement],
 ) -> anyhow::Result<Flight> {
     simulation.set_parameter("gnc", "control_law", law.parameter())?;
     let mut trajectory = Trajectory {
@@ -51,18 +75,27 @@ pub fn fly_judged(
         .map_err(|e: MasterError| anyhow::anyhow!(e))?;
     let metrics = metrics::compute(&trajectory, &Default::default(), TERMINAL_TARGET_NUE)?;
     let verdict = verdict::judge(&trajectory, &end, envelope);
+    let requirements = crate::requirements::judge(requirements, &trajectory);
     Ok(Flight {
         law,
         end,
         trajectory,
         metrics,
         verdict,
+        requirements,
     })
 }
 
-/// The text `harness paper` prints and keeps as `<name>-summary.txt`: the table, then one
-/// verdict line per law.
-pub fn summary(name: &str, flights: &[Flight], expect: verdict::Expect) -> String {
+/// The text `harness paper` prints and keeps as `<name>-summary.txt`: the table, then per
+/// law its verdict and each requirement's result. `own` is the law the scenario itself flies:
+/// the other laws are flown for comparison, and a requirement they violate is the
+/// comparison's finding (said so), not a failure of the scenario.
+pub fn summary(
+    name: &str,
+    flights: &[Flight],
+    expect: verdict::Expect,
+    own: Option<Law>,
+) -> String {
     let mut text = format!("scenario '{name}'\n{}\n", table(flights));
     for flight in flights {
         text += &format!(
@@ -70,8 +103,34 @@ pub fn summary(name: &str, flights: &[Flight], expect: verdict::Expect) -> Strin
             flight.law.name(),
             flight.verdict.describe(expect)
         );
+        let comparison = own.is_some_and(|own| own != flight.law);
+        for judged in &flight.requirements {
+            let note = if comparison && !judged.holds() {
+                " [a comparison law: not the scenario's failure]"
+            } else {
+                ""
+            };
+            text += &format!("  {}{note}\n", judged.describe());
+        }
     }
     text
+}
+
+/// The exit status of `harness paper`: every law's verdict, and the requirements of the law
+/// the scenario flies (of every law when it sets none).
+pub fn exit_code(flights: &[Flight], expect: verdict::Expect, own: Option<Law>) -> i32 {
+    flights
+        .iter()
+        .map(|f| {
+            let mut code = f.verdict.exit_code(expect);
+            let binding = own.is_none_or(|own| own == f.law);
+            if binding && f.requirements.iter().any(|r| !r.holds()) {
+                code = code.max(verdict::EXIT_FAILED_VERDICT);
+            }
+            code
+        })
+        .max()
+        .unwrap_or(verdict::EXIT_OK)
 }
 
 /// Writes into `dir` each law's trajectory (in `format`), `<name>-summary.txt`, the figures
@@ -202,6 +261,7 @@ mod tests {
             trajectory: Trajectory::default(),
             metrics,
             verdict,
+            requirements: Vec::new(),
         }
     }
 

@@ -40,7 +40,8 @@ fn a_dask_campaign_on_two_local_workers_equals_the_local_campaign() {
         .arg("--quiet")
         .status()
         .unwrap();
-    assert!(status.success());
+    // 3: flown, some flights outside the paper scenario's limits.
+    assert!(matches!(status.code(), Some(0 | 3)), "{status}");
 
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = Command::new(cargo)
@@ -66,7 +67,7 @@ fn a_dask_campaign_on_two_local_workers_equals_the_local_campaign() {
         .unwrap();
     let text = String::from_utf8_lossy(&output.stdout).into_owned()
         + &String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{text}");
+    assert_eq!(output.status.code(), status.code(), "{text}");
     assert!(text.contains("2 shards on"), "two Dask tasks: {text}");
 
     assert_eq!(names(&dask), names(&local));

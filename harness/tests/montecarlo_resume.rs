@@ -35,8 +35,9 @@ fn harness(out_dir: &Path, extra: &[&str]) -> Command {
 
 fn finished(output: Output) -> String {
     let text = String::from_utf8_lossy(&output.stdout).into_owned();
+    // 3: flown, some flights outside the paper scenario's limits (they are results too).
     assert!(
-        output.status.success(),
+        matches!(output.status.code(), Some(0 | 3)),
         "{text}{}",
         String::from_utf8_lossy(&output.stderr)
     );

@@ -155,17 +155,18 @@ fn report(
     plots: bool,
 ) -> anyhow::Result<i32> {
     let (_, spec) = crate::verdict::scenario::load(scenario)?;
+    let requirements = crate::verdict::scenario::requirements(scenario)?.len();
     if !quiet {
         print!("{}", summary::table(&summary::summarise(rows)));
     }
-    let path = summary_csv::write(rows, spec.expect, dir)?;
+    let path = summary_csv::write(rows, spec.expect, requirements, dir)?;
     println!("wrote {}", path.display());
     let failed = summary_csv::failed_lines(rows);
     if !failed.is_empty() {
         println!(
             "{} flights did not end as the scenario expects ({}):",
             failed.len(),
-            summary_csv::requirement(spec.expect)
+            summary_csv::requirement(spec.expect, requirements)
         );
         for line in failed.iter().take(FAILED_SHOWN) {
             println!("  {line}");

@@ -24,12 +24,18 @@ pub const CONFIDENCE: f64 = 0.90;
 /// [`CONFIDENCE`]: `<metric>_p95_ub90`, `<metric>_p99_73_ub90`.
 const BOUNDED_PERCENTILES: [(&str, f64); 2] = [("p95_ub90", 0.95), ("p99_73_ub90", THREE_SIGMA)];
 
-/// The requirement the confidence statement is about.
-pub fn requirement(expect: Expect) -> &'static str {
-    match expect {
+/// The requirement the confidence statement is about: the scenario's expected end, and its
+/// `requirements` `[[requirement]]` entries when it has any.
+pub fn requirement(expect: Expect, requirements: usize) -> String {
+    let end = match expect {
         Expect::Landed => "touchdown inside the envelope",
         Expect::Completed => "completes without touchdown or error",
         Expect::Stopped => "an FMU ends the run before the stop time",
+    };
+    match requirements {
+        0 => end.to_owned(),
+        1 => format!("{end}, meeting its requirement"),
+        n => format!("{end}, meeting its {n} requirements"),
     }
 }
 
@@ -85,13 +91,13 @@ pub fn reference_law(cells: &[(Law, f64)]) -> Option<Law> {
 
 /// "0 failures in 852 runs: touchdown inside the envelope holds in >= 99.73 % of cases with
 /// 90 % confidence".
-pub fn statement(failures: u64, runs: u64, expect: Expect) -> String {
+pub fn statement(failures: u64, runs: u64, expect: Expect, requirements: usize) -> String {
     let bound = stats::reliability_lower_bound(failures, runs, CONFIDENCE);
     let needed = stats::runs_needed(THREE_SIGMA, CONFIDENCE);
     let mut text = format!(
         "{failures} failures in {runs} runs: '{}' holds in >= {:.2} % of cases with {:.0} % \
          confidence",
-        requirement(expect),
+        requirement(expect, requirements),
         100.0 * bound,
         100.0 * CONFIDENCE
     );
@@ -123,7 +129,7 @@ fn cells(rows: &[Row]) -> Vec<(Law, f64)> {
 }
 
 /// The records of `summary.csv`, one per cell.
-pub fn records(rows: &[Row], expect: Expect) -> Vec<Vec<String>> {
+pub fn records(rows: &[Row], expect: Expect, requirements: usize) -> Vec<Vec<String>> {
     let cells = cells(rows);
     let reference = reference_law(&cells);
     let of = |law: Law, phi: f64| -> Vec<&Row> {
@@ -166,10 +172,10 @@ pub fn records(rows: &[Row], expect: Expect) -> Vec<Vec<String>> {
                 runs.to_string(),
                 errors.to_string(),
                 failures.to_string(),
-                requirement(expect).to_owned(),
+                requirement(expect, requirements),
                 number(stats::reliability_lower_bound(failures, runs, CONFIDENCE)),
                 number(stats::confidence(failures, runs, THREE_SIGMA)),
-                statement(failures, runs, expect),
+                statement(failures, runs, expect, requirements),
                 of.to_owned(),
                 points.len().to_string(),
                 e(|x| x.centre_north_m),
@@ -221,11 +227,16 @@ pub fn records(rows: &[Row], expect: Expect) -> Vec<Vec<String>> {
 }
 
 /// Writes `summary.csv` into `dir`.
-pub fn write(rows: &[Row], expect: Expect, dir: &Path) -> anyhow::Result<std::path::PathBuf> {
+pub fn write(
+    rows: &[Row],
+    expect: Expect,
+    requirements: usize,
+    dir: &Path,
+) -> anyhow::Result<std::path::PathBuf> {
     let path = dir.join(FILE_NAME);
     let mut out = csv::Writer::from_path(&path)?;
     out.write_record(header())?;
-    for record in records(rows, expect) {
+    for record in records(rows, expect, requirements) {
         out.write_record(&record)?;
     }
     out.flush()?;
@@ -295,7 +306,7 @@ mod tests {
     #[test]
     fn a_cell_row_holds_counts_confidence_ellipse_and_percentiles() {
         let rows: Vec<Row> = (0..11).map(|j| row(j, Law::Decoupled)).collect();
-        let records = records(&rows, Expect::Landed);
+        let records = records(&rows, Expect::Landed, 0);
         assert_eq!(records.len(), 1);
         let header = header();
         let get = |name: &str| {
@@ -328,7 +339,7 @@ mod tests {
         // 100 runs bound p95 at 90 % by the 99th of them (P(Bin(100, 0.95) <= 98) = 0.963,
         // <= 97: 0.882); still nothing for p99.73.
         let rows: Vec<Row> = (0..100).map(|j| row(j, Law::Decoupled)).collect();
-        let hundred = super::records(&rows, Expect::Landed);
+        let hundred = super::records(&rows, Expect::Landed, 0);
         let get = |name: &str| {
             let k = header.iter().position(|h| h == name).unwrap();
             hundred[0][k].clone()
@@ -354,7 +365,7 @@ mod tests {
             r.metrics.descent_end_east_m = 0.1 * r.metrics.touchdown_north_m;
             r.metrics.touchdown_north_m = f64::NAN;
         }
-        let records = records(&rows, Expect::Completed);
+        let records = records(&rows, Expect::Completed, 0);
         let k = header().iter().position(|h| h == "ellipse_of").unwrap();
         assert_eq!(records[0][k], "descent_end");
         assert_eq!(failed_lines(&rows).len(), 1);

@@ -117,11 +117,17 @@ impl Judged {
             "requirement {}: {} ({margin}; recorded {} to {} s): {}",
             self.name,
             if self.holds() { "holds" } else { "VIOLATED" },
-            self.recorded_s.0,
-            self.recorded_s.1,
+            short(self.recorded_s.0),
+            short(self.recorded_s.1),
             self.text
         )
     }
+}
+
+/// A time as a reader wants it: to the millisecond, without trailing zeros (172, 141.735).
+fn short(t: f64) -> String {
+    let text = format!("{t:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_owned()
 }
 
 /// Each requirement's robustness at the start of the recorded run.
