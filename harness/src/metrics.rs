@@ -38,6 +38,13 @@ pub struct Metrics {
     pub final_phi_b_rad: f64,
     /// Largest tilt of the thrust axis from the commanded direction after the first 30 s (rad).
     pub max_tilt_error_after_30s_rad: f64,
+    /// Largest tilt of the thrust axis from the commanded direction, whole run (rad): how far
+    /// the attitude law lets the thrust point away from what guidance asks while it turns.
+    pub max_tilt_error_rad: f64,
+    /// Horizontal speed at the first sample of the polynomial descent (m/s): the state the
+    /// hover hands to the descent guidance, which the cubic then carries over its whole
+    /// time-to-go. NaN without a descent.
+    pub handover_horizontal_speed_mps: f64,
     pub end_time_s: f64,
     /// |r - descent target| at the last sample of the polynomial descent (m): what the
     /// controller leaves to the guidance, before any hover corrects it. NaN without a descent.
@@ -122,6 +129,7 @@ pub fn compute_with_final(
     let t0 = trajectory.times.first().copied().unwrap_or(0.0);
     let times = &trajectory.times;
     let descent_end = (0..n).rev().find(|&k| phase[k] == 2.0);
+    let descent_start = (0..n).find(|&k| phase[k] == 2.0);
     let at_descent_end = |f: &dyn Fn(usize) -> f64| descent_end.map_or(f64::NAN, f);
     let manoeuvre_end = settle_index.map_or(0, |k| k + 1);
     let tilt_error_integral_rad_s = (1..n)
@@ -152,6 +160,8 @@ pub fn compute_with_final(
                 .filter(|&k| trajectory.times[k] - t0 >= 30.0)
                 .map(|k| tilt[k]),
         ),
+        max_tilt_error_rad: max_over(&mut (0..n).map(|k| tilt[k])),
+        handover_horizontal_speed_mps: descent_start.map_or(f64::NAN, |k| v[0][k].hypot(v[2][k])),
         end_time_s: trajectory.times.last().copied().unwrap_or(f64::NAN),
         descent_end_position_error_m: at_descent_end(&|k| {
             (0..3)
@@ -268,7 +278,7 @@ mod tests {
                     3.0, 800.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.3, 0.4, 0.0, 1.0, 1.0, 0.0, 0.2,
                 ],
                 [
-                    6.0, 500.0, 8.0, 0.0, -5.0, 0.0, 0.0, 0.0, 0.0, 5.0, 2.0, 0.01, 1.0, 0.1,
+                    6.0, 500.0, 8.0, 0.3, -5.0, 0.4, 0.0, 0.0, 0.0, 5.0, 2.0, 0.01, 1.0, 0.1,
                 ],
                 [
                     0.0, 152.0, 0.0, 0.0, 0.0, 0.6, 0.0, 0.0, 0.0, 9.0, 3.0, 0.0, 2.6, 0.05,
@@ -291,6 +301,10 @@ mod tests {
         assert_eq!(m.roll_settling_time_s, 40.0);
         assert_eq!(m.final_phi_b_rad, 2.6);
         assert_eq!(m.max_tilt_error_after_30s_rad, 0.1);
+        // 0.2 at t = 0, before the 30 s the other tilt metric waits for
+        assert_eq!(m.max_tilt_error_rad, 0.2);
+        // the descent (phase 2) starts at t = 40 with v = (0.3, -5, 0.4): 0.5 m/s across
+        assert_eq!(m.handover_horizontal_speed_mps, 0.5);
         // the descent (phase 2) ends at t = 40 at (6, 500, 8): |(6, 350, 8)|
         assert_eq!(
             m.descent_end_position_error_m,

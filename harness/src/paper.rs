@@ -182,7 +182,7 @@ pub fn table(flights: &[Flight]) -> String {
     }
     let _ = writeln!(out);
     type Row = (&'static str, fn(&Metrics) -> f64);
-    let rows: [Row; 10] = [
+    let rows: [Row; 12] = [
         ("max horizontal deviation, flight (m)", |m| {
             m.max_horizontal_deviation_m
         }),
@@ -206,6 +206,12 @@ pub fn table(flights: &[Flight]) -> String {
         ("final phi_b (deg)", |m| m.final_phi_b_rad.to_degrees()),
         ("max tilt error after 30 s (deg)", |m| {
             m.max_tilt_error_after_30s_rad.to_degrees()
+        }),
+        ("max tilt error, flight (deg)", |m| {
+            m.max_tilt_error_rad.to_degrees()
+        }),
+        ("horizontal speed at descent start (m/s)", |m| {
+            m.handover_horizontal_speed_mps
         }),
     ];
     for (label, get) in rows {

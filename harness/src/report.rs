@@ -94,8 +94,8 @@ fn summary_table(path: &Path, html: &mut String) -> anyhow::Result<()> {
 /// `summary.csv`).
 const ANALYSED_METRICS: [&str; 4] = [
     "max_horizontal_deviation_descent_m",
-    "max_lateral_speed_manoeuvre_mps",
-    "max_body_rate_radps",
+    "handover_horizontal_speed_mps",
+    "max_tilt_error_rad",
     "propellant_used_kg",
 ];
 

@@ -13,7 +13,7 @@ use std::path::Path;
 pub const FILE_NAME: &str = "manifest.csv";
 
 /// Number of metric columns.
-pub const METRIC_COUNT: usize = 22;
+pub const METRIC_COUNT: usize = 24;
 
 /// The metric columns, named as the [`Metrics`] fields.
 pub const METRIC_NAMES: [&str; METRIC_COUNT] = [
@@ -39,6 +39,8 @@ pub const METRIC_NAMES: [&str; METRIC_COUNT] = [
     "touchdown_body_rate_radps",
     "touchdown_north_m",
     "touchdown_east_m",
+    "max_tilt_error_rad",
+    "handover_horizontal_speed_mps",
 ];
 
 pub fn metric_values(m: &Metrics) -> [f64; METRIC_COUNT] {
@@ -65,6 +67,8 @@ pub fn metric_values(m: &Metrics) -> [f64; METRIC_COUNT] {
         m.touchdown_body_rate_radps,
         m.touchdown_north_m,
         m.touchdown_east_m,
+        m.max_tilt_error_rad,
+        m.handover_horizontal_speed_mps,
     ]
 }
 
@@ -92,6 +96,8 @@ pub fn metrics_from(v: [f64; METRIC_COUNT]) -> Metrics {
         touchdown_body_rate_radps: v[19],
         touchdown_north_m: v[20],
         touchdown_east_m: v[21],
+        max_tilt_error_rad: v[22],
+        handover_horizontal_speed_mps: v[23],
     }
 }
 
