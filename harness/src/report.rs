@@ -181,8 +181,9 @@ pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathB
     );
     let _ = writeln!(
         html,
-        "<p>Written by lander-fmi harness {} at {} (UTC).</p>",
+        "<p>Written by lander-fmi harness {} (commit {}) at {} (UTC).</p>",
         env!("CARGO_PKG_VERSION"),
+        env!("LANDER_COMMIT"),
         utc_now()
     );
     // A campaign's definition holds what reproduces it: scenario, seed, grid, dispersions,
@@ -326,7 +327,26 @@ mod tests {
             html.contains("seed = 7") && html.contains("guid = &quot;{g}&quot;"),
             "{html}"
         );
-        assert!(html.contains(concat!("harness ", env!("CARGO_PKG_VERSION"), " at ")));
+        assert!(html.contains(concat!(
+            "harness ",
+            env!("CARGO_PKG_VERSION"),
+            " (commit ",
+            env!("LANDER_COMMIT"),
+            ") at "
+        )));
+        // In a git checkout the page names the commit checked out (the build script reruns
+        // when HEAD moves).
+        let head = std::process::Command::new("git")
+            .args(["rev-parse", "HEAD"])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_owned());
+        match head {
+            Some(head) => assert_eq!(env!("LANDER_COMMIT"), head),
+            None => assert_eq!(env!("LANDER_COMMIT"), "unknown"),
+        }
     }
 
     #[test]
