@@ -494,6 +494,7 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(132, parameter engine_thrust_max: parameters.engines.max_thrust_per_engine_n, "N", "Maximum thrust of one engine", min = 0.0),
     decl!(133, parameter engine_off_threshold: parameters.engines.off_threshold_n, "N", "A thrust command at or below this value switches the engines off", min = 0.0),
     decl!(134, parameter engine_time_constant: parameters.engines.time_constant_s, "s", "First-order lag of the delivered thrust (0 = none)", min = 0.0),
+    decl!(146, parameter engine_thrust_scale: parameters.engines.thrust_scale, "1", "Delivered over commanded thrust once the throttle limits apply: a thrust-level error the GNC does not know (1 nominal), at most 2", above = 0.0, max = 2.0),
     decl!(135, parameter thrust_misalignment: parameters.thrust_line.misalignment_rad, "rad", "Angle between the thrust direction and body +y", above = -HALF_PI, below = HALF_PI),
     decl!(136, parameter thrust_misalignment_azimuth: parameters.thrust_line.misalignment_azimuth_rad, "rad", "Direction of the misalignment in the body x-z plane, from +x towards +z"),
     decl!(137, parameter thrust_point_body[3]: parameters.thrust_line.point_body_m, "m", "Thrust application point relative to the centre of mass", components = &["body x (lateral offset)", "body y (nozzle below the centre of mass)", "body z (lateral offset)"]),

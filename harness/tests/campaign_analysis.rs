@@ -77,3 +77,58 @@ fn summary_names_the_driving_input_and_the_paired_law_difference() {
     );
     assert!(report.contains("m0_scale +"), "report without the drivers");
 }
+
+/// A thrust level the engines cannot hold the lander's weight with falls: 2 x 800 N x 0.9 =
+/// 1,440 N against 900 kg x 1.62 m/s^2 = 1,458 N.
+#[test]
+fn a_thrust_level_below_the_weight_lands_hard() {
+    let output = harness(&["run", "paper", "--set", "plant.engine_thrust_scale=0.9"]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(3), "{stdout}");
+    assert!(stdout.contains("verdict: HARD LANDING"), "{stdout}");
+    let output = harness(&["run", "paper", "--set", "plant.engine_thrust_scale=1"]);
+    assert_eq!(output.status.code(), Some(0), "{output:?}");
+}
+
+/// With only the thrust level dispersed, the campaign finds it behind the hover's altitude
+/// error (the GNC's PV hover has no integral action to take out a thrust-level error).
+#[test]
+fn a_dispersed_thrust_level_is_found_behind_the_altitude_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = vec![
+        "monte-carlo",
+        "--phi-cmd-deg",
+        "150",
+        "--law",
+        "decoupled",
+        "-n",
+        "30",
+        "--quiet",
+        "--no-plots",
+        "--out-dir",
+    ];
+    args.push(dir.path().to_str().unwrap());
+    for option in [
+        "--disp-horizontal-m",
+        "--disp-vertical-m",
+        "--disp-velocity-mps",
+        "--disp-tilt-deg",
+        "--disp-roll-deg",
+        "--disp-rate-degps",
+        "--disp-inertia-frac",
+        "--disp-misalignment-deg",
+        "--disp-mass-frac",
+    ] {
+        args.extend([option, "0"]);
+    }
+    args.extend(["--disp-thrust-frac", "0.05"]);
+    let output = harness(&args);
+    assert!(matches!(output.status.code(), Some(0 | 3)), "{output:?}");
+    let mut reader = csv::Reader::from_path(dir.path().join("summary.csv")).unwrap();
+    let header = reader.headers().unwrap().clone();
+    let record = reader.records().next().unwrap().unwrap();
+    let drivers = column(&header, &record, "final_altitude_m_influential_inputs");
+    assert!(drivers.starts_with("thrust_scale +"), "{drivers}");
+    let manifest = std::fs::read_to_string(dir.path().join("manifest.csv")).unwrap();
+    assert!(manifest.lines().next().unwrap().contains(",thrust_scale,"));
+}

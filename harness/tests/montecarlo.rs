@@ -271,6 +271,7 @@ fn a_small_campaign_shows_the_papers_trend() {
             mass_fraction: 0.02,
             inertia_fraction: 0.10,
             misalignment_deg: 0.1,
+            thrust_level_fraction: 0.0,
         },
     };
     let dir = tempfile::tempdir().unwrap();

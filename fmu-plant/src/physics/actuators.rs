@@ -16,10 +16,14 @@ pub struct Engines {
     pub off_threshold_n: f64,
     /// First-order lag of the delivered thrust, s; 0 = none.
     pub time_constant_s: f64,
+    /// Delivered over commanded thrust once the throttle limits apply: a thrust-level error
+    /// (engine performance, a miscalibrated throttle) the GNC does not know. 1 = nominal.
+    pub thrust_scale: f64,
 }
 
 impl Engines {
-    /// Total thrust the engines deliver in steady state for a command, in N.
+    /// Total thrust the engines deliver in steady state for a command, in N: the command
+    /// within the throttle range, times the thrust level.
     pub fn saturate(&self, thrust_cmd_n: f64) -> f64 {
         if thrust_cmd_n <= self.off_threshold_n {
             return 0.0;
@@ -30,6 +34,7 @@ impl Engines {
         thrust_cmd_n
             .max(n * self.min_thrust_per_engine_n)
             .min(n * self.max_thrust_per_engine_n)
+            * self.thrust_scale
     }
 }
 
@@ -111,9 +116,33 @@ mod tests {
             count: 2,
             min_thrust_per_engine_n: 360.0,
             max_thrust_per_engine_n: 800.0,
+            thrust_scale: 1.0,
             off_threshold_n: 1.0,
             time_constant_s: 0.0,
         }
+    }
+
+    #[test]
+    fn the_thrust_level_scales_what_the_throttle_range_allows() {
+        let nominal = engines();
+        let high = Engines {
+            thrust_scale: 1.05,
+            ..nominal
+        };
+        // Within the range, at the limits, and off.
+        for (cmd, expected) in [
+            (1000.0, 1050.0),
+            (5000.0, 1680.0),
+            (100.0, 756.0),
+            (0.5, 0.0),
+        ] {
+            assert!(
+                (high.saturate(cmd) - expected).abs() < 1e-9,
+                "command {cmd}"
+            );
+        }
+        // Nominal is the unscaled command to the bit.
+        assert_eq!(nominal.saturate(1234.5678), 1234.5678);
     }
 
     #[test]

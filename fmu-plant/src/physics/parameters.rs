@@ -96,6 +96,7 @@ impl Default for PlantParameters {
                 max_thrust_per_engine_n: 800.0,
                 off_threshold_n: 1.0,
                 time_constant_s: 0.0,
+                thrust_scale: 1.0,
             },
             rcs: Rcs {
                 thruster_force_n: 58.0,
@@ -323,6 +324,20 @@ impl PlantParameters {
         )?;
         non_negative(("engines.off_threshold_n", None), e.off_threshold_n)?;
         non_negative(("engines.time_constant_s", None), e.time_constant_s)?;
+        require(
+            e.thrust_scale > 0.0 && e.thrust_scale <= 2.0,
+            ("engines.thrust_scale", None),
+            e.thrust_scale,
+            "must be in (0, 2]",
+        )?;
+        // An overflowing maximum itself is refused below, naming the maximum.
+        let total_max_n = f64::from(e.count) * e.max_thrust_per_engine_n;
+        require(
+            !total_max_n.is_finite() || (total_max_n * e.thrust_scale).is_finite(),
+            ("engines.thrust_scale", None),
+            e.thrust_scale,
+            "times the maximum total thrust overflows",
+        )?;
         non_negative(("rcs.thruster_force_n", None), self.rcs.thruster_force_n)?;
         non_negative(("rcs.moment_arm_m", None), self.rcs.moment_arm_m)?;
         non_negative(("rcs.time_constant_s", None), self.rcs.time_constant_s)?;

@@ -25,7 +25,7 @@ pub type Input = fn(&Dispersion) -> f64;
 /// deviation grows with the size of a velocity error whatever its sign). Azimuths are left
 /// out; a tilt or a misalignment is given by its angle. Names as in the manifest, or saying
 /// the magnitude taken.
-pub const INPUTS: [(&str, Input); 19] = [
+pub const INPUTS: [(&str, Input); 20] = [
     ("delta_r0_nue_m[1]", |d| d.delta_r0_nue_m[0]),
     ("delta_r0_nue_m[2]", |d| d.delta_r0_nue_m[1]),
     ("delta_r0_nue_m[3]", |d| d.delta_r0_nue_m[2]),
@@ -59,6 +59,7 @@ pub const INPUTS: [(&str, Input); 19] = [
     ("thrust_misalignment_deg", |d| {
         d.thrust_misalignment_rad.to_degrees()
     }),
+    ("thrust_scale", |d| d.thrust_scale),
 ];
 
 /// The two-sided 5 % point of the standard normal distribution.

@@ -69,6 +69,16 @@ pub struct DispersionRanges {
         allow_negative_numbers = true
     )]
     pub misalignment_deg: f64,
+    /// Main-engine thrust level (the plant's engine_thrust_scale, unknown to the GNC):
+    /// scaled by 1 + uniform in +- this fraction. 0 (off) unless asked: an off-nominal case.
+    #[arg(
+        long = "disp-thrust-frac",
+        default_value_t = Self::DEFAULT.thrust_level_fraction,
+        value_name = "FRACTION",
+        allow_negative_numbers = true
+    )]
+    #[serde(default)]
+    pub thrust_level_fraction: f64,
 }
 
 impl Default for DispersionRanges {
@@ -94,6 +104,7 @@ impl DispersionRanges {
         mass_fraction: 0.02,
         inertia_fraction: 0.10,
         misalignment_deg: 0.1,
+        thrust_level_fraction: 0.0,
     };
 
     /// No dispersion at all: every run flies the nominal scenario.
@@ -108,12 +119,13 @@ impl DispersionRanges {
             mass_fraction: 0.0,
             inertia_fraction: 0.0,
             misalignment_deg: 0.0,
+            thrust_level_fraction: 0.0,
         }
     }
 
     /// Refuses negative, non-finite and physically meaningless ranges, naming the option.
     pub fn validate(&self) -> Result<(), String> {
-        let checks: [(&str, f64, f64); 9] = [
+        let checks: [(&str, f64, f64); 10] = [
             (
                 "--disp-horizontal-m",
                 self.horizontal_position_m,
@@ -128,6 +140,8 @@ impl DispersionRanges {
             ("--disp-mass-frac", self.mass_fraction, 0.5),
             ("--disp-inertia-frac", self.inertia_fraction, 0.5),
             ("--disp-misalignment-deg", self.misalignment_deg, 90.0),
+            // The plant accepts a thrust level in (0, 2].
+            ("--disp-thrust-frac", self.thrust_level_fraction, 0.5),
         ];
         let problems: Vec<String> = checks
             .iter()
@@ -163,10 +177,15 @@ pub struct Dispersion {
     pub inertia_scale: [f64; 3],
     pub thrust_misalignment_rad: f64,
     pub thrust_misalignment_azimuth_rad: f64,
+    /// Main-engine thrust level over nominal.
+    pub thrust_scale: f64,
 }
 
+/// Values of a draw in the manifest.
+pub const FIELD_COUNT: usize = 22;
+
 /// Column names of a draw in the manifest, in [`Dispersion::to_fields`] order.
-pub const FIELD_NAMES: [&str; 21] = [
+pub const FIELD_NAMES: [&str; FIELD_COUNT] = [
     "delta_r0_nue_m[1]",
     "delta_r0_nue_m[2]",
     "delta_r0_nue_m[3]",
@@ -185,6 +204,7 @@ pub const FIELD_NAMES: [&str; 21] = [
     "inertia_scale[3]",
     "thrust_misalignment_rad",
     "thrust_misalignment_azimuth_rad",
+    "thrust_scale",
     // Derived, not drawn: the horizontal offset's polar form is already in [1] and [3].
     "delta_r0_horizontal_m",
     "tilt_deg",
@@ -213,7 +233,8 @@ impl Dispersion {
     /// The draw of the run seeded with `run_seed`. Order of the draws (one `u` each):
     /// horizontal position radius, its azimuth, vertical position; velocity N, U, E; tilt
     /// angle, tilt-axis azimuth; roll about the thrust axis; body rate x, y, z; mass;
-    /// inertia x, y, z; misalignment angle, misalignment azimuth.
+    /// inertia x, y, z; misalignment angle, misalignment azimuth; thrust level (last, so the
+    /// draws before it are those of a campaign without it).
     pub fn draw(run_seed: u64, ranges: &DispersionRanges) -> Self {
         let mut d = Draws(ChaCha8Rng::seed_from_u64(run_seed));
         let (r_h, az_h) = d.polar(ranges.horizontal_position_m);
@@ -230,6 +251,7 @@ impl Dispersion {
         let inertia_scale = [(); 3].map(|_| 1.0 + d.symmetric(ranges.inertia_fraction));
         let (thrust_misalignment_rad, thrust_misalignment_azimuth_rad) =
             d.polar(ranges.misalignment_deg.to_radians());
+        let thrust_scale = 1.0 + d.symmetric(ranges.thrust_level_fraction);
         Self {
             delta_r0_nue_m,
             delta_v0_nue_mps,
@@ -241,11 +263,12 @@ impl Dispersion {
             inertia_scale,
             thrust_misalignment_rad,
             thrust_misalignment_azimuth_rad,
+            thrust_scale,
         }
     }
 
     /// The manifest's values, in [`FIELD_NAMES`] order.
-    pub fn to_fields(&self) -> [f64; 21] {
+    pub fn to_fields(&self) -> [f64; FIELD_COUNT] {
         let [rn, ru, re] = self.delta_r0_nue_m;
         let [vn, vu, ve] = self.delta_v0_nue_mps;
         let [wx, wy, wz] = self.delta_omega0_body_radps;
@@ -269,6 +292,7 @@ impl Dispersion {
             iz,
             self.thrust_misalignment_rad,
             self.thrust_misalignment_azimuth_rad,
+            self.thrust_scale,
             rn.hypot(re),
             self.tilt_rad.to_degrees(),
             self.thrust_misalignment_rad.to_degrees(),
@@ -276,7 +300,7 @@ impl Dispersion {
     }
 
     /// Inverse of [`Dispersion::to_fields`] (the derived fields are ignored).
-    pub fn from_fields(f: &[f64; 21]) -> Self {
+    pub fn from_fields(f: &[f64; FIELD_COUNT]) -> Self {
         Self {
             delta_r0_nue_m: [f[0], f[1], f[2]],
             delta_v0_nue_mps: [f[3], f[4], f[5]],
@@ -288,6 +312,7 @@ impl Dispersion {
             inertia_scale: [f[13], f[14], f[15]],
             thrust_misalignment_rad: f[16],
             thrust_misalignment_azimuth_rad: f[17],
+            thrust_scale: f[18],
         }
     }
 }
@@ -302,6 +327,9 @@ pub struct Nominal {
     pub omega0_body_radps: [f64; 3],
     pub m0_kg: f64,
     pub inertia_body_kgm2: [f64; 3],
+    /// The plant's engine_thrust_scale; `None` for a plant without one (then no thrust level
+    /// can be dispersed).
+    pub thrust_scale: Option<f64>,
 }
 
 impl Nominal {
@@ -343,6 +371,7 @@ impl Nominal {
             omega0_body_radps: vector("omega0_body")?,
             m0_kg: value("m0")?,
             inertia_body_kgm2: vector("inertia_body")?,
+            thrust_scale: value("engine_thrust_scale").ok(),
         })
     }
 
@@ -390,6 +419,9 @@ impl Nominal {
             "thrust_misalignment_azimuth",
             draw.thrust_misalignment_azimuth_rad,
         ));
+        if let Some(nominal) = self.thrust_scale {
+            values.push(("engine_thrust_scale", nominal * draw.thrust_scale));
+        }
         values
     }
 }
@@ -419,6 +451,7 @@ mod tests {
             omega0_body_radps: [0.0; 3],
             m0_kg: 900.0,
             inertia_body_kgm2: [400.0, 300.0, 450.0],
+            thrust_scale: Some(1.0),
         }
     }
 

@@ -333,7 +333,7 @@ fn read_from<R: std::io::Read>(
         let real = |i: usize| field(i).parse::<f64>().with_context(at);
         let law = <Law as clap::ValueEnum>::from_str(field(3), false)
             .map_err(|e| anyhow::anyhow!("{}: law: {e}", at()))?;
-        let mut fields = [0.0; 21];
+        let mut fields = [0.0; dispersion::FIELD_COUNT];
         for (k, slot) in fields.iter_mut().enumerate() {
             *slot = real(IDENTITY.len() + k)?;
         }
