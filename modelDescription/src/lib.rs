@@ -21,6 +21,7 @@
 
 mod diagnose;
 mod error;
+pub mod fmi3;
 mod query;
 mod read;
 mod types;
