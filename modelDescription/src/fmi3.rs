@@ -483,8 +483,12 @@ impl Attributes<'_> {
     }
 
     fn required(&self, name: &str) -> Result<&str, Error> {
-        self.get(name)
-            .ok_or_else(|| self.invalid(Some(name), "required attribute missing".into()))
+        self.get(name).ok_or_else(|| {
+            self.invalid(
+                Some(name),
+                "required attribute missing (read as FMI 3.0)".into(),
+            )
+        })
     }
 
     fn parse<T: std::str::FromStr>(&self, name: &str, what: &str) -> Result<Option<T>, Error>

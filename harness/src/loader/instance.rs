@@ -52,6 +52,8 @@ impl std::fmt::Debug for Instance {
     }
 }
 
+// FMI 2.0 inline, as before there were two backends: no indirection on its hot path.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug)]
 enum Backend {
     Fmi2(Fmi2Instance),
