@@ -12,8 +12,13 @@
 //!   from the plant's state at `t_k` (no added delay). Jacobi sets every input from the
 //!   outputs read after the previous step, so a direct-feedthrough controller's command lags
 //!   one step, as in fmpy's `simulate_ssp`.
-//! - Status: `fmi2Discard` with `fmi2Terminated` (touchdown) ends the run cleanly at
-//!   `fmi2LastSuccessfulTime`; `fmi2Error`/`fmi2Fatal` ends it with the FMU's log in the error.
+//! - Status: `fmi2Discard` with `fmi2Terminated` (touchdown), or FMI 3.0's `terminateSimulation`,
+//!   ends the run cleanly at the step's `lastSuccessfulTime`, that row recorded last;
+//!   `Error`/`Fatal` ends it with the FMU's log in the error.
+//! - FMI 3.0: an instance whose outputs are read right after its inputs are set (Gauss-Seidel,
+//!   an output depending on a connected input) is instantiated for same-instant feedthrough
+//!   (Event Mode); every other one has its outputs read before its inputs are set, as Step Mode
+//!   requires (see `loader::InstanceOptions` and harness/README.md).
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
 mod conventions;
@@ -75,7 +80,8 @@ pub enum MasterError {
 pub enum RunEnd {
     /// Reached the stop time.
     Completed,
-    /// An instance stopped the simulation (`fmi2Discard` + `fmi2Terminated`), e.g. touchdown.
+    /// An instance stopped the simulation (`fmi2Discard` + `fmi2Terminated`, or FMI 3.0's
+    /// `terminateSimulation`), e.g. touchdown.
     Terminated { instance: String, time: f64 },
 }
 
