@@ -382,6 +382,7 @@ impl Instance {
                 log: super::logger::FmuLog(vec![LogMessage {
                     instance_name: i.name().to_owned(),
                     status: super::status::Status::Error,
+                    version: FmiVersion::Fmi3,
                     category: "harness".to_owned(),
                     message: "not called: the harness saves and restores FMU states of FMI 2.0 \
                               instances only"

@@ -648,9 +648,10 @@ impl Simulation {
         if !self.fresh {
             for unit in &mut self.units {
                 let name = unit.name.clone();
+                let v = unit.instance.fmi_version();
                 unit.instance
                     .reset()
-                    .map_err(|e| call(&name, "fmi2Reset", e.into()))?;
+                    .map_err(|e| call(&name, named(v, "fmi2Reset", "fmi3Reset"), e.into()))?;
             }
         }
         self.fresh = false;
@@ -792,16 +793,31 @@ impl Simulation {
         for (u, desc) in self.system.instances.iter().enumerate() {
             let unit = &mut self.units[u];
             let name = unit.name.clone();
+            let v = unit.instance.fmi_version();
             unit.instance
                 .setup_experiment(None, start, declared_stop)
-                .map_err(|e| call(&name, "fmi2SetupExperiment", e.into()))?;
+                .map_err(|e| {
+                    call(
+                        &name,
+                        named(v, "fmi2SetupExperiment", "fmi3EnterInitializationMode"),
+                        e.into(),
+                    )
+                })?;
             for (variable, value) in &desc.parameters {
                 set_parameter(&mut unit.instance, variable, value)
                     .map_err(|e| call(&name, &format!("setting parameter {variable}"), e))?;
             }
-            unit.instance
-                .enter_initialization_mode()
-                .map_err(|e| call(&name, "fmi2EnterInitializationMode", e.into()))?;
+            unit.instance.enter_initialization_mode().map_err(|e| {
+                call(
+                    &name,
+                    named(
+                        v,
+                        "fmi2EnterInitializationMode",
+                        "fmi3EnterInitializationMode",
+                    ),
+                    e.into(),
+                )
+            })?;
         }
         if self.conventions.initial_inputs == InitialInputs::Zero {
             return self.initialize_with_zero_inputs();
@@ -817,9 +833,18 @@ impl Simulation {
         }
         for unit in &mut self.units {
             let name = unit.name.clone();
-            unit.instance
-                .exit_initialization_mode()
-                .map_err(|e| call(&name, "fmi2ExitInitializationMode", e.into()))?;
+            let v = unit.instance.fmi_version();
+            unit.instance.exit_initialization_mode().map_err(|e| {
+                call(
+                    &name,
+                    named(
+                        v,
+                        "fmi2ExitInitializationMode",
+                        "fmi3ExitInitializationMode",
+                    ),
+                    e.into(),
+                )
+            })?;
         }
         for u in 0..self.units.len() {
             self.get_outputs(u)?;
@@ -836,9 +861,18 @@ impl Simulation {
         }
         for unit in &mut self.units {
             let name = unit.name.clone();
-            unit.instance
-                .exit_initialization_mode()
-                .map_err(|e| call(&name, "fmi2ExitInitializationMode", e.into()))?;
+            let v = unit.instance.fmi_version();
+            unit.instance.exit_initialization_mode().map_err(|e| {
+                call(
+                    &name,
+                    named(
+                        v,
+                        "fmi2ExitInitializationMode",
+                        "fmi3ExitInitializationMode",
+                    ),
+                    e.into(),
+                )
+            })?;
         }
         Ok(())
     }
@@ -1121,6 +1155,18 @@ fn instantiate(
         });
     }
     Ok(units)
+}
+
+/// The name of a call in the FMI version of the instance, for error contexts.
+fn named(
+    version: crate::loader::FmiVersion,
+    fmi2: &'static str,
+    fmi3: &'static str,
+) -> &'static str {
+    match version {
+        crate::loader::FmiVersion::Fmi2 => fmi2,
+        crate::loader::FmiVersion::Fmi3 => fmi3,
+    }
 }
 
 fn call(instance: &str, context: &str, source: CallError) -> MasterError {
