@@ -420,3 +420,44 @@ fn a_monte_carlo_campaign_over_the_fmi3_pair_gives_the_fmi2_manifest() {
     assert!(manifests[0].lines().count() > 3, "a header and the flights");
     assert!(manifests[1] == manifests[0], "the FMI 3.0 campaign differs");
 }
+
+#[test]
+fn every_exchanged_type_round_trips_through_the_fmi3_oscillator_as_through_fmi2() {
+    // Int32 and Enumeration (Int64 in FMI 3.0) in one integer call, Boolean, String, Float64.
+    let dir = fmu_dir();
+    let mut seen = Vec::new();
+    for path in [dir.join("Oscillator.fmu"), dir.join("fmi3/Oscillator.fmu")] {
+        let fmu = Fmu::load(&path).unwrap();
+        let vr = |name: &str, kind| fmu.value_reference(name, kind).unwrap();
+        let ints = [
+            vr("substeps", VariableKind::Integer),
+            vr("crossing_direction", VariableKind::Integer),
+        ];
+        let mut osc = fmu.instantiate("osc", false).unwrap();
+        osc.set_integer(&ints, &[4, 3]).unwrap();
+        osc.set_boolean_by_name("stop_at_threshold", true).unwrap();
+        osc.set_string_by_name("label", "round trip").unwrap();
+        osc.set_real_by_name("threshold", -2.0).unwrap();
+        osc.setup_experiment(None, 0.0, Some(1.0)).unwrap();
+        osc.enter_initialization_mode().unwrap();
+        let mut values = [0; 2];
+        osc.get_integer(&ints, &mut values).unwrap();
+        let label = osc.get_string_by_name("label").unwrap();
+        let stop = osc.get_boolean_by_name("stop_at_threshold").unwrap();
+        osc.exit_initialization_mode().unwrap();
+        for k in 0..10 {
+            assert!(matches!(
+                osc.do_step(f64::from(k) * 0.1, 0.1).unwrap(),
+                StepStatus::Complete(_)
+            ));
+        }
+        let x = osc.get_real_by_name("x").unwrap();
+        let steps = osc.get_integer_by_name("step_count").unwrap();
+        osc.terminate().unwrap();
+        seen.push((values, label, stop, x.to_bits(), steps));
+    }
+    assert_eq!(seen[0].0, [4, 3]);
+    assert_eq!(seen[0].1, "round trip");
+    assert_eq!(seen[0].4, 10);
+    assert_eq!(seen[1], seen[0]);
+}
