@@ -101,3 +101,22 @@ fn recording_into_a_trajectory_allocates_once_per_run_not_per_row() {
          grows by reallocation"
     );
 }
+
+#[test]
+fn the_master_loop_over_fmi3_fmus_allocates_nothing_per_step() {
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    // The FMI 3.0 pair: arrays read and written whole, Event Mode at every point for the GNC.
+    let fmi3 = || {
+        let mut system = paper_with_every_output();
+        for instance in &mut system.instances {
+            instance.fmu = std::path::Path::new("fmi3").join(&instance.fmu);
+        }
+        system
+    };
+    let (short, _) = allocations_of_a_run(fmi3(), 5.0, || Discard);
+    let (long, _) = allocations_of_a_run(fmi3(), 10.0, || Discard);
+    assert_eq!(
+        short, long,
+        "an FMI 3.0 run of 1,000 steps made {long} allocations, one of 500 steps {short}"
+    );
+}

@@ -200,6 +200,7 @@ fn crossing_the_threshold_stops_the_step_at_the_crossing_time() {
         let t = f64::from(step) * STEP_S;
         match instance.do_step(t, STEP_S).unwrap() {
             StepStatus::Complete(_) => assert!(t + STEP_S < crossing, "no stop by t = {t}"),
+            other @ StepStatus::Terminated { .. } => panic!("an FMI 2.0 step: {other:?}"),
             StepStatus::Discarded {
                 last_successful_time,
                 terminated,

@@ -1,4 +1,5 @@
-//! Typed FMI 2.0 model description (`modelDescription.xml`).
+//! Typed FMI 2.0 model description (`modelDescription.xml`); FMI 3.0 files are read (only) by
+//! [`fmi3::Fmi3ModelDescription`].
 //!
 //! One set of types serves both directions: our FMUs' XML is *written* from them and a
 //! master *reads* any FMU's XML into them. Attribute fields are named `@attr` as
@@ -21,6 +22,7 @@
 
 mod diagnose;
 mod error;
+pub mod fmi3;
 mod query;
 mod read;
 mod types;

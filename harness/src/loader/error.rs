@@ -29,10 +29,14 @@ pub enum LoadError {
         #[source]
         source: model_description::Error,
     },
-    #[error("model description says fmiVersion=\"{found}\"; this loader reads FMI 2.0 only")]
+    #[error("model description says fmiVersion=\"{found}\"; this loader reads FMI 2.0 and 3.0")]
     UnsupportedFmiVersion { found: String },
     #[error("model '{model_name}' has no <CoSimulation> element; this loader runs Co-Simulation FMUs only")]
     NotCoSimulation { model_name: String },
+    /// An FMI 3.0 FMU that needs what the harness does not do (clocks, Model Exchange only,
+    /// structural parameters), refused before any instance is made.
+    #[error("model '{model_name}' (FMI 3.0) cannot be run: {reason}")]
+    UnsupportedFmi3 { model_name: String, reason: String },
     #[error("model description declares the variable name '{name}' twice")]
     DuplicateVariableName { name: String },
     #[error(
@@ -69,10 +73,10 @@ pub enum LoadError {
     },
 }
 
-/// A call the FMU answered with `fmi2Discard`, `fmi2Error`, `fmi2Fatal` or `fmi2Pending`,
+/// A call the FMU answered with `Discard`, `Error`, `Fatal` (or, in FMI 2.0, `fmi2Pending`),
 /// with what the FMU logged during that call.
 #[derive(Debug, Clone, thiserror::Error)]
-#[error("{function} on instance '{instance}' returned {status}{log}")]
+#[error("{function} on instance '{instance}' returned {}{log}", status_name(function, *status))]
 pub struct FmiError {
     pub function: &'static str,
     pub instance: String,
@@ -107,6 +111,19 @@ pub enum CallError {
         instance: String,
         reason: String,
     },
-    #[error("fmi2Instantiate returned NULL for instance '{instance}'{log}")]
-    InstantiationFailed { instance: String, log: FmuLog },
+    #[error("{function} returned NULL for instance '{instance}'{log}")]
+    InstantiationFailed {
+        function: &'static str,
+        instance: String,
+        log: FmuLog,
+    },
+}
+
+/// The status in the words of the function's standard: `fmi2Error` or `fmi3Error`.
+fn status_name(function: &str, status: Failure) -> String {
+    let name = status.to_string();
+    match (function.starts_with("fmi3"), name.strip_prefix("fmi2")) {
+        (true, Some(rest)) => format!("fmi3{rest}"),
+        _ => name,
+    }
 }

@@ -3,8 +3,9 @@
 
 use super::archive::{Unpacked, PLATFORM};
 use super::error::{CallError, LoadError, VariableError};
+use super::fmi3::{self, Fmi3Api, Fmi3Functions};
 use super::functions::Fmi2Functions;
-use super::instance::Instance;
+use super::instance::{Instance, InstanceOptions};
 use super::variables::{VariableIndex, VariableInfo};
 use libloading::Library;
 use model_description::ModelDescription;
@@ -13,7 +14,22 @@ use std::ffi::{c_char, CStr};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// An FMI 2.0 Co-Simulation FMU, loaded and checked. Cheap to clone; every [`Instance`] keeps
+/// The FMI version of a loaded FMU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FmiVersion {
+    Fmi2,
+    Fmi3,
+}
+
+/// The functions of one version, resolved from the binary.
+// One per loaded FMU, behind its `Arc`: the FMI 2.0 table inline costs nothing worth a box.
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum Api {
+    Fmi2(Fmi2Functions),
+    Fmi3(Arc<Fmi3Api>),
+}
+
+/// An FMI 2.0 or 3.0 Co-Simulation FMU, loaded and checked. Cheap to clone; every [`Instance`] keeps
 /// the library loaded (and the unpacked files present) for as long as it lives.
 #[derive(Clone)]
 pub struct Fmu {
@@ -21,7 +37,8 @@ pub struct Fmu {
 }
 
 pub(crate) struct FmuShared {
-    pub(crate) functions: Fmi2Functions,
+    pub(crate) api: Api,
+    /// FMI 2.0: the file's description; FMI 3.0: its scalar view (`fmi3/view.rs`).
     pub(crate) description: ModelDescription,
     pub(crate) variables: VariableIndex,
     pub(crate) resource_uri: String,
@@ -47,6 +64,17 @@ impl Fmu {
         let path = path.as_ref();
         let unpacked = Unpacked::open(path)?;
         let description_path = unpacked.model_description_path();
+        let bytes = std::fs::read(&description_path).map_err(|source| LoadError::Io {
+            path: description_path.clone(),
+            source,
+        })?;
+        let version = model_description::fmi3::fmi_version_of(&bytes);
+        if version
+            .as_deref()
+            .is_some_and(|v| v.trim().starts_with("3."))
+        {
+            return Self::load_fmi3(unpacked, &bytes);
+        }
         let description = ModelDescription::from_file(&description_path).map_err(|source| {
             LoadError::ModelDescription {
                 path: description_path.clone(),
@@ -68,27 +96,13 @@ impl Fmu {
         let variables = VariableIndex::new(&description)?;
 
         let binary_path = unpacked.binary_path(&model_identifier);
-        if !binary_path.is_file() {
-            let (platform, extension) = PLATFORM;
-            return Err(LoadError::MissingBinary {
-                path: binary_path,
-                platform,
-                extension,
-            });
-        }
-        // SAFETY: loading runs the binary's initialisers; trusting the FMU's code is inherent
-        // to co-simulation with it.
-        let library =
-            unsafe { Library::new(&binary_path) }.map_err(|source| LoadError::Library {
-                path: binary_path.clone(),
-                source,
-            })?;
+        let library = open_library(&binary_path, PLATFORM)?;
         let functions = Fmi2Functions::resolve(&library, &binary_path)?;
         check_binary(&functions, &binary_path)?;
 
         Ok(Self {
             shared: Arc::new(FmuShared {
-                functions,
+                api: Api::Fmi2(functions),
                 description,
                 variables,
                 resource_uri: unpacked.resource_uri(),
@@ -97,6 +111,85 @@ impl Fmu {
                 unpacked,
             }),
         })
+    }
+
+    fn load_fmi3(unpacked: Unpacked, bytes: &[u8]) -> Result<Self, LoadError> {
+        let description_path = unpacked.model_description_path();
+        let description3 = model_description::fmi3::Fmi3ModelDescription::from_bytes(bytes)
+            .map_err(|source| LoadError::ModelDescription {
+                path: description_path.clone(),
+                source,
+            })?;
+        let view = fmi3::scalar_view(&description3)?;
+        let model_identifier = description3
+            .co_simulation
+            .as_ref()
+            .map(|co_simulation| co_simulation.model_identifier.clone())
+            .unwrap_or_default();
+        let variables = VariableIndex::new(&view.description)?;
+        let (platform, extension) = fmi3::PLATFORM;
+        let binary_path = unpacked
+            .root()
+            .join("binaries")
+            .join(platform)
+            .join(format!("{model_identifier}.{extension}"));
+        let library = open_library(&binary_path, fmi3::PLATFORM)?;
+        let functions = Fmi3Functions::resolve(&library, &binary_path)?;
+        // SAFETY: no arguments, returns a static C string (FMI 3.0, fmi3GetVersion).
+        let version = static_text(unsafe { (functions.get_version)() });
+        if !version.starts_with("3.") {
+            return Err(LoadError::BinaryMismatch {
+                binary: binary_path,
+                function: "fmi3GetVersion",
+                found: version,
+                expected: "3.0",
+            });
+        }
+        Ok(Self {
+            shared: Arc::new(FmuShared {
+                api: Api::Fmi3(Arc::new(Fmi3Api {
+                    functions,
+                    elements: view.elements,
+                    starts: view.starts,
+                    description: description3,
+                })),
+                description: view.description,
+                variables,
+                resource_uri: unpacked.resource_uri(),
+                binary_path,
+                _library: library,
+                unpacked,
+            }),
+        })
+    }
+
+    pub fn fmi_version(&self) -> FmiVersion {
+        match self.shared.api {
+            Api::Fmi2(_) => FmiVersion::Fmi2,
+            Api::Fmi3(_) => FmiVersion::Fmi3,
+        }
+    }
+
+    /// The FMI 3.0 model description as the file has it (arrays whole); `None` for FMI 2.0.
+    pub fn fmi3_description(&self) -> Option<&model_description::fmi3::Fmi3ModelDescription> {
+        match &self.shared.api {
+            Api::Fmi3(api) => Some(&api.description),
+            Api::Fmi2(_) => None,
+        }
+    }
+
+    /// FMI 3.0 `hasEventMode`: whether an instance can give same-instant feedthrough
+    /// ([`InstanceOptions::same_instant_feedthrough`]); always true for FMI 2.0, where a get
+    /// may follow a set at any communication point.
+    pub fn supports_same_instant_feedthrough(&self) -> bool {
+        match &self.shared.api {
+            Api::Fmi2(_) => true,
+            Api::Fmi3(api) => api
+                .description
+                .co_simulation
+                .as_ref()
+                .is_some_and(|cs| cs.has_event_mode),
+        }
     }
 
     pub fn model_description(&self) -> &ModelDescription {
@@ -120,7 +213,8 @@ impl Fmu {
         self.shared.variables.get(name)
     }
 
-    /// The value reference of `name`, checked to be exchanged through the `kind` functions
+    /// The value reference of `name` (for FMI 3.0 the element reference of the scalar view),
+    /// checked to be exchanged through the `kind` functions
     /// (an Enumeration is exchanged as Integer).
     pub fn value_reference(&self, name: &str, kind: VariableKind) -> Result<u32, VariableError> {
         self.shared.variables.value_reference(name, kind)
@@ -129,8 +223,50 @@ impl Fmu {
     /// Instantiates a Co-Simulation slave (not visible, no interactive tool) named `name`.
     /// With `logging_on` the FMU sends its debug messages; errors are logged either way.
     pub fn instantiate(&self, name: &str, logging_on: bool) -> Result<Instance, CallError> {
-        Instance::new(Arc::clone(&self.shared), name, logging_on)
+        self.instantiate_with(
+            name,
+            InstanceOptions {
+                logging_on,
+                ..Default::default()
+            },
+        )
     }
+
+    /// [`Fmu::instantiate`] with the master's choices (see [`InstanceOptions`]).
+    pub fn instantiate_with(
+        &self,
+        name: &str,
+        options: InstanceOptions,
+    ) -> Result<Instance, CallError> {
+        Instance::new(Arc::clone(&self.shared), name, options)
+    }
+}
+
+impl FmuShared {
+    /// The unpacked `resources` folder, if the FMU has one.
+    pub(crate) fn resources_dir(&self) -> Option<PathBuf> {
+        Some(self.unpacked.root().join("resources")).filter(|dir| dir.is_dir())
+    }
+}
+
+fn open_library(
+    binary_path: &Path,
+    platform: (&'static str, &'static str),
+) -> Result<Library, LoadError> {
+    if !binary_path.is_file() {
+        let (platform, extension) = platform;
+        return Err(LoadError::MissingBinary {
+            path: binary_path.to_path_buf(),
+            platform,
+            extension,
+        });
+    }
+    // SAFETY: loading runs the binary's initialisers; trusting the FMU's code is inherent
+    // to co-simulation with it.
+    unsafe { Library::new(binary_path) }.map_err(|source| LoadError::Library {
+        path: binary_path.to_path_buf(),
+        source,
+    })
 }
 
 /// A binary built for another FMI version or a non-default platform would misread our

@@ -71,8 +71,12 @@ fmi2_functions! {
     get_string_status: fmi2GetStringStatusTYPE = "fmi2GetStringStatus",
 }
 
-fn resolve<T: Copy>(library: &Library, path: &Path, symbol: &'static str) -> Result<T, LoadError> {
-    // SAFETY: `T` is the `fmi2XxxTYPE` the FMI 2.0 standard gives this symbol; a binary that
+pub(crate) fn resolve<T: Copy>(
+    library: &Library,
+    path: &Path,
+    symbol: &'static str,
+) -> Result<T, LoadError> {
+    // SAFETY: `T` is the type the FMI standard (2.0 or 3.0) gives this symbol; a binary that
     // exports it with another signature violates the standard and cannot be detected here.
     // The copied pointer is only used while `library` is kept loaded (see `FmuShared`).
     let loaded = unsafe { library.get::<T>(symbol.as_bytes()) };

@@ -1,20 +1,34 @@
-//! One instance of a loaded FMU, driven through a safe API. Every FMI status comes back as a
-//! `Result`, and a failure carries what the FMU logged during the failing call.
-#![allow(unsafe_code)]
-
+//! One instance of a loaded FMU, FMI 2.0 or 3.0, driven through one safe API: the master,
+//! the system and the results never ask which version they drive. Every FMI status comes back
+//! as a `Result`, and a failure carries what the FMU logged during the failing call.
+//!
+//! Values travel by value reference; for FMI 3.0 that is the element reference of the scalar
+//! view (an array element such as `r_nue[2]` has one, see `fmi3/view.rs`), so the same names
+//! and the same calls serve both versions.
 use super::error::{CallError, FmiError};
-use super::ffi::{self, fmi2Component, fmi2FMUstate, fmi2Status};
-use super::fmu::FmuShared;
-use super::functions::Fmi2Functions;
-use super::logger::{LogEnv, LogMark, LogMessage};
-use super::status::{Failure, Status, StepStatus, Success};
+use super::fmi2::Fmi2Instance;
+use super::fmi3::Fmi3Instance;
+use super::fmu::{Api, FmiVersion, FmuShared};
+use super::logger::{LogEnv, LogMessage};
+use super::status::{StepStatus, Success};
 use super::variables::VariableInfo;
 use model_description::VariableKind;
-use std::ffi::{c_void, CStr, CString};
-use std::ptr::{self, NonNull};
 use std::sync::{Arc, Weak};
 
-/// A Co-Simulation slave. `fmi2FreeInstance` is called on drop.
+/// How a master means to drive an instance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct InstanceOptions {
+    /// The FMU sends its debug messages (errors are logged either way).
+    pub logging_on: bool,
+    /// The master will get outputs after setting inputs at the same communication point and
+    /// wants them computed from those inputs. FMI 2.0 allows that in any state. FMI 3.0 forbids
+    /// it in Step Mode (4.2.1): with this set, and an FMU with `hasEventMode`, the instance
+    /// is made with `eventModeUsed = true` and exchanges in Event Mode (see `fmi3/instance.rs`);
+    /// without it, such a get is refused.
+    pub same_instant_feedthrough: bool,
+}
+
+/// A Co-Simulation instance; freed (`fmi2FreeInstance`, `fmi3FreeInstance`) on drop.
 ///
 /// `Send`, so each thread of a Monte Carlo campaign can own its instances, but not `Sync`:
 /// every call takes `&mut self`, so calls into one instance never overlap.
@@ -24,27 +38,27 @@ use std::sync::{Arc, Weak};
 /// shared_between_threads::<harness::Instance>();
 /// ```
 pub struct Instance {
-    component: NonNull<c_void>,
-    name: String,
     fmu: Arc<FmuShared>,
-    /// Also the instance's identity for [`FmuState`] tokens.
-    log: Arc<LogEnv>,
-    /// FMUs written against FMI 2.0 may keep this pointer instead of copying the struct,
-    /// and likewise the strings; all live until after `fmi2FreeInstance`.
-    _callbacks: Box<ffi::fmi2CallbackFunctions>,
-    _instantiate_strings: [CString; 3],
-    /// Live FMU states by slot; a freed slot is null and reused.
-    states: Vec<fmi2FMUstate>,
-    /// Reused by every Boolean and String call, so a master's exchange does not allocate
-    /// per call once these have grown to its widest exchange.
-    booleans: Vec<ffi::fmi2Boolean>,
-    strings: Vec<ffi::fmi2String>,
+    backend: Backend,
 }
 
-// SAFETY: the component and FMU-state pointers are used only through `&mut self` (or in
-// `drop`), so calls into one instance are serialised. FMI 2.0 does not bind an instance to the
-// thread that created it, and the callbacks we pass are thread-safe (`LogEnv` locks).
-unsafe impl Send for Instance {}
+impl std::fmt::Debug for Instance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Instance")
+            .field("name", &self.name())
+            .field("model_name", &self.fmu.description.model_name)
+            .field("backend", &self.backend)
+            .finish_non_exhaustive()
+    }
+}
+
+// FMI 2.0 inline, as before there were two backends: no indirection on its hot path.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug)]
+enum Backend {
+    Fmi2(Fmi2Instance),
+    Fmi3(Box<Fmi3Instance>),
+}
 
 // Monte Carlo workers own their instances and FMU handles; fail to compile if that breaks.
 const _: () = {
@@ -59,426 +73,215 @@ const _: () = {
 /// [`Instance::free_fmu_state`]; states still held when the instance drops are freed then.
 #[derive(Debug)]
 pub struct FmuState {
-    slot: usize,
-    owner: Weak<LogEnv>,
+    pub(crate) slot: usize,
+    pub(crate) owner: Weak<LogEnv>,
 }
 
-impl std::fmt::Debug for Instance {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Instance")
-            .field("name", &self.name)
-            .field("model_name", &self.fmu.description.model_name)
-            .finish_non_exhaustive()
-    }
+/// Calls the same method on whichever backend the instance has.
+macro_rules! both {
+    ($self:ident, $backend:ident => $call:expr) => {
+        match &mut $self.backend {
+            Backend::Fmi2($backend) => $call,
+            Backend::Fmi3($backend) => $call,
+        }
+    };
 }
 
 impl Instance {
     pub(crate) fn new(
         fmu: Arc<FmuShared>,
         name: &str,
-        logging_on: bool,
+        options: InstanceOptions,
     ) -> Result<Self, CallError> {
-        let c_string = |what: &str, text: &str| {
-            CString::new(text).map_err(|_| CallError::InvalidArgument {
-                function: "fmi2Instantiate",
-                instance: name.to_owned(),
-                reason: format!("{what} contains a NUL byte"),
-            })
+        let backend = match &fmu.api {
+            Api::Fmi2(functions) => Backend::Fmi2(Fmi2Instance::new(
+                Arc::clone(&fmu),
+                *functions,
+                name,
+                options.logging_on,
+            )?),
+            Api::Fmi3(api) => {
+                let event_mode = options.same_instant_feedthrough
+                    && api
+                        .description
+                        .co_simulation
+                        .as_ref()
+                        .is_some_and(|cs| cs.has_event_mode);
+                Backend::Fmi3(Box::new(Fmi3Instance::new(
+                    Arc::clone(&fmu),
+                    Arc::clone(api),
+                    name,
+                    options.logging_on,
+                    event_mode,
+                )?))
+            }
         };
-        let instance_name = c_string("instance name", name)?;
-        let guid = c_string("GUID", &fmu.description.guid)?;
-        let resource_uri = c_string("resource location", &fmu.resource_uri)?;
-
-        let log = Arc::new(LogEnv::new());
-        let callbacks = Box::new(log.callbacks());
-        let mark = log.mark();
-        // SAFETY: every pointer is valid for the call, and `log`, `callbacks` and the strings
-        // are moved into the instance, which outlives the component.
-        let component = unsafe {
-            (fmu.functions.instantiate)(
-                instance_name.as_ptr(),
-                ffi::fmi2CoSimulation,
-                guid.as_ptr(),
-                resource_uri.as_ptr(),
-                &*callbacks,
-                ffi::fmi2False,
-                fmi2_bool(logging_on),
-            )
-        };
-        let Some(component) = NonNull::new(component) else {
-            return Err(CallError::InstantiationFailed {
-                instance: name.to_owned(),
-                log: log.since(mark),
-            });
-        };
-        Ok(Self {
-            component,
-            name: name.to_owned(),
-            fmu,
-            log,
-            _callbacks: callbacks,
-            _instantiate_strings: [instance_name, guid, resource_uri],
-            states: Vec::new(),
-            booleans: Vec::new(),
-            strings: Vec::new(),
-        })
+        Ok(Self { fmu, backend })
     }
 
     pub fn name(&self) -> &str {
-        &self.name
+        match &self.backend {
+            Backend::Fmi2(i) => i.name(),
+            Backend::Fmi3(i) => i.name(),
+        }
+    }
+
+    pub fn fmi_version(&self) -> FmiVersion {
+        match self.backend {
+            Backend::Fmi2(_) => FmiVersion::Fmi2,
+            Backend::Fmi3(_) => FmiVersion::Fmi3,
+        }
+    }
+
+    /// Whether a get may follow a set at one communication point and see the inputs just
+    /// set: always in FMI 2.0; in FMI 3.0 only in Event Mode, i.e. for an instance made with
+    /// [`InstanceOptions::same_instant_feedthrough`] of an FMU with `hasEventMode`.
+    pub fn can_get_after_set(&self) -> bool {
+        match &self.backend {
+            Backend::Fmi2(_) => true,
+            Backend::Fmi3(i) => i.event_mode_used(),
+        }
+    }
+
+    /// The step function's name, for messages: `fmi2DoStep` or `fmi3DoStep`.
+    pub fn do_step_function(&self) -> &'static str {
+        match self.backend {
+            Backend::Fmi2(_) => "fmi2DoStep",
+            Backend::Fmi3(_) => "fmi3DoStep",
+        }
+    }
+
+    fn log(&self) -> &Arc<LogEnv> {
+        match &self.backend {
+            Backend::Fmi2(i) => i.log(),
+            Backend::Fmi3(i) => i.log(),
+        }
     }
 
     /// Everything the FMU logged for this instance (the newest [`LOG_CAPACITY`](super::LOG_CAPACITY) messages).
     pub fn log_messages(&self) -> Vec<LogMessage> {
-        self.log.all()
+        self.log().all()
     }
 
     pub fn clear_log(&self) {
-        self.log.clear();
+        self.log().clear();
     }
 
     pub fn variable(&self, name: &str) -> Result<&VariableInfo, CallError> {
         Ok(self.fmu.variables.get(name)?)
     }
 
-    fn c(&self) -> fmi2Component {
-        self.component.as_ptr()
-    }
-
-    fn functions(&self) -> &Fmi2Functions {
-        &self.fmu.functions
-    }
-
-    /// Turns a returned status into a `Result`, attaching the messages logged since `mark`.
-    fn check(
-        &self,
-        function: &'static str,
-        mark: LogMark,
-        raw: fmi2Status,
-    ) -> Result<Success, FmiError> {
-        Status::from_raw(raw)
-            .into_result()
-            .map_err(|status| FmiError {
-                function,
-                instance: self.name.clone(),
-                status,
-                log: self.log.since(mark),
-            })
-    }
-
-    fn invalid(&self, function: &'static str, reason: String) -> CallError {
-        CallError::InvalidArgument {
-            function,
-            instance: self.name.clone(),
-            reason,
-        }
-    }
-
-    fn check_lengths(
-        &self,
-        function: &'static str,
-        vrs: usize,
-        values: usize,
-    ) -> Result<(), CallError> {
-        if vrs == values {
-            Ok(())
-        } else {
-            Err(self.invalid(
-                function,
-                format!("{vrs} value references but {values} values"),
-            ))
-        }
-    }
-
-    /// `fmi2SetDebugLogging`; an empty `categories` means all categories.
+    /// `fmi2SetDebugLogging` / `fmi3SetDebugLogging`; an empty `categories` means all.
     pub fn set_debug_logging(
         &mut self,
         logging_on: bool,
         categories: &[&str],
     ) -> Result<Success, CallError> {
-        const F: &str = "fmi2SetDebugLogging";
-        let owned = categories
-            .iter()
-            .map(|category| {
-                CString::new(*category).map_err(|_| {
-                    self.invalid(F, format!("category {category:?} contains a NUL byte"))
-                })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let pointers: Vec<ffi::fmi2String> = owned.iter().map(|c| c.as_ptr()).collect();
-        let mark = self.log.mark();
-        // SAFETY: `pointers` holds `len` valid C strings for the duration of the call.
-        let raw = unsafe {
-            (self.functions().set_debug_logging)(
-                self.c(),
-                fmi2_bool(logging_on),
-                pointers.len(),
-                array_or_null(&pointers),
-            )
-        };
-        Ok(self.check(F, mark, raw)?)
+        both!(self, i => i.set_debug_logging(logging_on, categories))
     }
 
-    /// `fmi2SetupExperiment`. `None` leaves the tolerance or stop time undefined.
+    /// `fmi2SetupExperiment`; FMI 3.0 passes the values to `fmi3EnterInitializationMode`.
+    /// `None` leaves the tolerance or stop time undefined.
     pub fn setup_experiment(
         &mut self,
         tolerance: Option<f64>,
         start_time: f64,
         stop_time: Option<f64>,
     ) -> Result<Success, FmiError> {
-        let mark = self.log.mark();
-        // SAFETY: plain values only.
-        let raw = unsafe {
-            (self.functions().setup_experiment)(
-                self.c(),
-                fmi2_bool(tolerance.is_some()),
-                tolerance.unwrap_or(0.0),
-                start_time,
-                fmi2_bool(stop_time.is_some()),
-                stop_time.unwrap_or(0.0),
-            )
-        };
-        self.check("fmi2SetupExperiment", mark, raw)
-    }
-
-    fn component_only(
-        &mut self,
-        function: &'static str,
-        call: ffi::fmi2ComponentOnlyTYPE,
-    ) -> Result<Success, FmiError> {
-        let mark = self.log.mark();
-        // SAFETY: the component is live; the function takes nothing else.
-        let raw = unsafe { call(self.c()) };
-        self.check(function, mark, raw)
+        both!(self, i => i.setup_experiment(tolerance, start_time, stop_time))
     }
 
     pub fn enter_initialization_mode(&mut self) -> Result<Success, FmiError> {
-        let call = self.functions().enter_initialization_mode;
-        self.component_only("fmi2EnterInitializationMode", call)
+        both!(self, i => i.enter_initialization_mode())
     }
 
     pub fn exit_initialization_mode(&mut self) -> Result<Success, FmiError> {
-        let call = self.functions().exit_initialization_mode;
-        self.component_only("fmi2ExitInitializationMode", call)
+        both!(self, i => i.exit_initialization_mode())
     }
 
     pub fn terminate(&mut self) -> Result<Success, FmiError> {
-        let call = self.functions().terminate;
-        self.component_only("fmi2Terminate", call)
+        both!(self, i => i.terminate())
     }
 
-    /// `fmi2Reset`: back to the freshly instantiated state. Saved FMU states stay valid.
+    /// Back to the freshly instantiated state. Saved FMU states stay valid.
     pub fn reset(&mut self) -> Result<Success, FmiError> {
-        let call = self.functions().reset;
-        self.component_only("fmi2Reset", call)
+        both!(self, i => i.reset())
     }
 
-    /// `fmi2DoStep` from `current_time` over `step_size`.
+    /// One communication step from `current_time` over `step_size`.
     ///
-    /// `noSetFMUStatePriorToCurrentPoint` is passed as false because this API lets the caller
-    /// restore any saved state at any time.
+    /// FMI 2.0: `noSetFMUStatePriorToCurrentPoint` is false because this API lets the caller
+    /// restore any saved state at any time; a discard is reported with
+    /// `fmi2LastSuccessfulTime` and `fmi2Terminated`. FMI 3.0: Event Mode is left first if the
+    /// instance is in it; `terminateSimulation` is [`StepStatus::Terminated`].
     pub fn do_step(&mut self, current_time: f64, step_size: f64) -> Result<StepStatus, FmiError> {
-        const F: &str = "fmi2DoStep";
-        let mark = self.log.mark();
-        // SAFETY: plain values only.
-        let raw = unsafe {
-            (self.functions().do_step)(self.c(), current_time, step_size, ffi::fmi2False)
-        };
-        match Status::from_raw(raw).into_result() {
-            Ok(success) => Ok(StepStatus::Complete(success)),
-            Err(Failure::Discard) => Ok(StepStatus::Discarded {
-                last_successful_time: self.last_successful_time()?,
-                terminated: self.terminated()?,
-            }),
-            Err(status) => Err(FmiError {
-                function: F,
-                instance: self.name.clone(),
-                status,
-                log: self.log.since(mark),
-            }),
+        both!(self, i => i.do_step(current_time, step_size))
+    }
+
+    /// Where the last step stopped (FMI 2.0: `fmi2GetRealStatus(fmi2LastSuccessfulTime)`;
+    /// FMI 3.0: `lastSuccessfulTime` of the last `fmi3DoStep`).
+    pub fn last_successful_time(&mut self) -> Result<f64, FmiError> {
+        match &mut self.backend {
+            Backend::Fmi2(i) => i.last_successful_time(),
+            Backend::Fmi3(i) => Ok(i.last_successful_time()),
         }
     }
 
-    /// `fmi2GetRealStatus(fmi2LastSuccessfulTime)`.
-    pub fn last_successful_time(&mut self) -> Result<f64, FmiError> {
-        let mut time = f64::NAN;
-        let mark = self.log.mark();
-        // SAFETY: `time` is a valid out-pointer.
-        let raw = unsafe {
-            (self.functions().get_real_status)(self.c(), ffi::fmi2LastSuccessfulTime, &mut time)
-        };
-        self.check("fmi2GetRealStatus(fmi2LastSuccessfulTime)", mark, raw)?;
-        Ok(time)
-    }
-
-    /// `fmi2GetBooleanStatus(fmi2Terminated)`: the FMU wants the simulation to end.
+    /// The FMU wants the simulation to end (FMI 2.0: `fmi2GetBooleanStatus(fmi2Terminated)`;
+    /// FMI 3.0: `terminateSimulation` of the last step).
     pub fn terminated(&mut self) -> Result<bool, FmiError> {
-        let mut terminated = ffi::fmi2False;
-        let mark = self.log.mark();
-        // SAFETY: `terminated` is a valid out-pointer.
-        let raw = unsafe {
-            (self.functions().get_boolean_status)(self.c(), ffi::fmi2Terminated, &mut terminated)
-        };
-        self.check("fmi2GetBooleanStatus(fmi2Terminated)", mark, raw)?;
-        Ok(terminated != ffi::fmi2False)
+        match &mut self.backend {
+            Backend::Fmi2(i) => i.terminated(),
+            Backend::Fmi3(i) => Ok(i.terminated()),
+        }
     }
 
     // ---- values by value reference ----
 
-    /// One `fmi2Set*` call, the values passed as they are.
-    fn set_values<T>(
-        &mut self,
-        function: &'static str,
-        set: unsafe extern "C" fn(fmi2Component, *const u32, usize, *const T) -> fmi2Status,
-        vrs: &[u32],
-        values: &[T],
-    ) -> Result<Success, CallError> {
-        self.check_lengths(function, vrs.len(), values.len())?;
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements.
-        let raw = unsafe {
-            set(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                array_or_null(values),
-            )
-        };
-        Ok(self.check(function, mark, raw)?)
-    }
-
-    /// One `fmi2Get*` call into `values` as they are.
-    fn get_values<T>(
-        &mut self,
-        function: &'static str,
-        get: unsafe extern "C" fn(fmi2Component, *const u32, usize, *mut T) -> fmi2Status,
-        vrs: &[u32],
-        values: &mut [T],
-    ) -> Result<Success, CallError> {
-        self.check_lengths(function, vrs.len(), values.len())?;
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements; `values` is writable.
-        let raw = unsafe {
-            get(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                mut_array_or_null(values),
-            )
-        };
-        Ok(self.check(function, mark, raw)?)
-    }
-
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<Success, CallError> {
-        let set = self.functions().set_real;
-        self.set_values("fmi2SetReal", set, vrs, values)
+        both!(self, i => i.set_real(vrs, values))
     }
 
     pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<Success, CallError> {
-        let get = self.functions().get_real;
-        self.get_values("fmi2GetReal", get, vrs, values)
+        both!(self, i => i.get_real(vrs, values))
     }
 
     /// Also sets Enumeration variables.
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Result<Success, CallError> {
-        let set = self.functions().set_integer;
-        self.set_values("fmi2SetInteger", set, vrs, values)
+        both!(self, i => i.set_integer(vrs, values))
     }
 
     /// Also gets Enumeration variables.
     pub fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Result<Success, CallError> {
-        let get = self.functions().get_integer;
-        self.get_values("fmi2GetInteger", get, vrs, values)
+        both!(self, i => i.get_integer(vrs, values))
     }
 
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<Success, CallError> {
-        const F: &str = "fmi2SetBoolean";
-        self.check_lengths(F, vrs.len(), values.len())?;
-        let mut raw_values = std::mem::take(&mut self.booleans);
-        raw_values.clear();
-        raw_values.extend(values.iter().map(|&value| fmi2_bool(value)));
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements.
-        let raw = unsafe {
-            (self.functions().set_boolean)(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                array_or_null(&raw_values),
-            )
-        };
-        self.booleans = raw_values;
-        Ok(self.check(F, mark, raw)?)
+        both!(self, i => i.set_boolean(vrs, values))
     }
 
     pub fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<Success, CallError> {
-        const F: &str = "fmi2GetBoolean";
-        self.check_lengths(F, vrs.len(), values.len())?;
-        let mut raw_values = std::mem::take(&mut self.booleans);
-        raw_values.clear();
-        raw_values.resize(vrs.len(), ffi::fmi2False);
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements; `raw_values` is writable.
-        let raw = unsafe {
-            (self.functions().get_boolean)(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                mut_array_or_null(&mut raw_values),
-            )
-        };
-        for (value, &raw_value) in values.iter_mut().zip(&raw_values) {
-            *value = raw_value != ffi::fmi2False;
-        }
-        self.booleans = raw_values;
-        let success = self.check(F, mark, raw)?;
-        Ok(success)
+        both!(self, i => i.get_boolean(vrs, values))
     }
 
-    /// `fmi2SetBoolean` with the values as `fmi2Boolean` (C `int`, 0 is false), as a master
-    /// that keeps its exchange in the FMI representation passes them: no conversion, no copy.
+    /// Booleans as C `int` values (0 is false), as a master that keeps its exchange in the
+    /// FMI 2.0 representation passes them.
     pub fn set_boolean_raw(&mut self, vrs: &[u32], values: &[i32]) -> Result<Success, CallError> {
-        let set = self.functions().set_boolean;
-        self.set_values("fmi2SetBoolean", set, vrs, values)
+        both!(self, i => i.set_boolean_raw(vrs, values))
     }
 
-    /// `fmi2GetBoolean` into `fmi2Boolean` values, each normalised to 0 or 1 (an FMU may
-    /// return any non-zero value for true), so they pass on and record as [`Self::get_boolean`]'s.
+    /// Booleans into C `int` values, each normalised to 0 or 1 (an FMU may return any
+    /// non-zero value for true), so they pass on and record as [`Self::get_boolean`]'s.
     pub fn get_boolean_raw(
         &mut self,
         vrs: &[u32],
         values: &mut [i32],
     ) -> Result<Success, CallError> {
-        let get = self.functions().get_boolean;
-        let success = self.get_values("fmi2GetBoolean", get, vrs, values);
-        for value in values.iter_mut() {
-            *value = i32::from(*value != ffi::fmi2False);
-        }
-        success
+        both!(self, i => i.get_boolean_raw(vrs, values))
     }
 
     pub fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<Success, CallError> {
-        const F: &str = "fmi2SetString";
-        self.check_lengths(F, vrs.len(), values.len())?;
-        let owned = values
-            .iter()
-            .map(|value| {
-                CString::new(*value)
-                    .map_err(|_| self.invalid(F, format!("value {value:?} contains a NUL byte")))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let pointers: Vec<ffi::fmi2String> = owned.iter().map(|c| c.as_ptr()).collect();
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements, the strings outlive the call.
-        let raw = unsafe {
-            (self.functions().set_string)(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                array_or_null(&pointers),
-            )
-        };
-        Ok(self.check(F, mark, raw)?)
+        both!(self, i => i.set_string(vrs, values))
     }
 
     /// The strings are copied at once: the FMU's pointers are valid only until its next call.
@@ -495,44 +298,7 @@ impl Instance {
         vrs: &[u32],
         values: &mut [String],
     ) -> Result<Success, CallError> {
-        const F: &str = "fmi2GetString";
-        self.check_lengths(F, vrs.len(), values.len())?;
-        let mut pointers = std::mem::take(&mut self.strings);
-        pointers.clear();
-        pointers.resize(vrs.len(), ptr::null());
-        let mark = self.log.mark();
-        // SAFETY: both arrays hold `vrs.len()` elements; `pointers` is writable.
-        let raw = unsafe {
-            (self.functions().get_string)(
-                self.c(),
-                array_or_null(vrs),
-                vrs.len(),
-                mut_array_or_null(&mut pointers),
-            )
-        };
-        let copied = self
-            .check(F, mark, raw)
-            .map_err(CallError::from)
-            .and_then(|success| {
-                for ((value, &pointer), vr) in values.iter_mut().zip(&pointers).zip(vrs) {
-                    if pointer.is_null() {
-                        return Err(self.invalid(
-                            F,
-                            format!("the FMU returned NULL for value reference {vr}"),
-                        ));
-                    }
-                    // SAFETY: a non-null fmi2String returned by the FMU is NUL-terminated and
-                    // valid until the next call into the instance.
-                    let text = unsafe { CStr::from_ptr(pointer) }.to_string_lossy();
-                    value.clear();
-                    value.push_str(&text);
-                }
-                Ok(success)
-            });
-        // The FMU's pointers die with its next call: none is kept.
-        pointers.iter_mut().for_each(|p| *p = ptr::null());
-        self.strings = pointers;
-        copied
+        both!(self, i => i.get_string_into(vrs, values))
     }
 
     // ---- values by name ----
@@ -590,168 +356,71 @@ impl Instance {
         Ok(values.remove(0))
     }
 
-    // ---- FMU state ----
+    // ---- FMU state (FMI 2.0) ----
 
-    fn owned_state(
-        &self,
-        function: &'static str,
-        state: &FmuState,
-    ) -> Result<fmi2FMUstate, CallError> {
-        let pointer = if ptr::eq(state.owner.as_ptr(), Arc::as_ptr(&self.log)) {
-            self.states
-                .get(state.slot)
-                .copied()
-                .unwrap_or(ptr::null_mut())
-        } else {
-            ptr::null_mut()
-        };
-        if pointer.is_null() {
-            return Err(self.invalid(
+    fn fmi2(&mut self, function: &'static str) -> Result<&mut Fmi2Instance, CallError> {
+        match &mut self.backend {
+            Backend::Fmi2(i) => Ok(i),
+            Backend::Fmi3(i) => Err(CallError::InvalidArgument {
                 function,
-                "the FMU state belongs to another instance".to_owned(),
-            ));
+                instance: i.name().to_owned(),
+                reason: "the harness saves and restores FMU states of FMI 2.0 instances only"
+                    .to_owned(),
+            }),
         }
-        Ok(pointer)
     }
 
-    fn store_state(&mut self, pointer: fmi2FMUstate) -> FmuState {
-        let slot = match self.states.iter().position(|state| state.is_null()) {
-            Some(free) => {
-                self.states[free] = pointer;
-                free
-            }
-            None => {
-                self.states.push(pointer);
-                self.states.len() - 1
-            }
-        };
-        FmuState {
-            slot,
-            owner: Arc::downgrade(&self.log),
+    /// The FMI 2.0 backend, or an error that says FMI 3.0 states are not driven (the FMU
+    /// is not called).
+    fn fmi2_or_error(&mut self, function: &'static str) -> Result<&mut Fmi2Instance, FmiError> {
+        match &mut self.backend {
+            Backend::Fmi2(i) => Ok(i),
+            Backend::Fmi3(i) => Err(FmiError {
+                function,
+                instance: i.name().to_owned(),
+                status: super::status::Failure::Error,
+                log: super::logger::FmuLog(vec![LogMessage {
+                    instance_name: i.name().to_owned(),
+                    status: super::status::Status::Error,
+                    version: FmiVersion::Fmi3,
+                    category: "harness".to_owned(),
+                    message: "not called: the harness saves and restores FMU states of FMI 2.0 \
+                              instances only"
+                        .to_owned(),
+                }]),
+            }),
         }
     }
 
     /// `fmi2GetFMUstate` into a new state.
     pub fn get_fmu_state(&mut self) -> Result<FmuState, FmiError> {
-        let mut pointer: fmi2FMUstate = ptr::null_mut();
-        let mark = self.log.mark();
-        // SAFETY: a null state asks the FMU to allocate a new one.
-        let raw = unsafe { (self.functions().get_fmu_state)(self.c(), &mut pointer) };
-        self.check("fmi2GetFMUstate", mark, raw)?;
-        Ok(self.store_state(pointer))
+        self.fmi2_or_error("fmi3GetFMUState")?.get_fmu_state()
     }
 
     /// `fmi2GetFMUstate` overwriting an existing state, without a new allocation.
     pub fn update_fmu_state(&mut self, state: &FmuState) -> Result<Success, CallError> {
-        const F: &str = "fmi2GetFMUstate";
-        let mut pointer = self.owned_state(F, state)?;
-        let mark = self.log.mark();
-        // SAFETY: `pointer` is a live state of this instance.
-        let raw = unsafe { (self.functions().get_fmu_state)(self.c(), &mut pointer) };
-        // The FMU may hand back a different pointer even on failure; keep whatever it returned.
-        self.states[state.slot] = pointer;
-        Ok(self.check(F, mark, raw)?)
+        self.fmi2("fmi3GetFMUState")?.update_fmu_state(state)
     }
 
     /// `fmi2SetFMUstate`: continue from a saved state.
     pub fn set_fmu_state(&mut self, state: &FmuState) -> Result<Success, CallError> {
-        const F: &str = "fmi2SetFMUstate";
-        let pointer = self.owned_state(F, state)?;
-        let mark = self.log.mark();
-        // SAFETY: `pointer` is a live state of this instance.
-        let raw = unsafe { (self.functions().set_fmu_state)(self.c(), pointer) };
-        Ok(self.check(F, mark, raw)?)
+        self.fmi2("fmi3SetFMUState")?.set_fmu_state(state)
     }
 
     /// `fmi2FreeFMUstate`.
     pub fn free_fmu_state(&mut self, state: FmuState) -> Result<Success, CallError> {
-        const F: &str = "fmi2FreeFMUstate";
-        let mut pointer = self.owned_state(F, &state)?;
-        self.states[state.slot] = ptr::null_mut();
-        let mark = self.log.mark();
-        // SAFETY: `pointer` is a live state of this instance, freed exactly once (its slot is cleared).
-        let raw = unsafe { (self.functions().free_fmu_state)(self.c(), &mut pointer) };
-        Ok(self.check(F, mark, raw)?)
+        self.fmi2("fmi3FreeFMUState")?.free_fmu_state(state)
     }
 
     /// `fmi2SerializedFMUstateSize` + `fmi2SerializeFMUstate`.
     pub fn serialize_fmu_state(&mut self, state: &FmuState) -> Result<Vec<u8>, CallError> {
-        let pointer = self.owned_state("fmi2SerializeFMUstate", state)?;
-        let mut size = 0usize;
-        let mark = self.log.mark();
-        // SAFETY: `pointer` is a live state of this instance; `size` is a valid out-pointer.
-        let raw =
-            unsafe { (self.functions().serialized_fmu_state_size)(self.c(), pointer, &mut size) };
-        self.check("fmi2SerializedFMUstateSize", mark, raw)?;
-        let mut bytes = vec![0u8; size];
-        let mark = self.log.mark();
-        // SAFETY: `bytes` holds exactly the `size` bytes the FMU asked for.
-        let raw = unsafe {
-            (self.functions().serialize_fmu_state)(
-                self.c(),
-                pointer,
-                bytes.as_mut_ptr().cast(),
-                bytes.len(),
-            )
-        };
-        self.check("fmi2SerializeFMUstate", mark, raw)?;
-        Ok(bytes)
+        self.fmi2("fmi3SerializeFMUState")?
+            .serialize_fmu_state(state)
     }
 
     /// `fmi2DeSerializeFMUstate` into a new state.
     pub fn deserialize_fmu_state(&mut self, bytes: &[u8]) -> Result<FmuState, FmiError> {
-        let mut pointer: fmi2FMUstate = ptr::null_mut();
-        let mark = self.log.mark();
-        // SAFETY: `bytes` is readable for its length; a null state asks for a new one.
-        let raw = unsafe {
-            (self.functions().deserialize_fmu_state)(
-                self.c(),
-                bytes.as_ptr().cast(),
-                bytes.len(),
-                &mut pointer,
-            )
-        };
-        self.check("fmi2DeSerializeFMUstate", mark, raw)?;
-        Ok(self.store_state(pointer))
-    }
-}
-
-impl Drop for Instance {
-    fn drop(&mut self) {
-        let functions = self.fmu.functions;
-        for pointer in self.states.iter_mut().filter(|state| !state.is_null()) {
-            // SAFETY: each non-null slot is a live state of this instance, freed once here. A
-            // failure cannot be reported from drop; the FMU has logged it.
-            unsafe { (functions.free_fmu_state)(self.component.as_ptr(), pointer) };
-        }
-        // SAFETY: the component is live and never used again; the callbacks and log sink
-        // are dropped only after this returns.
-        unsafe { (functions.free_instance)(self.component.as_ptr()) };
-    }
-}
-
-fn fmi2_bool(value: bool) -> ffi::fmi2Boolean {
-    if value {
-        ffi::fmi2True
-    } else {
-        ffi::fmi2False
-    }
-}
-
-/// The standard allows null arrays only with a zero count; pass null then rather than a
-/// dangling (if well-aligned) pointer from an empty slice.
-fn array_or_null<T>(slice: &[T]) -> *const T {
-    if slice.is_empty() {
-        ptr::null()
-    } else {
-        slice.as_ptr()
-    }
-}
-
-fn mut_array_or_null<T>(slice: &mut [T]) -> *mut T {
-    if slice.is_empty() {
-        ptr::null_mut()
-    } else {
-        slice.as_mut_ptr()
+        self.fmi2_or_error("fmi3DeserializeFMUState")?
+            .deserialize_fmu_state(bytes)
     }
 }

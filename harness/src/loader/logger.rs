@@ -18,14 +18,21 @@ pub const LOG_CAPACITY: usize = 4096;
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LogMessage {
     pub instance_name: String,
+    /// The FMI 3.0 status of the same number when `version` is FMI 3.0.
     pub status: Status,
+    pub version: super::FmiVersion,
     pub category: String,
     pub message: String,
 }
 
 impl fmt::Display for LogMessage {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "[{}] {}: {}", self.status, self.category, self.message)
+        let status = self.status.to_string();
+        let status = match (self.version, status.strip_prefix("fmi2")) {
+            (super::FmiVersion::Fmi3, Some(rest)) => format!("fmi3{rest}"),
+            _ => status,
+        };
+        write!(f, "[{status}] {}: {}", self.category, self.message)
     }
 }
 
@@ -54,6 +61,8 @@ pub(crate) struct LogEnv {
     /// Sequence number of the next message; read without the lock on every FMI call.
     next_sequence: AtomicU64,
     buffer: Mutex<VecDeque<(u64, LogMessage)>>,
+    /// The instance's name, for FMI 3.0, whose logger callback passes none.
+    instance_name: String,
 }
 
 /// A position in an instance's log, to collect what one call produced.
@@ -68,6 +77,15 @@ impl LogEnv {
             },
             next_sequence: AtomicU64::new(0),
             buffer: Mutex::new(VecDeque::new()),
+            instance_name: String::new(),
+        }
+    }
+
+    /// A sink for an FMI 3.0 instance named `name` (see [`log_message_fmi3`]).
+    pub(crate) fn named(name: &str) -> Self {
+        Self {
+            instance_name: name.to_owned(),
+            ..Self::new()
         }
     }
 
@@ -150,6 +168,45 @@ extern "C" fn forward_log_message(
         let message = LogMessage {
             instance_name: text(instance_name),
             status: Status::from_raw(status),
+            version: super::FmiVersion::Fmi2,
+            category: text(category),
+            message: text(message),
+        };
+        log::log!(
+            target: "harness::fmu",
+            level_of(message.status),
+            "{}: {}",
+            message.instance_name,
+            message
+        );
+        env.push(message);
+    }));
+}
+
+/// The FMI 3.0 `logMessage` callback (not variadic: the FMU formats the message); its
+/// `instanceEnvironment` is the instance's `LogEnv`. The status travels as the FMI 2.0 status
+/// of the same number (FMI 3.0 has the same first five).
+///
+/// # Safety (of the C caller)
+/// `environment` is the `LogEnv` given to `fmi3InstantiateCoSimulation`; the strings are
+/// NUL-terminated or null.
+pub(crate) unsafe extern "C" fn log_message_fmi3(
+    environment: fmi_abi::fmi3::fmi3InstanceEnvironment,
+    status: fmi_abi::fmi3::fmi3Status,
+    category: fmi_abi::fmi3::fmi3String,
+    message: fmi_abi::fmi3::fmi3String,
+) {
+    let env = environment as *const LogEnv;
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: the environment we handed out, kept alive by the owning instance until
+        // after fmi3FreeInstance returns.
+        let Some(env) = (unsafe { env.as_ref() }) else {
+            return;
+        };
+        let message = LogMessage {
+            instance_name: env.instance_name.clone(),
+            status: Status::from_raw(ffi::fmi2Status(status.0)),
+            version: super::FmiVersion::Fmi3,
             category: text(category),
             message: text(message),
         };

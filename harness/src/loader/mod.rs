@@ -1,4 +1,5 @@
-//! Loads FMI 2.0 Co-Simulation FMUs through their C ABI, as any FMI master does.
+//! Loads FMI 2.0 and FMI 3.0 Co-Simulation FMUs through their C ABI, as any FMI master does,
+//! behind one [`Instance`] type (an FMI 2.0 or an FMI 3.0 backend).
 //!
 //! ```no_run
 //! use harness::loader::{Fmu, StepStatus};
@@ -11,7 +12,7 @@
 //! oscillator.exit_initialization_mode()?;
 //! for step in 0..100 {
 //!     let time = f64::from(step) * 0.01;
-//!     if let StepStatus::Discarded { .. } = oscillator.do_step(time, 0.01)? {
+//!     if !matches!(oscillator.do_step(time, 0.01)?, StepStatus::Complete(_)) {
 //!         break;
 //!     }
 //! }
@@ -22,6 +23,8 @@
 mod archive;
 mod error;
 mod ffi;
+mod fmi2;
+mod fmi3;
 mod fmu;
 mod functions;
 mod instance;
@@ -30,8 +33,8 @@ mod status;
 mod variables;
 
 pub use error::{CallError, FmiError, LoadError, VariableError};
-pub use fmu::Fmu;
-pub use instance::{FmuState, Instance};
+pub use fmu::{FmiVersion, Fmu};
+pub use instance::{FmuState, Instance, InstanceOptions};
 pub use logger::{FmuLog, LogMessage, LOG_CAPACITY};
 pub use model_description::VariableKind;
 pub use status::{Failure, Status, StepStatus, Success};

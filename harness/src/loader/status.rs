@@ -104,6 +104,27 @@ pub enum StepStatus {
         last_successful_time: f64,
         terminated: bool,
     },
+    /// FMI 3.0: the step returned `fmi3OK` (or `fmi3Warning`) with `terminateSimulation`:
+    /// the FMU ended the run, its outputs valid at `last_successful_time` (the step's end
+    /// `t + h`, the harness not allowing early return).
+    Terminated { last_successful_time: f64 },
+}
+
+impl StepStatus {
+    /// The FMU ended the run: FMI 2.0's `fmi2Discard` with `fmi2Terminated`, FMI 3.0's
+    /// `terminateSimulation`. Its time is that of the row to record last.
+    pub fn ended_run(&self) -> Option<f64> {
+        match *self {
+            StepStatus::Discarded {
+                last_successful_time,
+                terminated: true,
+            }
+            | StepStatus::Terminated {
+                last_successful_time,
+            } => Some(last_successful_time),
+            _ => None,
+        }
+    }
 }
 
 #[cfg(test)]

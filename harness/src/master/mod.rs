@@ -12,8 +12,13 @@
 //!   from the plant's state at `t_k` (no added delay). Jacobi sets every input from the
 //!   outputs read after the previous step, so a direct-feedthrough controller's command lags
 //!   one step, as in fmpy's `simulate_ssp`.
-//! - Status: `fmi2Discard` with `fmi2Terminated` (touchdown) ends the run cleanly at
-//!   `fmi2LastSuccessfulTime`; `fmi2Error`/`fmi2Fatal` ends it with the FMU's log in the error.
+//! - Status: `fmi2Discard` with `fmi2Terminated` (touchdown), or FMI 3.0's `terminateSimulation`,
+//!   ends the run cleanly at the step's `lastSuccessfulTime`, that row recorded last;
+//!   `Error`/`Fatal` ends it with the FMU's log in the error.
+//! - FMI 3.0: an instance whose outputs are read right after its inputs are set (Gauss-Seidel,
+//!   an output depending on a connected input) is instantiated for same-instant feedthrough
+//!   (Event Mode); every other one has its outputs read before its inputs are set, as Step Mode
+//!   requires (see `loader::InstanceOptions` and harness/README.md).
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
 mod conventions;
@@ -24,7 +29,7 @@ pub mod suggest;
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use resolve::Port;
 
-use crate::loader::{CallError, FmiError, Fmu, StepStatus, VariableKind};
+use crate::loader::{CallError, FmiError, Fmu, InstanceOptions, StepStatus, VariableKind};
 use crate::system::{Ordering, ParamValue, SystemDescription};
 use std::path::{Path, PathBuf};
 
@@ -75,7 +80,8 @@ pub enum MasterError {
 pub enum RunEnd {
     /// Reached the stop time.
     Completed,
-    /// An instance stopped the simulation (`fmi2Discard` + `fmi2Terminated`), e.g. touchdown.
+    /// An instance stopped the simulation (`fmi2Discard` + `fmi2Terminated`, or FMI 3.0's
+    /// `terminateSimulation`), e.g. touchdown.
     Terminated { instance: String, time: f64 },
 }
 
@@ -370,6 +376,9 @@ pub struct Simulation {
     /// Per unit: every output was read since its last step (or initialization), so setting
     /// its inputs can change only its feedthrough outputs.
     outputs_read: Vec<bool>,
+    /// Per unit: a get may not follow a set at one communication point (an FMI 3.0 instance
+    /// in Step Mode), so its outputs are read before its inputs are set.
+    get_before_set: Vec<bool>,
     fresh: bool,
     conventions: Conventions,
 }
@@ -440,22 +449,8 @@ impl Simulation {
                 problems,
             });
         }
-        let mut units = Vec::with_capacity(fmus.len());
-        for (fmu, desc) in fmus.iter().zip(&system.instances) {
-            let instance =
-                fmu.instantiate(&desc.name, false)
-                    .map_err(|source| MasterError::Call {
-                        instance: desc.name.clone(),
-                        context: "fmi2Instantiate".into(),
-                        source: Box::new(source),
-                    })?;
-            units.push(Unit {
-                name: desc.name.clone(),
-                instance,
-            });
-        }
-        let mut inputs: Vec<Io> = units.iter().map(|_| Io::default()).collect();
-        let mut outputs: Vec<Io> = units.iter().map(|_| Io::default()).collect();
+        let mut inputs: Vec<Io> = fmus.iter().map(|_| Io::default()).collect();
+        let mut outputs: Vec<Io> = fmus.iter().map(|_| Io::default()).collect();
         // Recorded outputs take their slots first, in column order, so that consecutive
         // columns of one unit and type are consecutive slots and a row is a few bulk copies.
         let mut columns = Vec::with_capacity(recorded.len());
@@ -507,6 +502,11 @@ impl Simulation {
             &mut links,
             &mut columns,
         );
+        let units = instantiate(&system, &fmus, &outputs)?;
+        let get_before_set = units
+            .iter()
+            .map(|unit| !unit.instance.can_get_after_set())
+            .collect();
         let column_runs = ColumnRun::of(&columns);
         let copies_into = (0..units.len())
             .map(|u| Copies::into_unit(&links, u))
@@ -531,6 +531,7 @@ impl Simulation {
             final_row: Vec::new(),
             outputs_read: vec![false; read_after_step.len()],
             read_after_step,
+            get_before_set,
             fresh: true,
             conventions: Conventions::default(),
         })
@@ -647,9 +648,10 @@ impl Simulation {
         if !self.fresh {
             for unit in &mut self.units {
                 let name = unit.name.clone();
+                let v = unit.instance.fmi_version();
                 unit.instance
                     .reset()
-                    .map_err(|e| call(&name, "fmi2Reset", e.into()))?;
+                    .map_err(|e| call(&name, named(v, "fmi2Reset", "fmi3Reset"), e.into()))?;
             }
         }
         self.fresh = false;
@@ -668,14 +670,18 @@ impl Simulation {
         while let Some((time, h)) = clock.next_step() {
             if ordering == Ordering::GaussSeidel {
                 for u in 0..self.units.len() {
+                    if self.get_before_set[u] {
+                        // FMI 3.0 Step Mode: no get after a set before the step. Outputs
+                        // that depend on no connected input are the same either way; the
+                        // others (only of an FMU without Event Mode) come one step late.
+                        self.read_for_exchange(u)?;
+                        self.set_inputs(u)?;
+                        continue;
+                    }
                     self.set_inputs(u)?;
                     // Outputs read right after the step are still valid unless they depend
                     // on the inputs just set: read only those (the plant's state once a step).
-                    if self.outputs_read[u] {
-                        self.get_feedthrough_outputs(u)?;
-                    } else {
-                        self.get_outputs(u)?;
-                    }
+                    self.read_for_exchange(u)?;
                 }
             }
             self.record(time, recorder);
@@ -689,26 +695,41 @@ impl Simulation {
                 let unit = &mut self.units[u];
                 match unit.instance.do_step(time, h) {
                     Ok(StepStatus::Complete(_)) => {}
-                    Ok(StepStatus::Discarded {
-                        last_successful_time,
-                        terminated,
-                    }) => {
+                    Ok(status) => {
                         let name = unit.name.clone();
-                        if !terminated {
-                            return Err(MasterError::Call {
-                                instance: name,
-                                context: format!(
+                        // FMI 2.0: fmi2Discard + fmi2Terminated; FMI 3.0: terminateSimulation.
+                        // Either way the FMU ended the run, and its row is the last.
+                        let Some(last_successful_time) = status.ended_run() else {
+                            let function = unit.instance.do_step_function();
+                            let stopped = match status {
+                                StepStatus::Discarded {
+                                    last_successful_time,
+                                    ..
+                                } => last_successful_time,
+                                _ => time,
+                            };
+                            let context = match unit.instance.fmi_version() {
+                                crate::loader::FmiVersion::Fmi2 => format!(
                                     "fmi2DoStep at t = {time} returned fmi2Discard without \
-                                     fmi2Terminated (stopped at {last_successful_time}); this \
+                                     fmi2Terminated (stopped at {stopped}); this \
                                      fixed-step master cannot retry a shorter step"
                                 ),
+                                crate::loader::FmiVersion::Fmi3 => format!(
+                                    "fmi3DoStep at t = {time} stopped at {stopped} without \
+                                     terminateSimulation; this fixed-step master cannot \
+                                     retry a shorter step"
+                                ),
+                            };
+                            return Err(MasterError::Call {
+                                instance: name,
+                                context,
                                 source: Box::new(CallError::InvalidArgument {
-                                    function: "fmi2DoStep",
+                                    function,
                                     instance: unit.name.clone(),
                                     reason: "discarded step".into(),
                                 }),
                             });
-                        }
+                        };
                         self.get_outputs(u)?;
                         self.record(last_successful_time, recorder);
                         self.read_final()?;
@@ -753,7 +774,11 @@ impl Simulation {
             }
         }
         for u in 0..self.units.len() {
-            self.set_inputs(u)?;
+            // An instance that allows no get after a set (FMI 3.0 Step Mode) records the
+            // outputs of its last step: its inputs at the stop time could change nothing read.
+            if !self.get_before_set[u] {
+                self.set_inputs(u)?;
+            }
             self.get_outputs(u)?;
         }
         self.record(clock.end_time(), recorder);
@@ -768,16 +793,31 @@ impl Simulation {
         for (u, desc) in self.system.instances.iter().enumerate() {
             let unit = &mut self.units[u];
             let name = unit.name.clone();
+            let v = unit.instance.fmi_version();
             unit.instance
                 .setup_experiment(None, start, declared_stop)
-                .map_err(|e| call(&name, "fmi2SetupExperiment", e.into()))?;
+                .map_err(|e| {
+                    call(
+                        &name,
+                        named(v, "fmi2SetupExperiment", "fmi3EnterInitializationMode"),
+                        e.into(),
+                    )
+                })?;
             for (variable, value) in &desc.parameters {
                 set_parameter(&mut unit.instance, variable, value)
                     .map_err(|e| call(&name, &format!("setting parameter {variable}"), e))?;
             }
-            unit.instance
-                .enter_initialization_mode()
-                .map_err(|e| call(&name, "fmi2EnterInitializationMode", e.into()))?;
+            unit.instance.enter_initialization_mode().map_err(|e| {
+                call(
+                    &name,
+                    named(
+                        v,
+                        "fmi2EnterInitializationMode",
+                        "fmi3EnterInitializationMode",
+                    ),
+                    e.into(),
+                )
+            })?;
         }
         if self.conventions.initial_inputs == InitialInputs::Zero {
             return self.initialize_with_zero_inputs();
@@ -793,9 +833,18 @@ impl Simulation {
         }
         for unit in &mut self.units {
             let name = unit.name.clone();
-            unit.instance
-                .exit_initialization_mode()
-                .map_err(|e| call(&name, "fmi2ExitInitializationMode", e.into()))?;
+            let v = unit.instance.fmi_version();
+            unit.instance.exit_initialization_mode().map_err(|e| {
+                call(
+                    &name,
+                    named(
+                        v,
+                        "fmi2ExitInitializationMode",
+                        "fmi3ExitInitializationMode",
+                    ),
+                    e.into(),
+                )
+            })?;
         }
         for u in 0..self.units.len() {
             self.get_outputs(u)?;
@@ -812,9 +861,18 @@ impl Simulation {
         }
         for unit in &mut self.units {
             let name = unit.name.clone();
-            unit.instance
-                .exit_initialization_mode()
-                .map_err(|e| call(&name, "fmi2ExitInitializationMode", e.into()))?;
+            let v = unit.instance.fmi_version();
+            unit.instance.exit_initialization_mode().map_err(|e| {
+                call(
+                    &name,
+                    named(
+                        v,
+                        "fmi2ExitInitializationMode",
+                        "fmi3ExitInitializationMode",
+                    ),
+                    e.into(),
+                )
+            })?;
         }
         Ok(())
     }
@@ -855,6 +913,16 @@ impl Simulation {
     /// Reads the outputs of unit `u` that may depend on its inputs.
     fn get_feedthrough_outputs(&mut self, u: usize) -> Result<(), MasterError> {
         self.read_outputs(u, Part::Feedthrough)
+    }
+
+    /// At a unit's turn: the outputs not read since its step, or only those that depend on its
+    /// inputs when the others were.
+    fn read_for_exchange(&mut self, u: usize) -> Result<(), MasterError> {
+        if self.outputs_read[u] {
+            self.get_feedthrough_outputs(u)
+        } else {
+            self.get_outputs(u)
+        }
     }
 
     fn read_outputs(&mut self, u: usize, part: Part) -> Result<(), MasterError> {
@@ -1041,6 +1109,63 @@ fn feedthrough_last(
             debug_assert_eq!(*unit_of, u);
             *slot = moved[block_index(*kind)][*slot];
         }
+    }
+}
+
+/// Instantiates every unit. An instance whose outputs the master reads after setting its
+/// inputs at one communication point (Gauss-Seidel, an output that depends on a connected
+/// input) asks for same-instant feedthrough, which FMI 3.0 gives in Event Mode only.
+fn instantiate(
+    system: &SystemDescription,
+    fmus: &[Fmu],
+    outputs: &[Io],
+) -> Result<Vec<Unit>, MasterError> {
+    let mut units = Vec::with_capacity(fmus.len());
+    for ((fmu, desc), io) in fmus.iter().zip(&system.instances).zip(outputs) {
+        let feedthrough = io.real.feedthrough_start < io.real.vrs.len()
+            || io.integer.feedthrough_start < io.integer.vrs.len()
+            || io.boolean.feedthrough_start < io.boolean.vrs.len();
+        let same_instant = system.ordering == Ordering::GaussSeidel && feedthrough;
+        if same_instant && !fmu.supports_same_instant_feedthrough() {
+            log::warn!(
+                "instance '{}': model '{}' (FMI 3.0) has no Event Mode, so its outputs that \
+                 depend on its inputs are read before its inputs are set: one step late",
+                desc.name,
+                fmu.model_name()
+            );
+        }
+        let options = InstanceOptions {
+            logging_on: false,
+            same_instant_feedthrough: same_instant,
+        };
+        let instance = fmu
+            .instantiate_with(&desc.name, options)
+            .map_err(|source| MasterError::Call {
+                instance: desc.name.clone(),
+                context: match fmu.fmi_version() {
+                    crate::loader::FmiVersion::Fmi2 => "fmi2Instantiate",
+                    crate::loader::FmiVersion::Fmi3 => "fmi3InstantiateCoSimulation",
+                }
+                .into(),
+                source: Box::new(source),
+            })?;
+        units.push(Unit {
+            name: desc.name.clone(),
+            instance,
+        });
+    }
+    Ok(units)
+}
+
+/// The name of a call in the FMI version of the instance, for error contexts.
+fn named(
+    version: crate::loader::FmiVersion,
+    fmi2: &'static str,
+    fmi3: &'static str,
+) -> &'static str {
+    match version {
+        crate::loader::FmiVersion::Fmi2 => fmi2,
+        crate::loader::FmiVersion::Fmi3 => fmi3,
     }
 }
 

@@ -196,7 +196,7 @@ impl Unit {
         };
         match self.instance.do_step(time, h)? {
             StepStatus::Complete(_) => Ok(()),
-            StepStatus::Discarded { .. } => bail!(
+            StepStatus::Discarded { .. } | StepStatus::Terminated { .. } => bail!(
                 "{} discarded the step at t = {time} s of the replayed flight",
                 self.instance.name()
             ),

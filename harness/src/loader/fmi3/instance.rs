@@ -1,0 +1,1031 @@
+//! The FMI 3.0 backend of [`crate::loader::Instance`]: one Co-Simulation instance, with the
+//! state it is in, so that only call orders the standard allows reach the FMU.
+//!
+//! - Values travel by *element reference* (the scalar view's value reference, see
+//!   `view.rs`): a get reads each array it touches whole, in one `fmi3Get{Type}` call per
+//!   type, and picks the elements; a set writes each array it touches whole, the elements it
+//!   does not name keeping the value last set by the harness (or the start value).
+//! - Step Mode: "`fmi3Get{VariableType}` is not allowed after `fmi3Set{VariableType}`
+//!   without calling `fmi3DoStep` in between" (FMI 3.0, 4.2.1). Such a get is refused here
+//!   before reaching the FMU. An instance made with `same_instant_feedthrough` (and an FMU
+//!   with `hasEventMode`) is instantiated with `eventModeUsed = true` and enters Event Mode
+//!   (`fmi3EnterEventMode`) at the first set after a step; the next `do_step` leaves it
+//!   (`fmi3UpdateDiscreteStates` until nothing needs an update, `fmi3EnterStepMode`) before
+//!   `fmi3DoStep`. In Event Mode a get after a set returns the outputs of the inputs just set,
+//!   as `fmi2GetReal` after `fmi2SetReal` does.
+//! - `earlyReturnAllowed = false`: a step ends at `t + h` or ends the run
+//!   (`terminateSimulation`).
+#![allow(unsafe_code)]
+
+use super::super::error::{CallError, FmiError};
+use super::super::fmu::FmuShared;
+use super::super::logger::{log_message_fmi3, LogEnv, LogMark};
+use super::super::status::{Status, StepStatus, Success};
+use super::functions::Fmi3Functions;
+use super::{Element, Fmi3Api, Starts};
+use fmi_abi::fmi3::{fmi3Instance, fmi3Status, fmi3String};
+use model_description::fmi3::Fmi3Type;
+use std::ffi::{c_void, CStr, CString};
+use std::ptr::{self, NonNull};
+use std::sync::Arc;
+
+/// Where the instance is in the FMI 3.0 Co-Simulation state machine (the states the harness
+/// uses).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    Instantiated,
+    Initialization,
+    Event,
+    Step,
+    Terminated,
+}
+
+/// The exchange functions a value reference list goes through.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Group {
+    Real,
+    Integer,
+    Boolean,
+    String,
+}
+
+impl Group {
+    fn admits(self, kind: Fmi3Type) -> bool {
+        match self {
+            Group::Real => kind == Fmi3Type::Float64,
+            Group::Integer => matches!(kind, Fmi3Type::Int32 | Fmi3Type::Enumeration),
+            Group::Boolean => kind == Fmi3Type::Boolean,
+            Group::String => kind == Fmi3Type::String,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Group::Real => "Float64",
+            Group::Integer => "Int32 or Enumeration",
+            Group::Boolean => "Boolean",
+            Group::String => "String",
+        }
+    }
+}
+
+/// One `fmi3Get{Type}`/`fmi3Set{Type}` call: whole arrays `vrs` (their elements the scalars
+/// `first..first + len` of the view, `total` values in all), and where each requested
+/// element sits in the call's values.
+#[derive(Debug, Clone)]
+struct Call {
+    kind: Fmi3Type,
+    vrs: Vec<u32>,
+    arrays: Vec<(usize, usize)>,
+    total: usize,
+    /// (position in the caller's values, position in the call's values)
+    picks: Vec<(usize, usize)>,
+}
+
+#[derive(Debug)]
+struct Plan {
+    group: Group,
+    key: Vec<u32>,
+    calls: Vec<Call>,
+}
+
+/// Plans kept per instance: a master exchanges the same lists every step.
+const PLAN_CACHE: usize = 64;
+
+pub(crate) struct Fmi3Instance {
+    instance: NonNull<c_void>,
+    name: String,
+    api: Arc<Fmi3Api>,
+    functions: Fmi3Functions,
+    log: Arc<LogEnv>,
+    _fmu: Arc<FmuShared>,
+    _strings: [CString; 2],
+    _resource_path: Option<CString>,
+    event_mode_used: bool,
+    mode: Mode,
+    set_since_step: bool,
+    experiment: (Option<f64>, f64, Option<f64>),
+    last_successful_time: f64,
+    terminated: bool,
+    /// The value of every element the harness last set, or its start value.
+    shadow: Starts,
+    plans: Vec<Plan>,
+    float64: Vec<f64>,
+    int32: Vec<i32>,
+    int64: Vec<i64>,
+    booleans: Vec<bool>,
+    strings: Vec<fmi3String>,
+}
+
+// SAFETY: as for the FMI 2.0 backend: the instance pointer is used only through `&mut self`
+// (or in `drop`), and the logger environment is thread-safe.
+unsafe impl Send for Fmi3Instance {}
+
+impl std::fmt::Debug for Fmi3Instance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Fmi3Instance")
+            .field("name", &self.name)
+            .field("mode", &self.mode)
+            .field("event_mode_used", &self.event_mode_used)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Fmi3Instance {
+    pub(crate) fn new(
+        fmu: Arc<FmuShared>,
+        api: Arc<Fmi3Api>,
+        name: &str,
+        logging_on: bool,
+        event_mode_used: bool,
+    ) -> Result<Self, CallError> {
+        const F: &str = "fmi3InstantiateCoSimulation";
+        let c_string = |what: &str, text: &str| {
+            CString::new(text).map_err(|_| CallError::InvalidArgument {
+                function: F,
+                instance: name.to_owned(),
+                reason: format!("{what} contains a NUL byte"),
+            })
+        };
+        let instance_name = c_string("instance name", name)?;
+        let token = c_string("instantiation token", &api.description.instantiation_token)?;
+        let resources = fmu.resources_dir();
+        let resource_path = resources
+            .filter(|dir| dir.is_dir())
+            .map(|dir| {
+                let mut text = dir.to_string_lossy().into_owned();
+                text.push(std::path::MAIN_SEPARATOR);
+                c_string("resource path", &text)
+            })
+            .transpose()?;
+        let log = Arc::new(LogEnv::named(name));
+        let mark = log.mark();
+        let functions = api.functions;
+        // SAFETY: every pointer is valid for the call; `log` and the strings move into the
+        // instance, which outlives the FMU's instance.
+        let instance = unsafe {
+            (functions.instantiate_co_simulation)(
+                instance_name.as_ptr(),
+                token.as_ptr(),
+                resource_path.as_ref().map_or(ptr::null(), |p| p.as_ptr()),
+                false,
+                logging_on,
+                event_mode_used,
+                false,
+                ptr::null(),
+                0,
+                Arc::as_ptr(&log) as *mut c_void,
+                Some(log_message_fmi3),
+                None,
+            )
+        };
+        let Some(instance) = NonNull::new(instance) else {
+            return Err(CallError::InstantiationFailed {
+                function: F,
+                instance: name.to_owned(),
+                log: log.since(mark),
+            });
+        };
+        Ok(Self {
+            instance,
+            name: name.to_owned(),
+            shadow: api.starts.clone(),
+            functions,
+            api,
+            log,
+            _fmu: fmu,
+            _strings: [instance_name, token],
+            _resource_path: resource_path,
+            event_mode_used,
+            mode: Mode::Instantiated,
+            set_since_step: false,
+            experiment: (None, 0.0, None),
+            last_successful_time: f64::NAN,
+            terminated: false,
+            plans: Vec::new(),
+            float64: Vec::new(),
+            int32: Vec::new(),
+            int64: Vec::new(),
+            booleans: Vec::new(),
+            strings: Vec::new(),
+        })
+    }
+
+    pub(crate) fn name(&self) -> &str {
+        &self.name
+    }
+
+    pub(crate) fn log(&self) -> &Arc<LogEnv> {
+        &self.log
+    }
+
+    /// Whether a get may follow a set at one communication point (Event Mode is used).
+    pub(crate) fn event_mode_used(&self) -> bool {
+        self.event_mode_used
+    }
+
+    fn c(&self) -> fmi3Instance {
+        self.instance.as_ptr()
+    }
+
+    fn check(
+        &self,
+        function: &'static str,
+        mark: LogMark,
+        raw: fmi3Status,
+    ) -> Result<Success, FmiError> {
+        Status::from_raw(fmi_abi::fmi2::fmi2Status(raw.0))
+            .into_result()
+            .map_err(|status| FmiError {
+                function,
+                instance: self.name.clone(),
+                status,
+                log: self.log.since(mark),
+            })
+    }
+
+    fn invalid(&self, function: &'static str, reason: String) -> CallError {
+        CallError::InvalidArgument {
+            function,
+            instance: self.name.clone(),
+            reason,
+        }
+    }
+
+    fn only(
+        &mut self,
+        function: &'static str,
+        call: super::functions::Only,
+    ) -> Result<Success, FmiError> {
+        let mark = self.log.mark();
+        // SAFETY: a live instance; the function takes nothing else.
+        let raw = unsafe { call(self.c()) };
+        self.check(function, mark, raw)
+    }
+
+    pub(crate) fn set_debug_logging(
+        &mut self,
+        logging_on: bool,
+        categories: &[&str],
+    ) -> Result<Success, CallError> {
+        const F: &str = "fmi3SetDebugLogging";
+        let owned = categories
+            .iter()
+            .map(|category| {
+                CString::new(*category).map_err(|_| {
+                    self.invalid(F, format!("category {category:?} contains a NUL byte"))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let pointers: Vec<fmi3String> = owned.iter().map(|c| c.as_ptr()).collect();
+        let mark = self.log.mark();
+        // SAFETY: `pointers` holds `len` valid C strings for the duration of the call.
+        let raw = unsafe {
+            (self.functions.set_debug_logging)(
+                self.c(),
+                logging_on,
+                pointers.len(),
+                if pointers.is_empty() {
+                    ptr::null()
+                } else {
+                    pointers.as_ptr()
+                },
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
+    /// FMI 3.0 has no `fmi3SetupExperiment`: the values go to `fmi3EnterInitializationMode`.
+    pub(crate) fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Result<Success, FmiError> {
+        self.experiment = (tolerance, start_time, stop_time);
+        Ok(Success::Ok)
+    }
+
+    pub(crate) fn enter_initialization_mode(&mut self) -> Result<Success, FmiError> {
+        let (tolerance, start, stop) = self.experiment;
+        let mark = self.log.mark();
+        // SAFETY: plain values only.
+        let raw = unsafe {
+            (self.functions.enter_initialization_mode)(
+                self.c(),
+                tolerance.is_some(),
+                tolerance.unwrap_or(0.0),
+                start,
+                stop.is_some(),
+                stop.unwrap_or(0.0),
+            )
+        };
+        let success = self.check("fmi3EnterInitializationMode", mark, raw)?;
+        self.mode = Mode::Initialization;
+        self.last_successful_time = start;
+        Ok(success)
+    }
+
+    /// Into Event Mode with `eventModeUsed`, else Step Mode (FMI 3.0, 4.2.1).
+    pub(crate) fn exit_initialization_mode(&mut self) -> Result<Success, FmiError> {
+        let call = self.functions.exit_initialization_mode;
+        let success = self.only("fmi3ExitInitializationMode", call)?;
+        self.mode = if self.event_mode_used {
+            Mode::Event
+        } else {
+            Mode::Step
+        };
+        self.set_since_step = false;
+        Ok(success)
+    }
+
+    pub(crate) fn terminate(&mut self) -> Result<Success, FmiError> {
+        let call = self.functions.terminate;
+        let success = self.only("fmi3Terminate", call);
+        self.mode = Mode::Terminated;
+        success
+    }
+
+    pub(crate) fn reset(&mut self) -> Result<Success, FmiError> {
+        let call = self.functions.reset;
+        let success = self.only("fmi3Reset", call)?;
+        self.mode = Mode::Instantiated;
+        self.set_since_step = false;
+        self.terminated = false;
+        self.shadow = self.api.starts.clone();
+        Ok(success)
+    }
+
+    fn enter_event_mode(&mut self) -> Result<(), FmiError> {
+        let call = self.functions.enter_event_mode;
+        self.only("fmi3EnterEventMode", call)?;
+        self.mode = Mode::Event;
+        Ok(())
+    }
+
+    /// `fmi3UpdateDiscreteStates` until nothing needs an update, then `fmi3EnterStepMode`;
+    /// true when the FMU asks to terminate (it then stays in Event Mode).
+    fn leave_event_mode(&mut self) -> Result<bool, FmiError> {
+        const F: &str = "fmi3UpdateDiscreteStates";
+        // A bound against an FMU that never settles; our FMUs need one call.
+        for _ in 0..1000 {
+            let (mut again, mut terminate, mut nominals, mut values, mut defined, mut next) =
+                (false, false, false, false, false, 0.0);
+            let mark = self.log.mark();
+            // SAFETY: a live instance and valid out-pointers.
+            let raw = unsafe {
+                (self.functions.update_discrete_states)(
+                    self.c(),
+                    &mut again,
+                    &mut terminate,
+                    &mut nominals,
+                    &mut values,
+                    &mut defined,
+                    &mut next,
+                )
+            };
+            self.check(F, mark, raw)?;
+            if terminate {
+                return Ok(true);
+            }
+            if !again {
+                let call = self.functions.enter_step_mode;
+                self.only("fmi3EnterStepMode", call)?;
+                self.mode = Mode::Step;
+                return Ok(false);
+            }
+        }
+        Err(FmiError {
+            function: F,
+            instance: self.name.clone(),
+            status: super::super::status::Failure::Error,
+            log: super::super::logger::FmuLog(vec![]),
+        })
+    }
+
+    /// `fmi3DoStep` from `current_time` over `step_size`, leaving Event Mode first.
+    pub(crate) fn do_step(
+        &mut self,
+        current_time: f64,
+        step_size: f64,
+    ) -> Result<StepStatus, FmiError> {
+        const F: &str = "fmi3DoStep";
+        if self.mode == Mode::Event && self.leave_event_mode()? {
+            self.terminated = true;
+            self.last_successful_time = current_time;
+            return Ok(StepStatus::Terminated {
+                last_successful_time: current_time,
+            });
+        }
+        // Out-arguments start at what a quiet step reports.
+        let (mut event, mut terminate, mut early, mut last) =
+            (false, false, false, current_time + step_size);
+        let mark = self.log.mark();
+        // SAFETY: a live instance and valid out-pointers.
+        let raw = unsafe {
+            (self.functions.do_step)(
+                self.c(),
+                current_time,
+                step_size,
+                false,
+                &mut event,
+                &mut terminate,
+                &mut early,
+                &mut last,
+            )
+        };
+        self.set_since_step = false;
+        let status = Status::from_raw(fmi_abi::fmi2::fmi2Status(raw.0)).into_result();
+        match status {
+            Ok(success) => {
+                self.last_successful_time = last;
+                if terminate {
+                    self.terminated = true;
+                    return Ok(StepStatus::Terminated {
+                        last_successful_time: last,
+                    });
+                }
+                if early {
+                    return Ok(StepStatus::Discarded {
+                        last_successful_time: last,
+                        terminated: false,
+                    });
+                }
+                if event && self.event_mode_used {
+                    self.enter_event_mode()?;
+                    if self.leave_event_mode()? {
+                        self.terminated = true;
+                        return Ok(StepStatus::Terminated {
+                            last_successful_time: last,
+                        });
+                    }
+                }
+                Ok(StepStatus::Complete(success))
+            }
+            Err(super::super::status::Failure::Discard) => {
+                self.last_successful_time = last;
+                self.terminated = terminate;
+                Ok(StepStatus::Discarded {
+                    last_successful_time: last,
+                    terminated: terminate,
+                })
+            }
+            Err(status) => Err(FmiError {
+                function: F,
+                instance: self.name.clone(),
+                status,
+                log: self.log.since(mark),
+            }),
+        }
+    }
+
+    pub(crate) fn last_successful_time(&self) -> f64 {
+        self.last_successful_time
+    }
+
+    pub(crate) fn terminated(&self) -> bool {
+        self.terminated
+    }
+
+    // ---- values ----
+
+    /// The calls for `vrs` (element references of `group`), from the cache or made now.
+    fn plan(
+        &mut self,
+        function: &'static str,
+        group: Group,
+        vrs: &[u32],
+    ) -> Result<Vec<Call>, CallError> {
+        if let Some(i) = self
+            .plans
+            .iter()
+            .position(|p| p.group == group && p.key == vrs)
+        {
+            return Ok(std::mem::take(&mut self.plans[i].calls));
+        }
+        let elements: &[Element] = &self.api.elements;
+        let mut calls: Vec<Call> = Vec::new();
+        for (position, &vr) in vrs.iter().enumerate() {
+            let element = elements
+                .get(vr as usize)
+                .filter(|e| group.admits(e.kind))
+                .ok_or_else(|| {
+                    self.invalid(
+                        function,
+                        format!("value reference {vr} is not a {} element", group.name()),
+                    )
+                })?;
+            let call = match calls.iter().position(|c| c.kind == element.kind) {
+                Some(i) => &mut calls[i],
+                None => {
+                    calls.push(Call {
+                        kind: element.kind,
+                        vrs: Vec::new(),
+                        arrays: Vec::new(),
+                        total: 0,
+                        picks: Vec::new(),
+                    });
+                    calls.last_mut().expect("just pushed")
+                }
+            };
+            let offset = match call.vrs.iter().position(|&v| v == element.value_reference) {
+                Some(i) => call.arrays[..i].iter().map(|(_, len)| len).sum::<usize>(),
+                None => {
+                    let offset = call.total;
+                    call.vrs.push(element.value_reference);
+                    call.arrays.push((element.first, element.len));
+                    call.total += element.len;
+                    offset
+                }
+            };
+            call.picks.push((position, offset + element.index));
+        }
+        Ok(calls)
+    }
+
+    /// Puts a plan back into the cache (or in for the first time).
+    fn keep(&mut self, group: Group, vrs: &[u32], calls: Vec<Call>) {
+        match self
+            .plans
+            .iter()
+            .position(|p| p.group == group && p.key == vrs)
+        {
+            Some(i) => self.plans[i].calls = calls,
+            None if self.plans.len() < PLAN_CACHE => self.plans.push(Plan {
+                group,
+                key: vrs.to_vec(),
+                calls,
+            }),
+            None => {}
+        }
+    }
+
+    fn check_lengths(
+        &self,
+        function: &'static str,
+        vrs: usize,
+        values: usize,
+    ) -> Result<(), CallError> {
+        if vrs == values {
+            Ok(())
+        } else {
+            Err(self.invalid(
+                function,
+                format!("{vrs} value references but {values} values"),
+            ))
+        }
+    }
+
+    /// Refuses a get the standard forbids; FMI 3.0, 4.2.1, Step Mode.
+    fn before_get(&self, function: &'static str) -> Result<(), CallError> {
+        if self.mode == Mode::Step && self.set_since_step {
+            return Err(self.invalid(
+                function,
+                "in Step Mode FMI 3.0 allows no get after a set without fmi3DoStep in \
+                 between; a master that needs this instance's outputs at the instant its \
+                 inputs are set must instantiate it for same-instant feedthrough (Event Mode)"
+                    .to_owned(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Event Mode at the first set after a step, when used; else the set is remembered.
+    fn before_set(&mut self) -> Result<(), CallError> {
+        if self.mode == Mode::Step {
+            if self.event_mode_used {
+                self.enter_event_mode()?;
+            } else {
+                self.set_since_step = true;
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs the get calls of `vrs`, handing each element's position and the call's buffer
+    /// index to `store`.
+    fn get_group(
+        &mut self,
+        group: Group,
+        vrs: &[u32],
+        values_len: usize,
+        mut store: impl FnMut(&Self, &'static str, Fmi3Type, usize, usize) -> Result<(), CallError>,
+    ) -> Result<Success, CallError> {
+        let function = get_name(group);
+        self.check_lengths(function, vrs.len(), values_len)?;
+        self.before_get(function)?;
+        if vrs.is_empty() {
+            return Ok(Success::Ok);
+        }
+        let calls = self.plan(function, group, vrs)?;
+        let mut outcome = Ok(Success::Ok);
+        for call in &calls {
+            let function = get_name_of(call.kind);
+            let mark = self.log.mark();
+            // SAFETY: `call.vrs` and the buffer hold the lengths passed; each buffer is
+            // resized to the call's element count first.
+            let raw = unsafe {
+                match call.kind {
+                    Fmi3Type::Float64 => {
+                        self.float64.resize(call.total, 0.0);
+                        (self.functions.get_float64)(
+                            self.c(),
+                            call.vrs.as_ptr(),
+                            call.vrs.len(),
+                            self.float64.as_mut_ptr(),
+                            call.total,
+                        )
+                    }
+                    Fmi3Type::Int32 => {
+                        self.int32.resize(call.total, 0);
+                        (self.functions.get_int32)(
+                            self.c(),
+                            call.vrs.as_ptr(),
+                            call.vrs.len(),
+                            self.int32.as_mut_ptr(),
+                            call.total,
+                        )
+                    }
+                    Fmi3Type::Enumeration => {
+                        self.int64.resize(call.total, 0);
+                        (self.functions.get_int64)(
+                            self.c(),
+                            call.vrs.as_ptr(),
+                            call.vrs.len(),
+                            self.int64.as_mut_ptr(),
+                            call.total,
+                        )
+                    }
+                    Fmi3Type::Boolean => {
+                        self.booleans.resize(call.total, false);
+                        (self.functions.get_boolean)(
+                            self.c(),
+                            call.vrs.as_ptr(),
+                            call.vrs.len(),
+                            self.booleans.as_mut_ptr(),
+                            call.total,
+                        )
+                    }
+                    _ => {
+                        self.strings.clear();
+                        self.strings.resize(call.total, ptr::null());
+                        (self.functions.get_string)(
+                            self.c(),
+                            call.vrs.as_ptr(),
+                            call.vrs.len(),
+                            self.strings.as_mut_ptr(),
+                            call.total,
+                        )
+                    }
+                }
+            };
+            let result = self
+                .check(function, mark, raw)
+                .map_err(CallError::from)
+                .and_then(|success| {
+                    for &(position, at) in &call.picks {
+                        store(self, function, call.kind, position, at)?;
+                    }
+                    Ok(success)
+                });
+            match result {
+                Ok(Success::Warning) => outcome = Ok(Success::Warning),
+                Ok(Success::Ok) => {}
+                Err(e) => {
+                    outcome = Err(e);
+                    break;
+                }
+            }
+        }
+        // The FMU's string pointers die with its next call: none is kept.
+        self.strings.iter_mut().for_each(|p| *p = ptr::null());
+        self.keep(group, vrs, calls);
+        outcome
+    }
+
+    /// Writes the touched arrays whole from the shadow values (already updated).
+    fn set_group(&mut self, group: Group, vrs: &[u32]) -> Result<Success, CallError> {
+        let function = set_name(group);
+        let calls = self.plan(function, group, vrs)?;
+        let mut outcome = Ok(Success::Ok);
+        let mut owned: Vec<CString> = Vec::new();
+        for call in &calls {
+            let function = set_name_of(call.kind);
+            let ranges = call.arrays.iter().map(|&(first, len)| first..first + len);
+            match call.kind {
+                Fmi3Type::Float64 => {
+                    self.float64.clear();
+                    for range in ranges {
+                        self.float64.extend_from_slice(&self.shadow.float64[range]);
+                    }
+                }
+                Fmi3Type::Int32 => {
+                    self.int32.clear();
+                    for range in ranges {
+                        // Int32 elements are only ever set from i32 values.
+                        self.int32
+                            .extend(self.shadow.int[range].iter().map(|&i| i as i32));
+                    }
+                }
+                Fmi3Type::Enumeration => {
+                    self.int64.clear();
+                    for range in ranges {
+                        self.int64.extend_from_slice(&self.shadow.int[range]);
+                    }
+                }
+                Fmi3Type::Boolean => {
+                    self.booleans.clear();
+                    for range in ranges {
+                        self.booleans.extend_from_slice(&self.shadow.boolean[range]);
+                    }
+                }
+                _ => {
+                    owned.clear();
+                    for range in ranges {
+                        for text in &self.shadow.string[range] {
+                            owned.push(CString::new(text.as_str()).map_err(|_| {
+                                self.invalid(
+                                    function,
+                                    format!("value {text:?} contains a NUL byte"),
+                                )
+                            })?);
+                        }
+                    }
+                    self.strings.clear();
+                    self.strings.extend(owned.iter().map(|c| c.as_ptr()));
+                }
+            }
+            let mark = self.log.mark();
+            // SAFETY: `call.vrs` and the buffer filled above hold the lengths passed; the
+            // strings outlive the call.
+            let raw = unsafe {
+                let (c, vrs, n) = (self.c(), call.vrs.as_ptr(), call.vrs.len());
+                match call.kind {
+                    Fmi3Type::Float64 => {
+                        (self.functions.set_float64)(c, vrs, n, self.float64.as_ptr(), call.total)
+                    }
+                    Fmi3Type::Int32 => {
+                        (self.functions.set_int32)(c, vrs, n, self.int32.as_ptr(), call.total)
+                    }
+                    Fmi3Type::Enumeration => {
+                        (self.functions.set_int64)(c, vrs, n, self.int64.as_ptr(), call.total)
+                    }
+                    Fmi3Type::Boolean => {
+                        (self.functions.set_boolean)(c, vrs, n, self.booleans.as_ptr(), call.total)
+                    }
+                    _ => (self.functions.set_string)(c, vrs, n, self.strings.as_ptr(), call.total),
+                }
+            };
+            match self.check(function, mark, raw) {
+                Ok(Success::Warning) => outcome = Ok(Success::Warning),
+                Ok(Success::Ok) => {}
+                Err(e) => {
+                    outcome = Err(e.into());
+                    break;
+                }
+            }
+        }
+        self.strings.clear();
+        self.keep(group, vrs, calls);
+        outcome
+    }
+
+    /// Checks the references and lengths of a set and leaves Step Mode when it must.
+    fn begin_set(&mut self, group: Group, vrs: &[u32], values: usize) -> Result<bool, CallError> {
+        let function = set_name(group);
+        self.check_lengths(function, vrs.len(), values)?;
+        if let Some(&vr) = vrs.iter().find(|&&vr| {
+            self.api
+                .elements
+                .get(vr as usize)
+                .is_none_or(|e| !group.admits(e.kind))
+        }) {
+            return Err(self.invalid(
+                function,
+                format!("value reference {vr} is not a {} element", group.name()),
+            ));
+        }
+        if vrs.is_empty() {
+            return Ok(false);
+        }
+        self.before_set()?;
+        Ok(true)
+    }
+
+    pub(crate) fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<Success, CallError> {
+        if !self.begin_set(Group::Real, vrs, values.len())? {
+            return Ok(Success::Ok);
+        }
+        for (&vr, &value) in vrs.iter().zip(values) {
+            self.shadow.float64[vr as usize] = value;
+        }
+        self.set_group(Group::Real, vrs)
+    }
+
+    pub(crate) fn get_real(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [f64],
+    ) -> Result<Success, CallError> {
+        self.get_group(
+            Group::Real,
+            vrs,
+            values.len(),
+            |this, _, _, position, at| {
+                values[position] = this.float64[at];
+                Ok(())
+            },
+        )
+    }
+
+    pub(crate) fn set_integer(
+        &mut self,
+        vrs: &[u32],
+        values: &[i32],
+    ) -> Result<Success, CallError> {
+        if !self.begin_set(Group::Integer, vrs, values.len())? {
+            return Ok(Success::Ok);
+        }
+        for (&vr, &value) in vrs.iter().zip(values) {
+            self.shadow.int[vr as usize] = i64::from(value);
+        }
+        self.set_group(Group::Integer, vrs)
+    }
+
+    pub(crate) fn get_integer(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [i32],
+    ) -> Result<Success, CallError> {
+        self.get_group(
+            Group::Integer,
+            vrs,
+            values.len(),
+            |this, function, kind, position, at| {
+                values[position] = if kind == Fmi3Type::Int32 {
+                    this.int32[at]
+                } else {
+                    let value = this.int64[at];
+                    i32::try_from(value).map_err(|_| {
+                        this.invalid(
+                            function,
+                            format!("enumeration value {value} is outside the Integer range"),
+                        )
+                    })?
+                };
+                Ok(())
+            },
+        )
+    }
+
+    pub(crate) fn set_boolean(
+        &mut self,
+        vrs: &[u32],
+        values: &[bool],
+    ) -> Result<Success, CallError> {
+        if !self.begin_set(Group::Boolean, vrs, values.len())? {
+            return Ok(Success::Ok);
+        }
+        for (&vr, &value) in vrs.iter().zip(values) {
+            self.shadow.boolean[vr as usize] = value;
+        }
+        self.set_group(Group::Boolean, vrs)
+    }
+
+    pub(crate) fn get_boolean(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [bool],
+    ) -> Result<Success, CallError> {
+        self.get_group(
+            Group::Boolean,
+            vrs,
+            values.len(),
+            |this, _, _, position, at| {
+                values[position] = this.booleans[at];
+                Ok(())
+            },
+        )
+    }
+
+    /// Booleans as C `int`s (0 or 1), as the FMI 2.0 backend exchanges them.
+    pub(crate) fn set_boolean_raw(
+        &mut self,
+        vrs: &[u32],
+        values: &[i32],
+    ) -> Result<Success, CallError> {
+        if !self.begin_set(Group::Boolean, vrs, values.len())? {
+            return Ok(Success::Ok);
+        }
+        for (&vr, &value) in vrs.iter().zip(values) {
+            self.shadow.boolean[vr as usize] = value != 0;
+        }
+        self.set_group(Group::Boolean, vrs)
+    }
+
+    pub(crate) fn get_boolean_raw(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [i32],
+    ) -> Result<Success, CallError> {
+        self.get_group(
+            Group::Boolean,
+            vrs,
+            values.len(),
+            |this, _, _, position, at| {
+                values[position] = i32::from(this.booleans[at]);
+                Ok(())
+            },
+        )
+    }
+
+    pub(crate) fn set_string(
+        &mut self,
+        vrs: &[u32],
+        values: &[&str],
+    ) -> Result<Success, CallError> {
+        if !self.begin_set(Group::String, vrs, values.len())? {
+            return Ok(Success::Ok);
+        }
+        for (&vr, &value) in vrs.iter().zip(values) {
+            value.clone_into(&mut self.shadow.string[vr as usize]);
+        }
+        self.set_group(Group::String, vrs)
+    }
+
+    pub(crate) fn get_string_into(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [String],
+    ) -> Result<Success, CallError> {
+        self.get_group(
+            Group::String,
+            vrs,
+            values.len(),
+            |this, function, _, position, at| {
+                let pointer = this.strings[at];
+                if pointer.is_null() {
+                    return Err(this.invalid(
+                        function,
+                        format!(
+                            "the FMU returned NULL for value reference {}",
+                            vrs[position]
+                        ),
+                    ));
+                }
+                // SAFETY: a non-null fmi3String returned by the FMU is NUL-terminated and
+                // valid until the next call into the instance.
+                let text = unsafe { CStr::from_ptr(pointer) }.to_string_lossy();
+                values[position].clear();
+                values[position].push_str(&text);
+                Ok(())
+            },
+        )
+    }
+}
+
+impl Drop for Fmi3Instance {
+    fn drop(&mut self) {
+        // SAFETY: the instance is live and never used again; the logger environment is
+        // dropped only after this returns.
+        unsafe { (self.functions.free_instance)(self.instance.as_ptr()) };
+    }
+}
+
+fn get_name(group: Group) -> &'static str {
+    match group {
+        Group::Real => "fmi3GetFloat64",
+        Group::Integer => "fmi3GetInt32",
+        Group::Boolean => "fmi3GetBoolean",
+        Group::String => "fmi3GetString",
+    }
+}
+
+fn set_name(group: Group) -> &'static str {
+    match group {
+        Group::Real => "fmi3SetFloat64",
+        Group::Integer => "fmi3SetInt32",
+        Group::Boolean => "fmi3SetBoolean",
+        Group::String => "fmi3SetString",
+    }
+}
+
+fn get_name_of(kind: Fmi3Type) -> &'static str {
+    match kind {
+        Fmi3Type::Float64 => "fmi3GetFloat64",
+        Fmi3Type::Int32 => "fmi3GetInt32",
+        Fmi3Type::Enumeration => "fmi3GetInt64",
+        Fmi3Type::Boolean => "fmi3GetBoolean",
+        _ => "fmi3GetString",
+    }
+}
+
+fn set_name_of(kind: Fmi3Type) -> &'static str {
+    match kind {
+        Fmi3Type::Float64 => "fmi3SetFloat64",
+        Fmi3Type::Int32 => "fmi3SetInt32",
+        Fmi3Type::Enumeration => "fmi3SetInt64",
+        Fmi3Type::Boolean => "fmi3SetBoolean",
+        _ => "fmi3SetString",
+    }
+}

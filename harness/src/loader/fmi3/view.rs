@@ -1,0 +1,425 @@
+//! An FMI 3.0 model description seen as FMI 2.0 scalars, so that everything above the loader
+//! (name resolution, feedthrough, recording, `harness vars`) reads one kind of description.
+//!
+//! An array variable `r_nue` of dimension 3 becomes the scalars `r_nue[1]`, `r_nue[2]`,
+//! `r_nue[3]` (1-based, row-major with `[i,j]` for more dimensions): the names the FMI 2.0
+//! twin of the FMU declares (`variableNamingConvention="structured"`), so one scenario names
+//! both. Each scalar's `valueReference` in the view is its position in the view, an *element
+//! reference*; [`Element`] maps it back to the FMI 3.0 value reference and the element's
+//! place in its array.
+use super::super::error::LoadError;
+use model_description::fmi3::{Fmi3ModelDescription, Fmi3Type, Fmi3Variable};
+use model_description::{
+    BooleanVariable, CoSimulation, DefaultExperiment, EnumerationItem, EnumerationType,
+    EnumerationVariable, IntegerVariable, ModelDescription, ModelExchange, ModelStructure,
+    ModelVariables, RealVariable, ScalarVariable, SimpleType, StringVariable, TypeDefinitions,
+    Unknown, UnknownList,
+};
+use std::collections::HashMap;
+
+/// One scalar of the view: element `index` of the FMI 3.0 variable `value_reference`, whose
+/// elements are the view's scalars `first..first + len`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Element {
+    pub(crate) value_reference: u32,
+    pub(crate) kind: Fmi3Type,
+    pub(crate) index: usize,
+    pub(crate) first: usize,
+    pub(crate) len: usize,
+}
+
+/// Start values per element, by exchange type (the slot of the other types unused): the
+/// values an array keeps for the elements a set does not name.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Starts {
+    pub(crate) float64: Vec<f64>,
+    pub(crate) int: Vec<i64>,
+    pub(crate) boolean: Vec<bool>,
+    pub(crate) string: Vec<String>,
+}
+
+#[derive(Debug)]
+pub(crate) struct View {
+    pub(crate) description: ModelDescription,
+    pub(crate) elements: Vec<Element>,
+    pub(crate) starts: Starts,
+}
+
+/// The types the harness exchanges; the others are left out of the view (with a warning).
+fn supported(kind: Fmi3Type) -> bool {
+    matches!(
+        kind,
+        Fmi3Type::Float64
+            | Fmi3Type::Int32
+            | Fmi3Type::Enumeration
+            | Fmi3Type::Boolean
+            | Fmi3Type::String
+    )
+}
+
+/// Refuses what this harness cannot drive, naming the model and the reason, then builds the
+/// view.
+pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> {
+    let refuse = |reason: String| LoadError::UnsupportedFmi3 {
+        model_name: md.model_name.clone(),
+        reason,
+    };
+    let Some(co_simulation) = &md.co_simulation else {
+        let has = match (&md.model_exchange, &md.scheduled_execution) {
+            (Some(_), Some(_)) => "only <ModelExchange> and <ScheduledExecution>",
+            (Some(_), None) => "only <ModelExchange>",
+            (None, Some(_)) => "only <ScheduledExecution>",
+            (None, None) => "no interface element",
+        };
+        return Err(refuse(format!(
+            "it has no <CoSimulation> element ({has}); the harness runs Co-Simulation FMUs only"
+        )));
+    };
+    for variable in &md.variables {
+        if variable.kind == Fmi3Type::Clock {
+            return Err(refuse(format!(
+                "it declares the clock '{}'; the harness does not drive clocks \
+                 (clocked Co-Simulation or Scheduled Execution)",
+                variable.name
+            )));
+        }
+        if variable.clocks.is_some() {
+            return Err(refuse(format!(
+                "variable '{}' belongs to clocks ({}); the harness does not drive clocks",
+                variable.name,
+                variable.clocks.as_deref().unwrap_or_default()
+            )));
+        }
+        if variable.structural {
+            return Err(refuse(format!(
+                "it declares the structural parameter '{}'; the harness does not enter \
+                 Configuration Mode",
+                variable.name
+            )));
+        }
+        if let Some(dimension) = variable.dimensions.iter().find(|d| d.start.is_none()) {
+            return Err(refuse(format!(
+                "array '{}' takes a dimension from value reference {}; the harness reads \
+                 fixed dimensions (<Dimension start=...>) only",
+                variable.name,
+                dimension
+                    .value_reference
+                    .map_or_else(|| "(none)".to_owned(), |vr| vr.to_string())
+            )));
+        }
+    }
+
+    let mut elements = Vec::new();
+    let mut scalars = Vec::new();
+    let mut starts = Starts::default();
+    // FMI 3.0 value reference -> the view's scalars of that variable.
+    let mut by_reference: HashMap<u32, std::ops::Range<usize>> = HashMap::new();
+    let mut skipped = Vec::new();
+    for variable in &md.variables {
+        if !supported(variable.kind) {
+            skipped.push(format!("{} ({})", variable.name, variable.kind.name()));
+            continue;
+        }
+        let shape: Vec<usize> = variable
+            .dimensions
+            .iter()
+            .map(|d| d.start.unwrap_or(1) as usize)
+            .collect();
+        let len = shape.iter().product::<usize>();
+        let first = elements.len();
+        for index in 0..len {
+            let name = element_name(&variable.name, &shape, index);
+            let start = start_token(variable, index, len);
+            push_start(&mut starts, variable.kind, start);
+            scalars.push(scalar(md, variable, name, elements.len() as u32, start));
+            elements.push(Element {
+                value_reference: variable.value_reference,
+                kind: variable.kind,
+                index,
+                first,
+                len,
+            });
+        }
+        by_reference.insert(variable.value_reference, first..first + len);
+    }
+    if !skipped.is_empty() {
+        log::warn!(
+            "model '{}' (FMI 3.0): variables of types the harness does not exchange are left \
+             out: {}",
+            md.model_name,
+            skipped.join(", ")
+        );
+    }
+
+    let indices = |range: &std::ops::Range<usize>| range.clone().map(|i| (i + 1).to_string());
+    let outputs: Vec<Unknown> = md
+        .outputs
+        .iter()
+        .filter_map(|output| Some((output, by_reference.get(&output.value_reference)?)))
+        .flat_map(|(output, range)| {
+            let dependencies = output.dependencies.as_ref().map(|vrs| {
+                vrs.iter()
+                    .filter_map(|vr| by_reference.get(vr))
+                    .flat_map(indices)
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            });
+            range.clone().map(move |i| Unknown {
+                index: i as u32 + 1,
+                dependencies: dependencies.clone(),
+                dependencies_kind: None,
+            })
+        })
+        .collect();
+
+    let enumerations: Vec<SimpleType> = md
+        .type_definitions
+        .iter()
+        .filter(|t| t.kind == Some(Fmi3Type::Enumeration))
+        .map(|t| SimpleType {
+            name: t.name.clone(),
+            enumeration: Some(EnumerationType {
+                quantity: None,
+                items: t
+                    .items
+                    .iter()
+                    .filter_map(|(name, value)| {
+                        Some(EnumerationItem {
+                            name: name.clone(),
+                            value: i32::try_from(*value).ok()?,
+                            description: None,
+                        })
+                    })
+                    .collect(),
+            }),
+            ..Default::default()
+        })
+        .collect();
+
+    let description = ModelDescription {
+        fmi_version: md.fmi_version.clone(),
+        model_name: md.model_name.clone(),
+        guid: md.instantiation_token.clone(),
+        description: md.description.clone(),
+        generation_tool: md.generation_tool.clone(),
+        variable_naming_convention: md.variable_naming_convention.clone(),
+        model_exchange: md.model_exchange.as_ref().map(|id| ModelExchange {
+            model_identifier: id.clone(),
+            ..Default::default()
+        }),
+        co_simulation: Some(CoSimulation {
+            model_identifier: co_simulation.model_identifier.clone(),
+            can_handle_variable_communication_step_size: Some(
+                co_simulation.can_handle_variable_communication_step_size,
+            ),
+            can_get_and_set_fmu_state: Some(co_simulation.can_get_and_set_fmu_state),
+            can_serialize_fmu_state: Some(co_simulation.can_serialize_fmu_state),
+            ..Default::default()
+        }),
+        type_definitions: (!enumerations.is_empty()).then_some(TypeDefinitions {
+            simple_types: enumerations,
+        }),
+        default_experiment: Some(DefaultExperiment {
+            start_time: md.default_start_time,
+            stop_time: md.default_stop_time,
+            tolerance: md.default_tolerance,
+            step_size: md.default_step_size,
+        }),
+        model_variables: ModelVariables { variables: scalars },
+        model_structure: ModelStructure {
+            outputs: Some(UnknownList { unknowns: outputs }),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    Ok(View {
+        description,
+        elements,
+        starts,
+    })
+}
+
+/// `r_nue` + shape [3] + 1 -> `r_nue[2]`; a scalar keeps its name; `[i,j]` beyond one
+/// dimension, the last index fastest (FMI 3.0 stores arrays row-major).
+fn element_name(name: &str, shape: &[usize], index: usize) -> String {
+    if shape.is_empty() {
+        return name.to_owned();
+    }
+    let mut rest = index;
+    let mut parts = vec![0; shape.len()];
+    for (part, &extent) in parts.iter_mut().zip(shape).rev() {
+        *part = rest % extent + 1;
+        rest /= extent;
+    }
+    let list: Vec<String> = parts.iter().map(usize::to_string).collect();
+    format!("{name}[{}]", list.join(","))
+}
+
+/// The start token of element `index`: its own, or the one token given for all.
+fn start_token(variable: &Fmi3Variable, index: usize, len: usize) -> Option<&str> {
+    match variable.start.len() {
+        0 => None,
+        1 if len > 1 => Some(variable.start[0].as_str()),
+        _ => variable.start.get(index).map(String::as_str),
+    }
+}
+
+fn push_start(starts: &mut Starts, kind: Fmi3Type, start: Option<&str>) {
+    starts
+        .float64
+        .push(start.and_then(|s| s.parse().ok()).unwrap_or(0.0));
+    starts
+        .int
+        .push(start.and_then(|s| s.parse().ok()).unwrap_or(0));
+    starts.boolean.push(matches!(start, Some("true" | "1")));
+    starts.string.push(if kind == Fmi3Type::String {
+        start.unwrap_or_default().to_owned()
+    } else {
+        String::new()
+    });
+}
+
+fn scalar(
+    md: &Fmi3ModelDescription,
+    variable: &Fmi3Variable,
+    name: String,
+    value_reference: u32,
+    start: Option<&str>,
+) -> ScalarVariable {
+    let mut scalar = ScalarVariable {
+        name,
+        value_reference,
+        description: variable.description.clone(),
+        causality: Some(variable.causality_or_default()),
+        variability: Some(variable.variability_or_default()),
+        initial: variable.initial,
+        ..Default::default()
+    };
+    let unit = variable.unit.clone().or_else(|| {
+        variable
+            .declared_type
+            .as_deref()
+            .and_then(|t| md.type_definition(t))
+            .and_then(|t| t.unit.clone())
+    });
+    match variable.kind {
+        Fmi3Type::Float64 => {
+            scalar.real = Some(RealVariable {
+                unit,
+                start: start.and_then(|s| s.parse().ok()),
+                ..Default::default()
+            })
+        }
+        Fmi3Type::Int32 => {
+            scalar.integer = Some(IntegerVariable {
+                start: start.and_then(|s| s.parse().ok()),
+                ..Default::default()
+            })
+        }
+        Fmi3Type::Enumeration => {
+            scalar.enumeration = Some(EnumerationVariable {
+                declared_type: variable.declared_type.clone().unwrap_or_default(),
+                start: start.and_then(|s| s.parse().ok()),
+                ..Default::default()
+            })
+        }
+        Fmi3Type::Boolean => {
+            scalar.boolean = Some(BooleanVariable {
+                start: start.map(|s| s == "true" || s == "1"),
+                ..Default::default()
+            })
+        }
+        _ => {
+            scalar.string = Some(StringVariable {
+                start: start.map(str::to_owned),
+                ..Default::default()
+            })
+        }
+    }
+    scalar
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn element_names_are_one_based_and_row_major() {
+        assert_eq!(element_name("x", &[], 0), "x");
+        assert_eq!(element_name("r", &[3], 1), "r[2]");
+        assert_eq!(element_name("m", &[2, 3], 4), "m[2,2]");
+    }
+
+    const MD: &str = r#"<fmiModelDescription fmiVersion="3.0" modelName="M" instantiationToken="t">
+  <CoSimulation modelIdentifier="M"/>
+  <ModelVariables>
+    <Float64 name="u" valueReference="10" causality="input" start="1 2 3"><Dimension start="3"/></Float64>
+    <Float64 name="y" valueReference="20" causality="output"><Dimension start="2"/></Float64>
+    <Float32 name="f" valueReference="30" causality="output"/>
+    <Int32 name="n" valueReference="40" causality="parameter" variability="fixed" start="4"/>
+  </ModelVariables>
+  <ModelStructure>
+    <Output valueReference="20" dependencies="10"/>
+    <Output valueReference="30"/>
+  </ModelStructure>
+</fmiModelDescription>"#;
+
+    #[test]
+    fn arrays_become_scalars_with_element_references_and_dependencies() {
+        let md = Fmi3ModelDescription::from_xml(MD).unwrap();
+        let view = scalar_view(&md).unwrap();
+        let names: Vec<_> = view
+            .description
+            .model_variables
+            .variables
+            .iter()
+            .map(|v| v.name.as_str())
+            .collect();
+        assert_eq!(names, ["u[1]", "u[2]", "u[3]", "y[1]", "y[2]", "n"]);
+        assert_eq!(view.elements[4].value_reference, 20);
+        assert_eq!((view.elements[4].index, view.elements[4].first), (1, 3));
+        assert_eq!(view.starts.float64[..3], [1.0, 2.0, 3.0]);
+        let outputs = &view
+            .description
+            .model_structure
+            .outputs
+            .as_ref()
+            .unwrap()
+            .unknowns;
+        assert_eq!(outputs.len(), 2, "Float32 left out");
+        assert_eq!(outputs[1].index, 5);
+        assert_eq!(outputs[1].dependencies.as_deref(), Some("1 2 3"));
+    }
+
+    #[test]
+    fn clocks_model_exchange_only_and_structural_parameters_are_refused() {
+        let cases = [
+            (
+                MD.replace(
+                    r#"<CoSimulation modelIdentifier="M"/>"#,
+                    r#"<ModelExchange modelIdentifier="M"/>"#,
+                ),
+                "only <ModelExchange>",
+            ),
+            (
+                MD.replace(
+                    "<ModelVariables>",
+                    r#"<ModelVariables><Clock name="tick" valueReference="99" causality="input"/>"#,
+                ),
+                "clock 'tick'",
+            ),
+            (
+                MD.replace(
+                    r#"<Dimension start="2"/>"#,
+                    r#"<Dimension valueReference="40"/>"#,
+                ),
+                "dimension from value reference 40",
+            ),
+        ];
+        for (xml, expected) in cases {
+            let md = Fmi3ModelDescription::from_xml(&xml).unwrap();
+            let text = scalar_view(&md).unwrap_err().to_string();
+            assert!(text.contains("'M'") && text.contains(expected), "{text}");
+        }
+    }
+}
