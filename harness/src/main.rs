@@ -465,6 +465,9 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     if !record.is_empty() {
         system.record = Some(record.clone());
     }
+    if let Some(list) = system.record.as_mut() {
+        harness::requirements::record_signals(list, &requirements);
+    }
     match ordering {
         Some(OrderingArg::GaussSeidel) => system.ordering = harness::system::Ordering::GaussSeidel,
         Some(OrderingArg::Jacobi) => system.ordering = harness::system::Ordering::Jacobi,

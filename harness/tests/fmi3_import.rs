@@ -219,8 +219,12 @@ fn array_elements_answer_to_the_fmi2_scalar_names_in_set_connections_and_columns
     let set = ["--set", "plant.r0_nue[2]=600", "--record", "plant.r_nue"];
     let (_, csv2) = run(temp.path(), "fmi2", &fmi2, &set);
     let (_, csv3) = run(temp.path(), "fmi3", &with_fmi3_paths(&fmi2, 2), &set);
+    // (the paper scenario's requirements record their signal too: the 15 deg start tilt)
     assert!(
-        csv3.starts_with("time,plant.r_nue[1],plant.r_nue[2],plant.r_nue[3]\n0.0,0.0,600.0,0.0\n"),
+        csv3.starts_with(
+            "time,plant.r_nue[1],plant.r_nue[2],plant.r_nue[3],gnc.tilt_error\n\
+             0.0,0.0,600.0,0.0,0.2617993877991494\n"
+        ),
         "{}",
         &csv3[..120]
     );
@@ -409,8 +413,9 @@ fn a_monte_carlo_campaign_over_the_fmi3_pair_gives_the_fmi2_manifest() {
                 "-q",
             ],
         );
+        // 3: flown, some flights outside the paper scenario's limits.
         assert!(
-            output.status.success(),
+            matches!(output.status.code(), Some(0 | 3)),
             "{label}: {}",
             String::from_utf8_lossy(&output.stderr)
         );

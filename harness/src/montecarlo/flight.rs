@@ -233,15 +233,10 @@ pub fn campaign_system(
         None
     } else {
         let mut record: Vec<String> = METRIC_COLUMNS.iter().map(|c| c.to_string()).collect();
-        // The requirements' signals too, unless a recorded vector holds them already.
-        for r in verdict::scenario::requirements(scenario)? {
-            for signal in r.formula.signals() {
-                let base = signal.split('[').next().unwrap_or(signal);
-                if !record.iter().any(|c| c == signal || c == base) {
-                    record.push(signal.to_owned());
-                }
-            }
-        }
+        crate::requirements::record_signals(
+            &mut record,
+            &verdict::scenario::requirements(scenario)?,
+        );
         Some(record)
     };
     Ok((system, spec))

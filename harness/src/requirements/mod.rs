@@ -85,6 +85,20 @@ pub fn unrecorded(requirements: &[Requirement], columns: &[String]) -> Vec<Strin
         .collect()
 }
 
+/// Adds the signals `requirements` read to a run's `record` list, unless a recorded vector
+/// holds them already: a run that records a chosen few columns still judges its scenario's
+/// requirements.
+pub fn record_signals(record: &mut Vec<String>, requirements: &[Requirement]) {
+    for r in requirements {
+        for signal in r.formula.signals() {
+            let base = signal.split('[').next().unwrap_or(signal);
+            if !record.iter().any(|c| c == signal || c == base) {
+                record.push(signal.to_owned());
+            }
+        }
+    }
+}
+
 /// A requirement judged on a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Judged {
