@@ -707,6 +707,16 @@ mod tests {
         }
     }
 
+    /// The paper case retargeted 30 m North during the descent (at 15.05 s, off the guidance
+    /// grid), so that the runs below re-plan a divert.
+    fn retargeted_params() -> GncParameters {
+        GncParameters {
+            retarget_time_s: 15.05,
+            retarget_site_nue_m: [30.0, 150.0, 0.0],
+            ..paper_params()
+        }
+    }
+
     /// `{:?}` of f64 is exact (shortest round trip) and tells -0.0 from 0.0.
     fn exact<T: std::fmt::Debug>(value: &T) -> String {
         format!("{value:?}")
@@ -781,6 +791,7 @@ mod tests {
     fn gets_between_steps_do_not_change_the_trajectory() {
         gets_between_steps_do_not_change_the_trajectory_with(paper_params());
         gets_between_steps_do_not_change_the_trajectory_with(shaped_params());
+        gets_between_steps_do_not_change_the_trajectory_with(retargeted_params());
     }
 
     fn gets_between_steps_do_not_change_the_trajectory_with(params: GncParameters) {
@@ -832,6 +843,11 @@ mod tests {
             2,
             "the run reaches the descent"
         );
+        assert_eq!(
+            bare.guidance.retarget.is_some(),
+            params.retarget_time_s >= 0.0,
+            "a retarget is planned in the run that commands one"
+        );
     }
 
     /// The claim of `SampleTime`: equal keys, bit-identical samples. Probed along a run
@@ -842,6 +858,7 @@ mod tests {
     fn equal_sample_times_give_bit_identical_samples() {
         equal_sample_times_give_bit_identical_samples_with(paper_params());
         equal_sample_times_give_bit_identical_samples_with(shaped_params());
+        equal_sample_times_give_bit_identical_samples_with(retargeted_params());
     }
 
     fn equal_sample_times_give_bit_identical_samples_with(params: GncParameters) {
@@ -889,6 +906,10 @@ mod tests {
             gnc.do_step(t, H, &mut Log::default()).unwrap();
         }
         // A shaped profile moves with t itself: only bit-equal times share a key.
+        assert_eq!(
+            gnc.guidance.retarget.is_some(),
+            params.retarget_time_s >= 0.0
+        );
         let shaped = params.phi_rate_limit_radps > 0.0 || params.phi_accel_limit_radps2 > 0.0;
         assert!(shaped || pairs > 10_000, "{pairs}");
         assert!(late >= 2, "{late} late samples probed");
@@ -1094,5 +1115,37 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn a_restored_retarget_plan_is_accepted_and_a_doctored_one_refused() {
+        // GIVEN a run 20 s in, retargeted at 15.05 s (a divert under way)
+        let mut gnc = LanderGnc {
+            params: retargeted_params(),
+            ..LanderGnc::default()
+        };
+        let mut log = Log::default();
+        gnc.exit_initialization(0.0, &mut log).unwrap();
+        for k in 0..200 {
+            gnc.do_step(f64::from(k) * 0.1, 0.1, &mut log).unwrap();
+        }
+        let plan = gnc.guidance.retarget.expect("planned at 15.1 s");
+        assert!((plan.descent_start_s - 15.1).abs() < 1e-9, "{plan:?}");
+        assert_eq!(gnc.validate_restored(true), Ok(()));
+        // WHEN the plan is doctored, or kept by parameters that command no retarget
+        type Doctor = fn(&mut LanderGnc);
+        let doctored: [Doctor; 4] = [
+            |g| g.guidance.retarget.as_mut().unwrap().descent_end_s = f64::NAN,
+            |g| g.guidance.retarget.as_mut().unwrap().site_nue.x = f64::INFINITY,
+            |g| g.guidance.retarget.as_mut().unwrap().descent_end_s = 1e7,
+            |g| g.params.retarget_time_s = -1.0,
+        ];
+        // THEN each is refused
+        for doctor in doctored {
+            let mut restored = gnc.clone();
+            doctor(&mut restored);
+            let err = restored.validate_restored(true).unwrap_err().to_string();
+            assert!(err.contains("retarget plan"), "{err}");
+        }
     }
 }
