@@ -82,3 +82,17 @@ fn harness_run_retarget_flies_the_built_in_scenario() {
         north.last()
     );
 }
+
+#[test]
+fn the_paper_comparison_measures_a_retargeted_flight_from_its_new_site() {
+    // GIVEN the retarget scenario flown as `harness paper` flies it
+    let system = harness::scenarios::load("retarget").unwrap();
+    let mut simulation = harness::master::Simulation::new(system, &common::fmu_dir()).unwrap();
+    let flight = harness::paper::fly(&mut simulation, Law::Decoupled).unwrap();
+    // THEN its terminal error is counted from the new site (30 m North), not the old one
+    assert!(
+        flight.metrics.terminal_position_error_m < 0.05,
+        "{:?}",
+        flight.metrics
+    );
+}
