@@ -96,3 +96,31 @@ fn the_paper_comparison_measures_a_retargeted_flight_from_its_new_site() {
         flight.metrics
     );
 }
+
+#[test]
+fn harness_retarget_prints_the_comparison_and_writes_its_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args(["--fmu-dir", common::fmu_dir().to_str().unwrap()])
+        .args(["retarget", "--out-dir", dir.path().to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}");
+    for row in [
+        "re-planned",
+        "overshoot past the site (m)",
+        "settled within 1 m after (s)",
+    ] {
+        assert!(stdout.contains(row), "{row}: {stdout}");
+    }
+    for file in [
+        "retarget-coupled-replanned.csv",
+        "retarget-decoupled-moved.csv",
+        "retarget-summary.txt",
+        "retarget.png",
+        "retarget-replanned.png",
+    ] {
+        assert!(dir.path().join(file).is_file(), "{file}");
+    }
+}
