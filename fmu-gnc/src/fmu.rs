@@ -22,6 +22,7 @@ use crate::controller::{
     actuate, gnc_advance, gnc_outputs, gnc_sample, Advance, GncOutputs, NavigationInputs, Sample,
     QUATERNION_NORM_TOLERANCE,
 };
+use crate::guidance::retarget::MAX_DIVERT_TIME_S;
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::{GncDesign, GncParameters};
 use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
@@ -326,7 +327,7 @@ impl Model for LanderGnc {
         'Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3'";
     /// 2: the thrust-axis profile and the initialization flag; 3: and the RCS thruster
     /// model's modulators.
-    const STATE_VERSION: u32 = 3;
+    const STATE_VERSION: u32 = 4;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,
@@ -437,7 +438,30 @@ fn restored_guidance_inconsistency(
         return Some("the held thrust command is not finite".into());
     }
     let scenario = params.scenario();
-    let tgo_max = scenario.descent_time_to_go_s + tolerance(scenario.descent_time_to_go_s);
+    let plan = g.retarget.as_ref();
+    if let Some(p) = plan {
+        let commanded = scenario
+            .retarget
+            .is_some_and(|r| elapsed_s + tolerance(elapsed_s) >= r.time_s);
+        let finite = p.site_nue.iter().all(|x| x.is_finite())
+            && p.lateral_authority_mps2.is_finite()
+            && p.descent_start_s.is_finite()
+            && p.descent_end_s.is_finite();
+        if !commanded
+            || !finite
+            || p.descent_start_s < 0.0
+            || p.descent_end_s < p.descent_start_s
+            || p.descent_end_s - p.descent_start_s
+                > MAX_DIVERT_TIME_S.max(scenario.descent_time_to_go_s)
+                    + tolerance(MAX_DIVERT_TIME_S)
+        {
+            return Some("the retarget plan is not finite or not from this run".into());
+        }
+    }
+    let descent_length_s = plan.map_or(scenario.descent_time_to_go_s, |p| {
+        p.descent_end_s - p.descent_start_s
+    });
+    let tgo_max = descent_length_s + tolerance(descent_length_s);
     if !(0.0..=tgo_max).contains(&g.time_to_go_s) {
         return Some(format!(
             "time to go {} s outside [0, {tgo_max}] s",
@@ -463,7 +487,7 @@ fn restored_guidance_inconsistency(
         Phase::TargetHover => 3,
         Phase::Hold | Phase::TerminalDescent => 4,
     };
-    let scheduled = scenario.phase_at(elapsed_s + tolerance(elapsed_s));
+    let scheduled = scenario.phase_with(plan, elapsed_s + tolerance(elapsed_s));
     let never = match g.phase {
         Phase::Hold => scenario.terminal_descent_speed_mps > 0.0,
         Phase::TerminalDescent => scenario.terminal_descent_speed_mps <= 0.0,
@@ -605,6 +629,10 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(229, parameter terminal_descent_speed: params.terminal_descent_speed_mps, "m/s", "phase 5 (beyond the paper): after the target hover, descend vertically over the descent target at this speed until touchdown; 0 = no terminal descent, hold the hover (default)", min = 0.0),
     decl!(230, parameter phi_rate_limit: params.phi_rate_limit_radps, "rad/s", "shaped thrust-axis manoeuvre (beyond the paper): the reference follows phi_cmd at most this fast, the rate fed forward; 0 = unlimited; with phi_accel_limit also 0, the paper's step (default); <= 100", min = 0.0, max = 100.0),
     decl!(231, parameter phi_accel_limit: params.phi_accel_limit_radps2, "rad/s2", "shaped thrust-axis manoeuvre: the reference's angular acceleration limit (bang-coast-bang profile), fed forward as torque; 0 = unlimited; <= 1e4", min = 0.0, max = 1e4),
+    decl!(232, parameter retarget_time: params.retarget_time_s, "s", "retarget (beyond the paper): time after the start time (the phase schedule's clock) at which the site becomes retarget_site_nue; from the guidance cycle at or after it the guidance re-plans to the new site (docs/retarget.md); negative = never (default); <= 1e6 s", max = 1e6),
+    decl!(233, parameter retarget_site_nue[3]: params.retarget_site_nue_m, "m", "retarget: the new site, the hover point replacing descent_target_nue from retarget_time on (the terminal descent descends over it), each within +-1e7 m", min = -1e7, max = 1e7, components = NUE),
+    decl!(236, parameter retarget_max_tilt: params.retarget_max_tilt_rad, "rad", "retarget: tilt of the thrust axis from vertical the divert may count on; the lateral authority is min(g tan(retarget_max_tilt), sqrt((thrust_max / mass)^2 - g^2)) at the retarget, in (0, 80 deg]; default 15 deg", above = 0.0, max = 1.3962634015954636),
+    decl!(237, parameter retarget_replan: params.retarget_replan as bool, "retarget: true (default) re-plans a cubic divert from the current state whose duration keeps its peak lateral acceleration within the authority, then hovers at the site; false only moves the target, the phase schedule unchanged (the baseline)"),
 ];
 
 #[cfg(test)]
@@ -675,6 +703,16 @@ mod tests {
         GncParameters {
             phi_rate_limit_radps: 0.3,
             phi_accel_limit_radps2: 0.1,
+            ..paper_params()
+        }
+    }
+
+    /// The paper case retargeted 30 m North during the descent (at 15.05 s, off the guidance
+    /// grid), so that the runs below re-plan a divert.
+    fn retargeted_params() -> GncParameters {
+        GncParameters {
+            retarget_time_s: 15.05,
+            retarget_site_nue_m: [30.0, 150.0, 0.0],
             ..paper_params()
         }
     }
@@ -753,6 +791,7 @@ mod tests {
     fn gets_between_steps_do_not_change_the_trajectory() {
         gets_between_steps_do_not_change_the_trajectory_with(paper_params());
         gets_between_steps_do_not_change_the_trajectory_with(shaped_params());
+        gets_between_steps_do_not_change_the_trajectory_with(retargeted_params());
     }
 
     fn gets_between_steps_do_not_change_the_trajectory_with(params: GncParameters) {
@@ -804,6 +843,11 @@ mod tests {
             2,
             "the run reaches the descent"
         );
+        assert_eq!(
+            bare.guidance.retarget.is_some(),
+            params.retarget_time_s >= 0.0,
+            "a retarget is planned in the run that commands one"
+        );
     }
 
     /// The claim of `SampleTime`: equal keys, bit-identical samples. Probed along a run
@@ -814,6 +858,7 @@ mod tests {
     fn equal_sample_times_give_bit_identical_samples() {
         equal_sample_times_give_bit_identical_samples_with(paper_params());
         equal_sample_times_give_bit_identical_samples_with(shaped_params());
+        equal_sample_times_give_bit_identical_samples_with(retargeted_params());
     }
 
     fn equal_sample_times_give_bit_identical_samples_with(params: GncParameters) {
@@ -861,6 +906,10 @@ mod tests {
             gnc.do_step(t, H, &mut Log::default()).unwrap();
         }
         // A shaped profile moves with t itself: only bit-equal times share a key.
+        assert_eq!(
+            gnc.guidance.retarget.is_some(),
+            params.retarget_time_s >= 0.0
+        );
         let shaped = params.phi_rate_limit_radps > 0.0 || params.phi_accel_limit_radps2 > 0.0;
         assert!(shaped || pairs > 10_000, "{pairs}");
         assert!(late >= 2, "{late} late samples probed");
@@ -1066,5 +1115,37 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn a_restored_retarget_plan_is_accepted_and_a_doctored_one_refused() {
+        // GIVEN a run 20 s in, retargeted at 15.05 s (a divert under way)
+        let mut gnc = LanderGnc {
+            params: retargeted_params(),
+            ..LanderGnc::default()
+        };
+        let mut log = Log::default();
+        gnc.exit_initialization(0.0, &mut log).unwrap();
+        for k in 0..200 {
+            gnc.do_step(f64::from(k) * 0.1, 0.1, &mut log).unwrap();
+        }
+        let plan = gnc.guidance.retarget.expect("planned at 15.1 s");
+        assert!((plan.descent_start_s - 15.1).abs() < 1e-9, "{plan:?}");
+        assert_eq!(gnc.validate_restored(true), Ok(()));
+        // WHEN the plan is doctored, or kept by parameters that command no retarget
+        type Doctor = fn(&mut LanderGnc);
+        let doctored: [Doctor; 4] = [
+            |g| g.guidance.retarget.as_mut().unwrap().descent_end_s = f64::NAN,
+            |g| g.guidance.retarget.as_mut().unwrap().site_nue.x = f64::INFINITY,
+            |g| g.guidance.retarget.as_mut().unwrap().descent_end_s = 1e7,
+            |g| g.params.retarget_time_s = -1.0,
+        ];
+        // THEN each is refused
+        for doctor in doctored {
+            let mut restored = gnc.clone();
+            doctor(&mut restored);
+            let err = restored.validate_restored(true).unwrap_err().to_string();
+            assert!(err.contains("retarget plan"), "{err}");
+        }
     }
 }

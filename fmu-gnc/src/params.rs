@@ -7,7 +7,8 @@ use crate::attitude::gains::AttitudeGains;
 use crate::attitude::profile::ProfileLimits;
 use crate::attitude::{AttitudeSettings, ControlLaw, ThrustAxisRotation};
 use crate::guidance::pv::PvGains;
-use crate::guidance::sequencer::Scenario;
+use crate::guidance::retarget::MAX_RETARGET_TILT_RAD;
+use crate::guidance::sequencer::{Retarget, Scenario};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -43,6 +44,14 @@ pub struct GncParameters {
     /// followed through; 0 = that one unlimited, both 0 = the paper's step.
     pub phi_rate_limit_radps: f64,
     pub phi_accel_limit_radps2: f64,
+    /// Retarget (beyond the paper): time after the start at which the site becomes
+    /// `retarget_site_nue_m`; negative = never (the paper).
+    pub retarget_time_s: f64,
+    pub retarget_site_nue_m: [f64; 3],
+    /// Tilt from vertical the re-planned divert may count on.
+    pub retarget_max_tilt_rad: f64,
+    /// Re-plan the divert for the lateral authority (else only move the target).
+    pub retarget_replan: bool,
     /// Enumeration value: 1 torque per axis, 2 eight thrusters.
     pub rcs_model: i32,
     /// Thruster geometry (thruster `k` at `3k..3k+3`), as the plant's; body axes.
@@ -127,6 +136,10 @@ impl Default for GncParameters {
             terminal_descent_speed_mps: 0.0,
             phi_rate_limit_radps: 0.0,
             phi_accel_limit_radps2: 0.0,
+            retarget_time_s: -1.0,
+            retarget_site_nue_m: [0.0, 150.0, 0.0],
+            retarget_max_tilt_rad: 15.0 * std::f64::consts::PI / 180.0,
+            retarget_replan: true,
             rcs_model: RcsModel::Torque as i32,
             rcs_position_body_m: default_layout_column(false),
             rcs_direction_body: default_layout_column(true),
@@ -332,6 +345,7 @@ impl GncParameters {
         for (field, target) in [
             ("hover_target_nue_m", p.hover_target_nue_m),
             ("descent_target_nue_m", p.descent_target_nue_m),
+            ("retarget_site_nue_m", p.retarget_site_nue_m),
         ] {
             for (k, value) in target.into_iter().enumerate() {
                 let ok = value.abs() <= MAX_TARGET_M;
@@ -399,6 +413,18 @@ impl GncParameters {
             "phi_accel_limit_radps2",
             p.phi_accel_limit_radps2,
             "must be in [0, 1e4] (0 = unlimited)",
+        )?;
+        check(
+            p.retarget_time_s.is_finite() && p.retarget_time_s <= MAX_DURATION_S,
+            "retarget_time_s",
+            p.retarget_time_s,
+            "must be finite and <= 1e6 s (negative = never)",
+        )?;
+        check(
+            p.retarget_max_tilt_rad > 0.0 && p.retarget_max_tilt_rad <= MAX_RETARGET_TILT_RAD,
+            "retarget_max_tilt_rad",
+            p.retarget_max_tilt_rad,
+            "must be in (0, 80 deg]",
         )?;
         self.validate_rcs()
     }
@@ -515,6 +541,12 @@ impl GncParameters {
             thrust_min_n: self.thrust_min_n,
             thrust_max_n: self.thrust_max_n,
             terminal_descent_speed_mps: self.terminal_descent_speed_mps,
+            retarget: (self.retarget_time_s >= 0.0).then(|| Retarget {
+                time_s: self.retarget_time_s,
+                site_nue: Vector3::from(self.retarget_site_nue_m),
+                max_tilt_rad: self.retarget_max_tilt_rad,
+                replan: self.retarget_replan,
+            }),
         }
     }
 
@@ -559,7 +591,10 @@ mod tests {
     #[test]
     fn bad_values_are_refused_by_name() {
         type Spoil = fn(&mut GncParameters);
-        let cases: [(&str, Spoil); 25] = [
+        let cases: [(&str, Spoil); 28] = [
+            ("retarget_time_s", |p| p.retarget_time_s = 2e6),
+            ("retarget_max_tilt_rad", |p| p.retarget_max_tilt_rad = 0.0),
+            ("retarget_site_nue_m[2]", |p| p.retarget_site_nue_m[2] = 2e7),
             // each past a bound beyond which a product or power of the laws could overflow
             ("thrust_max_n", |p| p.thrust_max_n = 2e9),
             ("guidance_cycle_s", |p| p.guidance_cycle_s = 1e-4),

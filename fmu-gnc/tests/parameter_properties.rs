@@ -110,6 +110,36 @@ fn parameters() -> impl Strategy<Value = GncParameters> {
     (a, b).prop_map(assemble)
 }
 
+/// A retarget drawn on top of the other parameters: at any time of the schedule (or beyond),
+/// to any admissible site, with any admissible tilt limit, re-planned or not.
+fn retarget_parameters() -> impl Strategy<Value = GncParameters> {
+    use fmu_gnc::guidance::retarget::MAX_RETARGET_TILT_RAD;
+    use fmu_gnc::params::MAX_TARGET_M;
+    let target = || prop_oneof![Just(-MAX_TARGET_M), Just(MAX_TARGET_M), -1e3..1e3f64];
+    (
+        prop_oneof![1 => extreme_parameters(), 3 => parameters()],
+        prop_oneof![Just(0.0), Just(1e6), 0.0..1.0f64],
+        [target(), target(), target()],
+        prop_oneof![Just(1e-300), Just(MAX_RETARGET_TILT_RAD), 0.0..1.0f64],
+        any::<bool>(),
+    )
+        .prop_map(|(base, fraction, site, tilt, replan)| {
+            let end_s =
+                base.hover_duration_s + base.descent_time_to_go_s + base.target_hover_duration_s;
+            GncParameters {
+                retarget_time_s: if fraction > 1.0 {
+                    fraction
+                } else {
+                    (fraction * end_s).min(1e6)
+                },
+                retarget_site_nue_m: site,
+                retarget_max_tilt_rad: tilt,
+                retarget_replan: replan,
+                ..base
+            }
+        })
+}
+
 /// The thruster model with its chain drawn too: the default layout with each thruster's
 /// position scaled by any magnitude, force, modulator settings and duty period of any
 /// magnitude (sane or extreme). Directions stay unit vectors (validation requires them).
@@ -317,6 +347,40 @@ fn valid_thruster_chains_give_finite_duties_and_outputs() {
             prop::array::uniform4(-1.0..1.0f64),
             prop::array::uniform3(-1e3..1e3f64),
             1.0..1e5f64,
+            0.0..1.0f64,
+        );
+        runner
+            .run(&inputs, |(params, r, v, q, w, mass, t_fraction)| {
+                prop_assume!(q.iter().map(|c| c * c).sum::<f64>() > 1e-6);
+                check_finite(params, r, v, q, w, mass, t_fraction)
+            })
+            .map_err(|e| e.to_string())
+    };
+    let outcome = std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(run)
+        .unwrap()
+        .join()
+        .unwrap();
+    if let Err(e) = outcome {
+        panic!("{e}");
+    }
+}
+
+/// A retarget at any time of the schedule, on top of any valid parameters. On a thread with a
+/// large stack, as the thruster chain's (the value tree is as large).
+#[test]
+fn a_retarget_with_any_valid_parameters_gives_finite_outputs() {
+    use proptest::test_runner::{Config, TestRunner};
+    let run = || {
+        let mut runner = TestRunner::new(Config::with_cases(3000));
+        let inputs = (
+            retarget_parameters(),
+            prop::array::uniform3(-1e6..1e6f64),
+            prop::array::uniform3(-1e4..1e4f64),
+            prop::array::uniform4(-1.0..1.0f64),
+            prop::array::uniform3(-1e3..1e3f64),
+            prop_oneof![Just(1.0), Just(1e5), 1.0..1e5f64],
             0.0..1.0f64,
         );
         runner

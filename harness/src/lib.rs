@@ -13,6 +13,7 @@ pub mod plots;
 pub mod report;
 pub mod requirements;
 pub mod results;
+pub mod retarget;
 pub mod scenarios;
 pub mod system;
 pub mod vars;

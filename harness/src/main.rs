@@ -94,6 +94,21 @@ enum Command {
         #[arg(long, value_enum, default_value = "csv")]
         format: harness::results::Format,
     },
+    /// Fly a scenario with a retarget (default: the shipped `retarget`) with the coupled and
+    /// decoupled laws, each with the divert re-planned and with the target only moved: the
+    /// divert's overshoot, final error, peak tilt and settling time, CSVs and a figure.
+    #[command(allow_negative_numbers = true)]
+    Retarget {
+        /// Scenario: a built-in name or a .toml/.ssd/.ssp that sets gnc.retarget_time.
+        #[arg(default_value = "retarget")]
+        scenario: String,
+        /// Where CSVs, the summary and the PNG figure go.
+        #[arg(long, default_value = "target/retarget")]
+        out_dir: PathBuf,
+        /// Skip the PNG figure.
+        #[arg(long)]
+        no_plots: bool,
+    },
     // Monte Carlo subcommands (harness/src/montecarlo/cli.rs).
     /// Monte Carlo campaign over phi_cmd x laws x dispersed runs: manifest.csv, campaign.toml
     /// and the paper's Monte Carlo figure.
@@ -297,6 +312,27 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 println!("wrote {}", path.display());
             }
         }
+        Command::Retarget {
+            scenario,
+            out_dir,
+            no_plots,
+        } => {
+            let (system, spec) = harness::verdict::scenario::load(&scenario)?;
+            let name = system.name.clone();
+            let (command, flights) = harness::retarget::fly_all(
+                system,
+                &cli.fmu_dir,
+                &harness::retarget::LAWS,
+                &spec.envelope,
+            )?;
+            let summary = harness::retarget::table(&name, &command, &flights);
+            print!("{summary}");
+            for path in harness::retarget::write_outputs(
+                &flights, &command, &out_dir, &name, &summary, !no_plots,
+            )? {
+                println!("wrote {}", path.display());
+            }
+        }
         Command::MonteCarlo(args) => {
             exit_code = harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?
         }
@@ -386,8 +422,8 @@ fn test_folder(
 /// What `harness run` flies.
 #[derive(clap::Args)]
 struct RunRequest {
-    /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters (the files of
-    /// harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp package.
+    /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters, retarget (the files
+    /// of harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp package.
     scenario: String,
     /// Output file (columns: time, instance.variable...).
     #[arg(long, short, default_value = "target/harness/run.csv")]

@@ -73,7 +73,10 @@ pub fn fly_judged(
     let end = simulation
         .run(&mut trajectory)
         .map_err(|e: MasterError| anyhow::anyhow!(e))?;
-    let metrics = metrics::compute(&trajectory, &Default::default(), TERMINAL_TARGET_NUE)?;
+    // A retargeted scenario ends over its new site (harness/src/retarget.rs).
+    let target = crate::retarget::RetargetCommand::of(simulation.system())
+        .map_or(TERMINAL_TARGET_NUE, |c| c.site_nue);
+    let metrics = metrics::compute(&trajectory, &Default::default(), target)?;
     let verdict = verdict::judge(&trajectory, &end, envelope);
     let requirements = crate::requirements::judge(requirements, &trajectory);
     Ok(Flight {

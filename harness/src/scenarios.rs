@@ -28,6 +28,7 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         "paper-thrusters",
         include_str!("../scenarios/paper-thrusters.toml"),
     ),
+    ("retarget", include_str!("../scenarios/retarget.toml")),
 ];
 
 /// The error for a scenario argument that is neither a file nor a built-in name: it lists

@@ -25,7 +25,8 @@ fn name_and_length(cell: &str) -> (String, usize) {
     }
 }
 
-/// The numbers of a default cell: `0, 800, 0 m` -> [0, 800, 0]; `720 N` -> [720].
+/// The numbers of a default cell: `0, 800, 0 m` -> [0, 800, 0]; `720 N` -> [720]; `1 (true)`
+/// -> [1].
 fn numbers(cell: &str) -> Vec<f64> {
     cell.split(',')
         .map(|piece| {
@@ -44,6 +45,8 @@ fn start(md: &ModelDescription, name: &str) -> f64 {
     match v.start() {
         Some(StartValue::Real(x)) => x,
         Some(StartValue::Integer(x) | StartValue::Enumeration(x)) => f64::from(x),
+        // A Boolean's cell quotes it as 1 (true) or 0 (false).
+        Some(StartValue::Boolean(b)) => f64::from(u8::from(b)),
         other => panic!("{name}: start {other:?}"),
     }
 }

@@ -2,5 +2,6 @@
 //! guidance rate, and the thrust magnitude that realises it.
 pub mod polynomial;
 pub mod pv;
+pub mod retarget;
 pub mod sequencer;
 pub mod thrust;

@@ -6,12 +6,21 @@
 //! Optionally (beyond the paper, off by default) phase 4 is replaced by (5) a terminal descent:
 //! straight down over the descent target at a commanded constant speed until touchdown.
 //!
+//! Optionally (beyond the paper, off by default) a retarget moves the site in flight
+//! ([`Retarget`]): from the guidance cycle at its time, the phases after it are re-planned to
+//! the new site: (2) a cubic divert from the current state, long enough for the lateral
+//! authority ([`super::retarget`]), then (3) the hover at the new site for the target hover
+//! duration, then (4) or (5) over it. The plan is kept in [`GuidanceState::retarget`].
+//!
 //! Guidance is sampled: a new command is computed once per guidance cycle, at the first sample
 //! whose integer cycle index differs from the last one solved, and held in between. The index is
 //! derived from the elapsed time with a tolerance, never accumulated, so masters that reach
 //! `t = 11.999999999999789` instead of 12 see the same cycle and the same phase.
 use super::polynomial::{solve_cubic, BoundaryConditions, CubicAcceleration};
 use super::pv::{pv_thrust_acceleration_nue, PvGains};
+use super::retarget::{
+    divert_time_to_go_s, lateral_authority_mps2, limit_horizontal, DIVERT_AUTHORITY_SHARE,
+};
 use super::thrust::{
     achievable_thrust_acceleration_nue, net_acceleration_nue, thrust_acceleration_nue,
 };
@@ -61,6 +70,37 @@ pub struct Scenario {
     /// Sink rate of the terminal descent after the target hover (m/s, > 0); 0 = no terminal
     /// descent, hold the hover (the paper).
     pub terminal_descent_speed_mps: f64,
+    /// A new site commanded in flight; `None`: never (the paper).
+    pub retarget: Option<Retarget>,
+}
+
+/// A retarget command: at `time_s` the site becomes `site_nue`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Retarget {
+    /// Elapsed time since the start (the phase schedule's clock), s.
+    pub time_s: f64,
+    /// The new hover point, replacing the descent target for the rest of the flight, NUE.
+    pub site_nue: Vector3<f64>,
+    /// Tilt of the thrust axis from vertical the divert may count on, rad.
+    pub max_tilt_rad: f64,
+    /// `true`: re-plan the divert for the authority. `false`: only move the target, the
+    /// schedule unchanged (the baseline the re-plan is compared with).
+    pub replan: bool,
+}
+
+/// The schedule after a retarget, fixed at the guidance cycle it was commanded in.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RetargetPlan {
+    pub site_nue: Vector3<f64>,
+    /// Elapsed times of the (re-planned) descent's start and end; the hover at the site
+    /// follows for the target hover duration.
+    pub descent_start_s: f64,
+    pub descent_end_s: f64,
+    /// The lateral authority at the retarget, m/s^2.
+    pub lateral_authority_mps2: f64,
+    /// Whether the descent was re-planned for the authority (and its horizontal command is
+    /// held within it), or the target only moved.
+    pub replanned: bool,
 }
 
 /// Guidance phase, exchanged as the Integer output `guidance_phase`.
@@ -76,8 +116,27 @@ pub enum Phase {
 impl Scenario {
     /// The phase scheduled at `elapsed_s` after the start.
     pub fn phase_at(&self, elapsed_s: f64) -> Phase {
-        let descent_start = self.hover_duration_s;
-        let descent_end = descent_start + self.descent_time_to_go_s;
+        self.phase_between(
+            elapsed_s,
+            self.hover_duration_s,
+            self.hover_duration_s + self.descent_time_to_go_s,
+        )
+    }
+
+    /// The phase at `elapsed_s` under a retarget plan (the schedule when there is none).
+    pub fn phase_with(&self, plan: Option<&RetargetPlan>, elapsed_s: f64) -> Phase {
+        match plan {
+            None => self.phase_at(elapsed_s),
+            Some(p) => self.phase_between(elapsed_s, p.descent_start_s, p.descent_end_s),
+        }
+    }
+
+    /// The site the descent, the hover after it and the terminal descent fly to.
+    pub fn site_with(&self, plan: Option<&RetargetPlan>) -> Vector3<f64> {
+        plan.map_or(self.descent_target_nue, |p| p.site_nue)
+    }
+
+    fn phase_between(&self, elapsed_s: f64, descent_start: f64, descent_end: f64) -> Phase {
         let target_hover_end = descent_end + self.target_hover_duration_s;
         if !has_reached(elapsed_s, descent_start) {
             Phase::InitialHover
@@ -114,6 +173,8 @@ pub struct GuidanceState {
     pub time_to_go_s: f64,
     /// The latest descent solve, while in the descent phase.
     pub descent: Option<DescentSolution>,
+    /// The plan of a retarget once commanded; `None` before (and without) one.
+    pub retarget: Option<RetargetPlan>,
 }
 
 impl GuidanceState {
@@ -125,6 +186,7 @@ impl GuidanceState {
             a_thrust_cmd_nue: Vector3::new(0.0, gravity_mps2, 0.0),
             time_to_go_s: 0.0,
             descent: None,
+            retarget: None,
         }
     }
 }
@@ -156,12 +218,24 @@ pub fn guidance_sample(
     } else {
         elapsed_s
     };
-    let phase = scenario.phase_at(sample_s);
+    // A retarget is planned once, at the first cycle at or after its time; a fresh plan is
+    // never flown with a solve frozen for the old site.
+    let (plan, fresh_plan) = match (&state.retarget, &scenario.retarget) {
+        (Some(plan), _) => (Some(*plan), false),
+        (None, Some(command)) if has_reached(sample_s, command.time_s) => (
+            Some(plan_retarget(scenario, command, state, sample_s, nav)),
+            true,
+        ),
+        _ => (None, false),
+    };
+    let phase = scenario.phase_with(plan.as_ref(), sample_s);
+    let site_nue = scenario.site_with(plan.as_ref());
     let mut next = GuidanceState {
         last_cycle: Some(cycle),
         phase,
         time_to_go_s: 0.0,
         descent: None,
+        retarget: plan,
         ..*state
     };
     match phase {
@@ -169,29 +243,24 @@ pub fn guidance_sample(
             next.a_thrust_cmd_nue = hover(scenario, &scenario.hover_target_nue, nav);
         }
         Phase::TargetHover | Phase::Hold => {
-            next.a_thrust_cmd_nue = hover(scenario, &scenario.descent_target_nue, nav);
+            next.a_thrust_cmd_nue = hover(scenario, &site_nue, nav);
         }
         Phase::TerminalDescent => {
-            next.a_thrust_cmd_nue = terminal_descent(scenario, nav);
+            next.a_thrust_cmd_nue = terminal_descent(scenario, &site_nue, nav);
         }
         Phase::Descent => {
-            let descent_end_s = scenario.hover_duration_s + scenario.descent_time_to_go_s;
+            let descent_end_s = plan.map_or(
+                scenario.hover_duration_s + scenario.descent_time_to_go_s,
+                |p| p.descent_end_s,
+            );
             let tgo_s = descent_end_s - sample_s;
-            let previous = state.descent.filter(|_| state.phase == Phase::Descent);
+            let previous = state
+                .descent
+                .filter(|_| state.phase == Phase::Descent && !fresh_plan);
             let solution = match previous {
                 Some(frozen) if tgo_s < scenario.freeze_time_to_go_s => frozen,
                 _ => {
-                    let bc = BoundaryConditions {
-                        r0_nue: nav.r_nue,
-                        v0_nue: nav.v_nue,
-                        a0_net_nue: net_acceleration_nue(
-                            &state.a_thrust_cmd_nue,
-                            scenario.gravity_mps2,
-                        ),
-                        rf_nue: scenario.descent_target_nue,
-                        vf_nue: Vector3::zeros(),
-                        af_net_nue: Vector3::zeros(),
-                    };
+                    let bc = descent_boundary_conditions(scenario, state, nav, &site_nue);
                     DescentSolution {
                         cubic: solve_cubic(&bc, tgo_s),
                         solved_at_s: sample_s,
@@ -205,6 +274,12 @@ pub fn guidance_sample(
                 .min(solution.time_to_go_at_solve_s);
             let a_net_nue = solution.cubic.net_acceleration_nue(s);
             next.a_thrust_cmd_nue = thrust_acceleration_nue(&a_net_nue, scenario.gravity_mps2);
+            // A re-planned divert never asks more of the tilt than the authority: the re-solves
+            // that correct tracking errors are held to it, and restart from the held command.
+            if let Some(p) = plan.filter(|p| p.replanned) {
+                next.a_thrust_cmd_nue =
+                    limit_horizontal(&next.a_thrust_cmd_nue, p.lateral_authority_mps2);
+            }
             next.time_to_go_s = tgo_s;
             next.descent = Some(solution);
         }
@@ -216,6 +291,74 @@ pub fn guidance_sample(
         scenario.thrust_max_n,
     );
     next
+}
+
+/// The descent's boundary conditions from the current state: start at the held command (net),
+/// end at `site_nue` at rest with zero acceleration.
+fn descent_boundary_conditions(
+    scenario: &Scenario,
+    state: &GuidanceState,
+    nav: &GuidanceInputs,
+    site_nue: &Vector3<f64>,
+) -> BoundaryConditions {
+    BoundaryConditions {
+        r0_nue: nav.r_nue,
+        v0_nue: nav.v_nue,
+        a0_net_nue: net_acceleration_nue(&state.a_thrust_cmd_nue, scenario.gravity_mps2),
+        rf_nue: *site_nue,
+        vf_nue: Vector3::zeros(),
+        af_net_nue: Vector3::zeros(),
+    }
+}
+
+/// The schedule after a retarget commanded at `sample_s`.
+///
+/// Before the nominal descent starts, the site moves and the schedule stays: the descent
+/// will fly to the new site over its full time-to-go. Later (descent, hover, hold, terminal
+/// descent), with `replan`, a divert starts now and lasts [`divert_time_to_go_s`] from the
+/// current state to the new site, sized for [`DIVERT_AUTHORITY_SHARE`] of the lateral
+/// authority, from a lower bound: the nominal descent's remaining
+/// time-to-go, and the freeze time-to-go (at least one fresh solve). Without `replan` the
+/// site moves and the schedule stays (the baseline).
+pub fn plan_retarget(
+    scenario: &Scenario,
+    command: &Retarget,
+    state: &GuidanceState,
+    sample_s: f64,
+    nav: &GuidanceInputs,
+) -> RetargetPlan {
+    let nominal_start_s = scenario.hover_duration_s;
+    let nominal_end_s = nominal_start_s + scenario.descent_time_to_go_s;
+    let lateral_authority_mps2 = lateral_authority_mps2(
+        scenario.thrust_max_n,
+        nav.mass_kg,
+        scenario.gravity_mps2,
+        command.max_tilt_rad,
+    );
+    let moved = RetargetPlan {
+        site_nue: command.site_nue,
+        descent_start_s: nominal_start_s,
+        descent_end_s: nominal_end_s,
+        lateral_authority_mps2,
+        replanned: false,
+    };
+    if !command.replan || !has_reached(sample_s, nominal_start_s) {
+        return moved;
+    }
+    let bc = descent_boundary_conditions(scenario, state, nav, &command.site_nue);
+    let min_tgo_s = (nominal_end_s - sample_s).max(scenario.freeze_time_to_go_s);
+    let tgo_s = divert_time_to_go_s(
+        &bc,
+        min_tgo_s,
+        scenario.guidance_cycle_s,
+        DIVERT_AUTHORITY_SHARE * lateral_authority_mps2,
+    );
+    RetargetPlan {
+        descent_start_s: sample_s,
+        descent_end_s: sample_s + tgo_s,
+        replanned: true,
+        ..moved
+    }
 }
 
 fn hover(scenario: &Scenario, target_nue: &Vector3<f64>, nav: &GuidanceInputs) -> Vector3<f64> {
@@ -232,8 +375,11 @@ fn hover(scenario: &Scenario, target_nue: &Vector3<f64>, nav: &GuidanceInputs) -
 /// PV law holding the descent target's North/East while tracking a constant sink rate: the
 /// reference altitude is the current one, so only the velocity error drives the vertical axis
 /// and the lander keeps sinking whatever the ground height.
-fn terminal_descent(scenario: &Scenario, nav: &GuidanceInputs) -> Vector3<f64> {
-    let target = scenario.descent_target_nue;
+fn terminal_descent(
+    scenario: &Scenario,
+    target: &Vector3<f64>,
+    nav: &GuidanceInputs,
+) -> Vector3<f64> {
     let r_ref_nue = Vector3::new(target.x, nav.r_nue.y, target.z);
     let v_ref_nue = Vector3::new(0.0, -scenario.terminal_descent_speed_mps, 0.0);
     pv_thrust_acceleration_nue(
@@ -266,6 +412,7 @@ mod tests {
             thrust_min_n: 720.0,
             thrust_max_n: 1600.0,
             terminal_descent_speed_mps: 0.0,
+            retarget: None,
         }
     }
 
@@ -453,5 +600,164 @@ mod tests {
         // the altitude lost is the speed times the time, less the speed-up transient
         let lost = 150.0 - r.y;
         assert!(lost > 100.0 && lost < 120.0, "lost {lost} m");
+    }
+
+    fn retargeted(time_s: f64, replan: bool) -> Scenario {
+        Scenario {
+            retarget: Some(Retarget {
+                time_s,
+                site_nue: Vector3::new(30.0, 150.0, 0.0),
+                max_tilt_rad: 15f64.to_radians(),
+                replan,
+            }),
+            ..paper_scenario()
+        }
+    }
+
+    /// Flies `s` open loop from `state` at `r`, `v` (at rest unless given) from `start_s`
+    /// for `duration_s`, integrating the double integrator exactly between samples; returns
+    /// the end state, position and the largest horizontal command seen.
+    fn fly_open_loop(
+        s: &Scenario,
+        mut state: GuidanceState,
+        mut r: Vector3<f64>,
+        start_s: f64,
+        duration_s: f64,
+        mass_kg: f64,
+    ) -> (GuidanceState, Vector3<f64>, Vector3<f64>, f64) {
+        let mut v = Vector3::zeros();
+        let dt = s.guidance_cycle_s;
+        let mut peak_lateral: f64 = 0.0;
+        for k in 0..(duration_s / dt).round() as i64 {
+            let elapsed = start_s + k as f64 * dt;
+            let nav = GuidanceInputs {
+                r_nue: r,
+                v_nue: v,
+                mass_kg,
+            };
+            state = guidance_sample(s, &state, elapsed, &nav);
+            let a = state.a_thrust_cmd_nue;
+            peak_lateral = peak_lateral.max(a.x.hypot(a.z));
+            let a_net = net_acceleration_nue(&a, s.gravity_mps2);
+            r += v * dt + a_net * (0.5 * dt * dt);
+            v += a_net * dt;
+        }
+        (state, r, v, peak_lateral)
+    }
+
+    fn hovering_at_150_m() -> GuidanceState {
+        GuidanceState {
+            phase: Phase::TargetHover,
+            last_cycle: Some(1499),
+            ..GuidanceState::initial(1.62)
+        }
+    }
+
+    #[test]
+    fn a_retarget_in_the_hover_replans_a_divert_sized_for_the_authority() {
+        // GIVEN a lander at rest at 150 m in the target hover, retargeted 30 m North at 150 s
+        let s = retargeted(150.0, true);
+        let mass_kg = 840.0;
+        let start = hovering_at_150_m();
+        let nav = GuidanceInputs {
+            r_nue: Vector3::new(0.0, 150.0, 0.0),
+            v_nue: Vector3::zeros(),
+            mass_kg,
+        };
+        // WHEN guidance samples the retarget's cycle
+        let first = guidance_sample(&s, &start, 150.0, &nav);
+        // THEN it plans a divert from now, as long as the closed form for 80 % of the
+        // 15 deg authority (g tan 15 deg = 0.434 m/s^2) asks, rounded up to the 0.1 s grid
+        let plan = first.retarget.unwrap();
+        let authority = 1.62 * 15f64.to_radians().tan();
+        assert!((plan.lateral_authority_mps2 - authority).abs() < 1e-12);
+        let closed = super::super::retarget::rest_to_rest_divert_time_s(
+            30.0,
+            super::super::retarget::DIVERT_AUTHORITY_SHARE * authority,
+        );
+        let tgo = plan.descent_end_s - plan.descent_start_s;
+        assert_eq!(plan.descent_start_s, 150.0);
+        assert!(tgo >= closed - 1e-9 && tgo < closed + 0.1, "{tgo} {closed}");
+        assert!(plan.replanned);
+        assert_eq!(first.phase, Phase::Descent);
+        assert!((first.time_to_go_s - tgo).abs() < 1e-12);
+        // AND flown open loop it reaches the new site at rest, never commanding more lateral
+        // acceleration than the authority; then it hovers there, then holds
+        let (end, r, v, peak) = fly_open_loop(&s, first, nav.r_nue, 150.1, tgo + 40.0, mass_kg);
+        assert!(
+            (r - Vector3::new(30.0, 150.0, 0.0)).norm() < 0.05,
+            "r = {r}"
+        );
+        assert!(v.norm() < 0.01, "v = {v}");
+        assert!(peak <= 0.8 * authority + 1e-3, "{peak} > {authority}");
+        assert_eq!(end.phase, Phase::Hold);
+        assert_eq!(
+            s.phase_with(Some(&plan), 150.0 + tgo + 1.0),
+            Phase::TargetHover
+        );
+        assert_eq!(end.retarget, Some(plan), "planned once");
+    }
+
+    #[test]
+    fn without_the_replan_the_target_only_moves() {
+        // GIVEN the same retarget with the re-plan off
+        let s = retargeted(150.0, false);
+        let nav = GuidanceInputs {
+            r_nue: Vector3::new(0.0, 150.0, 0.0),
+            v_nue: Vector3::zeros(),
+            mass_kg: 840.0,
+        };
+        let first = guidance_sample(&s, &hovering_at_150_m(), 150.0, &nav);
+        // THEN the schedule is the nominal one and the hover pulls toward the new site
+        let plan = first.retarget.unwrap();
+        assert!(!plan.replanned);
+        assert_eq!((plan.descent_start_s, plan.descent_end_s), (12.0, 142.0));
+        assert_eq!(first.phase, Phase::TargetHover);
+        let unretargeted = guidance_sample(&paper_scenario(), &hovering_at_150_m(), 150.0, &nav);
+        assert!(first.a_thrust_cmd_nue.x > 0.5, "{}", first.a_thrust_cmd_nue);
+        assert_eq!(unretargeted.a_thrust_cmd_nue.x, 0.0);
+    }
+
+    #[test]
+    fn a_retarget_before_the_descent_moves_the_descent_target_on_schedule() {
+        // GIVEN a retarget at 5 s, during the hover at 800 m
+        let s = retargeted(5.0, true);
+        let (state, r, _, _) = fly_open_loop(
+            &s,
+            GuidanceState::initial(1.62),
+            s.hover_target_nue,
+            0.0,
+            142.0,
+            820.0,
+        );
+        // THEN the schedule is the nominal one and the descent ends over the new site
+        let plan = state.retarget.unwrap();
+        assert_eq!((plan.descent_start_s, plan.descent_end_s), (12.0, 142.0));
+        assert!((r - Vector3::new(30.0, 150.0, 0.0)).norm() < 0.5, "r = {r}");
+    }
+
+    #[test]
+    fn a_retarget_not_yet_reached_changes_no_sample() {
+        // GIVEN the paper's flight, and the same with a retarget at 1000 s
+        let later = retargeted(1000.0, true);
+        let (a, ra, va, _) = fly_open_loop(
+            &paper_scenario(),
+            GuidanceState::initial(1.62),
+            paper_scenario().hover_target_nue,
+            0.0,
+            172.0,
+            820.0,
+        );
+        let (b, rb, vb, _) = fly_open_loop(
+            &later,
+            GuidanceState::initial(1.62),
+            later.hover_target_nue,
+            0.0,
+            172.0,
+            820.0,
+        );
+        // THEN both end bit for bit in the same state
+        assert_eq!((a, ra, va), (b, rb, vb));
+        assert!(b.retarget.is_none());
     }
 }
