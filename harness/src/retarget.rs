@@ -207,7 +207,7 @@ pub fn fly_all(
     for replan in [true, false] {
         simulation.set_parameter("gnc", "retarget_replan", ParamValue::Boolean(replan))?;
         for &law in laws {
-            let flight = paper::fly_judged(&mut simulation, law, envelope)?;
+            let flight = paper::fly_judged(&mut simulation, law, envelope, &[])?;
             let metrics = divert_metrics(&flight.trajectory, &command)?;
             flights.push(DivertFlight {
                 flight,
