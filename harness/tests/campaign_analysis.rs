@@ -14,42 +14,61 @@ fn column<'a>(header: &'a csv::StringRecord, record: &'a csv::StringRecord, name
     &record[i]
 }
 
-#[test]
-fn summary_names_the_driving_input_and_the_paired_law_difference() {
-    let dir = tempfile::tempdir().unwrap();
+/// Every dispersion range but `option`'s set to zero.
+const RANGES: [&str; 10] = [
+    "--disp-horizontal-m",
+    "--disp-vertical-m",
+    "--disp-velocity-mps",
+    "--disp-tilt-deg",
+    "--disp-roll-deg",
+    "--disp-rate-degps",
+    "--disp-inertia-frac",
+    "--disp-misalignment-deg",
+    "--disp-mass-frac",
+    "--disp-thrust-frac",
+];
+
+/// `n` runs at phi_cmd = 150 deg of `laws` with only `option` dispersed (to `value`), into
+/// `dir`: the summary's header and records.
+fn dispersing_only(
+    option: &str,
+    value: &str,
+    laws: &str,
+    n: &str,
+    dir: &std::path::Path,
+) -> (csv::StringRecord, Vec<csv::StringRecord>) {
     let mut args = vec![
         "monte-carlo",
         "--phi-cmd-deg",
         "150",
         "--law",
-        "coupled,decoupled",
+        laws,
         "-n",
-        "40",
-        "--quiet",
-        "--no-plots",
-        "--out-dir",
+        n,
     ];
-    args.push(dir.path().to_str().unwrap());
-    // Only the start mass varies.
-    for option in [
-        "--disp-horizontal-m",
-        "--disp-vertical-m",
-        "--disp-velocity-mps",
-        "--disp-tilt-deg",
-        "--disp-roll-deg",
-        "--disp-rate-degps",
-        "--disp-inertia-frac",
-        "--disp-misalignment-deg",
-    ] {
-        args.extend([option, "0"]);
+    args.extend(["--quiet", "--no-plots", "--out-dir", dir.to_str().unwrap()]);
+    for other in RANGES.iter().filter(|o| **o != option) {
+        args.extend([*other, "0"]);
     }
-    args.extend(["--disp-mass-frac", "0.05"]);
+    args.extend([option, value]);
     let output = harness(&args);
-    // 3: some coupled flights touch down hard at this phi_cmd (they are counted, not an error).
+    // 3: some flights outside the paper scenario's limits (they are counted, not an error).
     assert!(matches!(output.status.code(), Some(0 | 3)), "{output:?}");
-    let mut reader = csv::Reader::from_path(dir.path().join("summary.csv")).unwrap();
+    let mut reader = csv::Reader::from_path(dir.join("summary.csv")).unwrap();
     let header = reader.headers().unwrap().clone();
-    let records: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    (header, reader.records().map(Result::unwrap).collect())
+}
+
+#[test]
+fn summary_names_the_driving_input_and_the_paired_law_difference() {
+    let dir = tempfile::tempdir().unwrap();
+    let (header, records) = dispersing_only(
+        "--disp-mass-frac",
+        "0.05",
+        "coupled,decoupled",
+        "40",
+        dir.path(),
+    );
     assert_eq!(records.len(), 2);
     for record in &records {
         let drivers = column(&header, record, "propellant_used_kg_influential_inputs");
@@ -95,39 +114,10 @@ fn a_thrust_level_below_the_weight_lands_hard() {
 #[test]
 fn a_dispersed_thrust_level_is_found_behind_the_altitude_error() {
     let dir = tempfile::tempdir().unwrap();
-    let mut args = vec![
-        "monte-carlo",
-        "--phi-cmd-deg",
-        "150",
-        "--law",
-        "decoupled",
-        "-n",
-        "30",
-        "--quiet",
-        "--no-plots",
-        "--out-dir",
-    ];
-    args.push(dir.path().to_str().unwrap());
-    for option in [
-        "--disp-horizontal-m",
-        "--disp-vertical-m",
-        "--disp-velocity-mps",
-        "--disp-tilt-deg",
-        "--disp-roll-deg",
-        "--disp-rate-degps",
-        "--disp-inertia-frac",
-        "--disp-misalignment-deg",
-        "--disp-mass-frac",
-    ] {
-        args.extend([option, "0"]);
-    }
-    args.extend(["--disp-thrust-frac", "0.05"]);
-    let output = harness(&args);
-    assert!(matches!(output.status.code(), Some(0 | 3)), "{output:?}");
-    let mut reader = csv::Reader::from_path(dir.path().join("summary.csv")).unwrap();
-    let header = reader.headers().unwrap().clone();
-    let record = reader.records().next().unwrap().unwrap();
-    let drivers = column(&header, &record, "final_altitude_m_influential_inputs");
+    let (header, records) =
+        dispersing_only("--disp-thrust-frac", "0.05", "decoupled", "30", dir.path());
+    let record = &records[0];
+    let drivers = column(&header, record, "final_altitude_m_influential_inputs");
     assert!(drivers.starts_with("thrust_scale +"), "{drivers}");
     let manifest = std::fs::read_to_string(dir.path().join("manifest.csv")).unwrap();
     assert!(manifest.lines().next().unwrap().contains(",thrust_scale,"));
