@@ -17,7 +17,7 @@ use std::f64::consts::TAU;
 /// Dispersion ranges, in the units of their names. The defaults are a modest but
 /// non-trivial set: navigation-grade initial-state errors at the start of a terminal
 /// descent, a few per cent of mass and ten per cent of inertia (the GNC keeps the nominal
-/// inertia for its gains, so this exercises the gain margin), and a quarter-degree engine
+/// inertia for its gains, so this exercises the gain margin), and a tenth of a degree of engine
 /// alignment tolerance. They describe what a real terminal descent sees, not what the current
 /// LanderGnc passes: from the paper scenario's tilted start it does not hold even a 1 m
 /// lateral offset (see `a_small_campaign_shows_the_papers_trend` in the tests).
