@@ -2,7 +2,7 @@
 use crate::master::{MasterError, RunEnd, Simulation, Trajectory};
 use crate::metrics::{self, Metrics};
 use crate::requirements::{Judged, Requirement};
-use crate::scenarios::{Law, TERMINAL_TARGET_NUE};
+use crate::scenarios::Law;
 use crate::system::SystemDescription;
 use crate::verdict::{self, Envelope, Verdict};
 use std::path::Path;
@@ -73,9 +73,7 @@ pub fn fly_judged(
     let end = simulation
         .run(&mut trajectory)
         .map_err(|e: MasterError| anyhow::anyhow!(e))?;
-    // A retargeted scenario ends over its new site (harness/src/retarget.rs).
-    let target = crate::retarget::RetargetCommand::of(simulation.system())
-        .map_or(TERMINAL_TARGET_NUE, |c| c.site_nue);
+    let target = crate::scenarios::terminal_target_nue(simulation.system());
     let metrics = metrics::compute(&trajectory, &Default::default(), target)?;
     let verdict = verdict::judge(&trajectory, &end, envelope);
     let requirements = crate::requirements::judge(requirements, &trajectory);

@@ -23,7 +23,7 @@ pub struct RetargetCommand {
     pub site_nue: [f64; 3],
 }
 
-fn real(system: &SystemDescription, name: &str) -> Option<f64> {
+pub(crate) fn real(system: &SystemDescription, name: &str) -> Option<f64> {
     let gnc = system.instance("gnc")?;
     gnc.parameters.iter().find_map(|(n, v)| match v {
         ParamValue::Real(x) if n == name => Some(*x),

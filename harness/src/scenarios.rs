@@ -55,6 +55,24 @@ pub fn not_found(name_or_path: &str, source: std::io::Error) -> SystemError {
 /// The terminal hover target of the shipped timeline (LanderGnc's default descent target).
 pub const TERMINAL_TARGET_NUE: [f64; 3] = [0.0, 150.0, 0.0];
 
+/// Where a scenario's flight should end, the point its terminal errors are measured from: the
+/// retarget site when the scenario commands a retarget, else the descent target it sets on
+/// its `gnc` instance (`descent_target_nue[k]`, each element defaulting to LanderGnc's).
+pub fn terminal_target_nue(system: &crate::system::SystemDescription) -> [f64; 3] {
+    if let Ok(command) = crate::retarget::RetargetCommand::of(system) {
+        return command.site_nue;
+    }
+    let mut target = TERMINAL_TARGET_NUE;
+    for (k, x) in target.iter_mut().enumerate() {
+        if let Some(value) =
+            crate::retarget::real(system, &format!("descent_target_nue[{}]", k + 1))
+        {
+            *x = value;
+        }
+    }
+    target
+}
+
 /// A built-in scenario by name, a `.toml` or `.ssd` file, or an `.ssp` package.
 ///
 /// An SSD's component sources are relative to the SSD (`resources/X.fmu` in an SSP); where that
@@ -176,6 +194,36 @@ impl Law {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_terminal_target_is_the_scenarios_own() {
+        // The default is LanderGnc's own descent target.
+        let md = std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../fmu-gnc/modelDescription.xml"),
+        )
+        .unwrap();
+        let md = model_description::ModelDescription::from_xml(&md).unwrap();
+        for (k, expected) in TERMINAL_TARGET_NUE.iter().enumerate() {
+            let name = format!("descent_target_nue[{}]", k + 1);
+            let start = md.variable(&name).and_then(|v| v.start());
+            assert_eq!(
+                start,
+                Some(model_description::StartValue::Real(*expected)),
+                "{name}"
+            );
+        }
+        let mut system = load("paper").unwrap();
+        assert_eq!(terminal_target_nue(&system), TERMINAL_TARGET_NUE);
+        system.set_parameter("gnc", "descent_target_nue[3]", ParamValue::Real(40.0));
+        assert_eq!(terminal_target_nue(&system), [0.0, 150.0, 40.0]);
+        let retarget = load("retarget").unwrap();
+        let site = crate::retarget::RetargetCommand::of(&retarget)
+            .unwrap()
+            .site_nue;
+        assert_eq!(terminal_target_nue(&retarget), site);
+        assert_ne!(site, TERMINAL_TARGET_NUE);
+    }
 
     #[test]
     fn every_built_in_scenario_parses_and_connects_the_contract_signals() {

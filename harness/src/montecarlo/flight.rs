@@ -5,7 +5,6 @@ use super::dispersion::{Dispersion, DispersionRanges, Nominal};
 use super::manifest::{End, Judged, Row};
 use crate::master::{RunEnd, Simulation, Trajectory};
 use crate::metrics::{self, Metrics};
-use crate::scenarios::TERMINAL_TARGET_NUE;
 use crate::system::{ParamValue, SystemDescription};
 use crate::verdict::{self, Spec};
 use model_description::StartValue;
@@ -35,6 +34,8 @@ pub struct Flyer {
     simulation: Simulation,
     spec: Spec,
     nominal: Nominal,
+    /// Where the scenario's flights should end (terminal errors are measured from it).
+    target_nue: [f64; 3],
     trajectory: Trajectory,
     /// The last row of `trajectory` followed by the simulation's final values: all the
     /// verdict and the touchdown metrics read.
@@ -50,6 +51,7 @@ impl Flyer {
     /// each flight (they matter only there).
     pub fn new(system: SystemDescription, spec: Spec, fmu_dir: &Path) -> anyhow::Result<Self> {
         let gnc_present = system.instance(GNC).is_some();
+        let target_nue = crate::scenarios::terminal_target_nue(&system);
         anyhow::ensure!(
             gnc_present,
             "scenario '{}' has no instance '{GNC}'",
@@ -96,6 +98,7 @@ impl Flyer {
             simulation,
             spec,
             nominal,
+            target_nue,
             trajectory,
             last,
             requirements: Vec::new(),
@@ -193,7 +196,7 @@ impl Flyer {
             &self.trajectory,
             &self.last,
             &metrics::Columns::default(),
-            TERMINAL_TARGET_NUE,
+            self.target_nue,
         )?;
         let mut judged = Judged::of(&judged, self.spec.expect);
         let violated: Vec<String> =
