@@ -231,13 +231,15 @@ macro_rules! export_symbols {
 }
 
 /// The `#[no_mangle]` symbols of the functions [`crate::raw`] serves, from one version's C
-/// names: each name is looked up in the version's function table at compile time.
+/// names: each name is looked up in the version's function table at compile time. The C
+/// status and byte types are named as the version's headers name them (a C header generated
+/// from the expanded source must see `fmi2Status`, not a projection it cannot resolve).
 /// Invoked by each version's export macro.
 #[macro_export]
 macro_rules! export_shared {
-    (@symbol $abi:ty, $name:ident ( $c:ident : $c_type:ty $(, $arg:ident : $ty:ty)* ) => $raw:ident::<$model:ty>($($value:expr),*)) => {
+    (@symbol $abi:ty, $status:ty, $name:ident ( $c:ident : $c_type:ty $(, $arg:ident : $ty:ty)* ) => $raw:ident::<$model:ty>($($value:expr),*)) => {
         $crate::export_symbols! {
-            $name($c: $c_type $(, $arg: $ty)*) -> <$abi as $crate::Abi>::CStatus => {
+            $name($c: $c_type $(, $arg: $ty)*) -> $status => {
                 const F: <$abi as $crate::Abi>::Function =
                     <$abi as $crate::Abi>::Function::named(stringify!($name));
                 <$abi as $crate::Abi>::status($crate::raw::$raw::<$model, $abi>($c, F, $($value),*))
@@ -245,47 +247,47 @@ macro_rules! export_shared {
         }
     };
     (
-        $model:ty, $abi:ty,
+        $model:ty, $abi:ty, status = $status:ty, byte = $byte:ty,
         fmu_state = [$get:ident, $set:ident, $free:ident, $size:ident, $ser:ident, $de:ident],
         lifecycle = [$exit:ident, $term:ident, $reset:ident]
     ) => {
-        $crate::export_shared! { @symbol $abi, $get(c: *mut ::std::os::raw::c_void, state: *mut *mut ::std::os::raw::c_void)
+        $crate::export_shared! { @symbol $abi, $status, $get(c: *mut ::std::os::raw::c_void, state: *mut *mut ::std::os::raw::c_void)
             => get_fmu_state::<$model>(state) }
-        $crate::export_shared! { @symbol $abi, $set(c: *mut ::std::os::raw::c_void, state: *mut ::std::os::raw::c_void)
+        $crate::export_shared! { @symbol $abi, $status, $set(c: *mut ::std::os::raw::c_void, state: *mut ::std::os::raw::c_void)
             => set_fmu_state::<$model>(state) }
-        $crate::export_shared! { @symbol $abi, $free(c: *mut ::std::os::raw::c_void, state: *mut *mut ::std::os::raw::c_void)
+        $crate::export_shared! { @symbol $abi, $status, $free(c: *mut ::std::os::raw::c_void, state: *mut *mut ::std::os::raw::c_void)
             => free_fmu_state::<$model>(state) }
-        $crate::export_shared! { @symbol $abi, $size(c: *mut ::std::os::raw::c_void, state: *mut ::std::os::raw::c_void, size: *mut usize)
+        $crate::export_shared! { @symbol $abi, $status, $size(c: *mut ::std::os::raw::c_void, state: *mut ::std::os::raw::c_void, size: *mut usize)
             => serialized_fmu_state_size::<$model>(state, size) }
-        $crate::export_shared! { @symbol $abi, $ser(
+        $crate::export_shared! { @symbol $abi, $status, $ser(
                 c: *mut ::std::os::raw::c_void, state: *mut ::std::os::raw::c_void,
-                serialized: *mut <$abi as $crate::Abi>::CByte, size: usize
+                serialized: *mut $byte, size: usize
             ) => serialize_fmu_state::<$model>(
                 <$abi as $crate::Abi>::Function::named(stringify!($size)), state, serialized as *mut u8, size
             ) }
-        $crate::export_shared! { @symbol $abi, $de(
-                c: *mut ::std::os::raw::c_void, serialized: *const <$abi as $crate::Abi>::CByte,
+        $crate::export_shared! { @symbol $abi, $status, $de(
+                c: *mut ::std::os::raw::c_void, serialized: *const $byte,
                 size: usize, state: *mut *mut ::std::os::raw::c_void
             ) => deserialize_fmu_state::<$model>(serialized as *const u8, size, state) }
-        $crate::export_shared! { @symbol $abi, $exit(c: *mut ::std::os::raw::c_void) => exit_initialization_mode::<$model>() }
-        $crate::export_shared! { @symbol $abi, $term(c: *mut ::std::os::raw::c_void) => terminate::<$model>() }
-        $crate::export_shared! { @symbol $abi, $reset(c: *mut ::std::os::raw::c_void) => reset::<$model>() }
+        $crate::export_shared! { @symbol $abi, $status, $exit(c: *mut ::std::os::raw::c_void) => exit_initialization_mode::<$model>() }
+        $crate::export_shared! { @symbol $abi, $status, $term(c: *mut ::std::os::raw::c_void) => terminate::<$model>() }
+        $crate::export_shared! { @symbol $abi, $status, $reset(c: *mut ::std::os::raw::c_void) => reset::<$model>() }
     };
     (
-        $model:ty, $abi:ty,
+        $model:ty, $abi:ty, status = $status:ty,
         model_exchange = [$time:ident, $states_in:ident, $der:ident, $ind:ident, $states:ident, $nom:ident, $ctm:ident]
     ) => {
-        $crate::export_shared! { @symbol $abi, $time(c: *mut ::std::os::raw::c_void, time: f64) => set_time::<$model>(time) }
-        $crate::export_shared! { @symbol $abi, $states_in(c: *mut ::std::os::raw::c_void, x: *const f64, nx: usize)
+        $crate::export_shared! { @symbol $abi, $status, $time(c: *mut ::std::os::raw::c_void, time: f64) => set_time::<$model>(time) }
+        $crate::export_shared! { @symbol $abi, $status, $states_in(c: *mut ::std::os::raw::c_void, x: *const f64, nx: usize)
             => set_continuous_states::<$model>(x, nx) }
-        $crate::export_shared! { @symbol $abi, $der(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
+        $crate::export_shared! { @symbol $abi, $status, $der(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
             => read_vector::<$model>($crate::model_exchange::Vector::Derivatives, values, n) }
-        $crate::export_shared! { @symbol $abi, $ind(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
+        $crate::export_shared! { @symbol $abi, $status, $ind(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
             => read_vector::<$model>($crate::model_exchange::Vector::EventIndicators, values, n) }
-        $crate::export_shared! { @symbol $abi, $states(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
+        $crate::export_shared! { @symbol $abi, $status, $states(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
             => read_vector::<$model>($crate::model_exchange::Vector::States, values, n) }
-        $crate::export_shared! { @symbol $abi, $nom(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
+        $crate::export_shared! { @symbol $abi, $status, $nom(c: *mut ::std::os::raw::c_void, values: *mut f64, n: usize)
             => read_vector::<$model>($crate::model_exchange::Vector::Nominals, values, n) }
-        $crate::export_shared! { @symbol $abi, $ctm(c: *mut ::std::os::raw::c_void) => enter_continuous_time_mode::<$model>() }
+        $crate::export_shared! { @symbol $abi, $status, $ctm(c: *mut ::std::os::raw::c_void) => enter_continuous_time_mode::<$model>() }
     };
 }

@@ -59,9 +59,6 @@ pub trait Abi: Sized + 'static {
     const SNAPSHOT_MAGIC: [u8; 8];
     /// The version's C status type (a C `int`).
     type CStatus: Copy + From<std::os::raw::c_int>;
-    /// The version's C byte of a serialized FMU state (`fmi2Byte` is a `char`, `fmi3Byte` a
-    /// `uint8_t`).
-    type CByte;
     /// The version's function table.
     type Function: Function;
     /// The version's logger callback (an optional C function pointer).

@@ -22,7 +22,8 @@ macro_rules! export_fmi2 {
     // A model that implements `fmi_model::ContinuousModel`: Co-Simulation and Model Exchange.
     ($model:ty, model_exchange) => {
         $crate::export_fmi2! { @co_simulation $model, true }
-        $crate::fmi_export::export_shared! { $model, $crate::Fmi2, model_exchange = [
+        $crate::fmi_export::export_shared! { $model, $crate::Fmi2,
+            status = $crate::ffi::fmi2Status, model_exchange = [
             fmi2SetTime, fmi2SetContinuousStates, fmi2GetDerivatives, fmi2GetEventIndicators,
             fmi2GetContinuousStates, fmi2GetNominalsOfContinuousStates, fmi2EnterContinuousTimeMode
         ] }
@@ -47,6 +48,7 @@ macro_rules! export_fmi2 {
     };
     (@co_simulation $model:ty, $model_exchange:literal) => {
         $crate::fmi_export::export_shared! { $model, $crate::Fmi2,
+            status = $crate::ffi::fmi2Status, byte = $crate::ffi::fmi2Byte,
             fmu_state = [fmi2GetFMUstate, fmi2SetFMUstate, fmi2FreeFMUstate,
                 fmi2SerializedFMUstateSize, fmi2SerializeFMUstate, fmi2DeSerializeFMUstate],
             lifecycle = [fmi2ExitInitializationMode, fmi2Terminate, fmi2Reset]

@@ -44,7 +44,6 @@ impl Abi for Fmi2 {
     const STATES: StateMask = StateMask::all_but(&[State::StepCanceled, State::Fatal]);
     type CStatus = fmi2Status;
     type Callback = fmi2CallbackLogger;
-    type CByte = fmi2Byte;
     type Function = Function;
     type View<M: Model> = View<M>;
 

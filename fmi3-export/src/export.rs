@@ -57,7 +57,8 @@ macro_rules! export_fmi3 {
     };
     ($model:ty, model_exchange) => {
         $crate::export_fmi3! { @all $model, me }
-        $crate::fmi_export::export_shared! { $model, $crate::Fmi3, model_exchange = [
+        $crate::fmi_export::export_shared! { $model, $crate::Fmi3,
+            status = $crate::ffi::fmi3Status, model_exchange = [
             fmi3SetTime, fmi3SetContinuousStates, fmi3GetContinuousStateDerivatives,
             fmi3GetEventIndicators, fmi3GetContinuousStates, fmi3GetNominalsOfContinuousStates,
             fmi3EnterContinuousTimeMode
@@ -65,6 +66,7 @@ macro_rules! export_fmi3 {
     };
     (@all $model:ty, $me:ident) => {
         $crate::fmi_export::export_shared! { $model, $crate::Fmi3,
+            status = $crate::ffi::fmi3Status, byte = $crate::ffi::fmi3Byte,
             fmu_state = [fmi3GetFMUState, fmi3SetFMUState, fmi3FreeFMUState,
                 fmi3SerializedFMUStateSize, fmi3SerializeFMUState, fmi3DeserializeFMUState],
             lifecycle = [fmi3ExitInitializationMode, fmi3Terminate, fmi3Reset]

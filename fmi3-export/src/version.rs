@@ -37,7 +37,6 @@ impl Abi for Fmi3 {
         StateMask::all_but(&[State::StepFailed, State::StepCanceled, State::Fatal]);
     type CStatus = fmi3Status;
     type Callback = fmi3LogMessageCallback;
-    type CByte = fmi3Byte;
     type Function = Function;
     type View<M: Model> = View<M>;
 
