@@ -90,6 +90,28 @@ pub fn solve_cubic(bc: &BoundaryConditions, tgo_s: f64) -> CubicAcceleration {
     }
 }
 
+/// Position and velocity of the double integrator `r'' = a_net(s)` driven open loop by
+/// `cubic` from `bc`'s start, at `s`, integrated analytically term by term (`C_k s^k`
+/// integrates to `C_k s^(k+1)/(k+1)` and `C_k s^(k+2)/((k+1)(k+2))`): the independent check
+/// of a solve's boundary conditions.
+#[cfg(test)]
+// std's powi is a reference independent of the libm the model uses.
+#[allow(clippy::disallowed_methods)]
+pub(crate) fn integrate_open_loop(
+    bc: &BoundaryConditions,
+    cubic: &CubicAcceleration,
+    s: f64,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let mut v = bc.v0_nue;
+    let mut r = bc.r0_nue + bc.v0_nue * s;
+    for (k, c) in cubic.coeffs.iter().enumerate() {
+        let k = k as i32;
+        v += c * s.powi(k + 1) / f64::from(k + 1);
+        r += c * s.powi(k + 2) / f64::from((k + 1) * (k + 2));
+    }
+    (r, v)
+}
+
 #[cfg(test)]
 // std's functions here are a reference independent of the libm the model uses.
 #[allow(clippy::disallowed_methods)]
@@ -134,15 +156,8 @@ mod tests {
         let bc = descent_case();
         let tgo = 130.0;
         let cubic = solve_cubic(&bc, tgo);
-        // WHEN it is integrated analytically over [0, tgo] (term by term: C_k s^k integrates
-        // to C_k s^(k+1)/(k+1) and C_k s^(k+2)/((k+1)(k+2)))
-        let mut v = bc.v0_nue;
-        let mut r = bc.r0_nue + bc.v0_nue * tgo;
-        for (k, c) in cubic.coeffs.iter().enumerate() {
-            let k = k as i32;
-            v += c * tgo.powi(k + 1) / f64::from(k + 1);
-            r += c * tgo.powi(k + 2) / f64::from((k + 1) * (k + 2));
-        }
+        // WHEN it is integrated analytically over [0, tgo]
+        let (r, v) = integrate_open_loop(&bc, &cubic, tgo);
         // THEN it arrives at the target position and velocity with the wanted accelerations
         assert!((r - bc.rf_nue).norm() < 1e-9, "r(tgo) = {r}");
         assert!((v - bc.vf_nue).norm() < 1e-11, "v(tgo) = {v}");

@@ -267,13 +267,7 @@ mod tests {
         let tgo = divert_time_to_go_s(&bc, 5.0, 0.1, authority);
         let cubic = solve_cubic(&bc, tgo);
         // WHEN the double integrator is integrated analytically over the divert
-        let mut v = bc.v0_nue;
-        let mut r = bc.r0_nue + bc.v0_nue * tgo;
-        for (k, c) in cubic.coeffs.iter().enumerate() {
-            let k = k as i32;
-            v += c * tgo.powi(k + 1) / f64::from(k + 1);
-            r += c * tgo.powi(k + 2) / f64::from((k + 1) * (k + 2));
-        }
+        let (r, v) = super::super::polynomial::integrate_open_loop(&bc, &cubic, tgo);
         // THEN it ends on the new site at rest, starting from the held acceleration
         assert!((r - bc.rf_nue).norm() < 1e-9, "r = {r}");
         assert!(v.norm() < 1e-10, "v = {v}");

@@ -831,6 +831,15 @@ impl Simulation {
             self.set_inputs(u)?;
             self.get_outputs(u)?;
         }
+        self.exit_initialization_modes()?;
+        for u in 0..self.units.len() {
+            self.get_outputs(u)?;
+        }
+        Ok(())
+    }
+
+    /// Every unit leaves initialization mode, in unit order.
+    fn exit_initialization_modes(&mut self) -> Result<(), MasterError> {
         for unit in &mut self.units {
             let name = unit.name.clone();
             let v = unit.instance.fmi_version();
@@ -845,9 +854,6 @@ impl Simulation {
                     e.into(),
                 )
             })?;
-        }
-        for u in 0..self.units.len() {
-            self.get_outputs(u)?;
         }
         Ok(())
     }
@@ -859,21 +865,7 @@ impl Simulation {
             io.integer.values.fill(0);
             io.boolean.values.fill(0);
         }
-        for unit in &mut self.units {
-            let name = unit.name.clone();
-            let v = unit.instance.fmi_version();
-            unit.instance.exit_initialization_mode().map_err(|e| {
-                call(
-                    &name,
-                    named(
-                        v,
-                        "fmi2ExitInitializationMode",
-                        "fmi3ExitInitializationMode",
-                    ),
-                    e.into(),
-                )
-            })?;
-        }
+        self.exit_initialization_modes()?;
         Ok(())
     }
 
