@@ -7,155 +7,38 @@
 #![allow(clippy::not_unsafe_ptr_arg_deref)]
 use crate::logger::{Record, TestLogger};
 use fmi_abi::fmi3::*;
+use fmi_import::tables::fmi3::{Fmi3CoSimulation, Fmi3Common, Fmi3ModelExchange, Vector};
 use std::ffi::{c_void, CStr, CString};
 
-type Vr = fmi3ValueReference;
 type Inst = fmi3Instance;
-type Get<T> = unsafe extern "C" fn(Inst, *const Vr, usize, *mut T, usize) -> fmi3Status;
-type Set<T> = unsafe extern "C" fn(Inst, *const Vr, usize, *const T, usize) -> fmi3Status;
-type Only = unsafe extern "C" fn(Inst) -> fmi3Status;
-type Vector = unsafe extern "C" fn(Inst, *mut f64, usize) -> fmi3Status;
 
-/// The FMI 3.0 functions the kit drives (Co-Simulation, Model Exchange, FMU state), typed
-/// after `fmi3FunctionTypes.h`.
+/// The FMI 3.0 functions the kit drives (Co-Simulation, Model Exchange, FMU state): the
+/// importer's tables (`fmi-import`, listed once there), the common ones reached directly.
 #[derive(Debug, Clone, Copy)]
 pub struct Fmi3Functions {
-    pub get_version: unsafe extern "C" fn() -> *const std::os::raw::c_char,
-    pub set_debug_logging:
-        unsafe extern "C" fn(Inst, fmi3Boolean, usize, *const fmi3String) -> fmi3Status,
-    pub instantiate_model_exchange: unsafe extern "C" fn(
-        fmi3String,
-        fmi3String,
-        fmi3String,
-        fmi3Boolean,
-        fmi3Boolean,
-        fmi3InstanceEnvironment,
-        fmi3LogMessageCallback,
-    ) -> Inst,
-    #[allow(clippy::type_complexity)]
-    pub instantiate_co_simulation: unsafe extern "C" fn(
-        fmi3String,
-        fmi3String,
-        fmi3String,
-        fmi3Boolean,
-        fmi3Boolean,
-        fmi3Boolean,
-        fmi3Boolean,
-        *const Vr,
-        usize,
-        fmi3InstanceEnvironment,
-        fmi3LogMessageCallback,
-        fmi3IntermediateUpdateCallback,
-    ) -> Inst,
-    pub free_instance: unsafe extern "C" fn(Inst),
-    pub enter_initialization_mode:
-        unsafe extern "C" fn(Inst, fmi3Boolean, f64, f64, fmi3Boolean, f64) -> fmi3Status,
-    pub exit_initialization_mode: Only,
-    pub enter_event_mode: Only,
-    pub terminate: Only,
-    pub reset: Only,
-    pub get_float64: Get<f64>,
-    pub get_int32: Get<i32>,
-    pub get_int64: Get<i64>,
-    pub get_boolean: Get<fmi3Boolean>,
-    pub get_string: Get<fmi3String>,
-    pub set_float64: Set<f64>,
-    pub set_int32: Set<i32>,
-    pub set_int64: Set<i64>,
-    pub set_boolean: Set<fmi3Boolean>,
-    pub set_string: Set<fmi3String>,
-    pub get_fmu_state: unsafe extern "C" fn(Inst, *mut fmi3FMUState) -> fmi3Status,
-    pub set_fmu_state: unsafe extern "C" fn(Inst, fmi3FMUState) -> fmi3Status,
-    pub free_fmu_state: unsafe extern "C" fn(Inst, *mut fmi3FMUState) -> fmi3Status,
-    pub serialized_fmu_state_size:
-        unsafe extern "C" fn(Inst, fmi3FMUState, *mut usize) -> fmi3Status,
-    pub serialize_fmu_state:
-        unsafe extern "C" fn(Inst, fmi3FMUState, *mut fmi3Byte, usize) -> fmi3Status,
-    pub deserialize_fmu_state:
-        unsafe extern "C" fn(Inst, *const fmi3Byte, usize, *mut fmi3FMUState) -> fmi3Status,
-    pub enter_step_mode: Only,
-    #[allow(clippy::type_complexity)]
-    pub do_step: unsafe extern "C" fn(
-        Inst,
-        f64,
-        f64,
-        fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut f64,
-    ) -> fmi3Status,
-    #[allow(clippy::type_complexity)]
-    pub update_discrete_states: unsafe extern "C" fn(
-        Inst,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut fmi3Boolean,
-        *mut f64,
-    ) -> fmi3Status,
-    pub enter_continuous_time_mode: Only,
-    pub completed_integrator_step:
-        unsafe extern "C" fn(Inst, fmi3Boolean, *mut fmi3Boolean, *mut fmi3Boolean) -> fmi3Status,
-    pub set_time: unsafe extern "C" fn(Inst, f64) -> fmi3Status,
-    pub set_continuous_states: unsafe extern "C" fn(Inst, *const f64, usize) -> fmi3Status,
-    pub get_continuous_state_derivatives: Vector,
-    pub get_event_indicators: Vector,
-    pub get_continuous_states: Vector,
-    pub get_nominals_of_continuous_states: Vector,
-    pub get_number_of_event_indicators: unsafe extern "C" fn(Inst, *mut usize) -> fmi3Status,
-    pub get_number_of_continuous_states: unsafe extern "C" fn(Inst, *mut usize) -> fmi3Status,
+    pub common: Fmi3Common,
+    pub co_simulation: Fmi3CoSimulation,
+    pub model_exchange: Fmi3ModelExchange,
+}
+
+impl std::ops::Deref for Fmi3Functions {
+    type Target = Fmi3Common;
+    fn deref(&self) -> &Fmi3Common {
+        &self.common
+    }
 }
 
 /// The [`Fmi3Functions`] of an FMU crate linked into the test (its `export_fmi3!` symbols),
 /// e.g. `static FMU: Fmi3Functions = fmi3_functions!(fmu_plant);`.
 #[macro_export]
 macro_rules! fmi3_functions {
-    ($fmu:path) => {{
-        use $fmu as fmu;
+    ($fmu:path) => {
         $crate::Fmi3Functions {
-            get_version: fmu::fmi3GetVersion,
-            set_debug_logging: fmu::fmi3SetDebugLogging,
-            instantiate_model_exchange: fmu::fmi3InstantiateModelExchange,
-            instantiate_co_simulation: fmu::fmi3InstantiateCoSimulation,
-            free_instance: fmu::fmi3FreeInstance,
-            enter_initialization_mode: fmu::fmi3EnterInitializationMode,
-            exit_initialization_mode: fmu::fmi3ExitInitializationMode,
-            enter_event_mode: fmu::fmi3EnterEventMode,
-            terminate: fmu::fmi3Terminate,
-            reset: fmu::fmi3Reset,
-            get_float64: fmu::fmi3GetFloat64,
-            get_int32: fmu::fmi3GetInt32,
-            get_int64: fmu::fmi3GetInt64,
-            get_boolean: fmu::fmi3GetBoolean,
-            get_string: fmu::fmi3GetString,
-            set_float64: fmu::fmi3SetFloat64,
-            set_int32: fmu::fmi3SetInt32,
-            set_int64: fmu::fmi3SetInt64,
-            set_boolean: fmu::fmi3SetBoolean,
-            set_string: fmu::fmi3SetString,
-            get_fmu_state: fmu::fmi3GetFMUState,
-            set_fmu_state: fmu::fmi3SetFMUState,
-            free_fmu_state: fmu::fmi3FreeFMUState,
-            serialized_fmu_state_size: fmu::fmi3SerializedFMUStateSize,
-            serialize_fmu_state: fmu::fmi3SerializeFMUState,
-            deserialize_fmu_state: fmu::fmi3DeserializeFMUState,
-            enter_step_mode: fmu::fmi3EnterStepMode,
-            do_step: fmu::fmi3DoStep,
-            update_discrete_states: fmu::fmi3UpdateDiscreteStates,
-            enter_continuous_time_mode: fmu::fmi3EnterContinuousTimeMode,
-            completed_integrator_step: fmu::fmi3CompletedIntegratorStep,
-            set_time: fmu::fmi3SetTime,
-            set_continuous_states: fmu::fmi3SetContinuousStates,
-            get_continuous_state_derivatives: fmu::fmi3GetContinuousStateDerivatives,
-            get_event_indicators: fmu::fmi3GetEventIndicators,
-            get_continuous_states: fmu::fmi3GetContinuousStates,
-            get_nominals_of_continuous_states: fmu::fmi3GetNominalsOfContinuousStates,
-            get_number_of_event_indicators: fmu::fmi3GetNumberOfEventIndicators,
-            get_number_of_continuous_states: fmu::fmi3GetNumberOfContinuousStates,
+            common: $crate::fmi_import::fmi3_common!($fmu),
+            co_simulation: $crate::fmi_import::fmi3_co_simulation!($fmu),
+            model_exchange: $crate::fmi_import::fmi3_model_exchange!($fmu),
         }
-    }};
+    };
 }
 
 impl Fmi3Functions {
@@ -165,53 +48,14 @@ impl Fmi3Functions {
     /// # Safety
     /// The library's `fmi3*` symbols must have the standard's signatures.
     pub unsafe fn load(library: &libloading::Library) -> Result<Fmi3Functions, libloading::Error> {
-        macro_rules! symbol {
-            ($name:literal) => {
-                // SAFETY: the caller promises the standard's signature.
-                *unsafe { library.get(concat!($name, "\0").as_bytes()) }?
-            };
+        // SAFETY: forwarded from the caller.
+        unsafe {
+            Ok(Fmi3Functions {
+                common: Fmi3Common::load(library).map_err(|e| e.source)?,
+                co_simulation: Fmi3CoSimulation::load(library).map_err(|e| e.source)?,
+                model_exchange: Fmi3ModelExchange::load(library).map_err(|e| e.source)?,
+            })
         }
-        Ok(Fmi3Functions {
-            get_version: symbol!("fmi3GetVersion"),
-            set_debug_logging: symbol!("fmi3SetDebugLogging"),
-            instantiate_model_exchange: symbol!("fmi3InstantiateModelExchange"),
-            instantiate_co_simulation: symbol!("fmi3InstantiateCoSimulation"),
-            free_instance: symbol!("fmi3FreeInstance"),
-            enter_initialization_mode: symbol!("fmi3EnterInitializationMode"),
-            exit_initialization_mode: symbol!("fmi3ExitInitializationMode"),
-            enter_event_mode: symbol!("fmi3EnterEventMode"),
-            terminate: symbol!("fmi3Terminate"),
-            reset: symbol!("fmi3Reset"),
-            get_float64: symbol!("fmi3GetFloat64"),
-            get_int32: symbol!("fmi3GetInt32"),
-            get_int64: symbol!("fmi3GetInt64"),
-            get_boolean: symbol!("fmi3GetBoolean"),
-            get_string: symbol!("fmi3GetString"),
-            set_float64: symbol!("fmi3SetFloat64"),
-            set_int32: symbol!("fmi3SetInt32"),
-            set_int64: symbol!("fmi3SetInt64"),
-            set_boolean: symbol!("fmi3SetBoolean"),
-            set_string: symbol!("fmi3SetString"),
-            get_fmu_state: symbol!("fmi3GetFMUState"),
-            set_fmu_state: symbol!("fmi3SetFMUState"),
-            free_fmu_state: symbol!("fmi3FreeFMUState"),
-            serialized_fmu_state_size: symbol!("fmi3SerializedFMUStateSize"),
-            serialize_fmu_state: symbol!("fmi3SerializeFMUState"),
-            deserialize_fmu_state: symbol!("fmi3DeserializeFMUState"),
-            enter_step_mode: symbol!("fmi3EnterStepMode"),
-            do_step: symbol!("fmi3DoStep"),
-            update_discrete_states: symbol!("fmi3UpdateDiscreteStates"),
-            enter_continuous_time_mode: symbol!("fmi3EnterContinuousTimeMode"),
-            completed_integrator_step: symbol!("fmi3CompletedIntegratorStep"),
-            set_time: symbol!("fmi3SetTime"),
-            set_continuous_states: symbol!("fmi3SetContinuousStates"),
-            get_continuous_state_derivatives: symbol!("fmi3GetContinuousStateDerivatives"),
-            get_event_indicators: symbol!("fmi3GetEventIndicators"),
-            get_continuous_states: symbol!("fmi3GetContinuousStates"),
-            get_nominals_of_continuous_states: symbol!("fmi3GetNominalsOfContinuousStates"),
-            get_number_of_event_indicators: symbol!("fmi3GetNumberOfEventIndicators"),
-            get_number_of_continuous_states: symbol!("fmi3GetNumberOfContinuousStates"),
-        })
     }
 }
 
@@ -278,7 +122,7 @@ impl Fmi3Instance {
             resource_path.map(|r| CString::new(r).expect("no NUL in the resource path"));
         // SAFETY: valid strings; the logger outlives the instance (kept in it).
         let c = unsafe {
-            (functions.instantiate_co_simulation)(
+            (functions.co_simulation.instantiate_co_simulation)(
                 name.as_ptr(),
                 token.as_ptr(),
                 resources.as_ref().map_or(std::ptr::null(), |r| r.as_ptr()),
@@ -308,7 +152,7 @@ impl Fmi3Instance {
         let token = CString::new(token).expect("no NUL in the token");
         // SAFETY: as in `co_simulation`.
         let c = unsafe {
-            (functions.instantiate_model_exchange)(
+            (functions.model_exchange.instantiate_model_exchange)(
                 name.as_ptr(),
                 token.as_ptr(),
                 std::ptr::null(),
@@ -394,12 +238,12 @@ impl Fmi3Instance {
 
     pub fn enter_step_mode(&self) -> fmi3Status {
         // SAFETY: a live instance.
-        unsafe { (self.functions.enter_step_mode)(self.c) }
+        unsafe { (self.functions.co_simulation.enter_step_mode)(self.c) }
     }
 
     pub fn enter_continuous_time_mode(&self) -> fmi3Status {
         // SAFETY: a live instance.
-        unsafe { (self.functions.enter_continuous_time_mode)(self.c) }
+        unsafe { (self.functions.model_exchange.enter_continuous_time_mode)(self.c) }
     }
 
     pub fn terminate(&self) -> fmi3Status {
@@ -420,7 +264,7 @@ impl Fmi3Instance {
         let (mut event, mut terminate, mut early, mut last) = (true, true, true, f64::NAN);
         // SAFETY: a live instance and valid out-pointers.
         let status = unsafe {
-            (self.functions.do_step)(
+            (self.functions.co_simulation.do_step)(
                 self.c,
                 t,
                 h,
@@ -470,26 +314,38 @@ impl Fmi3Instance {
         let (mut enter, mut terminate) = (true, true);
         // SAFETY: a live instance and valid out-pointers.
         let status = unsafe {
-            (self.functions.completed_integrator_step)(self.c, true, &mut enter, &mut terminate)
+            (self.functions.model_exchange.completed_integrator_step)(
+                self.c,
+                true,
+                &mut enter,
+                &mut terminate,
+            )
         };
         (status, enter, terminate)
     }
 
     pub fn set_time(&self, t: f64) -> fmi3Status {
         // SAFETY: a live instance.
-        unsafe { (self.functions.set_time)(self.c, t) }
+        unsafe { (self.functions.model_exchange.set_time)(self.c, t) }
     }
 
     pub fn set_continuous_states(&self, x: &[f64]) -> fmi3Status {
         // SAFETY: an array of the length passed.
-        unsafe { (self.functions.set_continuous_states)(self.c, x.as_ptr(), x.len()) }
+        unsafe {
+            (self.functions.model_exchange.set_continuous_states)(self.c, x.as_ptr(), x.len())
+        }
     }
 
     /// `fmi3GetNumberOfContinuousStates`.
     pub fn number_of_continuous_states(&self) -> (fmi3Status, usize) {
         let mut n = usize::MAX;
         // SAFETY: one out-element.
-        let status = unsafe { (self.functions.get_number_of_continuous_states)(self.c, &mut n) };
+        let status = unsafe {
+            (self
+                .functions
+                .model_exchange
+                .get_number_of_continuous_states)(self.c, &mut n)
+        };
         (status, n)
     }
 
@@ -497,7 +353,9 @@ impl Fmi3Instance {
     pub fn number_of_event_indicators(&self) -> (fmi3Status, usize) {
         let mut n = usize::MAX;
         // SAFETY: one out-element.
-        let status = unsafe { (self.functions.get_number_of_event_indicators)(self.c, &mut n) };
+        let status = unsafe {
+            (self.functions.model_exchange.get_number_of_event_indicators)(self.c, &mut n)
+        };
         (status, n)
     }
 
@@ -509,19 +367,29 @@ impl Fmi3Instance {
     }
 
     pub fn continuous_states(&self, n: usize) -> (fmi3Status, Vec<f64>) {
-        self.vector(self.functions.get_continuous_states, n)
+        self.vector(self.functions.model_exchange.get_continuous_states, n)
     }
 
     pub fn derivatives(&self, n: usize) -> (fmi3Status, Vec<f64>) {
-        self.vector(self.functions.get_continuous_state_derivatives, n)
+        self.vector(
+            self.functions
+                .model_exchange
+                .get_continuous_state_derivatives,
+            n,
+        )
     }
 
     pub fn event_indicators(&self, n: usize) -> (fmi3Status, Vec<f64>) {
-        self.vector(self.functions.get_event_indicators, n)
+        self.vector(self.functions.model_exchange.get_event_indicators, n)
     }
 
     pub fn nominals(&self, n: usize) -> (fmi3Status, Vec<f64>) {
-        self.vector(self.functions.get_nominals_of_continuous_states, n)
+        self.vector(
+            self.functions
+                .model_exchange
+                .get_nominals_of_continuous_states,
+            n,
+        )
     }
 
     // ---- get and set ----

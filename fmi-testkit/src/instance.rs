@@ -146,7 +146,7 @@ impl Instance {
 
     pub fn do_step(&self, t: f64, h: f64) -> fmi2Status {
         // SAFETY: a live instance.
-        unsafe { (self.functions.do_step)(self.c, t, h, fmi2True) }
+        unsafe { (self.functions.co_simulation.do_step)(self.c, t, h, fmi2True) }
     }
 
     pub fn terminate(&self) -> fmi2Status {
@@ -261,8 +261,13 @@ impl Instance {
     pub fn last_successful_time(&self) -> f64 {
         let mut time = f64::NAN;
         // SAFETY: one element.
-        let status =
-            unsafe { (self.functions.get_real_status)(self.c, fmi2LastSuccessfulTime, &mut time) };
+        let status = unsafe {
+            (self.functions.co_simulation.get_real_status)(
+                self.c,
+                fmi2LastSuccessfulTime,
+                &mut time,
+            )
+        };
         assert_eq!(status, fmi2OK, "{:?}", self.messages());
         time
     }
@@ -270,8 +275,9 @@ impl Instance {
     pub fn terminated(&self) -> bool {
         let mut value = fmi2False;
         // SAFETY: one element.
-        let status =
-            unsafe { (self.functions.get_boolean_status)(self.c, fmi2Terminated, &mut value) };
+        let status = unsafe {
+            (self.functions.co_simulation.get_boolean_status)(self.c, fmi2Terminated, &mut value)
+        };
         assert_eq!(status, fmi2OK, "{:?}", self.messages());
         value != fmi2False
     }

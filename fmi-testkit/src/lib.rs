@@ -37,6 +37,9 @@ pub use fmi3::{CoSimulationOptions, Fmi3EventUpdate, Fmi3Functions, Fmi3Instance
 pub use fmi_abi::fmi2;
 pub use fmi_abi::fmi3 as fmi3_ffi;
 pub use fmi_abi::unpack;
+pub use fmi_import;
+/// The [`Fmi2MeFunctions`] of an FMU crate linked into the test.
+pub use fmi_import::fmi2_model_exchange as fmi2_me_functions;
 pub use fmi_model;
 pub use functions::Fmi2Functions;
 pub use instance::Instance;

@@ -6,40 +6,9 @@ use crate::functions::Fmi2Functions;
 use crate::instance::Instance;
 use fmi_abi::fmi2::*;
 
-/// The Model Exchange functions of an FMU.
-#[derive(Debug, Clone, Copy)]
-pub struct Fmi2MeFunctions {
-    pub enter_event_mode: fmi2ComponentOnlyTYPE,
-    pub new_discrete_states: fmi2NewDiscreteStatesTYPE,
-    pub enter_continuous_time_mode: fmi2ComponentOnlyTYPE,
-    pub completed_integrator_step: fmi2CompletedIntegratorStepTYPE,
-    pub set_time: fmi2SetTimeTYPE,
-    pub set_continuous_states: fmi2SetContinuousStatesTYPE,
-    pub get_derivatives: fmi2GetRealVectorTYPE,
-    pub get_event_indicators: fmi2GetRealVectorTYPE,
-    pub get_continuous_states: fmi2GetRealVectorTYPE,
-    pub get_nominals_of_continuous_states: fmi2GetRealVectorTYPE,
-}
-
-/// The [`Fmi2MeFunctions`] of an FMU crate linked into the test.
-#[macro_export]
-macro_rules! fmi2_me_functions {
-    ($fmu:path) => {{
-        use $fmu as fmu;
-        $crate::Fmi2MeFunctions {
-            enter_event_mode: fmu::fmi2EnterEventMode,
-            new_discrete_states: fmu::fmi2NewDiscreteStates,
-            enter_continuous_time_mode: fmu::fmi2EnterContinuousTimeMode,
-            completed_integrator_step: fmu::fmi2CompletedIntegratorStep,
-            set_time: fmu::fmi2SetTime,
-            set_continuous_states: fmu::fmi2SetContinuousStates,
-            get_derivatives: fmu::fmi2GetDerivatives,
-            get_event_indicators: fmu::fmi2GetEventIndicators,
-            get_continuous_states: fmu::fmi2GetContinuousStates,
-            get_nominals_of_continuous_states: fmu::fmi2GetNominalsOfContinuousStates,
-        }
-    }};
-}
+/// The Model Exchange functions of an FMU (the importer's table; `fmi2_me_functions!` fills
+/// it from a linked FMU crate).
+pub use fmi_import::tables::fmi2::Fmi2ModelExchange as Fmi2MeFunctions;
 
 /// A Model Exchange instance with the solver's time and state vector.
 #[derive(Debug)]

@@ -36,7 +36,7 @@ unsafe fn nested_free(c: fmi3Instance) -> fmi3Status {
 unsafe fn nested_step(c: fmi3Instance) -> fmi3Status {
     let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
     unsafe {
-        (FMU.do_step)(
+        (FMU.co_simulation.do_step)(
             c,
             0.0,
             0.01,
@@ -70,7 +70,7 @@ unsafe fn nested_enter_init(c: fmi3Instance) -> fmi3Status {
     unsafe { (FMU.enter_initialization_mode)(c, false, 0.0, 0.0, false, 0.0) }
 }
 unsafe fn nested_set_time(c: fmi3Instance) -> fmi3Status {
-    unsafe { (FMU.set_time)(c, 0.0) }
+    unsafe { (FMU.model_exchange.set_time)(c, 0.0) }
 }
 /// A second thread calls while the first one's call is still running.
 unsafe fn nested_from_thread(c: fmi3Instance) -> fmi3Status {
@@ -176,7 +176,7 @@ impl Hostile {
         let token = CString::new(fmi3_common::token()).unwrap();
         // SAFETY: valid strings and callbacks; `self` outlives the instance.
         let c = unsafe {
-            (FMU.instantiate_co_simulation)(
+            (FMU.co_simulation.instantiate_co_simulation)(
                 c"hostile".as_ptr(),
                 token.as_ptr(),
                 ptr::null(),
@@ -221,7 +221,7 @@ fn step(c: fmi3Instance, t: f64, h: f64) -> fmi3Status {
     let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
     // SAFETY: valid out-parameters; the instance is the test's.
     unsafe {
-        (FMU.do_step)(
+        (FMU.co_simulation.do_step)(
             c,
             t,
             h,

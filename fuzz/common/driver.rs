@@ -74,7 +74,7 @@ fn current_time(inst: &Instance) -> Option<f64> {
     let mut t = 0.0;
     // SAFETY: one out-element of a live instance.
     let status = unsafe {
-        (inst.functions().get_real_status)(inst.component(), fmi2LastSuccessfulTime, &mut t)
+        (inst.functions().co_simulation.get_real_status)(inst.component(), fmi2LastSuccessfulTime, &mut t)
     };
     (status == fmi2OK).then_some(t)
 }

@@ -4,7 +4,7 @@
 mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use harness::loader::Fmu;
+use fmi_import::Fmu;
 use std::hint::black_box;
 
 fn communication_step(c: &mut Criterion) {

@@ -1,7 +1,7 @@
 //! One full paper scenario (172 s, 17,200 communication steps of both FMUs through the C ABI,
 //! all outputs recorded) per law. Target: under 20 ms.
+use cosim::master::{Simulation, Trajectory};
 use criterion::{criterion_group, criterion_main, Criterion};
-use harness::master::{Simulation, Trajectory};
 use harness::scenarios::{self, Law};
 use std::path::PathBuf;
 

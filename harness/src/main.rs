@@ -1,9 +1,9 @@
 //! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals).
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use harness::master::{MasterError, Simulation, Trajectory};
+use cosim::master::{MasterError, Simulation, Trajectory};
+use cosim::system::{split_path, ParamValue};
 use harness::scenarios::Law;
-use harness::system::{split_path, ParamValue};
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -92,7 +92,7 @@ enum Command {
         no_plots: bool,
         /// Format of the trajectory files (<scenario>-<law>.csv or .arrow).
         #[arg(long, value_enum, default_value = "csv")]
-        format: harness::results::Format,
+        format: cosim::results::Format,
     },
     /// Fly a scenario with a retarget (default: the shipped `retarget`) with the coupled and
     /// decoupled laws, each with the divert re-planned and with the target only moved: the
@@ -191,10 +191,10 @@ fn fits_in_memory(simulation: &Simulation) -> anyhow::Result<()> {
     let points = ((system.stop_time - system.start_time) / system.step_size).ceil() + 1.0;
     let columns = simulation.column_names().len() + 1;
     let bytes = points * columns as f64 * 8.0;
-    let Some(available) = harness::memory::available_bytes() else {
+    let Some(available) = cosim::memory::available_bytes() else {
         return Ok(());
     };
-    if bytes > harness::memory::USABLE_FRACTION * available {
+    if bytes > cosim::memory::USABLE_FRACTION * available {
         anyhow::bail!(
             "{} s in steps of {} s is {points:.3e} communication points; recording {columns} \
              columns of each would take {:.3e} bytes of memory, more than the {:.1} GB this \
@@ -249,7 +249,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             let flown = run_scenario(&request, &cli.fmu_dir)?;
             exit_code = flown.exit_code;
             if let Some(path) = junit {
-                harness::requirements::junit::write(&path, &[flown.suite])?;
+                cosim::requirements::junit::write(&path, &[flown.suite])?;
                 println!("wrote {}", path.display());
             }
         }
@@ -282,7 +282,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             } else {
                 cli.fmu_dir.join(&fmu)
             };
-            let loaded = harness::loader::Fmu::load(&path)
+            let loaded = fmi_import::Fmu::load(&path)
                 .with_context(|| format!("loading {}", fmu.display()))?;
             print!("{}", harness::vars::table(loaded.model_description(), only));
         }
@@ -352,7 +352,7 @@ fn test_folder(
     out_dir: &std::path::Path,
     fmu_dir: &std::path::Path,
 ) -> anyhow::Result<i32> {
-    use harness::requirements::junit::{Case, Suite};
+    use cosim::requirements::junit::{Case, Suite};
     let entries =
         std::fs::read_dir(dir).with_context(|| format!("reading the folder {}", dir.display()))?;
     let mut scenarios: Vec<PathBuf> = entries
@@ -403,7 +403,7 @@ fn test_folder(
             }
         }
     }
-    harness::requirements::junit::write(junit, &suites)?;
+    cosim::requirements::junit::write(junit, &suites)?;
     println!(
         "{} scenarios: {} passed, {failed} failed, {broken} could not be run -> {}",
         scenarios.len(),
@@ -431,7 +431,7 @@ struct RunRequest {
     /// Output format; default: by the output's extension (.csv or none: CSV; .arrow,
     /// .feather, .ipc: Arrow IPC file); any other extension needs --format.
     #[arg(long, value_enum)]
-    format: Option<harness::results::Format>,
+    format: Option<cosim::results::Format>,
     /// Override a parameter, e.g. --set gnc.phi_cmd=0.5 (repeatable).
     #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
     sets: Vec<String>,
@@ -446,7 +446,7 @@ struct RunRequest {
 /// A flown scenario: the exit code its verdict and requirements give, and its JUnit suite.
 struct Flown {
     exit_code: i32,
-    suite: harness::requirements::junit::Suite,
+    suite: cosim::requirements::junit::Suite,
 }
 
 /// `harness run`: every problem refused before the run, the run, its results written, the
@@ -487,7 +487,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
                     let names = system.instances.iter().map(|i| i.name.as_str());
                     problems.push(format!(
                         "--set {set}: no instance '{instance}'{}",
-                        harness::master::suggest::hint(&instance, names)
+                        cosim::suggest::hint(&instance, names)
                     ));
                 }
             }
@@ -495,18 +495,18 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         }
     }
 
-    let format = harness::results::Format::for_output(out, *format)
+    let format = cosim::results::Format::for_output(out, *format)
         .map_err(|problem| problems.push(format!("-o/--format: {problem}")))
         .ok();
     if !record.is_empty() {
         system.record = Some(record.clone());
     }
     if let Some(list) = system.record.as_mut() {
-        harness::requirements::record_signals(list, &requirements);
+        cosim::requirements::record_signals(list, &requirements);
     }
     match ordering {
-        Some(OrderingArg::GaussSeidel) => system.ordering = harness::system::Ordering::GaussSeidel,
-        Some(OrderingArg::Jacobi) => system.ordering = harness::system::Ordering::Jacobi,
+        Some(OrderingArg::GaussSeidel) => system.ordering = cosim::system::Ordering::GaussSeidel,
+        Some(OrderingArg::Jacobi) => system.ordering = cosim::system::Ordering::Jacobi,
         None => {}
     }
     if let Some(note) = system.partial_last_step() {
@@ -527,7 +527,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         }));
     }
     if let Ok(simulation) = &simulation {
-        problems.extend(harness::requirements::unrecorded(
+        problems.extend(cosim::requirements::unrecorded(
             &requirements,
             simulation.column_names(),
         ));
@@ -550,7 +550,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     };
     let end = simulation.run(&mut trajectory)?;
     let format = format.expect("refused before the run");
-    harness::results::write(out, &trajectory, format)
+    cosim::results::write(out, &trajectory, format)
         .with_context(|| format!("writing {}", out.display()))?;
     let verdict = harness::verdict::judge(&trajectory, &end, &spec.envelope);
     println!(
@@ -562,14 +562,14 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         verdict.describe(spec.expect)
     );
     let mut exit_code = verdict.exit_code(spec.expect);
-    let judged = harness::requirements::judge(&requirements, &trajectory);
+    let judged = cosim::requirements::judge(&requirements, &trajectory);
     for j in &judged {
         println!("{}", j.describe());
         if !j.holds() {
             exit_code = exit_code.max(harness::verdict::EXIT_FAILED_VERDICT);
         }
     }
-    let suite = harness::requirements::junit::suite(
+    let suite = cosim::requirements::junit::suite(
         &simulation.system().name,
         started.elapsed().as_secs_f64(),
         (verdict.exit_code(spec.expect) == harness::verdict::EXIT_OK).then(String::new),

@@ -1,6 +1,6 @@
 //! Figures of merit of one descent, computed from a recorded trajectory: what the paper's
 //! comparison (and our acceptance test) looks at.
-use crate::master::Trajectory;
+use cosim::master::Trajectory;
 
 /// Column names the metrics read (instance names as in the shipped scenarios).
 pub struct Columns<'a> {

@@ -1,10 +1,10 @@
 //! `harness paper`: one scenario flown with each control law, compared.
-use crate::master::{MasterError, RunEnd, Simulation, Trajectory};
 use crate::metrics::{self, Metrics};
-use crate::requirements::{Judged, Requirement};
 use crate::scenarios::Law;
-use crate::system::SystemDescription;
 use crate::verdict::{self, Envelope, Verdict};
+use cosim::master::{MasterError, RunEnd, Simulation, Trajectory};
+use cosim::requirements::{Judged, Requirement};
+use cosim::system::SystemDescription;
 use std::path::Path;
 
 /// One law's flight.
@@ -31,7 +31,7 @@ pub fn fly_all(
     requirements: &[Requirement],
 ) -> anyhow::Result<Vec<Flight>> {
     let mut simulation = Simulation::new(system, fmu_dir)?;
-    let unrecorded = crate::requirements::unrecorded(requirements, simulation.column_names());
+    let unrecorded = cosim::requirements::unrecorded(requirements, simulation.column_names());
     if !unrecorded.is_empty() {
         anyhow::bail!("{}", unrecorded.join("\n"));
     }
@@ -50,8 +50,8 @@ pub fn scenario_law(system: &SystemDescription) -> Option<Law> {
     let gnc = system.instance("gnc")?;
     let (_, value) = gnc.parameters.iter().find(|(n, _)| n == "control_law")?;
     let code = match value {
-        crate::system::ParamValue::Integer(i) => *i,
-        crate::system::ParamValue::Real(x) if x.fract() == 0.0 => *x as i64,
+        cosim::system::ParamValue::Integer(i) => *i,
+        cosim::system::ParamValue::Real(x) if x.fract() == 0.0 => *x as i64,
         _ => return None,
     };
     Law::ALL.into_iter().find(|l| *l as i64 == code)
@@ -76,7 +76,7 @@ pub fn fly_judged(
     let target = crate::scenarios::terminal_target_nue(simulation.system());
     let metrics = metrics::compute(&trajectory, &Default::default(), target)?;
     let verdict = verdict::judge(&trajectory, &end, envelope);
-    let requirements = crate::requirements::judge(requirements, &trajectory);
+    let requirements = cosim::requirements::judge(requirements, &trajectory);
     Ok(Flight {
         law,
         end,
@@ -142,7 +142,7 @@ pub fn write_outputs(
     name: &str,
     summary: &str,
     plots: bool,
-    format: crate::results::Format,
+    format: cosim::results::Format,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
     std::fs::create_dir_all(dir)?;
     let mut written = Vec::new();
@@ -152,7 +152,7 @@ pub fn write_outputs(
             flight.law.name(),
             format.extension()
         ));
-        crate::results::write(&path, &flight.trajectory, format)?;
+        cosim::results::write(&path, &flight.trajectory, format)?;
         written.push(path);
     }
     let path = dir.join(format!("{name}-summary.txt"));

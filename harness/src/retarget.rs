@@ -3,11 +3,11 @@
 //! the lateral authority (`retarget_replan` = true) and with the target only moved (false).
 //! The figures of merit are about the divert: overshoot past the new site, final error,
 //! peak tilt, settling time (docs/retarget.md).
-use crate::master::{RunEnd, Simulation, Trajectory};
 use crate::paper::{self, Flight};
 use crate::scenarios::Law;
-use crate::system::{ParamValue, SystemDescription};
 use crate::verdict::Envelope;
+use cosim::master::{RunEnd, Simulation, Trajectory};
+use cosim::system::{ParamValue, SystemDescription};
 use std::path::{Path, PathBuf};
 
 /// The laws `harness retarget` compares: the paper's pair.
@@ -292,7 +292,7 @@ pub fn write_outputs(
     let mut written = Vec::new();
     for f in flights {
         let path = dir.join(format!("{name}-{}.csv", f.stem()));
-        crate::results::write(&path, &f.flight.trajectory, crate::results::Format::Csv)?;
+        cosim::results::write(&path, &f.flight.trajectory, cosim::results::Format::Csv)?;
         written.push(path);
     }
     let path = dir.join(format!("{name}-summary.txt"));

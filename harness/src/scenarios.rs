@@ -1,7 +1,7 @@
 //! The shipped scenarios and how a scenario argument is resolved: a built-in name,
 //! a TOML file, an SSP `.ssd` or an `.ssp` package.
-use crate::master::{MasterError, Simulation};
-use crate::system::{ssp, PackageDir, ParamValue, SystemDescription, SystemError};
+use cosim::master::{MasterError, Simulation};
+use cosim::system::{ssp, PackageDir, ParamValue, SystemDescription, SystemError};
 use std::path::Path;
 
 /// The `--scenario` help of the campaign commands, naming every built-in scenario.
@@ -46,7 +46,7 @@ pub fn not_found(name_or_path: &str, source: std::io::Error) -> SystemError {
         message: format!(
             "no such file, and no built-in scenario of that name{}; the built-in scenarios \
              (harness/scenarios/<name>.toml): {}",
-            crate::master::suggest::hint(name_or_path, names.iter().copied()),
+            cosim::suggest::hint(name_or_path, names.iter().copied()),
             names.join(", ")
         ),
     }
@@ -58,7 +58,7 @@ pub const TERMINAL_TARGET_NUE: [f64; 3] = [0.0, 150.0, 0.0];
 /// Where a scenario's flight should end, the point its terminal errors are measured from: the
 /// retarget site when the scenario commands a retarget, else the descent target it sets on
 /// its `gnc` instance (`descent_target_nue[k]`, each element defaulting to LanderGnc's).
-pub fn terminal_target_nue(system: &crate::system::SystemDescription) -> [f64; 3] {
+pub fn terminal_target_nue(system: &cosim::system::SystemDescription) -> [f64; 3] {
     if let Ok(command) = crate::retarget::RetargetCommand::of(system) {
         return command.site_nue;
     }

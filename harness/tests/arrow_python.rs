@@ -4,7 +4,7 @@
 //! here, equal to the CSV bit for bit.
 mod common;
 
-use harness::results::{read_arrow, read_csv};
+use cosim::results::{read_arrow, read_csv};
 use std::path::Path;
 use std::process::Command;
 

@@ -5,7 +5,7 @@
 //! matter) equals a replay that records everything, bit for bit.
 mod common;
 
-use harness::master::{Simulation, Trajectory};
+use cosim::master::{Simulation, Trajectory};
 use harness::montecarlo::campaign::{CampaignSpec, Shard};
 use harness::montecarlo::dispersion::DispersionRanges;
 use harness::montecarlo::{replay, runner};

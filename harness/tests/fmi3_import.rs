@@ -4,7 +4,7 @@
 //! runs, and FMI 3.0 input the harness cannot drive is refused before the run.
 mod common;
 
-use harness::loader::{CallError, FmiVersion, Fmu, InstanceOptions, StepStatus, VariableKind};
+use fmi_import::{CallError, FmiVersion, Fmu, InstanceOptions, StepStatus, VariableKind};
 use std::fs;
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{zip_dir, StubFmu};
-use harness::loader::{Fmu, LoadError};
+use fmi_import::{Fmu, LoadError};
 use std::fs;
 use std::io::Write;
 use tempfile::TempDir;

@@ -3,9 +3,9 @@
 //! values set on connected inputs refused, each problem named with a suggestion.
 mod common;
 
-use harness::master::{MasterError, Simulation, Trajectory};
+use cosim::master::{MasterError, Simulation, Trajectory};
+use cosim::system::{Connection, InstanceDesc, ParamValue, SystemDescription};
 use harness::scenarios;
-use harness::system::{Connection, InstanceDesc, ParamValue, SystemDescription};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -161,13 +161,13 @@ fn a_declared_feedthrough_loop_is_accepted_under_jacobi_ordering_where_every_lin
         }
     }
     let mut gauss_seidel = system.clone();
-    gauss_seidel.ordering = harness::system::Ordering::GaussSeidel;
+    gauss_seidel.ordering = cosim::system::Ordering::GaussSeidel;
     assert!(refused(gauss_seidel).contains("algebraic loop"));
     // WHEN it is resolved for Jacobi ordering THEN it is accepted and flies its first second
-    system.ordering = harness::system::Ordering::Jacobi;
+    system.ordering = cosim::system::Ordering::Jacobi;
     system.stop_time = 1.0;
     let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
-    let mut trajectory = harness::master::Trajectory::default();
+    let mut trajectory = cosim::master::Trajectory::default();
     simulation.run(&mut trajectory).unwrap();
     assert_eq!(trajectory.len(), 101);
 }

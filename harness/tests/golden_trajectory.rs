@@ -10,9 +10,9 @@
 //! Anything larger is a change of behaviour.
 mod common;
 
-use harness::master::{Simulation, Trajectory};
+use cosim::master::{Simulation, Trajectory};
+use cosim::results::{read_csv, write_csv};
 use harness::paper::fly;
-use harness::results::{read_csv, write_csv};
 use harness::scenarios::{self, Law};
 use std::path::PathBuf;
 

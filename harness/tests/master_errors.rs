@@ -2,9 +2,9 @@
 //! run the FMU refuses with the FMU's own log in the error.
 mod common;
 
-use harness::master::{MasterError, Simulation};
+use cosim::master::{MasterError, Simulation};
+use cosim::system::{Connection, ParamValue};
 use harness::scenarios;
-use harness::system::{Connection, ParamValue};
 
 #[test]
 fn unknown_names_and_type_mismatches_are_all_reported_before_the_run() {
@@ -48,7 +48,7 @@ fn a_refused_parameter_ends_the_run_with_the_fmu_log() {
     let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
     // WHEN the run starts
     let error = simulation
-        .run(&mut harness::master::Trajectory::default())
+        .run(&mut cosim::master::Trajectory::default())
         .unwrap_err();
     // THEN the error chain carries the FMU's log line naming the parameter
     let text = format!("{:#}", anyhow::Error::from(error));

@@ -3,9 +3,9 @@
 //! written from it flies the same, and an error switched on does reach the GNC.
 mod common;
 
-use harness::master::{RunEnd, Simulation, Trajectory};
+use cosim::master::{RunEnd, Simulation, Trajectory};
+use cosim::system::{toml_format, ParamValue, SystemDescription};
 use harness::scenarios;
-use harness::system::{toml_format, ParamValue, SystemDescription};
 use std::path::{Path, PathBuf};
 
 fn nav_scenario() -> SystemDescription {
@@ -130,7 +130,7 @@ fn under_jacobi_ordering_the_estimate_is_one_step_late() {
     // after the previous step)
     let mut system = nav_scenario();
     system.stop_time = 5.0;
-    system.ordering = harness::system::Ordering::Jacobi;
+    system.ordering = cosim::system::Ordering::Jacobi;
     let (_, run) = fly(system);
     // THEN what LanderNav shows at t_k+1 is the plant's state at t_k (up to the last
     // point, which the master records after one more exchange)

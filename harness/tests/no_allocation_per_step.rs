@@ -4,9 +4,9 @@
 //! does not grow with its length, so a per-step allocation shows up as a difference of N.
 mod common;
 
-use harness::master::{Recorder, Simulation, Trajectory};
+use cosim::master::{Recorder, Simulation, Trajectory};
+use cosim::system::SystemDescription;
 use harness::scenarios;
-use harness::system::SystemDescription;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;

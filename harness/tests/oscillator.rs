@@ -3,7 +3,7 @@
 mod common;
 
 use common::{oscillator_fmu, unzip_to};
-use harness::loader::{CallError, Failure, Fmu, Instance, Status, StepStatus, Success};
+use fmi_import::{CallError, Failure, Fmu, Instance, Status, StepStatus, Success};
 use tempfile::TempDir;
 
 const STEP_S: f64 = 0.01;

@@ -16,10 +16,10 @@
 //!   positions must agree to rounding; in practice they are bit-identical.
 mod common;
 
-use harness::master::Simulation;
+use cosim::master::Simulation;
+use cosim::system::ParamValue;
 use harness::paper::{fly, Flight};
 use harness::scenarios::{self, Law};
-use harness::system::ParamValue;
 
 fn simulation(scenario: &str, phi_cmd_deg: Option<f64>) -> Simulation {
     let mut system = scenarios::load(scenario).unwrap();

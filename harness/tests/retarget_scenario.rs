@@ -74,7 +74,7 @@ fn harness_run_retarget_flies_the_built_in_scenario() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(0), "{stdout}");
     assert!(stdout.contains("completed at t = 230.00 s"), "{stdout}");
-    let trajectory = harness::results::read_csv(&out).unwrap();
+    let trajectory = cosim::results::read_csv(&out).unwrap();
     let north = trajectory.column("plant.r_nue[1]").unwrap();
     assert!(
         (north.last().unwrap() - 30.0).abs() < 0.05,
@@ -87,7 +87,7 @@ fn harness_run_retarget_flies_the_built_in_scenario() {
 fn the_paper_comparison_measures_a_retargeted_flight_from_its_new_site() {
     // GIVEN the retarget scenario flown as `harness paper` flies it
     let system = harness::scenarios::load("retarget").unwrap();
-    let mut simulation = harness::master::Simulation::new(system, &common::fmu_dir()).unwrap();
+    let mut simulation = cosim::master::Simulation::new(system, &common::fmu_dir()).unwrap();
     let flight = harness::paper::fly(&mut simulation, Law::Decoupled).unwrap();
     // THEN its terminal error is counted from the new site (30 m North), not the old one
     assert!(

@@ -3,7 +3,7 @@
 //! TOML with `UPDATE_SSD=1 cargo test -p harness --test ssp_scenario`.
 mod common;
 
-use harness::master::{Simulation, Trajectory};
+use cosim::master::{Simulation, Trajectory};
 use harness::scenarios;
 use std::path::PathBuf;
 

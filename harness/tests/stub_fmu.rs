@@ -2,7 +2,7 @@
 mod common;
 
 use common::{StubFmu, STUB_DESCRIPTION};
-use harness::loader::{
+use fmi_import::{
     CallError, Failure, Fmu, LoadError, Status, StepStatus, Success, VariableError, VariableKind,
 };
 
@@ -18,7 +18,7 @@ fn chain(error: &dyn std::error::Error) -> String {
     text
 }
 
-fn initialized(fmu: &Fmu, name: &str) -> harness::Instance {
+fn initialized(fmu: &Fmu, name: &str) -> fmi_import::Instance {
     let mut instance = fmu.instantiate(name, true).expect("instantiate");
     instance.setup_experiment(None, 0.0, None).unwrap();
     instance.enter_initialization_mode().unwrap();

@@ -27,7 +27,7 @@ unsafe fn nested_free(c: fmi2Component) -> fmi2Status {
     fmi2Error
 }
 unsafe fn nested_step(c: fmi2Component) -> fmi2Status {
-    unsafe { (FMU.do_step)(c, 0.0, 0.01, fmi2True) }
+    unsafe { (FMU.co_simulation.do_step)(c, 0.0, 0.01, fmi2True) }
 }
 unsafe fn nested_get(c: fmi2Component) -> fmi2Status {
     let (vr, mut x) = (5u32, 0.0);
@@ -52,7 +52,7 @@ unsafe fn nested_enter_init(c: fmi2Component) -> fmi2Status {
 }
 unsafe fn nested_status(c: fmi2Component) -> fmi2Status {
     let mut status = fmi2OK;
-    unsafe { (FMU.get_status)(c, fmi2DoStepStatus, &mut status) }
+    unsafe { (FMU.co_simulation.get_status)(c, fmi2DoStepStatus, &mut status) }
 }
 
 const NESTED: [(&str, Nested); 10] = [
@@ -189,11 +189,11 @@ fn initialize(c: fmi2Component) -> fmi2Status {
 }
 fn coarse_step(c: fmi2Component) -> fmi2Status {
     // Not armed during initialization: only the warning of the step re-enters.
-    unsafe { (FMU.do_step)(c, 0.0, 100.0, fmi2True) }
+    unsafe { (FMU.co_simulation.do_step)(c, 0.0, 100.0, fmi2True) }
 }
 fn illegal_step(c: fmi2Component) -> fmi2Status {
     // fmi2DoStep before initialization: an error.
-    unsafe { (FMU.do_step)(c, 0.0, 0.01, fmi2True) }
+    unsafe { (FMU.co_simulation.do_step)(c, 0.0, 0.01, fmi2True) }
 }
 
 const PATHS: [Path; 4] = [
@@ -308,17 +308,23 @@ fn the_step_finished_callback_is_never_called() {
     assert_eq!(initialize(c), fmi2OK);
     for k in 0..5 {
         let t = f64::from(k) * 0.01;
-        assert_eq!(unsafe { (FMU.do_step)(c, t, 0.01, fmi2True) }, fmi2OK);
+        assert_eq!(
+            unsafe { (FMU.co_simulation.do_step)(c, t, 0.01, fmi2True) },
+            fmi2OK
+        );
     }
-    assert_eq!(unsafe { (FMU.do_step)(c, 1.0, 0.01, fmi2True) }, fmi2Error);
+    assert_eq!(
+        unsafe { (FMU.co_simulation.do_step)(c, 1.0, 0.01, fmi2True) },
+        fmi2Error
+    );
     assert_eq!(coarse_step_from(c, 0.05), fmi2Warning);
     let mut status = fmi2OK;
-    unsafe { (FMU.get_status)(c, fmi2DoStepStatus, &mut status) };
+    unsafe { (FMU.co_simulation.get_status)(c, fmi2DoStepStatus, &mut status) };
     // THEN the callback never ran
     assert_eq!(STEP_FINISHED_CALLS.load(Ordering::SeqCst), 0);
     unsafe { (FMU.free_instance)(c) };
 }
 
 fn coarse_step_from(c: fmi2Component, t: f64) -> fmi2Status {
-    unsafe { (FMU.do_step)(c, t, 100.0, fmi2False) }
+    unsafe { (FMU.co_simulation.do_step)(c, t, 100.0, fmi2False) }
 }

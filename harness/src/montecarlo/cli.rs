@@ -223,10 +223,10 @@ fn check_campaign_size(spec: &CampaignSpec, shard: Shard) -> anyhow::Result<()> 
     let flights = shard.len(spec.flight_count());
     let row_bytes = (std::mem::size_of::<Row>() + ROW_HEAP_BYTES) as f64;
     let memory = flights as f64 * row_bytes;
-    let Some(available) = crate::memory::available_bytes() else {
+    let Some(available) = cosim::memory::available_bytes() else {
         return Ok(());
     };
-    let usable = crate::memory::USABLE_FRACTION * available;
+    let usable = cosim::memory::USABLE_FRACTION * available;
     if memory > usable {
         anyhow::bail!(
             "{flights} flights ({} runs x {} phi_cmd x {} laws{}) are too many for one \
@@ -334,7 +334,7 @@ pub fn merge_mc(args: &MergeArgs) -> anyhow::Result<i32> {
 
 pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
     // Before the flight: a name that is no result format is refused at once.
-    let format = crate::results::Format::for_output(&args.out, None).map_err(anyhow::Error::msg)?;
+    let format = cosim::results::Format::for_output(&args.out, None).map_err(anyhow::Error::msg)?;
     if args.manifest.is_none() {
         check_phi_cmd_deg(&[args.phi_cmd_deg])?;
     }
@@ -380,7 +380,7 @@ pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
             row.flight.phi_cmd_deg
         );
     }
-    crate::results::write(&args.out, &trajectory, format)?;
+    cosim::results::write(&args.out, &trajectory, format)?;
     let m = &row.metrics;
     let end = match &row.end {
         manifest::End::Terminated { instance } => format!("stopped by '{instance}'"),

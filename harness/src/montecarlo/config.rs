@@ -132,7 +132,7 @@ impl CampaignFile {
 }
 
 /// The versions of the harness and of the FMUs of a loaded simulation.
-pub fn versions(simulation: &crate::master::Simulation) -> Versions {
+pub fn versions(simulation: &cosim::master::Simulation) -> Versions {
     Versions {
         harness: env!("CARGO_PKG_VERSION").to_owned(),
         fmu: simulation

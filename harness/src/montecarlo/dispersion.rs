@@ -9,7 +9,7 @@
 //! also when its range is zero, so setting one range to zero leaves all other draws of
 //! every run unchanged.
 use super::attitude::{self, Quat};
-use crate::system::{ParamValue, SystemDescription};
+use cosim::system::{ParamValue, SystemDescription};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::TAU;

@@ -3,10 +3,10 @@
 use super::campaign::Flight;
 use super::dispersion::{Dispersion, DispersionRanges, Nominal};
 use super::manifest::{End, Judged, Row};
-use crate::master::{RunEnd, Simulation, Trajectory};
 use crate::metrics::{self, Metrics};
-use crate::system::{ParamValue, SystemDescription};
 use crate::verdict::{self, Spec};
+use cosim::master::{RunEnd, Simulation, Trajectory};
+use cosim::system::{ParamValue, SystemDescription};
 use model_description::StartValue;
 use std::path::Path;
 
@@ -41,7 +41,7 @@ pub struct Flyer {
     /// verdict and the touchdown metrics read.
     last: Trajectory,
     /// The scenario's requirements: a flight that violates one did not end as expected.
-    requirements: Vec<crate::requirements::Requirement>,
+    requirements: Vec<cosim::requirements::Requirement>,
 }
 
 impl Flyer {
@@ -109,10 +109,10 @@ impl Flyer {
     /// [`campaign_system`] records them).
     pub fn with_requirements(
         mut self,
-        requirements: Vec<crate::requirements::Requirement>,
+        requirements: Vec<cosim::requirements::Requirement>,
     ) -> anyhow::Result<Self> {
         let problems =
-            crate::requirements::unrecorded(&requirements, self.simulation.column_names());
+            cosim::requirements::unrecorded(&requirements, self.simulation.column_names());
         anyhow::ensure!(problems.is_empty(), "{}", problems.join("\n"));
         self.requirements = requirements;
         Ok(self)
@@ -200,7 +200,7 @@ impl Flyer {
         )?;
         let mut judged = Judged::of(&judged, self.spec.expect);
         let violated: Vec<String> =
-            crate::requirements::judge(&self.requirements, &self.trajectory)
+            cosim::requirements::judge(&self.requirements, &self.trajectory)
                 .iter()
                 .filter(|r| !r.holds())
                 .map(|r| r.describe())
@@ -236,7 +236,7 @@ pub fn campaign_system(
         None
     } else {
         let mut record: Vec<String> = METRIC_COLUMNS.iter().map(|c| c.to_string()).collect();
-        crate::requirements::record_signals(
+        cosim::requirements::record_signals(
             &mut record,
             &verdict::scenario::requirements(scenario)?,
         );

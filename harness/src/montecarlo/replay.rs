@@ -6,7 +6,7 @@ use super::dispersion::DispersionRanges;
 use super::flight::{campaign_system, Flyer};
 use super::manifest::{self, Row};
 use super::runner::locate;
-use crate::master::Trajectory;
+use cosim::master::Trajectory;
 use std::path::Path;
 
 /// Flies `flight` of a campaign on `scenario` with `ranges`, recording every output.

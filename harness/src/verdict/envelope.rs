@@ -105,7 +105,7 @@ pub fn split_scenario(text: &str) -> Result<(String, Spec), String> {
         .map_err(|e| e.to_string())
         .and_then(|mut table| {
             let verdict = table.remove("verdict");
-            // Requirements are read by `crate::requirements::from_toml`.
+            // Requirements are read by `cosim::requirements::from_toml`.
             table.remove("requirement");
             let mut only = toml::Table::new();
             if let Some(v) = verdict {

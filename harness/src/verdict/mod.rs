@@ -13,7 +13,7 @@ pub mod scenario;
 
 pub use envelope::{Envelope, Expect, Spec};
 
-use crate::master::{RunEnd, Trajectory};
+use cosim::master::{RunEnd, Trajectory};
 use std::fmt;
 
 pub const EXIT_OK: i32 = 0;

@@ -2,7 +2,7 @@
 //! scenario (built-in or file); an SSP `.ssd` has none and gets the defaults.
 use super::envelope::{split_scenario, Spec};
 use crate::scenarios::{self, BUILT_IN};
-use crate::system::{toml_format, SystemDescription, SystemError};
+use cosim::system::{toml_format, SystemDescription, SystemError};
 use std::path::Path;
 
 /// The TOML text of a built-in scenario or a `.toml` file; `None` for anything else.
@@ -61,11 +61,11 @@ pub fn read_toml(path: &Path) -> Result<SystemDescription, SystemError> {
 /// The `[[requirement]]` entries of a scenario (none for an SSP file).
 pub fn requirements(
     name_or_path: &str,
-) -> Result<Vec<crate::requirements::Requirement>, SystemError> {
+) -> Result<Vec<cosim::requirements::Requirement>, SystemError> {
     match toml_text(name_or_path)? {
         None => Ok(Vec::new()),
         Some((origin, text)) => {
-            crate::requirements::from_toml(&text).map_err(|message| SystemError::Syntax {
+            cosim::requirements::from_toml(&text).map_err(|message| SystemError::Syntax {
                 path: origin.into(),
                 message,
             })

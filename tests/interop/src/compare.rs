@@ -1,5 +1,5 @@
 //! Trajectories compared at every communication point: the largest difference per variable.
-use harness::master::Trajectory;
+use cosim::master::Trajectory;
 use std::fmt;
 
 /// One column's agreement over all paired rows.

@@ -9,8 +9,8 @@
 pub mod compare;
 pub mod python;
 
-use harness::master::{Conventions, Simulation, Trajectory};
-use harness::system::{ParamValue, SystemDescription};
+use cosim::master::{Conventions, Simulation, Trajectory};
+use cosim::system::{ParamValue, SystemDescription};
 use std::path::{Path, PathBuf};
 
 pub use system_tests::{fmu_dir, fmu_path, workspace_root};
@@ -132,7 +132,7 @@ pub fn system_json(system: &SystemDescription) -> serde_json::Value {
                 .collect();
             serde_json::json!({
                 "name": instance.name,
-                "fmu": harness::master::fmu_path(&fmu_dir(), &instance.fmu),
+                "fmu": cosim::master::fmu_path(&fmu_dir(), &instance.fmu),
                 "parameters": parameters,
             })
         })
@@ -161,7 +161,7 @@ pub fn write_json(json: &serde_json::Value, dir: &Path) -> PathBuf {
 
 /// Reads a CSV a Python master wrote (the harness's format).
 pub fn read_trajectory(path: &Path) -> Trajectory {
-    harness::results::read_csv(path).unwrap_or_else(|e| panic!("{}: {e:#}", path.display()))
+    cosim::results::read_csv(path).unwrap_or_else(|e| panic!("{}: {e:#}", path.display()))
 }
 
 /// A scratch folder removed on drop.

@@ -8,10 +8,10 @@
 //! bounds (the values listed in its description).
 //!
 //! Ecos needs the Debian package libtbb12 (installed by `cargo xtask test`).
-use harness::loader::VariableKind;
-use harness::master::Conventions;
-use harness::system::Ordering;
-use harness::Fmu;
+use cosim::master::Conventions;
+use cosim::system::Ordering;
+use fmi_import::Fmu;
+use fmi_import::VariableKind;
 use interop_tests::compare::assert_identical_after_steps;
 use interop_tests::{
     fmu_dir, python, read_trajectory, run_harness, scenario, scratch, ssp_path, PLANT_NAVIGATION,

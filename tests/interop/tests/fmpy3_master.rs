@@ -8,7 +8,7 @@
 //! Tolerance: none. The FMI 3.0 and 2.0 layers sit on the same declarations and the same
 //! model code in the same library; the masters exchange the same values in the same order
 //! at the same communication points. Every recorded value must be bit-identical.
-use harness::system::Ordering;
+use cosim::system::Ordering;
 use interop_tests::compare::compare;
 use interop_tests::{
     python, read_trajectory, run_harness, scenario, scratch, write_system_json, PLANT_NAVIGATION,

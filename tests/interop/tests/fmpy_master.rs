@@ -7,7 +7,7 @@
 //! Rust) and record every output; the FMUs are deterministic functions of those calls. So
 //! every recorded value must be bit-identical, and any difference is a real divergence in
 //! the masters' semantics, not rounding.
-use harness::master::Trajectory;
+use cosim::master::Trajectory;
 use interop_tests::compare::compare;
 use interop_tests::{
     paper_with_navigation_errors, python, read_trajectory, run_harness, scenario, scratch,
@@ -17,7 +17,7 @@ use interop_tests::{
 /// `system` flown by fmpy_master.py; asserts that it records the same rows, times and columns
 /// as `reference` and that every value is bit-identical.
 fn fmpy_flies_it_like_the_harness(
-    system: &harness::system::SystemDescription,
+    system: &cosim::system::SystemDescription,
     reference: &Trajectory,
     title: &str,
 ) {

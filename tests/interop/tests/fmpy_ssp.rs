@@ -9,8 +9,8 @@
 //! the tolerance, the harness reproduces those conventions
 //! (`Ordering::Jacobi` + `Conventions::FMPY_SIMULATE_SSP`), and the trajectories must then
 //! be bit-identical.
-use harness::master::Conventions;
-use harness::system::Ordering;
+use cosim::master::Conventions;
+use cosim::system::Ordering;
 use interop_tests::compare::{assert_identical_after_steps, compare};
 use interop_tests::{
     python, read_trajectory, run_harness, scratch, ssp_path, unpacked_ssp, PLANT_NAVIGATION,

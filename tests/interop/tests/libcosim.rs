@@ -12,8 +12,8 @@
 //! libcosim (0.x, as wrapped by libcosimpy 0.0.6) ignores FMI 2.0 Enumeration variables, so
 //! it cannot set LanderGnc's `control_law`; the paper scenario uses its start value (2,
 //! decoupled), and the API script refuses any other value rather than dropping it.
-use harness::master::Conventions;
-use harness::system::Ordering;
+use cosim::master::Conventions;
+use cosim::system::Ordering;
 use interop_tests::compare::{assert_identical_after_steps, compare};
 use interop_tests::{
     paper_with_navigation_errors, python, read_trajectory, run_harness, scenario, scratch,

@@ -81,7 +81,7 @@ fn embedding_env() -> Vec<(String, String)> {
 
 /// Hover at the terminal target reached: within 0.5 m of 150 m altitude and 1 m of the
 /// vertical through the site, nearly at rest.
-fn assert_hovering_at_150_m(trajectory: &harness::master::Trajectory, who: &str) {
+fn assert_hovering_at_150_m(trajectory: &cosim::master::Trajectory, who: &str) {
     let last = |name: &str| *trajectory.column(name).unwrap().last().unwrap();
     let (north, up, east) = (
         last("plant.r_nue[1]"),

@@ -1,6 +1,6 @@
 //! `target/fmu/LanderDescent.ssp`, written by `cargo xtask fmus`: what it holds, and fmpy's
 //! SSP reader accepting it with schema validation on.
-use harness::system::ParamValue;
+use cosim::system::ParamValue;
 use interop_tests::{fmu_path, python, scenario, ssp_path, workspace_root};
 use std::io::Read;
 

@@ -134,6 +134,10 @@ macro_rules! call {
         // SAFETY: `c` is live; every pointer argument is valid as the standard requires.
         unsafe { ($self.fmu.api.$f)($self.c $(, $arg)*) }
     };
+    (co_simulation: $self:ident . $f:ident ( $($arg:expr),* )) => {
+        // SAFETY: as above.
+        unsafe { ($self.fmu.api.co_simulation.$f)($self.c $(, $arg)*) }
+    };
 }
 
 impl Instance<'_> {
@@ -175,7 +179,7 @@ impl Instance<'_> {
     }
 
     pub fn step(&self, t: f64, h: f64) -> fmi2Status {
-        call!(self.do_step(t, h, 1))
+        call!(co_simulation: self.do_step(t, h, 1))
     }
 
     pub fn set_debug_logging(&self, on: bool, categories: &[&CStr]) -> fmi2Status {
@@ -283,7 +287,7 @@ impl Instance<'_> {
 
     pub fn real_status(&self, kind: fmi2StatusKind) -> (fmi2Status, f64) {
         let mut value = f64::NAN;
-        let status = call!(self.get_real_status(kind, &mut value));
+        let status = call!(co_simulation: self.get_real_status(kind, &mut value));
         (status, value)
     }
 

@@ -195,7 +195,7 @@ impl Call {
             Call::GetReal => inst.get_reals(&[input]).0,
             Call::LastSuccessfulTime => inst.real_status(fmi2LastSuccessfulTime).0,
             // SAFETY: a live component.
-            Call::CancelStep => unsafe { (inst.fmu.api.cancel_step)(inst.c) },
+            Call::CancelStep => unsafe { (inst.fmu.api.co_simulation.cancel_step)(inst.c) },
         }
     }
 }
@@ -703,7 +703,7 @@ fn a_null_or_foreign_component_is_refused_without_a_crash() {
         for c in [ptr::null_mut(), not_an_instance.as_ptr() as fmi2Component] {
             // SAFETY: NULL or readable memory that is not an instance: what is being tested.
             unsafe {
-                assert_eq!((fmu.api.do_step)(c, 0.0, 0.01, 1), fmi2Error);
+                assert_eq!((fmu.api.co_simulation.do_step)(c, 0.0, 0.01, 1), fmi2Error);
                 assert_eq!((fmu.api.reset)(c), fmi2Error);
                 assert_eq!((fmu.api.enter_initialization_mode)(c), fmi2Error);
                 (fmu.api.free_instance)(c);

@@ -1,7 +1,7 @@
 //! Both FMUs in the harness's own master: the paper scenario, and a Monte Carlo campaign.
 use crate::record::paper_system;
 use anyhow::{ensure, Result};
-use harness::master::{RunEnd, Simulation, Trajectory};
+use cosim::master::{RunEnd, Simulation, Trajectory};
 use harness::montecarlo::campaign::{CampaignSpec, Shard};
 use harness::montecarlo::dispersion::DispersionRanges;
 use harness::montecarlo::runner::{self, RunOptions};

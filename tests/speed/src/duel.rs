@@ -10,7 +10,7 @@ use crate::replay::{
     plant_cycles, plant_steps, timer_cost, BatchMeans, BATCH_STEPS, TIMER_BATCHES,
 };
 use anyhow::{ensure, Result};
-use harness::loader::Fmu;
+use fmi_import::Fmu;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

@@ -15,7 +15,7 @@
 
 use anyhow::{ensure, Context, Result};
 use clap::{Parser, Subcommand};
-use harness::loader::Fmu;
+use fmi_import::Fmu;
 use speed_bench::closed_loop::{monte_carlo, paper_flights};
 use speed_bench::duel::{self, Duel};
 use speed_bench::python::{self, PythonEnv};

@@ -87,7 +87,7 @@ pub fn fmpy_flights(
     let mut system = record.system.clone();
     for instance in &mut system.instances {
         // Absolute, so the JSON names the FMUs measured here whatever the default folder.
-        instance.fmu = harness::master::fmu_path(fmu_dir, &instance.fmu).canonicalize()?;
+        instance.fmu = cosim::master::fmu_path(fmu_dir, &instance.fmu).canonicalize()?;
     }
     let scratch = tempfile::Builder::new().prefix("speed-fmpy-").tempdir()?;
     let spec = interop_tests::write_system_json(&system, scratch.path());

@@ -3,8 +3,8 @@
 //! phase of the flight included (hover, the guidance re-solves of the descent, the final
 //! hover), and a plant written by someone else can be fed exactly the same commands.
 use anyhow::{ensure, Context, Result};
-use harness::master::{RunEnd, Simulation, Trajectory};
-use harness::system::{ParamValue, SystemDescription};
+use cosim::master::{RunEnd, Simulation, Trajectory};
+use cosim::system::{ParamValue, SystemDescription};
 use std::path::Path;
 
 /// LanderPlant's outputs = LanderGnc's inputs (docs/interface.md), in this order.

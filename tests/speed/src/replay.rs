@@ -9,8 +9,8 @@
 //! pass, so the measured work is the stepping alone.
 use crate::record::{PaperRecord, COMMANDS, GNC, NAVIGATION, PLANT};
 use anyhow::{bail, ensure, Context, Result};
-use harness::loader::{Fmu, Instance, StepStatus, VariableKind};
-use harness::master::set_parameter;
+use cosim::master::set_parameter;
+use fmi_import::{Fmu, Instance, StepStatus, VariableKind};
 use std::time::{Duration, Instant};
 
 /// Steps per timed batch: one second of the flight.

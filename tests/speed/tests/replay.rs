@@ -1,6 +1,6 @@
 //! The replay checks that make rows 1 and 2 mean "the paper flight": they pass on the
 //! recorded flight and fail when the inputs differ from it by a single step or a single bit.
-use harness::loader::Fmu;
+use fmi_import::Fmu;
 use speed_bench::record::PaperRecord;
 use speed_bench::replay::{gnc_cycles, plant_cycles, plant_steps};
 

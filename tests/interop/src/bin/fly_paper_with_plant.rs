@@ -10,7 +10,7 @@
 #![deny(unsafe_code)]
 
 use anyhow::{bail, Context, Result};
-use harness::master::{Simulation, Trajectory};
+use cosim::master::{Simulation, Trajectory};
 use std::path::PathBuf;
 
 fn main() -> Result<()> {
@@ -29,7 +29,7 @@ fn main() -> Result<()> {
         ..Default::default()
     };
     let end = simulation.run(&mut trajectory)?;
-    harness::results::write_csv(out_csv.as_ref(), &trajectory)?;
+    cosim::results::write_csv(out_csv.as_ref(), &trajectory)?;
     println!("fly_paper_with_plant: {} rows, {end:?}", trajectory.len());
     Ok(())
 }

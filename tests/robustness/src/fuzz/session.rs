@@ -445,7 +445,9 @@ impl<'a> Session<'a> {
                     Resolved::Instance(i, c) => (c, Some(i)),
                     Resolved::NotInstance(c) => (c, None),
                 };
-                let status = dog.watch("fmi2CancelStep", || unsafe { (api.cancel_step)(c) });
+                let status = dog.watch("fmi2CancelStep", || unsafe {
+                    (api.co_simulation.cancel_step)(c)
+                });
                 self.finish(
                     "fmi2CancelStep",
                     slot,
@@ -730,7 +732,7 @@ impl<'a> Session<'a> {
                 let orders = vec![*order; vrs.len()];
                 let values = vec![*value; vrs.len()];
                 let status = dog.watch("fmi2SetRealInputDerivatives", || unsafe {
-                    (api.set_real_input_derivatives)(
+                    (api.co_simulation.set_real_input_derivatives)(
                         c,
                         vrs.as_ptr(),
                         vrs.len(),
@@ -753,7 +755,7 @@ impl<'a> Session<'a> {
                 let orders = vec![*order; vrs.len()];
                 let mut values = vec![0.0; vrs.len()];
                 let status = dog.watch("fmi2GetRealOutputDerivatives", || unsafe {
-                    (api.get_real_output_derivatives)(
+                    (api.co_simulation.get_real_output_derivatives)(
                         c,
                         vrs.as_ptr(),
                         vrs.len(),
@@ -784,7 +786,7 @@ impl<'a> Session<'a> {
                     TimeArg::Raw(x) => *x,
                 };
                 let status = dog.watch("fmi2DoStep", || unsafe {
-                    (api.do_step)(c, t, *h, *no_set_prior)
+                    (api.co_simulation.do_step)(c, t, *h, *no_set_prior)
                 });
                 let must_fail = if !(h.is_finite() && *h > 0.0) {
                     Some("the step size is not a finite positive number")
@@ -1248,7 +1250,10 @@ impl<'a> Session<'a> {
                 } else {
                     $v as *mut _
                 };
-                (dog.watch($name, || unsafe { (api.$f)(c, kind, p) }), $name)
+                (
+                    dog.watch($name, || unsafe { (api.co_simulation.$f)(c, kind, p) }),
+                    $name,
+                )
             }};
         }
         let (status, function) = match which {
@@ -1331,9 +1336,9 @@ impl<'a> Session<'a> {
                 }
             }
             self.finish("fmi2GetReal", Some(i), status, None)?;
-            let status = self
-                .dog
-                .watch("fmi2DoStep", || unsafe { (api.do_step)(c, t, STEP_S, 1) });
+            let status = self.dog.watch("fmi2DoStep", || unsafe {
+                (api.co_simulation.do_step)(c, t, STEP_S, 1)
+            });
             match status {
                 fmi2OK | fmi2Warning => self.slot_mut(i).time = t + STEP_S,
                 fmi2Discard => self.refresh_time(i),

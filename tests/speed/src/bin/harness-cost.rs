@@ -1,7 +1,7 @@
 //! What the harness's master costs on top of the FMUs, in instructions (callgrind), for the
 //! paper flight (172 s, 17,200 steps):
 //!
-//! - `direct`: both FMUs driven through the loader (`harness::Fmu`/`Instance`, C ABI) by a
+//! - `direct`: both FMUs driven through the loader (`fmi_import::Fmu`/`Instance`, C ABI) by a
 //!   hand-written Gauss-Seidel loop with the harness's exchange: per step, set the
 //!   controller's 14 inputs, get its 4 commands, set the plant's 4 inputs, step both, get the
 //!   plant's 14 outputs. Nothing recorded. This is the floor any master pays.
@@ -21,9 +21,9 @@
 #![deny(unsafe_code)]
 
 use anyhow::{bail, ensure, Context, Result};
-use harness::loader::{Fmu, Instance, StepStatus};
-use harness::master::{set_parameter, RunEnd, Simulation, Trajectory};
-use harness::system::SystemDescription;
+use cosim::master::{set_parameter, RunEnd, Simulation, Trajectory};
+use cosim::system::SystemDescription;
+use fmi_import::{Fmu, Instance, StepStatus};
 use speed_bench::record::{paper_system, COMMANDS, GNC, NAVIGATION, PLANT};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -98,11 +98,9 @@ fn master(fmu_dir: &Path, mut system: SystemDescription, mode: &str) -> Result<V
     let end = measured_region(|| -> Result<RunEnd> {
         let end = simulation.run(&mut trajectory)?;
         match mode {
-            "master-csv" => {
-                harness::results::write_csv(&scratch.path().join("r.csv"), &trajectory)?
-            }
+            "master-csv" => cosim::results::write_csv(&scratch.path().join("r.csv"), &trajectory)?,
             "master-arrow" => {
-                harness::results::write_arrow(&scratch.path().join("r.arrow"), &trajectory)?
+                cosim::results::write_arrow(&scratch.path().join("r.arrow"), &trajectory)?
             }
             _ => {}
         }

@@ -7,7 +7,7 @@
 //! both. Each scalar's `valueReference` in the view is its position in the view, an *element
 //! reference*; [`Element`] maps it back to the FMI 3.0 value reference and the element's
 //! place in its array.
-use super::super::error::LoadError;
+use crate::error::LoadError;
 use model_description::fmi3::{Fmi3ModelDescription, Fmi3Type, Fmi3Variable};
 use model_description::{
     BooleanVariable, CoSimulation, DefaultExperiment, EnumerationItem, EnumerationType,

@@ -1,10 +1,10 @@
 //! FMI 3.0 Co-Simulation: the model description's scalar view, the entry points, and the
 //! instance backend of [`super::Instance`].
-mod functions;
+
 mod instance;
 mod view;
 
-pub(crate) use functions::Fmi3Functions;
+use crate::binary::Fmi3Functions;
 pub(crate) use instance::Fmi3Instance;
 pub(crate) use view::{scalar_view, Element, Starts};
 
@@ -16,12 +16,6 @@ pub(crate) struct Fmi3Api {
     pub(crate) elements: Vec<Element>,
     pub(crate) starts: Starts,
     pub(crate) description: model_description::fmi3::Fmi3ModelDescription,
-}
-
-impl std::fmt::Debug for Fmi3Functions {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Fmi3Functions")
-    }
 }
 
 /// The FMI 3.0 platform folder of this host (`binaries/<platform>/`) and the library suffix.

@@ -1,8 +1,12 @@
-//! Loads FMI 2.0 and FMI 3.0 Co-Simulation FMUs through their C ABI, as any FMI master does,
-//! behind one [`Instance`] type (an FMI 2.0 or an FMI 3.0 backend).
+//! The workspace's FMI importer: loads FMI 2.0 and FMI 3.0 FMUs through their C ABI, as any
+//! FMI master does, behind one [`Instance`] type (an FMI 2.0 or an FMI 3.0 backend); and the
+//! tables of the standard's entry points ([`tables`]) that every caller of a binary resolves,
+//! this importer, the test kit and the speed tests alike.
+//!
+//! This crate and `tables` are the only places of the importer with `unsafe`.
 //!
 //! ```no_run
-//! use harness::loader::{Fmu, StepStatus};
+//! use fmi_import::{Fmu, StepStatus};
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let fmu = Fmu::load("target/fmu/Oscillator.fmu")?;
 //! let mut oscillator = fmu.instantiate("oscillator", false)?;
@@ -21,15 +25,17 @@
 //! # }
 //! ```
 mod archive;
+mod binary;
 mod error;
 mod ffi;
 mod fmi2;
 mod fmi3;
 mod fmu;
-mod functions;
 mod instance;
 mod logger;
+mod model_exchange;
 mod status;
+pub mod tables;
 mod variables;
 
 pub use error::{CallError, FmiError, LoadError, VariableError};
@@ -37,5 +43,8 @@ pub use fmu::{FmiVersion, Fmu};
 pub use instance::{FmuState, Instance, InstanceOptions};
 pub use logger::{FmuLog, LogMessage, LOG_CAPACITY};
 pub use model_description::VariableKind;
+pub use model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
 pub use status::{Failure, Status, StepStatus, Success};
+pub use tables::fmi2::{Fmi2CoSimulation, Fmi2Common, Fmi2ModelExchange};
+pub use tables::fmi3::{Fmi3CoSimulation, Fmi3Common, Fmi3ModelExchange};
 pub use variables::VariableInfo;

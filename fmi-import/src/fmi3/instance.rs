@@ -1,4 +1,4 @@
-//! The FMI 3.0 backend of [`crate::loader::Instance`]: one Co-Simulation instance, with the
+//! The FMI 3.0 backend of [`crate::Instance`]: one Co-Simulation instance, with the
 //! state it is in, so that only call orders the standard allows reach the FMU.
 //!
 //! - Values travel by *element reference* (the scalar view's value reference, see
@@ -17,12 +17,12 @@
 //!   (`terminateSimulation`).
 #![allow(unsafe_code)]
 
-use super::super::error::{CallError, FmiError};
-use super::super::fmu::FmuShared;
-use super::super::logger::{log_message_fmi3, LogEnv, LogMark};
-use super::super::status::{Status, StepStatus, Success};
-use super::functions::Fmi3Functions;
 use super::{Element, Fmi3Api, Starts};
+use crate::binary::Fmi3Functions;
+use crate::error::{CallError, FmiError};
+use crate::fmu::FmuShared;
+use crate::logger::{log_message_fmi3, LogEnv, LogMark};
+use crate::status::{Status, StepStatus, Success};
 use fmi_abi::fmi3::{fmi3Instance, fmi3Status, fmi3String};
 use model_description::fmi3::Fmi3Type;
 use std::ffi::{c_void, CStr, CString};
@@ -164,7 +164,7 @@ impl Fmi3Instance {
         // SAFETY: every pointer is valid for the call; `log` and the strings move into the
         // instance, which outlives the FMU's instance.
         let instance = unsafe {
-            (functions.instantiate_co_simulation)(
+            (functions.co_simulation.instantiate_co_simulation)(
                 instance_name.as_ptr(),
                 token.as_ptr(),
                 resource_path.as_ref().map_or(ptr::null(), |p| p.as_ptr()),
@@ -255,7 +255,7 @@ impl Fmi3Instance {
     fn only(
         &mut self,
         function: &'static str,
-        call: super::functions::Only,
+        call: crate::tables::fmi3::Only,
     ) -> Result<Success, FmiError> {
         let mark = self.log.mark();
         // SAFETY: a live instance; the function takes nothing else.
@@ -389,7 +389,7 @@ impl Fmi3Instance {
                 return Ok(true);
             }
             if !again {
-                let call = self.functions.enter_step_mode;
+                let call = self.functions.co_simulation.enter_step_mode;
                 self.only("fmi3EnterStepMode", call)?;
                 self.mode = Mode::Step;
                 return Ok(false);
@@ -398,8 +398,8 @@ impl Fmi3Instance {
         Err(FmiError {
             function: F,
             instance: self.name.clone(),
-            status: super::super::status::Failure::Error,
-            log: super::super::logger::FmuLog(vec![]),
+            status: crate::status::Failure::Error,
+            log: crate::logger::FmuLog(vec![]),
         })
     }
 
@@ -423,7 +423,7 @@ impl Fmi3Instance {
         let mark = self.log.mark();
         // SAFETY: a live instance and valid out-pointers.
         let raw = unsafe {
-            (self.functions.do_step)(
+            (self.functions.co_simulation.do_step)(
                 self.c(),
                 current_time,
                 step_size,
@@ -462,7 +462,7 @@ impl Fmi3Instance {
                 }
                 Ok(StepStatus::Complete(success))
             }
-            Err(super::super::status::Failure::Discard) => {
+            Err(crate::status::Failure::Discard) => {
                 self.last_successful_time = last;
                 self.terminated = terminate;
                 Ok(StepStatus::Discarded {

@@ -31,7 +31,7 @@ pub enum LoadError {
     },
     #[error("model description says fmiVersion=\"{found}\"; this loader reads FMI 2.0 and 3.0")]
     UnsupportedFmiVersion { found: String },
-    #[error("model '{model_name}' has no <CoSimulation> element; this loader runs Co-Simulation FMUs only")]
+    #[error("model '{model_name}' has neither a <CoSimulation> nor a <ModelExchange> element")]
     NotCoSimulation { model_name: String },
     /// An FMI 3.0 FMU that needs what the harness does not do (clocks, Model Exchange only,
     /// structural parameters), refused before any instance is made.

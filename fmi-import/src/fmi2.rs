@@ -1,15 +1,19 @@
-//! The FMI 2.0 backend of [`super::Instance`]: one Co-Simulation slave driven through its C
-//! ABI. Every FMI status comes back as a `Result`, and a failure carries what the FMU logged
+//! The FMI 2.0 backend of [`super::Instance`]: one Co-Simulation slave or Model Exchange
+//! model driven through its C ABI. Every FMI status comes back as a `Result`, and a failure carries what the FMU logged
 //! during the failing call.
 #![allow(unsafe_code)]
 
 use super::error::{CallError, FmiError};
 use super::ffi::{self, fmi2Component, fmi2FMUstate, fmi2Status};
 use super::fmu::FmuShared;
-use super::functions::Fmi2Functions;
 use super::instance::FmuState;
 use super::logger::{LogEnv, LogMark};
 use super::status::{Failure, Status, StepStatus, Success};
+use crate::binary::Fmi2Functions;
+use crate::fmu::FmiVersion;
+use crate::logger::{FmuLog, LogMessage};
+use crate::model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
+use crate::tables::fmi2::{Fmi2CoSimulation, Fmi2ModelExchange};
 use std::ffi::{c_void, CStr, CString};
 use std::ptr::{self, NonNull};
 use std::sync::Arc;
@@ -20,6 +24,7 @@ pub(crate) struct Fmi2Instance {
     name: String,
     fmu: Arc<FmuShared>,
     functions: Fmi2Functions,
+    interface: Interface,
     /// Also the instance's identity for [`FmuState`] tokens.
     log: Arc<LogEnv>,
     /// FMUs written against FMI 2.0 may keep this pointer instead of copying the struct,
@@ -54,6 +59,7 @@ impl Fmi2Instance {
         functions: Fmi2Functions,
         name: &str,
         logging_on: bool,
+        interface: Interface,
     ) -> Result<Self, CallError> {
         let c_string = |what: &str, text: &str| {
             CString::new(text).map_err(|_| CallError::InvalidArgument {
@@ -74,7 +80,10 @@ impl Fmi2Instance {
         let component = unsafe {
             (functions.instantiate)(
                 instance_name.as_ptr(),
-                ffi::fmi2CoSimulation,
+                match interface {
+                    Interface::CoSimulation => ffi::fmi2CoSimulation,
+                    Interface::ModelExchange => ffi::fmi2ModelExchange,
+                },
                 guid.as_ptr(),
                 resource_uri.as_ptr(),
                 &*callbacks,
@@ -94,6 +103,7 @@ impl Fmi2Instance {
             name: name.to_owned(),
             fmu,
             functions,
+            interface,
             log,
             _callbacks: callbacks,
             _instantiate_strings: [instance_name, guid, resource_uri],
@@ -117,6 +127,40 @@ impl Fmi2Instance {
 
     fn functions(&self) -> &Fmi2Functions {
         &self.functions
+    }
+
+    /// The table of the interface this instance was made for; a call of the other interface's
+    /// functions is refused here rather than passed to an FMU that may not export them.
+    fn co_simulation(&self, function: &'static str) -> Result<Fmi2CoSimulation, FmiError> {
+        match (self.interface, self.functions.co_simulation) {
+            (Interface::CoSimulation, Some(table)) => Ok(table),
+            _ => Err(self.wrong_interface(function, "Co-Simulation")),
+        }
+    }
+
+    fn model_exchange(&self, function: &'static str) -> Result<Fmi2ModelExchange, FmiError> {
+        match (self.interface, self.functions.model_exchange) {
+            (Interface::ModelExchange, Some(table)) => Ok(table),
+            _ => Err(self.wrong_interface(function, "Model Exchange")),
+        }
+    }
+
+    fn wrong_interface(&self, function: &'static str, wanted: &str) -> FmiError {
+        FmiError {
+            function,
+            instance: self.name.clone(),
+            status: Failure::Error,
+            log: FmuLog(vec![LogMessage {
+                instance_name: self.name.clone(),
+                status: Status::Error,
+                version: FmiVersion::Fmi2,
+                category: "importer".into(),
+                message: format!(
+                    "{function} is a {wanted} function and this instance was made for {:?}",
+                    self.interface
+                ),
+            }]),
+        }
     }
 
     /// Turns a returned status into a `Result`, attaching the messages logged since `mark`.
@@ -253,11 +297,10 @@ impl Fmi2Instance {
         step_size: f64,
     ) -> Result<StepStatus, FmiError> {
         const F: &str = "fmi2DoStep";
+        let do_step = self.co_simulation(F)?.do_step;
         let mark = self.log.mark();
         // SAFETY: plain values only.
-        let raw = unsafe {
-            (self.functions().do_step)(self.c(), current_time, step_size, ffi::fmi2False)
-        };
+        let raw = unsafe { (do_step)(self.c(), current_time, step_size, ffi::fmi2False) };
         match Status::from_raw(raw).into_result() {
             Ok(success) => Ok(StepStatus::Complete(success)),
             Err(Failure::Discard) => Ok(StepStatus::Discarded {
@@ -276,11 +319,10 @@ impl Fmi2Instance {
     /// `fmi2GetRealStatus(fmi2LastSuccessfulTime)`.
     pub(crate) fn last_successful_time(&mut self) -> Result<f64, FmiError> {
         let mut time = f64::NAN;
+        let get_real_status = self.co_simulation("fmi2GetRealStatus")?.get_real_status;
         let mark = self.log.mark();
         // SAFETY: `time` is a valid out-pointer.
-        let raw = unsafe {
-            (self.functions().get_real_status)(self.c(), ffi::fmi2LastSuccessfulTime, &mut time)
-        };
+        let raw = unsafe { (get_real_status)(self.c(), ffi::fmi2LastSuccessfulTime, &mut time) };
         self.check("fmi2GetRealStatus(fmi2LastSuccessfulTime)", mark, raw)?;
         Ok(time)
     }
@@ -288,13 +330,127 @@ impl Fmi2Instance {
     /// `fmi2GetBooleanStatus(fmi2Terminated)`: the FMU wants the simulation to end.
     pub(crate) fn terminated(&mut self) -> Result<bool, FmiError> {
         let mut terminated = ffi::fmi2False;
+        let get_boolean_status = self
+            .co_simulation("fmi2GetBooleanStatus")?
+            .get_boolean_status;
         let mark = self.log.mark();
         // SAFETY: `terminated` is a valid out-pointer.
-        let raw = unsafe {
-            (self.functions().get_boolean_status)(self.c(), ffi::fmi2Terminated, &mut terminated)
-        };
+        let raw = unsafe { (get_boolean_status)(self.c(), ffi::fmi2Terminated, &mut terminated) };
         self.check("fmi2GetBooleanStatus(fmi2Terminated)", mark, raw)?;
         Ok(terminated != ffi::fmi2False)
+    }
+
+    // ---- Model Exchange (FMI 2.0, 3.2) ----
+
+    pub(crate) fn set_time(&mut self, time: f64) -> Result<Success, FmiError> {
+        const F: &str = "fmi2SetTime";
+        let set_time = self.model_exchange(F)?.set_time;
+        let mark = self.log.mark();
+        // SAFETY: plain values only.
+        let raw = unsafe { set_time(self.c(), time) };
+        self.check(F, mark, raw)
+    }
+
+    pub(crate) fn set_continuous_states(&mut self, x: &[f64]) -> Result<Success, FmiError> {
+        const F: &str = "fmi2SetContinuousStates";
+        let set = self.model_exchange(F)?.set_continuous_states;
+        let mark = self.log.mark();
+        // SAFETY: `x` is valid for `x.len()` reads.
+        let raw = unsafe { set(self.c(), x.as_ptr(), x.len()) };
+        self.check(F, mark, raw)
+    }
+
+    /// One of the vector reads: states, derivatives, event indicators, nominals.
+    pub(crate) fn get_vector(
+        &mut self,
+        which: MeVector,
+        values: &mut [f64],
+    ) -> Result<Success, FmiError> {
+        let (function, table) = match which {
+            MeVector::States => (
+                "fmi2GetContinuousStates",
+                self.model_exchange("fmi2GetContinuousStates")?
+                    .get_continuous_states,
+            ),
+            MeVector::Derivatives => (
+                "fmi2GetDerivatives",
+                self.model_exchange("fmi2GetDerivatives")?.get_derivatives,
+            ),
+            MeVector::EventIndicators => (
+                "fmi2GetEventIndicators",
+                self.model_exchange("fmi2GetEventIndicators")?
+                    .get_event_indicators,
+            ),
+            MeVector::Nominals => (
+                "fmi2GetNominalsOfContinuousStates",
+                self.model_exchange("fmi2GetNominalsOfContinuousStates")?
+                    .get_nominals_of_continuous_states,
+            ),
+        };
+        let mark = self.log.mark();
+        // SAFETY: `values` is valid for `values.len()` writes.
+        let raw = unsafe { table(self.c(), values.as_mut_ptr(), values.len()) };
+        self.check(function, mark, raw)
+    }
+
+    pub(crate) fn enter_event_mode(&mut self) -> Result<Success, FmiError> {
+        const F: &str = "fmi2EnterEventMode";
+        let call = self.model_exchange(F)?.enter_event_mode;
+        self.component_only(F, call)
+    }
+
+    pub(crate) fn enter_continuous_time_mode(&mut self) -> Result<Success, FmiError> {
+        const F: &str = "fmi2EnterContinuousTimeMode";
+        let call = self.model_exchange(F)?.enter_continuous_time_mode;
+        self.component_only(F, call)
+    }
+
+    /// One `fmi2NewDiscreteStates` of the event iteration.
+    pub(crate) fn update_discrete_states(&mut self) -> Result<EventUpdate, FmiError> {
+        const F: &str = "fmi2NewDiscreteStates";
+        let call = self.model_exchange(F)?.new_discrete_states;
+        let mut info = ffi::fmi2EventInfo {
+            newDiscreteStatesNeeded: ffi::fmi2False,
+            terminateSimulation: ffi::fmi2False,
+            nominalsOfContinuousStatesChanged: ffi::fmi2False,
+            valuesOfContinuousStatesChanged: ffi::fmi2False,
+            nextEventTimeDefined: ffi::fmi2False,
+            nextEventTime: 0.0,
+        };
+        let mark = self.log.mark();
+        // SAFETY: `info` is a valid out-pointer.
+        let raw = unsafe { call(self.c(), &mut info) };
+        self.check(F, mark, raw)?;
+        Ok(EventUpdate {
+            discrete_states_need_update: info.newDiscreteStatesNeeded != ffi::fmi2False,
+            terminate_simulation: info.terminateSimulation != ffi::fmi2False,
+            nominals_changed: info.nominalsOfContinuousStatesChanged != ffi::fmi2False,
+            states_changed: info.valuesOfContinuousStatesChanged != ffi::fmi2False,
+            next_event_time: (info.nextEventTimeDefined != ffi::fmi2False)
+                .then_some(info.nextEventTime),
+        })
+    }
+
+    /// `fmi2CompletedIntegratorStep` with `noSetFMUStatePriorToCurrentPoint = false`.
+    pub(crate) fn completed_integrator_step(&mut self) -> Result<StepEnd, FmiError> {
+        const F: &str = "fmi2CompletedIntegratorStep";
+        let call = self.model_exchange(F)?.completed_integrator_step;
+        let (mut enter_event_mode, mut terminate) = (ffi::fmi2False, ffi::fmi2False);
+        let mark = self.log.mark();
+        // SAFETY: both are valid out-pointers.
+        let raw = unsafe {
+            call(
+                self.c(),
+                ffi::fmi2False,
+                &mut enter_event_mode,
+                &mut terminate,
+            )
+        };
+        self.check(F, mark, raw)?;
+        Ok(StepEnd {
+            enter_event_mode: enter_event_mode != ffi::fmi2False,
+            terminate_simulation: terminate != ffi::fmi2False,
+        })
     }
 
     // ---- values by value reference ----
@@ -644,7 +800,7 @@ impl Fmi2Instance {
         let mark = self.log.mark();
         // SAFETY: `bytes` is readable for its length; a null state asks for a new one.
         let raw = unsafe {
-            (self.functions().deserialize_fmu_state)(
+            (self.functions().de_serialize_fmu_state)(
                 self.c(),
                 bytes.as_ptr().cast(),
                 bytes.len(),

@@ -12,6 +12,7 @@ use super::fmu::{Api, FmiVersion, FmuShared};
 use super::logger::{LogEnv, LogMessage};
 use super::status::{StepStatus, Success};
 use super::variables::VariableInfo;
+use crate::model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
 use model_description::VariableKind;
 use std::sync::{Arc, Weak};
 
@@ -26,6 +27,8 @@ pub struct InstanceOptions {
     /// is made with `eventModeUsed = true` and exchanges in Event Mode (see `fmi3/instance.rs`);
     /// without it, such a get is refused.
     pub same_instant_feedthrough: bool,
+    /// Co-Simulation (the default) or Model Exchange, which FMI 2.0 FMUs offer here.
+    pub interface: Interface,
 }
 
 /// A Co-Simulation instance; freed (`fmi2FreeInstance`, `fmi3FreeInstance`) on drop.
@@ -94,12 +97,44 @@ impl Instance {
         options: InstanceOptions,
     ) -> Result<Self, CallError> {
         let backend = match &fmu.api {
-            Api::Fmi2(functions) => Backend::Fmi2(Fmi2Instance::new(
-                Arc::clone(&fmu),
-                *functions,
-                name,
-                options.logging_on,
-            )?),
+            Api::Fmi2(functions) => {
+                let available = match options.interface {
+                    Interface::CoSimulation => functions.co_simulation.is_some(),
+                    Interface::ModelExchange => functions.model_exchange.is_some(),
+                };
+                if !available {
+                    return Err(CallError::InvalidArgument {
+                        function: "fmi2Instantiate",
+                        instance: name.to_owned(),
+                        reason: format!(
+                            "model '{}' does not declare {:?} (its model description has no <{}> \
+                             element)",
+                            fmu.description.model_name,
+                            options.interface,
+                            match options.interface {
+                                Interface::CoSimulation => "CoSimulation",
+                                Interface::ModelExchange => "ModelExchange",
+                            }
+                        ),
+                    });
+                }
+                Backend::Fmi2(Fmi2Instance::new(
+                    Arc::clone(&fmu),
+                    *functions,
+                    name,
+                    options.logging_on,
+                    options.interface,
+                )?)
+            }
+            Api::Fmi3(_) if options.interface == Interface::ModelExchange => {
+                return Err(CallError::InvalidArgument {
+                    function: "fmi3InstantiateModelExchange",
+                    instance: name.to_owned(),
+                    reason: "this importer drives FMI 3.0 FMUs through Co-Simulation only; \
+                             use the FMU's <CoSimulation> interface"
+                        .into(),
+                });
+            }
             Api::Fmi3(api) => {
                 let event_mode = options.same_instant_feedthrough
                     && api
@@ -233,6 +268,68 @@ impl Instance {
         match &mut self.backend {
             Backend::Fmi2(i) => i.terminated(),
             Backend::Fmi3(i) => Ok(i.terminated()),
+        }
+    }
+
+    // ---- Model Exchange (FMI 2.0) ----
+
+    /// Continuous states and event indicators the model description declares (FMI 2.0:
+    /// `ModelStructure/Derivatives`, `numberOfEventIndicators`).
+    pub fn model_exchange_sizes(&self) -> (usize, usize) {
+        let description = &self.fmu.description;
+        let states = description
+            .model_structure
+            .derivatives
+            .as_ref()
+            .map_or(0, |list| list.unknowns.len());
+        let indicators = description.number_of_event_indicators.unwrap_or(0) as usize;
+        (states, indicators)
+    }
+
+    pub fn set_time(&mut self, time: f64) -> Result<Success, FmiError> {
+        self.fmi2_only("fmi3SetTime")?.set_time(time)
+    }
+
+    pub fn set_continuous_states(&mut self, x: &[f64]) -> Result<Success, FmiError> {
+        self.fmi2_only("fmi3SetContinuousStates")?
+            .set_continuous_states(x)
+    }
+
+    pub fn get_vector(&mut self, which: MeVector, values: &mut [f64]) -> Result<Success, FmiError> {
+        self.fmi2_only("fmi3GetContinuousStates")?
+            .get_vector(which, values)
+    }
+
+    pub fn enter_event_mode_me(&mut self) -> Result<Success, FmiError> {
+        self.fmi2_only("fmi3EnterEventMode")?.enter_event_mode()
+    }
+
+    pub fn enter_continuous_time_mode(&mut self) -> Result<Success, FmiError> {
+        self.fmi2_only("fmi3EnterContinuousTimeMode")?
+            .enter_continuous_time_mode()
+    }
+
+    pub fn update_discrete_states(&mut self) -> Result<EventUpdate, FmiError> {
+        self.fmi2_only("fmi3UpdateDiscreteStates")?
+            .update_discrete_states()
+    }
+
+    pub fn completed_integrator_step(&mut self) -> Result<StepEnd, FmiError> {
+        self.fmi2_only("fmi3CompletedIntegratorStep")?
+            .completed_integrator_step()
+    }
+
+    /// Model Exchange instances are FMI 2.0 only (instantiation refuses FMI 3.0 ME), so an
+    /// FMI 3.0 instance here is a Co-Simulation one.
+    fn fmi2_only(&mut self, function: &'static str) -> Result<&mut Fmi2Instance, FmiError> {
+        match &mut self.backend {
+            Backend::Fmi2(i) => Ok(i),
+            Backend::Fmi3(i) => Err(FmiError {
+                function,
+                instance: i.name().to_owned(),
+                status: crate::Failure::Error,
+                log: crate::FmuLog(vec![]),
+            }),
         }
     }
 

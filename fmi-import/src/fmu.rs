@@ -3,10 +3,11 @@
 
 use super::archive::{Unpacked, PLATFORM};
 use super::error::{CallError, LoadError, VariableError};
-use super::fmi3::{self, Fmi3Api, Fmi3Functions};
-use super::functions::Fmi2Functions;
 use super::instance::{Instance, InstanceOptions};
 use super::variables::{VariableIndex, VariableInfo};
+use crate::binary::Fmi2Functions;
+use crate::binary::Fmi3Functions;
+use crate::fmi3::{self, Fmi3Api};
 use libloading::Library;
 use model_description::ModelDescription;
 use model_description::VariableKind;
@@ -86,10 +87,19 @@ impl Fmu {
                 found: description.fmi_version.clone(),
             });
         }
-        let model_identifier = description
+        // One binary: Co-Simulation's, else Model Exchange's. Model Exchange is offered from
+        // the same binary only (an FMU with two identifiers ships two libraries).
+        let co_simulation = description
             .co_simulation
             .as_ref()
-            .map(|co_simulation| co_simulation.model_identifier.clone())
+            .map(|cs| cs.model_identifier.clone());
+        let model_exchange = description
+            .model_exchange
+            .as_ref()
+            .map(|me| me.model_identifier.clone());
+        let model_identifier = co_simulation
+            .clone()
+            .or_else(|| model_exchange.clone())
             .ok_or_else(|| LoadError::NotCoSimulation {
                 model_name: description.model_name.clone(),
             })?;
@@ -97,7 +107,12 @@ impl Fmu {
 
         let binary_path = unpacked.binary_path(&model_identifier);
         let library = open_library(&binary_path, PLATFORM)?;
-        let functions = Fmi2Functions::resolve(&library, &binary_path)?;
+        let functions = Fmi2Functions::resolve(
+            &library,
+            &binary_path,
+            co_simulation.is_some(),
+            model_exchange.as_deref() == Some(model_identifier.as_str()),
+        )?;
         check_binary(&functions, &binary_path)?;
 
         Ok(Self {

@@ -24,13 +24,12 @@
 mod conventions;
 mod loops;
 mod resolve;
-pub mod suggest;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use resolve::Port;
 
-use crate::loader::{CallError, FmiError, Fmu, InstanceOptions, StepStatus, VariableKind};
 use crate::system::{Ordering, ParamValue, SystemDescription};
+use fmi_import::{CallError, FmiError, Fmu, InstanceOptions, StepStatus, VariableKind};
 use std::path::{Path, PathBuf};
 
 /// Why a run could not start or did not finish.
@@ -41,7 +40,7 @@ pub enum MasterError {
         instance: String,
         path: PathBuf,
         #[source]
-        source: Box<crate::loader::LoadError>,
+        source: Box<fmi_import::LoadError>,
     },
     #[error(
         "FMU file(s) not found:\n  {}\nRelative FMU paths are looked up in the FMU directory, \
@@ -344,7 +343,7 @@ fn copy_slots<T: Copy>(runs: &[SlotRun], from: &[T], to: &mut [T]) {
 
 struct Unit {
     name: String,
-    instance: crate::loader::Instance,
+    instance: fmi_import::Instance,
 }
 
 /// A loaded, resolved system, ready to run (and to run again, via `fmi2Reset`).
@@ -562,7 +561,7 @@ impl Simulation {
                 let names = self.system.instances.iter().map(|i| i.name.as_str());
                 resolve(format!(
                     "no instance named '{instance}'{}",
-                    suggest::hint(instance, names)
+                    crate::suggest::hint(instance, names)
                 ))
             })?;
         if let Some(problem) = resolve::parameter_problem(
@@ -709,12 +708,12 @@ impl Simulation {
                                 _ => time,
                             };
                             let context = match unit.instance.fmi_version() {
-                                crate::loader::FmiVersion::Fmi2 => format!(
+                                fmi_import::FmiVersion::Fmi2 => format!(
                                     "fmi2DoStep at t = {time} returned fmi2Discard without \
                                      fmi2Terminated (stopped at {stopped}); this \
                                      fixed-step master cannot retry a shorter step"
                                 ),
-                                crate::loader::FmiVersion::Fmi3 => format!(
+                                fmi_import::FmiVersion::Fmi3 => format!(
                                     "fmi3DoStep at t = {time} stopped at {stopped} without \
                                      terminateSimulation; this fixed-step master cannot \
                                      retry a shorter step"
@@ -1135,8 +1134,8 @@ fn instantiate(
             .map_err(|source| MasterError::Call {
                 instance: desc.name.clone(),
                 context: match fmu.fmi_version() {
-                    crate::loader::FmiVersion::Fmi2 => "fmi2Instantiate",
-                    crate::loader::FmiVersion::Fmi3 => "fmi3InstantiateCoSimulation",
+                    fmi_import::FmiVersion::Fmi2 => "fmi2Instantiate",
+                    fmi_import::FmiVersion::Fmi3 => "fmi3InstantiateCoSimulation",
                 }
                 .into(),
                 source: Box::new(source),
@@ -1150,14 +1149,10 @@ fn instantiate(
 }
 
 /// The name of a call in the FMI version of the instance, for error contexts.
-fn named(
-    version: crate::loader::FmiVersion,
-    fmi2: &'static str,
-    fmi3: &'static str,
-) -> &'static str {
+fn named(version: fmi_import::FmiVersion, fmi2: &'static str, fmi3: &'static str) -> &'static str {
     match version {
-        crate::loader::FmiVersion::Fmi2 => fmi2,
-        crate::loader::FmiVersion::Fmi3 => fmi3,
+        fmi_import::FmiVersion::Fmi2 => fmi2,
+        fmi_import::FmiVersion::Fmi3 => fmi3,
     }
 }
 
@@ -1172,7 +1167,7 @@ fn call(instance: &str, context: &str, source: CallError) -> MasterError {
 /// Sets a scenario value with the type the model description gives the variable, as the
 /// master does before a run (also for masters of ours outside this module: the benches).
 pub fn set_parameter(
-    instance: &mut crate::loader::Instance,
+    instance: &mut fmi_import::Instance,
     variable: &str,
     value: &ParamValue,
 ) -> Result<(), CallError> {

@@ -2,9 +2,9 @@
 //! every name looked up, every connection type-checked. All problems are reported together,
 //! with the names, so a user fixes a scenario in one pass.
 use super::loops::{self, Edge, Feedthrough};
-use super::suggest;
-use crate::loader::{Fmu, VariableKind};
+use crate::suggest;
 use crate::system::{split_path, ParamValue, SystemDescription};
+use fmi_import::{Fmu, VariableKind};
 use model_description::{Causality, Initial, ScalarVariable, Variability};
 
 /// A scalar variable of an instance, by value reference and exchange type.

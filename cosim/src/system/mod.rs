@@ -167,7 +167,7 @@ impl SystemDescription {
                     let names = self.instances.iter().map(|i| i.name.as_str());
                     problems.push(format!(
                         "connection end '{end}' names unknown instance '{instance}'{}",
-                        crate::master::suggest::hint(instance, names)
+                        crate::suggest::hint(instance, names)
                     ));
                 }
             }
@@ -217,7 +217,17 @@ pub fn split_path(path: &str) -> Option<(&str, &str)> {
 mod partial_step_tests {
     #[test]
     fn a_run_that_is_not_a_whole_number_of_steps_is_noted_with_its_last_step() {
-        let mut system = crate::scenarios::load("paper").unwrap();
+        let mut system = super::SystemDescription {
+            name: "descent".into(),
+            start_time: 0.0,
+            stop_time: 172.0,
+            step_size: 0.01,
+            ordering: super::Ordering::GaussSeidel,
+            instances: vec![],
+            connections: vec![],
+            record: None,
+            package: None,
+        };
         assert_eq!(system.partial_last_step(), None);
         system.step_size = 0.03;
         let note = system.partial_last_step().unwrap();

@@ -1,0 +1,13 @@
+//! A co-simulation master for FMUs loaded by `fmi-import`: systems described in TOML or in
+//! an SSP package ([`system`]), the master that connects and steps them with a chosen ordering
+//! and exchange convention ([`master`]), requirements written as temporal formulas over the
+//! recorded signals ([`requirements`]), and result files ([`results`]). Nothing here knows
+//! what the FMUs model.
+#![deny(unsafe_code)]
+
+pub mod master;
+pub mod memory;
+pub mod requirements;
+pub mod results;
+pub mod suggest;
+pub mod system;
