@@ -1,0 +1,64 @@
+//! Flies a scenario file (.toml, .ssd) in the harness and writes the trajectory as CSV (the
+//! harness's format), for FMUs whose binary needs its process prepared: pythonfmu3's, like
+//! pythonfmu's, calls into a Python interpreter it does not link, so this process is started
+//! with libpython preloaded (`LD_PRELOAD`), `PYTHONHOME` naming that Python's installation
+//! and `PYTHONPATH` the packages the FMU imports (tests/interop/tests/pythonfmu3.rs).
+//!
+//! It ends with `_exit`, not by returning from `main`, once the results are written and every
+//! instance freed and library closed: pythonfmu3 0.3.4's Linux binary cannot be unloaded
+//! (libstdc++'s `STB_GNU_UNIQUE` symbols make it `NODELETE`), so its teardown runs at process
+//! exit, where the `atexit` destructor of its static `shared_ptr<PyState>` frees the state
+//! and its ELF destructor (`onLibraryUnload`, `finalizePythonInterpreter`) then assigns to
+//! that destroyed `shared_ptr`, reading and releasing the freed block. Valgrind shows the
+//! invalid reads on every run; glibc aborts on the corrupted heap ("free(): corrupted unsorted
+//! chunks", exit status 134) on the runs whose heap layout exposes it (with some FMU paths,
+//! every time), after everything the harness did has succeeded.
+//!
+//! Usage: fly_scenario SCENARIO OUT.csv
+use anyhow::Result;
+use harness::master::{Simulation, Trajectory};
+use std::io::Write;
+
+fn fly(scenario: &str, out_csv: &str) -> Result<()> {
+    let system = harness::scenarios::load(scenario)?;
+    let mut simulation = Simulation::new(system, &interop_tests::fmu_dir())?;
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    let end = simulation.run(&mut trajectory)?;
+    drop(simulation);
+    harness::results::write_csv(out_csv.as_ref(), &trajectory)?;
+    println!("fly_scenario: {} rows, {end:?}", trajectory.len());
+    Ok(())
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let status = match args.as_slice() {
+        [scenario, out_csv] => fly(scenario, out_csv),
+        _ => Err(anyhow::anyhow!("usage: fly_scenario SCENARIO OUT.csv")),
+    }
+    .map_or_else(
+        |e| {
+            eprintln!("fly_scenario: {e:#}");
+            1
+        },
+        |()| 0,
+    );
+    let _ = std::io::stdout().flush();
+    let _ = std::io::stderr().flush();
+    exit_without_teardown(status)
+}
+
+/// `_exit(2)`: ends the process without running `atexit` handlers or ELF destructors (see
+/// the module comment).
+#[allow(unsafe_code)]
+fn exit_without_teardown(status: i32) -> ! {
+    extern "C" {
+        fn _exit(status: i32) -> !;
+    }
+    // SAFETY: `_exit` takes any status and does not return; the results are written and
+    // the standard streams flushed.
+    unsafe { _exit(status) }
+}
