@@ -180,7 +180,7 @@ fn embedding_env() -> Vec<(String, String)> {
     env
 }
 
-fn column(trajectory: &harness::master::Trajectory, name: &str) -> Vec<f64> {
+fn column(trajectory: &cosim::master::Trajectory, name: &str) -> Vec<f64> {
     trajectory
         .column(name)
         .unwrap_or_else(|| panic!("no column {name}"))
@@ -203,7 +203,7 @@ fn step_response(t: f64) -> (f64, f64) {
 }
 
 /// What the FMU must have computed, whoever flew it.
-fn assert_physics(trajectory: &harness::master::Trajectory, who: &str) {
+fn assert_physics(trajectory: &cosim::master::Trajectory, who: &str) {
     let rows = trajectory.len();
     assert_eq!(rows, 4001, "{who}: rows");
     assert!(trajectory.values.iter().all(|x| x.is_finite()), "{who}");

@@ -16,7 +16,7 @@
 //!
 //! Usage: fly_scenario SCENARIO OUT.csv
 use anyhow::Result;
-use harness::master::{Simulation, Trajectory};
+use cosim::master::{Simulation, Trajectory};
 use std::io::Write;
 
 fn fly(scenario: &str, out_csv: &str) -> Result<()> {
@@ -28,7 +28,7 @@ fn fly(scenario: &str, out_csv: &str) -> Result<()> {
     };
     let end = simulation.run(&mut trajectory)?;
     drop(simulation);
-    harness::results::write_csv(out_csv.as_ref(), &trajectory)?;
+    cosim::results::write_csv(out_csv.as_ref(), &trajectory)?;
     println!("fly_scenario: {} rows, {end:?}", trajectory.len());
     Ok(())
 }
