@@ -295,6 +295,7 @@ fn an_unknown_instance_in_a_connection_gets_a_suggestion() {
         fmu: "LanderPlant.fmu".into(),
         parameters: vec![],
         connectors: None,
+        model_exchange: None,
     });
     system.connections.push(Connection {
         from: "plant2.mass".into(),

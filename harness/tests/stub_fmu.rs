@@ -342,8 +342,18 @@ fn a_binary_of_another_fmi_version_is_refused() {
 }
 
 #[test]
-fn a_description_without_co_simulation_is_refused() {
+fn a_model_exchange_description_needs_the_model_exchange_functions_not_the_co_simulation_ones() {
+    // GIVEN the Co-Simulation stub described as Model Exchange only
     let description = STUB_DESCRIPTION.replace("CoSimulation", "ModelExchange");
+    let stub = StubFmu::build(&[], &description);
+    // THEN it is the first Model Exchange function it lacks that refuses it
+    let text = chain(&Fmu::load(&stub.dir).unwrap_err());
+    assert!(text.contains("does not export fmi2EnterEventMode"), "{text}");
+}
+
+#[test]
+fn a_description_with_neither_interface_is_refused() {
+    let description = STUB_DESCRIPTION.replace("CoSimulation", "Unknown");
     let stub = StubFmu::build(&[], &description);
     let error = Fmu::load(&stub.dir).unwrap_err();
     assert!(

@@ -32,7 +32,7 @@ pub enum Method {
     Tsit45,
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
     pub relative: f64,
     pub absolute: f64,

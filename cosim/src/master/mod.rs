@@ -23,9 +23,11 @@
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
 mod conventions;
 mod loops;
+mod model_exchange;
 mod resolve;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
+pub use model_exchange::{MeError, SolverSettings};
 pub use resolve::Port;
 
 use crate::system::{Ordering, ParamValue, SystemDescription};
@@ -71,6 +73,13 @@ pub enum MasterError {
         time: f64,
         #[source]
         source: Box<FmiError>,
+    },
+    #[error("instance '{instance}' (Model Exchange) failed in the step from t = {time}: {source}")]
+    ModelExchange {
+        instance: String,
+        time: f64,
+        #[source]
+        source: Box<model_exchange::MeError>,
     },
 }
 
@@ -344,6 +353,8 @@ fn copy_slots<T: Copy>(runs: &[SlotRun], from: &[T], to: &mut [T]) {
 struct Unit {
     name: String,
     instance: fmi_import::Instance,
+    /// The solver of a Model Exchange instance; `None` for Co-Simulation.
+    model_exchange: Option<model_exchange::ModelExchangeUnit>,
 }
 
 /// A loaded, resolved system, ready to run (and to run again, via `fmi2Reset`).
@@ -692,7 +703,23 @@ impl Simulation {
             for u in 0..self.units.len() {
                 self.outputs_read[u] = false;
                 let unit = &mut self.units[u];
-                match unit.instance.do_step(time, h) {
+                let stepped = match &mut unit.model_exchange {
+                    Some(me) => match me.do_step(&mut unit.instance, time, h) {
+                        Ok(status) => Ok(status),
+                        Err(model_exchange::MeError::Fmi(e)) => Err(e),
+                        Err(other) => {
+                            let instance = unit.name.clone();
+                            self.terminate_all();
+                            return Err(MasterError::ModelExchange {
+                                instance,
+                                time,
+                                source: Box::new(other),
+                            });
+                        }
+                    },
+                    None => unit.instance.do_step(time, h),
+                };
+                match stepped {
                     Ok(StepStatus::Complete(_)) => {}
                     Ok(status) => {
                         let name = unit.name.clone();
@@ -839,6 +866,7 @@ impl Simulation {
 
     /// Every unit leaves initialization mode, in unit order.
     fn exit_initialization_modes(&mut self) -> Result<(), MasterError> {
+        let start = self.system.start_time;
         for unit in &mut self.units {
             let name = unit.name.clone();
             let v = unit.instance.fmi_version();
@@ -853,6 +881,16 @@ impl Simulation {
                     e.into(),
                 )
             })?;
+            if let Some(me) = &mut unit.model_exchange {
+                // A run the FMU ends at its start is reported by its first step.
+                me.start(&mut unit.instance, start).map_err(|source| {
+                    MasterError::ModelExchange {
+                        instance: name.clone(),
+                        time: start,
+                        source: Box::new(source),
+                    }
+                })?;
+            }
         }
         Ok(())
     }
@@ -1128,6 +1166,11 @@ fn instantiate(
         let options = InstanceOptions {
             logging_on: false,
             same_instant_feedthrough: same_instant,
+            interface: if desc.model_exchange.is_some() {
+                fmi_import::Interface::ModelExchange
+            } else {
+                fmi_import::Interface::CoSimulation
+            },
         };
         let instance = fmu
             .instantiate_with(&desc.name, options)
@@ -1140,9 +1183,13 @@ fn instantiate(
                 .into(),
                 source: Box::new(source),
             })?;
+        let model_exchange = desc
+            .model_exchange
+            .map(|settings| model_exchange::ModelExchangeUnit::new(settings, &instance));
         units.push(Unit {
             name: desc.name.clone(),
             instance,
+            model_exchange,
         });
     }
     Ok(units)

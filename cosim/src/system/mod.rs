@@ -42,6 +42,8 @@ pub struct InstanceDesc {
     /// The connectors an SSD declares for the component (`None` when the format has none,
     /// as TOML): connections must use them, and they must match the FMU's variables.
     pub connectors: Option<Vec<DeclaredConnector>>,
+    /// Run the FMU through Model Exchange with this solver; `None`: Co-Simulation.
+    pub model_exchange: Option<crate::master::SolverSettings>,
 }
 
 /// A connector as an SSD declares it.

@@ -282,6 +282,8 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             fmu: component.source.into(),
             parameters,
             connectors,
+            // SSP selects no FMI interface for a component: it runs as Co-Simulation.
+            model_exchange: None,
         });
     }
     let mut connections = Vec::new();
@@ -520,12 +522,14 @@ mod tests {
                         ("label".into(), ParamValue::String("x\"y".into())),
                     ],
                     connectors: None,
+                    model_exchange: None,
                 },
                 InstanceDesc {
                     name: "b".into(),
                     fmu: "B.fmu".into(),
                     parameters: vec![],
                     connectors: None,
+                    model_exchange: None,
                 },
             ],
             connections: vec![Connection {

@@ -33,6 +33,93 @@ struct Instance {
     fmu: String,
     #[serde(default)]
     parameters: toml::Table,
+    /// "co-simulation" (default) or "model-exchange".
+    interface: Option<String>,
+    /// Model Exchange only: "tsit45" (non-stiff, default) or "bdf" (stiff).
+    solver: Option<String>,
+    relative_tolerance: Option<f64>,
+    absolute_tolerance: Option<f64>,
+    /// Width of the time bracket a state event is located to, in seconds.
+    event_tolerance: Option<f64>,
+}
+
+/// The instance's interface and solver, every problem named at once.
+fn solver_settings(
+    instance: &Instance,
+) -> Result<Option<crate::master::SolverSettings>, Vec<String>> {
+    let name = &instance.name;
+    let mut problems = Vec::new();
+    let model_exchange = match instance.interface.as_deref() {
+        None | Some("co-simulation") => false,
+        Some("model-exchange") => true,
+        Some(other) => {
+            problems.push(format!(
+                "instance '{name}': interface = \"{other}\" is neither \"co-simulation\" nor \
+                 \"model-exchange\""
+            ));
+            false
+        }
+    };
+    let solver_keys = [
+        ("solver", instance.solver.is_some()),
+        ("relative_tolerance", instance.relative_tolerance.is_some()),
+        ("absolute_tolerance", instance.absolute_tolerance.is_some()),
+        ("event_tolerance", instance.event_tolerance.is_some()),
+    ];
+    if !model_exchange {
+        for (key, given) in solver_keys {
+            if given {
+                problems.push(format!(
+                    "instance '{name}': {key} is a Model Exchange setting; add interface = \
+                     \"model-exchange\" or remove it"
+                ));
+            }
+        }
+        return if problems.is_empty() {
+            Ok(None)
+        } else {
+            Err(problems)
+        };
+    }
+    let mut settings = crate::master::SolverSettings::default();
+    match instance.solver.as_deref() {
+        None | Some("tsit45") => settings.method = ode_solver::Method::Tsit45,
+        Some("bdf") => settings.method = ode_solver::Method::Bdf,
+        Some(other) => problems.push(format!(
+            "instance '{name}': solver = \"{other}\" is neither \"tsit45\" (non-stiff) nor \
+             \"bdf\" (stiff)"
+        )),
+    }
+    for (key, value, slot) in [
+        (
+            "relative_tolerance",
+            instance.relative_tolerance,
+            &mut settings.tolerances.relative,
+        ),
+        (
+            "absolute_tolerance",
+            instance.absolute_tolerance,
+            &mut settings.tolerances.absolute,
+        ),
+        (
+            "event_tolerance",
+            instance.event_tolerance,
+            &mut settings.tolerances.event_time,
+        ),
+    ] {
+        match value {
+            Some(v) if v.is_finite() && v > 0.0 => *slot = v,
+            Some(v) => problems.push(format!(
+                "instance '{name}': {key} = {v} must be a positive number"
+            )),
+            None => {}
+        }
+    }
+    if problems.is_empty() {
+        Ok(Some(settings))
+    } else {
+        Err(problems)
+    }
 }
 
 #[derive(Deserialize)]
@@ -50,7 +137,12 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
     };
     let file: File = toml::from_str(text).map_err(|e| syntax(e.to_string()))?;
     let mut instances = Vec::with_capacity(file.instances.len());
+    let mut problems = Vec::new();
     for instance in file.instances {
+        let model_exchange = solver_settings(&instance).unwrap_or_else(|p| {
+            problems.extend(p);
+            None
+        });
         let mut parameters = Vec::with_capacity(instance.parameters.len());
         for (name, value) in instance.parameters {
             let value = match value {
@@ -73,7 +165,11 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             fmu: instance.fmu.into(),
             parameters,
             connectors: None,
+            model_exchange,
         });
+    }
+    if !problems.is_empty() {
+        return Err(syntax(problems.join("; ")));
     }
     let system = SystemDescription {
         name: file.name,

@@ -1,0 +1,255 @@
+//! A Model Exchange instance inside the fixed communication grid: between two points the
+//! master integrates its continuous states with an adaptive solver (`ode-solver`), handling
+//! state events (event indicators, located to the solver's event tolerance), time events
+//! (`nextEventTime`), step events (`completedIntegratorStep`) and the event iteration, and
+//! stops the run where the FMU asks for it (`terminateSimulation`).
+//!
+//! Each communication step starts the solver afresh from the FMU's states: the inputs the
+//! master has just set are constant over the step and may have jumped at its start, which a
+//! multistep method must not integrate across. (A fresh solver per step also keeps the
+//! simulation `Send`: diffsol's solver is not, and campaigns move simulations to workers.)
+use fmi_import::{FmiError, Instance, MeVector, StepStatus, Success};
+use ode_solver::{Advance, Integrator, Method, OdeSystem, SolverError, Tolerances};
+
+/// How the master integrates one Model Exchange instance (a scenario's `solver`,
+/// `relative_tolerance`, `absolute_tolerance`, `event_tolerance`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverSettings {
+    pub method: Method,
+    pub tolerances: Tolerances,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self {
+            method: Method::Tsit45,
+            tolerances: Tolerances {
+                relative: 1e-8,
+                absolute: 1e-10,
+                event_time: 1e-10,
+            },
+        }
+    }
+}
+
+/// Event iterations (`fmi2NewDiscreteStates` calls at one instant) before the master gives up:
+/// an FMU that keeps asking for new discrete states would otherwise hang the run.
+const MAX_EVENT_ITERATIONS: usize = 1000;
+
+/// What a step failed on: the FMU's call or the solver.
+#[derive(Debug, thiserror::Error)]
+pub enum MeError {
+    #[error(transparent)]
+    Fmi(#[from] FmiError),
+    #[error("solver ({method:?}) at t = {time} s: {source}")]
+    Solver {
+        method: Method,
+        time: f64,
+        source: SolverError,
+    },
+    #[error(
+        "the event iteration at t = {time} s did not end after {MAX_EVENT_ITERATIONS} \
+             calls of fmi2NewDiscreteStates (newDiscreteStatesNeeded stayed true)"
+    )]
+    EventIteration { time: f64 },
+}
+
+pub(super) struct ModelExchangeUnit {
+    settings: SolverSettings,
+    states: usize,
+    indicators: usize,
+    next_time_event: Option<f64>,
+    x: Vec<f64>,
+    /// Calls of the solver and events, for the run's statistics.
+    pub(super) state_events: u64,
+    pub(super) time_events: u64,
+    pub(super) step_events: u64,
+}
+
+/// The FMU as the solver sees it: set time and states, read derivatives or indicators.
+struct Fmu<'a> {
+    instance: &'a mut Instance,
+    states: usize,
+    indicators: usize,
+}
+
+impl Fmu<'_> {
+    fn at(&mut self, t: f64, x: &[f64]) -> Result<(), String> {
+        self.instance.set_time(t).map_err(|e| e.to_string())?;
+        if !x.is_empty() {
+            self.instance
+                .set_continuous_states(x)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+}
+
+impl OdeSystem for Fmu<'_> {
+    fn state_count(&self) -> usize {
+        self.states
+    }
+    fn indicator_count(&self) -> usize {
+        self.indicators
+    }
+    fn derivatives(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), String> {
+        self.at(t, x)?;
+        self.instance
+            .get_vector(MeVector::Derivatives, dx)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    }
+    fn indicators(&mut self, t: f64, x: &[f64], z: &mut [f64]) -> Result<(), String> {
+        self.at(t, x)?;
+        self.instance
+            .get_vector(MeVector::EventIndicators, z)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    }
+}
+
+impl ModelExchangeUnit {
+    pub(super) fn new(settings: SolverSettings, instance: &Instance) -> Self {
+        let (states, indicators) = instance.model_exchange_sizes();
+        Self {
+            settings,
+            states,
+            indicators,
+            next_time_event: None,
+            x: vec![0.0; states],
+            state_events: 0,
+            time_events: 0,
+            step_events: 0,
+        }
+    }
+
+    /// After `fmi2ExitInitializationMode`: the instance is in Event Mode; the event iteration
+    /// there, then Continuous-Time Mode. `Some(t)` if the FMU ended the run already.
+    pub(super) fn start(
+        &mut self,
+        instance: &mut Instance,
+        time: f64,
+    ) -> Result<Option<f64>, MeError> {
+        if self.event_iteration(instance, time)? {
+            return Ok(Some(time));
+        }
+        instance.enter_continuous_time_mode()?;
+        Ok(None)
+    }
+
+    /// Integrates from `time` to `time + h`; the FMU is left at the step's end (or where it
+    /// ended the run), its outputs ready to read.
+    pub(super) fn do_step(
+        &mut self,
+        instance: &mut Instance,
+        time: f64,
+        h: f64,
+    ) -> Result<StepStatus, MeError> {
+        let end = time + h;
+        let settings = self.settings;
+        let solver = |source, time| MeError::Solver {
+            method: settings.method,
+            time,
+            source,
+        };
+        instance.set_time(time)?;
+        if self.states > 0 {
+            instance.get_vector(MeVector::States, &mut self.x)?;
+        }
+        let mut fmu = Fmu {
+            instance,
+            states: self.states,
+            indicators: self.indicators,
+        };
+        let mut integrator = Integrator::new(
+            settings.method,
+            settings.tolerances,
+            &mut fmu,
+            time,
+            &self.x,
+        )
+        .map_err(|e| solver(e, time))?;
+        self.integrate(&mut integrator, &mut fmu, end)
+    }
+
+    fn integrate(
+        &mut self,
+        integrator: &mut Integrator,
+        fmu: &mut Fmu<'_>,
+        end: f64,
+    ) -> Result<StepStatus, MeError> {
+        let settings = self.settings;
+        let solver = |source, time| MeError::Solver {
+            method: settings.method,
+            time,
+            source,
+        };
+        loop {
+            let stop = match self.next_time_event {
+                Some(t_event) if t_event < end => t_event.max(integrator.time()),
+                _ => end,
+            };
+            let advance = integrator
+                .step(fmu, stop)
+                .map_err(|e| solver(e, integrator.time()))?;
+            let (t, state_event) = match advance {
+                Advance::Step { t } | Advance::Reached { t } => (t, false),
+                Advance::StateEvent { t, .. } => (t, true),
+            };
+            fmu.at(t, integrator.state())
+                .map_err(|message| solver(SolverError::System { t, message }, t))?;
+            // The accepted step is the FMU's now: it may ask for an event at it.
+            let step = fmu.instance.completed_integrator_step()?;
+            if step.terminate_simulation {
+                return Ok(ended(t));
+            }
+            let time_event = !state_event && self.next_time_event.is_some_and(|te| te <= t);
+            if state_event || time_event || step.enter_event_mode {
+                self.state_events += u64::from(state_event);
+                self.time_events += u64::from(time_event);
+                self.step_events += u64::from(step.enter_event_mode && !state_event && !time_event);
+                fmu.instance.enter_event_mode_me()?;
+                if self.event_iteration(fmu.instance, t)? {
+                    return Ok(ended(t));
+                }
+                fmu.instance.enter_continuous_time_mode()?;
+                if self.states > 0 {
+                    fmu.instance.get_vector(MeVector::States, &mut self.x)?;
+                } else {
+                    self.x.clear();
+                }
+                integrator
+                    .reset(fmu, t, &self.x)
+                    .map_err(|e| solver(e, t))?;
+            }
+            if t >= end {
+                return Ok(StepStatus::Complete(Success::Ok));
+            }
+        }
+    }
+
+    /// `fmi2NewDiscreteStates` until no new discrete states are needed; true if the FMU asks
+    /// to end the run. Records the next time event.
+    fn event_iteration(&mut self, instance: &mut Instance, time: f64) -> Result<bool, MeError> {
+        for _ in 0..MAX_EVENT_ITERATIONS {
+            let update = instance.update_discrete_states()?;
+            if update.terminate_simulation {
+                return Ok(true);
+            }
+            self.next_time_event = update.next_event_time;
+            if !update.discrete_states_need_update {
+                return Ok(false);
+            }
+        }
+        Err(MeError::EventIteration { time })
+    }
+}
+
+/// The run ends with this instance's row at `time` (as a Co-Simulation FMU that discards its
+/// step with `fmi2Terminated` does).
+fn ended(time: f64) -> StepStatus {
+    StepStatus::Discarded {
+        last_successful_time: time,
+        terminated: true,
+    }
+}
