@@ -348,7 +348,10 @@ fn a_model_exchange_description_needs_the_model_exchange_functions_not_the_co_si
     let stub = StubFmu::build(&[], &description);
     // THEN it is the first Model Exchange function it lacks that refuses it
     let text = chain(&Fmu::load(&stub.dir).unwrap_err());
-    assert!(text.contains("does not export fmi2EnterEventMode"), "{text}");
+    assert!(
+        text.contains("does not export fmi2EnterEventMode"),
+        "{text}"
+    );
 }
 
 #[test]
