@@ -14,27 +14,11 @@
 //! preloaded and PYTHONHOME set (tests/interop/python/embedding_env.py prints both).
 use interop_tests::compare::compare;
 use interop_tests::{python, read_trajectory, scenario, scratch, system_json, write_json};
-use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn build_plant(dir: &Path) -> PathBuf {
-    let source = python::script("plant/LanderPlantPy.py");
-    let output = Command::new(python::venv_python())
-        .args(["-m", "pythonfmu", "build", "-f"])
-        .arg(&source)
-        .arg("-d")
-        .arg(dir)
-        .output()
-        .expect("cannot run pythonfmu");
-    assert!(
-        output.status.success(),
-        "pythonfmu build failed:\n{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let fmu = dir.join("LanderPlantPy.fmu");
-    assert!(fmu.is_file(), "pythonfmu wrote no {}", fmu.display());
+    let fmu = python::build_fmu("pythonfmu", "plant/LanderPlantPy.py", dir);
     declare_outputs_independent_of_inputs(&fmu);
     fmu
 }
@@ -42,41 +26,13 @@ fn build_plant(dir: &Path) -> PathBuf {
 /// Rewrites the FMU's modelDescription.xml so that every output listed in ModelStructure
 /// depends on no input (see the module comment).
 fn declare_outputs_independent_of_inputs(fmu: &Path) {
-    let mut entries = Vec::new();
-    let mut archive = zip::ZipArchive::new(std::fs::File::open(fmu).unwrap()).unwrap();
-    for i in 0..archive.len() {
-        let mut entry = archive.by_index(i).unwrap();
-        let name = entry.name().to_owned();
-        let mut bytes = Vec::new();
-        entry.read_to_end(&mut bytes).unwrap();
-        if name == "modelDescription.xml" {
-            let text = String::from_utf8(bytes).unwrap();
-            assert!(
-                text.contains("<Unknown ") && !text.contains("dependencies="),
-                "pythonfmu's ModelStructure changed; revisit this rewrite:\n{text}"
-            );
-            bytes = text
-                .replace("<Unknown ", r#"<Unknown dependencies="" "#)
-                .into_bytes();
-        }
-        entries.push((name, bytes));
-    }
-    drop(archive);
-    let mut out = zip::ZipWriter::new(std::fs::File::create(fmu).unwrap());
-    for (name, bytes) in entries {
-        out.start_file(name, zip::write::SimpleFileOptions::default())
-            .unwrap();
-        out.write_all(&bytes).unwrap();
-    }
-    out.finish().unwrap();
-}
-
-fn embedding_env() -> Vec<(String, String)> {
-    python::run("embedding_env.py", std::iter::empty::<&str>())
-        .lines()
-        .filter_map(|line| line.split_once('='))
-        .map(|(k, v)| (k.to_owned(), v.to_owned()))
-        .collect()
+    python::rewrite_model_description(fmu, |text| {
+        assert!(
+            text.contains("<Unknown ") && !text.contains("dependencies="),
+            "pythonfmu's ModelStructure changed; revisit this rewrite:\n{text}"
+        );
+        text.replace("<Unknown ", r#"<Unknown dependencies="" "#)
+    });
 }
 
 /// Hover at the terminal target reached: within 0.5 m of 150 m altitude and 1 m of the
@@ -124,7 +80,7 @@ fn lander_gnc_lands_a_python_plant_in_fmpy_and_in_the_harness_identically() {
     let output = Command::new(env!("CARGO_BIN_EXE_fly_paper_with_plant"))
         .arg(&plant_fmu)
         .arg(&harness_csv)
-        .envs(embedding_env())
+        .envs(python::embedding_env())
         .output()
         .expect("cannot run fly_paper_with_plant");
     assert!(

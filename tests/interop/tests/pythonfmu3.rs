@@ -30,7 +30,6 @@
 //! arithmetic inside the FMU either way: every recorded value must be bit-identical.
 use interop_tests::compare::compare;
 use interop_tests::{python, read_trajectory, scratch, write_json};
-use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -48,22 +47,7 @@ const B_X0_M: f64 = 0.05;
 /// `python -m pythonfmu3 build` into `dir`, then the model structure rewritten (see the
 /// module comment).
 fn build_fmu(dir: &Path) -> PathBuf {
-    let source = python::script("spring_damper3/SpringDamperPy3.py");
-    let output = Command::new(python::venv_python())
-        .args(["-m", "pythonfmu3", "build", "-f"])
-        .arg(&source)
-        .arg("-d")
-        .arg(dir)
-        .output()
-        .expect("cannot run pythonfmu3");
-    assert!(
-        output.status.success(),
-        "pythonfmu3 build failed:\n{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let fmu = dir.join("SpringDamperPy3.fmu");
-    assert!(fmu.is_file(), "pythonfmu3 wrote no {}", fmu.display());
+    let fmu = python::build_fmu("pythonfmu3", "spring_damper3/SpringDamperPy3.py", dir);
     declare_outputs_independent_of_inputs(&fmu);
     fmu
 }
@@ -71,36 +55,16 @@ fn build_fmu(dir: &Path) -> PathBuf {
 /// Rewrites the FMU's modelDescription.xml so that every `<Output>` of ModelStructure
 /// depends on no input.
 fn declare_outputs_independent_of_inputs(fmu: &Path) {
-    let mut entries = Vec::new();
-    let mut archive = zip::ZipArchive::new(std::fs::File::open(fmu).unwrap()).unwrap();
-    for i in 0..archive.len() {
-        let mut entry = archive.by_index(i).unwrap();
-        let name = entry.name().to_owned();
-        let mut bytes = Vec::new();
-        entry.read_to_end(&mut bytes).unwrap();
-        if name == "modelDescription.xml" {
-            let text = String::from_utf8(bytes).unwrap();
-            assert!(
-                text.contains(r#"fmiVersion="3.0""#)
-                    && text.matches("<Output ").count() == 6
-                    && !text.contains("dependencies=")
-                    && !text.contains("hasEventMode"),
-                "pythonfmu3's model description changed; revisit this rewrite:\n{text}"
-            );
-            bytes = text
-                .replace("<Output ", r#"<Output dependencies="" "#)
-                .into_bytes();
-        }
-        entries.push((name, bytes));
-    }
-    drop(archive);
-    let mut out = zip::ZipWriter::new(std::fs::File::create(fmu).unwrap());
-    for (name, bytes) in entries {
-        out.start_file(name, zip::write::SimpleFileOptions::default())
-            .unwrap();
-        out.write_all(&bytes).unwrap();
-    }
-    out.finish().unwrap();
+    python::rewrite_model_description(fmu, |text| {
+        assert!(
+            text.contains(r#"fmiVersion="3.0""#)
+                && text.matches("<Output ").count() == 6
+                && !text.contains("dependencies=")
+                && !text.contains("hasEventMode"),
+            "pythonfmu3's model description changed; revisit this rewrite:\n{text}"
+        );
+        text.replace("<Output ", r#"<Output dependencies="" "#)
+    });
 }
 
 /// The scenario: `a` held at a constant force (an unconnected input set before
@@ -161,12 +125,7 @@ fn system_json(fmi3_fmu: &Path) -> serde_json::Value {
 /// What the harness's process needs to host pythonfmu3's binary: embedding_env.py's
 /// LD_PRELOAD and PYTHONHOME, and PYTHONPATH for the venv's packages (numpy).
 fn embedding_env() -> Vec<(String, String)> {
-    let mut env: Vec<(String, String)> =
-        python::run("embedding_env.py", std::iter::empty::<&str>())
-            .lines()
-            .filter_map(|line| line.split_once('='))
-            .map(|(k, v)| (k.to_owned(), v.to_owned()))
-            .collect();
+    let mut env = python::embedding_env();
     let output = Command::new(python::venv_python())
         .args([
             "-c",
