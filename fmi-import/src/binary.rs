@@ -49,11 +49,13 @@ impl Fmi2Functions {
     }
 }
 
-/// FMI 3.0 Co-Simulation: the common functions, reached directly, and the interface's own.
+/// FMI 3.0: the common functions, reached directly, and those of each interface the model
+/// description declares.
 #[derive(Clone, Copy)]
 pub(crate) struct Fmi3Functions {
     pub(crate) common: fmi3::Fmi3Common,
-    pub(crate) co_simulation: fmi3::Fmi3CoSimulation,
+    pub(crate) co_simulation: Option<fmi3::Fmi3CoSimulation>,
+    pub(crate) model_exchange: Option<fmi3::Fmi3ModelExchange>,
 }
 
 impl std::fmt::Debug for Fmi3Functions {
@@ -70,12 +72,23 @@ impl std::ops::Deref for Fmi3Functions {
 }
 
 impl Fmi3Functions {
-    pub(crate) fn resolve(library: &Library, path: &Path) -> Result<Self, LoadError> {
+    pub(crate) fn resolve(
+        library: &Library,
+        path: &Path,
+        co_simulation: bool,
+        model_exchange: bool,
+    ) -> Result<Self, LoadError> {
         // SAFETY: as for FMI 2.0 above.
         unsafe {
             Ok(Self {
                 common: fmi3::Fmi3Common::load(library).map_err(|e| missing(e, path))?,
-                co_simulation: fmi3::Fmi3CoSimulation::load(library)
+                co_simulation: co_simulation
+                    .then(|| fmi3::Fmi3CoSimulation::load(library))
+                    .transpose()
+                    .map_err(|e| missing(e, path))?,
+                model_exchange: model_exchange
+                    .then(|| fmi3::Fmi3ModelExchange::load(library))
+                    .transpose()
                     .map_err(|e| missing(e, path))?,
             })
         }

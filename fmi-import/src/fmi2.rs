@@ -393,7 +393,7 @@ impl Fmi2Instance {
         self.check(function, mark, raw)
     }
 
-    pub(crate) fn enter_event_mode(&mut self) -> Result<Success, FmiError> {
+    pub(crate) fn enter_event_mode_me(&mut self) -> Result<Success, FmiError> {
         const F: &str = "fmi2EnterEventMode";
         let call = self.model_exchange(F)?.enter_event_mode;
         self.component_only(F, call)

@@ -136,10 +136,16 @@ impl Fmu {
                 source,
             })?;
         let view = fmi3::scalar_view(&description3)?;
-        let model_identifier = description3
+        // As for FMI 2.0: Co-Simulation's binary, else Model Exchange's, which is offered
+        // from the same binary only.
+        let co_simulation = description3
             .co_simulation
             .as_ref()
-            .map(|co_simulation| co_simulation.model_identifier.clone())
+            .map(|co_simulation| co_simulation.model_identifier.clone());
+        let model_exchange = description3.model_exchange.clone();
+        let model_identifier = co_simulation
+            .clone()
+            .or_else(|| model_exchange.clone())
             .unwrap_or_default();
         let variables = VariableIndex::new(&view.description)?;
         let (platform, extension) = fmi3::PLATFORM;
@@ -149,7 +155,12 @@ impl Fmu {
             .join(platform)
             .join(format!("{model_identifier}.{extension}"));
         let library = open_library(&binary_path, fmi3::PLATFORM)?;
-        let functions = Fmi3Functions::resolve(&library, &binary_path)?;
+        let functions = Fmi3Functions::resolve(
+            &library,
+            &binary_path,
+            co_simulation.is_some(),
+            model_exchange.as_deref() == Some(model_identifier.as_str()),
+        )?;
         // SAFETY: no arguments, returns a static C string (FMI 3.0, fmi3GetVersion).
         let version = static_text(unsafe { (functions.get_version)() });
         if !version.starts_with("3.") {

@@ -126,15 +126,6 @@ impl Instance {
                     options.interface,
                 )?)
             }
-            Api::Fmi3(_) if options.interface == Interface::ModelExchange => {
-                return Err(CallError::InvalidArgument {
-                    function: "fmi3InstantiateModelExchange",
-                    instance: name.to_owned(),
-                    reason: "this importer drives FMI 3.0 FMUs through Co-Simulation only; \
-                             use the FMU's <CoSimulation> interface"
-                        .into(),
-                });
-            }
             Api::Fmi3(api) => {
                 let event_mode = options.same_instant_feedthrough
                     && api
@@ -148,6 +139,7 @@ impl Instance {
                     name,
                     options.logging_on,
                     event_mode,
+                    options.interface,
                 )?))
             }
         };
@@ -271,66 +263,56 @@ impl Instance {
         }
     }
 
-    // ---- Model Exchange (FMI 2.0) ----
+    // ---- Model Exchange ----
 
-    /// Continuous states and event indicators the model description declares (FMI 2.0:
-    /// `ModelStructure/Derivatives`, `numberOfEventIndicators`).
-    pub fn model_exchange_sizes(&self) -> (usize, usize) {
-        let description = &self.fmu.description;
-        let states = description
-            .model_structure
-            .derivatives
-            .as_ref()
-            .map_or(0, |list| list.unknowns.len());
-        let indicators = description.number_of_event_indicators.unwrap_or(0) as usize;
-        (states, indicators)
+    /// The numbers of continuous states and event indicators (FMI 2.0: from the model
+    /// description, `ModelStructure/Derivatives` and `numberOfEventIndicators`; FMI 3.0:
+    /// `fmi3GetNumberOfContinuousStates`, `fmi3GetNumberOfEventIndicators`).
+    pub fn model_exchange_sizes(&mut self) -> Result<(usize, usize), FmiError> {
+        match &mut self.backend {
+            Backend::Fmi2(_) => {
+                let description = &self.fmu.description;
+                let states = description
+                    .model_structure
+                    .derivatives
+                    .as_ref()
+                    .map_or(0, |list| list.unknowns.len());
+                let indicators = description.number_of_event_indicators.unwrap_or(0) as usize;
+                Ok((states, indicators))
+            }
+            Backend::Fmi3(i) => i.model_exchange_sizes(),
+        }
     }
 
     pub fn set_time(&mut self, time: f64) -> Result<Success, FmiError> {
-        self.fmi2_only("fmi3SetTime")?.set_time(time)
+        both!(self, i => i.set_time(time))
     }
 
     pub fn set_continuous_states(&mut self, x: &[f64]) -> Result<Success, FmiError> {
-        self.fmi2_only("fmi3SetContinuousStates")?
-            .set_continuous_states(x)
+        both!(self, i => i.set_continuous_states(x))
     }
 
+    /// States, derivatives, event indicators or nominals of a Model Exchange instance.
     pub fn get_vector(&mut self, which: MeVector, values: &mut [f64]) -> Result<Success, FmiError> {
-        self.fmi2_only("fmi3GetContinuousStates")?
-            .get_vector(which, values)
+        both!(self, i => i.get_vector(which, values))
     }
 
+    /// Event Mode of a Model Exchange instance (`fmi2EnterEventMode`, `fmi3EnterEventMode`).
     pub fn enter_event_mode_me(&mut self) -> Result<Success, FmiError> {
-        self.fmi2_only("fmi3EnterEventMode")?.enter_event_mode()
+        both!(self, i => i.enter_event_mode_me())
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> Result<Success, FmiError> {
-        self.fmi2_only("fmi3EnterContinuousTimeMode")?
-            .enter_continuous_time_mode()
+        both!(self, i => i.enter_continuous_time_mode())
     }
 
+    /// One call of the event iteration (`fmi2NewDiscreteStates`, `fmi3UpdateDiscreteStates`).
     pub fn update_discrete_states(&mut self) -> Result<EventUpdate, FmiError> {
-        self.fmi2_only("fmi3UpdateDiscreteStates")?
-            .update_discrete_states()
+        both!(self, i => i.update_discrete_states())
     }
 
     pub fn completed_integrator_step(&mut self) -> Result<StepEnd, FmiError> {
-        self.fmi2_only("fmi3CompletedIntegratorStep")?
-            .completed_integrator_step()
-    }
-
-    /// Model Exchange instances are FMI 2.0 only (instantiation refuses FMI 3.0 ME), so an
-    /// FMI 3.0 instance here is a Co-Simulation one.
-    fn fmi2_only(&mut self, function: &'static str) -> Result<&mut Fmi2Instance, FmiError> {
-        match &mut self.backend {
-            Backend::Fmi2(i) => Ok(i),
-            Backend::Fmi3(i) => Err(FmiError {
-                function,
-                instance: i.name().to_owned(),
-                status: crate::Failure::Error,
-                log: crate::FmuLog(vec![]),
-            }),
-        }
+        both!(self, i => i.completed_integrator_step())
     }
 
     // ---- values by value reference ----

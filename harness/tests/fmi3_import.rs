@@ -319,13 +319,27 @@ fn fmi3_input_the_harness_cannot_drive_is_refused_before_the_run_naming_fmu_and_
     type Edit = fn(&str) -> String;
     let cases: [(&str, Edit, &str); 3] = [
         (
-            "Model Exchange only",
+            "Scheduled Execution only",
             |xml| {
-                let start = xml.find("  <CoSimulation ").unwrap();
-                let end = start + xml[start..].find("/>\n").unwrap() + 3;
-                format!("{}{}", &xml[..start], &xml[end..])
+                let mut xml = xml.to_owned();
+                let mut identifier = String::new();
+                for element in ["  <CoSimulation ", "  <ModelExchange "] {
+                    if let Some(start) = xml.find(element) {
+                        let end = start + xml[start..].find("/>\n").unwrap() + 3;
+                        let tag = &xml[start..end];
+                        let id = tag.split("modelIdentifier=\"").nth(1).unwrap();
+                        identifier = id[..id.find('"').unwrap()].to_owned();
+                        xml.replace_range(start..end, "");
+                    }
+                }
+                let at = xml.find("  <ModelVariables>").unwrap_or(xml.find('\n').unwrap() + 1);
+                xml.insert_str(
+                    at,
+                    &format!("  <ScheduledExecution modelIdentifier=\"{identifier}\"/>\n"),
+                );
+                xml
             },
-            "it has no <CoSimulation> element (only <ModelExchange>)",
+            "it has neither <CoSimulation> nor <ModelExchange> (only <ScheduledExecution>)",
         ),
         (
             "a clock",

@@ -79,6 +79,15 @@ fn assert_free_fall(trajectory: &Trajectory, end: &RunEnd, what: &str) {
 }
 
 #[test]
+fn the_fmi3_plants_free_fall_as_model_exchange_follows_the_parabola() {
+    // GIVEN the FMI 3.0 plant alone, as Model Exchange
+    let fmu = common::fmu_dir().join("fmi3/LanderPlant.fmu");
+    let (trajectory, end) = fly(free_fall(&fmu, "interface = \"model-exchange\""));
+    // THEN the same figures as FMI 2.0
+    assert_free_fall(&trajectory, &end, "FMI 3.0");
+}
+
+#[test]
 fn the_plants_free_fall_as_model_exchange_follows_the_parabola_with_either_solver() {
     let fmu = common::fmu_dir().join("LanderPlant.fmu");
     // BDF is of order 5 at most with error estimates per step, so it needs a tighter
@@ -103,21 +112,47 @@ fn the_plants_free_fall_as_model_exchange_follows_the_parabola_with_either_solve
     }
 }
 
+/// The FMU with its `<CoSimulation>` element removed from the description.
+fn model_exchange_only(fmu: &str, dir: &Path) -> std::path::PathBuf {
+    let unpacked = dir.join("unpacked");
+    unzip_to(&common::fmu_dir().join(fmu), &unpacked);
+    let description_path = unpacked.join("modelDescription.xml");
+    let description = std::fs::read_to_string(&description_path).unwrap();
+    let start = description.find("<CoSimulation").unwrap();
+    // FMI 2.0 writes an empty element, FMI 3.0 may write one with content.
+    let end = match description[start..].find("</CoSimulation>") {
+        Some(close) => start + close + "</CoSimulation>".len(),
+        None => start + description[start..].find("/>").unwrap() + 2,
+    };
+    let me_only = format!("{}{}", &description[..start], &description[end..]);
+    assert!(!me_only.contains("<CoSimulation") && me_only.contains("<ModelExchange"));
+    std::fs::write(&description_path, me_only).unwrap();
+    let out = dir.join("LanderPlantME.fmu");
+    zip_dir(&unpacked, &out);
+    out
+}
+
+#[test]
+fn an_fmi3_model_exchange_only_fmu_runs_with_the_solver() {
+    let dir = tempfile::tempdir().unwrap();
+    let fmu = model_exchange_only("fmi3/LanderPlant.fmu", dir.path());
+    let (trajectory, end) = fly(free_fall(&fmu, "interface = \"model-exchange\""));
+    assert_free_fall(&trajectory, &end, "FMI 3.0 Model Exchange only");
+    let error = Simulation::new(free_fall(&fmu, ""), Path::new("/"))
+        .err()
+        .expect("an FMI 3.0 Model Exchange only FMU cannot be a Co-Simulation instance");
+    let chain = std::iter::successors(Some(&error as &dyn std::error::Error), |e| e.source())
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join(": ");
+    assert!(chain.contains("no <CoSimulation> element"), "{chain}");
+}
+
 #[test]
 fn a_model_exchange_only_fmu_runs_with_the_solver_and_is_refused_as_co_simulation() {
     // GIVEN LanderPlant with its <CoSimulation> element removed
     let dir = tempfile::tempdir().unwrap();
-    let unpacked = dir.path().join("unpacked");
-    unzip_to(&common::fmu_dir().join("LanderPlant.fmu"), &unpacked);
-    let description_path = unpacked.join("modelDescription.xml");
-    let description = std::fs::read_to_string(&description_path).unwrap();
-    let start = description.find("<CoSimulation").unwrap();
-    let end = start + description[start..].find("/>").unwrap() + 2;
-    let me_only = format!("{}{}", &description[..start], &description[end..]);
-    assert!(!me_only.contains("<CoSimulation") && me_only.contains("<ModelExchange"));
-    std::fs::write(&description_path, me_only).unwrap();
-    let fmu = dir.path().join("LanderPlantME.fmu");
-    zip_dir(&unpacked, &fmu);
+    let fmu = model_exchange_only("LanderPlant.fmu", dir.path());
 
     // WHEN it runs as Model Exchange, THEN the free-fall figures hold
     let (trajectory, end) = fly(free_fall(&fmu, "interface = \"model-exchange\""));
@@ -162,8 +197,22 @@ fn solver_settings_without_model_exchange_and_unknown_solvers_are_refused_togeth
 
 #[test]
 fn the_paper_loop_with_the_plant_as_model_exchange_matches_the_co_simulation_loop() {
+    paper_loop_model_exchange_against_co_simulation(false);
+}
+
+#[test]
+fn the_fmi3_paper_loop_with_the_plant_as_model_exchange_matches_the_co_simulation_loop() {
+    paper_loop_model_exchange_against_co_simulation(true);
+}
+
+fn paper_loop_model_exchange_against_co_simulation(fmi3: bool) {
     // GIVEN the paper scenario, once as shipped and once with the plant as Model Exchange
-    let shipped = harness::scenarios::load("paper").unwrap();
+    let mut shipped = harness::scenarios::load("paper").unwrap();
+    if fmi3 {
+        for instance in &mut shipped.instances {
+            instance.fmu = Path::new("fmi3").join(&instance.fmu);
+        }
+    }
     let mut model_exchange = shipped.clone();
     model_exchange.instance_mut("plant").unwrap().model_exchange =
         Some(cosim::master::SolverSettings::default());
@@ -197,7 +246,10 @@ fn the_paper_loop_with_the_plant_as_model_exchange_matches_the_co_simulation_loo
             worst_velocity = worst_velocity.max((a - b).abs());
         }
     }
-    println!("paper loop, CS vs ME plant: position {worst_position:e} m, velocity {worst_velocity:e} m/s");
+    println!(
+        "paper loop (FMI 3.0: {fmi3}), CS vs ME plant: position {worst_position:e} m, \
+         velocity {worst_velocity:e} m/s"
+    );
     assert!(
         worst_position < 1e-3,
         "position differs by {worst_position} m"

@@ -1155,7 +1155,8 @@ fn instantiate(
             || io.integer.feedthrough_start < io.integer.vrs.len()
             || io.boolean.feedthrough_start < io.boolean.vrs.len();
         let same_instant = system.ordering == Ordering::GaussSeidel && feedthrough;
-        if same_instant && !fmu.supports_same_instant_feedthrough() {
+        if same_instant && desc.model_exchange.is_none() && !fmu.supports_same_instant_feedthrough()
+        {
             log::warn!(
                 "instance '{}': model '{}' (FMI 3.0) has no Event Mode, so its outputs that \
                  depend on its inputs are read before its inputs are set: one step late",
@@ -1176,16 +1177,24 @@ fn instantiate(
             .instantiate_with(&desc.name, options)
             .map_err(|source| MasterError::Call {
                 instance: desc.name.clone(),
-                context: match fmu.fmi_version() {
-                    fmi_import::FmiVersion::Fmi2 => "fmi2Instantiate",
-                    fmi_import::FmiVersion::Fmi3 => "fmi3InstantiateCoSimulation",
+                context: match (fmu.fmi_version(), desc.model_exchange.is_some()) {
+                    (fmi_import::FmiVersion::Fmi2, _) => "fmi2Instantiate",
+                    (fmi_import::FmiVersion::Fmi3, false) => "fmi3InstantiateCoSimulation",
+                    (fmi_import::FmiVersion::Fmi3, true) => "fmi3InstantiateModelExchange",
                 }
                 .into(),
                 source: Box::new(source),
             })?;
+        let mut instance = instance;
         let model_exchange = desc
             .model_exchange
-            .map(|settings| model_exchange::ModelExchangeUnit::new(settings, &instance));
+            .map(|settings| model_exchange::ModelExchangeUnit::new(settings, &mut instance))
+            .transpose()
+            .map_err(|source| MasterError::Step {
+                instance: desc.name.clone(),
+                time: system.start_time,
+                source: Box::new(source),
+            })?;
         units.push(Unit {
             name: desc.name.clone(),
             instance,

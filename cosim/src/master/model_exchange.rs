@@ -32,7 +32,7 @@ impl Default for SolverSettings {
     }
 }
 
-/// Event iterations (`fmi2NewDiscreteStates` calls at one instant) before the master gives up:
+/// Event iterations (`fmi2NewDiscreteStates` or `fmi3UpdateDiscreteStates` calls at one instant) before the master gives up:
 /// an FMU that keeps asking for new discrete states would otherwise hang the run.
 const MAX_EVENT_ITERATIONS: usize = 1000;
 
@@ -109,9 +109,9 @@ impl OdeSystem for Fmu<'_> {
 }
 
 impl ModelExchangeUnit {
-    pub(super) fn new(settings: SolverSettings, instance: &Instance) -> Self {
-        let (states, indicators) = instance.model_exchange_sizes();
-        Self {
+    pub(super) fn new(settings: SolverSettings, instance: &mut Instance) -> Result<Self, FmiError> {
+        let (states, indicators) = instance.model_exchange_sizes()?;
+        Ok(Self {
             settings,
             states,
             indicators,
@@ -120,7 +120,7 @@ impl ModelExchangeUnit {
             state_events: 0,
             time_events: 0,
             step_events: 0,
-        }
+        })
     }
 
     /// After `fmi2ExitInitializationMode`: the instance is in Event Mode; the event iteration

@@ -1,5 +1,5 @@
-//! The FMI 3.0 backend of [`crate::Instance`]: one Co-Simulation instance, with the
-//! state it is in, so that only call orders the standard allows reach the FMU.
+//! The FMI 3.0 backend of [`crate::Instance`]: one Co-Simulation or Model Exchange instance,
+//! with the state it is in, so that only call orders the standard allows reach the FMU.
 //!
 //! - Values travel by *element reference* (the scalar view's value reference, see
 //!   `view.rs`): a get reads each array it touches whole, in one `fmi3Get{Type}` call per
@@ -22,7 +22,9 @@ use crate::binary::Fmi3Functions;
 use crate::error::{CallError, FmiError};
 use crate::fmu::FmuShared;
 use crate::logger::{log_message_fmi3, LogEnv, LogMark};
+use crate::model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
 use crate::status::{Status, StepStatus, Success};
+use crate::tables::fmi3::Fmi3ModelExchange;
 use fmi_abi::fmi3::{fmi3Instance, fmi3Status, fmi3String};
 use model_description::fmi3::Fmi3Type;
 use std::ffi::{c_void, CStr, CString};
@@ -37,6 +39,7 @@ enum Mode {
     Initialization,
     Event,
     Step,
+    ContinuousTime,
     Terminated,
 }
 
@@ -102,6 +105,7 @@ pub(crate) struct Fmi3Instance {
     _strings: [CString; 2],
     _resource_path: Option<CString>,
     event_mode_used: bool,
+    interface: Interface,
     mode: Mode,
     set_since_step: bool,
     experiment: (Option<f64>, f64, Option<f64>),
@@ -138,11 +142,34 @@ impl Fmi3Instance {
         name: &str,
         logging_on: bool,
         event_mode_used: bool,
+        interface: Interface,
     ) -> Result<Self, CallError> {
-        const F: &str = "fmi3InstantiateCoSimulation";
+        let functions = api.functions;
+        let (co_simulation, model_exchange) = (functions.co_simulation, functions.model_exchange);
+        let (function, available) = match interface {
+            Interface::CoSimulation => ("fmi3InstantiateCoSimulation", co_simulation.is_some()),
+            Interface::ModelExchange => ("fmi3InstantiateModelExchange", model_exchange.is_some()),
+        };
+        if !available {
+            return Err(CallError::InvalidArgument {
+                function,
+                instance: name.to_owned(),
+                reason: format!(
+                    "model '{}' does not declare {interface:?} (its model description has no \
+                     <{}> element)",
+                    api.description.model_name,
+                    match interface {
+                        Interface::CoSimulation => "CoSimulation",
+                        Interface::ModelExchange => "ModelExchange",
+                    }
+                ),
+            });
+        }
+        // Event Mode is what Co-Simulation may use; Model Exchange always has it.
+        let event_mode_used = event_mode_used && interface == Interface::CoSimulation;
         let c_string = |what: &str, text: &str| {
             CString::new(text).map_err(|_| CallError::InvalidArgument {
-                function: F,
+                function,
                 instance: name.to_owned(),
                 reason: format!("{what} contains a NUL byte"),
             })
@@ -160,28 +187,41 @@ impl Fmi3Instance {
             .transpose()?;
         let log = Arc::new(LogEnv::named(name));
         let mark = log.mark();
-        let functions = api.functions;
+        let resource = resource_path.as_ref().map_or(ptr::null(), |p| p.as_ptr());
+        let environment = Arc::as_ptr(&log) as *mut c_void;
         // SAFETY: every pointer is valid for the call; `log` and the strings move into the
         // instance, which outlives the FMU's instance.
         let instance = unsafe {
-            (functions.co_simulation.instantiate_co_simulation)(
-                instance_name.as_ptr(),
-                token.as_ptr(),
-                resource_path.as_ref().map_or(ptr::null(), |p| p.as_ptr()),
-                false,
-                logging_on,
-                event_mode_used,
-                false,
-                ptr::null(),
-                0,
-                Arc::as_ptr(&log) as *mut c_void,
-                Some(log_message_fmi3),
-                None,
-            )
+            match (co_simulation, model_exchange, interface) {
+                (Some(cs), _, Interface::CoSimulation) => (cs.instantiate_co_simulation)(
+                    instance_name.as_ptr(),
+                    token.as_ptr(),
+                    resource,
+                    false,
+                    logging_on,
+                    event_mode_used,
+                    false,
+                    ptr::null(),
+                    0,
+                    environment,
+                    Some(log_message_fmi3),
+                    None,
+                ),
+                (_, Some(me), _) => (me.instantiate_model_exchange)(
+                    instance_name.as_ptr(),
+                    token.as_ptr(),
+                    resource,
+                    false,
+                    logging_on,
+                    environment,
+                    Some(log_message_fmi3),
+                ),
+                _ => ptr::null_mut(),
+            }
         };
         let Some(instance) = NonNull::new(instance) else {
             return Err(CallError::InstantiationFailed {
-                function: F,
+                function,
                 instance: name.to_owned(),
                 log: log.since(mark),
             });
@@ -197,6 +237,7 @@ impl Fmi3Instance {
             _strings: [instance_name, token],
             _resource_path: resource_path,
             event_mode_used,
+            interface,
             mode: Mode::Instantiated,
             set_since_step: false,
             experiment: (None, 0.0, None),
@@ -219,9 +260,10 @@ impl Fmi3Instance {
         &self.log
     }
 
-    /// Whether a get may follow a set at one communication point (Event Mode is used).
+    /// Whether a get may follow a set at one communication point: Event Mode is used, or
+    /// the instance is Model Exchange (no Step Mode).
     pub(crate) fn event_mode_used(&self) -> bool {
-        self.event_mode_used
+        self.event_mode_used || self.interface == Interface::ModelExchange
     }
 
     fn c(&self) -> fmi3Instance {
@@ -330,7 +372,8 @@ impl Fmi3Instance {
     pub(crate) fn exit_initialization_mode(&mut self) -> Result<Success, FmiError> {
         let call = self.functions.exit_initialization_mode;
         let success = self.only("fmi3ExitInitializationMode", call)?;
-        self.mode = if self.event_mode_used {
+        // Model Exchange always leaves initialization into Event Mode (FMI 3.0, 3.2).
+        self.mode = if self.event_mode_used || self.interface == Interface::ModelExchange {
             Mode::Event
         } else {
             Mode::Step
@@ -389,8 +432,10 @@ impl Fmi3Instance {
                 return Ok(true);
             }
             if !again {
-                let call = self.functions.co_simulation.enter_step_mode;
-                self.only("fmi3EnterStepMode", call)?;
+                let Some(co_simulation) = self.functions.co_simulation else {
+                    return Err(self.not_co_simulation("fmi3EnterStepMode"));
+                };
+                self.only("fmi3EnterStepMode", co_simulation.enter_step_mode)?;
                 self.mode = Mode::Step;
                 return Ok(false);
             }
@@ -410,6 +455,13 @@ impl Fmi3Instance {
         step_size: f64,
     ) -> Result<StepStatus, FmiError> {
         const F: &str = "fmi3DoStep";
+        let Some(co_simulation) = self
+            .functions
+            .co_simulation
+            .filter(|_| self.interface == Interface::CoSimulation)
+        else {
+            return Err(self.not_co_simulation(F));
+        };
         if self.mode == Mode::Event && self.leave_event_mode()? {
             self.terminated = true;
             self.last_successful_time = current_time;
@@ -423,7 +475,7 @@ impl Fmi3Instance {
         let mark = self.log.mark();
         // SAFETY: a live instance and valid out-pointers.
         let raw = unsafe {
-            (self.functions.co_simulation.do_step)(
+            (co_simulation.do_step)(
                 self.c(),
                 current_time,
                 step_size,
@@ -574,6 +626,152 @@ impl Fmi3Instance {
                 format!("{vrs} value references but {values} values"),
             ))
         }
+    }
+
+    fn not_co_simulation(&self, function: &'static str) -> FmiError {
+        self.wrong_interface(function, "Co-Simulation")
+    }
+
+    fn wrong_interface(&self, function: &'static str, wanted: &str) -> FmiError {
+        FmiError {
+            function,
+            instance: self.name.clone(),
+            status: crate::status::Failure::Error,
+            log: crate::logger::FmuLog(vec![crate::logger::LogMessage {
+                instance_name: self.name.clone(),
+                status: Status::Error,
+                version: crate::fmu::FmiVersion::Fmi3,
+                category: "importer".into(),
+                message: format!(
+                    "{function} is a {wanted} function and this instance was made for {:?}",
+                    self.interface
+                ),
+            }]),
+        }
+    }
+
+    // ---- Model Exchange (FMI 3.0, 3) ----
+
+    fn model_exchange(&self, function: &'static str) -> Result<Fmi3ModelExchange, FmiError> {
+        match (self.interface, self.functions.model_exchange) {
+            (Interface::ModelExchange, Some(table)) => Ok(table),
+            _ => Err(self.wrong_interface(function, "Model Exchange")),
+        }
+    }
+
+    /// `fmi3GetNumberOfContinuousStates` and `fmi3GetNumberOfEventIndicators`.
+    pub(crate) fn model_exchange_sizes(&mut self) -> Result<(usize, usize), FmiError> {
+        let table = self.model_exchange("fmi3GetNumberOfContinuousStates")?;
+        let (mut states, mut indicators) = (0usize, 0usize);
+        let mark = self.log.mark();
+        // SAFETY: valid out-pointers.
+        let raw = unsafe { (table.get_number_of_continuous_states)(self.c(), &mut states) };
+        self.check("fmi3GetNumberOfContinuousStates", mark, raw)?;
+        let mark = self.log.mark();
+        // SAFETY: valid out-pointers.
+        let raw = unsafe { (table.get_number_of_event_indicators)(self.c(), &mut indicators) };
+        self.check("fmi3GetNumberOfEventIndicators", mark, raw)?;
+        Ok((states, indicators))
+    }
+
+    pub(crate) fn set_time(&mut self, time: f64) -> Result<Success, FmiError> {
+        const F: &str = "fmi3SetTime";
+        let call = self.model_exchange(F)?.set_time;
+        let mark = self.log.mark();
+        // SAFETY: plain values only.
+        let raw = unsafe { call(self.c(), time) };
+        self.check(F, mark, raw)
+    }
+
+    pub(crate) fn set_continuous_states(&mut self, x: &[f64]) -> Result<Success, FmiError> {
+        const F: &str = "fmi3SetContinuousStates";
+        let call = self.model_exchange(F)?.set_continuous_states;
+        let mark = self.log.mark();
+        // SAFETY: `x` is valid for `x.len()` reads.
+        let raw = unsafe { call(self.c(), x.as_ptr(), x.len()) };
+        self.check(F, mark, raw)
+    }
+
+    pub(crate) fn get_vector(
+        &mut self,
+        which: MeVector,
+        values: &mut [f64],
+    ) -> Result<Success, FmiError> {
+        let function = match which {
+            MeVector::States => "fmi3GetContinuousStates",
+            MeVector::Derivatives => "fmi3GetContinuousStateDerivatives",
+            MeVector::EventIndicators => "fmi3GetEventIndicators",
+            MeVector::Nominals => "fmi3GetNominalsOfContinuousStates",
+        };
+        let table = self.model_exchange(function)?;
+        let call = match which {
+            MeVector::States => table.get_continuous_states,
+            MeVector::Derivatives => table.get_continuous_state_derivatives,
+            MeVector::EventIndicators => table.get_event_indicators,
+            MeVector::Nominals => table.get_nominals_of_continuous_states,
+        };
+        let mark = self.log.mark();
+        // SAFETY: `values` is valid for `values.len()` writes.
+        let raw = unsafe { call(self.c(), values.as_mut_ptr(), values.len()) };
+        self.check(function, mark, raw)
+    }
+
+    pub(crate) fn enter_event_mode_me(&mut self) -> Result<Success, FmiError> {
+        self.model_exchange("fmi3EnterEventMode")?;
+        self.enter_event_mode()?;
+        Ok(Success::Ok)
+    }
+
+    pub(crate) fn enter_continuous_time_mode(&mut self) -> Result<Success, FmiError> {
+        const F: &str = "fmi3EnterContinuousTimeMode";
+        let call = self.model_exchange(F)?.enter_continuous_time_mode;
+        let success = self.only(F, call)?;
+        self.mode = Mode::ContinuousTime;
+        Ok(success)
+    }
+
+    /// One `fmi3UpdateDiscreteStates` of the event iteration.
+    pub(crate) fn update_discrete_states(&mut self) -> Result<EventUpdate, FmiError> {
+        const F: &str = "fmi3UpdateDiscreteStates";
+        self.model_exchange(F)?;
+        let (mut again, mut terminate, mut nominals, mut values, mut defined, mut next) =
+            (false, false, false, false, false, 0.0);
+        let mark = self.log.mark();
+        // SAFETY: a live instance and valid out-pointers.
+        let raw = unsafe {
+            (self.functions.update_discrete_states)(
+                self.c(),
+                &mut again,
+                &mut terminate,
+                &mut nominals,
+                &mut values,
+                &mut defined,
+                &mut next,
+            )
+        };
+        self.check(F, mark, raw)?;
+        Ok(EventUpdate {
+            discrete_states_need_update: again,
+            terminate_simulation: terminate,
+            nominals_changed: nominals,
+            states_changed: values,
+            next_event_time: defined.then_some(next),
+        })
+    }
+
+    /// `fmi3CompletedIntegratorStep` with `noSetFMUStatePriorToCurrentPoint = false`.
+    pub(crate) fn completed_integrator_step(&mut self) -> Result<StepEnd, FmiError> {
+        const F: &str = "fmi3CompletedIntegratorStep";
+        let call = self.model_exchange(F)?.completed_integrator_step;
+        let (mut enter_event_mode, mut terminate) = (false, false);
+        let mark = self.log.mark();
+        // SAFETY: valid out-pointers.
+        let raw = unsafe { call(self.c(), false, &mut enter_event_mode, &mut terminate) };
+        self.check(F, mark, raw)?;
+        Ok(StepEnd {
+            enter_event_mode,
+            terminate_simulation: terminate,
+        })
     }
 
     /// Refuses a get the standard forbids; FMI 3.0, 4.2.1, Step Mode.

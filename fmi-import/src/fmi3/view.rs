@@ -64,17 +64,16 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
         model_name: md.model_name.clone(),
         reason,
     };
-    let Some(co_simulation) = &md.co_simulation else {
-        let has = match (&md.model_exchange, &md.scheduled_execution) {
-            (Some(_), Some(_)) => "only <ModelExchange> and <ScheduledExecution>",
-            (Some(_), None) => "only <ModelExchange>",
-            (None, Some(_)) => "only <ScheduledExecution>",
-            (None, None) => "no interface element",
+    if md.co_simulation.is_none() && md.model_exchange.is_none() {
+        let has = match &md.scheduled_execution {
+            Some(_) => "only <ScheduledExecution>",
+            None => "no interface element",
         };
         return Err(refuse(format!(
-            "it has no <CoSimulation> element ({has}); the harness runs Co-Simulation FMUs only"
+            "it has neither <CoSimulation> nor <ModelExchange> ({has}); the harness runs \
+             those two interfaces"
         )));
-    };
+    }
     for variable in &md.variables {
         if variable.kind == Fmi3Type::Clock {
             return Err(refuse(format!(
@@ -207,7 +206,7 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
             model_identifier: id.clone(),
             ..Default::default()
         }),
-        co_simulation: Some(CoSimulation {
+        co_simulation: md.co_simulation.as_ref().map(|co_simulation| CoSimulation {
             model_identifier: co_simulation.model_identifier.clone(),
             can_handle_variable_communication_step_size: Some(
                 co_simulation.can_handle_variable_communication_step_size,
@@ -392,14 +391,14 @@ mod tests {
     }
 
     #[test]
-    fn clocks_model_exchange_only_and_structural_parameters_are_refused() {
+    fn clocks_scheduled_execution_only_and_structural_parameters_are_refused() {
         let cases = [
             (
                 MD.replace(
                     r#"<CoSimulation modelIdentifier="M"/>"#,
-                    r#"<ModelExchange modelIdentifier="M"/>"#,
+                    r#"<ScheduledExecution modelIdentifier="M"/>"#,
                 ),
-                "only <ModelExchange>",
+                "only <ScheduledExecution>",
             ),
             (
                 MD.replace(
