@@ -109,34 +109,21 @@ fn a_touchdown_ends_the_fmi3_run_with_the_touchdown_row_as_the_last() {
     let fmi2 = scenario("landing");
     let (verdict2, csv2) = run(temp.path(), "fmi2", &fmi2, &[]);
     let (verdict3, csv3) = run(temp.path(), "fmi3", &with_fmi3_paths(&fmi2, 2), &[]);
-    // THEN FMI 3.0's fmi3OK + terminateSimulation ends the run as FMI 2.0's fmi2Discard +
-    // fmi2Terminated does: the same verdict, the same rows with the same values, the last row
-    // being the touchdown state.
+    // THEN FMI 3.0's early return with terminateSimulation ends the run as FMI 2.0's
+    // fmi2Discard + fmi2Terminated does: the same verdict and the same rows, the last one at
+    // the touchdown itself (lastSuccessfulTime of the early return, as
+    // fmi2LastSuccessfulTime), every value bit for bit.
     assert!(verdict2.contains("touchdown at t = 323.61 s"), "{verdict2}");
     assert_eq!(verdict3, verdict2);
     let (rows2, rows3) = (rows(&csv2), rows(&csv3));
-    assert_eq!(rows3.len(), rows2.len());
-    for (k, (a, b)) in rows2.iter().zip(&rows3).enumerate() {
-        assert_eq!(a[1..], b[1..], "row {k}: values");
-    }
     let last = rows2.len() - 1;
-    assert_eq!(
-        rows2[..last].iter().map(|r| r[0]).collect::<Vec<_>>(),
-        rows3[..last].iter().map(|r| r[0]).collect::<Vec<_>>()
-    );
-    // Only the last row's time differs: FMI 2.0 reports the crossing
-    // (fmi2LastSuccessfulTime); FMI 3.0 without early return completes the step with the
-    // state frozen at the crossing, and lastSuccessfulTime is the step's end t + h.
-    let (t2, t3): (f64, f64) = (
-        rows2[last][0].parse().unwrap(),
-        rows3[last][0].parse().unwrap(),
-    );
     let previous: f64 = rows2[last - 1][0].parse().unwrap();
-    assert!(previous < t2 && t2 < t3, "{previous} < {t2} < {t3}");
+    let touchdown: f64 = rows3[last][0].parse().unwrap();
     assert!(
-        (t3 - (previous + 0.01)).abs() < 1e-9,
-        "the step's end: {t3}"
+        previous < touchdown && touchdown < previous + 0.01,
+        "the touchdown row is inside the last step: {touchdown}"
     );
+    assert!(csv3 == csv2, "the FMI 3.0 landing differs from FMI 2.0's");
 }
 
 #[test]
@@ -246,7 +233,28 @@ fn the_oscillator_and_the_navigation_model_run_alone_in_fmi3() {
     assert!(verdict3.contains("completed at t = 5.00 s"), "{verdict3}");
     assert_eq!(verdict3, verdict2);
     assert!(csv3.starts_with("time,osc.x,osc.v,osc.step_count\n0.0,1.0,0.0,0.0\n"));
-    assert!(csv3 == csv2);
+    // The state event inside the third step: FMI 2.0 has no early return and the FMU steps
+    // on from the event within fmi2DoStep; FMI 3.0 returns early there and the importer
+    // steps on with fmi3DoStep(t_event, t + h - t_event), whose end the FMU recomputes as
+    // t_event + (t + h - t_event): the same time to within a rounding, and the rest of the
+    // step integrated from the event as one span rather than as the FMU's own continuation.
+    // Measured: 5.4e-11 relative over the 5 s (three crossings).
+    let (rows2, rows3) = (rows(&csv2), rows(&csv3));
+    assert_eq!(rows2.len(), rows3.len());
+    let mut worst = 0.0f64;
+    for (a, b) in rows2.iter().zip(&rows3).skip(1) {
+        assert_eq!(a[0], b[0], "the grid");
+        assert_eq!(a[3], b[3], "step_count");
+        for j in 1..3 {
+            let (x, y): (f64, f64) = (a[j].parse().unwrap(), b[j].parse().unwrap());
+            worst = worst.max((x - y).abs() / x.abs().max(1e-3));
+        }
+    }
+    assert!(
+        worst < 1e-9,
+        "FMI 3.0 vs FMI 2.0 oscillator: relative {worst:e}"
+    );
+    assert!(rows2[..4] == rows3[..4], "identical before the event");
     // The navigation error model between plant and GNC, all three in FMI 3.0.
     let nav = scenario("paper-nav").replace("stop_time = 172.0", "stop_time = 5.0");
     let (verdict2, csv2) = run(temp.path(), "nav2", &nav, &[]);
@@ -332,7 +340,9 @@ fn fmi3_input_the_harness_cannot_drive_is_refused_before_the_run_naming_fmu_and_
                         xml.replace_range(start..end, "");
                     }
                 }
-                let at = xml.find("  <ModelVariables>").unwrap_or(xml.find('\n').unwrap() + 1);
+                let at = xml
+                    .find("  <ModelVariables>")
+                    .unwrap_or(xml.find('\n').unwrap() + 1);
                 xml.insert_str(
                     at,
                     &format!("  <ScheduledExecution modelIdentifier=\"{identifier}\"/>\n"),

@@ -13,8 +13,11 @@
 //!   (`fmi3UpdateDiscreteStates` until nothing needs an update, `fmi3EnterStepMode`) before
 //!   `fmi3DoStep`. In Event Mode a get after a set returns the outputs of the inputs just set,
 //!   as `fmi2GetReal` after `fmi2SetReal` does.
-//! - `earlyReturnAllowed = false`: a step ends at `t + h` or ends the run
-//!   (`terminateSimulation`).
+//! - `earlyReturnAllowed = true`: an FMU that returns early (`earlyReturn`, at
+//!   `lastSuccessfulTime`) ends the run there if it asks to terminate, which gives the exact
+//!   time of a touchdown; otherwise the importer handles the event (Event Mode, when used)
+//!   and completes the communication step from where the FMU stopped, so the master's grid
+//!   is kept.
 #![allow(unsafe_code)]
 
 use super::{Element, Fmi3Api, Starts};
@@ -90,6 +93,12 @@ struct Plan {
     group: Group,
     key: Vec<u32>,
     calls: Vec<Call>,
+}
+
+/// What one `fmi3DoStep` did: returned early at a time (without ending the run), or else.
+enum Stepped {
+    Early(f64),
+    Status(StepStatus),
 }
 
 /// Plans kept per instance: a master exchanges the same lists every step.
@@ -200,7 +209,7 @@ impl Fmi3Instance {
                     false,
                     logging_on,
                     event_mode_used,
-                    false,
+                    true,
                     ptr::null(),
                     0,
                     environment,
@@ -448,12 +457,52 @@ impl Fmi3Instance {
         })
     }
 
-    /// `fmi3DoStep` from `current_time` over `step_size`, leaving Event Mode first.
+    /// One communication step from `current_time` over `step_size`: `fmi3DoStep` until it
+    /// reaches the step's end, ends the run, or fails; an early return without termination
+    /// is continued from `lastSuccessfulTime` (bounded: a step the FMU keeps cutting short
+    /// without advancing is an error).
     pub(crate) fn do_step(
         &mut self,
         current_time: f64,
         step_size: f64,
     ) -> Result<StepStatus, FmiError> {
+        let end = current_time + step_size;
+        let mut from = current_time;
+        for _ in 0..10_000 {
+            match self.one_step(from, end - from)? {
+                Stepped::Early(last) if last >= end => {
+                    return Ok(StepStatus::Complete(Success::Ok))
+                }
+                // A return that does not advance is reported as the stop it is.
+                Stepped::Early(last) if last <= from => {
+                    return Ok(StepStatus::Discarded {
+                        last_successful_time: last,
+                        terminated: false,
+                    })
+                }
+                Stepped::Early(last) => from = last,
+                Stepped::Status(status) => return Ok(status),
+            }
+        }
+        Err(FmiError {
+            function: "fmi3DoStep",
+            instance: self.name.clone(),
+            status: crate::status::Failure::Error,
+            log: crate::logger::FmuLog(vec![crate::logger::LogMessage {
+                instance_name: self.name.clone(),
+                status: Status::Error,
+                version: crate::fmu::FmiVersion::Fmi3,
+                category: "importer".into(),
+                message: format!(
+                    "the step from t = {current_time} returned early 10,000 times without \
+                     reaching t = {end}"
+                ),
+            }]),
+        })
+    }
+
+    /// One `fmi3DoStep` from `current_time` over `step_size`, leaving Event Mode first.
+    fn one_step(&mut self, current_time: f64, step_size: f64) -> Result<Stepped, FmiError> {
         const F: &str = "fmi3DoStep";
         let Some(co_simulation) = self
             .functions
@@ -465,9 +514,9 @@ impl Fmi3Instance {
         if self.mode == Mode::Event && self.leave_event_mode()? {
             self.terminated = true;
             self.last_successful_time = current_time;
-            return Ok(StepStatus::Terminated {
+            return Ok(Stepped::Status(StepStatus::Terminated {
                 last_successful_time: current_time,
-            });
+            }));
         }
         // Out-arguments start at what a quiet step reports.
         let (mut event, mut terminate, mut early, mut last) =
@@ -493,34 +542,31 @@ impl Fmi3Instance {
                 self.last_successful_time = last;
                 if terminate {
                     self.terminated = true;
-                    return Ok(StepStatus::Terminated {
+                    return Ok(Stepped::Status(StepStatus::Terminated {
                         last_successful_time: last,
-                    });
-                }
-                if early {
-                    return Ok(StepStatus::Discarded {
-                        last_successful_time: last,
-                        terminated: false,
-                    });
+                    }));
                 }
                 if event && self.event_mode_used {
                     self.enter_event_mode()?;
                     if self.leave_event_mode()? {
                         self.terminated = true;
-                        return Ok(StepStatus::Terminated {
+                        return Ok(Stepped::Status(StepStatus::Terminated {
                             last_successful_time: last,
-                        });
+                        }));
                     }
                 }
-                Ok(StepStatus::Complete(success))
+                if early {
+                    return Ok(Stepped::Early(last));
+                }
+                Ok(Stepped::Status(StepStatus::Complete(success)))
             }
             Err(crate::status::Failure::Discard) => {
                 self.last_successful_time = last;
                 self.terminated = terminate;
-                Ok(StepStatus::Discarded {
+                Ok(Stepped::Status(StepStatus::Discarded {
                     last_successful_time: last,
                     terminated: terminate,
-                })
+                }))
             }
             Err(status) => Err(FmiError {
                 function: F,
