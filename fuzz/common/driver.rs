@@ -272,7 +272,7 @@ fn sequence<M: Model>(inst: &Instance, data: &[u8]) {
             _ => {
                 let mut status = fmi2OK;
                 // SAFETY: one out-element.
-                unsafe { (f.get_status)(c, fmi2DoStepStatus, &mut status) }
+                unsafe { (f.co_simulation.get_status)(c, fmi2DoStepStatus, &mut status) }
             }
         };
         no_fatal(inst, status, &format!("operation {}", op % 16));
