@@ -39,7 +39,14 @@ pub use instance::{Core, Instance, Options};
 pub use logging::{Category, Logger, Sink};
 pub use state::{Interface, State, StateMask};
 pub use status::{CallError, Refusal, Status, Success};
-pub use units::{base_unit, check_units};
+pub use units::{base_unit, check_units, display_unit};
+
+/// Who made the FMUs and under which terms, for every model description.
+pub mod provenance {
+    pub const AUTHOR: &str = "the lander-fmi contributors";
+    pub const COPYRIGHT: &str = "Copyright (c) 2026 the lander-fmi contributors";
+    pub const LICENSE: &str = env!("CARGO_PKG_LICENSE");
+}
 pub use version::{admitted_when_fatal, assert_function_table, Abi, Function};
 
 /// Relative tolerance on communication points and times: masters accumulate `t += h` and

@@ -34,6 +34,22 @@ const UNITS: &[(&str, Exponents)] = &[
     ("rad/s2", [0, 0, -2, 1]),
 ];
 
+/// Display units offered for the SI units a reviewer reads in other units: angles in
+/// degrees (display value = factor x value). Tools show these in plots and dialogs.
+const DISPLAY_UNITS: &[(&str, &str, f64)] = &[
+    ("rad", "deg", 180.0 / std::f64::consts::PI),
+    ("rad/s", "deg/s", 180.0 / std::f64::consts::PI),
+    ("rad/s2", "deg/s2", 180.0 / std::f64::consts::PI),
+];
+
+/// The display unit (name, factor) of a unit symbol, if it has one.
+pub fn display_unit(symbol: &str) -> Option<(&'static str, f64)> {
+    DISPLAY_UNITS
+        .iter()
+        .find(|(unit, _, _)| *unit == symbol)
+        .map(|&(_, name, factor)| (name, factor))
+}
+
 /// The `<BaseUnit>` of a known symbol.
 pub fn base_unit(symbol: &str) -> Option<BaseUnit> {
     let &(_, [kg, m, s, rad]) = UNITS.iter().find(|(name, _)| *name == symbol)?;

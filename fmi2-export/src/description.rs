@@ -63,7 +63,10 @@ pub fn model_description<M: Model>() -> md::ModelDescription {
         model_name: M::MODEL_NAME.into(),
         guid: guid::<M>(),
         description: Some(M::DESCRIPTION.into()),
+        author: Some(fmi_export::provenance::AUTHOR.into()),
         version: Some(M::VERSION.into()),
+        copyright: Some(fmi_export::provenance::COPYRIGHT.into()),
+        license: Some(fmi_export::provenance::LICENSE.into()),
         generation_tool: Some(format!(
             "lander-fmi fmi2-export {}",
             env!("CARGO_PKG_VERSION")
@@ -133,7 +136,14 @@ fn unit_definitions<M>(table: &[Variable<M>]) -> Option<md::UnitDefinitions> {
             .map(|name| md::Unit {
                 name: name.into(),
                 base_unit: base_unit(name),
-                display_units: Vec::new(),
+                display_units: fmi_export::display_unit(name)
+                    .map(|(display, factor)| md::DisplayUnit {
+                        name: display.into(),
+                        factor: Some(factor),
+                        offset: None,
+                    })
+                    .into_iter()
+                    .collect(),
             })
             .collect(),
     })
@@ -200,6 +210,10 @@ fn scalar_variable<M: Model>(var: &Variable<M>) -> md::ScalarVariable {
         } => {
             sv.real = Some(md::RealVariable {
                 unit: var.unit.map(Into::into),
+                display_unit: var
+                    .unit
+                    .and_then(fmi_export::display_unit)
+                    .map(|(display, _)| display.into()),
                 // FMI 2.0 bounds are inclusive: an exclusive bound is written as the nearest
                 // value it admits, and said in words in the description.
                 min: min.map(|m| m.fmi_min()),

@@ -163,11 +163,14 @@ fn write_description<M: Model>(me: Option<ModelExchange>) -> String {
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<fmiModelDescription fmiVersion="3.0" modelName="{}" instantiationToken="{}" description="{}" version="{}" generationTool="lander-fmi fmi3-export {}" variableNamingConvention="structured">"#,
+        r#"<fmiModelDescription fmiVersion="3.0" modelName="{}" instantiationToken="{}" description="{}" author="{}" version="{}" copyright="{}" license="{}" generationTool="lander-fmi fmi3-export {}" variableNamingConvention="structured">"#,
         escape(M::MODEL_NAME),
         instantiation_token::<M>(),
         escape(M::DESCRIPTION),
+        escape(fmi_export::provenance::AUTHOR),
         escape(M::VERSION),
+        escape(fmi_export::provenance::COPYRIGHT),
+        escape(fmi_export::provenance::LICENSE),
         env!("CARGO_PKG_VERSION")
     );
     if me.is_some() {
@@ -238,6 +241,13 @@ fn write_units<M: Model>(x: &mut String) {
             }
             let _ = write!(x, "<BaseUnit{attributes}/>");
         }
+        if let Some((display, factor)) = fmi_export::display_unit(name) {
+            let _ = write!(
+                x,
+                r#"<DisplayUnit name="{}" factor="{factor:?}"/>"#,
+                escape(display)
+            );
+        }
         x.push_str("</Unit>\n");
     }
     x.push_str("  </UnitDefinitions>\n");
@@ -252,9 +262,12 @@ fn write_types<M: Model>(x: &mut String) {
         x.push_str("  <TypeDefinitions>\n");
     }
     for unit in &units {
+        let display = fmi_export::display_unit(unit)
+            .map(|(name, _)| format!(r#" displayUnit="{}""#, escape(name)))
+            .unwrap_or_default();
         let _ = writeln!(
             x,
-            r#"    <Float64Type name="{0}" unit="{0}"/>"#,
+            r#"    <Float64Type name="{0}" unit="{0}"{display}/>"#,
             escape(unit)
         );
     }
