@@ -168,10 +168,10 @@ fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight(
     assert!(!csv.exists());
 }
 
-/// A run whose recorded rows cannot fit in memory is refused before it starts, with its
-/// numbers, instead of growing until the allocator aborts.
+/// A run that would record an absurd number of values is refused before it starts, with
+/// its numbers (more in tests/bounded_memory.rs).
 #[test]
-fn a_step_too_small_to_record_in_memory_is_refused_before_the_run() {
+fn a_step_too_small_to_record_is_refused_before_the_run() {
     let dir = tempfile::tempdir().unwrap();
     let scenario = dir.path().join("tiny-step.toml");
     let paper = harness::scenarios::BUILT_IN
