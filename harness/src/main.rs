@@ -39,7 +39,8 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run one scenario (built-in name, .toml, .ssd or .ssp package) and write its results
-    /// (CSV, or an Arrow IPC file for a .arrow/.feather/.ipc name or --format arrow).
+    /// (CSV, or an Arrow IPC file for a .arrow/.feather/.ipc name or --format arrow) as it
+    /// runs: memory does not grow with the run's length.
     #[command(allow_negative_numbers = true)]
     Run {
         #[command(flatten)]
@@ -184,29 +185,107 @@ impl log::Log for Logger {
     }
 }
 
-/// `harness run` keeps every recorded row in memory: a run that cannot fit is refused
-/// before it starts, with its numbers, instead of growing until the allocator aborts.
-fn fits_in_memory(simulation: &Simulation) -> anyhow::Result<()> {
+/// The most values (communication points x columns, `time` included) one `harness run`
+/// records without `--force`: about 13 GB of CSV (13.2 bytes a value, measured on the
+/// paper scenario) or 8 GB of Arrow. The paper scenario records 1.15e6.
+const MAX_RECORDED_VALUES: f64 = 1e9;
+/// Bytes a recorded value takes in a CSV, on average (the paper scenario's 15,195,418
+/// bytes for 17,201 rows of 67 columns).
+const CSV_BYTES_PER_VALUE: f64 = 13.2;
+
+/// `harness run` streams its rows to the results file and holds only the requirements'
+/// signals up to their horizon (and one Arrow batch). Refused before the run, with the
+/// estimate: a run that would record more than [`MAX_RECORDED_VALUES`] (unless `force`),
+/// and one whose held rows could not fit in this machine's memory (even with `force`: it
+/// would abort).
+fn check_run_size(
+    simulation: &Simulation,
+    kept: &cosim::requirements::Kept,
+    format: cosim::results::Format,
+    force: bool,
+) -> anyhow::Result<()> {
     let system = simulation.system();
-    let points = ((system.stop_time - system.start_time) / system.step_size).ceil() + 1.0;
+    let duration = system.stop_time - system.start_time;
+    let points = (duration / system.step_size).ceil() + 1.0;
     let columns = simulation.column_names().len() + 1;
-    let bytes = points * columns as f64 * 8.0;
-    let Some(available) = cosim::memory::available_bytes() else {
-        return Ok(());
-    };
-    if bytes > cosim::memory::USABLE_FRACTION * available {
+    let values = points * columns as f64;
+    let steps = format!(
+        "{duration} s in steps of {} s is {points:.3e} communication points",
+        system.step_size
+    );
+    if values > MAX_RECORDED_VALUES && !force {
+        let size = match format {
+            cosim::results::Format::Csv => {
+                format!("{:.3e} bytes of CSV", values * CSV_BYTES_PER_VALUE)
+            }
+            cosim::results::Format::Arrow => format!("{:.3e} bytes of Arrow", values * 8.0),
+        };
         anyhow::bail!(
-            "{} s in steps of {} s is {points:.3e} communication points; recording {columns} \
-             columns of each would take {:.3e} bytes of memory, more than the {:.1} GB this \
-             machine has available: use a larger step_size or record fewer columns \
-             (`record = [...]` in the scenario, or --record)",
-            system.stop_time - system.start_time,
-            system.step_size,
-            bytes,
-            available / 1e9
+            "{steps}; recording {columns} columns of each is {values:.3e} values, about \
+             {size}, beyond the {MAX_RECORDED_VALUES:.0e} values one run may record \
+             without --force: use a larger step_size or record fewer columns (`record = \
+             [...]` in the scenario, or --record), or give --force to run it anyway"
         );
     }
+    let kept_rows = points.min((kept.horizon_s() / system.step_size).ceil() + 1.0);
+    let held = 8.0
+        * (kept_rows * kept.width() as f64
+            + cosim::results::Stream::buffered_values(format, columns - 1) as f64);
+    if let Some(available) = cosim::memory::available_bytes() {
+        if held > cosim::memory::USABLE_FRACTION * available {
+            anyhow::bail!(
+                "{steps}; judging the scenario's requirements keeps {} values (the time and \
+                 the signals they read) of each of the first {kept_rows:.3e} (their {} s \
+                 horizon), {held:.3e} bytes of memory, more than the {:.1} GB this machine \
+                 has available, with --force or without: use a larger step_size",
+                kept.width(),
+                kept.horizon_s(),
+                available / 1e9
+            );
+        }
+    }
     Ok(())
+}
+
+/// What `harness run` records: every row streamed to the results file, the rows its
+/// requirements read (up to their horizon) and the last row, which the verdict reads.
+struct RunRecorder {
+    out: cosim::results::Stream,
+    kept: cosim::requirements::Kept,
+    last_time: Option<f64>,
+    last: Vec<f64>,
+}
+
+impl cosim::master::Recorder for RunRecorder {
+    fn record(&mut self, time: f64, values: &[f64]) {
+        self.out.record(time, values);
+        self.kept.record(time, values);
+        self.last_time = Some(time);
+        self.last.copy_from_slice(values);
+    }
+}
+
+impl RunRecorder {
+    /// The run's last row as a one-row trajectory with every column's name: all that
+    /// [`harness::verdict::judge`] reads.
+    fn last_row(&self, names: &[String]) -> Trajectory {
+        Trajectory {
+            names: names.to_vec(),
+            times: self.last_time.into_iter().collect(),
+            values: if self.last_time.is_some() {
+                self.last.clone()
+            } else {
+                Vec::new()
+            },
+        }
+    }
+}
+
+/// `path` with `.partial` appended: where a run writes until it has finished.
+fn partial_path(path: &std::path::Path) -> PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(".partial");
+    PathBuf::from(name)
 }
 
 fn init_logging() {
@@ -381,6 +460,7 @@ fn test_folder(
             record: Vec::new(),
             ordering: None,
             format: None,
+            force: false,
         };
         match run_scenario(&request, fmu_dir) {
             Ok(flown) => {
@@ -425,7 +505,8 @@ struct RunRequest {
     /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters, retarget (the files
     /// of harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp package.
     scenario: String,
-    /// Output file (columns: time, instance.variable...).
+    /// Output file (columns: time, instance.variable...), written row by row under
+    /// OUT.partial and renamed to OUT when the run has ended.
     #[arg(long, short, default_value = "target/harness/run.csv")]
     out: PathBuf,
     /// Output format; default: by the output's extension (.csv or none: CSV; .arrow,
@@ -441,6 +522,10 @@ struct RunRequest {
     /// Exchange ordering, overriding the scenario's.
     #[arg(long, value_enum)]
     ordering: Option<OrderingArg>,
+    /// Run even if it would record more than 1e9 values (communication points x columns),
+    /// which is refused by default with the estimate of its size.
+    #[arg(long)]
+    force: bool,
 }
 
 /// A flown scenario: the exit code its verdict and requirements give, and its JUnit suite.
@@ -459,6 +544,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         record,
         ordering,
         format,
+        force,
     } = request;
     let started = std::time::Instant::now();
     let (mut system, spec) = harness::verdict::scenario::load(scenario)?;
@@ -542,27 +628,50 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         }
     }
     let simulation = simulation?;
-    fits_in_memory(&simulation)?;
-    let mut simulation = simulation;
-    let mut trajectory = Trajectory {
-        names: simulation.column_names().to_vec(),
-        ..Default::default()
-    };
-    let end = simulation.run(&mut trajectory)?;
     let format = format.expect("refused before the run");
-    cosim::results::write(out, &trajectory, format)
-        .with_context(|| format!("writing {}", out.display()))?;
-    let verdict = harness::verdict::judge(&trajectory, &end, &spec.envelope);
+    let kept = cosim::requirements::Kept::new(&requirements, simulation.column_names());
+    check_run_size(&simulation, &kept, format, *force)?;
+    let mut simulation = simulation;
+    // Rows go to the file as they are recorded, under a temporary name until the run has
+    // ended: a failed or interrupted run never leaves a truncated file under `out`.
+    let partial = partial_path(out);
+    let mut recorder = RunRecorder {
+        out: cosim::results::Stream::create(&partial, simulation.column_names(), format)
+            .with_context(|| format!("writing {}", out.display()))?,
+        kept,
+        last_time: None,
+        last: vec![0.0; simulation.column_names().len()],
+    };
+    let finished = simulation.run(&mut recorder).map_err(anyhow::Error::from);
+    let last = recorder.last_row(simulation.column_names());
+    let RunRecorder {
+        out: stream, kept, ..
+    } = recorder;
+    let written = finished.and_then(|end| {
+        let rows = stream
+            .finish()
+            .with_context(|| format!("writing {}", out.display()))?;
+        std::fs::rename(&partial, out).with_context(|| format!("writing {}", out.display()))?;
+        Ok((end, rows))
+    });
+    let (end, rows) = match written {
+        Ok(done) => done,
+        Err(error) => {
+            let _ = std::fs::remove_file(&partial);
+            return Err(error);
+        }
+    };
+    let verdict = harness::verdict::judge(&last, &end, &spec.envelope);
     println!(
         "{}: {} rows x {} columns -> {}\nverdict: {}",
         simulation.system().name,
-        trajectory.len(),
-        trajectory.names.len() + 1,
+        rows,
+        last.names.len() + 1,
         out.display(),
         verdict.describe(spec.expect)
     );
     let mut exit_code = verdict.exit_code(spec.expect);
-    let judged = cosim::requirements::judge(&requirements, &trajectory);
+    let judged = kept.judge(&requirements);
     for j in &judged {
         println!("{}", j.describe());
         if !j.holds() {

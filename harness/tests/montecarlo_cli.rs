@@ -168,10 +168,10 @@ fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight(
     assert!(!csv.exists());
 }
 
-/// A run whose recorded rows cannot fit in memory is refused before it starts, with its
-/// numbers, instead of growing until the allocator aborts.
+/// A run that would record an absurd number of values is refused before it starts, with
+/// its numbers (more in tests/bounded_memory.rs).
 #[test]
-fn a_step_too_small_to_record_in_memory_is_refused_before_the_run() {
+fn a_step_too_small_to_record_is_refused_before_the_run() {
     let dir = tempfile::tempdir().unwrap();
     let scenario = dir.path().join("tiny-step.toml");
     let paper = harness::scenarios::BUILT_IN
@@ -197,8 +197,8 @@ fn a_step_too_small_to_record_in_memory_is_refused_before_the_run() {
 }
 
 /// A campaign whose rows could not be summarised in memory is refused before any flight,
-/// with its numbers (flights, memory, manifest size, the largest -n that fits); one that
-/// fits runs.
+/// with its numbers (flights, time, memory, manifest size, the largest -n that fits),
+/// --force or not.
 #[test]
 fn a_campaign_too_large_to_summarise_is_refused_before_any_flight_with_the_estimate() {
     let dir = tempfile::tempdir().unwrap();
@@ -207,15 +207,22 @@ fn a_campaign_too_large_to_summarise_is_refused_before_any_flight_with_the_estim
         "monte-carlo",
         "-n",
         "100000000",
+        "--workers",
+        "2",
         "--out-dir",
         out_dir.to_str().unwrap(),
         "--quiet",
         "--no-plots",
+        "--force",
     ]);
     assert!(
-        stderr.contains("2100000000 flights (100000000 runs x 7 phi_cmd x 3 laws)"),
+        stderr.contains(
+            "2100000000 flights (100000000 runs x 7 phi_cmd x 3 laws) would take about 627 \
+             days on 2 workers (up to 17201 communication points a flight"
+        ),
         "{stderr}"
     );
+    assert!(stderr.contains("with --force or without"), "{stderr}");
     assert!(stderr.contains("bytes of memory"), "{stderr}");
     assert!(
         stderr.contains("manifest.csv would take about 1.680e12 bytes"),
@@ -233,6 +240,64 @@ fn a_campaign_too_large_to_summarise_is_refused_before_any_flight_with_the_estim
     ]);
     assert!(stderr.contains("too many for one campaign"), "{stderr}");
     assert!(!out_dir.exists());
+}
+
+/// More than 10,000,000 flights are refused before any flight with the estimate, unless
+/// --force: then the campaign goes on (here to its FMU directory, which does not exist).
+#[test]
+fn a_campaign_over_the_flight_limit_is_refused_unless_forced() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("mc");
+    let out = out_dir.to_str().unwrap();
+    let args = [
+        "monte-carlo",
+        "-n",
+        "10000001",
+        "--phi-cmd-deg",
+        "150",
+        "--law",
+        "decoupled",
+        "--workers",
+        "2",
+        "--out-dir",
+        out,
+        "--quiet",
+    ];
+    // 6 GB of rows to summarise: a machine with less memory refuses it either way.
+    if cosim::memory::available_bytes().is_none_or(|a| a < 1e10) {
+        return;
+    }
+    let stderr = refused(&args);
+    assert!(
+        stderr.contains(
+            "10000001 flights (10000001 runs x 1 phi_cmd x 1 laws) would take about 3 days \
+             on 2 workers"
+        ),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("manifest.csv would take about 8.000e9 bytes"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(
+            "more than the 10000000 flights a campaign (or shard) flies without --force: \
+             fewer runs (at most -n 10000000 with these points)"
+        ),
+        "{stderr}"
+    );
+    assert!(!out_dir.exists());
+    // One shard of it is within the limit; so is the campaign with --force.
+    let output = Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args(["--fmu-dir", "/nonexistent-fmus"])
+        .args(args)
+        .arg("--force")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("flights a campaign"), "{stderr}");
+    assert!(stderr.contains("/nonexistent-fmus"), "{stderr}");
 }
 
 /// The campaign help names every built-in scenario and the file kinds a campaign takes.

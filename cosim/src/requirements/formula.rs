@@ -73,6 +73,19 @@ impl Formula {
         out
     }
 
+    /// How far past a sample the formula's robustness there looks (s): the samples after
+    /// `t + horizon` cannot change its value at `t` (a comparison reads its own sample only;
+    /// a window adds its end). Infinite for an unbounded window.
+    pub fn horizon_s(&self) -> f64 {
+        match self {
+            Formula::Compare(..) => 0.0,
+            Formula::Not(f) => f.horizon_s(),
+            Formula::And(a, b) | Formula::Or(a, b) => a.horizon_s().max(b.horizon_s()),
+            Formula::Always(w, f) | Formula::Eventually(w, f) => w.to_s + f.horizon_s(),
+            Formula::Until(a, w, b) => w.to_s + a.horizon_s().max(b.horizon_s()),
+        }
+    }
+
     fn collect<'a>(&'a self, out: &mut Vec<&'a str>) {
         match self {
             Formula::Compare(a, _, b) => {

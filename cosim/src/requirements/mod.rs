@@ -151,6 +151,16 @@ pub fn judge(requirements: &[Requirement], trajectory: &Trajectory) -> Vec<Judge
         times.first().copied().unwrap_or(0.0),
         times.last().copied().unwrap_or(0.0),
     );
+    judge_span(requirements, trajectory, recorded_s)
+}
+
+/// [`judge`] on the rows [`Kept`] held of a run that recorded `recorded_s`.
+fn judge_span(
+    requirements: &[Requirement],
+    trajectory: &Trajectory,
+    recorded_s: (f64, f64),
+) -> Vec<Judged> {
+    let times = &trajectory.times;
     requirements
         .iter()
         .map(|r| {
@@ -186,4 +196,140 @@ pub fn judge(requirements: &[Requirement], trajectory: &Trajectory) -> Vec<Judge
             }
         })
         .collect()
+}
+
+/// What judging requirements needs of a run, kept while it records (a
+/// [`Recorder`](crate::master::Recorder)): the columns they read and, of those, only the
+/// rows up to the requirements' horizon after the first one (the rows after it cannot
+/// change a robustness at the start). A run streamed to its results file judges its
+/// requirements as [`judge`] would on the whole trajectory, holding at most
+/// `min(run, horizon)` rows of a few columns.
+#[derive(Debug, Clone)]
+pub struct Kept {
+    /// Where each kept column is in a recorded row.
+    sources: Vec<usize>,
+    horizon_s: f64,
+    /// The last time kept: the first row's plus the horizon.
+    until_s: f64,
+    rows: Trajectory,
+    recorded_s: Option<(f64, f64)>,
+}
+
+impl Kept {
+    /// For a run recording `columns` (which must hold every signal of `requirements`, as
+    /// [`unrecorded`] checks).
+    pub fn new(requirements: &[Requirement], columns: &[String]) -> Self {
+        let mut names: Vec<String> = Vec::new();
+        for r in requirements {
+            for signal in r.formula.signals() {
+                if !names.iter().any(|n| n == signal) {
+                    names.push(signal.to_owned());
+                }
+            }
+        }
+        let sources = names
+            .iter()
+            .map(|name| {
+                columns
+                    .iter()
+                    .position(|c| c == name)
+                    .expect("checked by `unrecorded` before the run")
+            })
+            .collect();
+        let horizon_s = requirements
+            .iter()
+            .map(|r| r.formula.horizon_s())
+            .fold(0.0, f64::max);
+        Kept {
+            sources,
+            horizon_s,
+            until_s: f64::INFINITY,
+            rows: Trajectory {
+                names,
+                ..Default::default()
+            },
+            recorded_s: None,
+        }
+    }
+
+    /// Seconds of rows after the first one that are kept.
+    pub fn horizon_s(&self) -> f64 {
+        self.horizon_s
+    }
+
+    /// Values kept per row (the time and the requirements' columns).
+    pub fn width(&self) -> usize {
+        self.sources.len() + 1
+    }
+
+    /// Each requirement's robustness at the start of the run, with the span it recorded.
+    pub fn judge(&self, requirements: &[Requirement]) -> Vec<Judged> {
+        judge_span(
+            requirements,
+            &self.rows,
+            self.recorded_s.unwrap_or((0.0, 0.0)),
+        )
+    }
+}
+
+impl crate::master::Recorder for Kept {
+    fn record(&mut self, time: f64, values: &[f64]) {
+        let span = self.recorded_s.get_or_insert((time, time));
+        span.1 = time;
+        if self.rows.is_empty() {
+            // A margin past the horizon: rows beyond it change nothing, rows short of it
+            // would.
+            self.until_s = time + self.horizon_s * (1.0 + 1e-9) + 1e-9 * (1.0 + time.abs());
+        }
+        if time <= self.until_s {
+            self.rows.times.push(time);
+            self.rows
+                .values
+                .extend(self.sources.iter().map(|&j| values[j]));
+        }
+    }
+}
+
+#[cfg(test)]
+mod kept_tests {
+    use super::*;
+    use crate::master::Recorder;
+
+    /// Requirements judged on what [`Kept`] held of a run equal those judged on the whole
+    /// trajectory: nested windows, until, a window past the end, a run far longer than
+    /// the horizon, and columns in another order than the formulas name them.
+    #[test]
+    fn kept_rows_judge_as_the_whole_trajectory() {
+        let text = r#"
+            [[requirement]]
+            name = "nested"
+            formula = "always [1, 3] eventually [0, 0.5] b.y < 0.9"
+            [[requirement]]
+            name = "until"
+            formula = "(a.x > -2) until [0.5, 2] (b.y > 0.5)"
+            [[requirement]]
+            name = "late"
+            formula = "eventually [50, 60] a.x > 0"
+            [[requirement]]
+            name = "not and or"
+            formula = "not (always [0, 4] abs(a.x) < 0.1) or (b.y >= 0 and a.x < 2)"
+        "#;
+        let requirements = from_toml(text).unwrap();
+        for (rows, start) in [(0usize, 0.0), (1, 0.0), (40, 0.0), (5000, 3.0)] {
+            let names = vec!["c.z".to_owned(), "b.y".to_owned(), "a.x".to_owned()];
+            let mut whole = Trajectory {
+                names: names.clone(),
+                ..Default::default()
+            };
+            let mut kept = Kept::new(&requirements, &names);
+            for k in 0..rows {
+                let t = start + k as f64 * 0.1;
+                let row = [7.0, (t * 1.3).sin(), (t * 0.7).cos() * 1.5];
+                whole.record(t, &row);
+                kept.record(t, &row);
+            }
+            assert_eq!(kept.judge(&requirements), judge(&requirements, &whole));
+            assert!(kept.rows.len() <= 602, "{} rows kept", kept.rows.len());
+        }
+    }
 }

@@ -52,6 +52,80 @@ pub fn write_arrow(path: &Path, trajectory: &Trajectory) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// An Arrow IPC file written batch by batch as a run records its rows (see
+/// [`super::Stream`]): one batch of [`BATCH_ROWS`] rows held at a time, the same bytes as
+/// [`write_arrow`] of the whole trajectory.
+pub(super) struct ArrowStream {
+    writer: arrow_ipc::writer::FileWriter<BufWriter<File>>,
+    schema: Arc<Schema>,
+    times: Vec<f64>,
+    /// Column-major: one vector per recorded column.
+    columns: Vec<Vec<f64>>,
+    batches: usize,
+}
+
+impl ArrowStream {
+    pub(super) fn create(path: &Path, names: &[String]) -> anyhow::Result<Self> {
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        let fields: Vec<Field> = std::iter::once("time")
+            .chain(names.iter().map(String::as_str))
+            .map(|name| Field::new(name, DataType::Float64, false))
+            .collect();
+        let schema = Arc::new(Schema::new(fields));
+        let out = BufWriter::new(File::create(path)?);
+        let writer = arrow_ipc::writer::FileWriter::try_new(out, &schema)?;
+        Ok(ArrowStream {
+            writer,
+            schema,
+            times: Vec::new(),
+            columns: vec![Vec::new(); names.len()],
+            batches: 0,
+        })
+    }
+
+    pub(super) fn row(&mut self, time: f64, values: &[f64]) -> anyhow::Result<()> {
+        if self.times.is_empty() {
+            self.times.reserve_exact(BATCH_ROWS);
+            for column in &mut self.columns {
+                column.reserve_exact(BATCH_ROWS);
+            }
+        }
+        self.times.push(time);
+        for (column, &value) in self.columns.iter_mut().zip(values) {
+            column.push(value);
+        }
+        if self.times.len() == BATCH_ROWS {
+            self.flush_batch()?;
+        }
+        Ok(())
+    }
+
+    fn flush_batch(&mut self) -> anyhow::Result<()> {
+        let mut columns: Vec<ArrayRef> = Vec::with_capacity(self.columns.len() + 1);
+        columns.push(Arc::new(Float64Array::from(std::mem::take(
+            &mut self.times,
+        ))));
+        for column in &mut self.columns {
+            columns.push(Arc::new(Float64Array::from(std::mem::take(column))));
+        }
+        self.writer
+            .write(&RecordBatch::try_new(self.schema.clone(), columns)?)?;
+        self.batches += 1;
+        Ok(())
+    }
+
+    pub(super) fn finish(mut self) -> anyhow::Result<()> {
+        // At least one batch, so an empty run still reads back with its columns.
+        if !self.times.is_empty() || self.batches == 0 {
+            self.flush_batch()?;
+        }
+        self.writer.finish()?;
+        Ok(())
+    }
+}
+
 /// Reads an Arrow IPC file of float64 columns with `time` first (as [`write_arrow`] writes).
 pub fn read_arrow(path: &Path) -> anyhow::Result<Trajectory> {
     let file = File::open(path)?;

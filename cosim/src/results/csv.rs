@@ -33,6 +33,47 @@ pub fn write_csv_to(out: &mut dyn Write, trajectory: &Trajectory) -> std::io::Re
     Ok(())
 }
 
+/// A CSV written row by row as a run records them (see [`super::Stream`]): the same bytes
+/// as [`write_csv`] of the whole trajectory.
+pub(super) struct CsvStream {
+    out: std::io::BufWriter<std::fs::File>,
+    buffer: ryu::Buffer,
+}
+
+impl CsvStream {
+    /// Creates the file (and its parent directories) and writes the header.
+    pub(super) fn create(path: &Path, names: &[String]) -> std::io::Result<Self> {
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+        write!(out, "time")?;
+        for name in names {
+            write!(out, ",{}", quote(name))?;
+        }
+        writeln!(out)?;
+        Ok(CsvStream {
+            out,
+            buffer: ryu::Buffer::new(),
+        })
+    }
+
+    pub(super) fn row(&mut self, time: f64, values: &[f64]) -> std::io::Result<()> {
+        self.out
+            .write_all(number(&mut self.buffer, time).as_bytes())?;
+        for &value in values {
+            self.out.write_all(b",")?;
+            self.out
+                .write_all(number(&mut self.buffer, value).as_bytes())?;
+        }
+        writeln!(self.out)
+    }
+
+    pub(super) fn finish(mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
 fn number(buffer: &mut ryu::Buffer, value: f64) -> &str {
     if value.is_finite() {
         buffer.format_finite(value)

@@ -7,7 +7,7 @@ mod csv;
 pub use self::arrow::{read_arrow, write_arrow};
 pub use self::csv::{read_csv, write_csv, write_csv_to};
 
-use crate::master::Trajectory;
+use crate::master::{Recorder, Trajectory};
 use std::path::Path;
 
 /// A result file format.
@@ -82,6 +82,76 @@ pub fn write(path: &Path, trajectory: &Trajectory, format: Format) -> anyhow::Re
     Ok(())
 }
 
+/// A result file written while the run records it (a [`Recorder`]): each row goes to the
+/// file as it comes (CSV), or each batch of 65,536 rows (Arrow), so memory
+/// does not grow with the run. The finished file is the one [`write`] would write of the
+/// whole trajectory, byte for byte.
+///
+/// [`Recorder::record`] cannot fail: the first write error is kept, later rows dropped,
+/// and [`Stream::finish`] returns it.
+pub struct Stream {
+    sink: Sink,
+    rows: usize,
+    error: Option<anyhow::Error>,
+}
+
+enum Sink {
+    Csv(self::csv::CsvStream),
+    Arrow(Box<self::arrow::ArrowStream>),
+}
+
+impl Stream {
+    /// Creates `path` (and its parent directories) for a run recording `names` (after
+    /// `time`), in `format`.
+    pub fn create(path: &Path, names: &[String], format: Format) -> anyhow::Result<Self> {
+        let sink = match format {
+            Format::Csv => Sink::Csv(self::csv::CsvStream::create(path, names)?),
+            Format::Arrow => Sink::Arrow(Box::new(self::arrow::ArrowStream::create(path, names)?)),
+        };
+        Ok(Stream {
+            sink,
+            rows: 0,
+            error: None,
+        })
+    }
+
+    /// Values held in memory at most besides the row being written (one Arrow batch).
+    pub fn buffered_values(format: Format, width: usize) -> usize {
+        match format {
+            Format::Csv => 0,
+            Format::Arrow => arrow::BATCH_ROWS * (width + 1),
+        }
+    }
+
+    /// Writes what is left and closes the file: the rows written, or the first error.
+    pub fn finish(self) -> anyhow::Result<usize> {
+        if let Some(error) = self.error {
+            return Err(error);
+        }
+        match self.sink {
+            Sink::Csv(csv) => csv.finish()?,
+            Sink::Arrow(arrow) => arrow.finish()?,
+        }
+        Ok(self.rows)
+    }
+}
+
+impl Recorder for Stream {
+    fn record(&mut self, time: f64, values: &[f64]) {
+        if self.error.is_some() {
+            return;
+        }
+        let written = match &mut self.sink {
+            Sink::Csv(csv) => csv.row(time, values).map_err(anyhow::Error::from),
+            Sink::Arrow(arrow) => arrow.row(time, values),
+        };
+        match written {
+            Ok(()) => self.rows += 1,
+            Err(error) => self.error = Some(error.context(format!("row {}", self.rows + 1))),
+        }
+    }
+}
+
 /// Reads a file written by [`write`], its format by its extension.
 pub fn read(path: &Path) -> anyhow::Result<Trajectory> {
     match Format::of_path(path) {
@@ -108,5 +178,70 @@ mod format_tests {
         assert!(f("run.csv", Some(Format::Arrow))
             .unwrap_err()
             .contains("--format arrow"));
+    }
+}
+
+#[cfg(test)]
+mod stream_tests {
+    use super::{write, Format, Stream};
+    use crate::master::{Recorder, Trajectory};
+
+    /// Rows across more than one Arrow batch, awkward values, and no rows at all.
+    fn trajectories() -> Vec<Trajectory> {
+        let rows = super::arrow::BATCH_ROWS + 3;
+        let specials = [5e-324, -0.0, f64::NAN, f64::INFINITY, -1.0 / 3.0, 1e300];
+        vec![
+            Trajectory {
+                names: vec!["a.x[1]".into(), "b,\"y\"".into()],
+                times: (0..rows).map(|k| k as f64 * 0.01).collect(),
+                values: (0..2 * rows)
+                    .map(|i| specials[i % specials.len()])
+                    .collect(),
+            },
+            Trajectory {
+                names: vec!["a.x".into()],
+                ..Default::default()
+            },
+        ]
+    }
+
+    #[test]
+    fn a_streamed_file_is_the_file_written_from_memory_byte_for_byte() {
+        let dir = tempfile::tempdir().unwrap();
+        for (t, trajectory) in trajectories().iter().enumerate() {
+            for format in [Format::Csv, Format::Arrow] {
+                let whole = dir.path().join(format!("whole-{t}.{}", format.extension()));
+                let streamed = dir
+                    .path()
+                    .join(format!("sub/streamed-{t}.{}", format.extension()));
+                write(&whole, trajectory, format).unwrap();
+                let mut stream = Stream::create(&streamed, &trajectory.names, format).unwrap();
+                for k in 0..trajectory.len() {
+                    stream.record(trajectory.times[k], trajectory.row(k));
+                }
+                assert_eq!(stream.finish().unwrap(), trajectory.len());
+                assert!(
+                    std::fs::read(&whole).unwrap() == std::fs::read(&streamed).unwrap(),
+                    "{format:?}, trajectory {t}: the streamed file differs"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_write_error_is_returned_by_finish() {
+        if !std::path::Path::new("/dev/full").exists() {
+            return;
+        }
+        let mut stream = Stream::create(
+            std::path::Path::new("/dev/full"),
+            &["a.x".to_owned()],
+            Format::Csv,
+        )
+        .unwrap();
+        for k in 0..100_000 {
+            stream.record(k as f64, &[1.0]);
+        }
+        assert!(stream.finish().is_err());
     }
 }

@@ -81,6 +81,10 @@ pub struct MonteCarloArgs {
         value_name = "INDEX,..."
     )]
     pub rerun: Vec<u64>,
+    /// Fly a campaign (or shard) of more than 10,000,000 flights, which is refused by
+    /// default with the estimate of its time, manifest size and memory.
+    #[arg(long)]
+    pub force: bool,
 }
 
 #[derive(Debug, Clone, clap::Args)]
@@ -216,50 +220,106 @@ const ROW_HEAP_BYTES: usize = 128;
 /// Bytes a flight's row takes in manifest.csv (the paper scenario's rows: 804 on average).
 const MANIFEST_ROW_BYTES: f64 = 800.0;
 
-/// Refuses, before any flight, a campaign whose rows could not be summarised in this
-/// machine's memory (the summary, the report and the figure read every row back), with the
-/// numbers that decide it.
-fn check_campaign_size(spec: &CampaignSpec, shard: Shard) -> anyhow::Result<()> {
+/// The most flights one campaign (or shard) flies without `--force`: about 8 GB of
+/// manifest.csv, and for the paper scenario about three days of two workers.
+pub const MAX_FLIGHTS: u64 = 10_000_000;
+/// Seconds of one worker per communication point of a flight: the paper scenario's 2,556
+/// flights of 17,201 points in 65 s on two workers (release build).
+const SECONDS_PER_POINT: f64 = 3.0e-6;
+
+/// A duration as a reader wants it: seconds, hours, days or years.
+fn duration(seconds: f64) -> String {
+    if seconds < 3600.0 {
+        format!("{seconds:.0} s")
+    } else if seconds < 2.0 * 86400.0 {
+        format!("{:.1} hours", seconds / 3600.0)
+    } else if seconds < 2.0 * 365.25 * 86400.0 {
+        format!("{:.0} days", seconds / 86400.0)
+    } else {
+        format!("{:.3e} years", seconds / (365.25 * 86400.0))
+    }
+}
+
+/// Refuses, before any flight, a campaign larger than [`MAX_FLIGHTS`] (unless `force`) or
+/// whose rows could not be summarised in this machine's memory (the summary, the report
+/// and the figure read every row back; `force` or not), with the estimate: the flights,
+/// the time, manifest.csv's size and the memory.
+fn check_campaign_size(
+    spec: &CampaignSpec,
+    shard: Shard,
+    workers: usize,
+    force: bool,
+) -> anyhow::Result<()> {
     let flights = shard.len(spec.flight_count());
     let row_bytes = (std::mem::size_of::<Row>() + ROW_HEAP_BYTES) as f64;
     let memory = flights as f64 * row_bytes;
-    let Some(available) = cosim::memory::available_bytes() else {
+    let available = cosim::memory::available_bytes();
+    let usable = available.map(|a| cosim::memory::USABLE_FRACTION * a);
+    let too_large = usable.is_some_and(|usable| memory > usable);
+    if !too_large && (flights <= MAX_FLIGHTS || force) {
         return Ok(());
-    };
-    let usable = cosim::memory::USABLE_FRACTION * available;
-    if memory > usable {
-        anyhow::bail!(
-            "{flights} flights ({} runs x {} phi_cmd x {} laws{}) are too many for one \
-             campaign on this machine: the summary reads every row back, about {:.3e} bytes \
-             of memory ({row_bytes:.0} per flight) against the {:.1} GB available, and \
-             manifest.csv would take about {:.3e} bytes; at most {} flights fit (-n {} \
-             with these points)",
-            spec.runs_per_point,
-            spec.phi_cmd_deg.len(),
-            spec.laws.len(),
-            if shard.is_whole() {
-                String::new()
-            } else {
-                format!(", shard {shard}")
-            },
-            memory,
-            available / 1e9,
-            flights as f64 * MANIFEST_ROW_BYTES,
-            (usable / row_bytes).floor(),
-            (usable / row_bytes / (spec.phi_cmd_deg.len() * spec.laws.len()) as f64).floor()
-        );
     }
-    Ok(())
+    // Flights end at their stop time at the latest.
+    let time = crate::verdict::scenario::load(&spec.scenario)
+        .ok()
+        .map(|(system, _)| {
+            let points = ((system.stop_time - system.start_time) / system.step_size).ceil() + 1.0;
+            let seconds = flights as f64 * points * SECONDS_PER_POINT / workers.max(1) as f64;
+            format!(
+                "about {} on {workers} workers (up to {points:.0} communication points a \
+                 flight, {:.0} us each), ",
+                duration(seconds),
+                SECONDS_PER_POINT * 1e6
+            )
+        })
+        .unwrap_or_default();
+    let estimate = format!(
+        "{flights} flights ({} runs x {} phi_cmd x {} laws{}) would take {time}manifest.csv \
+         would take about {:.3e} bytes, and the summary reads every row back, about \
+         {memory:.3e} bytes of memory ({row_bytes:.0} per flight)",
+        spec.runs_per_point,
+        spec.phi_cmd_deg.len(),
+        spec.laws.len(),
+        if shard.is_whole() {
+            String::new()
+        } else {
+            format!(", shard {shard}")
+        },
+        flights as f64 * MANIFEST_ROW_BYTES,
+    );
+    let points = (spec.phi_cmd_deg.len() * spec.laws.len()) as f64;
+    match (available, usable) {
+        (Some(available), Some(usable)) if too_large => anyhow::bail!(
+            "{estimate}: too many for one campaign on this machine, with --force or without: \
+             against the {:.1} GB available, at most {} flights fit (-n {} with these \
+             points)",
+            available / 1e9,
+            (usable / row_bytes).floor(),
+            (usable / row_bytes / points).floor()
+        ),
+        _ => anyhow::bail!(
+            "{estimate}: more than the {MAX_FLIGHTS} flights a campaign (or shard) flies \
+             without --force: fewer runs (at most -n {} with these points), or shards \
+             (--shard k/N), or give --force to fly it anyway",
+            (MAX_FLIGHTS as f64 / points).floor()
+        ),
+    }
 }
 
 pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32> {
     check_phi_cmd_deg(&args.campaign.phi_cmd_deg)?;
     let spec = args.campaign.spec();
-    check_campaign_size(&spec, args.shard.unwrap_or(Shard::WHOLE))?;
+    let workers = args.workers.unwrap_or_else(runner::default_workers);
+    check_campaign_size(
+        &spec,
+        args.shard.unwrap_or(Shard::WHOLE),
+        workers,
+        args.force,
+    )?;
     let options = runner::RunOptions {
         fmu_dir: fmu_dir.to_owned(),
         out_dir: args.out_dir.clone(),
-        workers: args.workers.unwrap_or_else(runner::default_workers),
+        workers,
         shard: args.shard.unwrap_or(Shard::WHOLE),
         progress: !args.quiet,
     };
