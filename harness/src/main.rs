@@ -94,6 +94,10 @@ enum Command {
         /// Format of the trajectory files (<scenario>-<law>.csv or .arrow).
         #[arg(long, value_enum, default_value = "csv")]
         format: cosim::results::Format,
+        /// Override a parameter for every law's flight, e.g. --set gnc.phi_cmd=0.5
+        /// (repeatable; gnc.control_law is what the command varies).
+        #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
+        sets: Vec<String>,
     },
     /// Fly a scenario with a retarget (default: the shipped `retarget`) with the coupled and
     /// decoupled laws, each with the divert re-planned and with the target only moved: the
@@ -254,6 +258,9 @@ struct RunRecorder {
     kept: cosim::requirements::Kept,
     last_time: Option<f64>,
     last: Vec<f64>,
+    /// Simulated time on a terminal's stderr (none when stderr is a file or a pipe), and the
+    /// time of its next update (every 0.5 % of the run).
+    progress: Option<(indicatif::ProgressBar, f64, f64)>,
 }
 
 impl cosim::master::Recorder for RunRecorder {
@@ -262,7 +269,37 @@ impl cosim::master::Recorder for RunRecorder {
         self.kept.record(time, values);
         self.last_time = Some(time);
         self.last.copy_from_slice(values);
+        if let Some((bar, next, every)) = &mut self.progress {
+            if time >= *next {
+                // Milliseconds of simulated time: the bar's unit.
+                bar.set_position((time * 1e3) as u64);
+                bar.set_message(format!("{time:.1} s"));
+                *next = time + *every;
+            }
+        }
     }
+}
+
+/// A progress bar of simulated time for a run on a terminal.
+fn run_progress(
+    system: &cosim::system::SystemDescription,
+) -> Option<(indicatif::ProgressBar, f64, f64)> {
+    use std::io::IsTerminal;
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new((system.stop_time * 1e3) as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{prefix} [{bar:40}] t = {msg} ({elapsed} elapsed, {eta} left)",
+        )
+        .ok()?
+        .progress_chars("=> "),
+    );
+    bar.set_prefix(system.name.clone());
+    bar.set_position((system.start_time * 1e3) as u64);
+    let every = (system.stop_time - system.start_time) / 200.0;
+    Some((bar, system.start_time, every))
 }
 
 impl RunRecorder {
@@ -370,8 +407,20 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             out_dir,
             no_plots,
             format,
+            sets,
         } => {
-            let (system, spec) = harness::verdict::scenario::load(&scenario)?;
+            let (mut system, spec) = harness::verdict::scenario::load(&scenario)?;
+            let (problems, _) = apply_sets(
+                &mut system,
+                &sets,
+                &[(
+                    "gnc.control_law",
+                    "it flies the coupled, decoupled and reduced laws in turn",
+                )],
+            );
+            if !problems.is_empty() {
+                anyhow::bail!("{}", problems.join("\n"));
+            }
             let requirements = harness::verdict::scenario::requirements(&scenario)?;
             let name = system.name.clone();
             let own = harness::paper::scenario_law(&system);
@@ -424,6 +473,54 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     Ok(exit_code)
 }
 
+/// Applies every `--set` to `system`: the problems (all of them, each naming its --set) and
+/// what was set, `(instance, variable, the --set text)`, so that later errors about a value
+/// can say it came from the command line. `reserved` lists variables the command sets
+/// itself, with what to use instead.
+fn apply_sets<'a>(
+    system: &mut cosim::system::SystemDescription,
+    sets: &'a [String],
+    reserved: &[(&str, &str)],
+) -> (Vec<String>, Vec<(String, String, &'a str)>) {
+    let mut problems = Vec::new();
+    let mut seen: Vec<(String, String, &str)> = Vec::new();
+    for set in sets {
+        match parse_set(set) {
+            Ok((instance, variable, value)) => {
+                let path = format!("{instance}.{variable}");
+                if let Some((_, instead)) = reserved.iter().find(|(name, _)| *name == path) {
+                    problems.push(format!(
+                        "--set {set}: this command sets {path} itself; {instead}"
+                    ));
+                    continue;
+                }
+                // Two values for one variable: which one was meant is not ours to
+                // guess (a last-wins rule would drop one silently).
+                if let Some((_, _, first)) = seen
+                    .iter()
+                    .find(|(i, v, _)| *i == instance && *v == variable)
+                {
+                    problems.push(format!(
+                        "--set {set}: {instance}.{variable} is already set by --set \
+                         {first}"
+                    ));
+                    continue;
+                }
+                seen.push((instance.clone(), variable.clone(), set.as_str()));
+                if !system.set_parameter(&instance, &variable, value) {
+                    let names = system.instances.iter().map(|i| i.name.as_str());
+                    problems.push(format!(
+                        "--set {set}: no instance '{instance}'{}",
+                        cosim::suggest::hint(&instance, names)
+                    ));
+                }
+            }
+            Err(error) => problems.push(error.to_string()),
+        }
+    }
+    (problems, seen)
+}
+
 /// `harness test DIR`: see its help.
 fn test_folder(
     dir: &std::path::Path,
@@ -461,6 +558,8 @@ fn test_folder(
             ordering: None,
             format: None,
             force: false,
+            stop_time: None,
+            step_size: None,
         };
         match run_scenario(&request, fmu_dir) {
             Ok(flown) => {
@@ -526,6 +625,12 @@ struct RunRequest {
     /// which is refused by default with the estimate of its size.
     #[arg(long)]
     force: bool,
+    /// Stop time in s, overriding the scenario's.
+    #[arg(long, value_name = "S")]
+    stop_time: Option<f64>,
+    /// Communication step in s, overriding the scenario's.
+    #[arg(long, value_name = "S")]
+    step_size: Option<f64>,
 }
 
 /// A flown scenario: the exit code its verdict and requirements give, and its JUnit suite.
@@ -545,39 +650,22 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         ordering,
         format,
         force,
+        stop_time,
+        step_size,
     } = request;
     let started = std::time::Instant::now();
     let (mut system, spec) = harness::verdict::scenario::load(scenario)?;
     let requirements = harness::verdict::scenario::requirements(scenario)?;
-    // Every bad --set at once; names and types are checked against the FMUs when the
-    // simulation is built, with the rest of the scenario.
-    let mut problems = Vec::new();
-    let mut seen: Vec<(String, String, &str)> = Vec::new();
-    for set in sets {
-        match parse_set(set) {
-            Ok((instance, variable, value)) => {
-                // Two values for one variable: which one was meant is not ours to
-                // guess (a last-wins rule would drop one silently).
-                if let Some((_, _, first)) = seen
-                    .iter()
-                    .find(|(i, v, _)| *i == instance && *v == variable)
-                {
-                    problems.push(format!(
-                        "--set {set}: {instance}.{variable} is already set by --set \
-                         {first}"
-                    ));
-                    continue;
-                }
-                seen.push((instance.clone(), variable.clone(), set.as_str()));
-                if !system.set_parameter(&instance, &variable, value) {
-                    let names = system.instances.iter().map(|i| i.name.as_str());
-                    problems.push(format!(
-                        "--set {set}: no instance '{instance}'{}",
-                        cosim::suggest::hint(&instance, names)
-                    ));
-                }
-            }
-            Err(error) => problems.push(error.to_string()),
+    let (mut problems, seen) = apply_sets(&mut system, sets, &[]);
+    if let Some(stop) = stop_time {
+        system.stop_time = *stop;
+    }
+    if let Some(step) = step_size {
+        system.step_size = *step;
+    }
+    if stop_time.is_some() || step_size.is_some() {
+        if let Err(error) = system.validate() {
+            problems.push(format!("--stop-time/--step-size: {error}"));
         }
     }
 
@@ -641,8 +729,12 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         kept,
         last_time: None,
         last: vec![0.0; simulation.column_names().len()],
+        progress: run_progress(simulation.system()),
     };
     let finished = simulation.run(&mut recorder).map_err(anyhow::Error::from);
+    if let Some((bar, _, _)) = recorder.progress.take() {
+        bar.finish_and_clear();
+    }
     let last = recorder.last_row(simulation.column_names());
     let RunRecorder {
         out: stream, kept, ..
