@@ -71,6 +71,7 @@ pub fn model_description<M: Model>() -> md::ModelDescription {
             "lander-fmi fmi2-export {}",
             env!("CARGO_PKG_VERSION")
         )),
+        generation_date_and_time: fmi_export::provenance::generation_date_and_time(),
         variable_naming_convention: Some("structured".into()),
         co_simulation: Some(md::CoSimulation {
             model_identifier: M::MODEL_IDENTIFIER.into(),

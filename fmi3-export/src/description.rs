@@ -163,7 +163,7 @@ fn write_description<M: Model>(me: Option<ModelExchange>) -> String {
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<fmiModelDescription fmiVersion="3.0" modelName="{}" instantiationToken="{}" description="{}" author="{}" version="{}" copyright="{}" license="{}" generationTool="lander-fmi fmi3-export {}" variableNamingConvention="structured">"#,
+        r#"<fmiModelDescription fmiVersion="3.0" modelName="{}" instantiationToken="{}" description="{}" author="{}" version="{}" copyright="{}" license="{}" generationTool="lander-fmi fmi3-export {}"{} variableNamingConvention="structured">"#,
         escape(M::MODEL_NAME),
         instantiation_token::<M>(),
         escape(M::DESCRIPTION),
@@ -171,7 +171,10 @@ fn write_description<M: Model>(me: Option<ModelExchange>) -> String {
         escape(M::VERSION),
         escape(fmi_export::provenance::COPYRIGHT),
         escape(fmi_export::provenance::LICENSE),
-        env!("CARGO_PKG_VERSION")
+        env!("CARGO_PKG_VERSION"),
+        fmi_export::provenance::generation_date_and_time()
+            .map(|t| format!(r#" generationDateAndTime="{t}""#))
+            .unwrap_or_default()
     );
     if me.is_some() {
         let _ = writeln!(

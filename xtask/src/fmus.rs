@@ -175,7 +175,27 @@ fn describe(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> Result<String> {
         .target_dir
         .join("release")
         .join(description_binary(fmu, version));
-    workspace::output(&mut std::process::Command::new(&binary))
+    let mut command = std::process::Command::new(&binary);
+    // generationDateAndTime: the commit's time, so that a commit packages the same bytes on
+    // every machine (kept when the caller set SOURCE_DATE_EPOCH itself; none outside git).
+    if std::env::var_os("SOURCE_DATE_EPOCH").is_none() {
+        if let Some(seconds) = commit_time(ws) {
+            command.env("SOURCE_DATE_EPOCH", seconds);
+        }
+    }
+    workspace::output(&mut command)
+}
+
+/// The Unix time of HEAD's commit, if the workspace is a git checkout.
+fn commit_time(ws: &Workspace) -> Option<String> {
+    let output = std::process::Command::new("git")
+        .args(["log", "-1", "--format=%ct"])
+        .current_dir(&ws.root)
+        .output()
+        .ok()?;
+    let text = String::from_utf8(output.stdout).ok()?;
+    let seconds = text.trim();
+    (output.status.success() && seconds.parse::<i64>().is_ok()).then(|| seconds.to_owned())
 }
 
 /// Builds the release cdylibs for each target triple (the host when none is given).

@@ -469,7 +469,15 @@ impl Fmi3Instance {
         let end = current_time + step_size;
         let mut from = current_time;
         for _ in 0..10_000 {
-            match self.one_step(from, end - from)? {
+            // The master's own step size first: `(t + h) - t` can differ from `h` in its last
+            // bit, and an FMU that integrates over what it is given would fly another
+            // trajectory. After an early return, the rest of the step.
+            let span = if from == current_time {
+                step_size
+            } else {
+                end - from
+            };
+            match self.one_step(from, span)? {
                 Stepped::Early(last) if last >= end => {
                     return Ok(StepStatus::Complete(Success::Ok))
                 }
