@@ -17,6 +17,9 @@ pub struct Flight {
     pub verdict: Verdict,
     /// The scenario's requirements judged on this flight.
     pub requirements: Vec<Judged>,
+    /// The scenario and FMUs flown, its parameters as they stood before this flight set its
+    /// law (for the report).
+    pub provenance: std::sync::Arc<crate::report::Provenance>,
 }
 
 /// Flies `system` once per law (its `gnc.control_law` overridden), reusing one loaded
@@ -65,6 +68,7 @@ pub fn fly_judged(
     envelope: &Envelope,
     requirements: &[Requirement],
 ) -> anyhow::Result<Flight> {
+    let provenance = std::sync::Arc::new(crate::report::Provenance::of(simulation));
     simulation.set_parameter("gnc", "control_law", law.parameter())?;
     let mut trajectory = Trajectory {
         names: simulation.column_names().to_vec(),
@@ -84,6 +88,7 @@ pub fn fly_judged(
         metrics,
         verdict,
         requirements,
+        provenance,
     })
 }
 
@@ -160,6 +165,11 @@ pub fn write_outputs(
     written.push(path);
     if plots {
         written.extend(crate::plots::paper_figures(flights, dir, name)?);
+    }
+    if let Some(first) = flights.first() {
+        let mut provenance = (*first.provenance).clone();
+        provenance.laws = flights.iter().map(|f| f.law.name().to_owned()).collect();
+        written.push(provenance.write(dir)?);
     }
     written.push(crate::report::write(
         dir,
@@ -269,6 +279,7 @@ mod tests {
             metrics,
             verdict,
             requirements: Vec::new(),
+            provenance: Default::default(),
         }
     }
 

@@ -1,13 +1,16 @@
 //! The paper's Monte Carlo figure (its Fig. 6), one panel per metric that isolates the
 //! controller's effect, against phi_cmd: per law, the median (line, law's pattern and
-//! marker), the range of all runs (shaded, minimum to maximum) and, where the runs support it
-//! (45 or more), the 90 %-confidence upper bound of the 95th percentile (thin line): no
-//! percentile is drawn that the run count cannot support. The error after the final hover is
+//! marker), the range of all runs (shaded in the law's colour and outlined, minimum to
+//! maximum) and, where the runs support it (45 or more), the 90 %-confidence upper bound of
+//! the 95th percentile (thin line): no percentile is drawn, nor named in the legend, that the
+//! run count cannot support. One legend above the panels names each law's median, band and
+//! (when drawn) bound, laws in the order of `summary.csv`; no line crosses a phi_cmd where a
+//! law has no value. The error after the final hover is
 //! not shown: the hover removes what the controller did.
 use super::manifest::Row;
-use super::stats::{percentile_of_sorted, quantile_upper_bound};
+use super::stats::{percentile_of_sorted, quantile_upper_bound, runs_for_quantile_bound};
 use super::summary_csv::CONFIDENCE;
-use crate::plots::style::{self, tick, DRAW_ORDER};
+use crate::plots::style::{self, tick, Key, Legend, DRAW_ORDER};
 use crate::scenarios::Law;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -42,18 +45,12 @@ const PANELS: [Panel; 4] = [
     },
 ];
 
-/// Per law and phi_cmd: (phi, minimum, median, maximum, p95 upper bound or NaN) of one
-/// metric, NaN values left out.
-fn bands(rows: &[Row], law: Law, value: fn(&Row) -> f64) -> Vec<[f64; 5]> {
-    let mut phis: Vec<f64> = rows
-        .iter()
-        .filter(|r| r.flight.law == law)
-        .map(|r| r.flight.phi_cmd_deg)
-        .collect();
-    phis.sort_by(f64::total_cmp);
-    phis.dedup();
-    phis.into_iter()
-        .filter_map(|phi| {
+/// Per law, at every phi_cmd of the campaign's grid (`grid`): (phi, minimum, median,
+/// maximum, p95 upper bound or NaN) of one metric, NaN values left out; `None` where the law
+/// has no finite value at that phi_cmd (no line is drawn across it).
+fn bands(rows: &[Row], grid: &[f64], law: Law, value: fn(&Row) -> f64) -> Vec<Option<[f64; 5]>> {
+    grid.iter()
+        .map(|&phi| {
             let mut v: Vec<f64> = rows
                 .iter()
                 .filter(|r| r.flight.law == law && r.flight.phi_cmd_deg == phi)
@@ -74,6 +71,56 @@ fn bands(rows: &[Row], law: Law, value: fn(&Row) -> f64) -> Vec<[f64; 5]> {
         .collect()
 }
 
+/// The runs of contiguous grid points where a law has values.
+fn pieces(b: &[Option<[f64; 5]>]) -> Vec<Vec<[f64; 5]>> {
+    b.split(Option::is_none)
+        .filter(|run| !run.is_empty())
+        .map(|run| run.iter().flatten().copied().collect())
+        .collect()
+}
+
+/// The phi_cmd grid of `rows`, sorted.
+fn grid(rows: &[Row]) -> Vec<f64> {
+    let mut phis: Vec<f64> = rows.iter().map(|r| r.flight.phi_cmd_deg).collect();
+    phis.sort_by(f64::total_cmp);
+    phis.dedup();
+    phis
+}
+
+/// The laws of `rows`, in the order of `summary.csv` and the report's tables.
+fn laws(rows: &[Row]) -> Vec<Law> {
+    Law::ALL
+        .into_iter()
+        .filter(|l| rows.iter().any(|r| r.flight.law == *l))
+        .collect()
+}
+
+/// Whether any point of `law` has the runs for the p95 upper bound.
+fn has_p95_bound(rows: &[Row], law: Law) -> bool {
+    let grid = grid(rows);
+    PANELS.iter().any(|panel| {
+        bands(rows, &grid, law, panel.value)
+            .iter()
+            .flatten()
+            .any(|p| p[4].is_finite())
+    })
+}
+
+/// The figure's legend, per law in the order of the tables: its median, its band and, only
+/// where the runs support it, its p95 upper bound.
+pub fn legend(rows: &[Row]) -> Legend {
+    let mut out = Legend::new();
+    for law in laws(rows) {
+        let name = law.name();
+        out.push((Key::Curve(law), format!("{name} median")));
+        out.push((Key::Band(law), format!("{name} range of all runs")));
+        if has_p95_bound(rows, law) {
+            out.push((Key::Thin(law), format!("{name} p95 upper bound (90 %)")));
+        }
+    }
+    out
+}
+
 /// Writes `monte-carlo.png` into `dir`; failed flights (NaN metrics) are left out.
 pub fn figure(rows: &[Row], dir: &Path, title: &str) -> anyhow::Result<PathBuf> {
     let path = dir.join("monte-carlo.png");
@@ -82,34 +129,42 @@ pub fn figure(rows: &[Row], dir: &Path, title: &str) -> anyhow::Result<PathBuf> 
 }
 
 fn draw(rows: &[Row], path: &Path, title: &str) -> anyhow::Result<()> {
-    let root = BitMapBackend::new(path, (1500, 1060)).into_drawing_area();
+    let root = BitMapBackend::new(path, (1500, 1100)).into_drawing_area();
     root.fill(&WHITE)?;
+    let laws = laws(rows);
+    let bound = laws.iter().any(|&l| has_p95_bound(rows, l));
+    let needed = runs_for_quantile_bound(0.95, CONFIDENCE);
     let root = root.titled(
-        &format!(
-            "{title}: median, range of all runs, p95 upper bound at 90 % confidence (thin, \
-             from 45 runs per point)"
-        ),
+        &if bound {
+            format!(
+                "{title}: median, range of all runs (shaded) and p95 upper bound at 90 % \
+                 confidence (thin)"
+            )
+        } else {
+            format!(
+                "{title}: median and range of all runs (shaded; a p95 bound needs {needed} \
+                 runs per point)"
+            )
+        },
         ("sans-serif", 22),
     )?;
-    let laws: Vec<Law> = DRAW_ORDER
-        .into_iter()
-        .filter(|l| rows.iter().any(|r| r.flight.law == *l))
-        .collect();
+    let root = style::legend_strip(&root, &legend(rows))?;
+    let grid = grid(rows);
     for (area, panel) in root.split_evenly((2, 2)).iter().zip(&PANELS) {
-        let per_law: Vec<(Law, Vec<[f64; 5]>)> = laws
+        let per_law: Vec<(Law, Vec<Option<[f64; 5]>>)> = laws
             .iter()
-            .map(|&law| (law, bands(rows, law, panel.value)))
+            .map(|&law| (law, bands(rows, &grid, law, panel.value)))
             .collect();
         let values = || {
             per_law
                 .iter()
-                .flat_map(|(_, b)| b.iter().flat_map(|p| p[1..].iter().copied()))
+                .flat_map(|(_, b)| b.iter().flatten().flat_map(|p| p[1..].iter().copied()))
+                .filter(|v| v.is_finite())
         };
         let lo = values().fold(f64::INFINITY, f64::min);
         let hi = values().fold(f64::NEG_INFINITY, f64::max);
-        let phis = || per_law.iter().flat_map(|(_, b)| b.iter().map(|p| p[0]));
-        let x_lo = phis().fold(0.0, f64::min) - 8.0;
-        let x_hi = phis().fold(0.0, f64::max) + 8.0;
+        let x_lo = grid.iter().copied().fold(0.0, f64::min) - 8.0;
+        let x_hi = grid.iter().copied().fold(0.0, f64::max) + 8.0;
         let mut builder = ChartBuilder::on(area);
         let chart = builder
             .caption(panel.title, ("sans-serif", 19))
@@ -122,19 +177,13 @@ fn draw(rows: &[Row], path: &Path, title: &str) -> anyhow::Result<()> {
             let mut chart =
                 chart.build_cartesian_2d(x_lo..x_hi, (lo / 1.5..hi * 1.5).log_scale())?;
             mesh(&mut chart, panel)?;
-            for (law, b) in &per_law {
-                draw_law(&mut chart, *law, b)?;
-            }
-            legend(&mut chart)?;
+            draw_laws(&mut chart, &per_law)?;
         } else {
             let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
             let pad = 0.08 * (hi - lo).max(1e-9);
             let mut chart = chart.build_cartesian_2d(x_lo..x_hi, (lo - pad)..(hi + pad))?;
             mesh(&mut chart, panel)?;
-            for (law, b) in &per_law {
-                draw_law(&mut chart, *law, b)?;
-            }
-            legend(&mut chart)?;
+            draw_laws(&mut chart, &per_law)?;
         }
     }
     root.present()?;
@@ -161,62 +210,90 @@ where
     Ok(())
 }
 
-fn draw_law<Y>(chart: &mut Chart<'_, Y>, law: Law, b: &[[f64; 5]]) -> anyhow::Result<()>
+/// Every law's band first (so no band covers a median), outlined in the law's colour and
+/// pattern so that overlapping bands stay apart; then the p95 bounds; then the medians.
+fn draw_laws<Y>(
+    chart: &mut Chart<'_, Y>,
+    per_law: &[(Law, Vec<Option<[f64; 5]>>)],
+) -> anyhow::Result<()>
+where
+    Y: Ranged<ValueType = f64>,
+{
+    let in_order = || {
+        DRAW_ORDER
+            .into_iter()
+            .filter_map(|law| per_law.iter().find(|(l, _)| *l == law))
+    };
+    for (law, b) in in_order() {
+        let c = style::colour(*law);
+        for piece in pieces(b) {
+            // The range of all runs: a polygon along the maximum out and back along the
+            // minimum (a lone grid point: a bar).
+            let outline: Vec<(f64, f64)> = piece
+                .iter()
+                .map(|p| (p[0], p[3]))
+                .chain(piece.iter().rev().map(|p| (p[0], p[1])))
+                .collect();
+            chart.draw_series(std::iter::once(Polygon::new(
+                outline,
+                c.mix(style::BAND_ALPHA).filled(),
+            )))?;
+        }
+    }
+    for (law, b) in in_order() {
+        let c = style::colour(*law);
+        let edge = c.mix(0.7).stroke_width(1);
+        for piece in pieces(b) {
+            for k in [1, 3] {
+                let line: Vec<(f64, f64)> = piece.iter().map(|p| (p[0], p[k])).collect();
+                chart.draw_series(DashedLineSeries::new(line, 3, 3, edge))?;
+            }
+            if piece.len() == 1 {
+                let p = piece[0];
+                chart.draw_series(LineSeries::new(
+                    [(p[0], p[1]), (p[0], p[3])],
+                    c.mix(0.7).stroke_width(6),
+                ))?;
+            }
+        }
+    }
+    for (law, b) in in_order() {
+        let c = style::colour(*law);
+        for piece in b.split(|p| !p.is_some_and(|p| p[4].is_finite())) {
+            let line: Vec<(f64, f64)> = piece.iter().flatten().map(|p| (p[0], p[4])).collect();
+            chart.draw_series(LineSeries::new(line, c.mix(0.9).stroke_width(1)))?;
+        }
+    }
+    for (law, b) in in_order() {
+        draw_median(chart, *law, b)?;
+    }
+    Ok(())
+}
+
+fn draw_median<Y>(chart: &mut Chart<'_, Y>, law: Law, b: &[Option<[f64; 5]>]) -> anyhow::Result<()>
 where
     Y: Ranged<ValueType = f64>,
 {
     let c = style::colour(law);
-    // The range of all runs: a polygon along the maximum out and back along the minimum.
-    let outline: Vec<(f64, f64)> = b
-        .iter()
-        .map(|p| (p[0], p[3]))
-        .chain(b.iter().rev().map(|p| (p[0], p[1])))
-        .collect();
-    chart.draw_series(std::iter::once(Polygon::new(outline, c.mix(0.12).filled())))?;
-    chart.draw_series(LineSeries::new(
-        b.iter().filter(|p| p[4].is_finite()).map(|p| (p[0], p[4])),
-        c.mix(0.8).stroke_width(1),
-    ))?;
-    let median: Vec<(f64, f64)> = b.iter().map(|p| (p[0], p[2])).collect();
     let line = style::line(law, style::width(law));
-    match style::dashes(law) {
-        None => chart.draw_series(LineSeries::new(median.iter().copied(), line))?,
-        Some((dash, gap)) => chart.draw_series(DashedLineSeries::new(
-            median.iter().copied(),
-            dash,
-            gap,
-            line,
-        ))?,
-    };
-    let show = move |on: bool| if on { c.filled() } else { TRANSPARENT.filled() };
-    chart
-        .draw_series(median.iter().map(|&p| {
+    for piece in pieces(b) {
+        let median: Vec<(f64, f64)> = piece.iter().map(|p| (p[0], p[2])).collect();
+        match style::dashes(law) {
+            None => chart.draw_series(LineSeries::new(median.iter().copied(), line))?,
+            Some((dash, gap)) => chart.draw_series(DashedLineSeries::new(
+                median.iter().copied(),
+                dash,
+                gap,
+                line,
+            ))?,
+        };
+        let show = move |on: bool| if on { c.filled() } else { TRANSPARENT.filled() };
+        chart.draw_series(median.iter().map(|&p| {
             EmptyElement::at(p)
                 + Circle::new((0, 0), 5, show(law == Law::Coupled))
                 + TriangleMarker::new((0, 0), 7, show(law == Law::Decoupled))
                 + Rectangle::new([(-4, -4), (4, 4)], show(law == Law::Reduced))
-        }))?
-        .label(format!("{} median", law.name()))
-        .legend(move |(x, y)| {
-            EmptyElement::at((x, y))
-                + PathElement::new(vec![(-8, 0), (16, 0)], line)
-                + Circle::new((4, 0), 5, show(law == Law::Coupled))
-                + TriangleMarker::new((4, 0), 7, show(law == Law::Decoupled))
-                + Rectangle::new([(0, -4), (8, 4)], show(law == Law::Reduced))
-        });
-    Ok(())
-}
-
-fn legend<Y>(chart: &mut Chart<'_, Y>) -> anyhow::Result<()>
-where
-    Y: Ranged<ValueType = f64>,
-{
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()?;
+        }))?;
+    }
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! The retarget figure: North, East, altitude, distance from the new site, thrust-axis tilt
 //! and tilt error against time from shortly before the command, each law re-planned (solid)
 //! and with the target only moved (dashed), the new site marked.
-use super::style::{colour, thin, tick};
+use super::style::{self, colour, tick, Key};
 use crate::retarget::{DivertFlight, RetargetCommand};
 use plotters::prelude::*;
 use std::path::Path;
@@ -114,21 +114,17 @@ pub fn figure(
             reference: None,
         },
     ];
-    let root = BitMapBackend::new(path, (1500, 1400)).into_drawing_area();
+    let root = BitMapBackend::new(path, (1500, 1440)).into_drawing_area();
     root.fill(&WHITE)?;
     let [n, u, e] = command.site_nue;
-    let key = if flights.iter().any(|f| !f.replan) {
-        "; solid re-planned, dashed target moved"
-    } else {
-        ""
-    };
     let root = root.titled(
         &format!(
-            "{name}: retarget at {} s to ({n}, {u}, {e}) m{key}",
+            "{name}: retarget at {} s to ({n}, {u}, {e}) m",
             command.time_s
         ),
         ("sans-serif", 24),
     )?;
+    let root = style::legend_strip(&root, &legend(flights))?;
     for (area, panel) in root.split_evenly((3, 2)).iter().zip(&panels) {
         let points = || panel.series.iter().flat_map(|s| s.iter());
         let (x0, x1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
@@ -190,26 +186,16 @@ pub fn figure(
             let style = colour(law)
                 .filled()
                 .stroke_width(if flight.replan { 3 } else { 2 });
-            let points: Vec<(f64, f64)> = thin(points)
-                .into_iter()
-                .filter(|p| p.1.is_finite())
-                .collect();
-            let drawn = if flight.replan {
-                chart.draw_series(LineSeries::new(points, style))?
-            } else {
-                chart.draw_series(DashedLineSeries::new(points, 8, 6, style))?
-            };
-            drawn
-                .label(flight.label())
-                .legend(move |(x, y)| PathElement::new(vec![(x - 8, y), (x + 16, y)], style));
+            let buckets = style::plot_buckets(&chart);
+            for piece in style::segments(points) {
+                let piece = style::decimate(&piece, buckets);
+                if flight.replan {
+                    chart.draw_series(LineSeries::new(piece, style))?;
+                } else {
+                    chart.draw_series(DashedLineSeries::new(piece, 8, 6, style))?;
+                }
+            }
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
-            .position(legend_position(panel, x0..x1, y0..y1))
-            .draw()?;
     }
     root.present()?;
     Ok(())
@@ -224,27 +210,19 @@ fn span_magnitude(x: f64) -> i32 {
     }
 }
 
-/// The legend's corner: the right-hand one whose quarter of the panel holds fewer points.
-fn legend_position(
-    panel: &Panel,
-    x: std::ops::Range<f64>,
-    y: std::ops::Range<f64>,
-) -> SeriesLabelPosition {
-    let right = x.start + 0.6 * (x.end - x.start);
-    let middle = 0.5 * (y.start + y.end);
-    let (mut upper, mut lower) = (0usize, 0usize);
-    for &(t, v) in panel.series.iter().flatten() {
-        if t >= right {
-            if v >= middle {
-                upper += 1;
+/// The figure's legend: each flight's line (solid re-planned, dashed target only moved), in
+/// the order of the flights (the order of the summary table).
+fn legend(flights: &[&DivertFlight]) -> style::Legend {
+    flights
+        .iter()
+        .map(|f| {
+            let law = f.flight.law;
+            let key = if f.replan {
+                Key::Solid(law)
             } else {
-                lower += 1;
-            }
-        }
-    }
-    if upper <= lower {
-        SeriesLabelPosition::UpperRight
-    } else {
-        SeriesLabelPosition::LowerRight
-    }
+                Key::Dashed(law)
+            };
+            (key, f.label())
+        })
+        .collect()
 }
