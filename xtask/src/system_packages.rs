@@ -57,6 +57,10 @@ const TEST: &[Package] = &[
         name: "libtbb12",
         why: "Ecos (ecospy's libecosc.so links libtbb.so.12) for the SSP interop test",
     },
+    Package {
+        name: "chromium",
+        why: "the report tests render report.html headless (harness/tests/report_browser.rs)",
+    },
 ];
 
 /// What `cargo xtask fmus --all-platforms` needs on top of the host build: Debian's second
