@@ -628,32 +628,12 @@ pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathB
     Ok(out)
 }
 
-/// The current time as `YYYY-MM-DD HH:MM:SS`, UTC (the civil calendar from the days since
-/// 1970, Howard Hinnant's algorithm).
+/// The current time, UTC, as xs:dateTime (`YYYY-MM-DDThh:mm:ssZ`).
 fn utc_now() -> String {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
-    civil(secs)
-}
-
-fn civil(secs: u64) -> String {
-    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1_460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
-    format!(
-        "{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02}",
-        rem / 3600,
-        rem % 3600 / 60,
-        rem % 60
-    )
+    model_description::iso8601_utc(i64::try_from(secs).unwrap_or(i64::MAX))
 }
 
 /// `harness report DIR`: a campaign directory gets its summary and failed flights from its
@@ -696,13 +676,6 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
         let missing = dir.path().join("nonexistent");
         assert!(for_directory(&missing).is_err());
-    }
-
-    #[test]
-    fn the_calendar_date_of_known_instants() {
-        assert_eq!(civil(0), "1970-01-01 00:00:00");
-        assert_eq!(civil(951_782_400), "2000-02-29 00:00:00");
-        assert_eq!(civil(1_796_083_199), "2026-11-30 23:59:59");
     }
 
     #[test]

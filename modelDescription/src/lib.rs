@@ -20,6 +20,7 @@
 //!   lookups a master needs.
 #![deny(unsafe_code)]
 
+mod date_time;
 mod diagnose;
 mod error;
 pub mod fmi3;
@@ -30,6 +31,7 @@ mod validate;
 mod write;
 mod xsd;
 
+pub use date_time::iso8601_utc;
 pub use error::Error;
 pub use query::{StartValue, VariableKind};
 pub use types::*;
