@@ -601,8 +601,9 @@ fn test_folder(
 /// What `harness run` flies.
 #[derive(clap::Args)]
 struct RunRequest {
-    /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters, retarget (the files
-    /// of harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp package.
+    /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters, retarget,
+    /// landing-model-exchange (the files of harness/scenarios/), or a path to a .toml/.ssd
+    /// scenario or .ssp package.
     scenario: String,
     /// Output file (columns: time, instance.variable...), written row by row under
     /// OUT.partial and renamed to OUT when the run has ended.

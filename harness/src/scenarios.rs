@@ -29,6 +29,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         include_str!("../scenarios/paper-thrusters.toml"),
     ),
     ("retarget", include_str!("../scenarios/retarget.toml")),
+    (
+        "landing-model-exchange",
+        include_str!("../scenarios/landing-model-exchange.toml"),
+    ),
 ];
 
 /// The error for a scenario argument that is neither a file nor a built-in name: it lists
