@@ -763,6 +763,12 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         out.display(),
         verdict.describe(spec.expect)
     );
+    for (instance, events) in simulation.model_exchange_events() {
+        println!(
+            "{instance} (Model Exchange): {} state, {} time and {} step events",
+            events.state, events.time, events.step
+        );
+    }
     let mut exit_code = verdict.exit_code(spec.expect);
     let judged = kept.judge(&requirements);
     for j in &judged {

@@ -40,6 +40,20 @@ fn fly(system: SystemDescription) -> (Trajectory, RunEnd) {
         ..Default::default()
     };
     let end = simulation.run(&mut trajectory).unwrap();
+    // The free fall has one event: the touchdown, found by the plant's event indicator.
+    let events = simulation.model_exchange_events();
+    assert_eq!(events.len(), 1);
+    assert_eq!(
+        events[0],
+        (
+            "plant",
+            cosim::master::EventCounts {
+                state: 1,
+                time: 0,
+                step: 0
+            }
+        )
+    );
     (trajectory, end)
 }
 

@@ -27,7 +27,7 @@ mod model_exchange;
 mod resolve;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
-pub use model_exchange::{MeError, SolverSettings};
+pub use model_exchange::{EventCounts, MeError, SolverSettings};
 pub use resolve::Port;
 
 use crate::system::{Ordering, ParamValue, SystemDescription};
@@ -647,6 +647,17 @@ impl Simulation {
     }
 
     /// Every connected variable with its direction, for writing an SSD.
+    /// Each Model Exchange instance's events in the last run, in instance order.
+    pub fn model_exchange_events(&self) -> Vec<(&str, EventCounts)> {
+        self.units
+            .iter()
+            .filter_map(|unit| {
+                let me = unit.model_exchange.as_ref()?;
+                Some((unit.name.as_str(), me.events))
+            })
+            .collect()
+    }
+
     pub fn connectors(&self) -> &[crate::system::ssp::ConnectorDecl] {
         &self.connectors
     }

@@ -60,10 +60,18 @@ pub(super) struct ModelExchangeUnit {
     indicators: usize,
     next_time_event: Option<f64>,
     x: Vec<f64>,
-    /// Calls of the solver and events, for the run's statistics.
-    pub(super) state_events: u64,
-    pub(super) time_events: u64,
-    pub(super) step_events: u64,
+    pub(super) events: EventCounts,
+}
+
+/// The events a Model Exchange instance had in a run, by their cause.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct EventCounts {
+    /// An event indicator changed domain.
+    pub state: u64,
+    /// `nextEventTime` was reached.
+    pub time: u64,
+    /// `completedIntegratorStep` asked for Event Mode (and nothing else did).
+    pub step: u64,
 }
 
 /// The FMU as the solver sees it: set time and states, read derivatives or indicators.
@@ -117,9 +125,7 @@ impl ModelExchangeUnit {
             indicators,
             next_time_event: None,
             x: vec![0.0; states],
-            state_events: 0,
-            time_events: 0,
-            step_events: 0,
+            events: EventCounts::default(),
         })
     }
 
@@ -205,9 +211,9 @@ impl ModelExchangeUnit {
             }
             let time_event = !state_event && self.next_time_event.is_some_and(|te| te <= t);
             if state_event || time_event || step.enter_event_mode {
-                self.state_events += u64::from(state_event);
-                self.time_events += u64::from(time_event);
-                self.step_events += u64::from(step.enter_event_mode && !state_event && !time_event);
+                self.events.state += u64::from(state_event);
+                self.events.time += u64::from(time_event);
+                self.events.step += u64::from(step.enter_event_mode && !state_event && !time_event);
                 fmu.instance.enter_event_mode_me()?;
                 if self.event_iteration(fmu.instance, t)? {
                     return Ok(ended(t));
