@@ -51,6 +51,7 @@ fn spec(runs: u64) -> CampaignSpec {
         laws: vec![Law::Coupled, Law::Decoupled],
         runs_per_point: runs,
         dispersions: DispersionRanges::default(),
+        sets: Vec::new(),
     }
 }
 

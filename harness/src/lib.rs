@@ -6,6 +6,7 @@
 
 pub mod metrics;
 pub mod montecarlo;
+pub mod overrides;
 pub mod paper;
 pub mod plots;
 pub mod report;

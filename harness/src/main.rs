@@ -2,7 +2,6 @@
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cosim::master::{MasterError, Simulation, Trajectory};
-use cosim::system::{split_path, ParamValue};
 use harness::scenarios::Law;
 use std::path::PathBuf;
 
@@ -149,24 +148,6 @@ enum Command {
 enum OrderingArg {
     GaussSeidel,
     Jacobi,
-}
-
-fn parse_set(text: &str) -> anyhow::Result<(String, String, ParamValue)> {
-    let (path, value) = text
-        .split_once('=')
-        .with_context(|| format!("--set {text}: expected INSTANCE.VAR=VALUE"))?;
-    let (instance, variable) =
-        split_path(path).with_context(|| format!("--set {text}: expected INSTANCE.VAR=VALUE"))?;
-    let value = if let Ok(i) = value.parse::<i64>() {
-        ParamValue::Integer(i)
-    } else if let Ok(x) = value.parse::<f64>() {
-        ParamValue::Real(x)
-    } else if let Ok(b) = value.parse::<bool>() {
-        ParamValue::Boolean(b)
-    } else {
-        ParamValue::String(value.to_owned())
-    };
-    Ok((instance.to_owned(), variable.to_owned(), value))
 }
 
 /// Passes records on to env_logger, except the FMU errors: each one comes back in the error
@@ -410,7 +391,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             sets,
         } => {
             let (mut system, spec) = harness::verdict::scenario::load(&scenario)?;
-            let (problems, _) = apply_sets(
+            let (problems, _) = harness::overrides::apply_sets(
                 &mut system,
                 &sets,
                 &[(
@@ -471,54 +452,6 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         }
     }
     Ok(exit_code)
-}
-
-/// Applies every `--set` to `system`: the problems (all of them, each naming its --set) and
-/// what was set, `(instance, variable, the --set text)`, so that later errors about a value
-/// can say it came from the command line. `reserved` lists variables the command sets
-/// itself, with what to use instead.
-fn apply_sets<'a>(
-    system: &mut cosim::system::SystemDescription,
-    sets: &'a [String],
-    reserved: &[(&str, &str)],
-) -> (Vec<String>, Vec<(String, String, &'a str)>) {
-    let mut problems = Vec::new();
-    let mut seen: Vec<(String, String, &str)> = Vec::new();
-    for set in sets {
-        match parse_set(set) {
-            Ok((instance, variable, value)) => {
-                let path = format!("{instance}.{variable}");
-                if let Some((_, instead)) = reserved.iter().find(|(name, _)| *name == path) {
-                    problems.push(format!(
-                        "--set {set}: this command sets {path} itself; {instead}"
-                    ));
-                    continue;
-                }
-                // Two values for one variable: which one was meant is not ours to
-                // guess (a last-wins rule would drop one silently).
-                if let Some((_, _, first)) = seen
-                    .iter()
-                    .find(|(i, v, _)| *i == instance && *v == variable)
-                {
-                    problems.push(format!(
-                        "--set {set}: {instance}.{variable} is already set by --set \
-                         {first}"
-                    ));
-                    continue;
-                }
-                seen.push((instance.clone(), variable.clone(), set.as_str()));
-                if !system.set_parameter(&instance, &variable, value) {
-                    let names = system.instances.iter().map(|i| i.name.as_str());
-                    problems.push(format!(
-                        "--set {set}: no instance '{instance}'{}",
-                        cosim::suggest::hint(&instance, names)
-                    ));
-                }
-            }
-            Err(error) => problems.push(error.to_string()),
-        }
-    }
-    (problems, seen)
 }
 
 /// `harness test DIR`: see its help.
@@ -657,7 +590,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     let started = std::time::Instant::now();
     let (mut system, spec) = harness::verdict::scenario::load(scenario)?;
     let requirements = harness::verdict::scenario::requirements(scenario)?;
-    let (mut problems, seen) = apply_sets(&mut system, sets, &[]);
+    let (mut problems, seen) = harness::overrides::apply_sets(&mut system, sets, &[]);
     if let Some(stop) = stop_time {
         system.stop_time = *stop;
     }

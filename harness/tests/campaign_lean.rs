@@ -72,6 +72,7 @@ fn a_landing_campaign_equals_its_replays_that_record_every_output() {
         laws: vec![Law::Decoupled, Law::Reduced],
         runs_per_point: 1,
         dispersions: DispersionRanges::default(),
+        sets: Vec::new(),
     };
     let out = tempfile::tempdir().unwrap();
     let options = runner::RunOptions {

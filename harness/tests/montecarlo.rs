@@ -18,6 +18,7 @@ fn small_campaign(seed: u64) -> CampaignSpec {
         laws: vec![Law::Coupled, Law::Decoupled],
         runs_per_point: 2,
         dispersions: DispersionRanges::default(),
+        sets: Vec::new(),
     }
 }
 
@@ -273,6 +274,7 @@ fn a_small_campaign_shows_the_papers_trend() {
             misalignment_deg: 0.1,
             thrust_level_fraction: 0.0,
         },
+        sets: Vec::new(),
     };
     let dir = tempfile::tempdir().unwrap();
     let outcome = run(&spec, dir.path(), 2, Shard::WHOLE);

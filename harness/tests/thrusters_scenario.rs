@@ -73,7 +73,7 @@ fn thrusters_fly_the_paper_scenario_and_the_decoupled_law_deviates_least() {
 #[test]
 fn each_monte_carlo_run_draws_its_own_navigation_errors() {
     // GIVEN the scenario for 5 s without any dispersion: runs differ only by their seed
-    let (mut system, spec) = campaign_system(SCENARIO, true).unwrap();
+    let (mut system, spec) = campaign_system(SCENARIO, &[], true).unwrap();
     system.stop_time = 5.0;
     let mut flyer = Flyer::new(system, spec, &fmu_dir()).unwrap();
     let none = DispersionRanges::none();

@@ -22,6 +22,9 @@ pub struct CampaignSpec {
     pub laws: Vec<Law>,
     pub runs_per_point: u64,
     pub dispersions: DispersionRanges,
+    /// `--set INSTANCE.VAR=VALUE` applied to the scenario before any draw: the nominal every
+    /// flight starts from.
+    pub sets: Vec<String>,
 }
 
 /// One flight of a campaign.
@@ -140,6 +143,7 @@ mod tests {
             laws: vec![Law::Coupled, Law::Decoupled],
             runs_per_point: 4,
             dispersions: DispersionRanges::default(),
+            sets: Vec::new(),
         }
     }
 

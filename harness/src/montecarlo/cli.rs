@@ -34,6 +34,11 @@ pub struct CampaignArgs {
     pub runs: u64,
     #[command(flatten)]
     pub dispersions: DispersionRanges,
+    /// Override a parameter of the scenario for every flight, e.g. --set plant.m0=850
+    /// (repeatable): the nominal the dispersions are drawn around. gnc.control_law and
+    /// gnc.phi_cmd are the campaign's own (--law, --phi-cmd-deg).
+    #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
+    pub sets: Vec<String>,
 }
 
 impl CampaignArgs {
@@ -45,6 +50,7 @@ impl CampaignArgs {
             laws: self.laws.clone(),
             runs_per_point: self.runs,
             dispersions: self.dispersions.clone(),
+            sets: self.sets.clone(),
         }
     }
 }
@@ -111,7 +117,7 @@ pub struct ReplayArgs {
     #[arg(
         long,
         requires = "index",
-        conflicts_with_all = ["seed", "run", "law", "phi_cmd_deg", "scenario", "DispersionRanges"]
+        conflicts_with_all = ["seed", "run", "law", "phi_cmd_deg", "scenario", "DispersionRanges", "sets"]
     )]
     pub manifest: Option<PathBuf>,
     /// The flight's index (the manifest's `index` column).
@@ -138,6 +144,9 @@ pub struct ReplayArgs {
     pub scenario: String,
     #[command(flatten)]
     pub dispersions: DispersionRanges,
+    /// The campaign's --set overrides (without --manifest): as for monte-carlo.
+    #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
+    pub sets: Vec<String>,
     /// The full trajectory (every output): CSV, or an Arrow IPC file for a .arrow, .feather
     /// or .ipc name.
     #[arg(long, short, default_value = "target/monte-carlo/replay.csv")]
@@ -426,8 +435,13 @@ pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
                 phi_cmd_deg: args.phi_cmd_deg,
             };
             args.dispersions.validate().map_err(anyhow::Error::msg)?;
-            let (row, trajectory) =
-                replay::fly(&args.scenario, &args.dispersions, &flight, fmu_dir)?;
+            let (row, trajectory) = replay::fly(
+                &args.scenario,
+                &args.sets,
+                &args.dispersions,
+                &flight,
+                fmu_dir,
+            )?;
             (row, trajectory, "flown from the seed".to_owned())
         }
     };

@@ -30,6 +30,9 @@ pub struct CampaignSection {
     /// Derived (phi_cmd count x law count x runs per point), for the reader's benefit.
     pub flights: u64,
     pub dispersions: DispersionRanges,
+    /// The campaign's `--set` overrides of the scenario, in the order given.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<String>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -77,6 +80,7 @@ impl CampaignSection {
             runs_per_point: spec.runs_per_point,
             flights: spec.flight_count(),
             dispersions: spec.dispersions.clone(),
+            sets: spec.sets.clone(),
         }
     }
 
@@ -96,6 +100,7 @@ impl CampaignSection {
             laws,
             runs_per_point: self.runs_per_point,
             dispersions: self.dispersions.clone(),
+            sets: self.sets.clone(),
         };
         spec.validate().map_err(anyhow::Error::msg)?;
         anyhow::ensure!(
@@ -166,6 +171,7 @@ mod tests {
             laws: vec![Law::Decoupled, Law::Coupled],
             runs_per_point: 3,
             dispersions: DispersionRanges::default(),
+            sets: vec!["plant.m0=850".into(), "gnc.rate_shaping_margin=0.5".into()],
         };
         let file = CampaignFile {
             campaign: CampaignSection::from_spec(&spec),
@@ -197,6 +203,7 @@ mod tests {
             laws: vec![Law::Decoupled],
             runs_per_point: 3,
             dispersions: DispersionRanges::default(),
+            sets: Vec::new(),
         });
         section.flights = 4;
         assert!(section.to_spec().is_err());

@@ -229,9 +229,26 @@ pub fn nan_metrics() -> Metrics {
 /// end) or every output (replay).
 pub fn campaign_system(
     scenario: &str,
+    sets: &[String],
     record_all: bool,
 ) -> anyhow::Result<(SystemDescription, Spec)> {
     let (mut system, spec) = verdict::scenario::load(scenario)?;
+    // The law and phi_cmd of each flight are the campaign's grid; a --set of either would
+    // be overwritten by every flight.
+    let (problems, _) = crate::overrides::apply_sets(
+        &mut system,
+        sets,
+        &[
+            ("gnc.control_law", "the campaign flies the laws of --law"),
+            (
+                "gnc.phi_cmd",
+                "the campaign flies the grid of --phi-cmd-deg",
+            ),
+        ],
+    );
+    if !problems.is_empty() {
+        anyhow::bail!("{}", problems.join("\n"));
+    }
     system.record = if record_all {
         None
     } else {

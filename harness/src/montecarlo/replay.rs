@@ -12,11 +12,12 @@ use std::path::Path;
 /// Flies `flight` of a campaign on `scenario` with `ranges`, recording every output.
 pub fn fly(
     scenario: &str,
+    sets: &[String],
     ranges: &DispersionRanges,
     flight: &Flight,
     fmu_dir: &Path,
 ) -> anyhow::Result<(Row, Trajectory)> {
-    let (system, spec) = campaign_system(scenario, true)?;
+    let (system, spec) = campaign_system(scenario, sets, true)?;
     let requirements = crate::verdict::scenario::requirements(scenario)?;
     let mut flyer = Flyer::new(system, spec, fmu_dir)?.with_requirements(requirements)?;
     let row = flyer.fly(flight, ranges);
@@ -56,7 +57,13 @@ pub fn from_manifest(manifest_path: &Path, index: u64, fmu_dir: &Path) -> anyhow
         "{}: flight {index} does not match its campaign definition",
         manifest_path.display()
     );
-    let (replayed, trajectory) = fly(&spec.scenario, &spec.dispersions, &recorded.flight, fmu_dir)?;
+    let (replayed, trajectory) = fly(
+        &spec.scenario,
+        &spec.sets,
+        &spec.dispersions,
+        &recorded.flight,
+        fmu_dir,
+    )?;
     Ok(Replayed {
         recorded,
         replayed,

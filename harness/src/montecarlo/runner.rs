@@ -74,7 +74,7 @@ pub fn run_resumed(
     spec.validate().map_err(anyhow::Error::msg)?;
     anyhow::ensure!(options.workers > 0, "--workers must be at least 1");
     let started = Instant::now();
-    let (system, verdict_spec) = campaign_system(&spec.scenario, false)?;
+    let (system, verdict_spec) = campaign_system(&spec.scenario, &spec.sets, false)?;
     let requirements = crate::verdict::scenario::requirements(&spec.scenario)?;
     // The first instance pair is loaded here, so a bad scenario or FMU directory fails before
     // any file is written; the first worker then takes it over.

@@ -58,6 +58,7 @@ pub fn monte_carlo(fmu_dir: &Path, runs: u64, workers: usize) -> Result<Campaign
         laws: vec![Law::Decoupled],
         runs_per_point: runs,
         dispersions: DispersionRanges::default(),
+        sets: Vec::new(),
     };
     let out = tempfile::Builder::new().prefix("speed-mc-").tempdir()?;
     let options = RunOptions {

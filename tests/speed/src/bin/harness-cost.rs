@@ -126,7 +126,7 @@ fn master(fmu_dir: &Path, mut system: SystemDescription, mode: &str) -> Result<V
 /// flown in the counted ones.
 fn campaign(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
     use harness::montecarlo::{flight, CampaignSpec, DispersionRanges};
-    let (mut system, spec) = flight::campaign_system("paper", false)?;
+    let (mut system, spec) = flight::campaign_system("paper", &[], false)?;
     if let Some(stop) = stop_time {
         system.stop_time = stop;
     }
@@ -137,6 +137,7 @@ fn campaign(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
         laws: vec![harness::scenarios::Law::Decoupled],
         runs_per_point: CAMPAIGN_FLIGHTS + 1,
         dispersions: DispersionRanges::default(),
+        sets: Vec::new(),
     };
     let mut flyer = flight::Flyer::new(system, spec, fmu_dir)?;
     let first = flyer.fly(&campaign.flight(0), &campaign.dispersions);
