@@ -36,14 +36,16 @@ impl Fmi2Functions {
         unsafe {
             Ok(Self {
                 common: fmi2::Fmi2Common::load(library).map_err(|e| missing(e, path))?,
-                co_simulation: co_simulation
-                    .then(|| fmi2::Fmi2CoSimulation::load(library))
-                    .transpose()
-                    .map_err(|e| missing(e, path))?,
-                model_exchange: model_exchange
-                    .then(|| fmi2::Fmi2ModelExchange::load(library))
-                    .transpose()
-                    .map_err(|e| missing(e, path))?,
+                co_simulation: declared(
+                    co_simulation,
+                    || fmi2::Fmi2CoSimulation::load(library),
+                    path,
+                )?,
+                model_exchange: declared(
+                    model_exchange,
+                    || fmi2::Fmi2ModelExchange::load(library),
+                    path,
+                )?,
             })
         }
     }
@@ -82,17 +84,28 @@ impl Fmi3Functions {
         unsafe {
             Ok(Self {
                 common: fmi3::Fmi3Common::load(library).map_err(|e| missing(e, path))?,
-                co_simulation: co_simulation
-                    .then(|| fmi3::Fmi3CoSimulation::load(library))
-                    .transpose()
-                    .map_err(|e| missing(e, path))?,
-                model_exchange: model_exchange
-                    .then(|| fmi3::Fmi3ModelExchange::load(library))
-                    .transpose()
-                    .map_err(|e| missing(e, path))?,
+                co_simulation: declared(
+                    co_simulation,
+                    || fmi3::Fmi3CoSimulation::load(library),
+                    path,
+                )?,
+                model_exchange: declared(
+                    model_exchange,
+                    || fmi3::Fmi3ModelExchange::load(library),
+                    path,
+                )?,
             })
         }
     }
+}
+
+/// The table of an interface, resolved only when the description declares the interface.
+fn declared<T>(
+    wanted: bool,
+    load: impl FnOnce() -> Result<T, MissingSymbol>,
+    path: &Path,
+) -> Result<Option<T>, LoadError> {
+    wanted.then(load).transpose().map_err(|e| missing(e, path))
 }
 
 fn missing(e: MissingSymbol, path: &Path) -> LoadError {

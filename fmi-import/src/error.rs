@@ -84,6 +84,30 @@ pub struct FmiError {
     pub log: FmuLog,
 }
 
+impl FmiError {
+    /// A call the importer refused or gave up on itself (the FMU was not asked, or no longer
+    /// answers usefully), with the reason as the one message of its log.
+    pub(crate) fn from_importer(
+        function: &'static str,
+        instance: &str,
+        version: crate::FmiVersion,
+        message: String,
+    ) -> Self {
+        FmiError {
+            function,
+            instance: instance.to_owned(),
+            status: Failure::Error,
+            log: FmuLog(vec![crate::LogMessage {
+                instance_name: instance.to_owned(),
+                status: crate::Status::Error,
+                version,
+                category: "importer".into(),
+                message,
+            }]),
+        }
+    }
+}
+
 /// A name that does not resolve to a variable of the requested type.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum VariableError {

@@ -11,7 +11,6 @@ use super::logger::{LogEnv, LogMark};
 use super::status::{Failure, Status, StepStatus, Success};
 use crate::binary::Fmi2Functions;
 use crate::fmu::FmiVersion;
-use crate::logger::{FmuLog, LogMessage};
 use crate::model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
 use crate::tables::fmi2::{Fmi2CoSimulation, Fmi2ModelExchange};
 use std::ffi::{c_void, CStr, CString};
@@ -146,21 +145,15 @@ impl Fmi2Instance {
     }
 
     fn wrong_interface(&self, function: &'static str, wanted: &str) -> FmiError {
-        FmiError {
+        FmiError::from_importer(
             function,
-            instance: self.name.clone(),
-            status: Failure::Error,
-            log: FmuLog(vec![LogMessage {
-                instance_name: self.name.clone(),
-                status: Status::Error,
-                version: FmiVersion::Fmi2,
-                category: "importer".into(),
-                message: format!(
-                    "{function} is a {wanted} function and this instance was made for {:?}",
-                    self.interface
-                ),
-            }]),
-        }
+            &self.name,
+            FmiVersion::Fmi2,
+            format!(
+                "{function} is a {wanted} function and this instance was made for {:?}",
+                self.interface
+            ),
+        )
     }
 
     /// Turns a returned status into a `Result`, attaching the messages logged since `mark`.

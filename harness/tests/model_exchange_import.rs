@@ -33,13 +33,29 @@ record = ["plant.r_nue[2]", "plant.v_nue[2]"]
     toml_format::parse(&text, Path::new("free-fall.toml")).unwrap()
 }
 
-fn fly(system: SystemDescription) -> (Trajectory, RunEnd) {
-    let mut simulation = Simulation::new(system, Path::new("/")).unwrap();
+/// Flies `system`, its relative FMU paths in `fmu_dir`: every recorded row and how it ended,
+/// and the simulation (for its Model Exchange event counts).
+fn fly_in(system: SystemDescription, fmu_dir: &Path) -> (Trajectory, RunEnd, Simulation) {
+    let mut simulation = Simulation::new(system, fmu_dir).unwrap();
     let mut trajectory = Trajectory {
         names: simulation.column_names().to_vec(),
         ..Default::default()
     };
     let end = simulation.run(&mut trajectory).unwrap();
+    (trajectory, end, simulation)
+}
+
+/// An error and its sources, joined as `{:#}` prints them.
+fn chain(error: &dyn std::error::Error) -> String {
+    std::iter::successors(Some(error), |e| e.source())
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join(": ")
+}
+
+/// The free fall from an absolute FMU path.
+fn fly(system: SystemDescription) -> (Trajectory, RunEnd) {
+    let (trajectory, end, simulation) = fly_in(system, Path::new("/"));
     // The free fall has one event: the touchdown, found by the plant's event indicator.
     let events = simulation.model_exchange_events();
     assert_eq!(events.len(), 1);
@@ -155,10 +171,7 @@ fn an_fmi3_model_exchange_only_fmu_runs_with_the_solver() {
     let error = Simulation::new(free_fall(&fmu, ""), Path::new("/"))
         .err()
         .expect("an FMI 3.0 Model Exchange only FMU cannot be a Co-Simulation instance");
-    let chain = std::iter::successors(Some(&error as &dyn std::error::Error), |e| e.source())
-        .map(|e| e.to_string())
-        .collect::<Vec<_>>()
-        .join(": ");
+    let chain = chain(&error);
     assert!(chain.contains("no <CoSimulation> element"), "{chain}");
 }
 
@@ -176,15 +189,8 @@ fn a_model_exchange_only_fmu_runs_with_the_solver_and_is_refused_as_co_simulatio
     let error = Simulation::new(free_fall(&fmu, ""), Path::new("/"))
         .err()
         .expect("a Model Exchange only FMU cannot be a Co-Simulation instance");
-    let message = format!("{error:#}");
-    let chain = std::iter::successors(Some(&error as &dyn std::error::Error), |e| e.source())
-        .map(|e| e.to_string())
-        .collect::<Vec<_>>()
-        .join(": ");
-    assert!(
-        chain.contains("no <CoSimulation> element"),
-        "{message} / {chain}"
-    );
+    let chain = chain(&error);
+    assert!(chain.contains("no <CoSimulation> element"), "{chain}");
 }
 
 #[test]
@@ -232,12 +238,7 @@ fn paper_loop_model_exchange_against_co_simulation(fmi3: bool) {
         Some(cosim::master::SolverSettings::default());
     let fmu_dir = common::fmu_dir();
     let run = |system: SystemDescription| {
-        let mut simulation = Simulation::new(system, &fmu_dir).unwrap();
-        let mut trajectory = Trajectory {
-            names: simulation.column_names().to_vec(),
-            ..Default::default()
-        };
-        let end = simulation.run(&mut trajectory).unwrap();
+        let (trajectory, end, _) = fly_in(system, &fmu_dir);
         (trajectory, end)
     };
     let (cs, cs_end) = run(shipped);
@@ -283,13 +284,7 @@ fn the_shipped_model_exchange_landing_touches_down_where_the_co_simulation_landi
     // GIVEN the shipped landing, and its twin with the plant as Model Exchange
     let fmu_dir = common::fmu_dir();
     let run = |name: &str| {
-        let system = harness::scenarios::load(name).unwrap();
-        let mut simulation = Simulation::new(system, &fmu_dir).unwrap();
-        let mut trajectory = Trajectory {
-            names: simulation.column_names().to_vec(),
-            ..Default::default()
-        };
-        let end = simulation.run(&mut trajectory).unwrap();
+        let (trajectory, end, _) = fly_in(harness::scenarios::load(name).unwrap(), &fmu_dir);
         (trajectory, end)
     };
     let (cs, cs_end) = run("landing");

@@ -492,21 +492,15 @@ impl Fmi3Instance {
                 Stepped::Status(status) => return Ok(status),
             }
         }
-        Err(FmiError {
-            function: "fmi3DoStep",
-            instance: self.name.clone(),
-            status: crate::status::Failure::Error,
-            log: crate::logger::FmuLog(vec![crate::logger::LogMessage {
-                instance_name: self.name.clone(),
-                status: Status::Error,
-                version: crate::fmu::FmiVersion::Fmi3,
-                category: "importer".into(),
-                message: format!(
-                    "the step from t = {current_time} returned early 10,000 times without \
-                     reaching t = {end}"
-                ),
-            }]),
-        })
+        Err(FmiError::from_importer(
+            "fmi3DoStep",
+            &self.name,
+            crate::fmu::FmiVersion::Fmi3,
+            format!(
+                "the step from t = {current_time} returned early 10,000 times without \
+                 reaching t = {end}"
+            ),
+        ))
     }
 
     /// One `fmi3DoStep` from `current_time` over `step_size`, leaving Event Mode first.
@@ -687,21 +681,15 @@ impl Fmi3Instance {
     }
 
     fn wrong_interface(&self, function: &'static str, wanted: &str) -> FmiError {
-        FmiError {
+        FmiError::from_importer(
             function,
-            instance: self.name.clone(),
-            status: crate::status::Failure::Error,
-            log: crate::logger::FmuLog(vec![crate::logger::LogMessage {
-                instance_name: self.name.clone(),
-                status: Status::Error,
-                version: crate::fmu::FmiVersion::Fmi3,
-                category: "importer".into(),
-                message: format!(
-                    "{function} is a {wanted} function and this instance was made for {:?}",
-                    self.interface
-                ),
-            }]),
-        }
+            &self.name,
+            crate::fmu::FmiVersion::Fmi3,
+            format!(
+                "{function} is a {wanted} function and this instance was made for {:?}",
+                self.interface
+            ),
+        )
     }
 
     // ---- Model Exchange (FMI 3.0, 3) ----
