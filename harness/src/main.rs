@@ -259,6 +259,10 @@ impl cosim::master::Recorder for RunRecorder {
             }
         }
     }
+
+    fn failure(&self) -> Option<String> {
+        self.out.failure()
+    }
 }
 
 /// A progress bar of simulated time for a run on a terminal.
@@ -658,8 +662,13 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     // ended: a failed or interrupted run never leaves a truncated file under `out`.
     let partial = partial_path(out);
     let mut recorder = RunRecorder {
-        out: cosim::results::Stream::create(&partial, simulation.column_names(), format)
-            .with_context(|| format!("writing {}", out.display()))?,
+        out: cosim::results::Stream::create_with_units(
+            &partial,
+            simulation.column_names(),
+            simulation.column_units(),
+            format,
+        )
+        .with_context(|| format!("writing {}", out.display()))?,
         kept,
         last_time: None,
         last: vec![0.0; simulation.column_names().len()],
@@ -678,6 +687,11 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             .finish()
             .with_context(|| format!("writing {}", out.display()))?;
         std::fs::rename(&partial, out).with_context(|| format!("writing {}", out.display()))?;
+        if format == cosim::results::Format::Csv {
+            let units = cosim::results::units_path(out);
+            cosim::results::write_units(&units, &last.names, simulation.column_units())
+                .with_context(|| format!("writing {}", units.display()))?;
+        }
         Ok((end, rows))
     });
     let (end, rows) = match written {

@@ -13,6 +13,8 @@ pub struct Flight {
     pub law: Law,
     pub end: RunEnd,
     pub trajectory: Trajectory,
+    /// The unit of each recorded column, as the FMUs declare it ("" for none).
+    pub units: Vec<String>,
     pub metrics: Metrics,
     pub verdict: Verdict,
     /// The scenario's requirements judged on this flight.
@@ -85,6 +87,7 @@ pub fn fly_judged(
         law,
         end,
         trajectory,
+        units: simulation.column_units().to_vec(),
         metrics,
         verdict,
         requirements,
@@ -157,7 +160,7 @@ pub fn write_outputs(
             flight.law.name(),
             format.extension()
         ));
-        cosim::results::write(&path, &flight.trajectory, format)?;
+        cosim::results::write_with_units(&path, &flight.trajectory, &flight.units, format)?;
         written.push(path);
     }
     let path = dir.join(format!("{name}-summary.txt"));
@@ -276,6 +279,7 @@ mod tests {
             law,
             end,
             trajectory: Trajectory::default(),
+            units: Vec::new(),
             metrics,
             verdict,
             requirements: Vec::new(),

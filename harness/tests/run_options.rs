@@ -126,3 +126,81 @@ fn paper_applies_set_to_every_law_and_refuses_the_law_it_varies() {
         "{stderr}"
     );
 }
+
+/// A results file that cannot take the rows (here the disk is full) stops the run at the
+/// first row that failed, exit code 1, instead of flying on to the end and saying so then.
+#[test]
+fn a_write_error_stops_the_run_where_it_happened() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("full.csv");
+    // The run writes OUT.partial until it ends: point that at a device whose every write
+    // fails with ENOSPC.
+    std::os::unix::fs::symlink("/dev/full", dir.path().join("full.csv.partial")).unwrap();
+    let output = harness(&["run", "paper", "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let time: f64 = stderr
+        .split("recording the row at t = ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|t| t.trim_end_matches(',').parse().ok())
+        .unwrap_or_else(|| panic!("no failed row named in: {stderr}"));
+    // The first 8 KiB buffer of rows (about 1,000 bytes per row) fails long before 172 s.
+    assert!(time < 1.0, "stopped at {time} s: {stderr}");
+    assert!(stderr.contains("No space left on device"), "{stderr}");
+    assert!(
+        !out.exists(),
+        "a failed run must leave no file under its name"
+    );
+}
+
+/// Every recorded column carries its FMU's unit: in the Arrow schema (field metadata
+/// `unit`) and, for a CSV, in `NAME.units.csv` beside it.
+#[test]
+fn results_carry_the_units_the_fmus_declare() {
+    let dir = tempfile::tempdir().unwrap();
+    let expected = [
+        ("time", "s"),
+        ("plant.r_nue[2]", "m"),
+        ("plant.omega_body[1]", "rad/s"),
+        ("gnc.thrust_cmd", "N"),
+    ];
+    let csv = dir.path().join("short.csv");
+    let arrow = dir.path().join("short.arrow");
+    for out in [&csv, &arrow] {
+        let output = harness(&[
+            "run",
+            "paper",
+            "--stop-time",
+            "0.1",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+    let units_csv = std::fs::read_to_string(dir.path().join("short.units.csv")).unwrap();
+    assert!(
+        units_csv.starts_with("column,unit\ntime,s\n"),
+        "{units_csv}"
+    );
+    let header = std::fs::read_to_string(&csv).unwrap();
+    let columns = header.lines().next().unwrap().split(',').count();
+    assert_eq!(units_csv.lines().count(), columns + 1, "one row per column");
+    let from_arrow = cosim::results::read_arrow_units(&arrow).unwrap();
+    assert_eq!(from_arrow.len(), columns);
+    for (name, unit) in expected {
+        assert!(
+            units_csv.contains(&format!("\n{name},{unit}\n")),
+            "{name}: {units_csv}"
+        );
+        assert!(
+            from_arrow.contains(&(name.to_owned(), unit.to_owned())),
+            "{name}: {from_arrow:?}"
+        );
+    }
+    assert!(!dir.path().join("short.arrow.units.csv").exists());
+}

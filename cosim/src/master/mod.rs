@@ -81,6 +81,10 @@ pub enum MasterError {
         #[source]
         source: Box<model_exchange::MeError>,
     },
+    /// The recorder could not keep a row (a full disk, a closed pipe): the run stops there
+    /// rather than simulate on for nothing.
+    #[error("recording the row at t = {time} failed, so the run stopped there: {reason}")]
+    Record { time: f64, reason: String },
 }
 
 /// How a run ended.
@@ -99,6 +103,11 @@ pub trait Recorder {
     /// Called once before a run with (at least, in general) the number of rows it will
     /// record and their width, so a recorder that keeps rows can allocate once.
     fn reserve(&mut self, _rows: usize, _width: usize) {}
+    /// Why this recorder can keep no more rows, once that is so; the master checks after
+    /// every row and stops the run with it.
+    fn failure(&self) -> Option<String> {
+        None
+    }
 }
 
 /// The most values [`Trajectory::reserve`] sets aside ahead of a run (256 MiB of f64): a
@@ -373,6 +382,7 @@ pub struct Simulation {
     /// The same columns as runs of consecutive slots of one unit and type, copied together.
     column_runs: Vec<ColumnRun>,
     column_names: Vec<String>,
+    column_units: Vec<String>,
     connection_names: Vec<(String, String)>,
     connectors: Vec<crate::system::ssp::ConnectorDecl>,
     row: Vec<f64>,
@@ -465,9 +475,18 @@ impl Simulation {
         // columns of one unit and type are consecutive slots and a row is a few bulk copies.
         let mut columns = Vec::with_capacity(recorded.len());
         let mut column_names = Vec::with_capacity(recorded.len());
+        let mut column_units = Vec::with_capacity(recorded.len());
         for port in &recorded {
             let slot = outputs[port.instance].slot(port);
             columns.push((port.instance, port.kind, slot));
+            let description = fmus[port.instance].model_description();
+            column_units.push(
+                description
+                    .variable(&port.name)
+                    .and_then(|v| description.unit_of(v))
+                    .unwrap_or_default()
+                    .to_owned(),
+            );
             column_names.push(format!(
                 "{}.{}",
                 system.instances[port.instance].name, port.name
@@ -533,6 +552,7 @@ impl Simulation {
             columns,
             column_runs,
             column_names,
+            column_units,
             connection_names,
             connectors,
             row,
@@ -602,6 +622,11 @@ impl Simulation {
     /// `instance.variable` of each recorded column.
     pub fn column_names(&self) -> &[String] {
         &self.column_names
+    }
+
+    /// The unit of each recorded column as its FMU declares it ("" where it declares none).
+    pub fn column_units(&self) -> &[String] {
+        &self.column_units
     }
 
     /// Outputs to read once, at the last communication point of each run (after its row is
@@ -705,7 +730,7 @@ impl Simulation {
                     self.read_for_exchange(u)?;
                 }
             }
-            self.record(time, recorder);
+            self.record(time, recorder)?;
             if ordering == Ordering::Jacobi {
                 for u in 0..self.units.len() {
                     self.set_inputs(u)?;
@@ -768,7 +793,7 @@ impl Simulation {
                             });
                         };
                         self.get_outputs(u)?;
-                        self.record(last_successful_time, recorder);
+                        self.record(last_successful_time, recorder)?;
                         self.read_final()?;
                         self.terminate_all();
                         return Ok(RunEnd::Terminated {
@@ -818,7 +843,7 @@ impl Simulation {
             }
             self.get_outputs(u)?;
         }
-        self.record(clock.end_time(), recorder);
+        self.record(clock.end_time(), recorder)?;
         self.read_final()?;
         self.terminate_all();
         Ok(RunEnd::Completed)
@@ -995,7 +1020,7 @@ impl Simulation {
         result.map_err(|e| call(&unit.name, "getting outputs", e))
     }
 
-    fn record(&mut self, time: f64, recorder: &mut dyn Recorder) {
+    fn record(&mut self, time: f64, recorder: &mut dyn Recorder) -> Result<(), MasterError> {
         for run in &self.column_runs {
             let outputs = &self.outputs[run.unit];
             let row = &mut self.row[run.column..run.column + run.len];
@@ -1015,6 +1040,13 @@ impl Simulation {
             }
         }
         recorder.record(time, &self.row);
+        match recorder.failure() {
+            None => Ok(()),
+            Some(reason) => {
+                self.terminate_all();
+                Err(MasterError::Record { time, reason })
+            }
+        }
     }
 
     /// Reads the final-only outputs, one call per value: a handful, once per run.

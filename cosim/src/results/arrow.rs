@@ -15,16 +15,14 @@ use std::sync::Arc;
 /// that writing holds only one batch's columns besides the trajectory.
 pub const BATCH_ROWS: usize = 1 << 16;
 
-/// Writes a trajectory as an Arrow IPC file; creates parent directories.
-pub fn write_arrow(path: &Path, trajectory: &Trajectory) -> anyhow::Result<()> {
+/// Writes a trajectory as an Arrow IPC file, each column's unit (`units[j]` of
+/// `trajectory.names[j]`; none where empty or absent) in its field metadata; creates parent
+/// directories.
+pub fn write_arrow(path: &Path, trajectory: &Trajectory, units: &[String]) -> anyhow::Result<()> {
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent)?;
     }
-    let fields: Vec<Field> = std::iter::once("time")
-        .chain(trajectory.names.iter().map(String::as_str))
-        .map(|name| Field::new(name, DataType::Float64, false))
-        .collect();
-    let schema = Arc::new(Schema::new(fields));
+    let schema = schema(&trajectory.names, units);
     let out = BufWriter::new(File::create(path)?);
     let mut writer = arrow_ipc::writer::FileWriter::try_new(out, &schema)?;
     let width = trajectory.names.len();
@@ -52,6 +50,31 @@ pub fn write_arrow(path: &Path, trajectory: &Trajectory) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// `time` and one float64 field per name, each with its unit as field metadata `unit`
+/// (`s` for `time` when any units are given at all).
+fn schema(names: &[String], units: &[String]) -> Arc<Schema> {
+    let with_unit = |field: Field, unit: &str| {
+        if unit.is_empty() {
+            field
+        } else {
+            field.with_metadata([("unit".to_owned(), unit.to_owned())].into())
+        }
+    };
+    let time = with_unit(
+        Field::new("time", DataType::Float64, false),
+        if units.is_empty() { "" } else { "s" },
+    );
+    let fields: Vec<Field> = std::iter::once(time)
+        .chain(names.iter().enumerate().map(|(j, name)| {
+            with_unit(
+                Field::new(name, DataType::Float64, false),
+                units.get(j).map(String::as_str).unwrap_or_default(),
+            )
+        }))
+        .collect();
+    Arc::new(Schema::new(fields))
+}
+
 /// An Arrow IPC file written batch by batch as a run records its rows (see
 /// [`super::Stream`]): one batch of [`BATCH_ROWS`] rows held at a time, the same bytes as
 /// [`write_arrow`] of the whole trajectory.
@@ -65,15 +88,11 @@ pub(super) struct ArrowStream {
 }
 
 impl ArrowStream {
-    pub(super) fn create(path: &Path, names: &[String]) -> anyhow::Result<Self> {
+    pub(super) fn create(path: &Path, names: &[String], units: &[String]) -> anyhow::Result<Self> {
         if let Some(parent) = path.parent() {
             std::fs::create_dir_all(parent)?;
         }
-        let fields: Vec<Field> = std::iter::once("time")
-            .chain(names.iter().map(String::as_str))
-            .map(|name| Field::new(name, DataType::Float64, false))
-            .collect();
-        let schema = Arc::new(Schema::new(fields));
+        let schema = schema(names, units);
         let out = BufWriter::new(File::create(path)?);
         let writer = arrow_ipc::writer::FileWriter::try_new(out, &schema)?;
         Ok(ArrowStream {
@@ -124,6 +143,20 @@ impl ArrowStream {
         self.writer.finish()?;
         Ok(())
     }
+}
+
+/// The `unit` metadata of every column of an Arrow IPC file, in order ("" where none).
+pub fn read_arrow_units(path: &Path) -> anyhow::Result<Vec<(String, String)>> {
+    let reader = arrow_ipc::reader::FileReader::try_new(File::open(path)?, None)?;
+    Ok(reader
+        .schema()
+        .fields()
+        .iter()
+        .map(|f| {
+            let unit = f.metadata().get("unit").cloned().unwrap_or_default();
+            (f.name().clone(), unit)
+        })
+        .collect())
 }
 
 /// Reads an Arrow IPC file of float64 columns with `time` first (as [`write_arrow`] writes).
@@ -208,7 +241,7 @@ mod tests {
         };
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("sub/r.arrow");
-        write_arrow(&path, &trajectory).unwrap();
+        write_arrow(&path, &trajectory, &[]).unwrap();
         let back = read_arrow(&path).unwrap();
         assert_eq!(back.names, trajectory.names);
         assert_eq!(bits(&back.times), bits(&trajectory.times));
@@ -223,7 +256,7 @@ mod tests {
         };
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("empty.arrow");
-        write_arrow(&path, &trajectory).unwrap();
+        write_arrow(&path, &trajectory, &[]).unwrap();
         let back = read_arrow(&path).unwrap();
         assert_eq!(back.names, trajectory.names);
         assert!(back.is_empty());

@@ -87,7 +87,7 @@ fn number(buffer: &mut ryu::Buffer, value: f64) -> &str {
 }
 
 /// Names with a comma or quote are quoted (ours never have one, but a third-party FMU's may).
-fn quote(name: &str) -> String {
+pub(super) fn quote(name: &str) -> String {
     if name.contains([',', '"']) {
         format!("\"{}\"", name.replace('"', "\"\""))
     } else {

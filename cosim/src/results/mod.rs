@@ -4,7 +4,7 @@
 mod arrow;
 mod csv;
 
-pub use self::arrow::{read_arrow, write_arrow};
+pub use self::arrow::{read_arrow, read_arrow_units, write_arrow};
 pub use self::csv::{read_csv, write_csv, write_csv_to};
 
 use crate::master::{Recorder, Trajectory};
@@ -75,9 +75,20 @@ impl Format {
 
 /// Writes `trajectory` to `path` in `format`; creates parent directories.
 pub fn write(path: &Path, trajectory: &Trajectory, format: Format) -> anyhow::Result<()> {
+    write_with_units(path, trajectory, &[], format)
+}
+
+/// As [`write`], with each column's unit in an Arrow file's schema (as
+/// [`Stream::create_with_units`] writes them; a CSV takes them in [`write_units`]).
+pub fn write_with_units(
+    path: &Path,
+    trajectory: &Trajectory,
+    units: &[String],
+    format: Format,
+) -> anyhow::Result<()> {
     match format {
         Format::Csv => write_csv(path, trajectory)?,
-        Format::Arrow => write_arrow(path, trajectory)?,
+        Format::Arrow => write_arrow(path, trajectory, units)?,
     }
     Ok(())
 }
@@ -87,8 +98,9 @@ pub fn write(path: &Path, trajectory: &Trajectory, format: Format) -> anyhow::Re
 /// does not grow with the run. The finished file is the one [`write`] would write of the
 /// whole trajectory, byte for byte.
 ///
-/// [`Recorder::record`] cannot fail: the first write error is kept, later rows dropped,
-/// and [`Stream::finish`] returns it.
+/// [`Recorder::record`] cannot fail: the first write error is kept and reported by
+/// [`Recorder::failure`], which stops the master's run at that row; [`Stream::finish`]
+/// returns it too.
 pub struct Stream {
     sink: Sink,
     rows: usize,
@@ -104,9 +116,23 @@ impl Stream {
     /// Creates `path` (and its parent directories) for a run recording `names` (after
     /// `time`), in `format`.
     pub fn create(path: &Path, names: &[String], format: Format) -> anyhow::Result<Self> {
+        Self::create_with_units(path, names, &[], format)
+    }
+
+    /// As [`Stream::create`], with each column's unit (`units[j]` of `names[j]`; "" or
+    /// absent for none) in the Arrow schema: field metadata `unit`, `s` for `time`. A CSV
+    /// has nowhere to hold them that every reader skips; [`write_units`] writes them beside it.
+    pub fn create_with_units(
+        path: &Path,
+        names: &[String],
+        units: &[String],
+        format: Format,
+    ) -> anyhow::Result<Self> {
         let sink = match format {
             Format::Csv => Sink::Csv(self::csv::CsvStream::create(path, names)?),
-            Format::Arrow => Sink::Arrow(Box::new(self::arrow::ArrowStream::create(path, names)?)),
+            Format::Arrow => Sink::Arrow(Box::new(self::arrow::ArrowStream::create(
+                path, names, units,
+            )?)),
         };
         Ok(Stream {
             sink,
@@ -150,6 +176,31 @@ impl Recorder for Stream {
             Err(error) => self.error = Some(error.context(format!("row {}", self.rows + 1))),
         }
     }
+
+    fn failure(&self) -> Option<String> {
+        self.error.as_ref().map(|e| format!("{e:#}"))
+    }
+}
+
+/// The units file beside a CSV result `path`: `run.csv` -> `run.units.csv`.
+pub fn units_path(path: &Path) -> std::path::PathBuf {
+    let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+    path.with_file_name(format!("{stem}.units.csv"))
+}
+
+/// Writes the unit of every column of a result file, `time` first, as a two-column CSV
+/// (`column,unit`; the unit empty where the FMU declares none).
+pub fn write_units(path: &Path, names: &[String], units: &[String]) -> std::io::Result<()> {
+    let mut text = String::from("column,unit\ntime,s\n");
+    for (j, name) in names.iter().enumerate() {
+        let unit = units.get(j).map(String::as_str).unwrap_or_default();
+        text.push_str(&format!(
+            "{},{}\n",
+            self::csv::quote(name),
+            self::csv::quote(unit)
+        ));
+    }
+    std::fs::write(path, text)
 }
 
 /// Reads a file written by [`write`], its format by its extension.
