@@ -349,7 +349,9 @@ fn summary_table(path: &Path, html: &mut String) -> anyhow::Result<()> {
         for &i in &index {
             let cell = record.get(i).unwrap_or_default();
             let shown = match cell.parse::<f64>() {
-                Ok(x) if cell.contains('.') => format!("{x:.4}"),
+                // The grid point is an input, shown as the user wrote it (15, not 15.0000);
+                // measured values get four decimals so the column lines up.
+                Ok(x) if cell.contains('.') && &header[i] != "phi_cmd_deg" => format!("{x:.4}"),
                 _ => cell.to_owned(),
             };
             let class = if &header[i] == "statement" {
@@ -764,6 +766,21 @@ mod tests {
             landing,
             "Position components against time, scenario 'landing'"
         );
+    }
+
+    #[test]
+    fn the_grid_point_is_shown_as_written_and_metrics_with_four_decimals() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("summary.csv");
+        std::fs::write(
+            &path,
+            "law,phi_cmd_deg,runs,failed_verdicts,max_lateral_speed_manoeuvre_mps_p50\ndecoupled,15.0,10,0,0.123456\n",
+        )
+        .unwrap();
+        let mut html = String::new();
+        summary_table(&path, &mut html).unwrap();
+        assert!(html.contains("<td>15.0</td>"), "{html}");
+        assert!(html.contains("<td>0.1235</td>"), "{html}");
     }
 
     #[test]

@@ -1,11 +1,12 @@
 //! The paper's Monte Carlo figure (its Fig. 6), one panel per metric that isolates the
 //! controller's effect, against phi_cmd: per law, the median (line, law's pattern and
-//! marker), the range of all runs (shaded in the law's colour and outlined, minimum to
-//! maximum) and, where the runs support it (45 or more), the 90 %-confidence upper bound of
-//! the 95th percentile (thin line): no percentile is drawn, nor named in the legend, that the
-//! run count cannot support. One legend above the panels names each law's median, band and
-//! (when drawn) bound, laws in the order of `summary.csv`; no line crosses a phi_cmd where a
-//! law has no value. The error after the final hover is
+//! marker), the middle half of the runs (25th to 75th percentile, shaded in the law's
+//! colour: three laws' full ranges overlap so much that their shades mix to grey), the range
+//! of all runs (short dashes at the minimum and maximum) and, where the runs support it (45
+//! or more), the 90 %-confidence upper bound of the 95th percentile (thin line): no tail
+//! percentile is drawn, nor named in the legend, that the run count cannot support. One
+//! legend above the panels names each law's median, band, range and (when drawn) bound, laws
+//! in the order of `summary.csv`; no line crosses a phi_cmd where a law has no value. The error after the final hover is
 //! not shown: the hover removes what the controller did.
 use super::manifest::Row;
 use super::stats::{percentile_of_sorted, quantile_upper_bound, runs_for_quantile_bound};
@@ -45,10 +46,14 @@ const PANELS: [Panel; 4] = [
     },
 ];
 
-/// Per law, at every phi_cmd of the campaign's grid (`grid`): (phi, minimum, median,
-/// maximum, p95 upper bound or NaN) of one metric, NaN values left out; `None` where the law
-/// has no finite value at that phi_cmd (no line is drawn across it).
-fn bands(rows: &[Row], grid: &[f64], law: Law, value: fn(&Row) -> f64) -> Vec<Option<[f64; 5]>> {
+/// One law at one phi_cmd: (phi, minimum, median, maximum, p95 upper bound or NaN, 25th
+/// percentile, 75th percentile) of one metric.
+type Point = [f64; 7];
+
+/// Per law, at every phi_cmd of the campaign's grid (`grid`): its [`Point`], NaN values
+/// left out; `None` where the law has no finite value at that phi_cmd (no line is drawn
+/// across it).
+fn bands(rows: &[Row], grid: &[f64], law: Law, value: fn(&Row) -> f64) -> Vec<Option<Point>> {
     grid.iter()
         .map(|&phi| {
             let mut v: Vec<f64> = rows
@@ -65,6 +70,8 @@ fn bands(rows: &[Row], grid: &[f64], law: Law, value: fn(&Row) -> f64) -> Vec<Op
                     percentile_of_sorted(&v, 0.5),
                     v[v.len() - 1],
                     quantile_upper_bound(&v, 0.95, CONFIDENCE).unwrap_or(f64::NAN),
+                    percentile_of_sorted(&v, 0.25),
+                    percentile_of_sorted(&v, 0.75),
                 ]
             })
         })
@@ -72,7 +79,7 @@ fn bands(rows: &[Row], grid: &[f64], law: Law, value: fn(&Row) -> f64) -> Vec<Op
 }
 
 /// The runs of contiguous grid points where a law has values.
-fn pieces(b: &[Option<[f64; 5]>]) -> Vec<Vec<[f64; 5]>> {
+fn pieces(b: &[Option<Point>]) -> Vec<Vec<Point>> {
     b.split(Option::is_none)
         .filter(|run| !run.is_empty())
         .map(|run| run.iter().flatten().copied().collect())
@@ -113,7 +120,8 @@ pub fn legend(rows: &[Row]) -> Legend {
     for law in laws(rows) {
         let name = law.name();
         out.push((Key::Curve(law), format!("{name} median")));
-        out.push((Key::Band(law), format!("{name} range of all runs")));
+        out.push((Key::Band(law), format!("{name} middle 50 % of runs")));
+        out.push((Key::Range(law), format!("{name} range of all runs")));
         if has_p95_bound(rows, law) {
             out.push((Key::Thin(law), format!("{name} p95 upper bound (90 %)")));
         }
@@ -137,13 +145,13 @@ fn draw(rows: &[Row], path: &Path, title: &str) -> anyhow::Result<()> {
     let root = root.titled(
         &if bound {
             format!(
-                "{title}: median, range of all runs (shaded) and p95 upper bound at 90 % \
-                 confidence (thin)"
+                "{title}: median, middle 50 % (shaded), range of all runs (dashed), p95 \
+                 upper bound at 90 % confidence (thin)"
             )
         } else {
             format!(
-                "{title}: median and range of all runs (shaded; a p95 bound needs {needed} \
-                 runs per point)"
+                "{title}: median, middle 50 % (shaded), range of all runs (dashed; a p95 \
+                 bound needs {needed} runs per point)"
             )
         },
         ("sans-serif", 22),
@@ -151,7 +159,7 @@ fn draw(rows: &[Row], path: &Path, title: &str) -> anyhow::Result<()> {
     let root = style::legend_strip(&root, &legend(rows))?;
     let grid = grid(rows);
     for (area, panel) in root.split_evenly((2, 2)).iter().zip(&PANELS) {
-        let per_law: Vec<(Law, Vec<Option<[f64; 5]>>)> = laws
+        let per_law: Vec<(Law, Vec<Option<Point>>)> = laws
             .iter()
             .map(|&law| (law, bands(rows, &grid, law, panel.value)))
             .collect();
@@ -210,11 +218,11 @@ where
     Ok(())
 }
 
-/// Every law's band first (so no band covers a median), outlined in the law's colour and
-/// pattern so that overlapping bands stay apart; then the p95 bounds; then the medians.
+/// Every law's middle-half band first (so no band covers a median), then each law's minimum
+/// and maximum in short dashes, then the p95 bounds, then the medians.
 fn draw_laws<Y>(
     chart: &mut Chart<'_, Y>,
-    per_law: &[(Law, Vec<Option<[f64; 5]>>)],
+    per_law: &[(Law, Vec<Option<Point>>)],
 ) -> anyhow::Result<()>
 where
     Y: Ranged<ValueType = f64>,
@@ -227,12 +235,12 @@ where
     for (law, b) in in_order() {
         let c = style::colour(*law);
         for piece in pieces(b) {
-            // The range of all runs: a polygon along the maximum out and back along the
-            // minimum (a lone grid point: a bar).
+            // The middle half: a polygon along the 75th percentile out and back along the
+            // 25th.
             let outline: Vec<(f64, f64)> = piece
                 .iter()
-                .map(|p| (p[0], p[3]))
-                .chain(piece.iter().rev().map(|p| (p[0], p[1])))
+                .map(|p| (p[0], p[6]))
+                .chain(piece.iter().rev().map(|p| (p[0], p[5])))
                 .collect();
             chart.draw_series(std::iter::once(Polygon::new(
                 outline,
@@ -270,7 +278,7 @@ where
     Ok(())
 }
 
-fn draw_median<Y>(chart: &mut Chart<'_, Y>, law: Law, b: &[Option<[f64; 5]>]) -> anyhow::Result<()>
+fn draw_median<Y>(chart: &mut Chart<'_, Y>, law: Law, b: &[Option<Point>]) -> anyhow::Result<()>
 where
     Y: Ranged<ValueType = f64>,
 {

@@ -279,6 +279,8 @@ pub enum Key {
     Band(Law),
     /// A thin line in a law's colour.
     Thin(Law),
+    /// Short thin dashes in a law's colour (the range of all runs).
+    Range(Law),
 }
 
 /// Legend entries, in the order shown: what each shows, and its text.
@@ -381,13 +383,13 @@ fn draw_key(
             area.draw(&Rectangle::new(corners, c.mix(0.9).stroke_width(1)))?;
         }
         Key::Thin(law) => solid(colour(law).mix(0.9).stroke_width(1))?,
+        Key::Range(law) => dashed((3, 3), colour(law).mix(0.7).stroke_width(1))?,
     }
     Ok(())
 }
 
-/// Opacity of a shaded band: low enough that overlapping bands of three laws stay apart (each
-/// also outlined in its law's colour).
-pub const BAND_ALPHA: f64 = 0.16;
+/// Opacity of a shaded band: low enough that overlapping bands of three laws stay apart.
+pub const BAND_ALPHA: f64 = 0.2;
 
 /// A vertical dashed line at each `(x, label)` inside the chart's x range, labelled at the
 /// top of the plot (left of the line near the right edge).
