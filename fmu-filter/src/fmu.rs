@@ -1,0 +1,346 @@
+//! The FMI face of the filter: the variable table (each variable declared once) and the
+//! [`Model`] implementation. The inputs carry LanderSensors' output names, the navigation
+//! outputs LanderGnc's input names, so the filter replaces LanderNav without renaming.
+//!
+//! Timing: the outputs at a communication point are the estimate propagated to it (before
+//! that point's measurements), except `omega_body`, the gyro input there minus the
+//! estimated bias. `do_step` first updates with the point's valid measurements, then
+//! propagates with its IMU sample over the step; the NIS outputs are those of that update.
+use crate::model::covariance::N;
+use crate::model::parameters::bounds::*;
+use crate::model::{Eskf, FilterParameters, Imu, ParameterError};
+use fmi_model::{
+    decl, Causality, Declaration, Dependencies, Experiment, Log, Model, ModelError, Role, StepEnd,
+    Variability,
+};
+use serde::{Deserialize, Serialize};
+
+/// The measurements at the current communication point (LanderSensors' outputs).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Measurements {
+    pub imu: Imu,
+    pub altimeter_range_m: f64,
+    pub altimeter_valid: bool,
+    pub velocimeter_los_velocity_mps: [f64; 3],
+    pub velocimeter_valid: [bool; 3],
+}
+
+/// What the last update did.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Innovations {
+    pub nis_altimeter: f64,
+    pub altimeter_dof: i32,
+    pub nis_velocimeter: f64,
+    pub velocimeter_dof: i32,
+    pub rejected: i32,
+}
+
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Outputs {
+    pub r_nue_m: [f64; 3],
+    pub v_nue_mps: [f64; 3],
+    pub q_body_to_nue: [f64; 4],
+    pub omega_body_radps: [f64; 3],
+    pub accel_bias_mps2: [f64; 3],
+    pub gyro_bias_radps: [f64; 3],
+    pub covariance_diag: [f64; N],
+}
+
+/// The LanderFilter FMU instance. Everything lives here: no global state.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct LanderFilter {
+    params: FilterParameters,
+    meas: Measurements,
+    out: Outputs,
+    last: Innovations,
+    /// Set by `exit_initialization` from the validated parameters.
+    running: Option<Eskf>,
+}
+
+impl LanderFilter {
+    pub fn parameters(&self) -> &FilterParameters {
+        &self.params
+    }
+    pub fn estimate(&self) -> Option<&Eskf> {
+        self.running.as_ref()
+    }
+}
+
+fn parameter_error(e: ParameterError) -> ModelError {
+    ModelError::InvalidParameter {
+        field: e.field,
+        index: e.index,
+        value: e.value,
+        reason: e.reason,
+    }
+}
+
+/// One communication point's measurements into the filter: the altimeter, then each
+/// velocimeter beam, each only when valid; the statistics of what was used.
+pub fn update(eskf: &mut Eskf, params: &FilterParameters, meas: &Measurements) -> Innovations {
+    let mut out = Innovations::default();
+    let mut dx = [0.0; N];
+    if meas.altimeter_valid {
+        if let Some(u) = eskf.update_altimeter(&mut dx, params, meas.altimeter_range_m) {
+            out.nis_altimeter = u.nis;
+            out.altimeter_dof = 1;
+            out.rejected += i32::from(!u.applied);
+        }
+    }
+    for i in 0..3 {
+        if meas.velocimeter_valid[i] {
+            let u =
+                eskf.update_velocimeter(&mut dx, params, i, meas.velocimeter_los_velocity_mps[i]);
+            out.nis_velocimeter += u.nis;
+            out.velocimeter_dof += 1;
+            out.rejected += i32::from(!u.applied);
+        }
+    }
+    eskf.inject(&dx);
+    out
+}
+
+/// One communication step: this point's measurements, then the propagation over `h` with its
+/// IMU sample, constrained by the state the measurements were linearised about.
+pub fn step(
+    eskf: &mut Eskf,
+    params: &FilterParameters,
+    meas: &Measurements,
+    h: f64,
+) -> Innovations {
+    let linearised_at = eskf.heading();
+    let innovations = update(eskf, params, meas);
+    eskf.propagate(params, &meas.imu, h, Some(&linearised_at));
+    innovations
+}
+
+impl Model for LanderFilter {
+    const MODEL_IDENTIFIER: &'static str = "LanderFilter";
+    const MODEL_NAME: &'static str = "LanderFilter";
+    const VERSION: &'static str = env!("CARGO_PKG_VERSION");
+    const DESCRIPTION: &'static str = "Error-state Kalman filter of the lunar lander: IMU propagation, laser \
+         altimeter and Doppler velocimeter updates (Joseph form, optional chi-square gating); position, velocity, \
+         attitude, body rate and IMU bias estimates with their covariance";
+    const DEFAULT_EXPERIMENT: Experiment = Experiment {
+        start_time: 0.0,
+        stop_time: 172.0,
+        step_size: 0.01,
+        tolerance: None,
+    };
+
+    fn declarations() -> &'static [Declaration<Self>] {
+        DECLARATIONS
+    }
+
+    fn output_dependencies(output: &str) -> Dependencies {
+        match output {
+            "omega_body" => Dependencies::SameElementOf("gyro_body_meas"),
+            _ => Dependencies::NoInputs,
+        }
+    }
+
+    fn calculate_values(&mut self, log: &mut Log) {
+        let started;
+        let eskf = match &self.running {
+            Some(e) => e,
+            None => {
+                if let Err(e) = self.params.validate() {
+                    self.out = Outputs::default();
+                    let e = parameter_error(e);
+                    let described = fmi2_export::fmi_export::describe_model_error::<Self>(&e);
+                    log.warning(format!("no estimate: {described}"));
+                    return;
+                }
+                started = Eskf::start(&self.params);
+                &started
+            }
+        };
+        self.out = Outputs {
+            r_nue_m: eskf.r_nue_m,
+            v_nue_mps: eskf.v_nue_mps,
+            q_body_to_nue: eskf.q_body_to_nue,
+            omega_body_radps: eskf.omega_body(&self.meas.imu),
+            accel_bias_mps2: eskf.accel_bias_mps2,
+            gyro_bias_radps: eskf.gyro_bias_radps,
+            covariance_diag: eskf.covariance_diagonal(),
+        };
+    }
+
+    fn exit_initialization(&mut self, _start_time: f64, _log: &mut Log) -> Result<(), ModelError> {
+        self.params.validate().map_err(parameter_error)?;
+        self.running = Some(Eskf::start(&self.params));
+        Ok(())
+    }
+
+    fn validate_restored(&self, initialized: bool) -> Result<(), ModelError> {
+        match (initialized, &self.running) {
+            (false, None) => Ok(()),
+            (true, Some(eskf)) => {
+                self.params.validate().map_err(parameter_error)?;
+                if eskf.is_sound() {
+                    Ok(())
+                } else {
+                    Err(ModelError::Other(
+                        "restored state: an estimate or covariance value is not finite".into(),
+                    ))
+                }
+            }
+            _ => Err(ModelError::Other(format!(
+                "restored state: initialized = {initialized} disagrees with the model's run"
+            ))),
+        }
+    }
+
+    fn do_step(&mut self, t: f64, h: f64, _log: &mut Log) -> Result<StepEnd, ModelError> {
+        let Some(eskf) = self.running.as_ref() else {
+            return Err(ModelError::Other(
+                "do_step before exit_initialization".into(),
+            ));
+        };
+        // Computed on a copy: a step whose result is not finite changes nothing.
+        let mut next = eskf.clone();
+        let innovations = step(&mut next, &self.params, &self.meas, h);
+        if !next.is_sound() {
+            return Err(ModelError::Refused(format!(
+                "in the step from t = {t} s (communicationStepSize {h} s): the estimate would \
+                 not be finite (measurements or step too large for the filter)"
+            )));
+        }
+        self.running = Some(next);
+        self.last = innovations;
+        Ok(StepEnd::Complete)
+    }
+}
+
+/// The measurements are samples: Boolean inputs are discrete (FMI 2.0 allows no continuous
+/// Boolean).
+const DISCRETE_INPUT: Role = Role {
+    causality: Causality::Input,
+    variability: Variability::Discrete,
+    initial: None,
+};
+
+const NUE: &[&str] = &["North", "Up", "East"];
+const BODY: &[&str] = &["body x", "body y (the thrust axis)", "body z"];
+const QUATERNION: &[&str] = &[
+    "scalar part",
+    "vector part x",
+    "vector part y",
+    "vector part z",
+];
+const BEAMS: &[&str] = &["beam 1", "beam 2", "beam 3"];
+const ERROR_STATE: &[&str] = &[
+    "position North (m2)",
+    "position Up (m2)",
+    "position East (m2)",
+    "velocity North (m2/s2)",
+    "velocity Up (m2/s2)",
+    "velocity East (m2/s2)",
+    "attitude about body x (rad2)",
+    "attitude about body y (rad2)",
+    "attitude about body z (rad2)",
+    "accelerometer bias x (m2/s4)",
+    "accelerometer bias y (m2/s4)",
+    "accelerometer bias z (m2/s4)",
+    "gyro bias x (rad2/s2)",
+    "gyro bias y (rad2/s2)",
+    "gyro bias z (rad2/s2)",
+];
+
+/// The declarations, one line each so that they read as a table. Start values are those of
+/// `LanderFilter::default()`; bounds are those `FilterParameters::validate` enforces.
+#[rustfmt::skip]
+static DECLARATIONS: &[Declaration<LanderFilter>] = &[
+    // Inputs: LanderSensors' measurements.
+    decl!(1, input accel_body_meas[3]: meas.imu.accel_body_mps2, "m/s2", "Accelerometer: measured specific force in body axes (LanderSensors accel_body_meas)", components = BODY),
+    decl!(4, input gyro_body_meas[3]: meas.imu.gyro_body_radps, "rad/s", "Gyro: measured body rate (LanderSensors gyro_body_meas)", components = BODY),
+    decl!(7, input altimeter_range: meas.altimeter_range_m, "m", "Laser altimeter slant range (LanderSensors altimeter_range)"),
+    Declaration::boolean(8, "altimeter_valid", DISCRETE_INPUT, "Whether altimeter_range is a measurement (LanderSensors altimeter_valid)", |m: &LanderFilter| m.meas.altimeter_valid, |m: &mut LanderFilter, v| m.meas.altimeter_valid = v).field("meas.altimeter_valid"),
+    decl!(9, input velocimeter_los_velocity[3]: meas.velocimeter_los_velocity_mps, "m/s", "Doppler line-of-sight velocities, positive away from the lander (LanderSensors velocimeter_los_velocity)", components = BEAMS),
+    Declaration::boolean(12, "velocimeter_valid_1", DISCRETE_INPUT, "Whether velocimeter_los_velocity[1] is a measurement (LanderSensors velocimeter_valid_1)", |m: &LanderFilter| m.meas.velocimeter_valid[0], |m: &mut LanderFilter, v| m.meas.velocimeter_valid[0] = v),
+    Declaration::boolean(13, "velocimeter_valid_2", DISCRETE_INPUT, "Whether velocimeter_los_velocity[2] is a measurement (LanderSensors velocimeter_valid_2)", |m: &LanderFilter| m.meas.velocimeter_valid[1], |m: &mut LanderFilter, v| m.meas.velocimeter_valid[1] = v),
+    Declaration::boolean(14, "velocimeter_valid_3", DISCRETE_INPUT, "Whether velocimeter_los_velocity[3] is a measurement (LanderSensors velocimeter_valid_3)", |m: &LanderFilter| m.meas.velocimeter_valid[2], |m: &mut LanderFilter, v| m.meas.velocimeter_valid[2] = v),
+    // Outputs: the estimate under LanderGnc's names, and the filter's own.
+    decl!(100, discrete_output r_nue[3]: out.r_nue_m, "m", "Estimated position of the centre of mass, NUE", components = NUE),
+    decl!(103, discrete_output v_nue[3]: out.v_nue_mps, "m/s", "Estimated velocity relative to the surface", components = NUE),
+    decl!(106, discrete_output q_body_to_nue[4]: out.q_body_to_nue, "1", "Estimated attitude quaternion body to NUE, Hamilton, scalar first", components = QUATERNION),
+    decl!(110, discrete_output omega_body[3]: out.omega_body_radps, "rad/s", "Body rate: gyro_body_meas minus the estimated gyro bias", components = BODY),
+    decl!(113, discrete_output accel_bias_estimate[3]: out.accel_bias_mps2, "m/s2", "Estimated accelerometer bias", components = BODY),
+    decl!(116, discrete_output gyro_bias_estimate[3]: out.gyro_bias_radps, "rad/s", "Estimated gyro bias", components = BODY),
+    decl!(119, discrete_output covariance_diag[15]: out.covariance_diag, "1", "Diagonal of the error-state covariance (dr, dv, dtheta in body axes, db_a, db_g), each in the square of its error's unit", components = ERROR_STATE),
+    decl!(134, discrete_output nis_altimeter: last.nis_altimeter, "1", "Normalised innovation squared of the last step's altimeter update (0 when none)"),
+    decl!(135, discrete_output altimeter_dof: last.altimeter_dof as i32, "Degrees of freedom of nis_altimeter: 1 when the last step had an altimeter measurement, else 0"),
+    decl!(136, discrete_output nis_velocimeter: last.nis_velocimeter, "1", "Sum over the velocimeter beams of the last step's normalised innovations squared"),
+    decl!(137, discrete_output velocimeter_dof: last.velocimeter_dof as i32, "Degrees of freedom of nis_velocimeter: the number of beams in the last step's update"),
+    decl!(138, discrete_output measurements_rejected: last.rejected as i32, "Scalar measurements of the last step the chi-square gate rejected"),
+    // The IMU's noise: LanderSensors' names and meanings.
+    decl!(200, parameter gravity: params.gravity_mps2, "m/s2", "Lunar gravity, along -Up (flat Moon)", min = 0.0, max = GRAVITY_MAX),
+    decl!(201, parameter imu_sample_period: params.sample_period_s, "s", "IMU sampling interval (LanderSensors imu_sample_period): one sample's white noise has the variance noise_density^2 / imu_sample_period", above = 0.0, max = SAMPLE_PERIOD_MAX_S),
+    decl!(210, parameter accel_bias_sigma: params.accel.bias_sigma, "m/s2", "1-sigma of the accelerometer's constant bias per axis (LanderSensors accel_bias_sigma): the initial 1-sigma of its estimate", min = 0.0, max = ACCEL_BIAS_SIGMA_MAX),
+    decl!(217, parameter accel_noise_density: params.accel.noise_density, "m/s", "Velocity random walk: 1-sigma of the integrated accelerometer noise after 1 s (LanderSensors accel_noise_density)", min = 0.0, max = ACCEL_NOISE_DENSITY_MAX),
+    decl!(218, parameter accel_bias_random_walk: params.accel.bias_random_walk, "m/s2", "1-sigma of the accelerometer bias change after 1 s (LanderSensors accel_bias_random_walk)", min = 0.0, max = ACCEL_BIAS_RANDOM_WALK_MAX),
+    decl!(220, parameter gyro_bias_sigma: params.gyro.bias_sigma, "rad/s", "1-sigma of the gyro's constant bias per axis (LanderSensors gyro_bias_sigma): the initial 1-sigma of its estimate", min = 0.0, max = GYRO_BIAS_SIGMA_MAX),
+    decl!(227, parameter gyro_noise_density: params.gyro.noise_density, "rad", "Angle random walk: 1-sigma of the integrated gyro noise after 1 s (LanderSensors gyro_noise_density)", min = 0.0, max = GYRO_NOISE_DENSITY_MAX),
+    decl!(228, parameter gyro_bias_random_walk: params.gyro.bias_random_walk, "rad/s", "1-sigma of the gyro bias change after 1 s (LanderSensors gyro_bias_random_walk)", min = 0.0, max = GYRO_BIAS_RANDOM_WALK_MAX),
+    // The beam sensors and the terrain: LanderSensors' names and meanings.
+    decl!(230, parameter altimeter_beam_body[3]: params.altimeter_beam_body, "1", "Direction of the altimeter beam in body axes (normalised; LanderSensors altimeter_beam_body)", components = BODY),
+    decl!(233, parameter altimeter_noise_sigma: params.altimeter_noise_sigma_m, "m", "1-sigma of the range noise independent of the range (LanderSensors altimeter_noise_sigma; > 0)", above = 0.0, max = RANGE_NOISE_SIGMA_MAX_M),
+    decl!(234, parameter altimeter_noise_proportional: params.altimeter_noise_proportional, "1", "1-sigma of the range noise per metre of slant range, in quadrature (LanderSensors altimeter_noise_proportional)", min = 0.0, max = RANGE_NOISE_PROPORTIONAL_MAX),
+    decl!(240, parameter velocimeter_beam_1_body[3]: params.velocimeter_beam_1_body, "1", "Direction of velocimeter beam 1 in body axes (LanderSensors velocimeter_beam_1_body)", components = BODY),
+    decl!(243, parameter velocimeter_beam_2_body[3]: params.velocimeter_beam_2_body, "1", "Direction of velocimeter beam 2 in body axes (LanderSensors velocimeter_beam_2_body)", components = BODY),
+    decl!(246, parameter velocimeter_beam_3_body[3]: params.velocimeter_beam_3_body, "1", "Direction of velocimeter beam 3 in body axes (LanderSensors velocimeter_beam_3_body)", components = BODY),
+    decl!(249, parameter velocimeter_noise_sigma: params.velocimeter_noise_sigma_mps, "m/s", "1-sigma of each beam's line-of-sight velocity noise (LanderSensors velocimeter_noise_sigma; > 0)", above = 0.0, max = LOS_NOISE_SIGMA_MAX_MPS),
+    decl!(260, parameter terrain_height: params.terrain_height_m, "m", "Up of the terrain plane at the origin (LanderSensors terrain_height)", min = -TERRAIN_HEIGHT_MAX_M, max = TERRAIN_HEIGHT_MAX_M),
+    decl!(261, parameter terrain_slope_normal_nue[3]: params.terrain_slope_normal_nue, "1", "Normal of the terrain plane in NUE, pointing up (LanderSensors terrain_slope_normal_nue)", components = NUE),
+    // Initialisation.
+    decl!(300, parameter r0_nue[3]: params.r0_nue_m, "m", "Initial position estimate", components = NUE, min = -POSITION_MAX_M, max = POSITION_MAX_M),
+    decl!(303, parameter v0_nue[3]: params.v0_nue_mps, "m/s", "Initial velocity estimate", components = NUE, min = -VELOCITY_MAX_MPS, max = VELOCITY_MAX_MPS),
+    decl!(306, parameter q0_body_to_nue[4]: params.q0_body_to_nue, "1", "Initial attitude estimate, unit to 1e-6", components = QUATERNION, min = -1.0, max = 1.0),
+    decl!(310, parameter r0_sigma: params.r0_sigma_m, "m", "Initial 1-sigma of the position error per axis", min = 0.0, max = R0_SIGMA_MAX_M),
+    decl!(311, parameter v0_sigma: params.v0_sigma_mps, "m/s", "Initial 1-sigma of the velocity error per axis", min = 0.0, max = V0_SIGMA_MAX_MPS),
+    decl!(312, parameter attitude0_sigma: params.attitude0_sigma_rad, "rad", "Initial 1-sigma of the attitude error about each body axis", min = 0.0, max = ATTITUDE0_SIGMA_MAX_RAD),
+    // Gating.
+    decl!(320, parameter chi2_gating: params.chi2_gating as bool, "Reject a scalar measurement whose normalised innovation squared exceeds chi2_gate (off by default)"),
+    decl!(321, parameter chi2_gate: params.chi2_gate, "1", "Gate of each scalar measurement's NIS (1 degree of freedom; 10.83 is the 99.9 % quantile)", above = 0.0, max = CHI2_GATE_MAX),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_export_layer_accepts_the_declarations() {
+        assert_eq!(fmi2_export::check_table::<LanderFilter>(), Ok(()));
+    }
+
+    #[test]
+    fn declared_real_bounds_agree_with_the_validation() {
+        let probed = fmi_testkit::assert_declared_bounds_are_validated::<LanderFilter>(|m| {
+            m.params.validate().err().map(|e| e.field)
+        });
+        assert!(probed >= 30, "{probed}");
+    }
+
+    #[test]
+    fn a_non_unit_initial_quaternion_fails_initialization_by_name() {
+        let mut m = LanderFilter::default();
+        m.params.q0_body_to_nue = [0.9, 0.0, 0.0, 0.0];
+        let err = m.exit_initialization(0.0, &mut Log::default()).unwrap_err();
+        assert!(err.to_string().contains("q0_body_to_nue"), "{err}");
+        let mut log = Log::default();
+        m.calculate_values(&mut log);
+        assert!(log.has_warning());
+        assert!(m.out.r_nue_m.iter().all(|x| x.is_finite()));
+    }
+
+    #[test]
+    fn a_step_whose_estimate_would_overflow_is_refused_and_changes_nothing() {
+        let mut m = LanderFilter::default();
+        m.exit_initialization(0.0, &mut Log::default()).unwrap();
+        m.meas.imu.accel_body_mps2 = [1e300; 3];
+        let before = m.running.clone();
+        let err = m.do_step(0.0, 1e10, &mut Log::default()).unwrap_err();
+        assert!(matches!(err, ModelError::Refused(_)), "{err}");
+        assert_eq!(m.running, before);
+    }
+}

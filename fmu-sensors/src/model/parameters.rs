@@ -1,0 +1,392 @@
+//! The sensors' parameters, their defaults (a tactical-grade IMU, a laser altimeter down the
+//! thrust axis, three Doppler beams canted 20 degrees from it) and their validation, which
+//! names the field at fault. The bounds here are the ones declared in `fmu.rs`.
+use serde::{Deserialize, Serialize};
+
+/// Cant of each velocimeter beam from body -y, and their azimuths about body y.
+pub const VELOCIMETER_CANT_DEG: f64 = 20.0;
+pub const VELOCIMETER_AZIMUTHS_DEG: [f64; 3] = [0.0, 120.0, 240.0];
+
+/// The IMU's error parameters. The same names and meanings are the filter's process noise
+/// parameters (LanderFilter), so a user sets both alike.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ImuErrors {
+    /// 1-sigma of the constant bias on each axis, drawn once per run from the seed.
+    pub bias_sigma: f64,
+    /// Scale factor error per axis (0.001 = 1000 ppm), a fixed value, not drawn.
+    pub scale_factor_error: [f64; 3],
+    /// Misalignment of the sensor axes from the body axes: a small rotation vector (rad).
+    pub misalignment_rad: [f64; 3],
+    /// White noise density: the 1-sigma of the integrated noise after 1 s (velocity or angle
+    /// random walk), numerically the density per square root of hertz.
+    pub noise_density: f64,
+    /// Bias random walk: the 1-sigma of the bias change after 1 s.
+    pub bias_random_walk: f64,
+}
+
+/// A beam's measurement errors and limits.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BeamErrors {
+    /// 1-sigma of the white noise of each sample.
+    pub noise_sigma: f64,
+    /// 1-sigma of the noise proportional to the slant range (altimeter only; 0 for the
+    /// velocimeter), added in quadrature to `noise_sigma`.
+    pub noise_proportional: f64,
+    /// Slant range beyond which the beam sees no return (m).
+    pub max_range_m: f64,
+    /// Probability that a sample is lost (reported invalid).
+    pub dropout_probability: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SensorParameters {
+    pub seed: i32,
+    /// The IMU's sampling interval, the communication step the master takes: the white noise
+    /// of one sample has the 1-sigma `noise_density / sqrt(sample_period_s)`.
+    pub sample_period_s: f64,
+    pub accel: ImuErrors,
+    pub gyro: ImuErrors,
+    /// Unit direction of the altimeter beam in body axes (normalised when used).
+    pub altimeter_beam_body: [f64; 3],
+    pub altimeter: BeamErrors,
+    pub velocimeter_beam_1_body: [f64; 3],
+    pub velocimeter_beam_2_body: [f64; 3],
+    pub velocimeter_beam_3_body: [f64; 3],
+    pub velocimeter: BeamErrors,
+    /// Up of the terrain plane at the origin (m).
+    pub terrain_height_m: f64,
+    /// Normal of the terrain plane in NUE, pointing up (normalised when used).
+    pub terrain_slope_normal_nue: [f64; 3],
+}
+
+/// The default velocimeter beam `i`: canted from body -y by [`VELOCIMETER_CANT_DEG`], at
+/// azimuth [`VELOCIMETER_AZIMUTHS_DEG`]`[i]` from body +x towards body +z.
+pub fn default_velocimeter_beam(i: usize) -> [f64; 3] {
+    let cant = VELOCIMETER_CANT_DEG.to_radians();
+    let azimuth = VELOCIMETER_AZIMUTHS_DEG[i].to_radians();
+    let (s, c) = libm::sincos(cant);
+    let (sa, ca) = libm::sincos(azimuth);
+    [s * ca, -c, s * sa]
+}
+
+impl Default for SensorParameters {
+    fn default() -> Self {
+        SensorParameters {
+            seed: 0,
+            sample_period_s: 0.01,
+            accel: ImuErrors {
+                bias_sigma: 1e-3,
+                scale_factor_error: [0.0; 3],
+                misalignment_rad: [0.0; 3],
+                noise_density: 5e-4,
+                bias_random_walk: 1e-5,
+            },
+            gyro: ImuErrors {
+                bias_sigma: 1e-5,
+                scale_factor_error: [0.0; 3],
+                misalignment_rad: [0.0; 3],
+                noise_density: 1.5e-5,
+                bias_random_walk: 1e-7,
+            },
+            altimeter_beam_body: [0.0, -1.0, 0.0],
+            altimeter: BeamErrors {
+                noise_sigma: 0.1,
+                noise_proportional: 1e-3,
+                max_range_m: 2000.0,
+                dropout_probability: 0.0,
+            },
+            velocimeter_beam_1_body: default_velocimeter_beam(0),
+            velocimeter_beam_2_body: default_velocimeter_beam(1),
+            velocimeter_beam_3_body: default_velocimeter_beam(2),
+            velocimeter: BeamErrors {
+                noise_sigma: 0.02,
+                noise_proportional: 0.0,
+                max_range_m: 1000.0,
+                dropout_probability: 0.0,
+            },
+            terrain_height_m: 0.0,
+            terrain_slope_normal_nue: [0.0, 1.0, 0.0],
+        }
+    }
+}
+
+/// A refused parameter: the field (a path as declared in `fmu.rs`), the element, why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParameterError {
+    pub field: &'static str,
+    pub index: Option<usize>,
+    pub value: String,
+    pub reason: String,
+}
+
+/// The declared bounds (inclusive unless said), shared with the declarations.
+pub mod bounds {
+    pub const SAMPLE_PERIOD_MAX_S: f64 = 1.0;
+    pub const ACCEL_BIAS_SIGMA_MAX: f64 = 10.0;
+    pub const GYRO_BIAS_SIGMA_MAX: f64 = 1.0;
+    pub const SCALE_FACTOR_ERROR_MAX: f64 = 0.5;
+    pub const MISALIGNMENT_MAX_RAD: f64 = 0.1;
+    pub const ACCEL_NOISE_DENSITY_MAX: f64 = 1.0;
+    pub const GYRO_NOISE_DENSITY_MAX: f64 = 0.1;
+    pub const ACCEL_BIAS_RANDOM_WALK_MAX: f64 = 1.0;
+    pub const GYRO_BIAS_RANDOM_WALK_MAX: f64 = 0.1;
+    pub const RANGE_NOISE_SIGMA_MAX_M: f64 = 1000.0;
+    pub const RANGE_NOISE_PROPORTIONAL_MAX: f64 = 1.0;
+    pub const MAX_RANGE_MAX_M: f64 = 1e6;
+    pub const LOS_NOISE_SIGMA_MAX_MPS: f64 = 100.0;
+    pub const TERRAIN_HEIGHT_MAX_M: f64 = 1e6;
+}
+
+fn refuse(field: &'static str, index: Option<usize>, value: f64, reason: &str) -> ParameterError {
+    ParameterError {
+        field,
+        index,
+        value: value.to_string(),
+        reason: reason.into(),
+    }
+}
+
+/// `value` in `[lo, hi]` (or `(lo, hi]` when `lo_exclusive`).
+fn within(
+    field: &'static str,
+    index: Option<usize>,
+    value: f64,
+    lo: f64,
+    lo_exclusive: bool,
+    hi: f64,
+) -> Result<(), ParameterError> {
+    let above = if lo_exclusive {
+        value > lo
+    } else {
+        value >= lo
+    };
+    if above && value <= hi {
+        Ok(())
+    } else {
+        let open = if lo_exclusive { "(" } else { "[" };
+        Err(refuse(
+            field,
+            index,
+            value,
+            &format!("must be in {open}{lo}, {hi}]"),
+        ))
+    }
+}
+
+fn direction(field: &'static str, v: &[f64; 3]) -> Result<(), ParameterError> {
+    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+        return Err(refuse(field, Some(i), v[i], "not finite"));
+    }
+    if super::quaternion::unit(v).is_none() {
+        let norm = libm::sqrt(v.iter().map(|x| x * x).sum::<f64>());
+        return Err(refuse(
+            field,
+            None,
+            norm,
+            "a direction must have a length (its norm is below 1e-9)",
+        ));
+    }
+    Ok(())
+}
+
+impl SensorParameters {
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        use bounds::*;
+        if self.seed < 0 {
+            return Err(refuse("seed", None, self.seed as f64, "must be >= 0"));
+        }
+        within(
+            "sample_period_s",
+            None,
+            self.sample_period_s,
+            0.0,
+            true,
+            SAMPLE_PERIOD_MAX_S,
+        )?;
+        for (imu, bias_max, density_max, walk_max, fields) in [
+            (
+                &self.accel,
+                ACCEL_BIAS_SIGMA_MAX,
+                ACCEL_NOISE_DENSITY_MAX,
+                ACCEL_BIAS_RANDOM_WALK_MAX,
+                [
+                    "accel.bias_sigma",
+                    "accel.scale_factor_error",
+                    "accel.misalignment_rad",
+                    "accel.noise_density",
+                    "accel.bias_random_walk",
+                ],
+            ),
+            (
+                &self.gyro,
+                GYRO_BIAS_SIGMA_MAX,
+                GYRO_NOISE_DENSITY_MAX,
+                GYRO_BIAS_RANDOM_WALK_MAX,
+                [
+                    "gyro.bias_sigma",
+                    "gyro.scale_factor_error",
+                    "gyro.misalignment_rad",
+                    "gyro.noise_density",
+                    "gyro.bias_random_walk",
+                ],
+            ),
+        ] {
+            within(fields[0], None, imu.bias_sigma, 0.0, false, bias_max)?;
+            for i in 0..3 {
+                let s = imu.scale_factor_error[i];
+                within(
+                    fields[1],
+                    Some(i),
+                    s,
+                    -SCALE_FACTOR_ERROR_MAX,
+                    false,
+                    SCALE_FACTOR_ERROR_MAX,
+                )?;
+                let m = imu.misalignment_rad[i];
+                within(
+                    fields[2],
+                    Some(i),
+                    m,
+                    -MISALIGNMENT_MAX_RAD,
+                    false,
+                    MISALIGNMENT_MAX_RAD,
+                )?;
+            }
+            within(fields[3], None, imu.noise_density, 0.0, false, density_max)?;
+            within(fields[4], None, imu.bias_random_walk, 0.0, false, walk_max)?;
+        }
+        for (beam, fields) in [
+            (
+                &self.altimeter,
+                [
+                    "altimeter.noise_sigma",
+                    "altimeter.noise_proportional",
+                    "altimeter.max_range_m",
+                    "altimeter.dropout_probability",
+                ],
+            ),
+            (
+                &self.velocimeter,
+                [
+                    "velocimeter.noise_sigma",
+                    "velocimeter.noise_proportional",
+                    "velocimeter.max_range_m",
+                    "velocimeter.dropout_probability",
+                ],
+            ),
+        ] {
+            within(
+                fields[0],
+                None,
+                beam.noise_sigma,
+                0.0,
+                false,
+                RANGE_NOISE_SIGMA_MAX_M,
+            )?;
+            within(
+                fields[1],
+                None,
+                beam.noise_proportional,
+                0.0,
+                false,
+                RANGE_NOISE_PROPORTIONAL_MAX,
+            )?;
+            within(
+                fields[2],
+                None,
+                beam.max_range_m,
+                0.0,
+                true,
+                MAX_RANGE_MAX_M,
+            )?;
+            within(fields[3], None, beam.dropout_probability, 0.0, false, 1.0)?;
+        }
+        if self.velocimeter.noise_sigma > LOS_NOISE_SIGMA_MAX_MPS {
+            let v = self.velocimeter.noise_sigma;
+            return Err(refuse(
+                "velocimeter.noise_sigma",
+                None,
+                v,
+                &format!("must be in [0, {LOS_NOISE_SIGMA_MAX_MPS}]"),
+            ));
+        }
+        if self.velocimeter.noise_proportional != 0.0 {
+            let v = self.velocimeter.noise_proportional;
+            return Err(refuse(
+                "velocimeter.noise_proportional",
+                None,
+                v,
+                "the velocimeter has no range-proportional noise",
+            ));
+        }
+        direction("altimeter_beam_body", &self.altimeter_beam_body)?;
+        direction("velocimeter_beam_1_body", &self.velocimeter_beam_1_body)?;
+        direction("velocimeter_beam_2_body", &self.velocimeter_beam_2_body)?;
+        direction("velocimeter_beam_3_body", &self.velocimeter_beam_3_body)?;
+        within(
+            "terrain_height_m",
+            None,
+            self.terrain_height_m,
+            -TERRAIN_HEIGHT_MAX_M,
+            false,
+            TERRAIN_HEIGHT_MAX_M,
+        )?;
+        let n = &self.terrain_slope_normal_nue;
+        direction("terrain_slope_normal_nue", n)?;
+        if n[1] <= 0.0 {
+            return Err(refuse(
+                "terrain_slope_normal_nue",
+                Some(1),
+                n[1],
+                "the terrain normal must point up (a positive Up component)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The three velocimeter beams, in beam order.
+    pub fn velocimeter_beams_body(&self) -> [[f64; 3]; 3] {
+        [
+            self.velocimeter_beam_1_body,
+            self.velocimeter_beam_2_body,
+            self.velocimeter_beam_3_body,
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_valid_and_the_beams_unit_and_canted() {
+        let p = SensorParameters::default();
+        assert_eq!(p.validate(), Ok(()));
+        for b in p.velocimeter_beams_body() {
+            let norm = libm::sqrt(b.iter().map(|x| x * x).sum::<f64>());
+            assert!((norm - 1.0).abs() < 1e-15);
+            let cant = libm::acos(-b[1]).to_degrees();
+            assert!((cant - VELOCIMETER_CANT_DEG).abs() < 1e-12, "{cant}");
+        }
+    }
+
+    #[test]
+    fn a_zero_or_downward_terrain_normal_is_refused_by_name() {
+        let mut p = SensorParameters {
+            terrain_slope_normal_nue: [0.0; 3],
+            ..SensorParameters::default()
+        };
+        assert_eq!(p.validate().unwrap_err().field, "terrain_slope_normal_nue");
+        p.terrain_slope_normal_nue = [0.0, -1.0, 0.0];
+        assert_eq!(p.validate().unwrap_err().index, Some(1));
+    }
+
+    #[test]
+    fn a_zero_beam_is_refused_by_name() {
+        let p = SensorParameters {
+            velocimeter_beam_2_body: [0.0; 3],
+            ..SensorParameters::default()
+        };
+        assert_eq!(p.validate().unwrap_err().field, "velocimeter_beam_2_body");
+    }
+}

@@ -1,0 +1,144 @@
+//! All sensors together, and their timing. At communication point `k` (after `k` steps) the
+//! outputs measure the inputs there, with the bias of sample `k` and the draws of sample `k`;
+//! `step` moves the biases by their random walk over the step and goes to sample `k + 1`.
+//! Reading the outputs never draws: they are a function of (parameters, inputs, state).
+use super::draws::{bias_draws, SampleDraws};
+use super::parameters::SensorParameters;
+use super::quaternion::{body_to_nue, unit};
+use super::terrain::Terrain;
+use super::truth::Truth;
+use super::{beams, imu};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// What the sensors output at one communication point.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Measurements {
+    pub accel_body_meas_mps2: [f64; 3],
+    pub gyro_body_meas_radps: [f64; 3],
+    pub altimeter_range_m: f64,
+    pub altimeter_valid: bool,
+    pub velocimeter_los_velocity_mps: [f64; 3],
+    pub velocimeter_valid: [bool; 3],
+}
+
+/// The sensors' state: the sample number and the biases of that sample.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sensors {
+    pub sample: u64,
+    pub accel_bias_mps2: [f64; 3],
+    pub gyro_bias_radps: [f64; 3],
+}
+
+impl Sensors {
+    /// Sample 0: the run's constant biases drawn from the seed.
+    pub fn start(params: &SensorParameters) -> Sensors {
+        let (a, g) = bias_draws(params.seed);
+        Sensors {
+            sample: 0,
+            accel_bias_mps2: a.map(|w| params.accel.bias_sigma * w),
+            gyro_bias_radps: g.map(|w| params.gyro.bias_sigma * w),
+        }
+    }
+
+    /// The measurements of `truth` at this sample. The parameters must be valid and the
+    /// truth checked ([`Truth::validate`]); `None` if a value would not be finite.
+    pub fn measure(&self, params: &SensorParameters, truth: &Truth) -> Option<Measurements> {
+        let draws = SampleDraws::of_sample(params.seed, self.sample);
+        let accel = imu::measure(
+            &params.accel,
+            &truth.specific_force_body_mps2,
+            &self.accel_bias_mps2,
+            &draws.accel_white,
+            params.sample_period_s,
+        );
+        let gyro = imu::measure(
+            &params.gyro,
+            &truth.omega_body_radps,
+            &self.gyro_bias_radps,
+            &draws.gyro_white,
+            params.sample_period_s,
+        );
+        let terrain = Terrain::new(params.terrain_height_m, &params.terrain_slope_normal_nue)?;
+        let q = &truth.q_body_to_nue;
+        let norm = libm::sqrt(q.iter().map(|x| x * x).sum::<f64>());
+        let rotation = body_to_nue(&q.map(|x| x / norm));
+        let r = Vector3::from(truth.r_nue_m);
+        let v = Vector3::from(truth.v_nue_mps);
+        let beam_nue = |b: &[f64; 3]| unit(b).map(|b| rotation * b);
+
+        let d = beam_nue(&params.altimeter_beam_body)?;
+        let altimeter = beams::sample(
+            &params.altimeter,
+            terrain.slant_range(&r, &d),
+            |rho| rho,
+            draws.altimeter_noise,
+            draws.altimeter_dropout,
+        );
+        let mut los = [None; 3];
+        for (i, b) in params.velocimeter_beams_body().iter().enumerate() {
+            let d = beam_nue(b)?;
+            los[i] = beams::sample(
+                &params.velocimeter,
+                terrain.slant_range(&r, &d),
+                |_| v.dot(&d),
+                draws.velocimeter_noise[i],
+                draws.velocimeter_dropout[i],
+            );
+        }
+        let m = Measurements {
+            accel_body_meas_mps2: accel,
+            gyro_body_meas_radps: gyro,
+            altimeter_range_m: altimeter.unwrap_or(0.0),
+            altimeter_valid: altimeter.is_some(),
+            velocimeter_los_velocity_mps: los.map(|l| l.unwrap_or(0.0)),
+            velocimeter_valid: los.map(|l| l.is_some()),
+        };
+        m.is_finite().then_some(m)
+    }
+
+    /// From this sample to the next, over a step of `h` seconds: each bias moves by
+    /// `bias_random_walk * sqrt(h)` times a standard normal value. `None` (and no change) if
+    /// a bias would not be finite.
+    pub fn step(&mut self, params: &SensorParameters, h: f64) -> Option<()> {
+        let draws = SampleDraws::of_sample(params.seed, self.sample);
+        let root_h = libm::sqrt(h);
+        let walk = |b: [f64; 3], rw: f64, w: [f64; 3]| -> [f64; 3] {
+            std::array::from_fn(|i| b[i] + rw * root_h * w[i])
+        };
+        let a = walk(
+            self.accel_bias_mps2,
+            params.accel.bias_random_walk,
+            draws.accel_walk,
+        );
+        let g = walk(
+            self.gyro_bias_radps,
+            params.gyro.bias_random_walk,
+            draws.gyro_walk,
+        );
+        if !a.iter().chain(&g).all(|x| x.is_finite()) {
+            return None;
+        }
+        self.accel_bias_mps2 = a;
+        self.gyro_bias_radps = g;
+        self.sample += 1;
+        Some(())
+    }
+
+    /// Whether the state could have been reached with `params` (for a restored FMU state).
+    pub fn inconsistency(&self) -> Option<String> {
+        let all = self.accel_bias_mps2.iter().chain(&self.gyro_bias_radps);
+        (!all.clone().all(|x| x.is_finite())).then(|| "a bias is not finite".to_string())
+    }
+}
+
+impl Measurements {
+    pub fn is_finite(&self) -> bool {
+        self.accel_body_meas_mps2
+            .iter()
+            .chain(&self.gyro_body_meas_radps)
+            .chain(&self.velocimeter_los_velocity_mps)
+            .chain([&self.altimeter_range_m])
+            .all(|x| x.is_finite())
+    }
+}
