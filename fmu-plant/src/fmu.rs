@@ -48,6 +48,9 @@ pub struct LanderPlant {
     /// Model Exchange: the time the master's solver set last (the time of an event update).
     #[serde(default)]
     time_s: f64,
+    /// The RCS commands on their way to the valves (`rcs_valve_delay`; empty without).
+    #[serde(default)]
+    rcs_history: crate::physics::plant::RcsHistory,
 }
 
 impl LanderPlant {
@@ -109,13 +112,22 @@ impl LanderPlant {
             };
             // Thruster model: the thrusters commanded on at the start of the coming step.
             let firing = self.rcs_duty.map(|d| d > 0.0);
-            plant.delivered_firing(
-                &run.state,
+            plant.delivered_run(
+                run,
                 &self.commands,
                 &firing,
-                run.propellant_exhausted || run.touchdown.is_some(),
+                plant.engines_cut(run) || plant.stopped_at(run).is_some(),
             )
         })
+    }
+
+    /// The landing gear's view of the shown state (zeros and false without the gear or
+    /// before initialization).
+    fn gear_view(&self) -> crate::physics::plant::GearStatus {
+        self.running
+            .as_ref()
+            .and_then(|(plant, run)| plant.gear_status(run))
+            .unwrap_or_default()
     }
 
     fn touchdown_field(&self, f: impl Fn(&crate::physics::plant::Touchdown) -> f64) -> f64 {
@@ -210,6 +222,25 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
             "propellant exhausted but mass is not the dry mass",
         ));
     }
+    // The optional effects' discrete state: finite, and empty when the effect is off.
+    if !run.slosh.0.iter().all(|v| v.is_finite())
+        || (plant.slosh.is_none() && run.slosh.0.iter().any(|v| *v != 0.0))
+    {
+        return Err(restored(
+            "slosh_displacement",
+            format!("{:?}", run.slosh.0),
+            "not finite, or nonzero without slosh",
+        ));
+    }
+    if run.gear.crashed_at_s.is_some_and(|t| !t.is_finite())
+        || (plant.gear.is_none() && run.gear != crate::physics::plant::GearRun::default())
+    {
+        return Err(restored(
+            "gear",
+            format!("{:?}", run.gear),
+            "not finite, or set without the gear",
+        ));
+    }
     if let Some(td) = &run.touchdown {
         let finite = td.time_s.is_finite()
             && td.tilt_rad.is_finite()
@@ -223,6 +254,29 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
     Ok(())
 }
 
+/// The RCS history of a restored state: finite, pulses that end after they start.
+fn check_history(history: &crate::physics::plant::RcsHistory) -> Result<(), ModelError> {
+    let pulses_finite = history
+        .pulses
+        .iter()
+        .flatten()
+        .flatten()
+        .all(|(s, e)| s.is_finite() && e.is_finite() && s <= e);
+    let torques_finite = history
+        .torques
+        .iter()
+        .flatten()
+        .all(|(from, torque)| from.is_finite() && torque.iter().all(|v| v.is_finite()));
+    if !pulses_finite || !torques_finite {
+        return Err(restored(
+            "rcs history",
+            format!("{history:?}"),
+            "not finite (or a pulse ending before it starts)",
+        ));
+    }
+    Ok(())
+}
+
 /// Most RK4 sub-steps one Co-Simulation step may take (about a second of CPU). Without a bound, a
 /// huge communication step never returns: 1e300 s in orbit about the spherical Moon, or 1 s
 /// with `integration_step` = 1e-12 s, would hang the master's call for minutes or forever.
@@ -231,8 +285,9 @@ const MAX_SUB_STEPS_PER_STEP: f64 = 1e6;
 impl Model for LanderPlant {
     const MODEL_IDENTIFIER: &'static str = "LanderPlant";
     /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end);
-    /// 3: the delivered actuation is no longer stored (computed when read).
-    const STATE_VERSION: u32 = 3;
+    /// 3: the delivered actuation is no longer stored (computed when read);
+    /// 4: the landing gear, the optional actuator effects and the RCS command history.
+    const STATE_VERSION: u32 = 4;
     const MODEL_NAME: &'static str = "LanderPlant";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
@@ -254,6 +309,7 @@ impl Model for LanderPlant {
         // depend on the current command when no lag is configured.
         match output {
             "thrust_actual" | "engine_torque_body" => Dependencies::Inputs(&["thrust_cmd"]),
+            "specific_force_body" => Dependencies::Inputs(&["thrust_cmd", "rcs_duty"]),
             "torque_actual_body" | "rcs_force_body" => {
                 Dependencies::Inputs(&["torque_cmd_body", "rcs_duty"])
             }
@@ -295,7 +351,8 @@ impl Model for LanderPlant {
                 "differ from what the parameters give",
             ));
         }
-        check_run(run, plant, self.parameters.m0_kg)
+        check_run(run, plant, self.parameters.m0_kg)?;
+        check_history(&self.rcs_history)
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError> {
@@ -304,14 +361,18 @@ impl Model for LanderPlant {
                 "do_step before exit_initialization".into(),
             ));
         };
-        if run.touchdown.is_some() {
+        if plant.stopped_at(run).is_some() {
             return Ok(StepEnd::Stopped {
                 time: t,
                 terminated: true,
                 reason: "the lander is on the ground".into(),
             });
         }
-        let sub_steps = h / plant.integration_step_s;
+        let finest_step_s = match &plant.gear {
+            None => plant.integration_step_s,
+            Some(gear) => plant.integration_step_s.min(gear.contact_step_s),
+        };
+        let sub_steps = h / finest_step_s;
         if sub_steps > MAX_SUB_STEPS_PER_STEP {
             return Err(ModelError::Refused(format!(
                 "communicationStepSize {h} s would take {sub_steps:e} RK4 sub-steps of \
@@ -320,10 +381,30 @@ impl Model for LanderPlant {
                 plant.integration_step_s
             )));
         }
+        let history_span = (crate::physics::plant::RCS_HISTORY_CAPACITY - 2) as f64 * h;
+        if plant.rcs_valve_delay_s > history_span {
+            return Err(ModelError::Refused(format!(
+                "rcs_valve_delay = {} s is longer than {} communication steps of {h} s, the \
+                 most commands the valve history holds: use longer communication steps",
+                plant.rcs_valve_delay_s,
+                crate::physics::plant::RCS_HISTORY_CAPACITY - 2
+            )));
+        }
         let before = *run;
-        let advance = plant.advance_with_duty(run, &self.commands, &self.rcs_duty, t, h);
+        let history_before = (plant.rcs_valve_delay_s > 0.0).then_some(self.rcs_history);
+        let advance = plant.advance_with_history(
+            run,
+            &mut self.rcs_history,
+            &self.commands,
+            &self.rcs_duty,
+            t,
+            h,
+        );
         if !run.state.is_finite() {
             *run = before;
+            if let Some(history) = history_before {
+                self.rcs_history = history;
+            }
             return Err(ModelError::Other(format!(
                 "the state became non-finite in the step from t = {t} s"
             )));
@@ -332,6 +413,9 @@ impl Model for LanderPlant {
         // fuzzer from a restored rate of 1e85 rad/s): the outputs' derivatives would be NaN.
         if !gyroscopic_torque_representable(&run.state.omega_body, plant) {
             *run = before;
+            if let Some(history) = history_before {
+                self.rcs_history = history;
+            }
             return Err(ModelError::Other(format!(
                 "the body rate became so large in the step from t = {t} s that its gyroscopic \
                  torque overflows"
@@ -343,8 +427,30 @@ impl Model for LanderPlant {
                 plant.dry_mass_kg
             ));
         }
+        if let (Some(td), None) = (run.touchdown, before.touchdown) {
+            if plant.gear.is_some() {
+                log.info(format!(
+                    "touchdown (first footpad contact) at t = {} s: v_nue = [{:.3}, {:.3}, {:.3}] m/s, tilt = {:.2} deg",
+                    td.time_s,
+                    td.v_nue_mps.x,
+                    td.v_nue_mps.y,
+                    td.v_nue_mps.z,
+                    td.tilt_rad.to_degrees()
+                ));
+            }
+        }
+        if run.gear.tipped_over && !before.gear.tipped_over {
+            log.warning(format!("the lander tipped over in the step from t = {t} s"));
+        }
         Ok(match advance {
             Advance::Reached => StepEnd::Complete,
+            Advance::Touchdown(time) if plant.gear.is_some() => StepEnd::Stopped {
+                time,
+                terminated: true,
+                reason: format!(
+                    "the centre of mass reached the terrain at t = {time} s (the lander fell over or the gear gave way)"
+                ),
+            },
             Advance::Touchdown(time) => {
                 let td = run
                     .touchdown
@@ -438,6 +544,36 @@ const THRUSTER_XYZ: &[&str] = &[
     "thruster 8, body y",
     "thruster 8, body z",
 ];
+const LEGS: &[&str] = &["leg 1", "leg 2", "leg 3", "leg 4"];
+const LEG_XYZ: &[&str] = &[
+    "leg 1, body x",
+    "leg 1, body y",
+    "leg 1, body z",
+    "leg 2, body x",
+    "leg 2, body y",
+    "leg 2, body z",
+    "leg 3, body x",
+    "leg 3, body y",
+    "leg 3, body z",
+    "leg 4, body x",
+    "leg 4, body y",
+    "leg 4, body z",
+];
+const TANKS: &[&str] = &["tank 1", "tank 2"];
+const SLOSH_XZ: &[&str] = &[
+    "tank 1, body x",
+    "tank 1, body z",
+    "tank 2, body x",
+    "tank 2, body z",
+];
+const TANK_XYZ: &[&str] = &[
+    "tank 1, body x",
+    "tank 1, body y",
+    "tank 1, body z",
+    "tank 2, body x",
+    "tank 2, body y",
+    "tank 2, body z",
+];
 const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
 const TRANSLATION_STATE: &[&str] = &[
     "1 (flat: r_nue North; spherical: radius)",
@@ -468,15 +604,48 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(25, output thrust_actual: get |m, _| m.delivered().thrust_n, "N", "Engine thrust delivered after saturation, lag and propellant cut-off"),
     decl!(26, output torque_actual_body[3]: get |m, i| m.delivered().rcs_torque_body_nm[i], "N.m", "RCS torque delivered after saturation and lag (thruster model: of the thrusters commanded on at the start of the coming step)", components = BODY_AXES),
     decl!(47, output rcs_force_body[3]: get |m, i| m.delivered().rcs_force_body_n[i], "N", "Thruster model: force of the thrusters commanded on at the start of the coming step (0 in the torque model)", components = BODY_AXES),
+    decl!(70, output specific_force_body[3]: get |m, i| m.delivered().specific_force_body_mps2[i], "m/s2", "Non-gravitational acceleration of the centre of mass (engine thrust, RCS thruster forces and, with the landing gear, contact forces, over the mass) in body axes: what an ideal accelerometer at the centre of mass measures (0 in free fall and once the run is frozen at touchdown)", components = BODY_AXES),
     decl!(29, output engine_torque_body[3]: get |m, i| m.delivered().engine_torque_body_nm[i], "N.m", "Disturbance torque of the misaligned/offset thrust line", components = BODY_AXES),
     decl!(32, output propellant_used: outputs.propellant_used, "kg", "m0 minus the current mass"),
     Declaration::boolean(33, "propellant_exhausted", role::discrete_output, "True once the mass has reached dry_mass; the engines deliver no thrust from then on", |m| running_flag(m, |r| r.propellant_exhausted), |_, _| {}),
-    Declaration::boolean(34, "touchdown", role::discrete_output, "True once the altitude has reached 0; the simulation ends there (the FMU asks the master to terminate)", |m| running_flag(m, |r| r.touchdown.is_some()), |_, _| {}),
+    Declaration::boolean(34, "touchdown", role::discrete_output, "True once the altitude has reached 0; the simulation ends there (the FMU asks the master to terminate). With gear_enabled: true from the first footpad contact with the terrain, and the simulation goes on (it ends when the centre of mass reaches the terrain)", |m| running_flag(m, |r| r.touchdown.is_some()), |_, _| {}),
     decl!(35, discrete_output touchdown_time: get |m, _| m.touchdown_field(|t| t.time_s), "s", "Time of touchdown (0 before touchdown)"),
     decl!(36, discrete_output touchdown_v_nue[3]: get |m, i| m.touchdown_field(|t| t.v_nue_mps[i]), "m/s", "Velocity at touchdown (0 before touchdown)", components = NUE),
     decl!(39, discrete_output touchdown_q_body_to_nue[4]: get |m, i| m.touchdown_field(|t| quaternion_to_scalar_first(&t.q_body_to_nue)[i]), "1", "Attitude at touchdown (0 before touchdown)", components = QUATERNION),
     decl!(43, discrete_output touchdown_omega_body[3]: get |m, i| m.touchdown_field(|t| t.omega_body_radps[i]), "rad/s", "Body rate at touchdown (0 before touchdown)", components = BODY_AXES),
     decl!(46, discrete_output touchdown_tilt: get |m, _| m.touchdown_field(|t| t.tilt_rad), "rad", "Angle between the thrust axis and the local vertical at touchdown (0 before touchdown)"),
+    // Landing gear and terrain (gear_enabled; docs/plant-gear.md).
+    decl!(80, discrete_output foot_contact[4]: get |m, i| if m.gear_view().contact.stroke_m[i] > 0.0 { 1.0 } else { 0.0 }, "1", "Landing gear: 1 while footpad k touches the terrain, else 0 (0 without the gear)", components = LEGS),
+    decl!(84, output leg_stroke[4]: get |m, i| m.gear_view().contact.stroke_m[i], "m", "Landing gear: compression of leg k, the footpad's penetration along the terrain normal (0 without the gear)", components = LEGS),
+    Declaration::boolean(88, "tipped_over", role::discrete_output, "Landing gear: true once, after touchdown, the centre of mass seen along gravity has left the footprint of the footpads (tilt beyond gear_static_stability_angle on flat ground) or the lander lies on its side (tilt from the terrain normal > 80 deg)", |m| m.gear_view().tipped_over, |_, _| {}),
+    Declaration::boolean(89, "settled", role::discrete_output, "Landing gear: true while at rest on the gear after touchdown (three or more footpads on the terrain, |v_nue| < 0.01 m/s, |omega_body| < 0.01 rad/s, not tipped over)", |m| m.gear_view().settled, |_, _| {}),
+    decl!(400, parameter gear_enabled: parameters.gear.enabled as bool, "Landing gear and terrain contact (Co-Simulation only: refused in Model Exchange); false: no ground contact, the run ends at altitude 0 as without the gear"),
+    decl!(401, parameter gear_footpad_body[12]: parameters.gear.footpad_body_m, "m", "Footpad k (elements 3k+1..3k+3) of the unloaded leg relative to the centre of mass, body axes; default radius 1.2 m at azimuths 45, 135, 225, 315 deg, 1 m below (body y = -1)", components = LEG_XYZ),
+    decl!(413, parameter gear_stiffness: parameters.gear.stiffness_npm, "N/m", "Spring stiffness of one leg along the terrain normal", above = 0.0),
+    decl!(414, parameter gear_damping: parameters.gear.damping_nspm, "N.s/m", "Damping of one leg along the terrain normal", min = 0.0),
+    decl!(415, parameter gear_max_stroke: parameters.gear.max_stroke_m, "m", "Stroke at which a leg bottoms out (stiffness x 100 beyond it)", above = 0.0),
+    decl!(416, parameter gear_friction_coefficient: parameters.gear.friction_coefficient, "1", "Coulomb friction coefficient footpad/soil", min = 0.0),
+    decl!(417, parameter gear_friction_velocity: parameters.gear.friction_velocity_mps, "m/s", "Regularisation velocity of the friction: full Coulomb friction well above it, viscous below", above = 0.0),
+    decl!(418, parameter terrain_height: parameters.gear.terrain_height_m, "m", "Height (Up) of the terrain plane at the landing site (NUE origin)"),
+    decl!(419, parameter terrain_slope: parameters.gear.terrain_slope_rad, "rad", "Slope of the terrain plane from the horizontal, [0, 60 deg)", min = 0.0, below = crate::physics::parameters::MAX_TERRAIN_SLOPE_RAD),
+    decl!(420, parameter terrain_slope_azimuth: parameters.gear.terrain_slope_azimuth_rad, "rad", "Direction the terrain falls towards, from North towards East"),
+    decl!(421, parameter engine_cutoff_mode: parameters.gear.engine_cutoff_mode as i32, "Landing gear engine cut-off: 0 none, 1 at the first footpad contact (touchdown sensor), 2 when the lowest footpad is engine_cutoff_height above the terrain; the thrust is 0 from then on", int_min = 0, int_max = 2),
+    decl!(422, parameter engine_cutoff_height: parameters.gear.engine_cutoff_height_m, "m", "engine_cutoff_mode 2: height of the lowest footpad above the terrain (along its normal) at which the engines are cut", min = 0.0),
+    decl!(423, parameter gear_contact_step: parameters.gear.contact_step_s, "s", "Largest RK4 sub-step while a footpad is on or near the terrain (the contact is stiff)", above = 0.0),
+    decl!(424, calculated_parameter gear_static_stability_angle: get |m, _| crate::physics::gear::Gear::new(&m.parameters.gear).static_stability_angle_rad, "rad", "Static stability angle of the footprint: atan(d / h), d the shortest distance from the centre of mass to a footprint edge, h the centre of mass height above the footpads"),
+    // Propellant slosh (slosh_enabled; docs/plant-slosh.md).
+    decl!(90, output slosh_displacement[4]: get |m, i| m.running.as_ref().map_or(0.0, |(_, run)| run.slosh.0[4 * (i / 2) + i % 2]), "m", "Slosh: displacement of tank k's sloshing mass from its equilibrium (elements 2k+1, 2k+2: body x, body z; 0 without slosh)", components = SLOSH_XZ),
+    decl!(440, parameter slosh_enabled: parameters.slosh.enabled as bool, "Propellant slosh, one pendulum per tank (Co-Simulation only: refused in Model Exchange)"),
+    decl!(441, parameter slosh_tank_radius[2]: parameters.slosh.tank_radius_m, "m", "Radius of each upright cylindrical tank", above = 0.0, components = TANKS),
+    decl!(443, parameter slosh_fill_height[2]: parameters.slosh.fill_height_m, "m", "Liquid depth in each tank", above = 0.0, components = TANKS),
+    decl!(445, parameter slosh_liquid_mass[2]: parameters.slosh.liquid_mass_kg, "kg", "Liquid mass in each tank (0: no slosh in it); the sloshing part is slosh_mass", min = 0.0, components = TANKS),
+    decl!(447, parameter slosh_hinge_body[6]: parameters.slosh.hinge_body_m, "m", "Hinge of tank k's pendulum (elements 3k+1..3k+3) relative to the centre of mass, body axes", components = TANK_XYZ),
+    decl!(453, parameter slosh_damping_ratio: parameters.slosh.damping_ratio, "1", "Damping ratio of the first sloshing mode", min = 0.0, max = 1.0),
+    decl!(454, parameter slosh_delta0[4]: parameters.slosh.delta0_m, "m", "Initial displacement of tank k's sloshing mass (elements 2k+1, 2k+2: body x, body z)", components = SLOSH_XZ),
+    decl!(458, calculated_parameter slosh_pendulum_length[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh).pendulums[i].length_m, "m", "Pendulum length L = R / (1.8412 tanh(1.8412 h / R)); the tank-fixed slosh frequency is sqrt(g_eff / L), g_eff = thrust / mass", components = TANKS),
+    decl!(460, calculated_parameter slosh_mass[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh).pendulums[i].mass_kg, "kg", "Sloshing mass m_1 = m_F 2 tanh(1.8412 h / R) / (1.8412 (1.8412^2 - 1) h / R)", components = TANKS),
+    decl!(470, parameter inertia_dry_body[3]: parameters.inertia_dry_body_kgm2, "kg.m2", "Principal inertia at dry_mass; the inertia moves linearly with the propellant from inertia_body (at m0) to it; all 0 (default): inertia_body whatever the mass", min = 0.0, components = &["about body x (Ixx)", "about body y (Iyy)", "about body z (Izz)"]),
+    decl!(473, parameter com_offset_dry_body[3]: parameters.com_offset_dry_body_m, "m", "With inertia_dry_body: centre of mass at dry_mass relative to where it is at m0 (moves linearly with the propellant; shifts the engine's lever arm)", components = BODY_AXES),
     // Initial state.
     decl!(100, parameter r0_nue[3]: parameters.r0_nue_m, "m", "Initial position (Up: must be above the surface)", components = NUE),
     decl!(103, parameter v0_nue[3]: parameters.v0_nue_mps, "m/s", "Initial velocity", components = NUE),
@@ -498,6 +667,9 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(135, parameter thrust_misalignment: parameters.thrust_line.misalignment_rad, "rad", "Angle between the thrust direction and body +y", above = -HALF_PI, below = HALF_PI),
     decl!(136, parameter thrust_misalignment_azimuth: parameters.thrust_line.misalignment_azimuth_rad, "rad", "Direction of the misalignment in the body x-z plane, from +x towards +z"),
     decl!(137, parameter thrust_point_body[3]: parameters.thrust_line.point_body_m, "m", "Thrust application point relative to the centre of mass", components = &["body x (lateral offset)", "body y (nozzle below the centre of mass)", "body z (lateral offset)"]),
+    decl!(430, parameter throttle_rate_limit: parameters.actuators.throttle_rate_limit_nps, "N/s", "Fastest change of the delivered engine thrust (0 = none); with engine_time_constant the lag's rate is clipped to it; without it Co-Simulation only", min = 0.0),
+    decl!(431, parameter rcs_valve_delay: parameters.actuators.rcs_valve_delay_s, "s", "Delay between an RCS command (rcs_duty pulses, or torque_cmd_body in the torque model) and the valves acting on it, exact (0 = none); Co-Simulation only", min = 0.0),
+    decl!(432, parameter rcs_isp: parameters.actuators.rcs_isp_s, "s", "Specific impulse of the RCS thrusters: their propellant flow sum|F| / (rcs_isp g0) is taken from the mass (0 = not booked); torque model: |tau| / rcs_moment_arm per axis", min = 0.0),
     decl!(140, parameter rcs_thruster_force: parameters.rcs.thruster_force_n, "N", "Force of one RCS thruster", min = 0.0),
     decl!(141, parameter rcs_moment_arm: parameters.rcs.moment_arm_m, "m", "Moment arm of an RCS couple", min = 0.0),
     decl!(142, parameter rcs_time_constant: parameters.rcs.time_constant_s, "s", "First-order lag of the delivered RCS torque (0 = none)", min = 0.0),
@@ -638,6 +810,136 @@ mod tests {
         assert!((m.outputs.q_body_to_nue[0] - h).abs() < 1e-15);
         assert!((m.outputs.q_body_to_nue[3] - h).abs() < 1e-15);
         assert_eq!(m.outputs.q_body_to_nue[1], 0.0);
+    }
+
+    /// The declared output `specific_force_body`, read as a master reads it.
+    fn specific_force_output(m: &LanderPlant) -> [f64; 3] {
+        let d = DECLARATIONS
+            .iter()
+            .find(|d| d.name == "specific_force_body")
+            .expect("declared");
+        let fmi_model::Kind::Real { get, .. } = d.kind else {
+            unreachable!("a Real")
+        };
+        std::array::from_fn(|i| get(m, i))
+    }
+
+    #[test]
+    fn specific_force_is_t_over_m_in_co_simulation_and_model_exchange() {
+        use fmi_model::ContinuousModel;
+        // GIVEN a lander at 1400 N in Co-Simulation
+        let mut m = LanderPlant::default();
+        m.commands.thrust_cmd_n = 1400.0;
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        for k in 0..10 {
+            m.do_step(f64::from(k) * 0.01, 0.01, &mut log).unwrap();
+        }
+        m.calculate_values(&mut log);
+        let mass = m.outputs.mass;
+        assert_eq!(specific_force_output(&m), [0.0, 1400.0 / mass, 0.0]);
+        // AND in Model Exchange, at a state set by the solver (mass 850 kg)
+        let mut x = [0.0; model_exchange::STATE_COUNT];
+        m.states(&mut x);
+        x[model_exchange::THRUST_LAG - 1] = 850.0;
+        m.set_states(&x).unwrap();
+        m.calculate_values(&mut log);
+        assert_eq!(specific_force_output(&m), [0.0, 1400.0 / 850.0, 0.0]);
+        // AND with the engines off it reads 0 (free fall)
+        m.commands.thrust_cmd_n = 0.0;
+        m.calculate_values(&mut log);
+        assert_eq!(specific_force_output(&m), [0.0; 3]);
+    }
+
+    #[test]
+    fn with_the_gear_touchdown_is_the_first_contact_and_the_run_goes_on_in_co_simulation() {
+        // GIVEN the gear on, footpads 1 m above flat ground, engines off
+        let mut m = LanderPlant::default();
+        m.parameters.gear.enabled = true;
+        m.parameters.r0_nue_m.y = 2.0;
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        // WHEN stepping for 5 s
+        for k in 0..500 {
+            let end = m.do_step(f64::from(k) * 0.01, 0.01, &mut log).unwrap();
+            assert_eq!(end, StepEnd::Complete, "step {k}");
+        }
+        m.calculate_values(&mut log);
+        // THEN touchdown is true at sqrt(2 / g), the four feet are on the ground, and no more
+        let t_exact = (2.0 / 1.62f64).sqrt();
+        assert!((m.touchdown_field(|t| t.time_s) - t_exact).abs() < 1e-9);
+        assert!(running_flag(&m, |r| r.touchdown.is_some()));
+        let status = m.gear_view();
+        assert!(
+            status.contact.stroke_m.iter().all(|s| *s > 0.0),
+            "{status:?}"
+        );
+    }
+
+    #[test]
+    fn the_gear_is_refused_in_model_exchange_naming_gear_enabled() {
+        use fmi_model::ContinuousModel;
+        let mut m = LanderPlant::default();
+        m.parameters.gear.enabled = true;
+        m.exit_initialization(0.0, &mut Log::default()).unwrap();
+        let mut dx = [0.0; model_exchange::STATE_COUNT];
+        let err = m.derivatives(&mut dx).unwrap_err();
+        assert!(
+            matches!(&err, ModelError::InvalidParameter { field: "gear.enabled", reason, .. } if reason.contains("Co-Simulation only")),
+            "{err:?}"
+        );
+        let mut x = [0.0; model_exchange::STATE_COUNT];
+        m.states(&mut x);
+        assert!(m.set_states(&x).is_err());
+        let mut z = [0.0; 2];
+        assert!(m.event_indicators(&mut z).is_err());
+    }
+
+    #[test]
+    fn a_lagless_rate_limit_and_the_valve_delay_are_refused_in_model_exchange() {
+        use fmi_model::ContinuousModel;
+        let mut dx = [0.0; model_exchange::STATE_COUNT];
+        for (rate, tau, delay, field) in [
+            (800.0, 0.0, 0.0, Some("actuators.throttle_rate_limit_nps")),
+            (800.0, 0.2, 0.0, None),
+            (0.0, 0.0, 0.02, Some("actuators.rcs_valve_delay_s")),
+        ] {
+            let mut m = LanderPlant::default();
+            m.parameters.actuators.throttle_rate_limit_nps = rate;
+            m.parameters.engines.time_constant_s = tau;
+            m.parameters.actuators.rcs_valve_delay_s = delay;
+            m.exit_initialization(0.0, &mut Log::default()).unwrap();
+            match (m.derivatives(&mut dx), field) {
+                (Ok(()), None) => {}
+                (Err(ModelError::InvalidParameter { field: f, .. }), Some(expected)) => {
+                    assert_eq!(f, expected)
+                }
+                (other, _) => panic!("{rate} {tau} {delay}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_restored_state_with_crafted_gear_slosh_or_rcs_history_values_is_refused() {
+        let fresh = || {
+            let mut m = LanderPlant::default();
+            m.exit_initialization(0.0, &mut Log::default()).unwrap();
+            m
+        };
+        assert_eq!(fresh().validate_restored(true), Ok(()));
+        let mut m = fresh();
+        m.rcs_history.torques[0] = Some((f64::INFINITY, nalgebra::Vector3::zeros()));
+        assert!(m.validate_restored(true).is_err(), "rcs history");
+        let crafted: [fn(&mut PlantRun); 3] = [
+            |run| run.slosh.0[2] = f64::NAN,
+            |run| run.slosh.0[0] = 0.01,
+            |run| run.gear.tipped_over = true,
+        ];
+        for (k, craft) in crafted.iter().enumerate() {
+            let mut m = fresh();
+            craft(&mut m.running.as_mut().unwrap().1);
+            assert!(m.validate_restored(true).is_err(), "case {k}");
+        }
     }
 
     #[test]

@@ -15,7 +15,7 @@ pub(super) const TRANSLATION: usize = 0;
 pub(super) const ATTITUDE: usize = 6;
 pub(super) const THRUST_LAG: usize = 14;
 pub(super) const TORQUE_LAG: usize = 15;
-const STATE_COUNT: usize = 18;
+pub(super) const STATE_COUNT: usize = 18;
 
 fn not_running() -> ModelError {
     ModelError::Other("no continuous state before the end of initialization".into())
@@ -82,6 +82,57 @@ fn all_finite(values: &[f64], name: impl Fn(usize) -> String) -> Result<(), Mode
             values[i]
         ))),
     }
+}
+
+/// What Model Exchange does not model: the landing gear (its contact is stiff and its
+/// touchdown, cut-off and tip-over are events of the Co-Simulation step only), a throttle
+/// rate limit without an engine lag (its rate jumps at the target: the Co-Simulation step
+/// ends the ramp exactly there), the RCS valve delay (a history of the master's commands), slosh (pendulum states outside
+/// the fixed state vector).
+/// Refused by every call that hands out a derivative or takes a state, naming the parameter.
+pub(super) fn co_simulation_only(plant: &Plant) -> Result<(), ModelError> {
+    if plant.gear.is_some() {
+        return Err(ModelError::InvalidParameter {
+            field: "gear.enabled",
+            index: None,
+            value: "true".into(),
+            reason: "the landing gear is modelled in Co-Simulation only; in Model Exchange \
+                     set gear_enabled = false (see docs/plant-gear.md)"
+                .into(),
+        });
+    }
+    if plant.throttle_rate_limit_nps > 0.0 && plant.engines.time_constant_s == 0.0 {
+        return Err(ModelError::InvalidParameter {
+            field: "actuators.throttle_rate_limit_nps",
+            index: None,
+            value: plant.throttle_rate_limit_nps.to_string(),
+            reason: "a throttle rate limit without an engine lag is modelled in Co-Simulation \
+                     only; in Model Exchange also set engine_time_constant > 0 \
+                     (docs/plant-actuators.md)"
+                .into(),
+        });
+    }
+    if plant.slosh.is_some() {
+        return Err(ModelError::InvalidParameter {
+            field: "slosh.enabled",
+            index: None,
+            value: "true".into(),
+            reason: "propellant slosh is modelled in Co-Simulation only (its pendulum states \
+                     are not in the fixed Model Exchange state vector; docs/plant-slosh.md)"
+                .into(),
+        });
+    }
+    if plant.rcs_valve_delay_s > 0.0 {
+        return Err(ModelError::InvalidParameter {
+            field: "actuators.rcs_valve_delay_s",
+            index: None,
+            value: plant.rcs_valve_delay_s.to_string(),
+            reason: "the RCS valve delay is modelled in Co-Simulation only \
+                     (docs/plant-actuators.md)"
+                .into(),
+        });
+    }
+    Ok(())
 }
 
 impl LanderPlant {
@@ -161,6 +212,7 @@ impl ContinuousModel for LanderPlant {
 
     fn set_states(&mut self, x: &[f64]) -> Result<(), ModelError> {
         let (plant, run) = self.running.as_mut().ok_or_else(not_running)?;
+        co_simulation_only(plant)?;
         // Checked before it replaces anything: a refused vector leaves the run as it was.
         let mut candidate = *run;
         plant
@@ -182,6 +234,7 @@ impl ContinuousModel for LanderPlant {
     fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), ModelError> {
         let view = self.continuous_view().ok_or_else(not_running)?;
         let (plant, run) = view.as_ref();
+        co_simulation_only(plant)?;
         plant
             .continuous_derivative(&LAYOUT, run, &self.commands, dx)
             .map_err(length)?;
@@ -191,6 +244,7 @@ impl ContinuousModel for LanderPlant {
     fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), ModelError> {
         let view = self.continuous_view().ok_or_else(not_running)?;
         let (plant, run) = view.as_ref();
+        co_simulation_only(plant)?;
         let values = plant.event_indicators(run);
         if z.len() != values.len() {
             return Err(length(LengthMismatch {

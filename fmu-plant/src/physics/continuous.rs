@@ -127,7 +127,7 @@ impl StateLayout {
     /// Only the states the plant's configuration needs.
     pub fn compact(plant: &Plant) -> Self {
         Self {
-            engine_lag: plant.engines.time_constant_s > 0.0,
+            engine_lag: plant.thrust_is_a_state(),
             rcs_lag: plant.rcs.time_constant_s > 0.0,
         }
     }

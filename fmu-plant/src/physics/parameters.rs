@@ -3,6 +3,8 @@
 //! Each error names the field of [`PlantParameters`] to fix (and the element of a vector);
 //! an interface layer names it as its users know it.
 use super::actuators::{Engines, Rcs, ThrustLine};
+use super::gear::{GearParameters, LEG_COUNT};
+use super::slosh::{SloshParameters, TANK_COUNT};
 use super::thrusters::{ThrusterLayout, THRUSTER_COUNT};
 use nalgebra::{Quaternion, Vector3};
 use serde::{Deserialize, Serialize};
@@ -71,6 +73,34 @@ pub struct PlantParameters {
     pub site_longitude_rad: f64,
     /// Maximum RK4 sub-step, s.
     pub integration_step_s: f64,
+    /// Landing gear and terrain (off by default).
+    #[serde(default)]
+    pub gear: GearParameters,
+    /// Actuator effects beyond saturation and lag (each off by default).
+    #[serde(default)]
+    pub actuators: ActuatorRealism,
+    /// Propellant slosh (off by default).
+    #[serde(default)]
+    pub slosh: SloshParameters,
+    /// Principal inertia at the dry mass, kg m^2; all zero (the default): the inertia stays
+    /// `inertia_body_kgm2` whatever the mass.
+    #[serde(default)]
+    pub inertia_dry_body_kgm2: Vector3<f64>,
+    /// Centre of mass at the dry mass relative to where it is at m0, body axes, m (used with
+    /// `inertia_dry_body_kgm2`).
+    #[serde(default)]
+    pub com_offset_dry_body_m: Vector3<f64>,
+}
+
+/// Optional actuator effects (`docs/plant-actuators.md`); 0 switches each off.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct ActuatorRealism {
+    /// Fastest change of the delivered engine thrust, N/s; 0 = none.
+    pub throttle_rate_limit_nps: f64,
+    /// Delay between an RCS command and the valves acting on it, s; 0 = none.
+    pub rcs_valve_delay_s: f64,
+    /// Specific impulse of the RCS thrusters, s; 0 = their propellant is not booked.
+    pub rcs_isp_s: f64,
 }
 
 impl Default for PlantParameters {
@@ -118,6 +148,11 @@ impl Default for PlantParameters {
             site_latitude_rad: SITE_LATITUDE_RAD,
             site_longitude_rad: SITE_LONGITUDE_RAD,
             integration_step_s: 0.01,
+            gear: GearParameters::default(),
+            actuators: ActuatorRealism::default(),
+            slosh: SloshParameters::default(),
+            inertia_dry_body_kgm2: Vector3::zeros(),
+            com_offset_dry_body_m: Vector3::zeros(),
         }
     }
 }
@@ -369,7 +404,23 @@ impl PlantParameters {
             "must be within +-85 deg (1.4835 rad): eq. 1 is singular at the poles",
         )?;
         self.validated_q0()?;
-        if kind == TranslationModelKind::Flat {
+        self.validate_gear(kind)?;
+        self.validate_slosh(kind)?;
+        self.validate_mass_properties()?;
+        let a = &self.actuators;
+        non_negative(
+            ("actuators.throttle_rate_limit_nps", None),
+            a.throttle_rate_limit_nps,
+        )?;
+        non_negative(("actuators.rcs_valve_delay_s", None), a.rcs_valve_delay_s)?;
+        non_negative(("actuators.rcs_isp_s", None), a.rcs_isp_s)?;
+        require(
+            a.rcs_isp_s == 0.0 || (1.0 / (a.rcs_isp_s * self.g0_mps2)).is_finite(),
+            ("actuators.rcs_isp_s", None),
+            a.rcs_isp_s,
+            "1 / (rcs_isp x g0) (RCS mass flow per newton) overflows",
+        )?;
+        if kind == TranslationModelKind::Flat && !self.gear.enabled {
             require(
                 self.r0_nue_m.y > 0.0,
                 ("r0_nue_m", Some(1)),
@@ -378,6 +429,154 @@ impl PlantParameters {
             )?;
         }
         self.validate_products()
+    }
+}
+
+/// Steepest terrain the gear model takes, rad (60 deg).
+pub const MAX_TERRAIN_SLOPE_RAD: f64 = std::f64::consts::PI / 3.0;
+
+impl PlantParameters {
+    /// The gear and terrain: every value always (a gear switched on later finds them valid),
+    /// the start above the terrain and the flat Moon only with the gear on.
+    fn validate_gear(&self, kind: TranslationModelKind) -> Result<(), ParameterError> {
+        let g = &self.gear;
+        for k in 0..3 * LEG_COUNT {
+            finite(("gear.footpad_body_m", Some(k)), g.footpad_body_m[k])?;
+        }
+        for k in 0..LEG_COUNT {
+            require(
+                g.footpad_body_m[3 * k + 1] < 0.0,
+                ("gear.footpad_body_m", Some(3 * k + 1)),
+                g.footpad_body_m[3 * k + 1],
+                "a footpad must lie below the centre of mass (body y < 0)",
+            )?;
+        }
+        positive(("gear.stiffness_npm", None), g.stiffness_npm)?;
+        non_negative(("gear.damping_nspm", None), g.damping_nspm)?;
+        positive(("gear.max_stroke_m", None), g.max_stroke_m)?;
+        non_negative(("gear.friction_coefficient", None), g.friction_coefficient)?;
+        positive(
+            ("gear.friction_velocity_mps", None),
+            g.friction_velocity_mps,
+        )?;
+        finite(("gear.terrain_height_m", None), g.terrain_height_m)?;
+        require(
+            g.terrain_slope_rad.is_finite()
+                && (0.0..MAX_TERRAIN_SLOPE_RAD).contains(&g.terrain_slope_rad),
+            ("gear.terrain_slope_rad", None),
+            g.terrain_slope_rad,
+            "must be in [0, 60 deg)",
+        )?;
+        finite(
+            ("gear.terrain_slope_azimuth_rad", None),
+            g.terrain_slope_azimuth_rad,
+        )?;
+        require(
+            (0..=2).contains(&g.engine_cutoff_mode),
+            ("gear.engine_cutoff_mode", None),
+            f64::from(g.engine_cutoff_mode),
+            "must be 0 (none), 1 (first footpad contact) or 2 (at engine_cutoff_height)",
+        )?;
+        non_negative(
+            ("gear.engine_cutoff_height_m", None),
+            g.engine_cutoff_height_m,
+        )?;
+        positive(("gear.contact_step_s", None), g.contact_step_s)?;
+        if !g.enabled {
+            return Ok(());
+        }
+        if kind != TranslationModelKind::Flat {
+            return Err(refuse(
+                ("gear.enabled", None),
+                "true",
+                "the landing gear is modelled over the flat Moon only (translation_model = 1)",
+            ));
+        }
+        let n = super::gear::terrain_normal(g.terrain_slope_rad, g.terrain_slope_azimuth_rad);
+        let com_clearance = n.dot(&(self.r0_nue_m - Vector3::new(0.0, g.terrain_height_m, 0.0)));
+        require(
+            com_clearance > 0.0,
+            ("r0_nue_m", Some(1)),
+            self.r0_nue_m.y,
+            "the centre of mass must start above the terrain plane",
+        )
+    }
+}
+
+impl PlantParameters {
+    /// The dry inertia: all zero (off) or all > 0 obeying the triangle inequality; the
+    /// centre-of-mass offset finite.
+    fn validate_mass_properties(&self) -> Result<(), ParameterError> {
+        let i = self.inertia_dry_body_kgm2;
+        for k in 0..3 {
+            non_negative(("inertia_dry_body_kgm2", Some(k)), i[k])?;
+            finite(
+                ("com_offset_dry_body_m", Some(k)),
+                self.com_offset_dry_body_m[k],
+            )?;
+        }
+        if i == Vector3::zeros() {
+            return Ok(());
+        }
+        for k in 0..3 {
+            require(
+                i[k] > 0.0,
+                ("inertia_dry_body_kgm2", Some(k)),
+                i[k],
+                "all three dry moments must be > 0 (or all 0: inertia fixed)",
+            )?;
+            let others = i[(k + 1) % 3] + i[(k + 2) % 3];
+            require(
+                i[k] <= others * (1.0 + 1e-12),
+                ("inertia_dry_body_kgm2", Some(k)),
+                i[k],
+                "exceeds the sum of the other two principal moments: no rigid body has it",
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The slosh tanks: every value always, the flat Moon and the sloshing masses below the
+    /// dry mass only with slosh on.
+    fn validate_slosh(&self, kind: TranslationModelKind) -> Result<(), ParameterError> {
+        let s = &self.slosh;
+        for k in 0..TANK_COUNT {
+            positive(("slosh.tank_radius_m", Some(k)), s.tank_radius_m[k])?;
+            positive(("slosh.fill_height_m", Some(k)), s.fill_height_m[k])?;
+            non_negative(("slosh.liquid_mass_kg", Some(k)), s.liquid_mass_kg[k])?;
+        }
+        for k in 0..3 * TANK_COUNT {
+            finite(("slosh.hinge_body_m", Some(k)), s.hinge_body_m[k])?;
+        }
+        for k in 0..2 * TANK_COUNT {
+            finite(("slosh.delta0_m", Some(k)), s.delta0_m[k])?;
+        }
+        require(
+            s.damping_ratio.is_finite() && (0.0..=1.0).contains(&s.damping_ratio),
+            ("slosh.damping_ratio", None),
+            s.damping_ratio,
+            "must be in [0, 1]",
+        )?;
+        if !s.enabled {
+            return Ok(());
+        }
+        if kind != TranslationModelKind::Flat {
+            return Err(refuse(
+                ("slosh.enabled", None),
+                "true",
+                "slosh is modelled over the flat Moon only (translation_model = 1)",
+            ));
+        }
+        let sloshing = super::slosh::Slosh::new(s).total_mass_kg;
+        require(
+            sloshing < self.dry_mass_kg,
+            ("slosh.liquid_mass_kg", None),
+            s.liquid_mass_kg[0],
+            &format!(
+                "the sloshing masses ({sloshing} kg) must stay below dry_mass = {} kg",
+                self.dry_mass_kg
+            ),
+        )
     }
 }
 

@@ -2,14 +2,16 @@
 use super::actuators::{lag_rate, lagged_or_direct, Engines, Rcs, ThrustLine};
 use super::events::find_crossing;
 use super::frames::{body_to_nue, tilt_from_vertical};
-use super::integrator::{rk4_step, SubSteps};
+use super::gear::{EngineCutoff, Gear};
+use super::integrator::{rk4_step, OdeState, SubSteps};
 use super::parameters::{ParameterError, PlantParameters, RcsModelKind, TranslationModelKind};
 use super::rigid_body::{omega_dot_body, quaternion_rate, PrincipalInertia};
+use super::slosh::{Slosh, SloshState};
 use super::state::PlantState;
 use super::thrusters::{pieces, Firing, Thrusters, NONE_FIRING, THRUSTER_COUNT};
 use super::translation_flat;
 use super::translation_spherical::SphericalMoon;
-use nalgebra::{Quaternion, Vector3, Vector6};
+use nalgebra::{Quaternion, UnitQuaternion, Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 
 /// The translation model with whatever it needs to evaluate.
@@ -72,6 +74,14 @@ pub struct Delivered {
     pub rcs_force_body_n: Vector3<f64>,
     /// Torque of the (misaligned or offset) thrust line about the centre of mass.
     pub engine_torque_body_nm: Vector3<f64>,
+    /// Non-gravitational acceleration of the centre of mass (engines, RCS forces and, with
+    /// the landing gear, contact forces, over the mass), body axes, m/s^2: what an ideal
+    /// accelerometer at the centre of mass measures. Filled by [`Plant::delivered_firing`]
+    /// (the integration never reads it).
+    pub specific_force_body_mps2: Vector3<f64>,
+    /// Thruster model: sum of the firing thrusters' force magnitudes, N (computed only when
+    /// the RCS propellant is booked).
+    pub rcs_thrust_sum_n: f64,
 }
 
 /// The state of a touchdown, frozen at the crossing.
@@ -94,13 +104,74 @@ pub struct PlantRun {
     /// Thrusters whose pulse lasted to the end of the last step: their next pulse continues
     /// it and is fired whatever its length (thruster model).
     pub rcs_firing_at_step_end: Firing,
+    /// The landing gear's discrete state (unused without the gear).
+    #[serde(default)]
+    pub gear: GearRun,
+    /// The slosh pendulums (unused without slosh).
+    #[serde(default)]
+    pub slosh: SloshState,
+}
+
+/// The plant state and the slosh pendulums, integrated together when slosh is on.
+#[derive(Debug, Clone, Copy)]
+struct Coupled {
+    plant: PlantState,
+    slosh: SloshState,
+}
+
+impl OdeState for Coupled {
+    fn add_scaled(&self, h: f64, d: &Self) -> Self {
+        Self {
+            plant: self.plant.add_scaled(h, &d.plant),
+            slosh: self.slosh.add_scaled(h, &d.slosh),
+        }
+    }
+}
+
+/// Most RCS commands in flight at once per thruster (and torque commands): a valve delay of
+/// up to `RCS_HISTORY_CAPACITY - 2` communication steps.
+pub const RCS_HISTORY_CAPACITY: usize = 16;
+
+/// The RCS commands issued but not yet acted on (or still acting), absolute times in s.
+/// Kept apart from [`PlantRun`] (which a step copies to restore it on an error): 3.7 kB
+/// that only a valve delay needs, passed to [`Plant::advance_with_history`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct RcsHistory {
+    /// Thruster model: the pulses `(start, end)` of each thruster, delayed.
+    pub pulses: [[Option<(f64, f64)>; RCS_HISTORY_CAPACITY]; THRUSTER_COUNT],
+    /// Torque model: `(from, torque command)`, each acting from its time until the next.
+    pub torques: [Option<(f64, Vector3<f64>)>; RCS_HISTORY_CAPACITY],
+}
+
+/// The landing gear at a state, as the outputs show it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct GearStatus {
+    pub contact: super::gear::Contact,
+    pub tipped_over: bool,
+    /// At rest on the gear after touchdown: three or more footpads on the terrain, slower
+    /// than `SETTLED_SPEED_MPS` and `SETTLED_RATE_RADPS`, not tipped over.
+    pub settled: bool,
+}
+
+/// What the landing gear has latched.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct GearRun {
+    /// The gear's engine cut-off has fired: no thrust from then on.
+    pub engine_cut: bool,
+    /// Time the centre of mass reached the terrain (the run ends there).
+    pub crashed_at_s: Option<f64>,
+    /// The centre of mass has been outside the footprint (or the lander on its side) after
+    /// touchdown.
+    pub tipped_over: bool,
 }
 
 /// How an advance ended.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Advance {
     Reached,
-    /// Touchdown at this time (<= the requested end).
+    /// Touchdown at this time (<= the requested end). With the landing gear: the centre of
+    /// mass reached the terrain at this time (the lander fell over or the gear gave way; the
+    /// touchdown proper, the first footpad contact, does not stop the advance).
     Touchdown(f64),
 }
 
@@ -119,12 +190,34 @@ pub struct Plant {
     mass_flow_per_newton: f64,
     pub dry_mass_kg: f64,
     pub integration_step_s: f64,
+    /// The landing gear and terrain; `None` (the default) without.
+    #[serde(default)]
+    pub gear: Option<Gear>,
+    /// Fastest change of the delivered thrust, N/s; 0 = none.
+    #[serde(default)]
+    pub throttle_rate_limit_nps: f64,
+    /// RCS valve delay, s; 0 = none.
+    #[serde(default)]
+    pub rcs_valve_delay_s: f64,
+    /// `1 / (rcs_isp g0)`, s/m: RCS mass flow per newton of thruster force; `None`: the RCS
+    /// propellant is not booked.
+    #[serde(default)]
+    pub rcs_mass_flow_per_newton: Option<f64>,
+    /// Propellant slosh; `None` (the default) without.
+    #[serde(default)]
+    pub slosh: Option<Slosh>,
+    /// Inertia and centre of mass moving with the propellant; `None` (the default): fixed.
+    #[serde(default)]
+    pub mass_properties: Option<super::mass_properties::MassProperties>,
 }
 
 /// The actuator set-points before any lag.
 struct Targets {
     thrust_n: f64,
     rcs_torque_body_nm: Vector3<f64>,
+    /// Rate-limited thrust without a lag: the constant rate of the delivered thrust over
+    /// the RK4 piece (+-limit towards the target, 0 at it), N/s; fixed at the piece start.
+    thrust_ramp_nps: f64,
 }
 
 /// Which event ended an RK4 piece.
@@ -132,6 +225,12 @@ struct Targets {
 enum Event {
     Touchdown,
     Exhaustion,
+    /// Gear: the first footpad reaches the terrain.
+    FootContact,
+    /// Gear: the lowest footpad reaches `engine_cutoff_height`.
+    CutoffHeight,
+    /// Rate-limited thrust (no lag) reaches its target.
+    RampEnd(f64),
 }
 
 impl Plant {
@@ -168,10 +267,17 @@ impl Plant {
             mass_flow_per_newton: 1.0 / (p.isp_s * p.g0_mps2),
             dry_mass_kg: p.dry_mass_kg,
             integration_step_s: p.integration_step_s,
+            gear: p.gear.enabled.then(|| Gear::new(&p.gear)),
+            throttle_rate_limit_nps: p.actuators.throttle_rate_limit_nps,
+            rcs_valve_delay_s: p.actuators.rcs_valve_delay_s,
+            rcs_mass_flow_per_newton: (p.actuators.rcs_isp_s > 0.0)
+                .then(|| 1.0 / (p.actuators.rcs_isp_s * p.g0_mps2)),
+            slosh: p.slosh.enabled.then(|| Slosh::new(&p.slosh)),
+            mass_properties: super::mass_properties::MassProperties::new(p),
         };
         let translation_state = translation.from_nue(&p.r0_nue_m, &p.v0_nue_mps);
         let altitude = translation.altitude(&translation_state);
-        if altitude.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        if plant.gear.is_none() && altitude.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Err(ParameterError {
                 field: "r0_nue_m",
                 index: Some(1),
@@ -195,6 +301,12 @@ impl Plant {
             propellant_exhausted: false,
             touchdown: None,
             rcs_firing_at_step_end: NONE_FIRING,
+            gear: GearRun::default(),
+            slosh: if p.slosh.enabled {
+                Slosh::initial_state(&p.slosh)
+            } else {
+                SloshState::default()
+            },
         };
         Ok((plant, run, warning))
     }
@@ -208,12 +320,43 @@ impl Plant {
                 self.engines.saturate(commands.thrust_cmd_n)
             },
             rcs_torque_body_nm: self.rcs.saturate(&commands.torque_cmd_body_nm),
+            thrust_ramp_nps: 0.0,
         }
+    }
+
+    /// Rate limit without a lag: the rate towards `target` from the delivered `thrust_n`.
+    fn thrust_ramp(&self, target: f64, thrust_n: f64) -> f64 {
+        let limit = self.throttle_rate_limit_nps;
+        if limit > 0.0 && self.engines.time_constant_s == 0.0 {
+            if target > thrust_n {
+                limit
+            } else if target < thrust_n {
+                -limit
+            } else {
+                0.0
+            }
+        } else {
+            0.0
+        }
+    }
+
+    /// The targets for a piece starting at `x` (the ramp direction of a rate limit fixed).
+    fn targets_at(&self, commands: &Commands, exhausted: bool, x: &PlantState) -> Targets {
+        let mut targets = self.targets(commands, exhausted);
+        targets.thrust_ramp_nps = self.thrust_ramp(targets.thrust_n, x.thrust_lag_n);
+        targets
     }
 
     /// Whether the actuator lag states take part in the dynamics (either time constant > 0).
     pub fn has_actuator_lags(&self) -> bool {
-        self.engines.time_constant_s > 0.0 || self.rcs.time_constant_s > 0.0
+        self.engines.time_constant_s > 0.0
+            || self.rcs.time_constant_s > 0.0
+            || self.throttle_rate_limit_nps > 0.0
+    }
+
+    /// Whether the delivered thrust is the thrust state (a lag or a rate limit).
+    pub fn thrust_is_a_state(&self) -> bool {
+        self.engines.time_constant_s > 0.0 || self.throttle_rate_limit_nps > 0.0
     }
 
     /// What the actuators deliver at state `x` under `commands` (thruster model: none firing).
@@ -230,7 +373,109 @@ impl Plant {
         firing: &Firing,
         exhausted: bool,
     ) -> Delivered {
-        self.delivered_from(x, &self.targets(commands, exhausted), firing, exhausted)
+        let mut d = self.delivered_from(x, &self.targets(commands, exhausted), firing, exhausted);
+        d.specific_force_body_mps2 = self.specific_force_body(x, &d);
+        if let Some(mp) = &self.mass_properties {
+            d.engine_torque_body_nm += mp
+                .engine_torque_shift_body_nm(x.mass_kg, &(self.thrust_direction_body * d.thrust_n));
+        }
+        d
+    }
+
+    /// [`Plant::delivered_firing`] at the state of `run`, with the slosh pendulums' force
+    /// in the specific force (the rigid part's accelerometer) when slosh is on.
+    pub fn delivered_run(
+        &self,
+        run: &PlantRun,
+        commands: &Commands,
+        firing: &Firing,
+        exhausted: bool,
+    ) -> Delivered {
+        let mut d = self.delivered_firing(&run.state, commands, firing, exhausted);
+        if let Some(slosh) = &self.slosh {
+            let mass_kg = run.state.mass_kg.max(self.dry_mass_kg);
+            let force_body = self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n;
+            d.specific_force_body_mps2 += slosh
+                // The accelerometer term does not depend on the body's rotation.
+                .effect(
+                    &run.slosh,
+                    &force_body,
+                    mass_kg,
+                    &Vector3::zeros(),
+                    &Vector3::zeros(),
+                )
+                .extra_acceleration_body;
+        }
+        d
+    }
+
+    /// The specific force at `x` with the actuators delivering `d`, body axes, m/s^2 (see
+    /// [`Delivered::specific_force_body_mps2`]); the mass as the equations of motion use it.
+    pub fn specific_force_body(&self, x: &PlantState, d: &Delivered) -> Vector3<f64> {
+        let mass_kg = x.mass_kg.max(self.dry_mass_kg);
+        let actuators = self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n;
+        match self.contact(x) {
+            None => actuators / mass_kg,
+            Some(c) => {
+                let gear_body =
+                    UnitQuaternion::from_quaternion(x.q_body_to_nue).inverse() * c.force_nue_n;
+                (actuators + gear_body) / mass_kg
+            }
+        }
+    }
+
+    /// The landing gear's contact forces at `x` (`None` without the gear).
+    pub fn contact(&self, x: &PlantState) -> Option<super::gear::Contact> {
+        self.gear.as_ref().map(|gear| {
+            let (r, v) = self.translation.to_nue(&x.translation);
+            gear.contact(&r, &v, &x.q_body_to_nue, &x.omega_body)
+        })
+    }
+
+    /// The landing gear's view of `run`: contact forces and strokes, tipped over (latched),
+    /// settled (`None` without the gear).
+    pub fn gear_status(&self, run: &PlantRun) -> Option<GearStatus> {
+        let contact = self.contact(&run.state)?;
+        let feet = contact.stroke_m.iter().filter(|s| **s > 0.0).count();
+        let (_, v) = self.translation.to_nue(&run.state.translation);
+        let settled = run.touchdown.is_some()
+            && !run.gear.tipped_over
+            && feet >= 3
+            && v.norm() < super::gear::SETTLED_SPEED_MPS
+            && run.state.omega_body.norm() < super::gear::SETTLED_RATE_RADPS;
+        Some(GearStatus {
+            contact,
+            tipped_over: run.gear.tipped_over,
+            settled,
+        })
+    }
+
+    /// Whether the engines are off for good: propellant exhausted or cut by the gear.
+    pub fn engines_cut(&self, run: &PlantRun) -> bool {
+        run.propellant_exhausted || run.gear.engine_cut
+    }
+
+    /// When the run stopped for good: touchdown without the gear, the centre of mass on the
+    /// terrain with it.
+    pub fn stopped_at(&self, run: &PlantRun) -> Option<f64> {
+        match self.gear {
+            None => run.touchdown.map(|td| td.time_s),
+            Some(_) => run.gear.crashed_at_s,
+        }
+    }
+
+    /// Gear: height of the centre of mass above the terrain along its normal; the event
+    /// function of the end of the run. Without the gear the altitude.
+    fn ground_indicator(&self, x: &PlantState) -> f64 {
+        match &self.gear {
+            None => self.altitude(x),
+            Some(gear) => gear.clearance(&self.translation.to_nue(&x.translation).0),
+        }
+    }
+
+    /// Gear: clearance of the lowest footpad (unloaded leg), m.
+    pub fn lowest_foot_clearance(&self, gear: &Gear, x: &PlantState) -> f64 {
+        gear.lowest_foot_clearance(&self.translation.to_nue(&x.translation).0, &x.q_body_to_nue)
     }
 
     fn delivered_from(
@@ -242,6 +487,8 @@ impl Plant {
     ) -> Delivered {
         let thrust_n = if exhausted {
             0.0
+        } else if self.throttle_rate_limit_nps > 0.0 {
+            x.thrust_lag_n
         } else {
             lagged_or_direct(
                 targets.thrust_n,
@@ -249,8 +496,15 @@ impl Plant {
                 self.engines.time_constant_s,
             )
         };
+        let mut rcs_thrust_sum_n = 0.0;
         let (rcs_force_body_n, rcs_torque_body_nm) = match &self.thrusters {
-            Some(thrusters) => thrusters.force_and_torque_body(firing),
+            Some(thrusters) => {
+                if self.rcs_mass_flow_per_newton.is_some() {
+                    rcs_thrust_sum_n =
+                        thrusters.force_n * firing.iter().filter(|f| **f).count() as f64;
+                }
+                thrusters.force_and_torque_body(firing)
+            }
             None => {
                 let tau = self.rcs.time_constant_s;
                 let torque = Vector3::from_fn(|k, _| {
@@ -266,6 +520,8 @@ impl Plant {
             engine_torque_body_nm: self
                 .thrust_line
                 .torque_body_nm(&self.thrust_direction_body, thrust_n),
+            specific_force_body_mps2: Vector3::zeros(),
+            rcs_thrust_sum_n,
         }
     }
 
@@ -284,7 +540,12 @@ impl Plant {
         firing: &Firing,
         exhausted: bool,
     ) -> PlantState {
-        self.derivative_from(x, &self.targets(commands, exhausted), firing, exhausted)
+        self.derivative_from(
+            x,
+            &self.targets_at(commands, exhausted, x),
+            firing,
+            exhausted,
+        )
     }
 
     /// [`Plant::derivative_firing`] with the commands already saturated: they are constant
@@ -318,16 +579,32 @@ impl Plant {
         };
         let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &thrust_body);
         let torque_body = d.rcs_torque_body_nm + d.engine_torque_body_nm;
+        // Without the gear both pass through untouched.
+        let (a_thrust_nue, torque_body) = match self.contact(x) {
+            None => (a_thrust_nue, torque_body),
+            Some(c) => (
+                a_thrust_nue + c.force_nue_n / mass_kg,
+                torque_body + c.torque_body_nm,
+            ),
+        };
         // Without lags the lag states stay at zero: skip their rates altogether. The torque
         // lag belongs to the torque model; with thrusters it stays at rest.
         let (thrust_lag_n, torque_lag_body_nm) = if self.has_actuator_lags() {
             let tau_rcs = self.rcs.time_constant_s;
+            let lag = lag_rate(
+                targets.thrust_n,
+                x.thrust_lag_n,
+                self.engines.time_constant_s,
+            );
+            let limit = self.throttle_rate_limit_nps;
             (
-                lag_rate(
-                    targets.thrust_n,
-                    x.thrust_lag_n,
-                    self.engines.time_constant_s,
-                ),
+                if limit == 0.0 {
+                    lag
+                } else if self.engines.time_constant_s > 0.0 {
+                    lag.max(-limit).min(limit)
+                } else {
+                    targets.thrust_ramp_nps
+                },
                 match self.thrusters {
                     None => Vector3::from_fn(|k, _| {
                         lag_rate(
@@ -345,10 +622,46 @@ impl Plant {
         PlantState {
             translation: self.translation.derivative(&x.translation, &a_thrust_nue),
             q_body_to_nue: quaternion_rate(&x.q_body_to_nue, &x.omega_body),
-            omega_body: omega_dot_body(&self.inertia_body_kgm2, &x.omega_body, &torque_body),
-            mass_kg: -d.thrust_n * self.mass_flow_per_newton,
+            omega_body: match &self.mass_properties {
+                None => omega_dot_body(&self.inertia_body_kgm2, &x.omega_body, &torque_body),
+                Some(mp) => {
+                    let shift = mp.engine_torque_shift_body_nm(
+                        x.mass_kg,
+                        &(self.thrust_direction_body * d.thrust_n),
+                    );
+                    omega_dot_body(
+                        &mp.inertia_body_kgm2(x.mass_kg),
+                        &x.omega_body,
+                        &(torque_body + shift),
+                    )
+                }
+            },
+            mass_kg: match self.rcs_mass_flow_per_newton {
+                None => -d.thrust_n * self.mass_flow_per_newton,
+                Some(per_newton) => {
+                    -d.thrust_n * self.mass_flow_per_newton
+                        - self.rcs_force_magnitude_n(d) * per_newton
+                }
+            },
             thrust_lag_n,
             torque_lag_body_nm,
+        }
+    }
+
+    /// Sum of the force magnitudes of the RCS thrusters `d` fires, N: thruster model, the
+    /// firing thrusters' force; torque model, per axis the couple of two thrusters at
+    /// `rcs_moment_arm` that gives the delivered torque, `|tau| / arm`.
+    pub fn rcs_force_magnitude_n(&self, d: &Delivered) -> f64 {
+        match &self.thrusters {
+            Some(_) => d.rcs_thrust_sum_n,
+            None => {
+                let arm = self.rcs.moment_arm_m;
+                if arm > 0.0 {
+                    d.rcs_torque_body_nm.abs().sum() / arm
+                } else {
+                    0.0
+                }
+            }
         }
     }
 
@@ -372,6 +685,68 @@ impl Plant {
         run.state.thrust_lag_n = 0.0;
     }
 
+    /// [`Plant::rk4`] of the plant with its slosh pendulums: without slosh exactly `rk4`
+    /// (the pendulums untouched).
+    #[allow(clippy::too_many_arguments)]
+    fn rk4_pair(
+        &self,
+        x: &PlantState,
+        pendulums: &SloshState,
+        commands: &Commands,
+        firing: &Firing,
+        exhausted: bool,
+        t: f64,
+        h: f64,
+    ) -> (PlantState, SloshState) {
+        let Some(slosh) = &self.slosh else {
+            return (self.rk4(x, commands, firing, exhausted, t, h), *pendulums);
+        };
+        let targets = self.targets_at(commands, exhausted, x);
+        let y = rk4_step(
+            |_t, y: &Coupled| self.coupled_derivative(slosh, y, &targets, firing, exhausted),
+            t,
+            &Coupled {
+                plant: *x,
+                slosh: *pendulums,
+            },
+            h,
+        );
+        (y.plant.renormalised(), y.slosh)
+    }
+
+    /// The derivative of the plant with its slosh pendulums (flat Moon: the translational
+    /// derivative's velocity rows are the acceleration in NUE).
+    fn coupled_derivative(
+        &self,
+        slosh: &Slosh,
+        y: &Coupled,
+        targets: &Targets,
+        firing: &Firing,
+        exhausted: bool,
+    ) -> Coupled {
+        let x = &y.plant;
+        let d = self.delivered_from(x, targets, firing, exhausted);
+        let mut dx = self.derivative_delivered(x, &d, targets);
+        let mass_kg = x.mass_kg.max(self.dry_mass_kg);
+        let force_body = self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n;
+        let effect = slosh.effect(
+            &y.slosh,
+            &force_body,
+            mass_kg,
+            &x.omega_body,
+            &dx.omega_body,
+        );
+        let extra_nue = body_to_nue(&x.q_body_to_nue, &effect.extra_acceleration_body);
+        for i in 0..3 {
+            dx.translation[3 + i] += extra_nue[i];
+        }
+        dx.omega_body += effect.torque_body_nm.component_div(&self.inertia_body_kgm2);
+        Coupled {
+            plant: dx,
+            slosh: effect.derivative,
+        }
+    }
+
     fn rk4(
         &self,
         x: &PlantState,
@@ -381,7 +756,7 @@ impl Plant {
         t: f64,
         h: f64,
     ) -> PlantState {
-        let targets = self.targets(commands, exhausted);
+        let targets = self.targets_at(commands, exhausted, x);
         if self.has_actuator_lags() {
             rk4_step(
                 |_t, s: &PlantState| self.derivative_from(s, &targets, firing, exhausted),
@@ -412,13 +787,133 @@ impl Plant {
     /// most `integration_step_s`, stopping at a touchdown. After a touchdown it does not move.
     /// In the thruster model no thruster fires (see [`Plant::advance_with_duty`]).
     pub fn advance(&self, run: &mut PlantRun, commands: &Commands, t: f64, h: f64) -> Advance {
-        if let Some(td) = run.touchdown {
-            return Advance::Touchdown(td.time_s);
+        if let Some(time) = self.stopped_at(run) {
+            return self.stop(time);
         }
         match self.advance_span(run, commands, &NONE_FIRING, t, h, t + h) {
-            Some(time) => Advance::Touchdown(time),
+            Some(time) => self.stop(time),
             None => Advance::Reached,
         }
+    }
+
+    /// [`Plant::advance_with_duty`] with the RCS valve delay, whose commands in flight
+    /// `history` holds (untouched without a delay). `advance_with_duty` itself ignores the
+    /// delay: it has no history to take the commands from.
+    pub fn advance_with_history(
+        &self,
+        run: &mut PlantRun,
+        history: &mut RcsHistory,
+        commands: &Commands,
+        rcs_duty: &[f64; THRUSTER_COUNT],
+        t: f64,
+        h: f64,
+    ) -> Advance {
+        if self.rcs_valve_delay_s > 0.0 {
+            self.advance_delayed(run, history, commands, rcs_duty, t, h)
+        } else {
+            self.advance_with_duty(run, commands, rcs_duty, t, h)
+        }
+    }
+
+    /// [`Plant::advance_with_duty`] with the RCS valve delay `d`: the commands of this step
+    /// join the history and act from `t + d` (thruster pulses `[t + d, t + d + on-time]`,
+    /// torque commands from `t + d` until the next one; zero before the first), and the step
+    /// is integrated in pieces that end at every delayed start and end inside it.
+    fn advance_delayed(
+        &self,
+        run: &mut PlantRun,
+        history: &mut RcsHistory,
+        commands: &Commands,
+        rcs_duty: &[f64; THRUSTER_COUNT],
+        t: f64,
+        h: f64,
+    ) -> Advance {
+        if let Some(time) = self.stopped_at(run) {
+            return self.stop(time);
+        }
+        let delay = self.rcs_valve_delay_s;
+        let end = t + h;
+        let mut cuts: Vec<f64> = Vec::new();
+        match &self.thrusters {
+            Some(thrusters) => {
+                let on_times_s = thrusters.on_times_s(rcs_duty, h, &run.rcs_firing_at_step_end);
+                run.rcs_firing_at_step_end = on_times_s.map(|s| s >= h);
+                for (k, pulses) in history.pulses.iter_mut().enumerate() {
+                    for slot in pulses.iter_mut() {
+                        if slot.is_some_and(|(_, e)| e <= t) {
+                            *slot = None;
+                        }
+                    }
+                    if on_times_s[k] > 0.0 {
+                        if let Some(free) = pulses.iter_mut().find(|p| p.is_none()) {
+                            *free = Some((t + delay, t + delay + on_times_s[k]));
+                        }
+                    }
+                    for (s, e) in pulses.iter().flatten() {
+                        cuts.extend([*s, *e]);
+                    }
+                }
+            }
+            None => {
+                // A command is spent once a later one acts from the step's start.
+                let latest_active = history
+                    .torques
+                    .iter()
+                    .flatten()
+                    .map(|(from, _)| *from)
+                    .filter(|from| *from <= t)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                for slot in history.torques.iter_mut() {
+                    if slot.is_some_and(|(from, _)| from < latest_active) {
+                        *slot = None;
+                    }
+                }
+                if let Some(free) = history.torques.iter_mut().find(|p| p.is_none()) {
+                    *free = Some((t + delay, commands.torque_cmd_body_nm));
+                }
+                cuts.extend(history.torques.iter().flatten().map(|(from, _)| *from));
+            }
+        }
+        cuts.retain(|c| *c > t && *c < end);
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        cuts.push(end);
+        let mut start = t;
+        for piece_end in cuts {
+            let firing: Firing = std::array::from_fn(|k| {
+                history.pulses[k]
+                    .iter()
+                    .flatten()
+                    .any(|(s, e)| *s <= start && *e > start)
+            });
+            let torque = history
+                .torques
+                .iter()
+                .flatten()
+                .filter(|(from, _)| *from <= start)
+                .max_by(|a, b| a.0.total_cmp(&b.0))
+                .map_or(Vector3::zeros(), |(_, torque)| *torque);
+            let piece_commands = Commands {
+                thrust_cmd_n: commands.thrust_cmd_n,
+                torque_cmd_body_nm: torque,
+            };
+            if let Some(time) = self.advance_span(
+                run,
+                &piece_commands,
+                &firing,
+                start,
+                piece_end - start,
+                piece_end,
+            ) {
+                return self.stop(time);
+            }
+            start = piece_end;
+        }
+        Advance::Reached
+    }
+
+    fn stop(&self, time: f64) -> Advance {
+        Advance::Touchdown(time)
     }
 
     /// [`Plant::advance`] with the RCS duties of the step: in the thruster model thruster `k`
@@ -435,8 +930,8 @@ impl Plant {
         let Some(thrusters) = &self.thrusters else {
             return self.advance(run, commands, t, h);
         };
-        if let Some(td) = run.touchdown {
-            return Advance::Touchdown(td.time_s);
+        if let Some(time) = self.stopped_at(run) {
+            return self.stop(time);
         }
         let on_times_s = thrusters.on_times_s(rcs_duty, h, &run.rcs_firing_at_step_end);
         run.rcs_firing_at_step_end = on_times_s.map(|s| s >= h);
@@ -446,7 +941,7 @@ impl Plant {
             if let Some(time) =
                 self.advance_span(run, commands, &firing, t + start, end - start, span_end)
             {
-                return Advance::Touchdown(time);
+                return self.stop(time);
             }
             start = end;
         }
@@ -480,11 +975,68 @@ impl Plant {
             } else {
                 start + size
             };
-            if let Some(time) = self.advance_piecewise(run, commands, firing, start, end) {
+            let stopped = match &self.gear {
+                None => self.advance_piecewise(run, commands, firing, start, end),
+                Some(gear) => self.advance_gear(gear, run, commands, firing, start, end),
+            };
+            if let Some(time) = stopped {
                 return Some(time);
             }
         }
         None
+    }
+
+    /// One sub-step with the landing gear: the gear's state at `start` (a footpad already on
+    /// the terrain records the touchdown), then RK4 in pieces of at most `contact_step_s`
+    /// while a footpad is on or near the terrain; the tip-over latch after each piece.
+    fn advance_gear(
+        &self,
+        gear: &Gear,
+        run: &mut PlantRun,
+        commands: &Commands,
+        firing: &Firing,
+        start: f64,
+        end: f64,
+    ) -> Option<f64> {
+        let lowest = self.lowest_foot_clearance(gear, &run.state);
+        if run.touchdown.is_none() && lowest <= 0.0 {
+            self.foot_contact(gear, run, start);
+        }
+        if let EngineCutoff::Height(height) = gear.cutoff {
+            if lowest <= height {
+                run.gear.engine_cut = true;
+            }
+        }
+        let (_, v) = self.translation.to_nue(&run.state.translation);
+        let speed = v.norm() + run.state.omega_body.norm() * gear.reach_m();
+        let near = lowest < 0.05 + 2.0 * (end - start) * speed;
+        let pieces = if near {
+            ((end - start) / gear.contact_step_s).ceil().max(1.0)
+        } else {
+            1.0
+        };
+        let size = (end - start) / pieces;
+        let count = pieces as usize;
+        for k in 0..count {
+            let a = start + k as f64 * size;
+            let b = if k + 1 == count { end } else { a + size };
+            if let Some(time) = self.advance_piecewise(run, commands, firing, a, b) {
+                return Some(time);
+            }
+            if run.touchdown.is_some() && gear.tipped_over(&run.state.q_body_to_nue) {
+                run.gear.tipped_over = true;
+            }
+        }
+        None
+    }
+
+    /// The first footpad touches the terrain at `t`: the touchdown record, and the engine
+    /// cut-off if it is set to the first contact.
+    fn foot_contact(&self, gear: &Gear, run: &mut PlantRun, t: f64) {
+        run.touchdown = Some(self.touchdown_at(&run.state, t));
+        if gear.cutoff == EngineCutoff::FirstContact {
+            run.gear.engine_cut = true;
+        }
     }
 
     /// One sub-step from `start` to `end`, split at events; returns the touchdown time if any.
@@ -502,11 +1054,14 @@ impl Plant {
         while end - t > super::events::crossing_tolerance_s(end) {
             let h = end - t;
             let exhausted = run.propellant_exhausted;
-            let x1 = self.rk4(&run.state, commands, firing, exhausted, t, h);
+            // Without the gear `off` is `exhausted`.
+            let off = exhausted || run.gear.engine_cut;
+            let (x1, s1) = self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, h);
             let x0 = &run.state;
+            let s0 = &run.slosh;
             let crossing = |g: &dyn Fn(&PlantState) -> f64, g0: f64, g1: f64| {
                 find_crossing(
-                    |s| g(&self.rk4(x0, commands, firing, exhausted, t, s)),
+                    |s| g(&self.rk4_pair(x0, s0, commands, firing, off, t, s).0),
                     g0,
                     g1,
                     h,
@@ -523,29 +1078,75 @@ impl Plant {
                     first = Some((tau, Event::Exhaustion));
                 }
             }
-            let (g0, g1) = (self.altitude(x0), self.altitude(&x1));
+            let (g0, g1) = (self.ground_indicator(x0), self.ground_indicator(&x1));
             if g0 > 0.0 && g1 <= 0.0 {
-                let tau = crossing(&|x: &PlantState| self.altitude(x), g0, g1);
+                let tau = crossing(&|x: &PlantState| self.ground_indicator(x), g0, g1);
                 if first.is_none_or(|(best, _)| tau < best) {
                     first = Some((tau, Event::Touchdown));
                 }
             }
+            if self.throttle_rate_limit_nps > 0.0 {
+                let target = self.targets(commands, off).thrust_n;
+                let ramp = self.thrust_ramp(target, x0.thrust_lag_n);
+                if ramp != 0.0 {
+                    // The thrust is linear over the piece: it reaches the target exactly then.
+                    let tau = (target - x0.thrust_lag_n) / ramp;
+                    if tau < h && first.is_none_or(|(best, _)| tau < best) {
+                        first = Some((tau, Event::RampEnd(target)));
+                    }
+                }
+            }
+            if let Some(gear) = &self.gear {
+                let lowest = |x: &PlantState| self.lowest_foot_clearance(gear, x);
+                let mut candidates: [Option<(Event, f64)>; 2] = [None, None];
+                if run.touchdown.is_none() {
+                    candidates[0] = Some((Event::FootContact, 0.0));
+                }
+                if let (EngineCutoff::Height(height), false) = (gear.cutoff, run.gear.engine_cut) {
+                    candidates[1] = Some((Event::CutoffHeight, height));
+                }
+                for (event, height) in candidates.into_iter().flatten() {
+                    let (g0, g1) = (lowest(x0) - height, lowest(&x1) - height);
+                    if g0 > 0.0 && g1 <= 0.0 {
+                        let tau = crossing(&|x: &PlantState| lowest(x) - height, g0, g1);
+                        if first.is_none_or(|(best, _)| tau < best) {
+                            first = Some((tau, event));
+                        }
+                    }
+                }
+            }
             let Some((tau, event)) = first else {
                 run.state = x1;
+                run.slosh = s1;
                 return None;
             };
-            run.state = if tau >= h {
-                x1
+            (run.state, run.slosh) = if tau >= h {
+                (x1, s1)
             } else {
-                self.rk4(&run.state, commands, firing, exhausted, t, tau)
+                self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, tau)
             };
             t = if tau >= h { end } else { t + tau };
             match event {
                 Event::Exhaustion => self.exhaust(run),
                 Event::Touchdown => {
-                    run.touchdown = Some(self.touchdown_at(&run.state, t));
+                    match &self.gear {
+                        None => run.touchdown = Some(self.touchdown_at(&run.state, t)),
+                        Some(gear) => {
+                            if run.touchdown.is_none() {
+                                self.foot_contact(gear, run, t);
+                            }
+                            run.gear.crashed_at_s = Some(t);
+                        }
+                    }
                     return Some(t);
                 }
+                Event::FootContact => {
+                    if let Some(gear) = &self.gear {
+                        self.foot_contact(gear, run, t);
+                    }
+                }
+                Event::CutoffHeight => run.gear.engine_cut = true,
+                Event::RampEnd(target) => run.state.thrust_lag_n = target,
             }
         }
         None
