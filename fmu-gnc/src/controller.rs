@@ -334,12 +334,16 @@ pub fn gnc_outputs(
         &advance.roll,
     );
     *out = GncOutputs {
-        thrust_cmd_n: thrust_magnitude_n(
-            nav.mass_kg,
-            &next.a_thrust_cmd_nue,
-            params.thrust_min_n,
-            params.thrust_max_n,
-        ),
+        thrust_cmd_n: if next.engine_cut {
+            0.0
+        } else {
+            thrust_magnitude_n(
+                nav.mass_kg,
+                &next.a_thrust_cmd_nue,
+                params.thrust_min_n,
+                params.thrust_max_n,
+            )
+        },
         torque_cmd_body_nm: attitude.torque_body_nm.into(),
         rcs_duty: [0.0; THRUSTER_COUNT],
         a_cmd_nue_mps2: next.a_thrust_cmd_nue.into(),
@@ -373,11 +377,16 @@ pub fn actuate(design: &GncDesign, outputs: &mut GncOutputs, bank: &PwpfBank) ->
     next
 }
 
-/// Minimum thrust, zero torque; guidance diagnostics held; attitude diagnostics zero.
+/// Minimum thrust (none once the engine is cut), zero torque; guidance diagnostics held;
+/// attitude diagnostics zero.
 fn safe_outputs(params: &GncParameters, guidance: &GuidanceState, phi_cmd_rad: f64) -> GncOutputs {
     let q_ref = reference::q_ref(&reference::q_guid(&guidance.a_thrust_cmd_nue), phi_cmd_rad);
     GncOutputs {
-        thrust_cmd_n: params.thrust_min_n,
+        thrust_cmd_n: if guidance.engine_cut {
+            0.0
+        } else {
+            params.thrust_min_n
+        },
         torque_cmd_body_nm: [0.0; 3],
         a_cmd_nue_mps2: guidance.a_thrust_cmd_nue.into(),
         q_ref: attitude_to_scalar_first(&q_ref),

@@ -489,9 +489,9 @@ fn restored_guidance_inconsistency(
     };
     let scheduled = scenario.phase_with(plan, elapsed_s + tolerance(elapsed_s));
     let never = match g.phase {
-        Phase::Hold => scenario.terminal_descent_speed_mps > 0.0,
-        Phase::TerminalDescent => scenario.terminal_descent_speed_mps <= 0.0,
-        _ => false,
+        Phase::Hold => scenario.terminal.enabled(),
+        Phase::TerminalDescent => !scenario.terminal.enabled(),
+        _ => g.engine_cut,
     };
     if never || rank(g.phase) > rank(scheduled) {
         return Some(format!(
@@ -627,6 +627,10 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(353, parameter pwpf_off_threshold: params.pwpf_off_threshold, "1", "thruster model: PWPF trigger off threshold Uoff, > 0", above = 0.0),
     decl!(354, parameter rcs_duty_period: params.rcs_duty_period_s, "s", "thruster model: the period a duty is a fraction of; set it to the communication step", above = 0.0),
     decl!(229, parameter terminal_descent_speed: params.terminal_descent_speed_mps, "m/s", "phase 5 (beyond the paper): after the target hover, descend vertically over the descent target at this speed until touchdown; 0 = no terminal descent, hold the hover (default)", min = 0.0),
+    decl!(238, parameter terminal_final_speed: params.terminal_final_speed_mps, "m/s", "terminal descent: the sink rate near the ground the profile slows to (with terminal_flare_time > 0), in [0, terminal_descent_speed]", min = 0.0),
+    decl!(239, parameter terminal_flare_time: params.terminal_flare_time_s, "s", "terminal descent: time constant of the slowing sink, sink = clamp(height / terminal_flare_time, terminal_final_speed, terminal_descent_speed), height above terminal_ground_height; 0 = a constant terminal_descent_speed (default), <= 1e6 s", min = 0.0, max = 1e6),
+    decl!(240, parameter terminal_ground_height: params.terminal_ground_height_m, "m", "terminal descent: Up coordinate of the ground under the site the profile's heights count from, within +-1e7 m", min = -1e7, max = 1e7),
+    decl!(241, parameter engine_cutoff_height: params.engine_cutoff_height_m, "m", "terminal descent: at a guidance cycle at or below this height above terminal_ground_height, thrust_cmd becomes 0 for the rest of the flight (the attitude held upright); negative = never (default), <= 1e4 m", max = 1e4),
     decl!(230, parameter phi_rate_limit: params.phi_rate_limit_radps, "rad/s", "shaped thrust-axis manoeuvre (beyond the paper): the reference follows phi_cmd at most this fast, the rate fed forward; 0 = unlimited; with phi_accel_limit also 0, the paper's step (default); <= 100", min = 0.0, max = 100.0),
     decl!(231, parameter phi_accel_limit: params.phi_accel_limit_radps2, "rad/s2", "shaped thrust-axis manoeuvre: the reference's angular acceleration limit (bang-coast-bang profile), fed forward as torque; 0 = unlimited; <= 1e4", min = 0.0, max = 1e4),
     decl!(232, parameter retarget_time: params.retarget_time_s, "s", "retarget (beyond the paper): time after the start time (the phase schedule's clock) at which the site becomes retarget_site_nue; from the guidance cycle at or after it the guidance re-plans to the new site (docs/retarget.md); negative = never (default); <= 1e6 s", max = 1e6),

@@ -9,6 +9,7 @@ use crate::attitude::{AttitudeSettings, ControlLaw, ThrustAxisRotation};
 use crate::guidance::pv::PvGains;
 use crate::guidance::retarget::MAX_RETARGET_TILT_RAD;
 use crate::guidance::sequencer::{Retarget, Scenario};
+use crate::guidance::terminal::TerminalDescent;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -40,6 +41,11 @@ pub struct GncParameters {
     pub rate_shaping_margin: f64,
     /// Terminal-descent sink rate after the target hover; 0 = none (the paper).
     pub terminal_descent_speed_mps: f64,
+    /// The terminal descent's slowing profile and engine cut-off (`TerminalDescent`).
+    pub terminal_final_speed_mps: f64,
+    pub terminal_flare_time_s: f64,
+    pub terminal_ground_height_m: f64,
+    pub engine_cutoff_height_m: f64,
     /// Shaped thrust-axis manoeuvre: rate and acceleration limits of the profile `phi_cmd` is
     /// followed through; 0 = that one unlimited, both 0 = the paper's step.
     pub phi_rate_limit_radps: f64,
@@ -134,6 +140,10 @@ impl Default for GncParameters {
             reduced_yaw_weight: 0.4,
             rate_shaping_margin: 0.0,
             terminal_descent_speed_mps: 0.0,
+            terminal_final_speed_mps: 0.0,
+            terminal_flare_time_s: 0.0,
+            terminal_ground_height_m: 0.0,
+            engine_cutoff_height_m: -1.0,
             phi_rate_limit_radps: 0.0,
             phi_accel_limit_radps2: 0.0,
             retarget_time_s: -1.0,
@@ -403,6 +413,32 @@ impl GncParameters {
             "must be finite and >= 0 (0 = no terminal descent)",
         )?;
         check(
+            (0.0..=MAX_DURATION_S).contains(&p.terminal_flare_time_s),
+            "terminal_flare_time_s",
+            p.terminal_flare_time_s,
+            "must be in [0, 1e6] (0 = a constant sink rate)",
+        )?;
+        check(
+            p.terminal_final_speed_mps >= 0.0
+                && (p.terminal_final_speed_mps <= p.terminal_descent_speed_mps
+                    || p.terminal_flare_time_s == 0.0),
+            "terminal_final_speed_mps",
+            p.terminal_final_speed_mps,
+            "must be >= 0 and, with a flare time, <= terminal_descent_speed",
+        )?;
+        check(
+            p.terminal_ground_height_m.abs() <= MAX_TARGET_M,
+            "terminal_ground_height_m",
+            p.terminal_ground_height_m,
+            "must be within +-1e7 m",
+        )?;
+        check(
+            p.engine_cutoff_height_m.is_finite() && p.engine_cutoff_height_m <= 1e4,
+            "engine_cutoff_height_m",
+            p.engine_cutoff_height_m,
+            "must be finite and <= 1e4 m (negative = never)",
+        )?;
+        check(
             (0.0..=MAX_PHI_RATE_RADPS).contains(&p.phi_rate_limit_radps),
             "phi_rate_limit_radps",
             p.phi_rate_limit_radps,
@@ -540,7 +576,13 @@ impl GncParameters {
             pv_gains: PvGains::from_bandwidth(self.guidance_bandwidth_hz, self.guidance_damping),
             thrust_min_n: self.thrust_min_n,
             thrust_max_n: self.thrust_max_n,
-            terminal_descent_speed_mps: self.terminal_descent_speed_mps,
+            terminal: TerminalDescent {
+                speed_mps: self.terminal_descent_speed_mps,
+                final_speed_mps: self.terminal_final_speed_mps,
+                flare_time_s: self.terminal_flare_time_s,
+                ground_height_m: self.terminal_ground_height_m,
+                cutoff_height_m: self.engine_cutoff_height_m,
+            },
             retarget: (self.retarget_time_s >= 0.0).then(|| Retarget {
                 time_s: self.retarget_time_s,
                 site_nue: Vector3::from(self.retarget_site_nue_m),

@@ -4,4 +4,5 @@ pub mod polynomial;
 pub mod pv;
 pub mod retarget;
 pub mod sequencer;
+pub mod terminal;
 pub mod thrust;

@@ -21,6 +21,7 @@ use super::pv::{pv_thrust_acceleration_nue, PvGains};
 use super::retarget::{
     divert_time_to_go_s, lateral_authority_mps2, limit_horizontal, DIVERT_AUTHORITY_SHARE,
 };
+use super::terminal::TerminalDescent;
 use super::thrust::{
     achievable_thrust_acceleration_nue, net_acceleration_nue, thrust_acceleration_nue,
 };
@@ -67,9 +68,9 @@ pub struct Scenario {
     /// Engine range, for the achievable command (see `achievable_thrust_acceleration_nue`).
     pub thrust_min_n: f64,
     pub thrust_max_n: f64,
-    /// Sink rate of the terminal descent after the target hover (m/s, > 0); 0 = no terminal
-    /// descent, hold the hover (the paper).
-    pub terminal_descent_speed_mps: f64,
+    /// The terminal descent after the target hover and its engine cut-off;
+    /// [`TerminalDescent::NONE`]: hold the hover (the paper).
+    pub terminal: TerminalDescent,
     /// A new site commanded in flight; `None`: never (the paper).
     pub retarget: Option<Retarget>,
 }
@@ -144,7 +145,7 @@ impl Scenario {
             Phase::Descent
         } else if !has_reached(elapsed_s, target_hover_end) {
             Phase::TargetHover
-        } else if self.terminal_descent_speed_mps > 0.0 {
+        } else if self.terminal.enabled() {
             Phase::TerminalDescent
         } else {
             Phase::Hold
@@ -175,6 +176,9 @@ pub struct GuidanceState {
     pub descent: Option<DescentSolution>,
     /// The plan of a retarget once commanded; `None` before (and without) one.
     pub retarget: Option<RetargetPlan>,
+    /// The terminal descent has cut the engine: thrust 0 from then on, the attitude held
+    /// upright.
+    pub engine_cut: bool,
 }
 
 impl GuidanceState {
@@ -187,6 +191,7 @@ impl GuidanceState {
             time_to_go_s: 0.0,
             descent: None,
             retarget: None,
+            engine_cut: false,
         }
     }
 }
@@ -246,7 +251,12 @@ pub fn guidance_sample(
             next.a_thrust_cmd_nue = hover(scenario, &site_nue, nav);
         }
         Phase::TerminalDescent => {
-            next.a_thrust_cmd_nue = terminal_descent(scenario, &site_nue, nav);
+            next.engine_cut = state.engine_cut || scenario.terminal.cuts_off_at(nav.r_nue.y);
+            next.a_thrust_cmd_nue = if next.engine_cut {
+                Vector3::new(0.0, scenario.gravity_mps2, 0.0)
+            } else {
+                terminal_descent(scenario, &site_nue, nav)
+            };
         }
         Phase::Descent => {
             let descent_end_s = plan.map_or(
@@ -372,24 +382,31 @@ fn hover(scenario: &Scenario, target_nue: &Vector3<f64>, nav: &GuidanceInputs) -
     )
 }
 
-/// PV law holding the descent target's North/East while tracking a constant sink rate: the
-/// reference altitude is the current one, so only the velocity error drives the vertical axis
-/// and the lander keeps sinking whatever the ground height.
+/// PV law holding the descent target's North/East while tracking the profile's sink rate
+/// ([`TerminalDescent::sink_rate_mps`]): the reference altitude is the current one, so only
+/// the velocity error drives the vertical axis and the lander keeps sinking whatever the
+/// ground height; a slowing reference's acceleration is fed forward.
 fn terminal_descent(
     scenario: &Scenario,
     target: &Vector3<f64>,
     nav: &GuidanceInputs,
 ) -> Vector3<f64> {
+    let (sink_mps, slowing_mps2) = scenario.terminal.sink_rate_mps(nav.r_nue.y);
     let r_ref_nue = Vector3::new(target.x, nav.r_nue.y, target.z);
-    let v_ref_nue = Vector3::new(0.0, -scenario.terminal_descent_speed_mps, 0.0);
-    pv_thrust_acceleration_nue(
+    let v_ref_nue = Vector3::new(0.0, -sink_mps, 0.0);
+    let pv = pv_thrust_acceleration_nue(
         &scenario.pv_gains,
         scenario.gravity_mps2,
         &r_ref_nue,
         &v_ref_nue,
         &nav.r_nue,
         &nav.v_nue,
-    )
+    );
+    if slowing_mps2 == 0.0 {
+        pv
+    } else {
+        pv + Vector3::new(0.0, slowing_mps2, 0.0)
+    }
 }
 
 #[cfg(test)]
@@ -411,7 +428,7 @@ mod tests {
             pv_gains: PvGains::from_bandwidth(0.06, 0.8),
             thrust_min_n: 720.0,
             thrust_max_n: 1600.0,
-            terminal_descent_speed_mps: 0.0,
+            terminal: TerminalDescent::NONE,
             retarget: None,
         }
     }
@@ -558,7 +575,10 @@ mod tests {
         let paper = paper_scenario();
         assert_eq!(paper.phase_at(500.0), Phase::Hold);
         let landing = Scenario {
-            terminal_descent_speed_mps: 1.0,
+            terminal: TerminalDescent {
+                speed_mps: 1.0,
+                ..TerminalDescent::NONE
+            },
             ..paper
         };
         assert_eq!(landing.phase_at(171.9), Phase::TargetHover);
@@ -569,7 +589,10 @@ mod tests {
     fn terminal_descent_sinks_at_the_commanded_speed_and_holds_north_east() {
         // GIVEN a point mass hovering 3 m North of and 2 m East of the target, at 150 m
         let s = Scenario {
-            terminal_descent_speed_mps: 1.2,
+            terminal: TerminalDescent {
+                speed_mps: 1.2,
+                ..TerminalDescent::NONE
+            },
             ..paper_scenario()
         };
         let mut state = GuidanceState::initial(s.gravity_mps2);
@@ -600,6 +623,70 @@ mod tests {
         // the altitude lost is the speed times the time, less the speed-up transient
         let lost = 150.0 - r.y;
         assert!(lost > 100.0 && lost < 120.0, "lost {lost} m");
+    }
+
+    #[test]
+    fn a_flaring_terminal_descent_slows_to_its_final_speed_and_cuts_the_engine() {
+        // GIVEN a point mass at 150 m sinking under a profile from 2 m/s to 0.5 m/s with a
+        // 10 s flare, the ground at 0 and the cut-off at 1.5 m
+        let s = Scenario {
+            terminal: TerminalDescent {
+                speed_mps: 2.0,
+                final_speed_mps: 0.5,
+                flare_time_s: 10.0,
+                ground_height_m: 0.0,
+                cutoff_height_m: 1.5,
+            },
+            ..paper_scenario()
+        };
+        let mut state = GuidanceState::initial(s.gravity_mps2);
+        let (mut r, mut v) = (Vector3::new(0.0, 150.0, 0.0), Vector3::zeros());
+        let dt = s.guidance_cycle_s;
+        let mut v_at_10_m = None;
+        let mut cut_at = None;
+        // WHEN terminal descent guidance flies it (exact integration between samples) until
+        // it reaches the ground
+        for k in 0..4000 {
+            let nav = GuidanceInputs {
+                r_nue: r,
+                v_nue: v,
+                mass_kg: 820.0,
+            };
+            state = guidance_sample(&s, &state, 172.0 + k as f64 * dt, &nav);
+            if state.engine_cut && cut_at.is_none() {
+                cut_at = Some((r.y, v.y));
+            }
+            if r.y < 10.0 && v_at_10_m.is_none() {
+                v_at_10_m = Some(v.y);
+            }
+            let a_net = if state.engine_cut {
+                Vector3::new(0.0, -s.gravity_mps2, 0.0)
+            } else {
+                net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2)
+            };
+            r += v * dt + a_net * (0.5 * dt * dt);
+            v += a_net * dt;
+            if r.y <= 0.0 {
+                break;
+            }
+        }
+        // THEN at 10 m it sinks near h / tau = 1 m/s (the loop lags the reference a little),
+        // the engine is cut within one guidance cycle of 1.5 m at about the final speed, and
+        // the commanded thrust direction is upright from then on
+        let v10 = v_at_10_m.unwrap();
+        assert!((v10 + 1.0).abs() < 0.15, "{v10}");
+        let (h_cut, v_cut) = cut_at.unwrap();
+        assert!(h_cut <= 1.5 && h_cut > 1.5 - 0.1, "{h_cut}");
+        assert!((v_cut + 0.5).abs() < 0.1, "{v_cut}");
+        assert_eq!(
+            state.a_thrust_cmd_nue,
+            Vector3::new(0.0, s.gravity_mps2, 0.0)
+        );
+        // AND it falls freely from there: v^2 = v_cut^2 + 2 g (h_cut - h), which from the
+        // cut-off height is the touchdown speed sqrt(v_cut^2 + 2 g h_cut)
+        let expected = (v_cut * v_cut + 2.0 * s.gravity_mps2 * (h_cut - r.y)).sqrt();
+        assert!(r.y <= 0.0);
+        assert!((v.y.abs() - expected).abs() < 1e-9, "{} vs {expected}", v.y);
     }
 
     fn retargeted(time_s: f64, replan: bool) -> Scenario {
