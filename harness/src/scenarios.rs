@@ -30,6 +30,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     ),
     ("retarget", include_str!("../scenarios/retarget.toml")),
     (
+        "full-fidelity",
+        include_str!("../scenarios/full-fidelity.toml"),
+    ),
+    (
         "landing-model-exchange",
         include_str!("../scenarios/landing-model-exchange.toml"),
     ),

@@ -11,7 +11,14 @@ use std::path::{Path, PathBuf};
 /// target/fmu (checked to hold the FMI 2.0 landers) with the FMI 3.0 FMUs under fmi3/.
 fn fmu_dir() -> PathBuf {
     let dir = common::fmu_dir();
-    for fmu in ["LanderGnc", "LanderPlant", "LanderNav", "Oscillator"] {
+    for fmu in [
+        "LanderGnc",
+        "LanderPlant",
+        "LanderNav",
+        "LanderSensors",
+        "LanderFilter",
+        "Oscillator",
+    ] {
         let path = dir.join("fmi3").join(format!("{fmu}.fmu"));
         assert!(
             path.is_file(),

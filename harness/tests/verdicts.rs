@@ -76,3 +76,42 @@ fn a_run_that_cannot_start_is_an_error_not_a_failed_verdict() {
     let (code, text) = harness(&["run", "paper", "--set", "plant.m0=-5", "-o", "r.csv"]);
     assert_eq!(code, harness::verdict::EXIT_ERROR, "{text}");
 }
+
+/// The number after `key` in a verdict line (`vertical 1.87 m/s` -> 1.87).
+fn number_after(text: &str, key: &str) -> f64 {
+    let rest = &text[text
+        .find(key)
+        .unwrap_or_else(|| panic!("no {key:?} in {text}"))
+        + key.len()..];
+    rest.split_whitespace().next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn a_flaring_terminal_descent_cuts_the_engine_and_falls_the_last_metre() {
+    // GIVEN the landing with a terminal descent from 2 m/s slowing to 0.5 m/s (10 s flare)
+    // and the engine cut at 1 m (the plant's touchdown: the centre of mass at 0)
+    let sets = [
+        "gnc.terminal_descent_speed=2.0",
+        "gnc.terminal_final_speed=0.5",
+        "gnc.terminal_flare_time=10.0",
+        "gnc.engine_cutoff_height=1.0",
+    ];
+    let mut args = vec!["run", "landing", "-o", "r.csv"];
+    for set in &sets {
+        args.extend(["--set", set]);
+    }
+    let (code, text) = harness(&args);
+    // THEN it lands inside the envelope, sooner than at a constant 1 m/s (323.6 s)
+    assert_eq!(code, harness::verdict::EXIT_OK, "{text}");
+    let t = number_after(&text, "touchdown at t =");
+    assert!(t > 250.0 && t < 290.0, "{text}");
+    // AND at the free-fall speed from the cut-off, sqrt(0.5^2 + 2 g 1 m) = 1.87 m/s (the cut
+    // comes at a 10 Hz guidance cycle, up to 5 cm lower: down to 1.84 m/s); without the cut
+    // it would touch down at the final 0.5 m/s
+    let vertical = number_after(&text, "vertical");
+    assert!(vertical > 1.80 && vertical < 1.90, "{text}");
+    let (code, text) = harness(&args[..args.len() - 2]);
+    assert_eq!(code, harness::verdict::EXIT_OK, "{text}");
+    let vertical = number_after(&text, "vertical");
+    assert!((vertical - 0.5).abs() < 0.05, "{text}");
+}

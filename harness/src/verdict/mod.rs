@@ -47,6 +47,10 @@ pub struct Exceedance {
 impl fmt::Display for Exceedance {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let u = self.unit;
+        // A fact with no scale (tipped over) is stated, not compared.
+        if u.is_empty() {
+            return write!(f, "{}", self.quantity);
+        }
         write!(
             f,
             "{} {:.2} {u} > {:.2} {u} (by {:.2} {u})",
@@ -207,7 +211,16 @@ pub fn judge(trajectory: &Trajectory, end: &RunEnd, envelope: &Envelope) -> Verd
                     .to_degrees(),
                 horizontal_position_m: get("plant.r_nue[1]").hypot(get("plant.r_nue[3]")),
             };
-            let broken = exceedances(&touchdown, envelope);
+            let mut broken = exceedances(&touchdown, envelope);
+            // Judged where recorded (a plant with landing gear declares it).
+            if last("plant.tipped_over").is_some_and(|x| x != 0.0) {
+                broken.push(Exceedance {
+                    quantity: "tipped over after touchdown",
+                    unit: "",
+                    value: 1.0,
+                    limit: 0.0,
+                });
+            }
             if broken.is_empty() {
                 Verdict::Landed(touchdown)
             } else {

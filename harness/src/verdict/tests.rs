@@ -149,3 +149,21 @@ fn a_model_that_is_not_a_lander_is_judged_only_by_how_its_run_ended() {
         "{text}"
     );
 }
+
+#[test]
+fn a_lander_that_tips_over_after_a_soft_touchdown_fails_saying_so() {
+    // GIVEN a touchdown inside the envelope, then the plant's tip-over flag
+    let mut run = touchdown_row([0.1, -1.0, 0.0], 0.02, [0.0; 3], true);
+    let soft = judge(&run, &terminated(), &Envelope::default());
+    assert!(matches!(soft, Verdict::Landed(_)), "{soft:?}");
+    run.names.push("plant.tipped_over".into());
+    run.values.push(1.0);
+    // WHEN it is judged
+    let verdict = judge(&run, &terminated(), &Envelope::default());
+    // THEN it is a hard landing whose broken limit is the tip-over, stated as a fact
+    let Verdict::HardLanding { broken, .. } = &verdict else {
+        panic!("{verdict:?}")
+    };
+    assert_eq!(broken.len(), 1);
+    assert_eq!(broken[0].to_string(), "tipped over after touchdown");
+}

@@ -68,6 +68,10 @@ class Unit:
                    for v, source, output in self.links if v.type in ("Integer", "Enumeration")]
         if integer:
             self.fmu.setInteger([vr for vr, _ in integer], [value for _, value in integer])
+        boolean = [(v.valueReference, bool(source.output_values[output]))
+                   for v, source, output in self.links if v.type == "Boolean"]
+        if boolean:
+            self.fmu.setBoolean([vr for vr, _ in boolean], [value for _, value in boolean])
 
     def get_outputs(self) -> None:
         real = [v for v in self.outputs if v.type == "Real"]

@@ -92,3 +92,28 @@ fn fmpy_flies_plant_nav_gnc_with_seeded_navigation_errors_bit_identically_to_the
         "fmpy FMU2Slave loop vs harness, plant -> nav -> gnc with navigation errors",
     );
 }
+
+#[test]
+fn fmpy_flies_the_full_fidelity_landing_bit_identically_to_the_harness() {
+    // GIVEN the four-FMU loop (sensors, filter, gnc, plant) with every effect on, through
+    // the touchdown on the gear and the settling after it
+    let system = scenario("full-fidelity");
+    let reference = run_harness(system.clone(), Default::default());
+    // (the GNC flies on the filter's estimate, and the lander does land on its footpads)
+    let (estimate, truth) = (
+        reference.column("filter.r_nue[2]").unwrap(),
+        reference.column("plant.r_nue[2]").unwrap(),
+    );
+    assert!(estimate.iter().zip(&truth).filter(|(a, b)| a == b).count() * 100 < estimate.len());
+    assert_eq!(
+        reference.column("plant.settled").unwrap().last(),
+        Some(&1.0)
+    );
+
+    // WHEN fmpy flies the same system, THEN every value of every unit is bit-identical
+    fmpy_flies_it_like_the_harness(
+        &system,
+        &reference,
+        "fmpy FMU2Slave loop vs harness (full fidelity: sensors, filter, gnc, plant)",
+    );
+}

@@ -47,7 +47,13 @@ fn cycles_rss(fmu: &str, cycles: u32, warm_up: u32) -> (u64, u64) {
 
 #[test]
 fn resident_memory_stays_flat_over_fmpy_cycles() {
-    for fmu in ["LanderGnc", "LanderPlant", "LanderNav"] {
+    for fmu in [
+        "LanderGnc",
+        "LanderPlant",
+        "LanderNav",
+        "LanderSensors",
+        "LanderFilter",
+    ] {
         // GIVEN 2,500 cycles, the first 1,000 as warm-up (fmpy's and the interpreter's caches
         // grow by ~700 KiB over them, then stop)
         let (after_warm_up, at_end) = cycles_rss(fmu, 2500, 1000);

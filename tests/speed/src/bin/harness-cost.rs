@@ -100,7 +100,7 @@ fn master(fmu_dir: &Path, mut system: SystemDescription, mode: &str) -> Result<V
         match mode {
             "master-csv" => cosim::results::write_csv(&scratch.path().join("r.csv"), &trajectory)?,
             "master-arrow" => {
-                cosim::results::write_arrow(&scratch.path().join("r.arrow"), &trajectory)?
+                cosim::results::write_arrow(&scratch.path().join("r.arrow"), &trajectory, &[])?
             }
             _ => {}
         }

@@ -1,0 +1,145 @@
+//! The full-fidelity scenario: the descent and landing with LanderSensors and LanderFilter
+//! between the plant and the GNC, thrusters, actuator dynamics, slosh and landing gear. It
+//! lands with its verdict taken at the first foot contact, settles upright, and the
+//! filter's position estimate is consistent with its covariance over 50 seeded runs.
+mod common;
+
+use cosim::master::{Simulation, Trajectory};
+use cosim::system::ParamValue;
+use rand::SeedableRng;
+use rand_distr::{Distribution, StandardNormal};
+
+fn flown(system: cosim::system::SystemDescription) -> (Trajectory, cosim::master::RunEnd) {
+    let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    let end = simulation.run(&mut trajectory).unwrap();
+    (trajectory, end)
+}
+
+#[test]
+fn it_lands_on_its_footpads_inside_the_envelope_and_settles_upright() {
+    // GIVEN the built-in scenario
+    let (system, spec) = harness::verdict::scenario::load("full-fidelity").unwrap();
+    // WHEN it is flown
+    let (run, end) = flown(system);
+    // THEN it lands inside the envelope
+    let verdict = harness::verdict::judge(&run, &end, &spec.envelope);
+    assert!(
+        matches!(verdict, harness::verdict::Verdict::Landed(_)),
+        "{verdict:?}"
+    );
+    let column = |name: &str| run.column_index(name).unwrap();
+    let at = |k: usize, name: &str| run.row(k)[column(name)];
+    // AND the touchdown is the first foot contact: at the recorded touchdown time a footpad
+    // touches while the centre of mass is still about a leg's length (1 m) up
+    let t_touch = at(run.len() - 1, "plant.touchdown_time");
+    let k = run.times.iter().position(|&t| t >= t_touch).unwrap();
+    let feet: f64 = (1..=4)
+        .map(|i| at(k, &format!("plant.foot_contact[{i}]")))
+        .sum();
+    assert!(feet >= 1.0, "no footpad on the ground at t = {t_touch}");
+    let altitude = at(k, "plant.r_nue[2]");
+    assert!(altitude > 0.8 && altitude < 1.2, "{altitude}");
+    // AND the touchdown sensor cut the engines: no thrust after it
+    let last = run.len() - 1;
+    assert_eq!(at(last, "plant.thrust_actual"), 0.0);
+    // AND the lander ends at rest on all four footpads, not tipped over
+    assert_eq!(at(last, "plant.settled"), 1.0);
+    assert_eq!(at(last, "plant.tipped_over"), 0.0);
+    for i in 1..=4 {
+        assert_eq!(at(last, &format!("plant.foot_contact[{i}]")), 1.0);
+    }
+    // AND the propellant sloshed (the turn about the thrust axis excites it)
+    let slosh = (0..run.len())
+        .map(|k| at(k, "plant.slosh_displacement[2]").abs())
+        .fold(0.0, f64::max);
+    assert!(slosh > 1e-3, "{slosh}");
+}
+
+/// Two-sided 95 % band of the mean of `runs` independent chi-square(1) values:
+/// chi2(runs; 2.5 %, 97.5 %) / runs, by Wilson-Hilferty.
+fn band(runs: f64) -> (f64, f64) {
+    let quantile = |z: f64| {
+        let a = 2.0 / (9.0 * runs);
+        runs * (1.0 - a + z * a.sqrt()).powi(3) / runs
+    };
+    (quantile(-1.959964), quantile(1.959964))
+}
+
+#[test]
+fn the_filter_position_error_is_consistent_with_its_covariance_over_50_seeded_runs() {
+    // GIVEN the full-fidelity scenario's first 60 s (hover, then descent), and 50 runs,
+    // each with its own sensor noise seed and an initial estimate drawn from the filter's
+    // claimed initial 1-sigma (10 m, 1 m/s)
+    let (mut system, _) = harness::verdict::scenario::load("full-fidelity").unwrap();
+    system.stop_time = 60.0;
+    let record: Vec<String> = (1..=3)
+        .flat_map(|i| {
+            [
+                format!("plant.r_nue[{i}]"),
+                format!("filter.r_nue[{i}]"),
+                format!("filter.covariance_diag[{i}]"),
+            ]
+        })
+        .collect();
+    system.record = Some(record);
+    let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let runs = 50;
+    let samples = 61; // one per second
+    let mut nees = vec![[0.0; 3]; samples];
+    for seed in 1..=runs {
+        simulation
+            .set_parameter("sensors", "seed", ParamValue::Integer(seed))
+            .unwrap();
+        let start = [0.0, 800.0, 0.0];
+        for i in 0..3 {
+            let dr: f64 = StandardNormal.sample(&mut rng);
+            let v0: f64 = StandardNormal.sample(&mut rng);
+            let r0 = start[i] + 10.0 * dr;
+            let name = |base: &str| format!("{base}[{}]", i + 1);
+            simulation
+                .set_parameter("filter", &name("r0_nue"), ParamValue::Real(r0))
+                .unwrap();
+            simulation
+                .set_parameter("filter", &name("v0_nue"), ParamValue::Real(v0))
+                .unwrap();
+        }
+        let mut run = Trajectory {
+            names: simulation.column_names().to_vec(),
+            ..Default::default()
+        };
+        simulation.run(&mut run).unwrap();
+        assert_eq!(run.len(), 6001);
+        for (s, sample) in nees.iter_mut().enumerate() {
+            let row = run.row(100 * s);
+            for (i, n) in sample.iter_mut().enumerate() {
+                let error = row[3 * i + 1] - row[3 * i];
+                *n += error * error / row[3 * i + 2] / runs as f64;
+            }
+        }
+    }
+    // THEN for each axis the mean normalised squared error over the runs lies inside the
+    // two-sided 95 % band of chi2(50)/50 at (nearly) every second: at least 90 % of the
+    // 61 samples (5 % are outside by chance when the filter is consistent)
+    let (low, high) = band(runs as f64);
+    assert!((low - 0.647).abs() < 0.01 && (high - 1.428).abs() < 0.01);
+    for axis in 0..3 {
+        let inside = nees
+            .iter()
+            .filter(|n| (low..=high).contains(&n[axis]))
+            .count();
+        let mean = nees.iter().map(|n| n[axis]).sum::<f64>() / samples as f64;
+        println!(
+            "r_nue[{}]: {inside} of {samples} inside [{low:.3}, {high:.3}], mean {mean:.3}",
+            axis + 1
+        );
+        assert!(
+            inside * 10 >= samples * 9,
+            "axis {axis}: {inside} of {samples}; {nees:?}"
+        );
+    }
+}
