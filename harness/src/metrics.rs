@@ -36,10 +36,13 @@ pub struct Metrics {
     pub roll_settling_time_s: f64,
     /// Final thrust-axis angle phi_b (rad).
     pub final_phi_b_rad: f64,
-    /// Largest tilt of the thrust axis from the commanded direction after the first 30 s (rad).
+    /// Largest tilt of the thrust axis from the commanded direction after the first 30 s
+    /// and before touchdown (rad).
     pub max_tilt_error_after_30s_rad: f64,
-    /// Largest tilt of the thrust axis from the commanded direction, whole run (rad): how far
-    /// the attitude law lets the thrust point away from what guidance asks while it turns.
+    /// Largest tilt of the thrust axis from the commanded direction, whole flight before
+    /// touchdown (rad): how far the attitude law lets the thrust point away from what guidance
+    /// asks while it turns. On the ground (a plant with landing gear flies on after its first
+    /// footpad contact) the lander stands as the terrain holds it and no law steers.
     pub max_tilt_error_rad: f64,
     /// Horizontal speed at the first sample of the polynomial descent (m/s): the state the
     /// hover hands to the descent guidance, which the cubic then carries over its whole
@@ -55,8 +58,8 @@ pub struct Metrics {
     /// Largest horizontal speed while the thrust-axis manoeuvre is under way, i.e. until the
     /// roll error settles within 2 deg (the whole run if it never does) (m/s).
     pub max_lateral_speed_manoeuvre_mps: f64,
-    /// Time integral of the thrust axis's angle from its commanded direction, whole run
-    /// (rad s, trapezoidal).
+    /// Time integral of the thrust axis's angle from its commanded direction, whole flight
+    /// before touchdown (rad s, trapezoidal).
     pub tilt_error_integral_rad_s: f64,
     /// Touchdown state as the plant reports it; NaN when the run did not touch down (or the
     /// touchdown columns were not recorded).
@@ -117,6 +120,14 @@ pub fn compute_with_final(
     let phi_b = col(g, "phi_b")?;
     let tilt = col(g, "tilt_error")?;
     let n = trajectory.len();
+    // Samples up to and including the touchdown (all of them where the plant records no
+    // touchdown flag): the touchdown sample still ends a steered flight.
+    let touched = col(p, "touchdown").ok();
+    let airborne = |k: usize| {
+        touched
+            .as_ref()
+            .is_none_or(|c| c[k] == 0.0 || (k > 0 && c[k - 1] == 0.0))
+    };
     let last = n.saturating_sub(1);
     let max_over = |it: &mut dyn Iterator<Item = f64>| it.fold(0.0_f64, f64::max);
     let settle_limit = 2f64.to_radians();
@@ -133,6 +144,7 @@ pub fn compute_with_final(
     let at_descent_end = |f: &dyn Fn(usize) -> f64| descent_end.map_or(f64::NAN, f);
     let manoeuvre_end = settle_index.map_or(0, |k| k + 1);
     let tilt_error_integral_rad_s = (1..n)
+        .filter(|&k| airborne(k))
         .map(|k| 0.5 * (tilt[k] + tilt[k - 1]) * (times[k] - times[k - 1]))
         .sum();
     let touchdown = touchdown_state(final_row, p);
@@ -157,10 +169,10 @@ pub fn compute_with_final(
         final_phi_b_rad: phi_b[last],
         max_tilt_error_after_30s_rad: max_over(
             &mut (0..n)
-                .filter(|&k| trajectory.times[k] - t0 >= 30.0)
+                .filter(|&k| trajectory.times[k] - t0 >= 30.0 && airborne(k))
                 .map(|k| tilt[k]),
         ),
-        max_tilt_error_rad: max_over(&mut (0..n).map(|k| tilt[k])),
+        max_tilt_error_rad: max_over(&mut (0..n).filter(|&k| airborne(k)).map(|k| tilt[k])),
         handover_horizontal_speed_mps: descent_start.map_or(f64::NAN, |k| v[0][k].hypot(v[2][k])),
         end_time_s: trajectory.times.last().copied().unwrap_or(f64::NAN),
         descent_end_position_error_m: at_descent_end(&|k| {
@@ -286,6 +298,41 @@ mod tests {
             ]
             .concat(),
         }
+    }
+
+    #[test]
+    fn the_tilt_metrics_stop_at_touchdown_when_the_plant_records_it() {
+        // GIVEN the hand-checked flight touching down at t = 40 and still on the ground at
+        // t = 80 (a landing gear's plant goes on after the first footpad contact), standing
+        // 0.3 rad off the last command
+        let mut t = sample();
+        let width = t.names.len();
+        t.names.push("plant.touchdown".into());
+        let tilt = width - 1;
+        let mut values = Vec::new();
+        for (k, row) in t.values.chunks(width).enumerate() {
+            values.extend_from_slice(row);
+            if k == 2 {
+                values[k * (width + 1) + tilt] = 0.3;
+            }
+            values.push(if k >= 1 { 1.0 } else { 0.0 });
+        }
+        t.values = values;
+        // WHEN the metrics are computed
+        let m = compute(&t, &Columns::default(), [0.0, 150.0, 0.0]).unwrap();
+        // THEN the touchdown sample counts and the one after it in none of the tilt metrics
+        assert_eq!(m.max_tilt_error_after_30s_rad, 0.1);
+        assert_eq!(m.max_tilt_error_rad, 0.2);
+        assert!((m.tilt_error_integral_rad_s - 6.0).abs() < 1e-12);
+        // and the flag is what excludes it
+        t.names.pop();
+        let mut without = Vec::new();
+        for row in t.values.chunks(width + 1) {
+            without.extend_from_slice(&row[..width]);
+        }
+        t.values = without;
+        let m = compute(&t, &Columns::default(), [0.0, 150.0, 0.0]).unwrap();
+        assert_eq!(m.max_tilt_error_after_30s_rad, 0.3);
     }
 
     #[test]

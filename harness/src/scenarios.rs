@@ -239,10 +239,16 @@ mod tests {
             let system = load(name).unwrap();
             assert!(system.instance("plant").is_some(), "{name}");
             assert!(system.instance("gnc").is_some(), "{name}");
-            // Straight from the plant, or through the navigation errors (LanderNav).
+            // Straight from the plant, through the navigation errors (LanderNav), or the
+            // navigation state estimated by LanderFilter (the mass still from the plant).
             let nav = system.instance("nav").is_some();
+            let filter = system.instance("filter").is_some();
             for signal in ["r_nue", "v_nue", "q_body_to_nue", "omega_body", "mass"] {
-                let from = if nav { "nav" } else { "plant" };
+                let from = match (nav, filter) {
+                    (true, _) => "nav",
+                    (false, true) if signal != "mass" => "filter",
+                    _ => "plant",
+                };
                 assert!(
                     system
                         .connections

@@ -6,6 +6,7 @@ mod common;
 
 use cosim::master::{Simulation, Trajectory};
 use cosim::system::ParamValue;
+use harness::scenarios::Law;
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 
@@ -142,4 +143,59 @@ fn the_filter_position_error_is_consistent_with_its_covariance_over_50_seeded_ru
             "axis {axis}: {inside} of {samples}; {nees:?}"
         );
     }
+}
+
+#[test]
+fn every_law_lands_the_decoupled_laws_deviate_least_and_the_readme_says_by_how_much() {
+    // GIVEN the full-fidelity and the paper scenarios, flown with every law
+    let fly = |name: &str| {
+        let (system, spec) = harness::verdict::scenario::load(name).unwrap();
+        harness::paper::fly_all(system, &common::fmu_dir(), &Law::ALL, &spec.envelope, &[]).unwrap()
+    };
+    let full = fly("full-fidelity");
+    let paper = fly("paper");
+    // THEN with every effect on each law lands
+    for flight in &full {
+        assert!(
+            matches!(flight.verdict, harness::verdict::Verdict::Landed(_)),
+            "{:?}: {:?}",
+            flight.law,
+            flight.verdict
+        );
+    }
+    // AND the paper's ordering holds: the coupled law deviates more than twice as far
+    let deviation = |flights: &[harness::paper::Flight], law: Law| {
+        flights
+            .iter()
+            .find(|f| f.law == law)
+            .unwrap()
+            .metrics
+            .max_horizontal_deviation_descent_m
+    };
+    for other in [Law::Decoupled, Law::Reduced] {
+        assert!(
+            deviation(&full, Law::Coupled) > 2.0 * deviation(&full, other),
+            "{other:?}"
+        );
+    }
+    // AND the README states both scenarios' deviations as they are
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
+        .unwrap()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    let sentence = format!(
+        "the largest horizontal deviation during the descent is {:.1} m coupled, {:.1} m \
+         decoupled and {:.1} m reduced ({:.1}, {:.1} and {:.1} m in the paper scenario)",
+        deviation(&full, Law::Coupled),
+        deviation(&full, Law::Decoupled),
+        deviation(&full, Law::Reduced),
+        deviation(&paper, Law::Coupled),
+        deviation(&paper, Law::Decoupled),
+        deviation(&paper, Law::Reduced),
+    );
+    assert!(
+        readme.contains(&sentence),
+        "the README should say: {sentence}"
+    );
 }

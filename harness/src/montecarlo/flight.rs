@@ -18,7 +18,7 @@ pub const GNC: &str = "gnc";
 pub const NAV: &str = "nav";
 
 /// The columns [`metrics::compute`] reads: all a campaign records.
-pub const METRIC_COLUMNS: [&str; 8] = [
+pub const METRIC_COLUMNS: [&str; 9] = [
     "plant.r_nue",
     "plant.v_nue",
     "plant.omega_body",
@@ -27,7 +27,12 @@ pub const METRIC_COLUMNS: [&str; 8] = [
     "gnc.err_roll",
     "gnc.phi_b",
     "gnc.tilt_error",
+    "plant.touchdown",
 ];
+
+/// Verdict columns a plant may declare (a plant with landing gear does), read at the end of
+/// each flight where it does.
+const OPTIONAL_VERDICT_COLUMNS: [&str; 1] = ["plant.tipped_over"];
 
 /// One loaded FMU instance pair with its recording buffer, reused flight after flight.
 pub struct Flyer {
@@ -66,7 +71,6 @@ impl Flyer {
             None => Vec::new(),
         };
         let mut simulation = Simulation::new(system, fmu_dir)?;
-        simulation.set_final_columns(&final_only)?;
         let plant_index = simulation
             .system()
             .instances
@@ -78,6 +82,20 @@ impl Flyer {
                     simulation.system().name
                 )
             })?;
+        let description = simulation.fmus()[plant_index].model_description();
+        let mut final_only = final_only;
+        if simulation.system().record.is_some() {
+            final_only.extend(
+                OPTIONAL_VERDICT_COLUMNS
+                    .iter()
+                    .filter(|c| {
+                        c.strip_prefix("plant.")
+                            .is_some_and(|name| description.variable(name).is_some())
+                    })
+                    .map(|c| c.to_string()),
+            );
+        }
+        simulation.set_final_columns(&final_only)?;
         let description = simulation.fmus()[plant_index].model_description();
         let start_of = |name: &str| match description.variable(name)?.start()? {
             StartValue::Real(x) => Some(x),
