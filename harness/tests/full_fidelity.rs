@@ -97,10 +97,10 @@ fn the_filter_position_error_is_consistent_with_its_covariance_over_50_seeded_ru
             .set_parameter("sensors", "seed", ParamValue::Integer(seed))
             .unwrap();
         let start = [0.0, 800.0, 0.0];
-        for i in 0..3 {
+        for (i, r_true) in start.iter().enumerate() {
             let dr: f64 = StandardNormal.sample(&mut rng);
             let v0: f64 = StandardNormal.sample(&mut rng);
-            let r0 = start[i] + 10.0 * dr;
+            let r0 = r_true + 10.0 * dr;
             let name = |base: &str| format!("{base}[{}]", i + 1);
             simulation
                 .set_parameter("filter", &name("r0_nue"), ParamValue::Real(r0))
