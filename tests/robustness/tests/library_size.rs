@@ -1,11 +1,19 @@
-//! Each shipped FMU library, stripped, stays under 1 MiB.
+//! Each shipped FMU library, stripped, stays within its budget: a budget catches a
+//! dependency or a generic instantiation that bloats a library unnoticed.
 use robustness_tests::package::{Lander, Unpacked};
 use std::process::Command;
 
-const LIMIT_BYTES: u64 = 1 << 20;
+/// 1 MiB, and 1.25 MiB for LanderPlant: the one FMU with Model Exchange beside
+/// Co-Simulation, and the landing gear, slosh and mass-property models.
+fn limit_bytes(lander: Lander) -> u64 {
+    match lander {
+        Lander::Plant => 5 << 18,
+        _ => 1 << 20,
+    }
+}
 
 #[test]
-fn each_stripped_library_is_under_one_mebibyte() {
+fn each_stripped_library_is_within_its_budget() {
     for lander in Lander::ALL {
         let fmu = Unpacked::open(lander).expect("packaged FMU");
         let stripped = tempfile::NamedTempFile::new().expect("temporary file");
@@ -24,9 +32,10 @@ fn each_stripped_library_is_under_one_mebibyte() {
             lander.model_identifier()
         );
         assert!(
-            size < LIMIT_BYTES,
-            "{}: {size} bytes stripped",
-            lander.model_identifier()
+            size < limit_bytes(lander),
+            "{}: {size} bytes stripped, over its budget of {}",
+            lander.model_identifier(),
+            limit_bytes(lander)
         );
     }
 }
