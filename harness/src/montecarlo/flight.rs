@@ -2,6 +2,7 @@
 //! phi_cmd to a loaded simulation, run it, and compute the metrics.
 use super::campaign::Flight;
 use super::dispersion::{Dispersion, DispersionRanges, Nominal};
+use super::estimator_start::{self, ClaimedStartError, FILTER, SENSORS};
 use super::manifest::{End, Judged, Row};
 use crate::metrics::{self, Metrics};
 use crate::verdict::{self, Spec};
@@ -47,6 +48,9 @@ pub struct Flyer {
     last: Trajectory,
     /// The scenario's requirements: a flight that violates one did not end as expected.
     requirements: Vec<cosim::requirements::Requirement>,
+    /// What the scenario's navigation filter claims about its initial error, when it has
+    /// one: each run starts it from the dispersed truth off by an error of that spread.
+    filter_claim: Option<ClaimedStartError>,
 }
 
 impl Flyer {
@@ -104,6 +108,7 @@ impl Flyer {
         };
         let nominal = Nominal::from_scenario(simulation.system(), PLANT, start_of)
             .map_err(anyhow::Error::msg)?;
+        let filter_claim = claimed_start_error(&simulation)?;
         let trajectory = Trajectory {
             names: simulation.column_names().to_vec(),
             ..Default::default()
@@ -120,6 +125,7 @@ impl Flyer {
             trajectory,
             last,
             requirements: Vec::new(),
+            filter_claim,
         })
     }
 
@@ -193,6 +199,25 @@ impl Flyer {
         if sim.system().instance(NAV).is_some() {
             let nav_seed = i64::try_from(flight.run_seed >> 33).expect("31 bits fit");
             sim.set_parameter(NAV, "seed", ParamValue::Integer(nav_seed))?;
+        }
+        if sim.system().instance(SENSORS).is_some() {
+            let seed = estimator_start::sensors_seed(flight.run_seed);
+            sim.set_parameter(SENSORS, "seed", ParamValue::Integer(seed))?;
+        }
+        if let Some(claim) = &self.filter_claim {
+            let truth = estimator_start::Start {
+                r0_nue_m: std::array::from_fn(|i| {
+                    self.nominal.r0_nue_m[i] + dispersion.delta_r0_nue_m[i]
+                }),
+                v0_nue_mps: std::array::from_fn(|i| {
+                    self.nominal.v0_nue_mps[i] + dispersion.delta_v0_nue_mps[i]
+                }),
+                q0_body_to_nue: self.nominal.start_attitude(dispersion),
+            };
+            let estimate = estimator_start::estimate(flight.run_seed, &truth, claim);
+            for (name, value) in estimator_start::parameters(&estimate) {
+                sim.set_parameter(FILTER, &name, ParamValue::Real(value))?;
+            }
         }
         self.trajectory.times.clear();
         self.trajectory.values.clear();
@@ -278,4 +303,42 @@ pub fn campaign_system(
         Some(record)
     };
     Ok((system, spec))
+}
+
+/// The initial 1-sigma errors the scenario's filter claims (its parameters as the scenario
+/// sets them, else the FMU's start values); `None` without a filter instance.
+fn claimed_start_error(simulation: &Simulation) -> anyhow::Result<Option<ClaimedStartError>> {
+    let Some(index) = simulation
+        .system()
+        .instances
+        .iter()
+        .position(|i| i.name == FILTER)
+    else {
+        return Ok(None);
+    };
+    let instance = &simulation.system().instances[index];
+    let description = simulation.fmus()[index].model_description();
+    let value = |name: &str| -> anyhow::Result<f64> {
+        let set = instance.parameters.iter().find(|(n, _)| n == name);
+        let value = match set {
+            Some((_, ParamValue::Real(x))) => Some(*x),
+            Some((_, ParamValue::Integer(i))) => Some(*i as f64),
+            Some(_) => None,
+            None => match description.variable(name).and_then(|v| v.start()) {
+                Some(StartValue::Real(x)) => Some(x),
+                _ => None,
+            },
+        };
+        value.ok_or_else(|| {
+            anyhow::anyhow!(
+                "instance '{FILTER}' has no real parameter '{name}': a campaign starts the \
+                 navigation filter from each run's dispersed start with the error it claims"
+            )
+        })
+    };
+    Ok(Some(ClaimedStartError {
+        r0_sigma_m: value("r0_sigma")?,
+        v0_sigma_mps: value("v0_sigma")?,
+        attitude0_sigma_rad: value("attitude0_sigma")?,
+    }))
 }

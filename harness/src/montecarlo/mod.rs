@@ -14,6 +14,7 @@ pub mod campaign;
 pub mod cli;
 pub mod config;
 pub mod dispersion;
+pub mod estimator_start;
 pub mod flight;
 pub mod manifest;
 pub mod merge;
