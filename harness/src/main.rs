@@ -121,7 +121,11 @@ enum Command {
         allow_negative_numbers = true,
         long_about = "Flies the scenario for every phi_cmd of the grid, every law and --runs \
                       dispersed runs (initial position, velocity, attitude, body rates, mass, \
-                      plant inertia, thrust misalignment; ranges below).\n\
+                      plant inertia, thrust misalignment; ranges below). A scenario with \
+                      instances `nav`, `sensors` or `filter` also draws per run the navigation \
+                      errors' and the sensors' noise seeds, and starts the filter from the \
+                      run's dispersed truth off by an error drawn from the covariance it claims \
+                      (r0_sigma, v0_sigma, attitude0_sigma).\n\
                       Run j's dispersions are a pure function of the campaign seed and j, and \
                       the same draw is flown by every law at every phi_cmd, so laws and \
                       phi_cmd points are compared on identical conditions. Results do not \
