@@ -138,7 +138,10 @@ impl<M> Variable<M> {
 /// The FMI 2.0 scalars of every declaration of `M`, in declaration order.
 pub fn variables<M: Model>() -> Vec<Variable<M>> {
     let fresh = M::default();
-    let mut table = Vec::new();
+    // Sized once: grown by doubling, a table just past a power of two would briefly hold
+    // the old and the new buffer (an instance's heap peak, fmu-plant/tests/heap_size.rs).
+    let count = M::declarations().iter().map(|d| d.shape().len()).sum();
+    let mut table = Vec::with_capacity(count);
     for (index, d) in M::declarations().iter().enumerate() {
         let with_start = needs_start(d.causality, d.variability, d.initial);
         match (&d.kind, d.shape()) {

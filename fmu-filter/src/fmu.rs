@@ -6,9 +6,13 @@
 //! that point's measurements), except `omega_body`, the gyro input there minus the
 //! estimated bias. `do_step` first updates with the point's valid measurements, then
 //! propagates with its IMU sample over the step; the NIS outputs are those of that update.
+//! With `imu_mean_over_last_step` the IMU inputs at a point are the means over the step that
+//! ended there: the outputs are the last point's update propagated over that step with them,
+//! computed when read, and `do_step` takes that propagation, then the point's update; the
+//! propagation of the coming step waits for the next point's inputs.
 use crate::model::covariance::N;
 use crate::model::parameters::bounds::*;
-use crate::model::{Eskf, FilterParameters, Imu, ParameterError};
+use crate::model::{Eskf, FilterParameters, Heading, Imu, ParameterError};
 use fmi_model::{
     decl, Causality, Declaration, Dependencies, Experiment, Log, Model, ModelError, Role, StepEnd,
     Variability,
@@ -46,6 +50,25 @@ pub struct Outputs {
     pub covariance_diag: [f64; N],
 }
 
+/// `imu_mean_over_last_step`: what the propagation over the step after a communication
+/// point takes from that point, until the next point's IMU inputs complete it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Pending {
+    /// The step's length, s.
+    pub h: f64,
+    /// The state the point's measurements were linearised about (the heading constraint).
+    pub linearised_at: Heading,
+}
+
+impl Pending {
+    fn is_finite(&self) -> bool {
+        self.h.is_finite()
+            && self.linearised_at.r_nue.iter().all(|x| x.is_finite())
+            && self.linearised_at.v_nue.iter().all(|x| x.is_finite())
+            && self.linearised_at.rotation.iter().all(|x| x.is_finite())
+    }
+}
+
 /// The LanderFilter FMU instance. Everything lives here: no global state.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct LanderFilter {
@@ -53,8 +76,11 @@ pub struct LanderFilter {
     meas: Measurements,
     out: Outputs,
     last: Innovations,
-    /// Set by `exit_initialization` from the validated parameters.
+    /// Set by `exit_initialization` from the validated parameters; with
+    /// `imu_mean_over_last_step` the estimate after the last point's update.
     running: Option<Eskf>,
+    /// `imu_mean_over_last_step`: the step since the last point (`None` before the first).
+    pending: Option<Pending>,
 }
 
 impl LanderFilter {
@@ -100,6 +126,37 @@ pub fn update(eskf: &mut Eskf, params: &FilterParameters, meas: &Measurements) -
     out
 }
 
+/// `imu_mean_over_last_step`: the estimate at a communication point, the last point's
+/// update `eskf` propagated over the step `pending` since then with `imu`, this point's IMU
+/// inputs (the step's means); `eskf` itself at the first point.
+pub fn propagated_over_last_step(
+    eskf: &mut Eskf,
+    params: &FilterParameters,
+    pending: Option<&Pending>,
+    imu: &Imu,
+) {
+    if let Some(p) = pending {
+        eskf.propagate(params, imu, p.h, Some(&p.linearised_at));
+    }
+}
+
+/// One communication step with `imu_mean_over_last_step`: the propagation over the step
+/// that ended at this point ([`propagated_over_last_step`]), this point's measurements, and
+/// what the next point's propagation over `h` needs from this one.
+pub fn step_with_mean_imu(
+    eskf: &mut Eskf,
+    pending: &mut Option<Pending>,
+    params: &FilterParameters,
+    meas: &Measurements,
+    h: f64,
+) -> Innovations {
+    propagated_over_last_step(eskf, params, pending.as_ref(), &meas.imu);
+    let linearised_at = eskf.heading();
+    let innovations = update(eskf, params, meas);
+    *pending = Some(Pending { h, linearised_at });
+    innovations
+}
+
 /// One communication step: this point's measurements, then the propagation over `h` with its
 /// IMU sample, constrained by the state the measurements were linearised about.
 pub fn step(
@@ -132,9 +189,17 @@ impl Model for LanderFilter {
         DECLARATIONS
     }
 
+    /// 2: `imu_mean_over_last_step` and its pending step.
+    const STATE_VERSION: u32 = 2;
+
     fn output_dependencies(output: &str) -> Dependencies {
         match output {
             "omega_body" => Dependencies::SameElementOf("gyro_body_meas"),
+            // With imu_mean_over_last_step (declared whatever its value: the description
+            // does not depend on parameters).
+            "r_nue" | "v_nue" => Dependencies::Inputs(&["accel_body_meas"]),
+            "q_body_to_nue" => Dependencies::Inputs(&["gyro_body_meas"]),
+            "covariance_diag" => Dependencies::Inputs(&["accel_body_meas", "gyro_body_meas"]),
             _ => Dependencies::NoInputs,
         }
     }
@@ -155,6 +220,15 @@ impl Model for LanderFilter {
                 &started
             }
         };
+        let propagated;
+        let eskf = if self.params.imu_mean_over_last_step && self.pending.is_some() {
+            let mut e = eskf.clone();
+            propagated_over_last_step(&mut e, &self.params, self.pending.as_ref(), &self.meas.imu);
+            propagated = e;
+            &propagated
+        } else {
+            eskf
+        };
         self.out = Outputs {
             r_nue_m: eskf.r_nue_m,
             v_nue_mps: eskf.v_nue_mps,
@@ -169,6 +243,7 @@ impl Model for LanderFilter {
     fn exit_initialization(&mut self, _start_time: f64, _log: &mut Log) -> Result<(), ModelError> {
         self.params.validate().map_err(parameter_error)?;
         self.running = Some(Eskf::start(&self.params));
+        self.pending = None;
         Ok(())
     }
 
@@ -177,11 +252,17 @@ impl Model for LanderFilter {
             (false, None) => Ok(()),
             (true, Some(eskf)) => {
                 self.params.validate().map_err(parameter_error)?;
-                if eskf.is_sound() {
+                let pending_sound = match &self.pending {
+                    None => true,
+                    Some(p) => self.params.imu_mean_over_last_step && p.is_finite() && p.h > 0.0,
+                };
+                if eskf.is_sound() && pending_sound {
                     Ok(())
                 } else {
                     Err(ModelError::Other(
-                        "restored state: an estimate or covariance value is not finite".into(),
+                        "restored state: an estimate, covariance or pending step value is not \
+                         finite (or a pending step without imu_mean_over_last_step)"
+                            .into(),
                     ))
                 }
             }
@@ -199,7 +280,12 @@ impl Model for LanderFilter {
         };
         // Computed on a copy: a step whose result is not finite changes nothing.
         let mut next = eskf.clone();
-        let innovations = step(&mut next, &self.params, &self.meas, h);
+        let mut pending = self.pending;
+        let innovations = if self.params.imu_mean_over_last_step {
+            step_with_mean_imu(&mut next, &mut pending, &self.params, &self.meas, h)
+        } else {
+            step(&mut next, &self.params, &self.meas, h)
+        };
         if !next.is_sound() {
             return Err(ModelError::Refused(format!(
                 "in the step from t = {t} s (communicationStepSize {h} s): the estimate would \
@@ -207,6 +293,7 @@ impl Model for LanderFilter {
             )));
         }
         self.running = Some(next);
+        self.pending = pending;
         self.last = innovations;
         Ok(StepEnd::Complete)
     }
@@ -276,6 +363,7 @@ static DECLARATIONS: &[Declaration<LanderFilter>] = &[
     // The IMU's noise: LanderSensors' names and meanings.
     decl!(200, parameter gravity: params.gravity_mps2, "m/s2", "Lunar gravity, along -Up (flat Moon)", min = 0.0, max = GRAVITY_MAX),
     decl!(201, parameter imu_sample_period: params.sample_period_s, "s", "IMU sampling interval (LanderSensors imu_sample_period): one sample's white noise has the variance noise_density^2 / imu_sample_period", above = 0.0, max = SAMPLE_PERIOD_MAX_S),
+    decl!(202, parameter imu_mean_over_last_step: params.imu_mean_over_last_step as bool, "accel_body_meas and gyro_body_meas at a communication point are the means over the step that ended there (LanderSensors fed with LanderPlant specific_force_mean_body and omega_mean_body): the outputs are the last point's estimate propagated over that step with them, and r_nue, v_nue (on accel_body_meas), q_body_to_nue (on gyro_body_meas) and covariance_diag depend on them at the same point; false (default): samples held over the coming step (docs/filter.md)"),
     decl!(210, parameter accel_bias_sigma: params.accel.bias_sigma, "m/s2", "1-sigma of the accelerometer's constant bias per axis (LanderSensors accel_bias_sigma): the initial 1-sigma of its estimate", min = 0.0, max = ACCEL_BIAS_SIGMA_MAX),
     decl!(217, parameter accel_noise_density: params.accel.noise_density, "m/s", "Velocity random walk: 1-sigma of the integrated accelerometer noise after 1 s (LanderSensors accel_noise_density)", min = 0.0, max = ACCEL_NOISE_DENSITY_MAX),
     decl!(218, parameter accel_bias_random_walk: params.accel.bias_random_walk, "m/s2", "1-sigma of the accelerometer bias change after 1 s (LanderSensors accel_bias_random_walk)", min = 0.0, max = ACCEL_BIAS_RANDOM_WALK_MAX),
@@ -331,6 +419,128 @@ mod tests {
         m.calculate_values(&mut log);
         assert!(log.has_warning());
         assert!(m.out.r_nue_m.iter().all(|x| x.is_finite()));
+    }
+
+    /// The mean specific force (body = NUE axes) over step `k`, changing every step.
+    fn step_mean(k: usize) -> [f64; 3] {
+        let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
+        let k = k as f64;
+        [0.02 * k, 1.62 + 0.05 * sign, -0.01 * k]
+    }
+
+    /// Flies `steps` steps of 0.01 s with no beam measurement, the IMU inputs at point k
+    /// `input(k)`; the outputs at each point.
+    fn flown(mean_mode: bool, input: impl Fn(usize) -> Imu, steps: usize) -> Vec<Outputs> {
+        let mut m = LanderFilter::default();
+        m.params.imu_mean_over_last_step = mean_mode;
+        m.params.v0_nue_mps = [0.0; 3];
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        let mut out = Vec::new();
+        for k in 0..=steps {
+            m.meas.imu = input(k);
+            m.calculate_values(&mut log);
+            out.push(m.out.clone());
+            if k < steps {
+                m.do_step(k as f64 * 0.01, 0.01, &mut log).unwrap();
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn with_the_mean_accelerometer_the_estimate_at_a_point_holds_the_step_that_ended_there() {
+        // GIVEN a truth whose specific force changes every step, at rest at the start, and
+        // the accelerometer at point k its mean over the step that ended there (at point 0
+        // an instantaneous value, unused)
+        let (h, g) = (0.01, 1.62);
+        let input = |k: usize| Imu {
+            accel_body_mps2: if k == 0 { [9.0; 3] } else { step_mean(k - 1) },
+            gyro_body_radps: [0.0; 3],
+        };
+        let mut v = [0.0; 3];
+        let mut r = [0.0, 800.0, 0.0];
+        let mut truth = vec![(r, v)];
+        for k in 0..20 {
+            let f = step_mean(k);
+            for i in 0..3 {
+                let a = f[i] - if i == 1 { g } else { 0.0 };
+                r[i] += v[i] * h + a * 0.5 * h * h;
+                v[i] += a * h;
+            }
+            truth.push((r, v));
+        }
+        // WHEN the filter propagates with imu_mean_over_last_step
+        let out = flown(true, input, 20);
+        // THEN its estimate at every point is the truth, to rounding
+        for (k, (o, (r, v))) in out.iter().zip(&truth).enumerate() {
+            for i in 0..3 {
+                assert!(
+                    (o.v_nue_mps[i] - v[i]).abs() < 1e-14,
+                    "{k} {i}: {o:?} vs {v:?}"
+                );
+                assert!(
+                    (o.r_nue_m[i] - r[i]).abs() < 1e-11,
+                    "{k} {i}: {o:?} vs {r:?}"
+                );
+            }
+        }
+        // AND without it, the same inputs held over the coming step are a step late
+        let late = flown(false, input, 20);
+        let error = (late[20].v_nue_mps[0] - truth[20].1[0]).abs();
+        assert!(error > 1e-3, "{error}");
+    }
+
+    #[test]
+    fn with_the_mean_gyro_the_attitude_at_a_point_holds_the_turn_of_the_step_that_ended_there() {
+        // GIVEN a body rate whose mean changes every step, the gyro at point k its mean over
+        // the step that ended there (at point 0 an instantaneous value, unused)
+        let h = 0.01;
+        let rate = |k: usize| {
+            let sign = if k.is_multiple_of(2) { 1.0 } else { -1.0 };
+            [0.1 * sign, 0.3 + 0.01 * k as f64, 0.0]
+        };
+        let input = |k: usize| Imu {
+            accel_body_mps2: [0.0, 1.62, 0.0],
+            gyro_body_radps: if k == 0 { [1.0; 3] } else { rate(k - 1) },
+        };
+        let mut q = [1.0, 0.0, 0.0, 0.0];
+        let mut truth = vec![q];
+        for k in 0..20 {
+            let w = nalgebra::Vector3::from(rate(k)) * h;
+            q = crate::model::rotation::mul(&q, &crate::model::rotation::exp(&w));
+            truth.push(q);
+        }
+        // WHEN the filter propagates with imu_mean_over_last_step
+        let out = flown(true, input, 20);
+        // THEN its attitude at every point is the truth's, to rounding, and so is the body
+        // rate output (the mean rate over the step that ended at the point)
+        for (k, (o, q)) in out.iter().zip(&truth).enumerate() {
+            for i in 0..4 {
+                assert!(
+                    (o.q_body_to_nue[i] - q[i]).abs() < 1e-14,
+                    "{k}: {o:?} vs {q:?}"
+                );
+            }
+            if k > 0 {
+                assert_eq!(o.omega_body_radps, rate(k - 1));
+            }
+        }
+        // AND without it the same inputs held over the coming step are a step late
+        let late = flown(false, input, 20);
+        let error = (late[20].q_body_to_nue[1] - truth[20][1]).abs();
+        assert!(error > 1e-3, "{error}");
+    }
+
+    #[test]
+    fn a_restored_pending_step_without_the_mean_imu_option_is_refused() {
+        let mut m = LanderFilter::default();
+        m.params.imu_mean_over_last_step = true;
+        m.exit_initialization(0.0, &mut Log::default()).unwrap();
+        m.do_step(0.0, 0.01, &mut Log::default()).unwrap();
+        assert_eq!(m.validate_restored(true), Ok(()));
+        m.params.imu_mean_over_last_step = false;
+        assert!(m.validate_restored(true).is_err());
     }
 
     #[test]

@@ -121,6 +121,32 @@ impl LanderPlant {
         })
     }
 
+    /// Element `i` of `specific_force_mean_body`: the mean over the last step, or before any
+    /// step (and in Model Exchange) the instantaneous specific force.
+    fn specific_force_mean(&self, i: usize) -> f64 {
+        match self
+            .running
+            .as_ref()
+            .and_then(|(_, run)| run.specific_force_mean_body())
+        {
+            Some(mean) => mean[i],
+            None => self.delivered().specific_force_body_mps2[i],
+        }
+    }
+
+    /// Element `i` of `omega_mean_body`: the mean over the last step, or before any step (and
+    /// in Model Exchange) the body rate.
+    fn omega_mean(&self, i: usize) -> f64 {
+        match self
+            .running
+            .as_ref()
+            .and_then(|(_, run)| run.omega_mean_body())
+        {
+            Some(mean) => mean[i],
+            None => self.outputs.omega_body[i],
+        }
+    }
+
     /// The landing gear's view of the shown state (zeros and false without the gear or
     /// before initialization).
     fn gear_view(&self) -> crate::physics::plant::GearStatus {
@@ -241,6 +267,25 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
             "not finite, or set without the gear",
         ));
     }
+    let mean_finite = run
+        .specific_force_integral_body
+        .iter()
+        .chain(run.omega_integral_body.iter())
+        .all(|v| v.is_finite())
+        && run.mean_span_s.is_finite()
+        && run.mean_span_s >= 0.0;
+    if !mean_finite {
+        return Err(restored(
+            "specific force and body rate integrals",
+            format!(
+                "{:?}, {:?} over {} s",
+                run.specific_force_integral_body.as_slice(),
+                run.omega_integral_body.as_slice(),
+                run.mean_span_s
+            ),
+            "not finite, or a negative span",
+        ));
+    }
     if let Some(td) = &run.touchdown {
         let finite = td.time_s.is_finite()
             && td.tilt_rad.is_finite()
@@ -286,8 +331,9 @@ impl Model for LanderPlant {
     const MODEL_IDENTIFIER: &'static str = "LanderPlant";
     /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end);
     /// 3: the delivered actuation is no longer stored (computed when read);
-    /// 4: the landing gear, the optional actuator effects and the RCS command history.
-    const STATE_VERSION: u32 = 4;
+    /// 4: the landing gear, the optional actuator effects and the RCS command history;
+    /// 5: the specific force and the body rate integrated over the step.
+    const STATE_VERSION: u32 = 5;
     const MODEL_NAME: &'static str = "LanderPlant";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
@@ -391,6 +437,7 @@ impl Model for LanderPlant {
             )));
         }
         let before = *run;
+        run.start_means();
         let history_before = (plant.rcs_valve_delay_s > 0.0).then_some(self.rcs_history);
         let advance = plant.advance_with_history(
             run,
@@ -605,6 +652,8 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(26, output torque_actual_body[3]: get |m, i| m.delivered().rcs_torque_body_nm[i], "N.m", "RCS torque delivered after saturation and lag (thruster model: of the thrusters commanded on at the start of the coming step)", components = BODY_AXES),
     decl!(47, output rcs_force_body[3]: get |m, i| m.delivered().rcs_force_body_n[i], "N", "Thruster model: force of the thrusters commanded on at the start of the coming step (0 in the torque model)", components = BODY_AXES),
     decl!(70, output specific_force_body[3]: get |m, i| m.delivered().specific_force_body_mps2[i], "m/s2", "Non-gravitational acceleration of the centre of mass (engine thrust, RCS thruster forces and, with the landing gear, contact forces, over the mass) in body axes: what an ideal accelerometer at the centre of mass measures (0 in free fall and once the run is frozen at touchdown)", components = BODY_AXES),
+    decl!(73, output specific_force_mean_body[3]: get |m, i| m.specific_force_mean(i), "m/s2", "Mean of specific_force_body over the last communication step: its integral over [t - h, t] (RK4 quadrature along the plant's sub-steps, split at thruster switch times and events) over h, what an ideal accelerometer's velocity increment over the step divided by h gives; a step cut short by the end of the run: over the part flown. Before the first step, and in Model Exchange, specific_force_body itself (the instantaneous value, which depends on the inputs then; the declared dependencies, none, are those of Co-Simulation steps)", components = BODY_AXES),
+    decl!(76, output omega_mean_body[3]: get |m, i| m.omega_mean(i), "rad/s", "Mean of omega_body over the last communication step: its integral over [t - h, t] (RK4 quadrature along the plant's sub-steps, as specific_force_mean_body) over h, what an ideal gyro's angle increment over the step divided by h gives (to first order in the turn over the step); a step cut short by the end of the run: over the part flown. Before the first step, and in Model Exchange, omega_body itself", components = BODY_AXES),
     decl!(29, output engine_torque_body[3]: get |m, i| m.delivered().engine_torque_body_nm[i], "N.m", "Disturbance torque of the misaligned/offset thrust line", components = BODY_AXES),
     decl!(32, output propellant_used: outputs.propellant_used, "kg", "m0 minus the current mass"),
     Declaration::boolean(33, "propellant_exhausted", role::discrete_output, "True once the mass has reached dry_mass; the engines deliver no thrust from then on", |m| running_flag(m, |r| r.propellant_exhausted), |_, _| {}),
@@ -849,6 +898,177 @@ mod tests {
         m.commands.thrust_cmd_n = 0.0;
         m.calculate_values(&mut log);
         assert_eq!(specific_force_output(&m), [0.0; 3]);
+    }
+
+    /// The declared output `specific_force_mean_body`, read as a master reads it.
+    fn specific_force_mean_output(m: &LanderPlant) -> [f64; 3] {
+        let d = DECLARATIONS
+            .iter()
+            .find(|d| d.name == "specific_force_mean_body")
+            .expect("declared");
+        let fmi_model::Kind::Real { get, .. } = d.kind else {
+            unreachable!("a Real")
+        };
+        std::array::from_fn(|i| get(m, i))
+    }
+
+    #[test]
+    fn the_mean_specific_force_of_a_constant_thrust_is_t_over_m() {
+        // GIVEN 1400 N with a negligible mass flow (the mass stays m0 to the last bit)
+        let mut m = LanderPlant::default();
+        m.parameters.isp_s = 1e30;
+        m.commands.thrust_cmd_n = 1400.0;
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        m.calculate_values(&mut log);
+        // THEN before the first step the mean reads the instantaneous value
+        assert_eq!(specific_force_mean_output(&m), specific_force_output(&m));
+        // WHEN stepping
+        m.do_step(0.0, 0.01, &mut log).unwrap();
+        m.calculate_values(&mut log);
+        // THEN the mean over the step is T / m to rounding
+        let mean = specific_force_mean_output(&m);
+        let exact = 1400.0 / m.outputs.mass;
+        assert_eq!(m.outputs.mass, m.parameters.m0_kg);
+        assert_eq!([mean[0], mean[2]], [0.0, 0.0]);
+        assert!(
+            (mean[1] - exact).abs() <= 4.0 * f64::EPSILON * exact,
+            "{mean:?}"
+        );
+    }
+
+    #[test]
+    fn the_mean_specific_force_of_a_burning_engine_is_the_rocket_equation_over_the_step() {
+        // GIVEN 1600 N burning at isp 300 s: m(t) = m0 - T t / (isp g0)
+        let mut m = LanderPlant::default();
+        m.commands.thrust_cmd_n = 1600.0;
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        m.calculate_values(&mut log);
+        let m_start = m.outputs.mass;
+        // WHEN stepping over 0.5 s (50 RK4 sub-steps)
+        m.do_step(0.0, 0.5, &mut log).unwrap();
+        m.calculate_values(&mut log);
+        // THEN the mean is the integral of T / m(t) over the step, divided by it:
+        // isp g0 ln(m_start / m_end) / h, with the burnt mass dm = T h / (isp g0) (from the
+        // plant's m_end the logarithm would carry the rounding of 50 sub-steps of the mass,
+        // 1e-11 of the 0.27 kg burnt)
+        let p = &m.parameters;
+        let thrust = m.delivered().thrust_n;
+        assert_eq!(thrust, 1600.0);
+        let burnt = thrust * 0.5 / (p.isp_s * p.g0_mps2);
+        assert!(
+            (m_start - m.outputs.mass - burnt).abs() < 1e-10,
+            "{}",
+            m.outputs.mass
+        );
+        let exact = p.isp_s * p.g0_mps2 * libm::log1p(burnt / (m_start - burnt)) / 0.5;
+        let mean = specific_force_mean_output(&m)[1];
+        assert!((mean - exact).abs() < 1e-14 * exact, "{mean} vs {exact}");
+        // AND it lies between the instantaneous values at the step's ends
+        let end = specific_force_output(&m)[1];
+        assert!(mean > 1600.0 / m_start && mean < end, "{mean} {end}");
+    }
+
+    #[test]
+    fn the_mean_specific_force_of_a_lagged_engine_is_the_lag_integrated_over_the_step() {
+        // GIVEN engines off until t = 0, then 1400 N through a 50 ms lag, mass constant
+        let mut m = LanderPlant::default();
+        m.parameters.isp_s = 1e30;
+        m.parameters.engines.time_constant_s = 0.05;
+        m.parameters.integration_step_s = 1e-3;
+        m.commands.thrust_cmd_n = 1400.0;
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        // WHEN stepping 10 ms
+        let h = 0.01;
+        m.do_step(0.0, h, &mut log).unwrap();
+        m.calculate_values(&mut log);
+        // THEN the mean is T (1 - tau / h (1 - exp(-h / tau))) / m, well below the
+        // instantaneous T (1 - exp(-h / tau)) / m at the step's end. RK4's quadrature of the
+        // lag state is T h - tau (x(h) - x(0)) exactly, so its error is tau / h times RK4's
+        // error in x(h), (h_sub / tau)^5 / 120 per sub-step: 1.4e-9 of T / m
+        let (tau, mass) = (0.05, m.outputs.mass);
+        let exact = 1400.0 * (1.0 - tau / h * (1.0 - libm::exp(-h / tau))) / mass;
+        let instantaneous = 1400.0 * (1.0 - libm::exp(-h / tau)) / mass;
+        let mean = specific_force_mean_output(&m)[1];
+        assert!(
+            (mean - exact).abs() < 3e-9 * 1400.0 / mass,
+            "{mean} vs {exact}"
+        );
+        assert!((specific_force_output(&m)[1] - instantaneous).abs() < 1e-8 * instantaneous);
+        assert!(instantaneous - mean > 0.4 * mean, "{mean} {instantaneous}");
+    }
+
+    #[test]
+    fn the_mean_specific_force_of_a_thruster_on_for_half_the_step_is_half_its_force() {
+        // GIVEN the thruster model, engines off, the RCS propellant not booked
+        let mut m = LanderPlant::default();
+        m.parameters.rcs_model = RcsModelKind::Thrusters as i32;
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        let thrusters = m.running.as_ref().unwrap().0.thrusters.unwrap();
+        for k in [0, 5] {
+            // WHEN thruster k fires for the first half of a step
+            m.rcs_duty = [0.0; THRUSTER_COUNT];
+            m.rcs_duty[k] = 0.5;
+            let t = f64::from(k as u32) * 0.01;
+            m.do_step(t, 0.01, &mut log).unwrap();
+            m.calculate_values(&mut log);
+            // THEN the mean over the step is half its force over the mass, to rounding,
+            // while the instantaneous value (commanded on at the next step's start) is all of it
+            let force = thrusters.direction_body[k] * thrusters.force_n;
+            let mean = specific_force_mean_output(&m);
+            let instantaneous = specific_force_output(&m);
+            for i in 0..3 {
+                let exact = 0.5 * force[i] / m.outputs.mass;
+                assert!(
+                    (mean[i] - exact).abs() < 1e-15,
+                    "{k} {i}: {mean:?} vs {exact}"
+                );
+                assert!(
+                    (instantaneous[i] - 2.0 * exact).abs() < 1e-15,
+                    "{instantaneous:?}"
+                );
+            }
+        }
+    }
+
+    /// The declared output `omega_mean_body`, read as a master reads it.
+    fn omega_mean_output(m: &LanderPlant) -> [f64; 3] {
+        let d = DECLARATIONS
+            .iter()
+            .find(|d| d.name == "omega_mean_body")
+            .expect("declared");
+        let fmi_model::Kind::Real { get, .. } = d.kind else {
+            unreachable!("a Real")
+        };
+        std::array::from_fn(|i| get(m, i))
+    }
+
+    #[test]
+    fn the_mean_body_rate_under_a_constant_torque_is_the_rate_at_mid_step() {
+        // GIVEN a lander at rest under a constant RCS torque about body z
+        let mut m = LanderPlant::default();
+        m.commands.torque_cmd_body_nm = nalgebra::Vector3::new(0.0, 0.0, 50.0);
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        m.calculate_values(&mut log);
+        assert_eq!(omega_mean_output(&m), [0.0; 3]);
+        let alpha = 50.0 / m.parameters.inertia_body_kgm2[2];
+        for k in 0..2 {
+            // WHEN stepping 10 ms
+            m.do_step(f64::from(k) * 0.01, 0.01, &mut log).unwrap();
+            m.calculate_values(&mut log);
+            // THEN omega grows linearly and its mean over the step is its value at mid-step,
+            // half a step behind the instantaneous one
+            let mid = alpha * (f64::from(k) + 0.5) * 0.01;
+            let mean = omega_mean_output(&m);
+            assert_eq!([mean[0], mean[1]], [0.0, 0.0]);
+            assert!((mean[2] - mid).abs() < 1e-15, "{mean:?} vs {mid}");
+            let end = alpha * f64::from(k + 1) * 0.01;
+            assert!((m.outputs.omega_body[2] - end).abs() < 1e-15);
+        }
     }
 
     #[test]

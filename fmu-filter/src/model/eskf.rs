@@ -291,7 +291,7 @@ impl Eskf {
 /// annihilate `u` at their linearisation point; the propagation must map the `u` of that
 /// point to the `u` of the propagated state, or the EKF finds heading information in its own
 /// relinearisation. This is what `u` is made of, at a linearisation point.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Heading {
     pub r_nue: Vector3<f64>,
     pub v_nue: Vector3<f64>,

@@ -42,6 +42,11 @@ pub struct FilterParameters {
     /// Reject a scalar measurement whose NIS exceeds `chi2_gate` (1 degree of freedom).
     pub chi2_gating: bool,
     pub chi2_gate: f64,
+    /// The IMU inputs at a communication point are the means over the step that ended there
+    /// (velocity and angle increments over the step, divided by it): the filter propagates
+    /// that step with them, before the point's measurements. False: samples held over the
+    /// coming step.
+    pub imu_mean_over_last_step: bool,
 }
 
 /// The default velocimeter beam `i` of LanderSensors: 20 deg from body -y, at azimuths 0,
@@ -85,6 +90,7 @@ impl Default for FilterParameters {
             v0_sigma_mps: 1.0,
             attitude0_sigma_rad: 0.01,
             chi2_gating: false,
+            imu_mean_over_last_step: false,
             // The 99.9 % quantile of the chi-square distribution with 1 degree of freedom.
             chi2_gate: 10.83,
         }

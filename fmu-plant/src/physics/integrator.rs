@@ -30,6 +30,32 @@ pub fn rk4_step<S: OdeState>(f: impl Fn(f64, &S) -> S, t: f64, x: &S, h: f64) ->
         .add_scaled(h / 6.0, &k4)
 }
 
+/// [`rk4_step`] that also integrates `q` along the step: `f` returns the derivative and the
+/// integrand at each stage, and the second element is `h/6 (q1 + 2 q2 + 2 q3 + q4)`, what RK4
+/// gives for an added state `y' = q(t, x)` (the state's arithmetic is `rk4_step`'s, bit for bit).
+#[inline(always)]
+pub fn rk4_step_with_quadrature<S: OdeState, Q>(
+    f: impl Fn(f64, &S) -> (S, Q),
+    t: f64,
+    x: &S,
+    h: f64,
+) -> (S, Q)
+where
+    Q: Copy + std::ops::Add<Output = Q> + std::ops::Mul<f64, Output = Q>,
+{
+    let half = 0.5 * h;
+    let (k1, q1) = f(t, x);
+    let (k2, q2) = f(t + half, &x.add_scaled(half, &k1));
+    let (k3, q3) = f(t + half, &x.add_scaled(half, &k2));
+    let (k4, q4) = f(t + h, &x.add_scaled(h, &k3));
+    let y = x
+        .add_scaled(h / 6.0, &k1)
+        .add_scaled(h / 3.0, &k2)
+        .add_scaled(h / 3.0, &k3)
+        .add_scaled(h / 6.0, &k4);
+    (y, (q1 + q4) * (h / 6.0) + (q2 + q3) * (h / 3.0))
+}
+
 /// A remainder shorter than this fraction of the sub-step is merged into the previous
 /// sub-step instead of becoming a sub-step of its own: `h / h_sub` carries rounding
 /// (0.1 / 0.01 = 10.000000000000002) and a 1e-18 s RK4 step would only add round-off.

@@ -3,7 +3,7 @@ use super::actuators::{lag_rate, lagged_or_direct, Engines, Rcs, ThrustLine};
 use super::events::find_crossing;
 use super::frames::{body_to_nue, tilt_from_vertical};
 use super::gear::{EngineCutoff, Gear};
-use super::integrator::{rk4_step, OdeState, SubSteps};
+use super::integrator::{rk4_step_with_quadrature, OdeState, SubSteps};
 use super::parameters::{ParameterError, PlantParameters, RcsModelKind, TranslationModelKind};
 use super::rigid_body::{omega_dot_body, quaternion_rate, PrincipalInertia};
 use super::slosh::{Slosh, SloshState};
@@ -110,6 +110,59 @@ pub struct PlantRun {
     /// The slosh pendulums (unused without slosh).
     #[serde(default)]
     pub slosh: SloshState,
+    /// Integral of the specific force (body axes) over the time advanced since
+    /// [`PlantRun::start_means`], m/s: RK4's quadrature along the stages of each accepted
+    /// sub-step, split where the sub-steps split (thruster switch times, events).
+    #[serde(default)]
+    pub specific_force_integral_body: Vector3<f64>,
+    /// Integral of the body rate over the same time, rad (the same quadrature).
+    #[serde(default)]
+    pub omega_integral_body: Vector3<f64>,
+    /// The time advanced since [`PlantRun::start_means`], s.
+    #[serde(default)]
+    pub mean_span_s: f64,
+}
+
+impl PlantRun {
+    /// Starts new means of the specific force and the body rate (the Co-Simulation step
+    /// does, at its start).
+    pub fn start_means(&mut self) {
+        self.specific_force_integral_body = Vector3::zeros();
+        self.omega_integral_body = Vector3::zeros();
+        self.mean_span_s = 0.0;
+    }
+
+    /// The mean specific force over the time advanced since [`PlantRun::start_means`],
+    /// body axes, m/s^2; `None` when no time was advanced.
+    pub fn specific_force_mean_body(&self) -> Option<Vector3<f64>> {
+        (self.mean_span_s > 0.0).then(|| self.specific_force_integral_body / self.mean_span_s)
+    }
+
+    /// The mean body rate over the time advanced since [`PlantRun::start_means`], rad/s;
+    /// `None` when no time was advanced.
+    pub fn omega_mean_body(&self) -> Option<Vector3<f64>> {
+        (self.mean_span_s > 0.0).then(|| self.omega_integral_body / self.mean_span_s)
+    }
+
+    /// Adds a sub-step's integrals (specific force, then body rate) over `span_s`.
+    fn accumulate_means(&mut self, integrals: &Vector6<f64>, span_s: f64) {
+        self.specific_force_integral_body += integrals.fixed_rows::<3>(0);
+        self.omega_integral_body += integrals.fixed_rows::<3>(3);
+        self.mean_span_s += span_s;
+    }
+}
+
+/// What [`PlantRun`]'s means integrate at a state: the specific force (body axes), then the
+/// body rate.
+fn mean_integrand(specific_force_body: &Vector3<f64>, omega_body: &Vector3<f64>) -> Vector6<f64> {
+    Vector6::new(
+        specific_force_body.x,
+        specific_force_body.y,
+        specific_force_body.z,
+        omega_body.x,
+        omega_body.y,
+        omega_body.z,
+    )
 }
 
 /// The plant state and the slosh pendulums, integrated together when slosh is on.
@@ -307,6 +360,9 @@ impl Plant {
             } else {
                 SloshState::default()
             },
+            specific_force_integral_body: Vector3::zeros(),
+            omega_integral_body: Vector3::zeros(),
+            mean_span_s: 0.0,
         };
         Ok((plant, run, warning))
     }
@@ -686,7 +742,9 @@ impl Plant {
     }
 
     /// [`Plant::rk4`] of the plant with its slosh pendulums: without slosh exactly `rk4`
-    /// (the pendulums untouched).
+    /// (the pendulums untouched). The third element is the integral over the step of the
+    /// specific force (body axes, m/s; with slosh the pendulums' force included), then of the
+    /// body rate (rad).
     #[allow(clippy::too_many_arguments)]
     fn rk4_pair(
         &self,
@@ -697,12 +755,13 @@ impl Plant {
         exhausted: bool,
         t: f64,
         h: f64,
-    ) -> (PlantState, SloshState) {
+    ) -> (PlantState, SloshState, Vector6<f64>) {
         let Some(slosh) = &self.slosh else {
-            return (self.rk4(x, commands, firing, exhausted, t, h), *pendulums);
+            let (y, integral) = self.rk4(x, commands, firing, exhausted, t, h);
+            return (y, *pendulums, integral);
         };
         let targets = self.targets_at(commands, exhausted, x);
-        let y = rk4_step(
+        let (y, integral) = rk4_step_with_quadrature(
             |_t, y: &Coupled| self.coupled_derivative(slosh, y, &targets, firing, exhausted),
             t,
             &Coupled {
@@ -711,11 +770,12 @@ impl Plant {
             },
             h,
         );
-        (y.plant.renormalised(), y.slosh)
+        (y.plant.renormalised(), y.slosh, integral)
     }
 
     /// The derivative of the plant with its slosh pendulums (flat Moon: the translational
-    /// derivative's velocity rows are the acceleration in NUE).
+    /// derivative's velocity rows are the acceleration in NUE), and the means' integrand
+    /// (the specific force with the pendulums' force in it, the body rate).
     fn coupled_derivative(
         &self,
         slosh: &Slosh,
@@ -723,7 +783,7 @@ impl Plant {
         targets: &Targets,
         firing: &Firing,
         exhausted: bool,
-    ) -> Coupled {
+    ) -> (Coupled, Vector6<f64>) {
         let x = &y.plant;
         let d = self.delivered_from(x, targets, firing, exhausted);
         let mut dx = self.derivative_delivered(x, &d, targets);
@@ -741,10 +801,14 @@ impl Plant {
             dx.translation[3 + i] += extra_nue[i];
         }
         dx.omega_body += effect.torque_body_nm.component_div(&self.inertia_body_kgm2);
-        Coupled {
-            plant: dx,
-            slosh: effect.derivative,
-        }
+        let specific_force = self.specific_force_body(x, &d) + effect.extra_acceleration_body;
+        (
+            Coupled {
+                plant: dx,
+                slosh: effect.derivative,
+            },
+            mean_integrand(&specific_force, &x.omega_body),
+        )
     }
 
     fn rk4(
@@ -755,28 +819,38 @@ impl Plant {
         exhausted: bool,
         t: f64,
         h: f64,
-    ) -> PlantState {
+    ) -> (PlantState, Vector6<f64>) {
         let targets = self.targets_at(commands, exhausted, x);
-        if self.has_actuator_lags() {
-            rk4_step(
-                |_t, s: &PlantState| self.derivative_from(s, &targets, firing, exhausted),
+        let (y, integral) = if self.has_actuator_lags() {
+            rk4_step_with_quadrature(
+                |_t, s: &PlantState| {
+                    let d = self.delivered_from(s, &targets, firing, exhausted);
+                    (
+                        self.derivative_delivered(s, &d, &targets),
+                        mean_integrand(&self.specific_force_body(s, &d), &s.omega_body),
+                    )
+                },
                 t,
                 x,
                 h,
             )
-            .renormalised()
         } else {
             // Without lags what the actuators deliver is constant over the step.
             let d = self.delivered_from(x, &targets, firing, exhausted);
-            rk4_step(
+            rk4_step_with_quadrature(
                 #[inline(always)]
-                |_t, s: &PlantState| self.derivative_delivered(s, &d, &targets),
+                |_t, s: &PlantState| {
+                    (
+                        self.derivative_delivered(s, &d, &targets),
+                        mean_integrand(&self.specific_force_body(s, &d), &s.omega_body),
+                    )
+                },
                 t,
                 x,
                 h,
             )
-            .renormalised()
-        }
+        };
+        (y.renormalised(), integral)
     }
 
     pub fn altitude(&self, x: &PlantState) -> f64 {
@@ -1056,7 +1130,7 @@ impl Plant {
             let exhausted = run.propellant_exhausted;
             // Without the gear `off` is `exhausted`.
             let off = exhausted || run.gear.engine_cut;
-            let (x1, s1) = self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, h);
+            let (x1, s1, q1) = self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, h);
             let x0 = &run.state;
             let s0 = &run.slosh;
             let crossing = |g: &dyn Fn(&PlantState) -> f64, g0: f64, g1: f64| {
@@ -1118,13 +1192,16 @@ impl Plant {
             let Some((tau, event)) = first else {
                 run.state = x1;
                 run.slosh = s1;
+                run.accumulate_means(&q1, h);
                 return None;
             };
-            (run.state, run.slosh) = if tau >= h {
-                (x1, s1)
+            let (x, s, q) = if tau >= h {
+                (x1, s1, q1)
             } else {
                 self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, tau)
             };
+            (run.state, run.slosh) = (x, s);
+            run.accumulate_means(&q, tau.min(h));
             t = if tau >= h { end } else { t + tau };
             match event {
                 Event::Exhaustion => self.exhaust(run),
