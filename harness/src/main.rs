@@ -175,12 +175,12 @@ impl log::Log for Logger {
 }
 
 /// The most values (communication points x columns, `time` included) one `harness run`
-/// records without `--force`: about 13 GB of CSV (13.2 bytes a value, measured on the
-/// paper scenario) or 8 GB of Arrow. The paper scenario records 1.15e6.
+/// records without `--force`: about 12 GB of CSV (11.8 bytes a value, measured on the
+/// paper scenario) or 8 GB of Arrow. The paper scenario records 1.55e6.
 const MAX_RECORDED_VALUES: f64 = 1e9;
-/// Bytes a recorded value takes in a CSV, on average (the paper scenario's 15,195,418
-/// bytes for 17,201 rows of 67 columns).
-const CSV_BYTES_PER_VALUE: f64 = 13.2;
+/// Bytes a recorded value takes in a CSV, on average (the paper scenario's 18,247,268
+/// bytes for 17,201 rows of 90 columns).
+const CSV_BYTES_PER_VALUE: f64 = 11.8;
 
 /// `harness run` streams its rows to the results file and holds only the requirements'
 /// signals up to their horizon (and one Arrow batch). Refused before the run, with the
@@ -324,6 +324,13 @@ fn init_logging() {
 }
 
 fn main() {
+    // Rust ignores SIGPIPE, so a print to a closed pipe panics; a reader that stops early
+    // (`| head`) should end us as it ends any other tool.
+    #[cfg(unix)]
+    // SAFETY: called first, before any other thread exists; SIG_DFL is a valid handler.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     init_logging();
     let cli = Cli::parse();
     match run(cli) {

@@ -204,3 +204,32 @@ fn results_carry_the_units_the_fmus_declare() {
     }
     assert!(!dir.path().join("short.arrow.units.csv").exists());
 }
+
+/// A reader that closes the pipe before the summary is printed (`harness run ... | head -0`)
+/// ends the harness as it ends any command-line tool (SIGPIPE), with no panic on stderr.
+#[test]
+#[cfg(unix)]
+fn a_closed_stdout_ends_the_run_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run.csv");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_harness"))
+        .arg("--fmu-dir")
+        .arg(common::fmu_dir())
+        .args(["run", "paper", "-o", out.to_str().unwrap()])
+        .env("RUST_BACKTRACE", "1")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(output.status.signal(), Some(SIGPIPE), "{:?}", output.status);
+    // The results were complete before the summary line failed.
+    assert!(out.exists());
+}
+
+/// SIGPIPE on Linux and the BSDs.
+const SIGPIPE: i32 = 13;
