@@ -18,7 +18,7 @@ fn cycles_rss(fmu: &str, cycles: u32, warm_up: u32) -> (u64, u64) {
         "{} is missing: run `cargo xtask python-env` (cargo xtask test does)",
         python.display()
     );
-    let fmu_path = root.join("target/fmu").join(format!("{fmu}.fmu"));
+    let fmu_path = robustness_tests::package::fmu_dir().join(format!("{fmu}.fmu"));
     assert!(
         fmu_path.is_file(),
         "{} is missing: run `cargo xtask fmus`",

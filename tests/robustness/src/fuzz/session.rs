@@ -7,7 +7,7 @@ use super::watchdog::Watchdog;
 use crate::ffi::*;
 use crate::instance::{Fmu, Instance};
 use crate::logger::{LogSink, Record};
-use crate::reference::{inputs_at, legal_run, Wiring, STEP_S};
+use crate::reference::{boolean_inputs_at, inputs_at, legal_run, Wiring, STEP_S};
 use model_description::VariableKind;
 use proptest::sample::Index;
 use std::collections::HashSet;
@@ -1321,6 +1321,17 @@ impl<'a> Session<'a> {
                 (api.set_real)(c, vrs.as_ptr(), vrs.len(), inputs.as_ptr())
             });
             self.finish("fmi2SetReal", Some(i), status, None)?;
+            let vrs = &self.base.wiring.boolean_inputs;
+            if !vrs.is_empty() {
+                let values: Vec<fmi2Boolean> = boolean_inputs_at(lander, t)
+                    .into_iter()
+                    .map(fmi2Boolean::from)
+                    .collect();
+                let status = self.dog.watch("fmi2SetBoolean", || unsafe {
+                    (api.set_boolean)(c, vrs.as_ptr(), vrs.len(), values.as_ptr())
+                });
+                self.finish("fmi2SetBoolean", Some(i), status, None)?;
+            }
             let outputs = self.base.wiring.outputs.clone();
             let mut values = vec![0.0; outputs.len()];
             let status = self.dog.watch("fmi2GetReal", || unsafe {
