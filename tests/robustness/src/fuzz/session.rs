@@ -1081,6 +1081,11 @@ impl<'a> Session<'a> {
         };
         let must_fail = Self::null_reason(nulls, n)
             .or((unknown && n > 0).then_some("a value reference is unknown for the type"));
+        if kind == Kind::Real && status == fmi2Error {
+            if let Some(i) = index {
+                self.no_unreadable_output(i)?;
+            }
+        }
         let succeeded = status == fmi2OK || status == fmi2Warning;
         if succeeded && !nulls.value {
             let tainted = index.is_some_and(|i| self.slot_mut(i).tainted);
@@ -1283,6 +1288,30 @@ impl<'a> Session<'a> {
         self.finish(function, index, status, must_fail)
     }
 
+    /// The export layer refuses to hand out a non-finite Real ("... is inf at the current
+    /// state: not finite"): the refusal is logged, but a model that holds such a value on an
+    /// instance without a crafted state publishes a state no master can read. Looks at the
+    /// log of the last call on instance `i` (before `finish` takes it).
+    fn no_unreadable_output(&mut self, i: usize) -> Outcome {
+        let slot = self.slot_mut(i);
+        if slot.tainted {
+            return Ok(());
+        }
+        let log = slot.inst.sink.all();
+        match log
+            .iter()
+            .find(|r| r.message().contains("at the current state: not finite"))
+        {
+            Some(record) => Err(format!(
+                "fmi2GetReal refused a non-finite value on an instance holding no crafted \
+                 state: {}; {}",
+                record.message(),
+                self.describe(i)
+            )),
+            None => Ok(()),
+        }
+    }
+
     fn legal_init(&mut self, i: usize) -> Outcome {
         let Some(slot) = self.slots[i].as_ref() else {
             return Ok(());
@@ -1345,6 +1374,9 @@ impl<'a> Session<'a> {
                         self.describe(i)
                     ));
                 }
+            }
+            if status == fmi2Error {
+                self.no_unreadable_output(i)?;
             }
             self.finish("fmi2GetReal", Some(i), status, None)?;
             let status = self.dog.watch("fmi2DoStep", || unsafe {
