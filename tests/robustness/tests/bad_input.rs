@@ -886,8 +886,14 @@ fn out_of_range_filter_parameters_are_refused_by_name_and_reset_recovers() {
         assert_refused(&inst, status, "fmi2SetReal", &[name, shown]);
         assert_eq!(inst.exit_init(), fmi2OK, "{:?}", inst.take_log());
     }
-    let at_exit: [ParameterCase; 3] = [
+    let at_exit: [ParameterCase; 4] = [
         (&[("q0_body_to_nue[1]", 0.5)], "q0_body_to_nue", "0.5"),
+        // Within its bounds, but the white noise variance of one sample overflows.
+        (
+            &[("imu_sample_period", 5e-324)],
+            "imu_sample_period",
+            "overflows",
+        ),
         (
             &[("terrain_slope_normal_nue[2]", 0.0)],
             "terrain_slope_normal_nue",
