@@ -14,8 +14,8 @@ use crate::model::covariance::N;
 use crate::model::parameters::bounds::*;
 use crate::model::{Eskf, FilterParameters, Heading, Imu, ParameterError};
 use fmi_model::{
-    decl, Causality, Declaration, Dependencies, Experiment, Log, Model, ModelError, Role, StepEnd,
-    Variability,
+    decl, readable, Causality, Declaration, Dependencies, Experiment, Log, Model, ModelError, Role,
+    StepEnd, Variability,
 };
 use serde::{Deserialize, Serialize};
 
@@ -37,6 +37,31 @@ pub struct Innovations {
     pub nis_velocimeter: f64,
     pub velocimeter_dof: i32,
     pub rejected: i32,
+}
+
+impl Innovations {
+    /// Why these statistics could not come from an update, if they could not: a NIS that
+    /// is not finite or negative, degrees of freedom outside 0..=1 and 0..=3, more
+    /// rejections than measurements.
+    pub fn inconsistency(&self) -> Option<String> {
+        let nis_ok = |x: f64| x.is_finite() && x >= 0.0;
+        if !nis_ok(self.nis_altimeter) || !nis_ok(self.nis_velocimeter) {
+            return Some(format!(
+                "a normalised innovation squared is not finite and >= 0 (altimeter {}, \
+                 velocimeter {})",
+                readable(self.nis_altimeter),
+                readable(self.nis_velocimeter)
+            ));
+        }
+        let (a, v, r) = (self.altimeter_dof, self.velocimeter_dof, self.rejected);
+        if !(0..=1).contains(&a) || !(0..=3).contains(&v) || !(0..=a + v).contains(&r) {
+            return Some(format!(
+                "altimeter_dof {a}, velocimeter_dof {v}, measurements_rejected {r} are not \
+                 counts of one update"
+            ));
+        }
+        None
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -252,18 +277,31 @@ impl Model for LanderFilter {
             (false, None) => Ok(()),
             (true, Some(eskf)) => {
                 self.params.validate().map_err(parameter_error)?;
+                if !eskf.is_sound() {
+                    return Err(ModelError::Other(
+                        "restored state: an estimate or covariance value is not finite".into(),
+                    ));
+                }
                 let pending_sound = match &self.pending {
                     None => true,
                     Some(p) => self.params.imu_mean_over_last_step && p.is_finite() && p.h > 0.0,
                 };
-                if eskf.is_sound() && pending_sound {
-                    Ok(())
-                } else {
-                    Err(ModelError::Other(
-                        "restored state: an estimate, covariance or pending step value is not \
-                         finite (or a pending step without imu_mean_over_last_step)"
+                if !pending_sound {
+                    return Err(ModelError::Other(
+                        "restored state: a pending step value is not finite (or a pending step \
+                         without imu_mean_over_last_step)"
                             .into(),
-                    ))
+                    ));
+                }
+                let norm = crate::model::rotation::norm(&eskf.q_body_to_nue);
+                if (norm - 1.0).abs() > 1e-9 {
+                    return Err(ModelError::Other(format!(
+                        "restored state: the attitude quaternion's norm {norm} is not 1"
+                    )));
+                }
+                match self.last.inconsistency() {
+                    Some(why) => Err(ModelError::Other(format!("restored state: {why}"))),
+                    None => Ok(()),
                 }
             }
             _ => Err(ModelError::Other(format!(
@@ -288,8 +326,17 @@ impl Model for LanderFilter {
         };
         if !next.is_sound() {
             return Err(ModelError::Refused(format!(
-                "in the step from t = {t} s (communicationStepSize {h} s): the estimate would \
-                 not be finite (measurements or step too large for the filter)"
+                "in the step from t = {} s (communicationStepSize {} s): the estimate would \
+                 not be finite (measurements or step too large for the filter)",
+                readable(t),
+                readable(h)
+            )));
+        }
+        if let Some(why) = innovations.inconsistency() {
+            return Err(ModelError::Refused(format!(
+                "in the step from t = {} s: {why}: a measurement too far from its prediction \
+                 for the filter",
+                readable(t)
             )));
         }
         self.running = Some(next);
@@ -552,5 +599,106 @@ mod tests {
         let err = m.do_step(0.0, 1e10, &mut Log::default()).unwrap_err();
         assert!(matches!(err, ModelError::Refused(_)), "{err}");
         assert_eq!(m.running, before);
+    }
+
+    /// Found while covering the filter with the robustness suites: a terrain normal or a beam
+    /// whose squared length overflows (each component finite; the directions have no
+    /// declared bounds) was accepted and divided by infinity to zero, so that the filter
+    /// silently used no altimeter and no velocimeter beam at all.
+    #[test]
+    fn directions_of_any_finite_length_act_as_their_unit_vectors() {
+        let run = |scale: f64| {
+            let mut m = LanderFilter::default();
+            let p = &mut m.params;
+            p.terrain_slope_normal_nue = [0.0, scale, 0.0];
+            p.altimeter_beam_body = p.altimeter_beam_body.map(|x| x * scale);
+            p.velocimeter_beam_1_body = p.velocimeter_beam_1_body.map(|x| x * scale);
+            p.velocimeter_beam_2_body = p.velocimeter_beam_2_body.map(|x| x * scale);
+            p.velocimeter_beam_3_body = p.velocimeter_beam_3_body.map(|x| x * scale);
+            m.exit_initialization(0.0, &mut Log::default()).unwrap();
+            m.meas.altimeter_valid = true;
+            m.meas.altimeter_range_m = 790.0;
+            m.meas.velocimeter_valid = [true; 3];
+            m.meas.velocimeter_los_velocity_mps = [0.1, 0.2, 0.3];
+            m.do_step(0.0, 0.01, &mut Log::default()).unwrap();
+            (m.last, m.running.unwrap())
+        };
+        let (last, huge) = run(1e200);
+        assert_eq!((last.altimeter_dof, last.velocimeter_dof), (1, 3));
+        let (_, unit) = run(1.0);
+        for (a, b) in huge.r_nue_m.iter().zip(&unit.r_nue_m) {
+            assert!(
+                (a - b).abs() < 1e-9,
+                "{:?} vs {:?}",
+                huge.r_nue_m,
+                unit.r_nue_m
+            );
+        }
+        for (a, b) in huge.v_nue_mps.iter().zip(&unit.v_nue_mps) {
+            assert!(
+                (a - b).abs() < 1e-12,
+                "{:?} vs {:?}",
+                huge.v_nue_mps,
+                unit.v_nue_mps
+            );
+        }
+    }
+
+    /// Found while covering the filter with the robustness suites: an altimeter range of
+    /// 1e300 m gave an innovation whose square overflows; the step was accepted and the
+    /// NIS output read infinity, so every later read of it failed.
+    #[test]
+    fn a_step_whose_nis_would_overflow_is_refused_and_changes_nothing() {
+        for (altimeter, los) in [(1e300, 0.0), (790.0, -1e200)] {
+            let mut m = LanderFilter::default();
+            m.exit_initialization(0.0, &mut Log::default()).unwrap();
+            m.meas.altimeter_valid = true;
+            m.meas.altimeter_range_m = altimeter;
+            m.meas.velocimeter_valid = [true; 3];
+            m.meas.velocimeter_los_velocity_mps = [los; 3];
+            let before = (m.running.clone(), m.last);
+            let err = m.do_step(0.0, 0.01, &mut Log::default()).unwrap_err();
+            // The NIS, or the estimate corrected by such an innovation.
+            assert!(matches!(err, ModelError::Refused(_)), "{err}");
+            assert!(err.to_string().contains("finite"), "{err}");
+            assert_eq!((m.running.clone(), m.last), before);
+            let mut log = Log::default();
+            m.calculate_values(&mut log);
+            assert!(m.last.nis_altimeter.is_finite() && m.last.nis_velocimeter.is_finite());
+        }
+    }
+
+    #[test]
+    fn a_restored_state_must_hold_a_unit_quaternion_and_counts_of_one_update() {
+        let mut m = LanderFilter::default();
+        m.exit_initialization(0.0, &mut Log::default()).unwrap();
+        assert_eq!(m.validate_restored(true), Ok(()));
+        let mut q = m.clone();
+        q.running.as_mut().unwrap().q_body_to_nue = [2.0, 0.0, 0.0, 0.0];
+        assert!(q.validate_restored(true).is_err());
+        let mut nis = m.clone();
+        nis.last.nis_velocimeter = f64::NAN;
+        assert!(nis.validate_restored(true).is_err());
+        let mut dof = m.clone();
+        dof.last.velocimeter_dof = 4;
+        assert!(dof.validate_restored(true).is_err());
+        let mut rejected = m;
+        rejected.last.altimeter_dof = 1;
+        rejected.last.rejected = 2;
+        assert!(rejected.validate_restored(true).is_err());
+    }
+
+    /// Found by the robustness suite: a step of 1e300 s was named with its 301 digits.
+    #[test]
+    fn a_refused_step_names_its_size_readably() {
+        let mut m = LanderFilter::default();
+        m.exit_initialization(0.0, &mut Log::default()).unwrap();
+        let err = m.do_step(0.0, 1e300, &mut Log::default()).unwrap_err();
+        let message = err.to_string();
+        assert!(
+            message.contains("communicationStepSize 1e300 s"),
+            "{message}"
+        );
+        assert!(message.len() < 200, "{message}");
     }
 }

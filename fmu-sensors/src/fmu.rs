@@ -5,7 +5,7 @@ use crate::model::parameters::bounds::*;
 use crate::model::truth::InputError;
 use crate::model::{Measurements, ParameterError, SensorParameters, Sensors, Truth};
 use fmi_model::{
-    decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
+    decl, readable, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
 };
 use serde::{Deserialize, Serialize};
 
@@ -148,13 +148,16 @@ impl Model for LanderSensors {
         self.truth.validate().map_err(input_error)?;
         if sensors.measure(&self.params, &self.truth).is_none() {
             return Err(ModelError::Refused(format!(
-                "in the step from t = {t} s: {NOT_FINITE}"
+                "in the step from t = {} s: {NOT_FINITE}",
+                readable(t)
             )));
         }
         sensors.step(&self.params, h).ok_or_else(|| {
             ModelError::Refused(format!(
-                "in the step from t = {t} s (communicationStepSize {h} s): a bias random walk \
-                 would overflow"
+                "in the step from t = {} s (communicationStepSize {} s): a bias random walk \
+                 would overflow",
+                readable(t),
+                readable(h)
             ))
         })?;
         Ok(StepEnd::Complete)

@@ -217,7 +217,7 @@ impl Eskf {
         y: f64,
     ) -> Option<Update> {
         let plane = Plane::new(params.terrain_height_m, &params.terrain_slope_normal_nue);
-        let beam = v3(&params.altimeter_beam_body).normalize();
+        let beam = rotation::unit(&v3(&params.altimeter_beam_body));
         let pred = measurement::altimeter(&plane, &v3(&self.r_nue_m), &self.rotation(), &beam)?;
         let sigma0 = params.altimeter_noise_sigma_m;
         let prop = params.altimeter_noise_proportional * pred.value;
@@ -237,7 +237,7 @@ impl Eskf {
         i: usize,
         y: f64,
     ) -> Update {
-        let beam = v3(&params.velocimeter_beams_body()[i]).normalize();
+        let beam = rotation::unit(&v3(&params.velocimeter_beams_body()[i]));
         let rotation = self.rotation();
         let mut pred = measurement::velocimeter(&v3(&self.v_nue_mps), &rotation, &beam);
         let c = -rotation * skew(&beam);

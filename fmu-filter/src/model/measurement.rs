@@ -26,10 +26,9 @@ pub struct Plane {
 
 impl Plane {
     pub fn new(height_m: f64, normal_nue: &[f64; 3]) -> Plane {
-        let n = Vector3::from(*normal_nue);
         Plane {
             point_nue: Vector3::new(0.0, height_m, 0.0),
-            normal_nue: n / n.norm(),
+            normal_nue: super::rotation::unit(&Vector3::from(*normal_nue)),
         }
     }
 }

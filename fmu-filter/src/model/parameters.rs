@@ -299,6 +299,25 @@ impl FilterParameters {
                 "the terrain normal must point up (a positive Up component)".into(),
             ));
         }
+        // One sample's white noise variance: with the shortest periods the bounds allow (down
+        // to 5e-324 s) it overflows, and every step's covariance with it.
+        for (name, density) in [
+            ("accel_noise_density", self.accel.noise_density),
+            ("gyro_noise_density", self.gyro.noise_density),
+        ] {
+            if !(density * density / self.sample_period_s).is_finite() {
+                return Err(refuse(
+                    "sample_period_s",
+                    None,
+                    self.sample_period_s,
+                    format!(
+                        "too short for {name} = {}: the white noise variance \
+                         {name}^2 / imu_sample_period overflows",
+                        fmi_model::readable(density)
+                    ),
+                ));
+            }
+        }
         each("r0_nue_m", &self.r0_nue_m, POSITION_MAX_M)?;
         each("v0_nue_mps", &self.v0_nue_mps, VELOCITY_MAX_MPS)?;
         each("q0_body_to_nue", &self.q0_body_to_nue, 1.0)?;
@@ -350,5 +369,24 @@ mod tests {
     #[test]
     fn the_defaults_are_valid() {
         assert_eq!(FilterParameters::default().validate(), Ok(()));
+    }
+
+    /// Found while covering the filter with the robustness suites: imu_sample_period =
+    /// 5e-324 s (within its bounds) was accepted, and every step was then refused as "the
+    /// estimate would not be finite", blaming the measurements.
+    #[test]
+    fn a_sample_period_whose_noise_variance_overflows_is_refused_by_name() {
+        let p = FilterParameters {
+            sample_period_s: 5e-324,
+            ..FilterParameters::default()
+        };
+        let e = p.validate().unwrap_err();
+        assert_eq!(e.field, "sample_period_s");
+        assert!(e.reason.contains("accel_noise_density"), "{}", e.reason);
+        // Without white noise any period in the bounds is fine.
+        let mut quiet = p;
+        quiet.accel.noise_density = 0.0;
+        quiet.gyro.noise_density = 0.0;
+        assert_eq!(quiet.validate(), Ok(()));
     }
 }

@@ -53,6 +53,19 @@ pub fn normalized(q: &Quaternion) -> Quaternion {
     q.map(|x| x / n)
 }
 
+/// `v` divided by its length, for a finite `v` of non-zero length (validated parameters). A
+/// vector whose squared length overflows (a component above about 1e154) is scaled by its
+/// largest component first, so that its direction is kept rather than divided by infinity
+/// to zero.
+pub fn unit(v: &Vector3<f64>) -> Vector3<f64> {
+    let n = v.norm();
+    if n.is_finite() {
+        return v / n;
+    }
+    let scaled = v / v.amax();
+    scaled / scaled.norm()
+}
+
 pub fn norm(q: &Quaternion) -> f64 {
     libm::sqrt(q.iter().map(|x| x * x).sum::<f64>())
 }

@@ -10,16 +10,28 @@ pub enum Lander {
     Plant,
     /// The navigation-error unit between the plant and the GNC.
     Nav,
+    /// IMU, laser altimeter and Doppler velocimeter measuring the plant's true state.
+    Sensors,
+    /// The error-state Kalman filter fusing the sensors' measurements.
+    Filter,
 }
 
 impl Lander {
-    pub const ALL: [Lander; 3] = [Lander::Gnc, Lander::Plant, Lander::Nav];
+    pub const ALL: [Lander; 5] = [
+        Lander::Gnc,
+        Lander::Plant,
+        Lander::Nav,
+        Lander::Sensors,
+        Lander::Filter,
+    ];
 
     pub fn model_identifier(self) -> &'static str {
         match self {
             Lander::Gnc => "LanderGnc",
             Lander::Plant => "LanderPlant",
             Lander::Nav => "LanderNav",
+            Lander::Sensors => "LanderSensors",
+            Lander::Filter => "LanderFilter",
         }
     }
 

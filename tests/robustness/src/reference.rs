@@ -15,6 +15,11 @@ pub const STEP_S: f64 = 0.01;
 /// LanderGnc: a slowly varying, bounded navigation state (periodic, so valid for any run
 /// length): a gently rocking, drifting lander whose mass breathes by a few percent.
 /// LanderNav: the same state, as the true one it corrupts.
+/// LanderSensors: such a true state ([`true_state`]) between 100 m and 1,100 m, so that the
+/// velocimeter's beams leave and re-enter their 1,000 m range, with the specific force that
+/// moves it against lunar gravity.
+/// LanderFilter: what LanderSensors at its defaults would measure of that state between
+/// 200 m and 800 m ([`measurements_at`]), with noise of the sensors' default 1-sigmas.
 pub fn inputs_at(lander: Lander, t_s: f64) -> Vec<f64> {
     match lander {
         Lander::Plant => vec![
@@ -24,33 +29,40 @@ pub fn inputs_at(lander: Lander, t_s: f64) -> Vec<f64> {
             2.0,
         ],
         Lander::Gnc | Lander::Nav => {
-            let axis: [f64; 3] = [0.3, 0.9, 0.3];
-            let norm = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
-            let axis = axis.map(|a| a / norm);
-            let angle_rad = 0.2 * (0.07 * t_s).sin();
-            let rate_radps = 0.2 * 0.07 * (0.07 * t_s).cos();
-            let (s, c) = (0.5 * angle_rad).sin_cos();
-            vec![
-                10.0 * (0.01 * t_s).sin(),
-                500.0 + 300.0 * (0.003 * t_s).cos(),
-                10.0 * (0.013 * t_s).cos(),
-                0.1 * (0.01 * t_s).cos(),
-                -0.9 * (0.003 * t_s).sin(),
-                -0.13 * (0.013 * t_s).sin(),
-                c,
-                axis[0] * s,
-                axis[1] * s,
-                axis[2] * s,
-                axis[0] * rate_radps,
-                axis[1] * rate_radps,
-                axis[2] * rate_radps,
-                800.0 + 50.0 * (0.001 * t_s).sin(),
-            ]
+            let s = true_state(t_s, NAV_ALTITUDE);
+            s.r.iter()
+                .chain(&s.v)
+                .chain(&s.q)
+                .chain(&s.omega)
+                .copied()
+                .chain([800.0 + 50.0 * (0.001 * t_s).sin()])
+                .collect()
         }
+        Lander::Sensors => {
+            let s = true_state(t_s, SENSORS_ALTITUDE);
+            s.r.iter()
+                .chain(&s.v)
+                .chain(&s.q)
+                .chain(&s.omega)
+                .chain(&s.specific_force_body())
+                .copied()
+                .collect()
+        }
+        Lander::Filter => measurements_at(t_s).reals(),
     }
 }
 
-/// The contract names of the inputs `inputs_at` feeds (docs/interface.md).
+/// The Boolean inputs of the legal run at `t_s`, in the order of [`boolean_input_names`]:
+/// LanderFilter's validity flags; none for the others.
+pub fn boolean_inputs_at(lander: Lander, t_s: f64) -> Vec<bool> {
+    match lander {
+        Lander::Filter => measurements_at(t_s).valid.to_vec(),
+        _ => Vec::new(),
+    }
+}
+
+/// The contract names of the inputs `inputs_at` feeds (docs/interface.md, docs/sensors.md,
+/// docs/filter.md).
 pub fn input_names(lander: Lander) -> Vec<String> {
     let indexed = |base: &'static str, n: usize| (1..=n).map(move |k| format!("{base}[{k}]"));
     // LanderNav reads the plant's signals under the GNC's names with `_true` appended.
@@ -71,6 +83,213 @@ pub fn input_names(lander: Lander) -> Vec<String> {
             .chain(truth("omega_body", 3))
             .chain(std::iter::once("mass_true".to_string()))
             .collect(),
+        Lander::Sensors => indexed("r_nue", 3)
+            .chain(indexed("v_nue", 3))
+            .chain(indexed("q_body_to_nue", 4))
+            .chain(indexed("omega_body", 3))
+            .chain(indexed("specific_force_body", 3))
+            .collect(),
+        Lander::Filter => indexed("accel_body_meas", 3)
+            .chain(indexed("gyro_body_meas", 3))
+            .chain(std::iter::once("altimeter_range".to_string()))
+            .chain(indexed("velocimeter_los_velocity", 3))
+            .collect(),
+    }
+}
+
+/// The names of the Boolean inputs [`boolean_inputs_at`] feeds.
+pub fn boolean_input_names(lander: Lander) -> Vec<String> {
+    match lander {
+        Lander::Filter => [
+            "altimeter_valid",
+            "velocimeter_valid_1",
+            "velocimeter_valid_2",
+            "velocimeter_valid_3",
+        ]
+        .map(String::from)
+        .to_vec(),
+        _ => Vec::new(),
+    }
+}
+
+/// Lunar gravity of the plant's, the sensors' and the filter's defaults, m/s2 (along -Up).
+pub const GRAVITY_MPS2: f64 = 1.62;
+
+/// Altitude of a [`true_state`]: mean and amplitude of a slow cosine, m.
+#[derive(Debug, Clone, Copy)]
+pub struct Altitude {
+    pub mean_m: f64,
+    pub amplitude_m: f64,
+}
+
+/// The GNC's and LanderNav's inputs: 200 m to 800 m.
+pub const NAV_ALTITUDE: Altitude = Altitude {
+    mean_m: 500.0,
+    amplitude_m: 300.0,
+};
+/// LanderSensors' inputs: 100 m to 1,100 m.
+pub const SENSORS_ALTITUDE: Altitude = Altitude {
+    mean_m: 600.0,
+    amplitude_m: 500.0,
+};
+/// LanderFilter's measurements: 200 m to 800 m (every beam within its range but when tilted
+/// high up).
+pub const FILTER_ALTITUDE: Altitude = NAV_ALTITUDE;
+
+/// A smooth, bounded, periodic true state (NUE, body to NUE, scalar first): a lander drifting
+/// a few metres, rising and sinking, rocking by up to 0.2 rad about a fixed axis.
+#[derive(Debug, Clone, Copy)]
+pub struct TrueState {
+    pub r: [f64; 3],
+    pub v: [f64; 3],
+    /// The acceleration d v / dt, NUE.
+    pub a: [f64; 3],
+    pub q: [f64; 4],
+    pub omega: [f64; 3],
+}
+
+impl TrueState {
+    /// The specific force in body axes: R^T (a - g), what an accelerometer feels.
+    pub fn specific_force_body(&self) -> [f64; 3] {
+        let f_nue = [self.a[0], self.a[1] + GRAVITY_MPS2, self.a[2]];
+        let [w, x, y, z] = self.q;
+        rotate([w, -x, -y, -z], f_nue)
+    }
+}
+
+pub fn true_state(t_s: f64, altitude: Altitude) -> TrueState {
+    let axis: [f64; 3] = [0.3, 0.9, 0.3];
+    let norm = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
+    let axis = axis.map(|a| a / norm);
+    let angle_rad = 0.2 * (0.07 * t_s).sin();
+    let rate_radps = 0.2 * 0.07 * (0.07 * t_s).cos();
+    let (s, c) = (0.5 * angle_rad).sin_cos();
+    let Altitude {
+        mean_m,
+        amplitude_m,
+    } = altitude;
+    TrueState {
+        r: [
+            10.0 * (0.01 * t_s).sin(),
+            mean_m + amplitude_m * (0.003 * t_s).cos(),
+            10.0 * (0.013 * t_s).cos(),
+        ],
+        v: [
+            0.1 * (0.01 * t_s).cos(),
+            -0.003 * amplitude_m * (0.003 * t_s).sin(),
+            -0.13 * (0.013 * t_s).sin(),
+        ],
+        a: [
+            -0.001 * (0.01 * t_s).sin(),
+            -0.003 * 0.003 * amplitude_m * (0.003 * t_s).cos(),
+            -0.13 * 0.013 * (0.013 * t_s).cos(),
+        ],
+        q: [c, axis[0] * s, axis[1] * s, axis[2] * s],
+        omega: axis.map(|a| a * rate_radps),
+    }
+}
+
+/// `v` rotated by the scalar-first unit quaternion `q`: v + 2 w (u x v) + 2 u x (u x v).
+pub fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
+    let [w, x, y, z] = q;
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let u = [x, y, z];
+    let t = cross(u, v).map(|c| 2.0 * c);
+    let ut = cross(u, t);
+    [0, 1, 2].map(|i| v[i] + w * t[i] + ut[i])
+}
+
+/// One communication point's measurements as LanderSensors gives them to LanderFilter.
+#[derive(Debug, Clone, Copy)]
+pub struct SensorSample {
+    pub accel: [f64; 3],
+    pub gyro: [f64; 3],
+    pub altimeter_range: f64,
+    pub los_velocity: [f64; 3],
+    /// Altimeter, then the three velocimeter beams.
+    pub valid: [bool; 4],
+}
+
+impl SensorSample {
+    /// In the order of [`input_names`] for LanderFilter.
+    pub fn reals(&self) -> Vec<f64> {
+        self.accel
+            .iter()
+            .chain(&self.gyro)
+            .chain([&self.altimeter_range])
+            .chain(&self.los_velocity)
+            .copied()
+            .collect()
+    }
+}
+
+/// A standard normal value that is a function of (t, channel) alone (splitmix64 and
+/// Box-Muller), so that the inputs of any step can be recomputed.
+fn normal(t_s: f64, channel: u64) -> f64 {
+    let u1 = uniform(t_s, 2 * channel);
+    let u2 = uniform(t_s, 2 * channel + 1);
+    (-2.0 * (1.0 - u1).ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// Uniform in [0, 1) from (t, channel).
+fn uniform(t_s: f64, channel: u64) -> f64 {
+    let mut z = t_s
+        .to_bits()
+        .wrapping_add(channel.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// What LanderSensors at its defaults (no bias, no scale factor or misalignment, the default
+/// beams over the flat terrain at 0 m) would measure of [`true_state`] at `t_s` between 200 m
+/// and 800 m: the IMU with its white noise (1-sigma 5e-3 m/s2 and 1.5e-4 rad/s at 0.01 s), the
+/// altimeter with 0.1 m and 1e-3 per metre, each beam with 0.02 m/s; a beam is invalid beyond
+/// 1,000 m of slant range, and each beam and the altimeter drop 2 % of their samples.
+pub fn measurements_at(t_s: f64) -> SensorSample {
+    let s = true_state(t_s, FILTER_ALTITUDE);
+    let f = s.specific_force_body();
+    let accel = std::array::from_fn(|i| f[i] + 5e-3 * normal(t_s, i as u64));
+    let gyro = std::array::from_fn(|i| s.omega[i] + 1.5e-4 * normal(t_s, 3 + i as u64));
+    // The slant range along a body beam b to the plane Up = 0, with its validity.
+    let beam = |b: [f64; 3], max_range: f64, channel: u64| -> Option<(f64, [f64; 3])> {
+        let n = b.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let d = rotate(s.q, b.map(|x| x / n));
+        let rho = s.r[1] / -d[1];
+        let kept = uniform(t_s, 100 + channel) >= 0.02;
+        (d[1] < 0.0 && rho <= max_range && kept).then_some((rho, d))
+    };
+    let altimeter = beam([0.0, -1.0, 0.0], 2000.0, 0).map(|(rho, _)| {
+        let sigma = (0.1f64 * 0.1 + (1e-3 * rho) * (1e-3 * rho)).sqrt();
+        rho + sigma * normal(t_s, 6)
+    });
+    let (sc, cc) = 20f64.to_radians().sin_cos();
+    let mut los = [None; 3];
+    for (i, l) in los.iter_mut().enumerate() {
+        let (sa, ca) = (120.0 * i as f64).to_radians().sin_cos();
+        *l = beam([sc * ca, -cc, sc * sa], 1000.0, 1 + i as u64).map(|(_, d)| {
+            let v_los: f64 = (0..3).map(|k| s.v[k] * d[k]).sum();
+            v_los + 0.02 * normal(t_s, 7 + i as u64)
+        });
+    }
+    SensorSample {
+        accel,
+        gyro,
+        altimeter_range: altimeter.unwrap_or(0.0),
+        los_velocity: los.map(|l| l.unwrap_or(0.0)),
+        valid: [
+            altimeter.is_some(),
+            los[0].is_some(),
+            los[1].is_some(),
+            los[2].is_some(),
+        ],
     }
 }
 
@@ -107,33 +326,89 @@ pub fn nav_errors_on(seed: u32) -> Vec<(String, f64)> {
     p
 }
 
-/// Value references of the legal run's inputs and of every Real output.
+/// Value references of the legal run's inputs and of every output, by type.
 #[derive(Debug, Clone)]
 pub struct Wiring {
     pub inputs: Vec<u32>,
+    pub boolean_inputs: Vec<u32>,
     pub outputs: Vec<u32>,
+    pub integer_outputs: Vec<u32>,
+    pub boolean_outputs: Vec<u32>,
 }
 
 impl Wiring {
     pub fn of(fmu: &Fmu) -> Wiring {
-        Wiring {
-            inputs: input_names(fmu.lander())
-                .iter()
-                .map(|n| fmu.vr(n))
-                .collect(),
-            outputs: fmu
-                .package
+        let outputs = |kind: VariableKind| -> Vec<u32> {
+            fmu.package
                 .variables
                 .iter()
-                .filter(|v| v.kind == VariableKind::Real && v.causality == Causality::Output)
+                .filter(|v| v.kind == kind && v.causality == Causality::Output)
                 .map(|v| v.value_reference)
-                .collect(),
+                .collect()
+        };
+        let vrs = |names: Vec<String>| names.iter().map(|n| fmu.vr(n)).collect();
+        Wiring {
+            inputs: vrs(input_names(fmu.lander())),
+            boolean_inputs: vrs(boolean_input_names(fmu.lander())),
+            outputs: outputs(VariableKind::Real),
+            integer_outputs: outputs(VariableKind::Integer),
+            boolean_outputs: outputs(VariableKind::Boolean),
         }
+    }
+
+    /// Sets the legal run's inputs at `t` (Reals, then Booleans if any): the first status
+    /// that is not fmi2OK, or fmi2OK.
+    pub fn set_inputs(&self, inst: &Instance, t: f64) -> fmi2Status {
+        let lander = inst.fmu.lander();
+        let status = inst.set_reals(&self.inputs, &inputs_at(lander, t));
+        if status != fmi2OK || self.boolean_inputs.is_empty() {
+            return status;
+        }
+        inst.set_booleans(&self.boolean_inputs, &boolean_inputs_at(lander, t))
+    }
+
+    /// Reads every output: the first status that is not fmi2OK (or fmi2OK) and the Reals,
+    /// Integers and Booleans read.
+    pub fn get_outputs(&self, inst: &Instance) -> (fmi2Status, Outputs) {
+        let (s1, reals) = inst.get_reals(&self.outputs);
+        let (s2, integers) = inst.get_integers(&self.integer_outputs);
+        let (s3, booleans) = inst.get_booleans(&self.boolean_outputs);
+        let status = [s1, s2, s3]
+            .into_iter()
+            .find(|s| *s != fmi2OK)
+            .unwrap_or(fmi2OK);
+        (
+            status,
+            Outputs {
+                reals,
+                integers,
+                booleans,
+            },
+        )
+    }
+}
+
+/// The outputs read at one communication point, in the order of a [`Wiring`]'s.
+#[derive(Debug, Clone, Default)]
+pub struct Outputs {
+    pub reals: Vec<f64>,
+    pub integers: Vec<i32>,
+    pub booleans: Vec<fmi2Boolean>,
+}
+
+impl Outputs {
+    /// Every value's bit pattern, Reals first.
+    pub fn bits(&self) -> impl Iterator<Item = u64> + '_ {
+        let reals = self.reals.iter().map(|v| v.to_bits());
+        let integers = self.integers.iter().map(|&i| i as u32 as u64);
+        let booleans = self.booleans.iter().map(|&b| b as u32 as u64);
+        reals.chain(integers).chain(booleans)
     }
 }
 
 /// `steps` steps of the legal run from t = 0 on an instance in state Instantiated; the bit
-/// patterns of all Real outputs read before each step and after the last. `Err` names the
+/// patterns of all outputs (Reals, Integers, Booleans) read before each step and after the
+/// last. `Err` names the
 /// first call that did not return fmi2OK.
 pub fn legal_run(inst: &Instance, steps: usize) -> Result<Vec<u64>, String> {
     legal_run_with(inst, steps, &[])
@@ -146,7 +421,6 @@ pub fn legal_run_with(
     parameters: &[(&str, f64)],
 ) -> Result<Vec<u64>, String> {
     let wiring = Wiring::of(inst.fmu);
-    let lander = inst.fmu.lander();
     let fail = |what: &str, status: fmi2Status| {
         Err(format!(
             "{what} returned {}: {:?}",
@@ -176,15 +450,15 @@ pub fn legal_run_with(
     for k in 0..=steps {
         // An integer step counter: the communication points are exactly k h.
         let t = k as f64 * STEP_S;
-        let status = inst.set_reals(&wiring.inputs, &inputs_at(lander, t));
+        let status = wiring.set_inputs(inst, t);
         if status != fmi2OK {
-            return fail(&format!("fmi2SetReal at t = {t}"), status);
+            return fail(&format!("setting the inputs at t = {t}"), status);
         }
-        let (status, outputs) = inst.get_reals(&wiring.outputs);
+        let (status, outputs) = wiring.get_outputs(inst);
         if status != fmi2OK {
-            return fail(&format!("fmi2GetReal at t = {t}"), status);
+            return fail(&format!("reading the outputs at t = {t}"), status);
         }
-        bits.extend(outputs.iter().map(|v| v.to_bits()));
+        bits.extend(outputs.bits());
         if k < steps {
             let status = inst.step(t, STEP_S);
             if status != fmi2OK {

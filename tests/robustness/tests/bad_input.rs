@@ -1,5 +1,5 @@
-//! The bad-input table: one test per class of bad input, for LanderGnc,
-//! LanderPlant and LanderNav through their packaged C ABI. Each asserts the returned status and that the
+//! The bad-input table: one test per class of bad input, for LanderGnc, LanderPlant,
+//! LanderNav, LanderSensors and LanderFilter through their packaged C ABI. Each asserts the returned status and that the
 //! log names the function and the variable or value; where a refusal must leave the instance
 //! untouched, that is checked too.
 mod common;
@@ -24,6 +24,8 @@ fn an_input(fmu: &Fmu) -> &'static str {
         Lander::Gnc => "q_body_to_nue[1]",
         Lander::Plant => "thrust_cmd",
         Lander::Nav => "q_body_to_nue_true[1]",
+        Lander::Sensors => "q_body_to_nue[1]",
+        Lander::Filter => "altimeter_range",
     }
 }
 
@@ -33,6 +35,8 @@ fn an_output(fmu: &Fmu) -> &'static str {
         Lander::Gnc => "thrust_cmd",
         Lander::Plant => "r_nue[2]",
         Lander::Nav => "q_body_to_nue[3]",
+        Lander::Sensors => "altimeter_range",
+        Lander::Filter => "covariance_diag[1]",
     }
 }
 
@@ -127,6 +131,8 @@ fn a_fixed_parameter_after_initialization_is_refused_and_unchanged() {
             Lander::Gnc => "phi_cmd",
             Lander::Plant => "m0",
             Lander::Nav => "r_nue_noise_sigma",
+            Lander::Sensors => "accel_bias_sigma",
+            Lander::Filter => "r0_sigma",
         };
         let (_, before) = inst.get_reals(&[fmu.vr(name)]);
         let status = inst.set_real_by_name(name, 0.5);
@@ -241,6 +247,10 @@ fn in_state<'a>(fmu: &'a Fmu, state: &str) -> Option<(Instance<'a>, f64)> {
                 Lander::Plant => ("dry_mass", 950.0),
                 // Above the default max_latency_steps (0).
                 Lander::Nav => ("mass_latency", 3.0),
+                // A terrain normal pointing down.
+                Lander::Sensors => ("terrain_slope_normal_nue[2]", -1.0),
+                // An initial attitude that is no rotation (norm 0.5).
+                Lander::Filter => ("q0_body_to_nue[1]", 0.5),
             };
             assert_eq!(inst.set_parameter(bad, value), fmi2OK);
             assert_eq!(inst.exit_init(), fmi2Error);
@@ -308,12 +318,18 @@ fn calls_in_each_illegal_state_are_refused_naming_the_function_and_the_state() {
     });
 }
 
+/// Every FMU with the next one of [`Lander::ALL`] (the last with the first).
+fn pairs() -> Vec<(Fmu, Fmu)> {
+    let load = |l: Lander| Fmu::load(l).expect("packaged FMU");
+    let n = Lander::ALL.len();
+    (0..n)
+        .map(|i| (load(Lander::ALL[i]), load(Lander::ALL[(i + 1) % n])))
+        .collect()
+}
+
 #[test]
 fn a_guid_mismatch_returns_null_and_says_why() {
-    let gnc = Fmu::load(Lander::Gnc).expect("packaged FMU");
-    let plant = Fmu::load(Lander::Plant).expect("packaged FMU");
-    let nav = Fmu::load(Lander::Nav).expect("packaged FMU");
-    for (fmu, foreign) in [(&gnc, &plant), (&plant, &nav), (&nav, &gnc)] {
+    for (fmu, foreign) in &pairs() {
         let sink = Box::<robustness_tests::logger::LogSink>::default();
         let callbacks = sink.callbacks();
         // SAFETY: valid strings and callbacks for the duration of the call.
@@ -413,10 +429,7 @@ fn a_wrong_communication_point_is_refused_within_tolerance_accepted() {
 
 #[test]
 fn truncated_corrupted_or_foreign_serialized_states_are_refused() {
-    let gnc = Fmu::load(Lander::Gnc).expect("packaged FMU");
-    let plant = Fmu::load(Lander::Plant).expect("packaged FMU");
-    let nav = Fmu::load(Lander::Nav).expect("packaged FMU");
-    for (fmu, other) in [(&gnc, &plant), (&plant, &nav), (&nav, &gnc)] {
+    for (fmu, other) in &pairs() {
         let inst = initialized(fmu);
         assert_eq!(inst.step(0.0, 0.01), fmi2OK);
         let (_, state) = inst.get_fmu_state();
@@ -735,8 +748,18 @@ fn a_huge_communication_step_returns_at_once() {
                 "fmi2DoStep",
                 &["communicationStepSize", "sub-steps"],
             ),
-            // The GNC's and LanderNav's (errors off) steps cost the same whatever their size.
-            Lander::Gnc | Lander::Nav => assert_eq!(status, fmi2OK),
+            // The filter's position would overflow (gravity over 1e300 s): refused.
+            Lander::Filter => assert_refused(
+                &inst,
+                status,
+                "fmi2DoStep",
+                &["communicationStepSize 1e300", "not be finite"],
+            ),
+            // The GNC's, LanderNav's (errors off) and the sensors' steps cost the same
+            // whatever their size (the sensors' bias walk over 1e300 s is 1e145: finite).
+            Lander::Gnc | Lander::Nav | Lander::Sensors => {
+                assert_eq!(status, fmi2OK, "{:?}", inst.take_log())
+            }
         }
     });
 }
@@ -786,4 +809,158 @@ fn a_nav_get_in_initialization_mode_with_overflowing_errors_is_finite() {
         let status = inst.exit_init();
         assert_refused(&inst, status, "fmi2ExitInitializationMode", &["overflow"]);
     }
+}
+
+#[test]
+fn out_of_range_sensors_parameters_are_refused_by_name_and_reset_recovers() {
+    let fmu = Fmu::load(Lander::Sensors).expect("packaged FMU");
+    let expected = reference(&fmu);
+    // Outside their declared bounds: refused by the set itself.
+    for (name, value, function, shown) in [
+        ("accel_bias_sigma", -1.0, "fmi2SetReal", "-1"),
+        ("imu_sample_period", 0.0, "fmi2SetReal", "0"),
+        ("altimeter_dropout_probability", 1.5, "fmi2SetReal", "1.5"),
+        ("gyro_misalignment[2]", 0.2, "fmi2SetReal", "0.2"),
+        ("velocimeter_max_range", f64::NAN, "fmi2SetReal", "NaN"),
+        ("seed", -1.0, "fmi2SetInteger", "-1"),
+    ] {
+        let inst = fmu.instantiate("sensors-params", false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        let status = inst.set_parameter(name, value);
+        assert_refused(&inst, status, function, &[name, shown]);
+        assert_eq!(inst.exit_init(), fmi2OK, "{:?}", inst.take_log());
+    }
+    // Accepted one by one, refused by exit initialization: directions without one.
+    let at_exit: [ParameterCase; 3] = [
+        (
+            &[("altimeter_beam_body[2]", 0.0)],
+            "altimeter_beam_body",
+            "length",
+        ),
+        (
+            &[
+                ("velocimeter_beam_2_body[1]", 0.0),
+                ("velocimeter_beam_2_body[2]", 0.0),
+                ("velocimeter_beam_2_body[3]", 0.0),
+            ],
+            "velocimeter_beam_2_body",
+            "length",
+        ),
+        (
+            &[("terrain_slope_normal_nue[2]", -1.0)],
+            "terrain_slope_normal_nue",
+            "Up",
+        ),
+    ];
+    for (sets, name, shown) in at_exit {
+        let inst = fmu.instantiate("sensors-params", false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        for (n, v) in sets {
+            assert_eq!(inst.set_parameter(n, *v), fmi2OK, "{n} = {v}");
+        }
+        let status = inst.exit_init();
+        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
+        assert_eq!(inst.reset(), fmi2OK);
+        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
+    }
+}
+
+#[test]
+fn out_of_range_filter_parameters_are_refused_by_name_and_reset_recovers() {
+    let fmu = Fmu::load(Lander::Filter).expect("packaged FMU");
+    let expected = reference(&fmu);
+    for (name, value, shown) in [
+        ("altimeter_noise_sigma", 0.0, "0"),
+        ("velocimeter_noise_sigma", -0.02, "-0.02"),
+        ("gravity", -1.62, "-1.62"),
+        ("q0_body_to_nue[1]", 1.5, "1.5"),
+        ("chi2_gate", 0.0, "0"),
+        ("attitude0_sigma", f64::INFINITY, "inf"),
+    ] {
+        let inst = fmu.instantiate("filter-params", false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        let status = inst.set_parameter(name, value);
+        assert_refused(&inst, status, "fmi2SetReal", &[name, shown]);
+        assert_eq!(inst.exit_init(), fmi2OK, "{:?}", inst.take_log());
+    }
+    let at_exit: [ParameterCase; 4] = [
+        (&[("q0_body_to_nue[1]", 0.5)], "q0_body_to_nue", "0.5"),
+        // Within its bounds, but the white noise variance of one sample overflows.
+        (
+            &[("imu_sample_period", 5e-324)],
+            "imu_sample_period",
+            "overflows",
+        ),
+        (
+            &[("terrain_slope_normal_nue[2]", 0.0)],
+            "terrain_slope_normal_nue",
+            "length",
+        ),
+        (
+            &[("altimeter_beam_body[2]", 0.0)],
+            "altimeter_beam_body",
+            "length",
+        ),
+    ];
+    for (sets, name, shown) in at_exit {
+        let inst = fmu.instantiate("filter-params", false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        for (n, v) in sets {
+            assert_eq!(inst.set_parameter(n, *v), fmi2OK, "{n} = {v}");
+        }
+        let status = inst.exit_init();
+        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
+        assert_eq!(inst.reset(), fmi2OK);
+        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
+    }
+}
+
+/// docs/sensors.md: a quaternion input that is no rotation shows as no measurement with a
+/// warning naming it, and the step from there is refused with that reason.
+#[test]
+fn a_sensors_quaternion_that_is_no_rotation_warns_at_the_read_and_refuses_the_step() {
+    let fmu = Fmu::load(Lander::Sensors).expect("packaged FMU");
+    let inst = initialized(&fmu);
+    let wiring = Wiring::of(&fmu);
+    assert_eq!(wiring.set_inputs(&inst, 0.0), fmi2OK);
+    assert_eq!(inst.set_real_by_name("q_body_to_nue[1]", 0.5), fmi2OK);
+    let (status, outputs) = wiring.get_outputs(&inst);
+    assert_eq!(status, fmi2Warning, "{:?}", inst.take_log());
+    assert!(outputs.reals.iter().all(|v| *v == 0.0), "{outputs:?}");
+    assert!(
+        outputs.booleans.iter().all(|b| *b == fmi2False),
+        "{outputs:?}"
+    );
+    assert!(inst.take_log().iter().any(|r| r.status == fmi2Warning
+        && r.message().starts_with("fmi2GetReal")
+        && r.message().contains("q_body_to_nue")));
+    let status = inst.step(0.0, 0.01);
+    assert_refused(&inst, status, "fmi2DoStep", &["q_body_to_nue", "norm"]);
+}
+
+/// LanderFilter refuses a step whose estimate would not be finite with its outputs untouched
+/// (docs/filter.md), and fmi2Reset brings back a fresh instance.
+#[test]
+fn a_filter_step_whose_estimate_would_overflow_is_refused_and_reset_recovers() {
+    let fmu = Fmu::load(Lander::Filter).expect("packaged FMU");
+    let expected = reference(&fmu);
+    let inst = initialized(&fmu);
+    let wiring = Wiring::of(&fmu);
+    assert_eq!(wiring.set_inputs(&inst, 0.0), fmi2OK);
+    assert_eq!(inst.set_real_by_name("accel_body_meas[2]", 1e300), fmi2OK);
+    let (_, before) = wiring.get_outputs(&inst);
+    let status = inst.step(0.0, 1e10);
+    assert_refused(&inst, status, "fmi2DoStep", &["not be finite"]);
+    let (status, after) = wiring.get_outputs(&inst);
+    assert_eq!(status, fmi2OK, "{:?}", inst.take_log());
+    assert_eq!(
+        after.bits().collect::<Vec<_>>(),
+        before.bits().collect::<Vec<_>>()
+    );
+    assert_eq!(inst.reset(), fmi2OK);
+    assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
 }

@@ -2,7 +2,9 @@
 //! fmpy's FMU2Slave (which also loads and unloads the library every cycle), resident memory
 //! compared between the end of a warm-up and the end of the run. The documented long run is
 //! `.venv/bin/python tests/robustness/python/fmpy_cycles.py target/fmu/LanderGnc.fmu 10000`
-//! (measured: 37,944 -> 37,944 KiB for LanderGnc, 38,016 -> 38,040 KiB for LanderPlant).
+//! (measured, VmRSS after 1,000 -> 10,000 cycles: LanderGnc 38,192 -> 38,200 KiB, LanderPlant
+//! 38,584 -> 39,096 KiB, LanderNav 38,072 -> 38,072 KiB, LanderSensors 38,016 -> 38,028 KiB,
+//! LanderFilter 38,148 -> 38,164 KiB).
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -18,7 +20,7 @@ fn cycles_rss(fmu: &str, cycles: u32, warm_up: u32) -> (u64, u64) {
         "{} is missing: run `cargo xtask python-env` (cargo xtask test does)",
         python.display()
     );
-    let fmu_path = root.join("target/fmu").join(format!("{fmu}.fmu"));
+    let fmu_path = robustness_tests::package::fmu_dir().join(format!("{fmu}.fmu"));
     assert!(
         fmu_path.is_file(),
         "{} is missing: run `cargo xtask fmus`",
@@ -54,9 +56,12 @@ fn resident_memory_stays_flat_over_fmpy_cycles() {
         "LanderSensors",
         "LanderFilter",
     ] {
-        // GIVEN 2,500 cycles, the first 1,000 as warm-up (fmpy's and the interpreter's caches
-        // grow by ~700 KiB over them, then stop)
-        let (after_warm_up, at_end) = cycles_rss(fmu, 2500, 1000);
+        // GIVEN 1,500 cycles after a warm-up of 1,000 (fmpy's and the interpreter's caches
+        // grow by ~700 KiB over them, then stop); LanderPlant's RSS steps up once more, by
+        // 496 KiB, between cycles 1,000 and 2,000 and is flat from there to 10,000
+        // (measured), so its warm-up is 2,000
+        let warm_up = if fmu == "LanderPlant" { 2000 } else { 1000 };
+        let (after_warm_up, at_end) = cycles_rss(fmu, warm_up + 1500, warm_up);
         // THEN the 1,500 cycles after it grow RSS by less than 512 KiB: an instance holds
         // ~6 KiB, so one leaked instance per cycle would add ~9 MiB.
         let growth = at_end.saturating_sub(after_warm_up);

@@ -39,3 +39,13 @@ fn lander_plant_survives_random_call_sequences() {
 fn lander_nav_survives_random_call_sequences() {
     fuzz(Lander::Nav, 7);
 }
+
+#[test]
+fn lander_sensors_survives_random_call_sequences() {
+    fuzz(Lander::Sensors, 7);
+}
+
+#[test]
+fn lander_filter_survives_random_call_sequences() {
+    fuzz(Lander::Filter, 7);
+}

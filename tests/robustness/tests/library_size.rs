@@ -3,8 +3,9 @@
 use robustness_tests::package::{Lander, Unpacked};
 use std::process::Command;
 
-/// 1 MiB, and 1.25 MiB for LanderPlant: the one FMU with Model Exchange beside
-/// Co-Simulation, and the landing gear, slosh and mass-property models.
+/// 1 MiB (LanderGnc, LanderNav, LanderSensors, LanderFilter), and 1.25 MiB for LanderPlant:
+/// the one FMU with Model Exchange beside Co-Simulation, and the landing gear, slosh and
+/// mass-property models.
 fn limit_bytes(lander: Lander) -> u64 {
     match lander {
         Lander::Plant => 5 << 18,

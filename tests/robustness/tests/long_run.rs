@@ -2,7 +2,11 @@
 //! finite outputs, a unit quaternion to 1e-12, the plant's angular momentum conserved,
 //! bit-exact restores of serialized states along the way, and flat memory. LanderNav runs
 //! with every error on (the estimate differs from the truth at every step) and with every
-//! error off (it equals the truth bit for bit at every step).
+//! error off (it equals the truth bit for bit at every step). LanderSensors: validity flags 0
+//! or 1, an invalid measurement reads 0, the altimeter always valid and every beam both
+//! valid and invalid along the run. LanderFilter: the covariance diagonal positive and
+//! finite, degrees of freedom within their ranges, no gate rejection (gating off), and the
+//! estimate near the truth.
 use robustness_tests::instance::Fmu;
 use robustness_tests::long_run;
 use robustness_tests::package::Lander;
@@ -35,6 +39,50 @@ fn every_fmu_runs_300k_steps_with_its_invariants() {
     check(Lander::Gnc);
     nav_with_errors_on_never_passes_the_truth_through();
     nav_with_errors_off_is_the_identity();
+    sensors_flag_their_measurements();
+    filter_keeps_a_sound_covariance_and_tracks_the_truth();
+}
+
+/// Fewer steps for the two FMUs that draw or filter at every step.
+const MEASUREMENT_STEPS: usize = 100_000;
+
+fn sensors_flag_their_measurements() {
+    let fmu = Fmu::load(Lander::Sensors).expect("packaged FMU");
+    let report = long_run::run(&fmu, MEASUREMENT_STEPS, 10).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(report.steps, MEASUREMENT_STEPS);
+    assert_eq!(report.restores, 9, "{report:?}");
+    // 100 m to 1,100 m, tilted by at most 0.2 rad: always within the altimeter's 2,000 m.
+    assert_eq!(report.valid_counts[0], report.probed_steps, "{report:?}");
+    // Each beam leaves its 1,000 m range high up and drops 5 % of its samples.
+    for &n in &report.valid_counts[1..] {
+        assert!(
+            n > report.probed_steps / 4 && n < report.probed_steps,
+            "{report:?}"
+        );
+    }
+}
+
+fn filter_keeps_a_sound_covariance_and_tracks_the_truth() {
+    let fmu = Fmu::load(Lander::Filter).expect("packaged FMU");
+    let report = long_run::run(&fmu, MEASUREMENT_STEPS, 10).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(report.steps, MEASUREMENT_STEPS);
+    assert_eq!(report.restores, 9, "{report:?}");
+    assert!(report.max_quaternion_norm_error <= 1e-12, "{report:?}");
+    assert!(report.covariance_min > 0.0, "{report:?}");
+    assert!(report.covariance_max.is_finite(), "{report:?}");
+    // The altimeter holds the altitude to metres, the velocimeter the velocity to
+    // centimetres per second (after the first second's convergence from 1 m/s).
+    assert!(report.max_altitude_error_m < 5.0, "{report:?}");
+    assert!(report.max_velocity_error_mps < 1.0, "{report:?}");
+    // Updates happened: the altimeter at (nearly) every point, the beams with every count.
+    assert!(
+        report.valid_counts[0] > report.probed_steps * 9 / 10,
+        "{report:?}"
+    );
+    assert!(
+        report.valid_counts[4] > report.probed_steps / 2,
+        "{report:?}"
+    );
 }
 
 fn nav_with_errors_on_never_passes_the_truth_through() {

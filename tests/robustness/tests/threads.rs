@@ -1,4 +1,4 @@
-//! Instances of both FMUs stepped on many threads at once give bit-identical results to the
+//! Instances of every FMU stepped on many threads at once give bit-identical results to the
 //! same runs done one after another: no global state, no shared scratch memory.
 use robustness_tests::instance::Fmu;
 use robustness_tests::package::Lander;
@@ -22,6 +22,10 @@ fn parameters(lander: Lander, k: usize) -> Vec<(&'static str, f64)> {
             ("r_nue_noise_sigma", 0.5),
             ("attitude_random_walk", 1e-3),
         ],
+        // The same: each instance draws its noise from its own seed.
+        Lander::Sensors => vec![("seed", 21.0 + k), ("altimeter_noise_sigma", 0.1 + 0.1 * k)],
+        // Deterministic: a different initial uncertainty per run.
+        Lander::Filter => vec![("r0_sigma", 10.0 + k), ("gravity", 1.62 + 0.001 * k)],
     }
 }
 

@@ -14,7 +14,7 @@ use robustness_tests::rss::vm_rss_kib;
 struct Args {
     #[arg(long, default_value_t = 10_000)]
     cycles: usize,
-    /// LanderGnc, LanderPlant or LanderNav; all three when absent.
+    /// LanderGnc, LanderPlant, LanderNav, LanderSensors or LanderFilter; all five when absent.
     #[arg(long)]
     fmu: Option<String>,
 }

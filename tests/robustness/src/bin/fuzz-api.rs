@@ -16,7 +16,7 @@ struct Args {
     calls: u64,
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// LanderGnc, LanderPlant or LanderNav; all three when absent.
+    /// LanderGnc, LanderPlant, LanderNav, LanderSensors or LanderFilter; all five when absent.
     #[arg(long)]
     fmu: Option<String>,
     /// Longest time one call may take before the run is declared hung, s.

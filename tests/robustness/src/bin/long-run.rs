@@ -16,7 +16,7 @@ struct Args {
     /// Save/serialize/restore checks spread over the run.
     #[arg(long, default_value_t = 20)]
     checkpoints: usize,
-    /// LanderGnc, LanderPlant or LanderNav; all three when absent.
+    /// LanderGnc, LanderPlant, LanderNav, LanderSensors or LanderFilter; all five when absent.
     #[arg(long)]
     fmu: Option<String>,
 }
@@ -47,6 +47,28 @@ fn main() -> anyhow::Result<()> {
             r.max_angular_momentum_drift,
             r.restores,
         );
+        match lander {
+            Lander::Sensors => println!(
+                "LanderSensors: of {} probed steps, altimeter_valid true at {}, \
+                 velocimeter_valid_1/_2/_3 at {:?}; every invalid measurement read 0",
+                r.probed_steps,
+                r.valid_counts[0],
+                &r.valid_counts[1..]
+            ),
+            Lander::Filter => println!(
+                "LanderFilter: of {} probed steps, {} with an altimeter update, velocimeter_dof \
+                 0/1/2/3 at {:?}; covariance_diag in [{:.3e}, {:.3e}]; max |altitude error| \
+                 {:.3} m, max |velocity error| {:.4} m/s",
+                r.probed_steps,
+                r.valid_counts[0],
+                &r.valid_counts[1..],
+                r.covariance_min,
+                r.covariance_max,
+                r.max_altitude_error_m,
+                r.max_velocity_error_mps,
+            ),
+            _ => {}
+        }
         if lander == Lander::Nav {
             println!(
                 "LanderNav, errors on: {} of {} probed steps had outputs equal to the inputs",

@@ -12,6 +12,8 @@
 //!   every fmi2Warning with a warning; no message is more severe than the status; messages go
 //!   to the calling instance only, with its name;
 //! - Real outputs read successfully are finite; Booleans are 0 or 1; strings are readable.
+//! - no fmi2GetReal is refused because a value is not finite (the export layer's last
+//!   guard) on an instance that holds no crafted state.
 //!
 //! And after every sequence: fmi2Reset on each instance, then a legal run, gives the reference
 //! result bit for bit, and so does a new instance.

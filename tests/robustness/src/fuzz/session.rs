@@ -7,7 +7,7 @@ use super::watchdog::Watchdog;
 use crate::ffi::*;
 use crate::instance::{Fmu, Instance};
 use crate::logger::{LogSink, Record};
-use crate::reference::{inputs_at, legal_run, Wiring, STEP_S};
+use crate::reference::{boolean_inputs_at, inputs_at, legal_run, Wiring, STEP_S};
 use model_description::VariableKind;
 use proptest::sample::Index;
 use std::collections::HashSet;
@@ -1081,6 +1081,11 @@ impl<'a> Session<'a> {
         };
         let must_fail = Self::null_reason(nulls, n)
             .or((unknown && n > 0).then_some("a value reference is unknown for the type"));
+        if kind == Kind::Real && status == fmi2Error {
+            if let Some(i) = index {
+                self.no_unreadable_output(i)?;
+            }
+        }
         let succeeded = status == fmi2OK || status == fmi2Warning;
         if succeeded && !nulls.value {
             let tainted = index.is_some_and(|i| self.slot_mut(i).tainted);
@@ -1283,6 +1288,30 @@ impl<'a> Session<'a> {
         self.finish(function, index, status, must_fail)
     }
 
+    /// The export layer refuses to hand out a non-finite Real ("... is inf at the current
+    /// state: not finite"): the refusal is logged, but a model that holds such a value on an
+    /// instance without a crafted state publishes a state no master can read. Looks at the
+    /// log of the last call on instance `i` (before `finish` takes it).
+    fn no_unreadable_output(&mut self, i: usize) -> Outcome {
+        let slot = self.slot_mut(i);
+        if slot.tainted {
+            return Ok(());
+        }
+        let log = slot.inst.sink.all();
+        match log
+            .iter()
+            .find(|r| r.message().contains("at the current state: not finite"))
+        {
+            Some(record) => Err(format!(
+                "fmi2GetReal refused a non-finite value on an instance holding no crafted \
+                 state: {}; {}",
+                record.message(),
+                self.describe(i)
+            )),
+            None => Ok(()),
+        }
+    }
+
     fn legal_init(&mut self, i: usize) -> Outcome {
         let Some(slot) = self.slots[i].as_ref() else {
             return Ok(());
@@ -1321,6 +1350,17 @@ impl<'a> Session<'a> {
                 (api.set_real)(c, vrs.as_ptr(), vrs.len(), inputs.as_ptr())
             });
             self.finish("fmi2SetReal", Some(i), status, None)?;
+            let vrs = &self.base.wiring.boolean_inputs;
+            if !vrs.is_empty() {
+                let values: Vec<fmi2Boolean> = boolean_inputs_at(lander, t)
+                    .into_iter()
+                    .map(fmi2Boolean::from)
+                    .collect();
+                let status = self.dog.watch("fmi2SetBoolean", || unsafe {
+                    (api.set_boolean)(c, vrs.as_ptr(), vrs.len(), values.as_ptr())
+                });
+                self.finish("fmi2SetBoolean", Some(i), status, None)?;
+            }
             let outputs = self.base.wiring.outputs.clone();
             let mut values = vec![0.0; outputs.len()];
             let status = self.dog.watch("fmi2GetReal", || unsafe {
@@ -1334,6 +1374,9 @@ impl<'a> Session<'a> {
                         self.describe(i)
                     ));
                 }
+            }
+            if status == fmi2Error {
+                self.no_unreadable_output(i)?;
             }
             self.finish("fmi2GetReal", Some(i), status, None)?;
             let status = self.dog.watch("fmi2DoStep", || unsafe {
