@@ -47,13 +47,11 @@ fn each_run_starts_the_filter_at_its_dispersed_truth_with_the_claimed_error() {
         };
         let expected = estimator_start::estimate(flight.run_seed, &truth, &claimed);
         let estimate = vector("filter", "r_nue");
-        for i in 0..3 {
+        for (i, (got, want)) in estimate.iter().zip(&expected.r0_nue_m).enumerate() {
             assert!(
-                (estimate[i] - expected.r0_nue_m[i]).abs() < 1e-9,
-                "run {run} r_nue[{}]: {} vs {}",
-                i + 1,
-                estimate[i],
-                expected.r0_nue_m[i]
+                (got - want).abs() < 1e-9,
+                "run {run} r_nue[{}]: {got} vs {want}",
+                i + 1
             );
         }
         // AND the truth itself was dispersed away from the scenario's nominal 800 m up (so

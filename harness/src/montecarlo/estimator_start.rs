@@ -167,8 +167,8 @@ mod tests {
             },
             &claimed,
         );
-        for k in 0..4 {
-            assert!((relative[k] - again.q0_body_to_nue[k]).abs() < 1e-15, "{k}");
+        for (k, (a, b)) in relative.iter().zip(&again.q0_body_to_nue).enumerate() {
+            assert!((a - b).abs() < 1e-15, "{k}");
         }
     }
 
