@@ -479,6 +479,29 @@ fn truncated_corrupted_or_foreign_serialized_states_are_refused() {
 /// name and the value it must show.
 type ParameterCase = (&'static [(&'static str, f64)], &'static str, &'static str);
 
+/// Each case's parameters set in a fresh instance make fmi2ExitInitializationMode refuse,
+/// naming the parameter and what is shown; fmi2Reset then gives back an instance that flies
+/// the legal run as `expected`.
+fn assert_each_refused_at_exit(
+    fmu: &Fmu,
+    instance_name: &str,
+    cases: &[ParameterCase],
+    expected: &[u64],
+) {
+    for (sets, name, shown) in cases {
+        let inst = fmu.instantiate(instance_name, false);
+        assert_eq!(inst.setup(0.0, None), fmi2OK);
+        assert_eq!(inst.enter_init(), fmi2OK);
+        for (n, v) in *sets {
+            assert_eq!(inst.set_parameter(n, *v), fmi2OK, "{n} = {v}");
+        }
+        let status = inst.exit_init();
+        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
+        assert_eq!(inst.reset(), fmi2OK);
+        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
+    }
+}
+
 #[test]
 fn out_of_range_plant_parameters_are_refused_by_name_and_reset_recovers() {
     let fmu = Fmu::load(Lander::Plant).expect("packaged FMU");
@@ -597,18 +620,7 @@ fn out_of_range_nav_parameters_are_refused_by_name_and_reset_recovers() {
             "overflow",
         ),
     ];
-    for (sets, name, shown) in at_exit {
-        let inst = fmu.instantiate("nav-params", false);
-        assert_eq!(inst.setup(0.0, None), fmi2OK);
-        assert_eq!(inst.enter_init(), fmi2OK);
-        for (n, v) in sets {
-            assert_eq!(inst.set_parameter(n, *v), fmi2OK, "{n} = {v}");
-        }
-        let status = inst.exit_init();
-        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
-        assert_eq!(inst.reset(), fmi2OK);
-        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
-    }
+    assert_each_refused_at_exit(&fmu, "nav-params", &at_exit, &expected);
 }
 
 /// A random walk over an enormous communication step would overflow: LanderNav refuses that
@@ -853,18 +865,7 @@ fn out_of_range_sensors_parameters_are_refused_by_name_and_reset_recovers() {
             "Up",
         ),
     ];
-    for (sets, name, shown) in at_exit {
-        let inst = fmu.instantiate("sensors-params", false);
-        assert_eq!(inst.setup(0.0, None), fmi2OK);
-        assert_eq!(inst.enter_init(), fmi2OK);
-        for (n, v) in sets {
-            assert_eq!(inst.set_parameter(n, *v), fmi2OK, "{n} = {v}");
-        }
-        let status = inst.exit_init();
-        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
-        assert_eq!(inst.reset(), fmi2OK);
-        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
-    }
+    assert_each_refused_at_exit(&fmu, "sensors-params", &at_exit, &expected);
 }
 
 #[test]
@@ -905,18 +906,7 @@ fn out_of_range_filter_parameters_are_refused_by_name_and_reset_recovers() {
             "length",
         ),
     ];
-    for (sets, name, shown) in at_exit {
-        let inst = fmu.instantiate("filter-params", false);
-        assert_eq!(inst.setup(0.0, None), fmi2OK);
-        assert_eq!(inst.enter_init(), fmi2OK);
-        for (n, v) in sets {
-            assert_eq!(inst.set_parameter(n, *v), fmi2OK, "{n} = {v}");
-        }
-        let status = inst.exit_init();
-        assert_refused(&inst, status, "fmi2ExitInitializationMode", &[name, shown]);
-        assert_eq!(inst.reset(), fmi2OK);
-        assert_eq!(legal_run(&inst, 10).expect("legal run"), expected);
-    }
+    assert_each_refused_at_exit(&fmu, "filter-params", &at_exit, &expected);
 }
 
 /// docs/sensors.md: a quaternion input that is no rotation shows as no measurement with a
