@@ -102,9 +102,16 @@ impl Eskf {
         let f = v3(&imu.accel_body_mps2) - v3(&self.accel_bias_mps2);
         let w = v3(&imu.gyro_body_radps) - v3(&self.gyro_bias_radps);
         let g = Vector3::new(0.0, -params.gravity_mps2, 0.0);
-        let a = r * f + g;
+        // The body turns by w h over the step while the specific force acts: the velocity
+        // takes its integral, R (f + (h / 2) w x f) h, and the position its double integral,
+        // R (f + (h / 3) w x f) h^2 / 2. Taken at the step's start attitude instead, the
+        // estimate gains h f (1 - cos tilt) / 2 of Up velocity on every tilt the guidance
+        // commands, whichever way it leans.
+        let turning = w.cross(&f);
+        let a = r * (f + turning * (0.5 * h)) + g;
+        let a_r = r * (f + turning * (h / 3.0)) + g;
         let (pos, vel) = (v3(&self.r_nue_m), v3(&self.v_nue_mps));
-        self.r_nue_m = (pos + vel * h + a * (0.5 * h * h)).into();
+        self.r_nue_m = (pos + vel * h + a_r * (0.5 * h * h)).into();
         self.v_nue_mps = (vel + a * h).into();
         let turn = rotation::exp(&(w * h));
         self.q_body_to_nue = rotation::normalized(&rotation::mul(&self.q_body_to_nue, &turn));
