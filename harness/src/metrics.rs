@@ -69,6 +69,33 @@ pub struct Metrics {
     pub touchdown_body_rate_radps: f64,
     pub touchdown_north_m: f64,
     pub touchdown_east_m: f64,
+    /// The divert of a scenario that commands a retarget (LanderGnc's `retarget_time`), from
+    /// the command on: largest distance past the new site along the line from the position
+    /// at the command (m), largest distance off that line (m), time from the command until
+    /// the lander stays within 1 m of the new site (s; +inf when it is not within it at the
+    /// end of the run) and largest tilt of the thrust axis from vertical (rad). NaN without
+    /// a retarget command ([`crate::retarget::divert_metrics`] computes them).
+    pub divert_overshoot_m: f64,
+    pub divert_cross_track_m: f64,
+    pub divert_settle_time_s: f64,
+    pub divert_peak_tilt_rad: f64,
+}
+
+impl Metrics {
+    /// These metrics with the divert's.
+    pub fn with_divert(self, divert: &crate::retarget::DivertMetrics) -> Self {
+        Self {
+            divert_overshoot_m: divert.overshoot_m,
+            divert_cross_track_m: divert.cross_track_m,
+            divert_settle_time_s: if divert.settle_time_s.is_nan() {
+                f64::INFINITY
+            } else {
+                divert.settle_time_s
+            },
+            divert_peak_tilt_rad: divert.peak_tilt_deg.to_radians(),
+            ..self
+        }
+    }
 }
 
 /// Error naming the missing column.
@@ -191,6 +218,10 @@ pub fn compute_with_final(
         touchdown_body_rate_radps: touchdown[3],
         touchdown_north_m: touchdown[4],
         touchdown_east_m: touchdown[5],
+        divert_overshoot_m: f64::NAN,
+        divert_cross_track_m: f64::NAN,
+        divert_settle_time_s: f64::NAN,
+        divert_peak_tilt_rad: f64::NAN,
     })
 }
 

@@ -5,6 +5,7 @@ use super::dispersion::{Dispersion, DispersionRanges, Nominal};
 use super::estimator_start::{self, ClaimedStartError, FILTER, SENSORS};
 use super::manifest::{End, Judged, Row};
 use crate::metrics::{self, Metrics};
+use crate::retarget::{divert_metrics, RetargetCommand};
 use crate::verdict::{self, Spec};
 use cosim::master::{RunEnd, Simulation, Trajectory};
 use cosim::system::{ParamValue, SystemDescription};
@@ -31,6 +32,10 @@ pub const METRIC_COLUMNS: [&str; 9] = [
     "plant.touchdown",
 ];
 
+/// The columns the divert's metrics read beyond [`METRIC_COLUMNS`], recorded when the
+/// scenario commands a retarget.
+pub const DIVERT_COLUMNS: [&str; 1] = ["plant.q_body_to_nue"];
+
 /// Verdict columns a plant may declare (a plant with landing gear does), read at the end of
 /// each flight where it does.
 const OPTIONAL_VERDICT_COLUMNS: [&str; 1] = ["plant.tipped_over"];
@@ -51,6 +56,8 @@ pub struct Flyer {
     /// What the scenario's navigation filter claims about its initial error, when it has
     /// one: each run starts it from the dispersed truth off by an error of that spread.
     filter_claim: Option<ClaimedStartError>,
+    /// The scenario's retarget command, when it has one: each flight's divert is measured.
+    retarget: Option<RetargetCommand>,
 }
 
 impl Flyer {
@@ -109,6 +116,7 @@ impl Flyer {
         let nominal = Nominal::from_scenario(simulation.system(), PLANT, start_of)
             .map_err(anyhow::Error::msg)?;
         let filter_claim = claimed_start_error(&simulation)?;
+        let retarget = RetargetCommand::of(simulation.system()).ok();
         let trajectory = Trajectory {
             names: simulation.column_names().to_vec(),
             ..Default::default()
@@ -126,6 +134,7 @@ impl Flyer {
             last,
             requirements: Vec::new(),
             filter_claim,
+            retarget,
         })
     }
 
@@ -241,6 +250,10 @@ impl Flyer {
             &metrics::Columns::default(),
             self.target_nue,
         )?;
+        let metrics = match &self.retarget {
+            Some(command) => metrics.with_divert(&divert_metrics(&self.trajectory, command)?),
+            None => metrics,
+        };
         let mut judged = Judged::of(&judged, self.spec.expect);
         let violated: Vec<String> =
             cosim::requirements::judge(&self.requirements, &self.trajectory)
@@ -296,6 +309,9 @@ pub fn campaign_system(
         None
     } else {
         let mut record: Vec<String> = METRIC_COLUMNS.iter().map(|c| c.to_string()).collect();
+        if RetargetCommand::of(&system).is_ok() {
+            record.extend(DIVERT_COLUMNS.iter().map(|c| c.to_string()));
+        }
         cosim::requirements::record_signals(
             &mut record,
             &verdict::scenario::requirements(scenario)?,

@@ -13,7 +13,7 @@ use std::path::Path;
 pub const FILE_NAME: &str = "manifest.csv";
 
 /// Number of metric columns.
-pub const METRIC_COUNT: usize = 24;
+pub const METRIC_COUNT: usize = 28;
 
 /// The metric columns, named as the [`Metrics`] fields.
 pub const METRIC_NAMES: [&str; METRIC_COUNT] = [
@@ -41,6 +41,10 @@ pub const METRIC_NAMES: [&str; METRIC_COUNT] = [
     "touchdown_east_m",
     "max_tilt_error_rad",
     "handover_horizontal_speed_mps",
+    "divert_overshoot_m",
+    "divert_cross_track_m",
+    "divert_settle_time_s",
+    "divert_peak_tilt_rad",
 ];
 
 pub fn metric_values(m: &Metrics) -> [f64; METRIC_COUNT] {
@@ -69,6 +73,10 @@ pub fn metric_values(m: &Metrics) -> [f64; METRIC_COUNT] {
         m.touchdown_east_m,
         m.max_tilt_error_rad,
         m.handover_horizontal_speed_mps,
+        m.divert_overshoot_m,
+        m.divert_cross_track_m,
+        m.divert_settle_time_s,
+        m.divert_peak_tilt_rad,
     ]
 }
 
@@ -98,6 +106,10 @@ pub fn metrics_from(v: [f64; METRIC_COUNT]) -> Metrics {
         touchdown_east_m: v[21],
         max_tilt_error_rad: v[22],
         handover_horizontal_speed_mps: v[23],
+        divert_overshoot_m: v[24],
+        divert_cross_track_m: v[25],
+        divert_settle_time_s: v[26],
+        divert_peak_tilt_rad: v[27],
     }
 }
 

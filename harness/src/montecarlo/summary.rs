@@ -64,6 +64,20 @@ pub struct PointSummary {
     /// |r - target| at the end of the polynomial descent, before the hover corrects it.
     pub descent_end_position_error_m: Moments,
     pub max_horizontal_deviation_m: Moments,
+    /// The divert's statistics, when the scenario commands a retarget.
+    pub divert: Option<DivertSummary>,
+}
+
+/// A point's divert statistics over its flights that did not fail.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DivertSummary {
+    pub overshoot_m: Moments,
+    pub cross_track_m: Moments,
+    /// Over the flights that settled within 1 m of the new site.
+    pub settle_time_s: Moments,
+    /// Flights not within 1 m of the new site at the end of the run.
+    pub unsettled: usize,
+    pub peak_tilt_deg: Moments,
 }
 
 impl PointSummary {
@@ -106,9 +120,78 @@ pub fn summarise(rows: &[Row]) -> Vec<PointSummary> {
                 failed_verdicts: point.iter().filter(|r| !r.verdict.as_expected).count(),
                 descent_end_position_error_m: metric(|r| r.metrics.descent_end_position_error_m),
                 max_horizontal_deviation_m: metric(|r| r.metrics.max_horizontal_deviation_m),
+                divert: divert_summary(&ok),
             }
         })
         .collect()
+}
+
+fn divert_summary(ok: &[&Row]) -> Option<DivertSummary> {
+    if ok.is_empty() || ok.iter().any(|r| r.metrics.divert_overshoot_m.is_nan()) {
+        return None;
+    }
+    let of = |f: fn(&Row) -> f64| Moments::of(&ok.iter().map(|r| f(r)).collect::<Vec<_>>());
+    let settled: Vec<f64> = ok
+        .iter()
+        .map(|r| r.metrics.divert_settle_time_s)
+        .filter(|t| t.is_finite())
+        .collect();
+    Some(DivertSummary {
+        overshoot_m: of(|r| r.metrics.divert_overshoot_m),
+        cross_track_m: of(|r| r.metrics.divert_cross_track_m),
+        settle_time_s: Moments::of(&settled),
+        unsettled: ok.len() - settled.len(),
+        peak_tilt_deg: of(|r| r.metrics.divert_peak_tilt_rad.to_degrees()),
+    })
+}
+
+/// The divert block of [`table`], for the points that have one.
+fn divert_table(summary: &[PointSummary]) -> String {
+    use std::fmt::Write;
+    let mut out = format!(
+        "\n{:<19} {:^21}  {:^21}  {:^30}  {:^21}\n{:<19} {:>10} {:>10}  {:>10} {:>10}  {:>10} {:>10} {:>8}  {:>10} {:>10}\n",
+        "divert",
+        "overshoot (m)",
+        "cross-track (m)",
+        "within 1 m for good after (s)",
+        "peak tilt (deg)",
+        "law      phi(deg)",
+        "median",
+        "max",
+        "median",
+        "max",
+        "median",
+        "max",
+        "never",
+        "median",
+        "max",
+    );
+    for s in summary {
+        let Some(d) = s.divert else { continue };
+        let settle = |x: f64| {
+            if d.unsettled == s.flights - s.failed {
+                "-".to_owned()
+            } else {
+                format!("{x:.2}")
+            }
+        };
+        let _ = writeln!(
+            out,
+            "{:<10} {:>8.1} {:>10.3} {:>10.3}  {:>10.3} {:>10.3}  {:>10} {:>10} {:>8}  {:>10.2} {:>10.2}",
+            s.law.name(),
+            s.phi_cmd_deg,
+            d.overshoot_m.median,
+            d.overshoot_m.max,
+            d.cross_track_m.median,
+            d.cross_track_m.max,
+            settle(d.settle_time_s.median),
+            settle(d.settle_time_s.max),
+            d.unsettled,
+            d.peak_tilt_deg.median,
+            d.peak_tilt_deg.max,
+        );
+    }
+    out
 }
 
 /// The summary as a text table: median, mean and maximum of each metric per point, and the
@@ -163,6 +246,16 @@ pub fn table(summary: &[PointSummary]) -> String {
         super::stats::runs_for_quantile_bound(0.95, confidence),
         super::stats::runs_for_quantile_bound(super::stats::THREE_SIGMA, confidence)
     );
+    if summary.iter().any(|s| s.divert.is_some()) {
+        out.push_str(&divert_table(summary));
+        let _ = writeln!(
+            out,
+            "divert: from the retarget command on; overshoot past the new site along the line \
+             from the position at the command, cross-track off that line; 'never': flights \
+             not within 1 m of the new site at the end (the settling time's median and \
+             maximum are over the others)"
+        );
+    }
     out
 }
 
@@ -202,8 +295,10 @@ mod tests {
                 p99_73_ub90,
                 ..Moments::of(&[1.0, 2.0])
             },
+            divert: None,
         };
         let text = table(&[row(None, None), row(Some(12.5), None)]);
+        assert!(!text.contains("divert"), "{text}");
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[2].ends_with("         -          -"), "{text}");
         assert!(lines[3].ends_with("    12.500          -"), "{text}");
