@@ -10,7 +10,7 @@
 //! ended there: the outputs are the last point's update propagated over that step with them,
 //! computed when read, and `do_step` takes that propagation, then the point's update; the
 //! propagation of the coming step waits for the next point's inputs.
-use crate::model::covariance::N;
+use crate::model::covariance::{N, NAVIGATION};
 use crate::model::parameters::bounds::*;
 use crate::model::{Eskf, FilterParameters, Heading, Imu, ParameterError};
 use fmi_model::{
@@ -72,7 +72,12 @@ pub struct Outputs {
     pub omega_body_radps: [f64; 3],
     pub accel_bias_mps2: [f64; 3],
     pub gyro_bias_radps: [f64; 3],
-    pub covariance_diag: [f64; N],
+    pub covariance_diag: [f64; NAVIGATION],
+    pub accel_scale_factor: [f64; 3],
+    pub accel_misalignment_rad: [f64; 3],
+    pub gyro_scale_factor: [f64; 3],
+    pub gyro_misalignment_rad: [f64; 3],
+    pub calibration_covariance_diag: [f64; N - NAVIGATION],
 }
 
 /// `imu_mean_over_last_step`: what the propagation over the step after a communication
@@ -214,15 +219,17 @@ impl Model for LanderFilter {
         DECLARATIONS
     }
 
-    /// 2: `imu_mean_over_last_step` and its pending step.
-    const STATE_VERSION: u32 = 2;
+    /// 3: the IMU calibration states (2: `imu_mean_over_last_step` and its pending step).
+    const STATE_VERSION: u32 = 3;
 
     fn output_dependencies(output: &str) -> Dependencies {
         match output {
-            "omega_body" => Dependencies::SameElementOf("gyro_body_meas"),
+            // The misalignment estimate mixes the gyro's axes.
+            "omega_body" => Dependencies::Inputs(&["gyro_body_meas"]),
             // With imu_mean_over_last_step (declared whatever its value: the description
-            // does not depend on parameters).
-            "r_nue" | "v_nue" => Dependencies::Inputs(&["accel_body_meas"]),
+            // does not depend on parameters); the body's turn over the step enters the
+            // velocity and position increments.
+            "r_nue" | "v_nue" => Dependencies::Inputs(&["accel_body_meas", "gyro_body_meas"]),
             "q_body_to_nue" => Dependencies::Inputs(&["gyro_body_meas"]),
             "covariance_diag" => Dependencies::Inputs(&["accel_body_meas", "gyro_body_meas"]),
             _ => Dependencies::NoInputs,
@@ -261,7 +268,14 @@ impl Model for LanderFilter {
             omega_body_radps: eskf.omega_body(&self.meas.imu),
             accel_bias_mps2: eskf.accel_bias_mps2,
             gyro_bias_radps: eskf.gyro_bias_radps,
-            covariance_diag: eskf.covariance_diagonal(),
+            covariance_diag: std::array::from_fn(|i| eskf.p[i][i]),
+            accel_scale_factor: eskf.accel_calibration.scale_factor,
+            accel_misalignment_rad: eskf.accel_calibration.misalignment_rad,
+            gyro_scale_factor: eskf.gyro_calibration.scale_factor,
+            gyro_misalignment_rad: eskf.gyro_calibration.misalignment_rad,
+            calibration_covariance_diag: std::array::from_fn(|i| {
+                eskf.p[NAVIGATION + i][NAVIGATION + i]
+            }),
         };
     }
 
@@ -380,6 +394,20 @@ const ERROR_STATE: &[&str] = &[
     "gyro bias y (rad2/s2)",
     "gyro bias z (rad2/s2)",
 ];
+const CALIBRATION_STATE: &[&str] = &[
+    "accelerometer scale factor x (1)",
+    "accelerometer scale factor y (1)",
+    "accelerometer scale factor z (1)",
+    "gyro scale factor x (1)",
+    "gyro scale factor y (1)",
+    "gyro scale factor z (1)",
+    "accelerometer misalignment about body x (rad2)",
+    "accelerometer misalignment about body y (rad2)",
+    "accelerometer misalignment about body z (rad2)",
+    "gyro misalignment about body x (rad2)",
+    "gyro misalignment about body y (rad2)",
+    "gyro misalignment about body z (rad2)",
+];
 
 /// The declarations, one line each so that they read as a table. Start values are those of
 /// `LanderFilter::default()`; bounds are those `FilterParameters::validate` enforces.
@@ -398,7 +426,7 @@ static DECLARATIONS: &[Declaration<LanderFilter>] = &[
     decl!(100, discrete_output r_nue[3]: out.r_nue_m, "m", "Estimated position of the centre of mass, NUE", components = NUE),
     decl!(103, discrete_output v_nue[3]: out.v_nue_mps, "m/s", "Estimated velocity relative to the surface", components = NUE),
     decl!(106, discrete_output q_body_to_nue[4]: out.q_body_to_nue, "1", "Estimated attitude quaternion body to NUE, Hamilton, scalar first", components = QUATERNION),
-    decl!(110, discrete_output omega_body[3]: out.omega_body_radps, "rad/s", "Body rate: gyro_body_meas minus the estimated gyro bias", components = BODY),
+    decl!(110, discrete_output omega_body[3]: out.omega_body_radps, "rad/s", "Body rate: gyro_body_meas less the estimated gyro bias, calibrated by the estimated scale factor and misalignment", components = BODY),
     decl!(113, discrete_output accel_bias_estimate[3]: out.accel_bias_mps2, "m/s2", "Estimated accelerometer bias", components = BODY),
     decl!(116, discrete_output gyro_bias_estimate[3]: out.gyro_bias_radps, "rad/s", "Estimated gyro bias", components = BODY),
     decl!(119, discrete_output covariance_diag[15]: out.covariance_diag, "1", "Diagonal of the error-state covariance (dr, dv, dtheta in body axes, db_a, db_g), each in the square of its error's unit", components = ERROR_STATE),
@@ -407,17 +435,26 @@ static DECLARATIONS: &[Declaration<LanderFilter>] = &[
     decl!(136, discrete_output nis_velocimeter: last.nis_velocimeter, "1", "Sum over the velocimeter beams of the last step's normalised innovations squared"),
     decl!(137, discrete_output velocimeter_dof: last.velocimeter_dof as i32, "Degrees of freedom of nis_velocimeter: the number of beams in the last step's update"),
     decl!(138, discrete_output measurements_rejected: last.rejected as i32, "Scalar measurements of the last step the chi-square gate rejected"),
+    decl!(140, discrete_output accel_scale_factor_estimate[3]: out.accel_scale_factor, "1", "Estimated accelerometer scale factor error (LanderSensors' model m = (I + diag(s)) (x - mu x x) + b + n; 0 while accel_scale_factor_sigma is 0)", components = BODY),
+    decl!(143, discrete_output accel_misalignment_estimate[3]: out.accel_misalignment_rad, "rad", "Estimated accelerometer misalignment rotation (0 while accel_misalignment_sigma is 0)", components = BODY),
+    decl!(146, discrete_output gyro_scale_factor_estimate[3]: out.gyro_scale_factor, "1", "Estimated gyro scale factor error (0 while gyro_scale_factor_sigma is 0)", components = BODY),
+    decl!(149, discrete_output gyro_misalignment_estimate[3]: out.gyro_misalignment_rad, "rad", "Estimated gyro misalignment rotation (0 while gyro_misalignment_sigma is 0)", components = BODY),
+    decl!(152, discrete_output calibration_covariance_diag[12]: out.calibration_covariance_diag, "1", "Diagonal of the calibration errors' covariance (ds_a, ds_g, dmu_a, dmu_g), each in the square of its error's unit", components = CALIBRATION_STATE),
     // The IMU's noise: LanderSensors' names and meanings.
     decl!(200, parameter gravity: params.gravity_mps2, "m/s2", "Lunar gravity, along -Up (flat Moon)", min = 0.0, max = GRAVITY_MAX),
     decl!(201, parameter imu_sample_period: params.sample_period_s, "s", "IMU sampling interval (LanderSensors imu_sample_period): one sample's white noise has the variance noise_density^2 / imu_sample_period", above = 0.0, max = SAMPLE_PERIOD_MAX_S),
-    decl!(202, parameter imu_mean_over_last_step: params.imu_mean_over_last_step as bool, "accel_body_meas and gyro_body_meas at a communication point are the means over the step that ended there (LanderSensors fed with LanderPlant specific_force_mean_body and omega_mean_body): the outputs are the last point's estimate propagated over that step with them, and r_nue, v_nue (on accel_body_meas), q_body_to_nue (on gyro_body_meas) and covariance_diag depend on them at the same point; false (default): samples held over the coming step (docs/filter.md)"),
+    decl!(202, parameter imu_mean_over_last_step: params.imu_mean_over_last_step as bool, "accel_body_meas and gyro_body_meas at a communication point are the means over the step that ended there (LanderSensors fed with LanderPlant specific_force_mean_body and omega_mean_body): the outputs are the last point's estimate propagated over that step with them, and r_nue, v_nue (on both), q_body_to_nue (on gyro_body_meas) and covariance_diag depend on them at the same point; false (default): samples held over the coming step (docs/filter.md)"),
     decl!(210, parameter accel_bias_sigma: params.accel.bias_sigma, "m/s2", "1-sigma of the accelerometer's constant bias per axis (LanderSensors accel_bias_sigma): the initial 1-sigma of its estimate", min = 0.0, max = ACCEL_BIAS_SIGMA_MAX),
     decl!(217, parameter accel_noise_density: params.accel.noise_density, "m/s", "Velocity random walk: 1-sigma of the integrated accelerometer noise after 1 s (LanderSensors accel_noise_density)", min = 0.0, max = ACCEL_NOISE_DENSITY_MAX),
     decl!(218, parameter accel_bias_random_walk: params.accel.bias_random_walk, "m/s2", "1-sigma of the accelerometer bias change after 1 s (LanderSensors accel_bias_random_walk)", min = 0.0, max = ACCEL_BIAS_RANDOM_WALK_MAX),
+    decl!(211, parameter accel_scale_factor_sigma: params.accel.scale_factor_sigma, "1", "1-sigma of the accelerometer's constant scale factor error per axis (LanderSensors accel_scale_factor_sigma): the initial 1-sigma of its estimate; 0 (default): not estimated", min = 0.0, max = SCALE_FACTOR_SIGMA_MAX),
+    decl!(212, parameter accel_misalignment_sigma: params.accel.misalignment_sigma, "rad", "1-sigma of each component of the accelerometer's constant misalignment rotation (LanderSensors accel_misalignment_sigma); 0 (default): not estimated", min = 0.0, max = MISALIGNMENT_SIGMA_MAX_RAD),
     decl!(220, parameter gyro_bias_sigma: params.gyro.bias_sigma, "rad/s", "1-sigma of the gyro's constant bias per axis (LanderSensors gyro_bias_sigma): the initial 1-sigma of its estimate", min = 0.0, max = GYRO_BIAS_SIGMA_MAX),
     decl!(227, parameter gyro_noise_density: params.gyro.noise_density, "rad", "Angle random walk: 1-sigma of the integrated gyro noise after 1 s (LanderSensors gyro_noise_density)", min = 0.0, max = GYRO_NOISE_DENSITY_MAX),
     decl!(228, parameter gyro_bias_random_walk: params.gyro.bias_random_walk, "rad/s", "1-sigma of the gyro bias change after 1 s (LanderSensors gyro_bias_random_walk)", min = 0.0, max = GYRO_BIAS_RANDOM_WALK_MAX),
     // The beam sensors and the terrain: LanderSensors' names and meanings.
+    decl!(221, parameter gyro_scale_factor_sigma: params.gyro.scale_factor_sigma, "1", "1-sigma of the gyro's constant scale factor error per axis (LanderSensors gyro_scale_factor_sigma); 0 (default): not estimated", min = 0.0, max = SCALE_FACTOR_SIGMA_MAX),
+    decl!(222, parameter gyro_misalignment_sigma: params.gyro.misalignment_sigma, "rad", "1-sigma of each component of the gyro's constant misalignment rotation (LanderSensors gyro_misalignment_sigma); 0 (default): not estimated", min = 0.0, max = MISALIGNMENT_SIGMA_MAX_RAD),
     decl!(230, parameter altimeter_beam_body[3]: params.altimeter_beam_body, "1", "Direction of the altimeter beam in body axes (normalised; LanderSensors altimeter_beam_body)", components = BODY),
     decl!(233, parameter altimeter_noise_sigma: params.altimeter_noise_sigma_m, "m", "1-sigma of the range noise independent of the range (LanderSensors altimeter_noise_sigma; > 0)", above = 0.0, max = RANGE_NOISE_SIGMA_MAX_M),
     decl!(234, parameter altimeter_noise_proportional: params.altimeter_noise_proportional, "1", "1-sigma of the range noise per metre of slant range, in quadrature (LanderSensors altimeter_noise_proportional)", min = 0.0, max = RANGE_NOISE_PROPORTIONAL_MAX),

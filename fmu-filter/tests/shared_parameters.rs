@@ -1,5 +1,5 @@
-//! The parameters LanderFilter shares with LanderSensors (the IMU noises, the beams, the
-//! terrain) have the same names, units and defaults, so that both left at their defaults
+//! The parameters LanderFilter shares with LanderSensors (the IMU noises and calibration
+//! 1-sigmas, the beams, the terrain) have the same names, units and defaults, so that both left at their defaults
 //! describe the same sensors. Only the generated descriptions are compared: no C symbol of
 //! either FMU is linked.
 use fmu_filter::LanderFilter;
@@ -34,7 +34,7 @@ fn the_parameters_shared_with_the_sensors_have_their_units_and_defaults() {
         assert_eq!(unit(f), unit(s), "{}", f.name);
         shared += 1;
     }
-    // Sample period, 6 IMU noises, altimeter beam (3) and noises (2), three beams (9) and
-    // their noise, terrain height and normal (3).
-    assert_eq!(shared, 26);
+    // Sample period, 6 IMU noises, 4 calibration 1-sigmas, altimeter beam (3) and noises
+    // (2), three beams (9) and their noise, terrain height and normal (3).
+    assert_eq!(shared, 30);
 }

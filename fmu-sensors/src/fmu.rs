@@ -66,6 +66,9 @@ impl Model for LanderSensors {
         tolerance: None,
     };
 
+    /// 2: the run's drawn calibration errors.
+    const STATE_VERSION: u32 = 2;
+
     fn declarations() -> &'static [Declaration<Self>] {
         DECLARATIONS
     }
@@ -197,14 +200,18 @@ static DECLARATIONS: &[Declaration<LanderSensors>] = &[
     decl!(201, parameter imu_sample_period: params.sample_period_s, "s", "IMU sampling interval, the communication step: the white noise of one sample has the 1-sigma noise_density / sqrt(imu_sample_period)", above = 0.0, max = SAMPLE_PERIOD_MAX_S),
     // Accelerometer.
     decl!(210, parameter accel_bias_sigma: params.accel.bias_sigma, "m/s2", "1-sigma of the constant bias on each axis, drawn once per run from the seed", min = 0.0, max = ACCEL_BIAS_SIGMA_MAX),
-    decl!(211, parameter accel_scale_factor_error[3]: params.accel.scale_factor_error, "1", "Scale factor error per axis (1e-3 = 1000 ppm)", components = BODY, min = -SCALE_FACTOR_ERROR_MAX, max = SCALE_FACTOR_ERROR_MAX),
-    decl!(214, parameter accel_misalignment[3]: params.accel.misalignment_rad, "rad", "Misalignment of the accelerometer axes: a small rotation vector from body to sensor axes", components = BODY, min = -MISALIGNMENT_MAX_RAD, max = MISALIGNMENT_MAX_RAD),
+    decl!(211, parameter accel_scale_factor_error[3]: params.accel.scale_factor_error, "1", "Scale factor error per axis (1e-3 = 1000 ppm), fixed; the run's is this plus a draw of 1-sigma accel_scale_factor_sigma", components = BODY, min = -SCALE_FACTOR_ERROR_MAX, max = SCALE_FACTOR_ERROR_MAX),
+    decl!(202, parameter accel_scale_factor_sigma: params.accel.scale_factor_sigma, "1", "1-sigma of the scale factor error drawn once per run from the seed on each axis, added to accel_scale_factor_error", min = 0.0, max = SCALE_FACTOR_SIGMA_MAX),
+    decl!(214, parameter accel_misalignment[3]: params.accel.misalignment_rad, "rad", "Misalignment of the accelerometer axes: a small rotation vector from body to sensor axes, fixed; the run's is this plus a draw of 1-sigma accel_misalignment_sigma", components = BODY, min = -MISALIGNMENT_MAX_RAD, max = MISALIGNMENT_MAX_RAD),
+    decl!(203, parameter accel_misalignment_sigma: params.accel.misalignment_sigma, "rad", "1-sigma of each component of the misalignment rotation drawn once per run from the seed, added to accel_misalignment", min = 0.0, max = MISALIGNMENT_SIGMA_MAX_RAD),
     decl!(217, parameter accel_noise_density: params.accel.noise_density, "m/s", "Velocity random walk: 1-sigma of the integrated white noise after 1 s on each axis (the density in m/s2/sqrt(Hz))", min = 0.0, max = ACCEL_NOISE_DENSITY_MAX),
     decl!(218, parameter accel_bias_random_walk: params.accel.bias_random_walk, "m/s2", "1-sigma of the bias change after 1 s on each axis (grows as the square root of time)", min = 0.0, max = ACCEL_BIAS_RANDOM_WALK_MAX),
     // Gyro.
     decl!(220, parameter gyro_bias_sigma: params.gyro.bias_sigma, "rad/s", "1-sigma of the constant bias on each axis, drawn once per run from the seed", min = 0.0, max = GYRO_BIAS_SIGMA_MAX),
-    decl!(221, parameter gyro_scale_factor_error[3]: params.gyro.scale_factor_error, "1", "Scale factor error per axis (1e-3 = 1000 ppm)", components = BODY, min = -SCALE_FACTOR_ERROR_MAX, max = SCALE_FACTOR_ERROR_MAX),
-    decl!(224, parameter gyro_misalignment[3]: params.gyro.misalignment_rad, "rad", "Misalignment of the gyro axes: a small rotation vector from body to sensor axes", components = BODY, min = -MISALIGNMENT_MAX_RAD, max = MISALIGNMENT_MAX_RAD),
+    decl!(221, parameter gyro_scale_factor_error[3]: params.gyro.scale_factor_error, "1", "Scale factor error per axis (1e-3 = 1000 ppm), fixed; the run's is this plus a draw of 1-sigma gyro_scale_factor_sigma", components = BODY, min = -SCALE_FACTOR_ERROR_MAX, max = SCALE_FACTOR_ERROR_MAX),
+    decl!(204, parameter gyro_scale_factor_sigma: params.gyro.scale_factor_sigma, "1", "1-sigma of the scale factor error drawn once per run from the seed on each axis, added to gyro_scale_factor_error", min = 0.0, max = SCALE_FACTOR_SIGMA_MAX),
+    decl!(224, parameter gyro_misalignment[3]: params.gyro.misalignment_rad, "rad", "Misalignment of the gyro axes: a small rotation vector from body to sensor axes, fixed; the run's is this plus a draw of 1-sigma gyro_misalignment_sigma", components = BODY, min = -MISALIGNMENT_MAX_RAD, max = MISALIGNMENT_MAX_RAD),
+    decl!(205, parameter gyro_misalignment_sigma: params.gyro.misalignment_sigma, "rad", "1-sigma of each component of the misalignment rotation drawn once per run from the seed, added to gyro_misalignment", min = 0.0, max = MISALIGNMENT_SIGMA_MAX_RAD),
     decl!(227, parameter gyro_noise_density: params.gyro.noise_density, "rad", "Angle random walk: 1-sigma of the integrated white noise after 1 s on each axis (the density in rad/s/sqrt(Hz))", min = 0.0, max = GYRO_NOISE_DENSITY_MAX),
     decl!(228, parameter gyro_bias_random_walk: params.gyro.bias_random_walk, "rad/s", "1-sigma of the bias change after 1 s on each axis (grows as the square root of time)", min = 0.0, max = GYRO_BIAS_RANDOM_WALK_MAX),
     // Laser altimeter.

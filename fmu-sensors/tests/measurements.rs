@@ -15,7 +15,9 @@ use fmu_sensors::model::{SensorParameters, Sensors, Truth};
 const OFF_IMU: ImuErrors = ImuErrors {
     bias_sigma: 0.0,
     scale_factor_error: [0.0; 3],
+    scale_factor_sigma: 0.0,
     misalignment_rad: [0.0; 3],
+    misalignment_sigma: 0.0,
     noise_density: 0.0,
     bias_random_walk: 0.0,
 };
@@ -230,6 +232,58 @@ fn the_constant_biases_have_their_one_sigma_over_seeds() {
     }
     assert_normal(&accel, 0.0, 2e-3, "accel bias");
     assert_normal(&gyro, 0.0, 3e-5, "gyro bias");
+}
+
+#[test]
+fn the_drawn_calibration_errors_have_their_one_sigma_over_seeds_around_the_fixed_values() {
+    // GIVEN fixed scale factors and misalignments, and 1-sigmas of the drawn parts
+    let mut p = perfect();
+    p.accel.scale_factor_error = [1e-3, 0.0, -1e-3];
+    p.accel.scale_factor_sigma = 3e-4;
+    p.accel.misalignment_sigma = 5e-4;
+    p.accel.bias_sigma = 1e-3;
+    p.gyro.misalignment_rad = [0.0, 2e-3, 0.0];
+    p.gyro.scale_factor_sigma = 2e-4;
+    p.gyro.misalignment_sigma = 1e-3;
+    let (mut sa, mut ma, mut sg, mut mg) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for seed in 0..3000 {
+        p.seed = seed;
+        let s = Sensors::start(&p);
+        // THEN each run's errors are the fixed value plus a normal draw of that 1-sigma
+        for i in 0..3 {
+            sa.push(s.accel_calibration.scale_factor[i] - p.accel.scale_factor_error[i]);
+            ma.push(s.accel_calibration.misalignment_rad[i]);
+            sg.push(s.gyro_calibration.scale_factor[i]);
+            mg.push(s.gyro_calibration.misalignment_rad[i] - p.gyro.misalignment_rad[i]);
+        }
+        // AND the constant biases are drawn as without calibration draws (their own stream)
+        let (wa, _) = bias_draws(seed);
+        assert_eq!(s.accel_bias_mps2, wa.map(|w| p.accel.bias_sigma * w));
+    }
+    assert_normal(&sa, 0.0, 3e-4, "accel scale factor");
+    assert_normal(&ma, 0.0, 5e-4, "accel misalignment");
+    assert_normal(&sg, 0.0, 2e-4, "gyro scale factor");
+    assert_normal(&mg, 0.0, 1e-3, "gyro misalignment");
+    // AND a run measures with its drawn errors: m = (1 + s) (x - mu x x) for an upright,
+    // still lander under thrust along body y
+    p.seed = 5;
+    let s = Sensors::start(&p);
+    let t = truth([0.0, 500.0, 0.0], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
+    let m = s.measure(&p, &t).unwrap();
+    let x = t.specific_force_body_mps2;
+    let (sf, mu) = (
+        s.accel_calibration.scale_factor,
+        s.accel_calibration.misalignment_rad,
+    );
+    let sensed = [
+        x[0] - (mu[1] * x[2] - mu[2] * x[1]),
+        x[1] - (mu[2] * x[0] - mu[0] * x[2]),
+        x[2] - (mu[0] * x[1] - mu[1] * x[0]),
+    ];
+    for i in 0..3 {
+        let want = (1.0 + sf[i]) * sensed[i] + s.accel_bias_mps2[i];
+        assert!(close(m.accel_body_meas_mps2[i], want, 1e-14), "accel {i}");
+    }
 }
 
 /// The measurements of `n` successive samples of one run.

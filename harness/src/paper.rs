@@ -203,10 +203,10 @@ pub fn table(flights: &[Flight]) -> String {
         ("max horizontal deviation, descent (m)", |m| {
             m.max_horizontal_deviation_descent_m
         }),
-        ("terminal position error (m)", |m| {
-            m.terminal_position_error_m
+        ("position error, end of descent (m)", |m| {
+            m.descent_end_position_error_m
         }),
-        ("terminal velocity error (m/s)", |m| {
+        ("speed at the end of the run (m/s)", |m| {
             m.terminal_velocity_error_mps
         }),
         ("final altitude (m)", |m| m.final_altitude_m),

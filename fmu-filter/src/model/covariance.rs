@@ -1,17 +1,25 @@
-//! The 15 x 15 covariance and the two operations the filter does on it, written for its
+//! The 27 x 27 covariance and the two operations the filter does on it, written for its
 //! structure so that a debug build stays fast: the propagation `F P F^T + Q` with a sparse
 //! `F`, and the Joseph-form update for one scalar measurement in O(n^2).
 //!
 //! Error-state order: `dr` (0..3, m, NUE), `dv` (3..6, m/s, NUE), `dtheta` (6..9, rad, body
-//! axes), `db_a` (9..12, m/s2), `db_g` (12..15, rad/s).
+//! axes), `db_a` (9..12, m/s2), `db_g` (12..15, rad/s); then the IMU's calibration errors,
+//! `ds_a` (15..18, accelerometer scale factor), `ds_g` (18..21, gyro scale factor), `dmu_a`
+//! (21..24, rad, accelerometer misalignment), `dmu_g` (24..27, rad, gyro misalignment).
 // Matrix formulas read best with their indices.
 #![allow(clippy::needless_range_loop)]
-pub const N: usize = 15;
+pub const N: usize = 27;
 pub const R: usize = 0;
 pub const V: usize = 3;
 pub const THETA: usize = 6;
 pub const BA: usize = 9;
 pub const BG: usize = 12;
+pub const SA: usize = 15;
+pub const SG: usize = 18;
+pub const MA: usize = 21;
+pub const MG: usize = 24;
+/// The navigation states and biases: `covariance_diag` (the calibration states follow).
+pub const NAVIGATION: usize = 15;
 
 pub type Matrix = [[f64; N]; N];
 pub type Row = [f64; N];
@@ -148,6 +156,7 @@ mod tests {
             (1, 1, 2.0),
             (4, 2, -0.3),
             (14, 14, 1.0),
+            (26, 20, 0.7),
         ];
         let mut dense = [[0.0; N]; N];
         for &(i, j, v) in &f {

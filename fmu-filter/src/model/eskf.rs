@@ -5,7 +5,7 @@
 //! (docs/filter.md gives the equations).
 // Matrix formulas read best with their indices.
 #![allow(clippy::needless_range_loop)]
-use super::covariance::{self, Matrix, Sparse, BA, BG, N, R as IR, THETA, V as IV};
+use super::covariance::{self, Matrix, Sparse, BA, BG, MA, MG, N, R as IR, SA, SG, THETA, V as IV};
 use super::measurement::{self, Plane, Prediction};
 use super::parameters::FilterParameters;
 use super::rotation::{self, skew, Quaternion};
@@ -26,8 +26,41 @@ pub struct Eskf {
     pub q_body_to_nue: Quaternion,
     pub accel_bias_mps2: [f64; 3],
     pub gyro_bias_radps: [f64; 3],
+    pub accel_calibration: Calibration,
+    pub gyro_calibration: Calibration,
     /// The error state's covariance, in the order of [`covariance`].
     pub p: Matrix,
+}
+
+/// The estimated calibration errors of one IMU triad, in LanderSensors' model
+/// `m = (I + diag(s)) (x - mu x x) + b + n`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Calibration {
+    pub scale_factor: [f64; 3],
+    pub misalignment_rad: [f64; 3],
+}
+
+impl Calibration {
+    /// The body-axis value of a measurement less its bias `u`, to first order in the
+    /// calibration errors: `x = u - diag(s) u + mu x u`.
+    pub fn compensate(&self, u: &Vector3<f64>) -> Vector3<f64> {
+        let s = v3(&self.scale_factor);
+        u - s.component_mul(u) + v3(&self.misalignment_rad).cross(u)
+    }
+
+    fn add(&mut self, dx: &[f64; N], scale_at: usize, misalignment_at: usize) {
+        for i in 0..3 {
+            self.scale_factor[i] += dx[scale_at + i];
+            self.misalignment_rad[i] += dx[misalignment_at + i];
+        }
+    }
+
+    fn is_finite(&self) -> bool {
+        self.scale_factor
+            .iter()
+            .chain(&self.misalignment_rad)
+            .all(|x| x.is_finite())
+    }
 }
 
 /// What one scalar measurement did.
@@ -54,6 +87,10 @@ impl Eskf {
             (THETA, params.attitude0_sigma_rad),
             (BA, params.accel.bias_sigma),
             (BG, params.gyro.bias_sigma),
+            (SA, params.accel.scale_factor_sigma),
+            (SG, params.gyro.scale_factor_sigma),
+            (MA, params.accel.misalignment_sigma),
+            (MG, params.gyro.misalignment_sigma),
         ];
         for (at, sigma) in sigmas {
             for i in at..at + 3 {
@@ -66,6 +103,8 @@ impl Eskf {
             q_body_to_nue: rotation::normalized(&params.q0_body_to_nue),
             accel_bias_mps2: [0.0; 3],
             gyro_bias_radps: [0.0; 3],
+            accel_calibration: Calibration::default(),
+            gyro_calibration: Calibration::default(),
             p,
         }
     }
@@ -74,9 +113,10 @@ impl Eskf {
         rotation::matrix(&self.q_body_to_nue)
     }
 
-    /// The body rate: the gyro's minus the estimated bias.
+    /// The body rate: the gyro's less the estimated bias, calibrated.
     pub fn omega_body(&self, imu: &Imu) -> [f64; 3] {
-        std::array::from_fn(|i| imu.gyro_body_radps[i] - self.gyro_bias_radps[i])
+        let u = v3(&imu.gyro_body_radps) - v3(&self.gyro_bias_radps);
+        self.gyro_calibration.compensate(&u).into()
     }
 
     /// From the sample's time over `h` seconds, the IMU sample held over the step.
@@ -99,8 +139,10 @@ impl Eskf {
         linearised_at: Option<&Heading>,
     ) {
         let r = self.rotation();
-        let f = v3(&imu.accel_body_mps2) - v3(&self.accel_bias_mps2);
-        let w = v3(&imu.gyro_body_radps) - v3(&self.gyro_bias_radps);
+        let f = self
+            .accel_calibration
+            .compensate(&(v3(&imu.accel_body_mps2) - v3(&self.accel_bias_mps2)));
+        let w = v3(&self.omega_body(imu));
         let g = Vector3::new(0.0, -params.gravity_mps2, 0.0);
         // The body turns by w h over the step while the specific force acts: the velocity
         // takes its integral, R (f + (h / 2) w x f) h, and the position its double integral,
@@ -117,7 +159,12 @@ impl Eskf {
         self.q_body_to_nue = rotation::normalized(&rotation::mul(&self.q_body_to_nue, &turn));
 
         let mut rf = r * skew(&f);
-        let mut tr: Sparse = Vec::with_capacity(96);
+        // The accelerometer's misalignment turns the specific force as an attitude error
+        // does; the heading constraint below concerns the attitude alone.
+        let rf_misaligned = rf;
+        let skew_w = skew(&w);
+        let rf_w = rf * skew_w;
+        let mut tr: Sparse = Vec::with_capacity(192);
         for i in 0..N {
             if !(THETA..THETA + 3).contains(&i) {
                 tr.push((i, i, 1.0));
@@ -146,6 +193,27 @@ impl Eskf {
         for a in 0..3 {
             tr.push((IR + a, IV + a, h));
             tr.push((THETA + a, BG + a, -h));
+            // The calibration errors: df = -diag(f) ds_a - [f]x dmu_a, and the same of w.
+            // The rate error also turns the specific force within the step (the w x f term):
+            // dv = -(h^2 / 2) R [f]x dw, dr = -(h^3 / 6) R [f]x dw, with
+            // dw = -db_g - diag(w) ds_g - [w]x dmu_g.
+            tr.push((THETA + a, SG + a, -h * w[a]));
+            for b in 0..3 {
+                let (v_of_w, r_of_w) = (0.5 * h * h, h * h * h / 6.0);
+                tr.push((IV + a, BG + b, v_of_w * rf_misaligned[(a, b)]));
+                tr.push((IR + a, BG + b, r_of_w * rf_misaligned[(a, b)]));
+                tr.push((IV + a, SG + b, v_of_w * rf_misaligned[(a, b)] * w[b]));
+                tr.push((IR + a, SG + b, r_of_w * rf_misaligned[(a, b)] * w[b]));
+                tr.push((IV + a, MG + b, v_of_w * rf_w[(a, b)]));
+                tr.push((IR + a, MG + b, r_of_w * rf_w[(a, b)]));
+            }
+            for b in 0..3 {
+                tr.push((IR + a, SA + b, -0.5 * h * h * r[(a, b)] * f[b]));
+                tr.push((IV + a, SA + b, -h * r[(a, b)] * f[b]));
+                tr.push((IR + a, MA + b, -0.5 * h * h * rf_misaligned[(a, b)]));
+                tr.push((IV + a, MA + b, -h * rf_misaligned[(a, b)]));
+                tr.push((THETA + a, MG + b, -h * skew_w[(a, b)]));
+            }
             for b in 0..3 {
                 tr.push((IR + a, THETA + b, -0.5 * h * h * rf_r[(a, b)]));
                 tr.push((IR + a, BA + b, -0.5 * h * h * r[(a, b)]));
@@ -207,6 +275,8 @@ impl Eskf {
         add(&mut self.v_nue_mps, IV);
         add(&mut self.accel_bias_mps2, BA);
         add(&mut self.gyro_bias_radps, BG);
+        self.accel_calibration.add(dx, SA, MA);
+        self.gyro_calibration.add(dx, SG, MG);
         let dtheta = Vector3::new(dx[THETA], dx[THETA + 1], dx[THETA + 2]);
         self.q_body_to_nue =
             rotation::normalized(&rotation::mul(&self.q_body_to_nue, &rotation::exp(&dtheta)));
@@ -287,6 +357,8 @@ impl Eskf {
             .chain(&self.q_body_to_nue);
         let biases = self.accel_bias_mps2.iter().chain(&self.gyro_bias_radps);
         values.chain(biases).all(|x| x.is_finite())
+            && self.accel_calibration.is_finite()
+            && self.gyro_calibration.is_finite()
             && self.p.iter().flatten().all(|x| x.is_finite())
             && (0..N).all(|i| self.p[i][i] >= 0.0)
     }

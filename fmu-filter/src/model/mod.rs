@@ -1,4 +1,4 @@
-//! The filter, with no FMI in sight: rotations, the 15 x 15 covariance arithmetic, the
+//! The filter, with no FMI in sight: rotations, the 27 x 27 covariance arithmetic, the
 //! parameters, the measurement models with their Jacobians, and the ESKF itself.
 pub mod covariance;
 pub mod eskf;

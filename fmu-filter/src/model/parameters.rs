@@ -12,6 +12,11 @@ pub struct ImuNoise {
     pub noise_density: f64,
     /// 1-sigma of the bias change after 1 s.
     pub bias_random_walk: f64,
+    /// 1-sigma of the constant scale factor error on each axis (LanderSensors'
+    /// `scale_factor_sigma`): the initial 1-sigma of its estimate; 0 leaves it unestimated.
+    pub scale_factor_sigma: f64,
+    /// 1-sigma of each component of the constant misalignment rotation (rad).
+    pub misalignment_sigma: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -68,11 +73,15 @@ impl Default for FilterParameters {
                 bias_sigma: 1e-3,
                 noise_density: 5e-4,
                 bias_random_walk: 1e-5,
+                scale_factor_sigma: 0.0,
+                misalignment_sigma: 0.0,
             },
             gyro: ImuNoise {
                 bias_sigma: 1e-5,
                 noise_density: 1.5e-5,
                 bias_random_walk: 1e-7,
+                scale_factor_sigma: 0.0,
+                misalignment_sigma: 0.0,
             },
             altimeter_beam_body: [0.0, -1.0, 0.0],
             altimeter_noise_sigma_m: 0.1,
@@ -115,6 +124,9 @@ pub mod bounds {
     pub const GYRO_NOISE_DENSITY_MAX: f64 = 0.1;
     pub const ACCEL_BIAS_RANDOM_WALK_MAX: f64 = 1.0;
     pub const GYRO_BIAS_RANDOM_WALK_MAX: f64 = 0.1;
+    /// The calibration errors are first-order in the model: 10 % and 0.1 rad at most.
+    pub const SCALE_FACTOR_SIGMA_MAX: f64 = 0.1;
+    pub const MISALIGNMENT_SIGMA_MAX_RAD: f64 = 0.1;
     pub const RANGE_NOISE_SIGMA_MAX_M: f64 = 1000.0;
     pub const RANGE_NOISE_PROPORTIONAL_MAX: f64 = 1.0;
     pub const LOS_NOISE_SIGMA_MAX_MPS: f64 = 100.0;
@@ -251,6 +263,28 @@ impl FilterParameters {
             false,
             GYRO_BIAS_RANDOM_WALK_MAX,
         )?;
+        for (name, imu) in [("accel", &self.accel), ("gyro", &self.gyro)] {
+            let (scale, misalignment) = match name {
+                "accel" => ("accel.scale_factor_sigma", "accel.misalignment_sigma"),
+                _ => ("gyro.scale_factor_sigma", "gyro.misalignment_sigma"),
+            };
+            within(
+                scale,
+                None,
+                imu.scale_factor_sigma,
+                0.0,
+                false,
+                SCALE_FACTOR_SIGMA_MAX,
+            )?;
+            within(
+                misalignment,
+                None,
+                imu.misalignment_sigma,
+                0.0,
+                false,
+                MISALIGNMENT_SIGMA_MAX_RAD,
+            )?;
+        }
         direction("altimeter_beam_body", &self.altimeter_beam_body)?;
         // A measurement noise of zero would make the innovation variance singular when the
         // covariance has collapsed: the noises are strictly positive.

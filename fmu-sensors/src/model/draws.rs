@@ -6,7 +6,8 @@
 //! stream `k`, and always draws the same values in the same order, whatever is switched on:
 //! accelerometer white noise (3), gyro white noise (3), accelerometer bias walk (3), gyro bias
 //! walk (3), altimeter noise, altimeter dropout, then per velocimeter beam its noise and its
-//! dropout. The run's constant biases come from stream [`BIAS_STREAM`].
+//! dropout. The run's constant biases come from stream [`BIAS_STREAM`], its constant
+//! calibration errors from [`CALIBRATION_STREAM`].
 //!
 //! Normal values are rand_distr's `StandardNormal` (its ziggurat). Unlike LanderNav's own
 //! copy with libm, it calls std's `exp` and `ln` in its rare rejection branches, so the
@@ -18,6 +19,8 @@ use rand_distr::StandardNormal;
 
 /// The stream of the run's constant biases: never a sample number.
 pub const BIAS_STREAM: u64 = u64::MAX;
+/// The stream of the run's constant calibration errors: never a sample number.
+pub const CALIBRATION_STREAM: u64 = u64::MAX - 1;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SampleDraws {
@@ -68,6 +71,14 @@ impl SampleDraws {
             velocimeter_dropout,
         }
     }
+}
+
+/// Standard normal values of the run's constant calibration errors, in the order
+/// accelerometer scale factor, accelerometer misalignment, gyro scale factor, gyro
+/// misalignment.
+pub fn calibration_draws(seed: i32) -> [[f64; 3]; 4] {
+    let mut rng = rng(seed, CALIBRATION_STREAM);
+    std::array::from_fn(|_| normals(&mut rng))
 }
 
 /// Standard normal values of the run's constant biases: (accelerometer, gyro).

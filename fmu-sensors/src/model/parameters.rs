@@ -13,10 +13,15 @@ pub const VELOCIMETER_AZIMUTHS_DEG: [f64; 3] = [0.0, 120.0, 240.0];
 pub struct ImuErrors {
     /// 1-sigma of the constant bias on each axis, drawn once per run from the seed.
     pub bias_sigma: f64,
-    /// Scale factor error per axis (0.001 = 1000 ppm), a fixed value, not drawn.
+    /// Scale factor error per axis (0.001 = 1000 ppm): this fixed value plus one drawn once
+    /// per run from the seed with the 1-sigma `scale_factor_sigma`.
     pub scale_factor_error: [f64; 3],
-    /// Misalignment of the sensor axes from the body axes: a small rotation vector (rad).
+    pub scale_factor_sigma: f64,
+    /// Misalignment of the sensor axes from the body axes: a small rotation vector (rad),
+    /// this fixed value plus one drawn once per run with the 1-sigma `misalignment_sigma` per
+    /// component.
     pub misalignment_rad: [f64; 3],
+    pub misalignment_sigma: f64,
     /// White noise density: the 1-sigma of the integrated noise after 1 s (velocity or angle
     /// random walk), numerically the density per square root of hertz.
     pub noise_density: f64,
@@ -77,14 +82,18 @@ impl Default for SensorParameters {
             accel: ImuErrors {
                 bias_sigma: 1e-3,
                 scale_factor_error: [0.0; 3],
+                scale_factor_sigma: 0.0,
                 misalignment_rad: [0.0; 3],
+                misalignment_sigma: 0.0,
                 noise_density: 5e-4,
                 bias_random_walk: 1e-5,
             },
             gyro: ImuErrors {
                 bias_sigma: 1e-5,
                 scale_factor_error: [0.0; 3],
+                scale_factor_sigma: 0.0,
                 misalignment_rad: [0.0; 3],
+                misalignment_sigma: 0.0,
                 noise_density: 1.5e-5,
                 bias_random_walk: 1e-7,
             },
@@ -126,6 +135,10 @@ pub mod bounds {
     pub const GYRO_BIAS_SIGMA_MAX: f64 = 1.0;
     pub const SCALE_FACTOR_ERROR_MAX: f64 = 0.5;
     pub const MISALIGNMENT_MAX_RAD: f64 = 0.1;
+    /// The drawn calibration errors' 1-sigmas: a tenth of the fixed values' bounds, so that
+    /// a draw stays within them to many sigmas and the first-order model holds.
+    pub const SCALE_FACTOR_SIGMA_MAX: f64 = 0.05;
+    pub const MISALIGNMENT_SIGMA_MAX_RAD: f64 = 0.01;
     pub const ACCEL_NOISE_DENSITY_MAX: f64 = 1.0;
     pub const GYRO_NOISE_DENSITY_MAX: f64 = 0.1;
     pub const ACCEL_BIAS_RANDOM_WALK_MAX: f64 = 1.0;
@@ -215,6 +228,8 @@ impl SensorParameters {
                     "accel.misalignment_rad",
                     "accel.noise_density",
                     "accel.bias_random_walk",
+                    "accel.scale_factor_sigma",
+                    "accel.misalignment_sigma",
                 ],
             ),
             (
@@ -228,6 +243,8 @@ impl SensorParameters {
                     "gyro.misalignment_rad",
                     "gyro.noise_density",
                     "gyro.bias_random_walk",
+                    "gyro.scale_factor_sigma",
+                    "gyro.misalignment_sigma",
                 ],
             ),
         ] {
@@ -254,6 +271,22 @@ impl SensorParameters {
             }
             within(fields[3], None, imu.noise_density, 0.0, false, density_max)?;
             within(fields[4], None, imu.bias_random_walk, 0.0, false, walk_max)?;
+            within(
+                fields[5],
+                None,
+                imu.scale_factor_sigma,
+                0.0,
+                false,
+                SCALE_FACTOR_SIGMA_MAX,
+            )?;
+            within(
+                fields[6],
+                None,
+                imu.misalignment_sigma,
+                0.0,
+                false,
+                MISALIGNMENT_SIGMA_MAX_RAD,
+            )?;
         }
         for (beam, fields) in [
             (

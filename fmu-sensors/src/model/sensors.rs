@@ -2,8 +2,8 @@
 //! outputs measure the inputs there, with the bias of sample `k` and the draws of sample `k`;
 //! `step` moves the biases by their random walk over the step and goes to sample `k + 1`.
 //! Reading the outputs never draws: they are a function of (parameters, inputs, state).
-use super::draws::{bias_draws, SampleDraws};
-use super::parameters::SensorParameters;
+use super::draws::{bias_draws, calibration_draws, SampleDraws};
+use super::parameters::{ImuErrors, SensorParameters};
 use super::quaternion::{body_to_nue, unit};
 use super::terrain::Terrain;
 use super::truth::Truth;
@@ -22,22 +22,65 @@ pub struct Measurements {
     pub velocimeter_valid: [bool; 3],
 }
 
-/// The sensors' state: the sample number and the biases of that sample.
+/// The sensors' state: the sample number, the biases of that sample and the run's
+/// calibration errors.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Sensors {
     pub sample: u64,
     pub accel_bias_mps2: [f64; 3],
     pub gyro_bias_radps: [f64; 3],
+    pub accel_calibration: Calibration,
+    pub gyro_calibration: Calibration,
+}
+
+/// One triad's scale factor errors and misalignment for the run: the parameters' fixed
+/// values plus the draws.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Calibration {
+    pub scale_factor: [f64; 3],
+    pub misalignment_rad: [f64; 3],
+}
+
+impl Calibration {
+    fn drawn(errors: &ImuErrors, scale: [f64; 3], misalignment: [f64; 3]) -> Calibration {
+        Calibration {
+            scale_factor: std::array::from_fn(|i| {
+                errors.scale_factor_error[i] + errors.scale_factor_sigma * scale[i]
+            }),
+            misalignment_rad: std::array::from_fn(|i| {
+                errors.misalignment_rad[i] + errors.misalignment_sigma * misalignment[i]
+            }),
+        }
+    }
+
+    /// `errors` with these calibration errors.
+    fn applied(&self, errors: &ImuErrors) -> ImuErrors {
+        ImuErrors {
+            scale_factor_error: self.scale_factor,
+            misalignment_rad: self.misalignment_rad,
+            ..*errors
+        }
+    }
+
+    fn is_finite(&self) -> bool {
+        self.scale_factor
+            .iter()
+            .chain(&self.misalignment_rad)
+            .all(|x| x.is_finite())
+    }
 }
 
 impl Sensors {
-    /// Sample 0: the run's constant biases drawn from the seed.
+    /// Sample 0: the run's constant biases and calibration errors drawn from the seed.
     pub fn start(params: &SensorParameters) -> Sensors {
         let (a, g) = bias_draws(params.seed);
+        let [sa, ma, sg, mg] = calibration_draws(params.seed);
         Sensors {
             sample: 0,
             accel_bias_mps2: a.map(|w| params.accel.bias_sigma * w),
             gyro_bias_radps: g.map(|w| params.gyro.bias_sigma * w),
+            accel_calibration: Calibration::drawn(&params.accel, sa, ma),
+            gyro_calibration: Calibration::drawn(&params.gyro, sg, mg),
         }
     }
 
@@ -46,14 +89,14 @@ impl Sensors {
     pub fn measure(&self, params: &SensorParameters, truth: &Truth) -> Option<Measurements> {
         let draws = SampleDraws::of_sample(params.seed, self.sample);
         let accel = imu::measure(
-            &params.accel,
+            &self.accel_calibration.applied(&params.accel),
             &truth.specific_force_body_mps2,
             &self.accel_bias_mps2,
             &draws.accel_white,
             params.sample_period_s,
         );
         let gyro = imu::measure(
-            &params.gyro,
+            &self.gyro_calibration.applied(&params.gyro),
             &truth.omega_body_radps,
             &self.gyro_bias_radps,
             &draws.gyro_white,
@@ -128,7 +171,11 @@ impl Sensors {
     /// Whether the state could have been reached with `params` (for a restored FMU state).
     pub fn inconsistency(&self) -> Option<String> {
         let all = self.accel_bias_mps2.iter().chain(&self.gyro_bias_radps);
-        (!all.clone().all(|x| x.is_finite())).then(|| "a bias is not finite".to_string())
+        if !all.clone().all(|x| x.is_finite()) {
+            return Some("a bias is not finite".to_string());
+        }
+        (!(self.accel_calibration.is_finite() && self.gyro_calibration.is_finite()))
+            .then(|| "a calibration error is not finite".to_string())
     }
 }
 

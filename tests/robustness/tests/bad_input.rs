@@ -833,6 +833,8 @@ fn out_of_range_sensors_parameters_are_refused_by_name_and_reset_recovers() {
         ("imu_sample_period", 0.0, "fmi2SetReal", "0"),
         ("altimeter_dropout_probability", 1.5, "fmi2SetReal", "1.5"),
         ("gyro_misalignment[2]", 0.2, "fmi2SetReal", "0.2"),
+        ("accel_scale_factor_sigma", 0.06, "fmi2SetReal", "0.06"),
+        ("gyro_misalignment_sigma", -1e-3, "fmi2SetReal", "-0.001"),
         ("velocimeter_max_range", f64::NAN, "fmi2SetReal", "NaN"),
         ("seed", -1.0, "fmi2SetInteger", "-1"),
     ] {
@@ -879,6 +881,8 @@ fn out_of_range_filter_parameters_are_refused_by_name_and_reset_recovers() {
         ("q0_body_to_nue[1]", 1.5, "1.5"),
         ("chi2_gate", 0.0, "0"),
         ("attitude0_sigma", f64::INFINITY, "inf"),
+        ("gyro_scale_factor_sigma", 0.2, "0.2"),
+        ("accel_misalignment_sigma", -1e-3, "-0.001"),
     ] {
         let inst = fmu.instantiate("filter-params", false);
         assert_eq!(inst.setup(0.0, None), fmi2OK);
