@@ -13,7 +13,9 @@
 //!   bisection on the indicators) over an FMU's ME entry points ([`fmi2_me_functions!`]);
 //! - [`CountingAllocator`]: a global allocator that counts live and peak bytes;
 //! - [`assert_file_matches`]: the drift check of a generated file kept under version control;
-//! - [`assert_declared_bounds_are_validated`]: declared bounds and a model's validation agree.
+//! - [`assert_declared_bounds_are_validated`]: declared bounds and a model's validation agree;
+//! - [`assert_refused_in_the_set`], [`assert_refused_at_exit`]: a rejected parameter refused
+//!   with a log line naming it, in either version, the instance left usable.
 //!
 //! It is a dev-dependency only; nothing here ends up in an FMU.
 #![allow(unsafe_code)]
@@ -27,6 +29,7 @@ mod functions;
 mod instance;
 mod logger;
 mod model_exchange;
+mod refusals;
 mod test_model;
 
 pub use alloc::{CountingAllocator, HeapUse};
@@ -45,3 +48,4 @@ pub use functions::Fmi2Functions;
 pub use instance::Instance;
 pub use logger::{Record, TestLogger};
 pub use model_exchange::{Fmi2MeFunctions, MeSolver};
+pub use refusals::{assert_refused_at_exit, assert_refused_in_the_set, AtExit, Refusal, Refusals};

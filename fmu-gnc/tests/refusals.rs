@@ -1,0 +1,40 @@
+//! Rejected parameters through both FMI versions' C functions: each refused by name with its
+//! value in the log, the instance left usable.
+use fmi_testkit::{
+    fmi2_functions, fmi3_functions, AtExit, Fmi2, Fmi2Functions, Fmi3, Fmi3Functions, Refusals,
+};
+use fmu_gnc::LanderGnc;
+
+static FUNCTIONS2: Fmi2Functions = fmi2_functions!(fmu_gnc);
+static FUNCTIONS3: Fmi3Functions = fmi3_functions!(fmu_gnc);
+
+const REFUSALS: Refusals = Refusals {
+    in_the_set: &[
+        ("phi_cmd", 13.0, "13"),
+        ("control_bandwidth", 0.0, "0"),
+        ("control_damping", 101.0, "101"),
+        ("gravity", f64::NAN, "NaN"),
+        ("reduced_yaw_weight", -0.5, "-0.5"),
+        ("descent_time_to_go", f64::INFINITY, "inf"),
+    ],
+    at_exit: &[
+        // Each within its bounds, the pair not: the lowest thrust above the highest.
+        AtExit {
+            sets: &[("thrust_min", 5000.0), ("thrust_max", 1000.0)],
+            name: "thrust_max",
+            says: "1000: must be >= thrust_min",
+        },
+    ],
+    step: 0.01,
+};
+
+#[test]
+fn fmi2_refuses_rejected_parameters_by_name_and_stays_usable() {
+    REFUSALS.check::<LanderGnc, Fmi2>(&FUNCTIONS2, &fmi2_export::guid::<LanderGnc>());
+}
+
+#[test]
+fn fmi3_refuses_rejected_parameters_by_name_and_stays_usable() {
+    let token = fmi3_export::instantiation_token::<LanderGnc>();
+    REFUSALS.check::<LanderGnc, Fmi3>(&FUNCTIONS3, &token);
+}
