@@ -9,7 +9,7 @@ use super::covariance::{self, Matrix, Sparse, BA, BG, MA, MG, N, R as IR, SA, SG
 use super::measurement::{self, Plane, Prediction};
 use super::parameters::FilterParameters;
 use super::rotation::{self, skew, Quaternion};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Matrix6, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// One IMU sample: specific force and body rate as measured, in body axes.
@@ -295,10 +295,19 @@ impl Eskf {
     ) -> Option<Update> {
         let plane = Plane::new(params.terrain_height_m, &params.terrain_slope_normal_nue);
         let beam = rotation::unit(&v3(&params.altimeter_beam_body));
-        let pred = measurement::altimeter(&plane, &v3(&self.r_nue_m), &self.rotation(), &beam)?;
+        let r = v3(&self.r_nue_m);
+        let rotation = self.rotation();
+        let mut pred = measurement::altimeter(&plane, &r, &rotation, &beam)?;
         let sigma0 = params.altimeter_noise_sigma_m;
         let prop = params.altimeter_noise_proportional * pred.value;
-        Some(self.update(dx, &pred, y, sigma0 * sigma0 + prop * prop, gate(params)))
+        // The range's second-order part under the covariance of (dr, dtheta).
+        let at = |i: usize| if i < 3 { IR + i } else { THETA + i - 3 };
+        let p_z = Matrix6::from_fn(|i, j| self.p[at(i)][at(j)]);
+        let (mean, variance) =
+            measurement::altimeter_second_order(&plane, &r, &rotation, &beam, &p_z);
+        pred.value += mean;
+        let noise = sigma0 * sigma0 + prop * prop + variance.max(0.0);
+        Some(self.update(dx, &pred, y, noise, gate(params)))
     }
 
     /// Velocimeter beam `i`'s line-of-sight velocity `y`. The model `y = v . R b` is bilinear
