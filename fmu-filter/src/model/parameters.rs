@@ -263,11 +263,18 @@ impl FilterParameters {
             false,
             GYRO_BIAS_RANDOM_WALK_MAX,
         )?;
-        for (name, imu) in [("accel", &self.accel), ("gyro", &self.gyro)] {
-            let (scale, misalignment) = match name {
-                "accel" => ("accel.scale_factor_sigma", "accel.misalignment_sigma"),
-                _ => ("gyro.scale_factor_sigma", "gyro.misalignment_sigma"),
-            };
+        for (imu, scale, misalignment) in [
+            (
+                &self.accel,
+                "accel.scale_factor_sigma",
+                "accel.misalignment_sigma",
+            ),
+            (
+                &self.gyro,
+                "gyro.scale_factor_sigma",
+                "gyro.misalignment_sigma",
+            ),
+        ] {
             within(
                 scale,
                 None,
