@@ -85,8 +85,10 @@ fn open<D: Driver>(functions: &D::Functions, token: &str) -> D {
 }
 
 /// Each case on a fresh Co-Simulation instance in initialization mode: the set returns
-/// Error, the last log line names the setter, the variable and the value, the parameter
-/// keeps its value, and the instance still initializes and takes a step of `h`.
+/// Error and the last log line names the setter, the variable and the value. After an Error
+/// both versions allow only a reset (or restoring a state, or freeing the instance): after
+/// one the parameter has its start value and the instance initializes and takes a step of
+/// `h`.
 pub fn assert_refused_in_the_set<D: Driver>(
     functions: &D::Functions,
     token: &str,
@@ -96,7 +98,7 @@ pub fn assert_refused_in_the_set<D: Driver>(
     let setter = real_setter(D::VERSION);
     for case in cases {
         let fmu: D = open(functions, token);
-        let before = fmu.real(case.value_reference);
+        let start = fmu.real(case.value_reference);
         let status = fmu.set_real(case.value_reference, case.value);
         let line = fmu.last_message();
         assert_eq!(status, Status::Error, "{}: {line}", case.name);
@@ -107,7 +109,9 @@ pub fn assert_refused_in_the_set<D: Driver>(
                 case.name
             );
         }
-        assert_eq!(fmu.real(case.value_reference).to_bits(), before.to_bits());
+        assert_eq!(fmu.reset(), Status::Ok, "{:?}", fmu.messages());
+        assert_eq!(fmu.enter_initialization_mode(0.0, None), Status::Ok);
+        assert_eq!(fmu.real(case.value_reference).to_bits(), start.to_bits());
         assert_eq!(
             fmu.exit_initialization_mode(),
             Status::Ok,
