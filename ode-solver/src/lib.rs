@@ -24,7 +24,7 @@ pub trait OdeSystem {
     fn indicators(&mut self, t: f64, x: &[f64], z: &mut [f64]) -> Result<(), String>;
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Method {
     /// Variable-order (1..5) BDF with Newton iterations on a finite-difference Jacobian: stiff.
     Bdf,
@@ -32,7 +32,7 @@ pub enum Method {
     Tsit45,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Tolerances {
     pub relative: f64,
     pub absolute: f64,

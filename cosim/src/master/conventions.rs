@@ -11,7 +11,7 @@
 //! | Ecos fixed step        | Jacobi   | `Exchanged`    | `Accumulated` | no                 |
 
 /// A run's conventions; `Default` is the harness's own.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Conventions {
     pub initial_inputs: InitialInputs,
     pub time_grid: TimeGrid,
@@ -56,7 +56,7 @@ impl Conventions {
 }
 
 /// What the connected inputs hold at the first step.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum InitialInputs {
     /// Outputs are exchanged in initialization mode, so the first step sees the plant's
     /// initial state and the controller's answer to it.
@@ -70,7 +70,7 @@ pub enum InitialInputs {
 }
 
 /// How the communication points `t_k` and step sizes `h_k` are computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum TimeGrid {
     /// `t_k = start + k h` from an integer step counter, each point exact to one rounding;
     /// the last step is shortened to land on the stop time.

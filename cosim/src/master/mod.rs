@@ -88,7 +88,7 @@ pub enum MasterError {
 }
 
 /// How a run ended.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum RunEnd {
     /// Reached the stop time.
     Completed,

@@ -13,7 +13,7 @@ use ode_solver::{Advance, Integrator, Method, OdeSystem, SolverError, Tolerances
 
 /// How the master integrates one Model Exchange instance (a scenario's `solver`,
 /// `relative_tolerance`, `absolute_tolerance`, `event_tolerance`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolverSettings {
     pub method: Method,
     pub tolerances: Tolerances,
@@ -64,7 +64,7 @@ pub(super) struct ModelExchangeUnit {
 }
 
 /// The events a Model Exchange instance had in a run, by their cause.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub struct EventCounts {
     /// An event indicator changed domain.
     pub state: u64,

@@ -23,7 +23,7 @@ pub enum Ordering {
 
 /// A start/parameter value as written in a scenario; typed against the model description
 /// when the system is resolved.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ParamValue {
     Real(f64),
     Integer(i64),
@@ -31,7 +31,7 @@ pub enum ParamValue {
     String(String),
 }
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct InstanceDesc {
     /// Instance name, also the prefix of its columns in the results (`plant.r_nue[1]`).
     pub name: String,
@@ -47,7 +47,7 @@ pub struct InstanceDesc {
 }
 
 /// A connector as an SSD declares it.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct DeclaredConnector {
     pub name: String,
     /// SSP kind: `input`, `output`, `parameter`, `calculatedParameter`, `inout`.
@@ -58,13 +58,13 @@ pub struct DeclaredConnector {
 
 /// `from` and `to` are `instance.variable`; a variable may name a whole vector (`r_nue` for
 /// `r_nue[1]`..`r_nue[n]`), expanded component by component when the system is resolved.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Connection {
     pub from: String,
     pub to: String,
 }
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SystemDescription {
     pub name: String,
     pub start_time: f64,
@@ -76,7 +76,9 @@ pub struct SystemDescription {
     pub connections: Vec<Connection>,
     /// Columns to record (`instance.variable`, vectors allowed); `None` = every output.
     pub record: Option<Vec<String>>,
-    /// Keeps an unpacked `.ssp` on disk as long as the description refers to its FMUs.
+    /// Keeps an unpacked `.ssp` on disk as long as the description refers to its FMUs. Not
+    /// sent to a worker process: the parent keeps the directory while the worker reads it.
+    #[serde(skip)]
     pub package: Option<PackageDir>,
 }
 
