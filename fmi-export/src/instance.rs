@@ -5,6 +5,7 @@ use crate::logging::{Category, Logger};
 use crate::state::{Interface, State};
 use crate::status::{CallError, Status, Success};
 use crate::version::{Abi, Function};
+use crate::warnings::WarningTally;
 use fmi_model::prepared::{PreparedGet, PreparedSet};
 use fmi_model::{Level, Log, Model, ModelError};
 use serde::{Deserialize, Serialize};
@@ -106,6 +107,9 @@ pub struct Instance<M: Model, A: Abi> {
     pub returned_strings: Vec<CString>,
     /// The FMU states handed out by this instance and not yet freed.
     pub fmu_states: FmuStates<M>,
+    /// The model's warnings of this run, each kind logged once (not part of an FMU state:
+    /// what the master was told belongs to its session).
+    pub warnings: WarningTally,
 }
 
 impl<M: Model, A: Abi> Instance<M, A> {
@@ -128,6 +132,7 @@ impl<M: Model, A: Abi> Instance<M, A> {
             prepared_get: PreparedGet::default(),
             returned_strings: Vec::new(),
             fmu_states: FmuStates::default(),
+            warnings: WarningTally::default(),
         }
     }
 
@@ -148,8 +153,10 @@ impl<M: Model, A: Abi> Instance<M, A> {
     }
 
     /// Passes a model's messages to the logger; a warning makes the call's status Warning.
+    /// A warning of a kind already logged in this run is counted, not logged again (see
+    /// [`crate::warnings`]); the summary comes at termination.
     #[inline(always)]
-    pub fn forward(&self, function: A::Function, log: &Log) -> Success {
+    pub fn forward(&mut self, function: A::Function, log: &Log) -> Success {
         if log.entries.is_empty() {
             return Success::Ok;
         }
@@ -159,13 +166,26 @@ impl<M: Model, A: Abi> Instance<M, A> {
     /// [`forward`](Self::forward) of a log that has something to say (rare: out of line).
     #[cold]
     #[inline(never)]
-    fn forward_entries(&self, function: A::Function, log: &Log) -> Success {
+    fn forward_entries(&mut self, function: A::Function, log: &Log) -> Success {
+        let time_s = self.core.time;
         for (level, message) in &log.entries {
             let (status, category) = match level {
                 Level::Info => (Status::Ok, Category::StatusOk),
                 Level::Warning => (Status::Warning, Category::StatusWarning),
             };
-            if self.logger.is_on(category) {
+            if *level == Level::Warning {
+                if self.warnings.first_of_its_kind(message, time_s) {
+                    self.logger.log(
+                        status,
+                        category,
+                        &format!(
+                            "{}: {message} [first at t = {time_s} s; repeats are counted, not \
+                             logged, until termination]",
+                            function.name()
+                        ),
+                    );
+                }
+            } else if self.logger.is_on(category) {
                 self.logger
                     .log(status, category, &format!("{}: {message}", function.name()));
             }

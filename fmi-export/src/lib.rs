@@ -33,6 +33,7 @@ pub mod status;
 pub mod step;
 mod units;
 mod version;
+pub mod warnings;
 
 pub use describe::describe_model_error;
 pub use instance::{Core, Instance, Options};

@@ -3,8 +3,8 @@
 use crate::instance::{Core, Instance};
 use crate::logging::Category;
 use crate::state::{Interface, State};
-use crate::status::{CallError, Success};
-use crate::version::Abi;
+use crate::status::{CallError, Status, Success};
+use crate::version::{Abi, Function};
 use fmi_model::{Log, Model};
 
 /// Switches the named categories (all of the version's when none is named) on or off.
@@ -96,15 +96,37 @@ pub fn exit_initialization<M: Model, A: Abi>(
     Ok(success)
 }
 
-pub fn terminate<M: Model, A: Abi>(inst: &mut Instance<M, A>) -> Result<Success, CallError> {
+/// The end of the run; each warning that came more than once is summarised in one line
+/// with its count and the times of its first and last (and the call's status is Warning).
+pub fn terminate<M: Model, A: Abi>(
+    inst: &mut Instance<M, A>,
+    f: A::Function,
+) -> Result<Success, CallError> {
     inst.core.state = State::Terminated;
-    Ok(Success::Ok)
+    let mut success = Success::Ok;
+    for kind in inst.warnings.repeated() {
+        inst.logger.status(
+            Status::Warning,
+            &format!(
+                "{}: this warning came {} times from t = {} s to t = {} s (logged once): {}",
+                f.name(),
+                kind.count,
+                kind.first_time,
+                kind.last_time,
+                kind.first_message
+            ),
+        );
+        success = Success::Warning;
+    }
+    inst.warnings.clear();
+    Ok(success)
 }
 
-/// Back to the freshly instantiated state: start values reapplied, time and status reset.
-/// Logging flags and FMU states stay: they belong to the master's session, not to the run.
+/// Back to the freshly instantiated state: start values reapplied, time and status reset,
+/// the warnings' tally started afresh. Logging flags and FMU states stay: they belong to the master's session, not to the run.
 pub fn reset<M: Model, A: Abi>(inst: &mut Instance<M, A>) -> Result<Success, CallError> {
     inst.core = Core::fresh(inst.interface());
+    inst.warnings.clear();
     inst.dirty = true;
     Ok(Success::Ok)
 }

@@ -144,7 +144,14 @@ pub unsafe fn exit_initialization_mode<M: Model, A: Abi>(c: *mut c_void, f: A::F
 /// # Safety
 /// See the module documentation.
 pub unsafe fn terminate<M: Model, A: Abi>(c: *mut c_void, f: A::Function) -> Status {
-    unsafe { call::<M, A>(c, f, || format!("{}()", f.name()), lifecycle::terminate) }
+    unsafe {
+        call::<M, A>(
+            c,
+            f,
+            || format!("{}()", f.name()),
+            |inst| lifecycle::terminate(inst, f),
+        )
+    }
 }
 
 /// # Safety

@@ -142,7 +142,56 @@ fn set_debug_logging_switches_the_named_categories<D: Osc>() {
     assert!(fmu.logger().all().is_empty());
 }
 
+/// A warning that comes at every step is logged once, with the time it first came; each
+/// step still answers Warning; termination says how often it came; a reset starts afresh.
+fn a_repeated_warning_is_logged_once_and_summarised_at_termination<D: Osc>() {
+    const H: f64 = 0.01;
+    let fmu = D::open(false);
+    fmu.set_real(vr::K, 1e4);
+    fmu.set_integer(vr::SUBSTEPS, 1);
+    fmu.initialize();
+    for k in 0..100 {
+        assert_eq!(
+            fmu.step(k as f64 * H, H).status,
+            Status::Warning,
+            "step {k}"
+        );
+    }
+    let coarse = |m: &String| m.contains("is coarse");
+    let messages = fmu.messages();
+    assert_eq!(
+        messages.iter().filter(|m| coarse(m)).count(),
+        1,
+        "{messages:?}"
+    );
+    assert!(messages[0].contains("[first at t = 0 s;"), "{messages:?}");
+    fmu.clear_log();
+    assert_eq!(fmu.terminate(), Status::Warning);
+    let summary = fmu.messages();
+    assert_eq!(summary.len(), 1, "{summary:?}");
+    assert!(
+        summary[0].starts_with(&format!(
+            "{}: this warning came 100 times from t = 0 s to t = 0.99",
+            D::f("Terminate")
+        )) && summary[0].contains("sub-step 0.01 s is coarse"),
+        "{summary:?}"
+    );
+    // AND after a reset the same warning is news again, and a run without repeats ends
+    // without a summary
+    assert_eq!(fmu.reset(), Status::Ok);
+    fmu.set_real(vr::K, 1e4);
+    fmu.set_integer(vr::SUBSTEPS, 1);
+    fmu.initialize();
+    fmu.clear_log();
+    assert_eq!(fmu.step(0.0, H).status, Status::Warning);
+    assert_eq!(fmu.messages().iter().filter(|m| coarse(m)).count(), 1);
+    fmu.clear_log();
+    assert_eq!(fmu.terminate(), Status::Ok);
+    assert!(fmu.messages().is_empty(), "{:?}", fmu.messages());
+}
+
 both!(
+    a_repeated_warning_is_logged_once_and_summarised_at_termination,
     environment_and_instance_name_are_passed_back_on_every_message,
     a_message_with_conversion_specifiers_arrives_verbatim,
     with_logging_off_only_warnings_errors_and_fatals_are_passed_on,
