@@ -25,6 +25,15 @@ pub enum Error {
         message: String,
     },
 
+    /// A document type or entity declaration, refused before the file is parsed: FMI and
+    /// SSP descriptions have none, and its entities could expand without bound.
+    #[error(
+        "line {line}: <!{keyword} ...>: a document type or entity declaration; FMI and SSP \
+         descriptions have none, and entity expansion could exhaust memory, so the file is \
+         refused unparsed"
+    )]
+    Declaration { line: u64, keyword: String },
+
     #[error("root element is <{found}>, expected <fmiModelDescription>")]
     WrongRoot { found: String },
 

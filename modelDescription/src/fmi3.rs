@@ -183,6 +183,9 @@ pub struct Fmi3ModelDescription {
 /// The `fmiVersion` attribute of a model description's root, without reading the rest:
 /// which reader a file needs.
 pub fn fmi_version_of(bytes: &[u8]) -> Option<String> {
+    // The root's attributes may reference entities: a file with declarations is left to the
+    // reader, which refuses it.
+    crate::refuse_declarations(bytes).ok()?;
     let mut reader = ParserConfig::new().create_reader(bytes);
     loop {
         match reader.next().ok()? {
@@ -213,6 +216,7 @@ impl Fmi3ModelDescription {
     }
 
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, Error> {
+        crate::refuse_declarations(bytes)?;
         let config = ParserConfig::new()
             .trim_whitespace(true)
             .ignore_comments(true);

@@ -21,6 +21,7 @@
 #![deny(unsafe_code)]
 
 mod date_time;
+mod declarations;
 mod diagnose;
 mod error;
 pub mod fmi3;
@@ -32,6 +33,7 @@ mod write;
 mod xsd;
 
 pub use date_time::iso8601_utc;
+pub use declarations::refuse_declarations;
 pub use error::Error;
 pub use query::{StartValue, VariableKind};
 pub use types::*;

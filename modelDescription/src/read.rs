@@ -25,6 +25,7 @@ impl ModelDescription {
     }
 
     fn from_bytes(bytes: &[u8]) -> Result<Self, Error> {
+        crate::refuse_declarations(bytes)?;
         diagnose::check(bytes)?;
         serde_xml_rs::SerdeXml::new()
             // Tolerates other tools' stray elements between the ScalarVariables.
