@@ -10,4 +10,5 @@ pub mod memory;
 pub mod requirements;
 pub mod results;
 pub mod suggest;
+pub mod supervise;
 pub mod system;

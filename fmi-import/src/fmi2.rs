@@ -74,6 +74,7 @@ impl Fmi2Instance {
         let log = Arc::new(LogEnv::new());
         let callbacks = Box::new(log.callbacks());
         let mark = log.mark();
+        let call = crate::blackbox::enter(|| ("fmi2Instantiate", name));
         // SAFETY: every pointer is valid for the call, and `log`, `callbacks` and the strings
         // are moved into the instance, which outlives the component.
         let component = unsafe {
@@ -90,6 +91,7 @@ impl Fmi2Instance {
                 fmi2_bool(logging_on),
             )
         };
+        drop(call);
         let Some(component) = NonNull::new(component) else {
             return Err(CallError::InstantiationFailed {
                 function: "fmi2Instantiate",
@@ -813,6 +815,7 @@ impl Drop for Fmi2Instance {
             // failure cannot be reported from drop; the FMU has logged it.
             unsafe { (functions.free_fmu_state)(self.component.as_ptr(), pointer) };
         }
+        let _call = crate::blackbox::enter(|| ("fmi2FreeInstance", self.name.as_str()));
         // SAFETY: the component is live and never used again; the callbacks and log sink
         // are dropped only after this returns.
         unsafe { (functions.free_instance)(self.component.as_ptr()) };

@@ -90,6 +90,18 @@ macro_rules! both {
     };
 }
 
+/// [`both!`], the call noted first in the black box (see `blackbox.rs`) under the
+/// function's name in the instance's FMI version.
+macro_rules! noted {
+    ($self:ident, $fmi2:literal, $fmi3:literal, $backend:ident => $call:expr) => {{
+        let _call = crate::blackbox::enter(|| match &$self.backend {
+            Backend::Fmi2(i) => ($fmi2, i.name()),
+            Backend::Fmi3(i) => ($fmi3, i.name()),
+        });
+        both!($self, $backend => $call)
+    }};
+}
+
 impl Instance {
     pub(crate) fn new(
         fmu: Arc<FmuShared>,
@@ -204,7 +216,7 @@ impl Instance {
         logging_on: bool,
         categories: &[&str],
     ) -> Result<Success, CallError> {
-        both!(self, i => i.set_debug_logging(logging_on, categories))
+        noted!(self, "fmi2SetDebugLogging", "fmi3SetDebugLogging", i => i.set_debug_logging(logging_on, categories))
     }
 
     /// `fmi2SetupExperiment`; FMI 3.0 passes the values to `fmi3EnterInitializationMode`.
@@ -215,24 +227,25 @@ impl Instance {
         start_time: f64,
         stop_time: Option<f64>,
     ) -> Result<Success, FmiError> {
-        both!(self, i => i.setup_experiment(tolerance, start_time, stop_time))
+        crate::blackbox::set_time(start_time);
+        noted!(self, "fmi2SetupExperiment", "fmi3EnterInitializationMode", i => i.setup_experiment(tolerance, start_time, stop_time))
     }
 
     pub fn enter_initialization_mode(&mut self) -> Result<Success, FmiError> {
-        both!(self, i => i.enter_initialization_mode())
+        noted!(self, "fmi2EnterInitializationMode", "fmi3EnterInitializationMode", i => i.enter_initialization_mode())
     }
 
     pub fn exit_initialization_mode(&mut self) -> Result<Success, FmiError> {
-        both!(self, i => i.exit_initialization_mode())
+        noted!(self, "fmi2ExitInitializationMode", "fmi3ExitInitializationMode", i => i.exit_initialization_mode())
     }
 
     pub fn terminate(&mut self) -> Result<Success, FmiError> {
-        both!(self, i => i.terminate())
+        noted!(self, "fmi2Terminate", "fmi3Terminate", i => i.terminate())
     }
 
     /// Back to the freshly instantiated state. Saved FMU states stay valid.
     pub fn reset(&mut self) -> Result<Success, FmiError> {
-        both!(self, i => i.reset())
+        noted!(self, "fmi2Reset", "fmi3Reset", i => i.reset())
     }
 
     /// One communication step from `current_time` over `step_size`.
@@ -242,7 +255,8 @@ impl Instance {
     /// `fmi2LastSuccessfulTime` and `fmi2Terminated`. FMI 3.0: Event Mode is left first if the
     /// instance is in it; `terminateSimulation` is [`StepStatus::Terminated`].
     pub fn do_step(&mut self, current_time: f64, step_size: f64) -> Result<StepStatus, FmiError> {
-        both!(self, i => i.do_step(current_time, step_size))
+        crate::blackbox::set_time(current_time);
+        noted!(self, "fmi2DoStep", "fmi3DoStep", i => i.do_step(current_time, step_size))
     }
 
     /// Where the last step stopped (FMI 2.0: `fmi2GetRealStatus(fmi2LastSuccessfulTime)`;
@@ -285,68 +299,69 @@ impl Instance {
     }
 
     pub fn set_time(&mut self, time: f64) -> Result<Success, FmiError> {
-        both!(self, i => i.set_time(time))
+        crate::blackbox::set_time(time);
+        noted!(self, "fmi2SetTime", "fmi3SetTime", i => i.set_time(time))
     }
 
     pub fn set_continuous_states(&mut self, x: &[f64]) -> Result<Success, FmiError> {
-        both!(self, i => i.set_continuous_states(x))
+        noted!(self, "fmi2SetContinuousStates", "fmi3SetContinuousStates", i => i.set_continuous_states(x))
     }
 
     /// States, derivatives, event indicators or nominals of a Model Exchange instance.
     pub fn get_vector(&mut self, which: MeVector, values: &mut [f64]) -> Result<Success, FmiError> {
-        both!(self, i => i.get_vector(which, values))
+        noted!(self, "fmi2GetDerivatives", "fmi3GetContinuousStateDerivatives", i => i.get_vector(which, values))
     }
 
     /// Event Mode of a Model Exchange instance (`fmi2EnterEventMode`, `fmi3EnterEventMode`).
     pub fn enter_event_mode_me(&mut self) -> Result<Success, FmiError> {
-        both!(self, i => i.enter_event_mode_me())
+        noted!(self, "fmi2EnterEventMode", "fmi3EnterEventMode", i => i.enter_event_mode_me())
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> Result<Success, FmiError> {
-        both!(self, i => i.enter_continuous_time_mode())
+        noted!(self, "fmi2EnterContinuousTimeMode", "fmi3EnterContinuousTimeMode", i => i.enter_continuous_time_mode())
     }
 
     /// One call of the event iteration (`fmi2NewDiscreteStates`, `fmi3UpdateDiscreteStates`).
     pub fn update_discrete_states(&mut self) -> Result<EventUpdate, FmiError> {
-        both!(self, i => i.update_discrete_states())
+        noted!(self, "fmi2NewDiscreteStates", "fmi3UpdateDiscreteStates", i => i.update_discrete_states())
     }
 
     pub fn completed_integrator_step(&mut self) -> Result<StepEnd, FmiError> {
-        both!(self, i => i.completed_integrator_step())
+        noted!(self, "fmi2CompletedIntegratorStep", "fmi3CompletedIntegratorStep", i => i.completed_integrator_step())
     }
 
     // ---- values by value reference ----
 
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<Success, CallError> {
-        both!(self, i => i.set_real(vrs, values))
+        noted!(self, "fmi2SetReal", "fmi3SetFloat64", i => i.set_real(vrs, values))
     }
 
     pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<Success, CallError> {
-        both!(self, i => i.get_real(vrs, values))
+        noted!(self, "fmi2GetReal", "fmi3GetFloat64", i => i.get_real(vrs, values))
     }
 
     /// Also sets Enumeration variables.
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Result<Success, CallError> {
-        both!(self, i => i.set_integer(vrs, values))
+        noted!(self, "fmi2SetInteger", "fmi3SetInt32", i => i.set_integer(vrs, values))
     }
 
     /// Also gets Enumeration variables.
     pub fn get_integer(&mut self, vrs: &[u32], values: &mut [i32]) -> Result<Success, CallError> {
-        both!(self, i => i.get_integer(vrs, values))
+        noted!(self, "fmi2GetInteger", "fmi3GetInt32", i => i.get_integer(vrs, values))
     }
 
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> Result<Success, CallError> {
-        both!(self, i => i.set_boolean(vrs, values))
+        noted!(self, "fmi2SetBoolean", "fmi3SetBoolean", i => i.set_boolean(vrs, values))
     }
 
     pub fn get_boolean(&mut self, vrs: &[u32], values: &mut [bool]) -> Result<Success, CallError> {
-        both!(self, i => i.get_boolean(vrs, values))
+        noted!(self, "fmi2GetBoolean", "fmi3GetBoolean", i => i.get_boolean(vrs, values))
     }
 
     /// Booleans as C `int` values (0 is false), as a master that keeps its exchange in the
     /// FMI 2.0 representation passes them.
     pub fn set_boolean_raw(&mut self, vrs: &[u32], values: &[i32]) -> Result<Success, CallError> {
-        both!(self, i => i.set_boolean_raw(vrs, values))
+        noted!(self, "fmi2SetBoolean", "fmi3SetBoolean", i => i.set_boolean_raw(vrs, values))
     }
 
     /// Booleans into C `int` values, each normalised to 0 or 1 (an FMU may return any
@@ -356,11 +371,11 @@ impl Instance {
         vrs: &[u32],
         values: &mut [i32],
     ) -> Result<Success, CallError> {
-        both!(self, i => i.get_boolean_raw(vrs, values))
+        noted!(self, "fmi2GetBoolean", "fmi3GetBoolean", i => i.get_boolean_raw(vrs, values))
     }
 
     pub fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> Result<Success, CallError> {
-        both!(self, i => i.set_string(vrs, values))
+        noted!(self, "fmi2SetString", "fmi3SetString", i => i.set_string(vrs, values))
     }
 
     /// The strings are copied at once: the FMU's pointers are valid only until its next call.
@@ -377,7 +392,7 @@ impl Instance {
         vrs: &[u32],
         values: &mut [String],
     ) -> Result<Success, CallError> {
-        both!(self, i => i.get_string_into(vrs, values))
+        noted!(self, "fmi2GetString", "fmi3GetString", i => i.get_string_into(vrs, values))
     }
 
     // ---- values by name ----

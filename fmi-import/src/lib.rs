@@ -26,6 +26,8 @@
 //! ```
 mod archive;
 mod binary;
+pub mod blackbox;
+mod describe;
 mod error;
 mod ffi;
 mod fmi2;
@@ -38,6 +40,7 @@ mod status;
 pub mod tables;
 mod variables;
 
+pub use describe::read_description;
 pub use error::{CallError, FmiError, LoadError, VariableError};
 pub use fmu::{FmiVersion, Fmu};
 pub use instance::{FmuState, Instance, InstanceOptions};

@@ -1,7 +1,8 @@
 //! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals).
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use cosim::master::{MasterError, Simulation, Trajectory};
+use cosim::master::{MasterError, Trajectory};
+use cosim::supervise::Runner;
 use harness::scenarios::Law;
 use std::path::PathBuf;
 
@@ -29,6 +30,23 @@ struct Cli {
         env = "LANDER_FMU_DIR"
     )]
     fmu_dir: PathBuf,
+    /// Run the FMUs inside this process instead of a supervised worker process (for a
+    /// debugger): an FMU that crashes, exits or hangs then takes the harness with it.
+    #[arg(long, global = true)]
+    in_process: bool,
+    /// Longest one FMU call may take, in s, before the worker running it is killed and the
+    /// run ends with an error naming the call (default 60, or the scenario's
+    /// `[limits] call_timeout_s`).
+    #[arg(long, global = true, value_name = "S")]
+    call_timeout: Option<f64>,
+    /// Longest one run (one flight) may take, in s (default 3600, or the scenario's
+    /// `[limits] run_timeout_s`).
+    #[arg(long, global = true, value_name = "S")]
+    run_timeout: Option<f64>,
+    /// Memory one worker process may take, in MB; an allocation beyond it fails (default 80 %
+    /// of the memory available, or the scenario's `[limits] memory_mb`).
+    #[arg(long, global = true, value_name = "MB")]
+    memory_limit: Option<f64>,
     #[command(subcommand)]
     command: Command,
 }
@@ -188,7 +206,7 @@ const CSV_BYTES_PER_VALUE: f64 = 11.8;
 /// and one whose held rows could not fit in this machine's memory (even with `force`: it
 /// would abort).
 fn check_run_size(
-    simulation: &Simulation,
+    simulation: &Runner,
     kept: &cosim::requirements::Kept,
     format: cosim::results::Format,
     force: bool,
@@ -331,6 +349,8 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // Started as a supervised worker: serve the parent and exit, before anything else.
+    cosim::supervise::serve_if_worker();
     init_logging();
     let cli = Cli::parse();
     match run(cli) {
@@ -356,6 +376,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     // 0, or harness::verdict::EXIT_FAILED_VERDICT when a run did not end as expected; errors
     // return through `?` (exit code 1).
     let mut exit_code = harness::verdict::EXIT_OK;
+    set_execution(&cli)?;
     match cli.command {
         Command::Run { request, junit } => {
             let flown = run_scenario(&request, &cli.fmu_dir)?;
@@ -469,6 +490,28 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     Ok(exit_code)
 }
 
+/// Where flights run: a supervised worker (this program again) unless `--in-process`.
+fn set_execution(cli: &Cli) -> anyhow::Result<()> {
+    let limits = cosim::supervise::Limits {
+        call_timeout_s: cli.call_timeout,
+        run_timeout_s: cli.run_timeout,
+        memory_mb: cli.memory_limit,
+    };
+    let problems = limits.problems("command line");
+    if !problems.is_empty() {
+        anyhow::bail!("{}", problems.join("\n"));
+    }
+    let execution = if cli.in_process {
+        cosim::supervise::Execution::InProcess
+    } else {
+        let program = std::env::current_exe()
+            .context("finding the harness's own program to start its worker processes")?;
+        cosim::supervise::Execution::Supervised { program, limits }
+    };
+    cosim::supervise::set_default(execution);
+    Ok(())
+}
+
 /// `harness test DIR`: see its help.
 fn test_folder(
     dir: &std::path::Path,
@@ -476,7 +519,6 @@ fn test_folder(
     out_dir: &std::path::Path,
     fmu_dir: &std::path::Path,
 ) -> anyhow::Result<i32> {
-    use cosim::requirements::junit::{Case, Suite};
     let entries =
         std::fs::read_dir(dir).with_context(|| format!("reading the folder {}", dir.display()))?;
     let mut scenarios: Vec<PathBuf> = entries
@@ -511,22 +553,22 @@ fn test_folder(
         };
         match run_scenario(&request, fmu_dir) {
             Ok(flown) => {
-                failed += usize::from(flown.exit_code != harness::verdict::EXIT_OK);
+                match flown.exit_code {
+                    harness::verdict::EXIT_OK => {}
+                    harness::verdict::EXIT_ERROR => broken += 1,
+                    _ => failed += 1,
+                }
                 suites.push(flown.suite);
             }
             Err(error) => {
                 broken += 1;
                 let message = format!("could not be run: {error:#}");
                 eprintln!("{}: {message}", path.display());
-                suites.push(Suite {
-                    name: stem,
-                    time_s: 0.0,
-                    cases: vec![Case {
-                        name: "run".into(),
-                        failure: Some(message.clone()),
-                        detail: message,
-                    }],
-                });
+                suites.push(cosim::requirements::junit::error_suite(
+                    &suite_name(&path.to_string_lossy()),
+                    0.0,
+                    &message,
+                ));
             }
         }
     }
@@ -582,6 +624,14 @@ struct RunRequest {
     step_size: Option<f64>,
 }
 
+/// A scenario's JUnit suite name: its file stem (a built-in's name), the same whether it
+/// could be run or not, so that a CI system's history of it survives a fix.
+fn suite_name(scenario: &str) -> String {
+    std::path::Path::new(scenario)
+        .file_stem()
+        .map_or_else(|| scenario.to_owned(), |s| s.to_string_lossy().into_owned())
+}
+
 /// A flown scenario: the exit code its verdict and requirements give, and its JUnit suite.
 struct Flown {
     exit_code: i32,
@@ -635,7 +685,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     if let Some(note) = system.partial_last_step() {
         eprintln!("harness: warning: {note}");
     }
-    let simulation = Simulation::new(system, fmu_dir);
+    let simulation = Runner::new(system, fmu_dir);
     if let Err(MasterError::Resolve { problems: more, .. }) = &simulation {
         // Say which problems come from the command line, not the scenario file.
         problems.extend(more.iter().map(|problem| {
@@ -685,7 +735,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         last: vec![0.0; simulation.column_names().len()],
         progress: run_progress(simulation.system()),
     };
-    let finished = simulation.run(&mut recorder).map_err(anyhow::Error::from);
+    let finished = simulation.run(&mut recorder);
     if let Some((bar, _, _)) = recorder.progress.take() {
         bar.finish_and_clear();
     }
@@ -693,7 +743,38 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     let RunRecorder {
         out: stream, kept, ..
     } = recorder;
-    let written = finished.and_then(|end| {
+    let end = match finished {
+        Ok(end) => end,
+        Err(error) => {
+            // The rows recorded before stay, under the partial name, for the user to see
+            // where the run went.
+            let kept_rows = stream.finish().ok();
+            let message = format!("{:#}", anyhow::Error::from(error));
+            let name = &simulation.system().name;
+            match (kept_rows, last.times.last()) {
+                (Some(rows), Some(t)) => println!(
+                    "{name}: the run failed; its {rows} rows up to t = {t} s are in {}",
+                    partial.display()
+                ),
+                _ => {
+                    let _ = std::fs::remove_file(&partial);
+                    println!("{name}: the run failed before its first row");
+                }
+            }
+            println!("verdict: error: {message}");
+            let mut suite = cosim::requirements::junit::error_suite(
+                &suite_name(scenario),
+                started.elapsed().as_secs_f64(),
+                &message,
+            );
+            suite.system_err = Some(simulation.take_stderr()).filter(|e| !e.is_empty());
+            return Ok(Flown {
+                exit_code: harness::verdict::EXIT_ERROR,
+                suite,
+            });
+        }
+    };
+    let written = (|| {
         let rows = stream
             .finish()
             .with_context(|| format!("writing {}", out.display()))?;
@@ -703,10 +784,10 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             cosim::results::write_units(&units, &last.names, simulation.column_units())
                 .with_context(|| format!("writing {}", units.display()))?;
         }
-        Ok((end, rows))
-    });
-    let (end, rows) = match written {
-        Ok(done) => done,
+        anyhow::Ok(rows)
+    })();
+    let rows = match written {
+        Ok(rows) => rows,
         Err(error) => {
             let _ = std::fs::remove_file(&partial);
             return Err(error);
@@ -721,7 +802,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         out.display(),
         verdict.describe(spec.expect)
     );
-    for (instance, events) in simulation.model_exchange_events() {
+    for (instance, events) in &simulation.model_exchange_events() {
         println!(
             "{instance} (Model Exchange): {} state, {} time and {} step events",
             events.state, events.time, events.step
@@ -735,13 +816,15 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             exit_code = exit_code.max(harness::verdict::EXIT_FAILED_VERDICT);
         }
     }
-    let suite = cosim::requirements::junit::suite(
-        &simulation.system().name,
+    let system_err = simulation.take_stderr();
+    let mut suite = cosim::requirements::junit::suite(
+        &suite_name(scenario),
         started.elapsed().as_secs_f64(),
         (verdict.exit_code(spec.expect) == harness::verdict::EXIT_OK).then(String::new),
         &verdict.describe(spec.expect),
         &judged,
     );
+    suite.system_err = Some(system_err).filter(|e| !e.is_empty());
     Ok(Flown { exit_code, suite })
 }
 

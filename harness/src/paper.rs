@@ -2,8 +2,9 @@
 use crate::metrics::{self, Metrics};
 use crate::scenarios::Law;
 use crate::verdict::{self, Envelope, Verdict};
-use cosim::master::{MasterError, RunEnd, Simulation, Trajectory};
+use cosim::master::{MasterError, RunEnd, Trajectory};
 use cosim::requirements::{Judged, Requirement};
+use cosim::supervise::Runner;
 use cosim::system::SystemDescription;
 use std::path::Path;
 
@@ -35,7 +36,7 @@ pub fn fly_all(
     envelope: &Envelope,
     requirements: &[Requirement],
 ) -> anyhow::Result<Vec<Flight>> {
-    let mut simulation = Simulation::new(system, fmu_dir)?;
+    let mut simulation = Runner::new(system, fmu_dir)?;
     let unrecorded = cosim::requirements::unrecorded(requirements, simulation.column_names());
     if !unrecorded.is_empty() {
         anyhow::bail!("{}", unrecorded.join("\n"));
@@ -46,7 +47,7 @@ pub fn fly_all(
 }
 
 /// Flies one law on a loaded simulation (touchdown judged against the default envelope).
-pub fn fly(simulation: &mut Simulation, law: Law) -> anyhow::Result<Flight> {
+pub fn fly(simulation: &mut Runner, law: Law) -> anyhow::Result<Flight> {
     fly_judged(simulation, law, &Envelope::default(), &[])
 }
 
@@ -65,7 +66,7 @@ pub fn scenario_law(system: &SystemDescription) -> Option<Law> {
 /// Flies one law on a loaded simulation and judges its end against `envelope` and its
 /// trajectory against `requirements`.
 pub fn fly_judged(
-    simulation: &mut Simulation,
+    simulation: &mut Runner,
     law: Law,
     envelope: &Envelope,
     requirements: &[Requirement],

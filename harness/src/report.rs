@@ -61,7 +61,7 @@ pub struct Parameter {
 
 impl Provenance {
     /// The scenario and FMUs of a loaded simulation (its parameters as they stand now).
-    pub fn of(simulation: &cosim::master::Simulation) -> Self {
+    pub fn of(simulation: &cosim::supervise::Runner) -> Self {
         let system = simulation.system();
         let value = |v: &cosim::system::ParamValue| match v {
             cosim::system::ParamValue::Real(x) => format!("{x}"),
@@ -82,9 +82,9 @@ impl Provenance {
             instance: system
                 .instances
                 .iter()
-                .zip(simulation.fmus())
-                .map(|(instance, fmu)| {
-                    let md = fmu.model_description();
+                .enumerate()
+                .map(|(index, instance)| {
+                    let (_, md) = simulation.description(index);
                     InstanceProvenance {
                         name: instance.name.clone(),
                         fmu: instance.fmu.display().to_string(),

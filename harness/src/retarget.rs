@@ -6,7 +6,8 @@
 use crate::paper::{self, Flight};
 use crate::scenarios::Law;
 use crate::verdict::Envelope;
-use cosim::master::{RunEnd, Simulation, Trajectory};
+use cosim::master::{RunEnd, Trajectory};
+use cosim::supervise::Runner;
 use cosim::system::{ParamValue, SystemDescription};
 use std::path::{Path, PathBuf};
 
@@ -202,7 +203,7 @@ pub fn fly_all(
     envelope: &Envelope,
 ) -> anyhow::Result<(RetargetCommand, Vec<DivertFlight>)> {
     let command = RetargetCommand::of(&system)?;
-    let mut simulation = Simulation::new(system, fmu_dir)?;
+    let mut simulation = Runner::new(system, fmu_dir)?;
     let mut flights = Vec::new();
     for replan in [true, false] {
         simulation.set_parameter("gnc", "retarget_replan", ParamValue::Boolean(replan))?;

@@ -85,6 +85,12 @@ pub enum MasterError {
     /// rather than simulate on for nothing.
     #[error("recording the row at t = {time} failed, so the run stopped there: {reason}")]
     Record { time: f64, reason: String },
+    /// An error the supervised worker process met, as it told it (see [`crate::supervise`]).
+    #[error("{message}")]
+    Worker { message: String },
+    /// The supervised worker process ended without finishing: a crash, an exit, a timeout.
+    #[error(transparent)]
+    Abnormal(Box<crate::supervise::Abnormal>),
 }
 
 /// How a run ended.
@@ -412,22 +418,29 @@ pub fn fmu_path(fmu_dir: &Path, fmu: &Path) -> PathBuf {
     }
 }
 
+/// Every FMU file the system names that is not there, in one error.
+pub fn check_fmus_exist(system: &SystemDescription, fmu_dir: &Path) -> Result<(), MasterError> {
+    let missing: Vec<String> = system
+        .instances
+        .iter()
+        .map(|i| (i, fmu_path(fmu_dir, &i.fmu)))
+        .filter(|(_, path)| !path.exists())
+        .map(|(i, path)| format!("instance '{}': {}", i.name, path.display()))
+        .collect();
+    if missing.is_empty() {
+        Ok(())
+    } else {
+        Err(MasterError::MissingFmus {
+            fmu_dir: fmu_dir.to_owned(),
+            missing,
+        })
+    }
+}
+
 impl Simulation {
     /// Loads every FMU (relative paths against `fmu_dir`), instantiates, and resolves all names.
     pub fn new(system: SystemDescription, fmu_dir: &Path) -> Result<Self, MasterError> {
-        let missing: Vec<String> = system
-            .instances
-            .iter()
-            .map(|i| (i, fmu_path(fmu_dir, &i.fmu)))
-            .filter(|(_, path)| !path.exists())
-            .map(|(i, path)| format!("instance '{}': {}", i.name, path.display()))
-            .collect();
-        if !missing.is_empty() {
-            return Err(MasterError::MissingFmus {
-                fmu_dir: fmu_dir.to_owned(),
-                missing,
-            });
-        }
+        check_fmus_exist(&system, fmu_dir)?;
         let mut fmus = Vec::with_capacity(system.instances.len());
         for instance in &system.instances {
             let path = fmu_path(fmu_dir, &instance.fmu);

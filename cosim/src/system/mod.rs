@@ -76,6 +76,9 @@ pub struct SystemDescription {
     pub connections: Vec<Connection>,
     /// Columns to record (`instance.variable`, vectors allowed); `None` = every output.
     pub record: Option<Vec<String>>,
+    /// Timeouts and memory of a supervised run, as the scenario sets them.
+    #[serde(default)]
+    pub limits: crate::supervise::Limits,
     /// Keeps an unpacked `.ssp` on disk as long as the description refers to its FMUs. Not
     /// sent to a worker process: the parent keeps the directory while the worker reads it.
     #[serde(skip)]
@@ -230,6 +233,7 @@ mod partial_step_tests {
             instances: vec![],
             connections: vec![],
             record: None,
+            limits: Default::default(),
             package: None,
         };
         assert_eq!(system.partial_last_step(), None);

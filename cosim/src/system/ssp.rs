@@ -335,6 +335,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         instances,
         connections,
         record: None,
+        limits: Default::default(),
         package: None,
     };
     system.validate()?;
@@ -537,6 +538,7 @@ mod tests {
                 to: "b.u[1]".into(),
             }],
             record: None,
+            limits: Default::default(),
             package: None,
         }
     }

@@ -20,6 +20,9 @@ struct File {
     connections: Vec<ConnectionEntry>,
     #[serde(default)]
     record: Option<Vec<String>>,
+    /// `[limits]`: call_timeout_s, run_timeout_s, memory_mb of a supervised run.
+    #[serde(default)]
+    limits: crate::supervise::Limits,
 }
 
 fn default_step() -> f64 {
@@ -168,6 +171,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             model_exchange,
         });
     }
+    problems.extend(file.limits.problems("[limits]"));
     if !problems.is_empty() {
         return Err(syntax(problems.join("; ")));
     }
@@ -187,6 +191,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             })
             .collect(),
         record: file.record,
+        limits: file.limits,
         package: None,
     };
     system.validate()?;

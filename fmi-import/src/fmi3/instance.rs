@@ -198,6 +198,7 @@ impl Fmi3Instance {
         let mark = log.mark();
         let resource = resource_path.as_ref().map_or(ptr::null(), |p| p.as_ptr());
         let environment = Arc::as_ptr(&log) as *mut c_void;
+        let call = crate::blackbox::enter(|| (function, name));
         // SAFETY: every pointer is valid for the call; `log` and the strings move into the
         // instance, which outlives the FMU's instance.
         let instance = unsafe {
@@ -228,6 +229,7 @@ impl Fmi3Instance {
                 _ => ptr::null_mut(),
             }
         };
+        drop(call);
         let Some(instance) = NonNull::new(instance) else {
             return Err(CallError::InstantiationFailed {
                 function,
@@ -1226,6 +1228,7 @@ impl Fmi3Instance {
 
 impl Drop for Fmi3Instance {
     fn drop(&mut self) {
+        let _call = crate::blackbox::enter(|| ("fmi3FreeInstance", self.name.as_str()));
         // SAFETY: the instance is live and never used again; the logger environment is
         // dropped only after this returns.
         unsafe { (self.functions.free_instance)(self.instance.as_ptr()) };

@@ -137,16 +137,16 @@ impl CampaignFile {
 }
 
 /// The versions of the harness and of the FMUs of a loaded simulation.
-pub fn versions(simulation: &cosim::master::Simulation) -> Versions {
+pub fn versions(simulation: &cosim::supervise::Runner) -> Versions {
     Versions {
         harness: env!("CARGO_PKG_VERSION").to_owned(),
         fmu: simulation
             .system()
             .instances
             .iter()
-            .zip(simulation.fmus())
-            .map(|(instance, fmu)| {
-                let md = fmu.model_description();
+            .enumerate()
+            .map(|(index, instance)| {
+                let (_, md) = simulation.description(index);
                 FmuVersion {
                     instance: instance.name.clone(),
                     model_name: md.model_name.clone(),

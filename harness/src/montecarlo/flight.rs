@@ -7,7 +7,8 @@ use super::manifest::{End, Judged, Row};
 use crate::metrics::{self, Metrics};
 use crate::retarget::{divert_metrics, RetargetCommand};
 use crate::verdict::{self, Spec};
-use cosim::master::{RunEnd, Simulation, Trajectory};
+use cosim::master::{RunEnd, Trajectory};
+use cosim::supervise::Runner;
 use cosim::system::{ParamValue, SystemDescription};
 use model_description::StartValue;
 use std::path::Path;
@@ -42,7 +43,7 @@ const OPTIONAL_VERDICT_COLUMNS: [&str; 1] = ["plant.tipped_over"];
 
 /// One loaded FMU instance pair with its recording buffer, reused flight after flight.
 pub struct Flyer {
-    simulation: Simulation,
+    simulation: Runner,
     spec: Spec,
     nominal: Nominal,
     /// Where the scenario's flights should end (terminal errors are measured from it).
@@ -81,7 +82,7 @@ impl Flyer {
                 .collect(),
             None => Vec::new(),
         };
-        let mut simulation = Simulation::new(system, fmu_dir)?;
+        let mut simulation = Runner::new(system, fmu_dir)?;
         let plant_index = simulation
             .system()
             .instances
@@ -93,7 +94,7 @@ impl Flyer {
                     simulation.system().name
                 )
             })?;
-        let description = simulation.fmus()[plant_index].model_description();
+        let (_, description) = simulation.description(plant_index);
         let mut final_only = final_only;
         if simulation.system().record.is_some() {
             final_only.extend(
@@ -107,7 +108,7 @@ impl Flyer {
             );
         }
         simulation.set_final_columns(&final_only)?;
-        let description = simulation.fmus()[plant_index].model_description();
+        let (_, description) = simulation.description(plant_index);
         let start_of = |name: &str| match description.variable(name)?.start()? {
             StartValue::Real(x) => Some(x),
             StartValue::Integer(i) => Some(f64::from(i)),
@@ -151,7 +152,7 @@ impl Flyer {
         Ok(self)
     }
 
-    pub fn simulation(&self) -> &Simulation {
+    pub fn simulation(&self) -> &Runner {
         &self.simulation
     }
 
@@ -323,7 +324,7 @@ pub fn campaign_system(
 
 /// The initial 1-sigma errors the scenario's filter claims (its parameters as the scenario
 /// sets them, else the FMU's start values); `None` without a filter instance.
-fn claimed_start_error(simulation: &Simulation) -> anyhow::Result<Option<ClaimedStartError>> {
+fn claimed_start_error(simulation: &Runner) -> anyhow::Result<Option<ClaimedStartError>> {
     let Some(index) = simulation
         .system()
         .instances
@@ -333,7 +334,7 @@ fn claimed_start_error(simulation: &Simulation) -> anyhow::Result<Option<Claimed
         return Ok(None);
     };
     let instance = &simulation.system().instances[index];
-    let description = simulation.fmus()[index].model_description();
+    let (_, description) = simulation.description(index);
     let value = |name: &str| -> anyhow::Result<f64> {
         let set = instance.parameters.iter().find(|(n, _)| n == name);
         let value = match set {

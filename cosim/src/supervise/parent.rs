@@ -1,0 +1,537 @@
+//! The parent side: a [`Simulation`](crate::master::Simulation) that lives in a worker
+//! process, driven as if it were here. Rows come back through the shared ring into the
+//! caller's recorder; a worker that crashes, exits or hangs becomes an [`Abnormal`] error
+//! with the call it was in, after every row it recorded has been handed on.
+#![allow(unsafe_code)]
+
+use super::ending::{Abnormal, How};
+use super::protocol::{receive, send, FromWorker, ToWorker};
+use super::shared::{BlackBox, Ring};
+use super::{Limits, BLACK_BOX, RING, WORKER_FLAG};
+use crate::master::{Conventions, EventCounts, MasterError, Recorder, RunEnd};
+use crate::system::{ParamValue, SystemDescription};
+use fmi_import::FmiVersion;
+use model_description::ModelDescription;
+use std::io::{BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// How often the parent looks at a worker that says nothing.
+const TICK: Duration = Duration::from_millis(50);
+/// How long a worker told to quit may take before it is killed.
+const QUIT_GRACE: Duration = Duration::from_secs(5);
+/// The most of a worker's stderr kept for a report (the newest bytes).
+const STDERR_KEPT: usize = 256 * 1024;
+
+enum Incoming {
+    Message(FromWorker),
+    Closed,
+}
+
+struct Worker {
+    child: Child,
+    /// `None` once closed, which tells the worker to free its instances and exit.
+    to: Option<BufWriter<ChildStdin>>,
+    messages: Receiver<Incoming>,
+    black_box: BlackBox,
+    ring: Option<Ring>,
+    /// Calls the black box had counted when the parent last saw progress, and when.
+    seen_calls: u64,
+    since: Instant,
+    // Last: removed after the worker has gone, with the FMUs it unpacked under it.
+    dir: tempfile::TempDir,
+}
+
+/// A system that runs in a supervised worker process.
+pub struct Supervised {
+    program: PathBuf,
+    limits: Limits,
+    system: SystemDescription,
+    fmu_dir: PathBuf,
+    conventions: Conventions,
+    descriptions: Vec<(FmiVersion, ModelDescription)>,
+    column_names: Vec<String>,
+    column_units: Vec<String>,
+    final_requested: Vec<String>,
+    final_names: Vec<String>,
+    final_values: Vec<f64>,
+    /// Parameters set since the worker last ran; a new worker gets them in its system.
+    pending: Vec<(String, String, ParamValue)>,
+    events: Vec<(String, EventCounts)>,
+    worker: Option<Worker>,
+    stderr: Arc<Mutex<Vec<u8>>>,
+}
+
+fn broken(reason: String) -> MasterError {
+    MasterError::Abnormal(Box::new(Abnormal {
+        how: How::Broken(reason),
+        last_call: None,
+        memory_limit_bytes: 0,
+    }))
+}
+
+impl Supervised {
+    pub(super) fn new(
+        system: SystemDescription,
+        fmu_dir: &Path,
+        program: PathBuf,
+        limits: Limits,
+    ) -> Result<Self, MasterError> {
+        crate::master::check_fmus_exist(&system, fmu_dir)?;
+        let mut descriptions = Vec::with_capacity(system.instances.len());
+        for instance in &system.instances {
+            let path = crate::master::fmu_path(fmu_dir, &instance.fmu);
+            let description =
+                fmi_import::read_description(&path).map_err(|source| MasterError::Load {
+                    instance: instance.name.clone(),
+                    path,
+                    source: Box::new(source),
+                })?;
+            descriptions.push(description);
+        }
+        let mut supervised = Self {
+            program,
+            limits,
+            system,
+            fmu_dir: fmu_dir.to_owned(),
+            conventions: Conventions::default(),
+            descriptions,
+            column_names: Vec::new(),
+            column_units: Vec::new(),
+            final_requested: Vec::new(),
+            final_names: Vec::new(),
+            final_values: Vec::new(),
+            pending: Vec::new(),
+            events: Vec::new(),
+            worker: None,
+            stderr: Arc::new(Mutex::new(Vec::new())),
+        };
+        supervised.worker()?;
+        Ok(supervised)
+    }
+
+    pub fn system(&self) -> &SystemDescription {
+        &self.system
+    }
+
+    pub fn descriptions(&self) -> &[(FmiVersion, ModelDescription)] {
+        &self.descriptions
+    }
+
+    pub fn column_names(&self) -> &[String] {
+        &self.column_names
+    }
+
+    pub fn column_units(&self) -> &[String] {
+        &self.column_units
+    }
+
+    pub fn final_column_names(&self) -> &[String] {
+        &self.final_names
+    }
+
+    pub fn final_values(&self) -> &[f64] {
+        &self.final_values
+    }
+
+    pub fn model_exchange_events(&self) -> &[(String, EventCounts)] {
+        &self.events
+    }
+
+    pub fn limits(&self) -> &Limits {
+        &self.limits
+    }
+
+    /// What the workers wrote to stderr since the last call (the newest 256 KiB), which the
+    /// parent also passed on to its own stderr as it came.
+    pub fn take_stderr(&self) -> String {
+        let mut kept = self.stderr.lock().unwrap_or_else(|e| e.into_inner());
+        String::from_utf8_lossy(&std::mem::take(&mut *kept)).into_owned()
+    }
+
+    pub fn set_conventions(&mut self, conventions: Conventions) {
+        self.conventions = conventions;
+    }
+
+    /// Recorded here and sent with the next run; the worker checks the name and type then.
+    pub fn set_parameter(
+        &mut self,
+        instance: &str,
+        variable: &str,
+        value: ParamValue,
+    ) -> Result<(), MasterError> {
+        if !self.system.set_parameter(instance, variable, value.clone()) {
+            let names = self.system.instances.iter().map(|i| i.name.as_str());
+            return Err(MasterError::Resolve {
+                system: self.system.name.clone(),
+                problems: vec![format!(
+                    "no instance named '{instance}'{}",
+                    crate::suggest::hint(instance, names)
+                )],
+            });
+        }
+        self.pending
+            .push((instance.to_owned(), variable.to_owned(), value));
+        Ok(())
+    }
+
+    pub fn set_final_columns(&mut self, names: &[String]) -> Result<(), MasterError> {
+        self.final_requested = names.to_vec();
+        let limits = self.limits;
+        let worker = self.worker()?;
+        let deadline = Instant::now() + limits.run_timeout();
+        let answer = worker
+            .send(&ToWorker::SetFinal {
+                names: names.to_vec(),
+            })
+            .and_then(|()| worker.next(deadline, &limits));
+        match answer {
+            Ok(FromWorker::FinalSet { names }) => {
+                self.final_values = vec![f64::NAN; names.len()];
+                self.final_names = names;
+                Ok(())
+            }
+            Ok(FromWorker::Failed { error, .. }) => Err(error.into()),
+            Ok(other) => Err(self.lose_worker(broken(format!("answered {other:?}")))),
+            Err(error) => Err(self.lose_worker(error)),
+        }
+    }
+
+    /// Runs the system in the worker (a new one if the last died), handing every row to
+    /// `recorder` as [`crate::master::Simulation::run`] does.
+    pub fn run(&mut self, recorder: &mut dyn Recorder) -> Result<RunEnd, MasterError> {
+        self.final_values.fill(f64::NAN);
+        self.events.clear();
+        let parameters = std::mem::take(&mut self.pending);
+        let limits = self.limits;
+        let (conventions, width) = (self.conventions, self.column_names.len());
+        let rows_hint = {
+            let s = &self.system;
+            ((s.stop_time - s.start_time) / s.step_size).ceil().max(0.0) as usize + 1
+        };
+        let worker = self.worker()?;
+        let deadline = Instant::now() + limits.run_timeout();
+        recorder.reserve(rows_hint, width);
+        let mut taken = 0u64;
+        let mut answer = worker.send(&ToWorker::Run {
+            parameters,
+            conventions,
+        });
+        let error = loop {
+            if let Err(error) = answer {
+                break error;
+            }
+            match worker.next(deadline, &limits) {
+                Ok(FromWorker::Rows { upto }) => {
+                    worker.hand_on(&mut taken, upto, recorder);
+                    let stop = recorder.failure();
+                    // A worker that died meanwhile is noticed at the next message.
+                    answer = Ok(());
+                    let _ = worker.send(&ToWorker::Ack { upto, stop });
+                }
+                Ok(FromWorker::Done {
+                    rows,
+                    end,
+                    final_values,
+                    events,
+                }) => {
+                    worker.hand_on(&mut taken, rows, recorder);
+                    self.final_values = final_values;
+                    self.events = events;
+                    return Ok(end);
+                }
+                Ok(FromWorker::Failed { rows, error }) => {
+                    worker.hand_on(&mut taken, rows, recorder);
+                    return Err(error.into());
+                }
+                Ok(other) => break broken(format!("answered {other:?} during a run")),
+                Err(error) => break error,
+            }
+        };
+        // The worker is gone: the rows it wrote before are still in the ring.
+        if let Some(ring) = &worker.ring {
+            let written = ring.written();
+            worker.hand_on(&mut taken, written, recorder);
+        }
+        Err(self.lose_worker(error))
+    }
+
+    /// The live worker, started (with the system as it is now) if there is none.
+    fn worker(&mut self) -> Result<&mut Worker, MasterError> {
+        if self.worker.is_none() {
+            let mut worker = Worker::spawn(&self.program, &self.limits, &self.stderr)?;
+            let deadline = Instant::now() + self.limits.run_timeout();
+            let setup = ToWorker::Setup {
+                system: self.system.clone(),
+                fmu_dir: self.fmu_dir.clone(),
+                conventions: self.conventions,
+                final_columns: self.final_requested.clone(),
+            };
+            let answer = worker
+                .send(&setup)
+                .and_then(|()| worker.next(deadline, &self.limits));
+            match answer {
+                Ok(FromWorker::Ready {
+                    column_names,
+                    column_units,
+                    final_names,
+                    ring_capacity,
+                }) => {
+                    let ring = Ring::open(
+                        &worker.dir.path().join(RING),
+                        column_names.len(),
+                        ring_capacity as usize,
+                    )
+                    .map_err(|e| broken(format!("cannot map its row ring: {e}")))?;
+                    worker.ring = Some(ring);
+                    self.column_names = column_names;
+                    self.column_units = column_units;
+                    self.final_values = vec![f64::NAN; final_names.len()];
+                    self.final_names = final_names;
+                    self.pending.clear();
+                }
+                Ok(FromWorker::Failed { error, .. }) => return Err(error.into()),
+                Ok(other) => return Err(broken(format!("answered {other:?} to its setup"))),
+                Err(error) => return Err(error),
+            }
+            self.worker = Some(worker);
+        }
+        Ok(self.worker.as_mut().expect("started above"))
+    }
+
+    /// Drops the worker (killing it if it still runs, removing its directory) and returns
+    /// `error`.
+    fn lose_worker(&mut self, error: MasterError) -> MasterError {
+        if let Some(mut worker) = self.worker.take() {
+            worker.kill();
+        }
+        error
+    }
+}
+
+impl Worker {
+    fn spawn(
+        program: &Path,
+        limits: &Limits,
+        stderr: &Arc<Mutex<Vec<u8>>>,
+    ) -> Result<Self, MasterError> {
+        let dir = tempfile::Builder::new()
+            .prefix("harness-worker-")
+            .tempdir()
+            .map_err(|e| broken(format!("cannot create its directory: {e}")))?;
+        let black_box = BlackBox::create(&dir.path().join(BLACK_BOX))
+            .map_err(|e| broken(format!("cannot create its black box: {e}")))?;
+        let tmp = dir.path().join("tmp");
+        std::fs::create_dir(&tmp)
+            .map_err(|e| broken(format!("cannot create its directory: {e}")))?;
+        let mut command = Command::new(program);
+        command
+            .arg(WORKER_FLAG)
+            .arg(dir.path())
+            // FMUs unpack under the worker's directory, which the parent removes whatever
+            // happens to the worker.
+            .env("TMPDIR", &tmp)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        let memory = limits.memory_bytes();
+        {
+            use std::os::unix::process::CommandExt;
+            // SAFETY: only async-signal-safe calls between fork and exec.
+            unsafe {
+                command.pre_exec(move || {
+                    // A worker never outlives its parent.
+                    #[cfg(target_os = "linux")]
+                    libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
+                    if memory > 0 {
+                        let limit = libc::rlimit {
+                            rlim_cur: memory as libc::rlim_t,
+                            rlim_max: memory as libc::rlim_t,
+                        };
+                        libc::setrlimit(libc::RLIMIT_AS, &limit);
+                    }
+                    Ok(())
+                });
+            }
+        }
+        let mut child = command.spawn().map_err(|e| {
+            broken(format!(
+                "cannot start {} as a worker: {e}",
+                program.display()
+            ))
+        })?;
+        let to = Some(BufWriter::new(child.stdin.take().expect("piped")));
+        let mut from = std::io::BufReader::new(child.stdout.take().expect("piped"));
+        let mut err = child.stderr.take().expect("piped");
+        let (sender, messages) = std::sync::mpsc::channel();
+        // Neither thread is joined: a process the FMU started may hold the pipes open.
+        std::thread::spawn(move || loop {
+            match receive::<FromWorker>(&mut from) {
+                Ok(Some(message)) => {
+                    if sender.send(Incoming::Message(message)).is_err() {
+                        return;
+                    }
+                }
+                Ok(None) | Err(_) => {
+                    let _ = sender.send(Incoming::Closed);
+                    return;
+                }
+            }
+        });
+        let kept = Arc::clone(stderr);
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 8192];
+            loop {
+                match err.read(&mut buffer) {
+                    Ok(0) | Err(_) => return,
+                    Ok(n) => {
+                        let _ = std::io::stderr().write_all(&buffer[..n]);
+                        let mut kept = kept.lock().unwrap_or_else(|e| e.into_inner());
+                        kept.extend_from_slice(&buffer[..n]);
+                        if kept.len() > STDERR_KEPT {
+                            let excess = kept.len() - STDERR_KEPT;
+                            kept.drain(..excess);
+                        }
+                    }
+                }
+            }
+        });
+        Ok(Self {
+            child,
+            to,
+            messages,
+            black_box,
+            ring: None,
+            seen_calls: 0,
+            since: Instant::now(),
+            dir,
+        })
+    }
+
+    fn send(&mut self, message: &ToWorker) -> Result<(), MasterError> {
+        // A broken pipe means the worker is gone; the next message says how.
+        if let Some(to) = self.to.as_mut() {
+            let _ = send(to, message);
+        }
+        Ok(())
+    }
+
+    /// Hands rows `taken..upto` of the ring to `recorder`.
+    fn hand_on(&self, taken: &mut u64, upto: u64, recorder: &mut dyn Recorder) {
+        let Some(ring) = &self.ring else { return };
+        // Never more than the ring holds: a worker cannot make the parent read stale slots.
+        let first = (*taken).max(upto.saturating_sub(2 * ring.capacity as u64));
+        for row in first..upto {
+            let (time, values) = ring.read(row);
+            recorder.record(time, values);
+        }
+        *taken = (*taken).max(upto);
+    }
+
+    /// The worker's next message, or how it ended without one.
+    fn next(&mut self, deadline: Instant, limits: &Limits) -> Result<FromWorker, MasterError> {
+        self.since = Instant::now();
+        loop {
+            let now = Instant::now();
+            let wait = TICK.min(deadline.saturating_duration_since(now));
+            match self.messages.recv_timeout(wait) {
+                Ok(Incoming::Message(message)) => return Ok(message),
+                Ok(Incoming::Closed) | Err(RecvTimeoutError::Disconnected) => {
+                    return Err(self.ended(None, limits))
+                }
+                Err(RecvTimeoutError::Timeout) => {}
+            }
+            if let Ok(Some(_)) = self.child.try_wait() {
+                // Exited, but its stdout is still open elsewhere (a process it started):
+                // what it sent before is in the channel.
+                if let Ok(Incoming::Message(message)) = self.messages.try_recv() {
+                    return Ok(message);
+                }
+                return Err(self.ended(None, limits));
+            }
+            let now = Instant::now();
+            if let Some(call) = self.black_box.last_call() {
+                if call.calls != self.seen_calls {
+                    self.seen_calls = call.calls;
+                    self.since = now;
+                }
+            }
+            if now.duration_since(self.since) > limits.call_timeout() {
+                return Err(self.ended(Some(How::CallTimeout(limits.call_timeout_s())), limits));
+            }
+            if now >= deadline {
+                return Err(self.ended(Some(How::RunTimeout(limits.run_timeout_s())), limits));
+            }
+        }
+    }
+
+    /// Ends the worker (killing it for a timeout) and says how it ended.
+    fn ended(&mut self, timeout: Option<How>, limits: &Limits) -> MasterError {
+        let how = match timeout {
+            Some(how) => {
+                let _ = self.child.kill();
+                let _ = self.child.wait();
+                how
+            }
+            None => self.exit_status(),
+        };
+        MasterError::Abnormal(Box::new(Abnormal {
+            how,
+            last_call: self.black_box.last_call().filter(|call| call.calls > 0),
+            memory_limit_bytes: limits.memory_bytes(),
+        }))
+    }
+
+    /// How the worker ended, waiting a little for it (and killing it if it does not).
+    fn exit_status(&mut self) -> How {
+        use std::os::unix::process::ExitStatusExt;
+        let started = Instant::now();
+        let status = loop {
+            match self.child.try_wait() {
+                Ok(Some(status)) => break Some(status),
+                Ok(None) if started.elapsed() < QUIT_GRACE => {
+                    std::thread::sleep(Duration::from_millis(5))
+                }
+                _ => {
+                    let _ = self.child.kill();
+                    break self.child.wait().ok();
+                }
+            }
+        };
+        match status {
+            Some(status) => match (status.code(), status.signal()) {
+                (Some(code), _) => How::Exited(code),
+                (None, Some(signal)) => How::Signal(signal),
+                (None, None) => How::Broken("ended in an unknown way".into()),
+            },
+            None => How::Broken("could not be waited for".into()),
+        }
+    }
+
+    fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        drop(self.to.take());
+        let started = Instant::now();
+        loop {
+            match self.child.try_wait() {
+                Ok(Some(_)) | Err(_) => break,
+                Ok(None) if started.elapsed() < QUIT_GRACE => {
+                    std::thread::sleep(Duration::from_millis(2))
+                }
+                Ok(None) => {
+                    self.kill();
+                    break;
+                }
+            }
+        }
+    }
+}
