@@ -132,6 +132,16 @@ impl std::fmt::Display for ParseError {
     }
 }
 
+/// The character position (1-based) where `signal` first appears in the formula `text`, as
+/// a parse error gives it.
+pub fn signal_position(text: &str, signal: &str) -> Option<usize> {
+    tokens(text)
+        .ok()?
+        .into_iter()
+        .find(|(_, token)| matches!(token, Token::Word(w) if w == signal))
+        .map(|(at, _)| at)
+}
+
 #[derive(Debug, Clone, PartialEq)]
 enum Token {
     Number(f64),
@@ -505,5 +515,13 @@ mod tests {
             assert_eq!(e.position, position, "{text}: {e}");
             assert!(e.message.contains(expected), "{text}: {e}");
         }
+    }
+
+    #[test]
+    fn a_signal_is_found_where_it_is_written_not_inside_a_longer_name() {
+        let text = "always [0, 1] p.xx > 0 and abs(p.x) < 2";
+        assert_eq!(signal_position(text, "p.x"), Some(32));
+        assert_eq!(signal_position(text, "p.xx"), Some(15));
+        assert_eq!(signal_position(text, "p.y"), None);
     }
 }
