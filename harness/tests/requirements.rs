@@ -8,19 +8,24 @@ use common::harness;
 
 /// The landing scenario (it lands at 323.61 s) with these requirements appended.
 fn landing_with(dir: &Path, requirements: &[(&str, &str)]) -> String {
+    let text: String = requirements
+        .iter()
+        .map(|(name, formula)| {
+            format!("\n[[requirement]]\nname = \"{name}\"\nformula = \"{formula}\"\n")
+        })
+        .collect();
+    landing_with_text(dir, &text)
+}
+
+/// The landing scenario with `requirements` (TOML) appended.
+fn landing_with_text(dir: &Path, requirements: &str) -> String {
     let landing = harness::scenarios::BUILT_IN
         .iter()
         .find(|(name, _)| *name == "landing")
         .unwrap()
         .1;
-    let mut text = landing.to_owned();
-    for (name, formula) in requirements {
-        text.push_str(&format!(
-            "\n[[requirement]]\nname = \"{name}\"\nformula = \"{formula}\"\n"
-        ));
-    }
     let path = dir.join("landing-requirements.toml");
-    std::fs::write(&path, text).unwrap();
+    std::fs::write(&path, format!("{landing}{requirements}")).unwrap();
     path.to_str().unwrap().to_owned()
 }
 
@@ -31,6 +36,8 @@ struct TestSuites {
     tests: usize,
     #[serde(rename = "@failures")]
     failures: usize,
+    #[serde(rename = "@errors")]
+    errors: usize,
     testsuite: Vec<TestSuite>,
 }
 
@@ -45,7 +52,10 @@ struct TestSuite {
 struct TestCase {
     #[serde(rename = "@name")]
     name: String,
+    #[serde(rename = "@time")]
+    time: f64,
     failure: Option<Failure>,
+    error: Option<Failure>,
 }
 
 #[derive(serde::Deserialize)]
@@ -90,12 +100,13 @@ fn a_violated_requirement_fails_the_run_with_its_robustness_and_in_the_junit_rep
 
     let report: TestSuites =
         serde_xml_rs::from_str(&std::fs::read_to_string(&junit).unwrap()).unwrap();
-    assert_eq!((report.tests, report.failures), (3, 1));
+    assert_eq!((report.tests, report.failures, report.errors), (3, 1, 0));
     let suite = &report.testsuite[0];
-    assert_eq!(suite.name, "landing");
     let names: Vec<&str> = suite.testcase.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(names, ["verdict", "above 700 m", "above ground"]);
     assert!(suite.testcase[0].failure.is_none());
+    // The run's time is the verdict's.
+    assert!(suite.testcase[0].time > 0.0);
     let failure = suite.testcase[1]
         .failure
         .as_ref()
@@ -157,8 +168,10 @@ fn a_bad_requirement_is_refused_before_the_run_naming_it_and_the_position() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(
-        stderr
-            .contains("requirement \"unknown signal\": plant.altitude_m is not a recorded signal"),
+        stderr.contains(
+            "requirement \"unknown signal\": formula \"always [0, 10] plant.altitude_m > 0\" at \
+             character 16: plant.altitude_m is not a recorded signal"
+        ),
         "{stderr}"
     );
     assert!(!out.exists(), "refused before the run");
@@ -204,9 +217,9 @@ fn harness_test_runs_every_scenario_of_a_folder_into_one_junit_report() {
     );
     let report: TestSuites =
         serde_xml_rs::from_str(&std::fs::read_to_string(&junit).unwrap()).unwrap();
-    assert_eq!((report.tests, report.failures), (3, 0));
+    assert_eq!((report.tests, report.failures, report.errors), (3, 0, 0));
     let names: Vec<&str> = report.testsuite.iter().map(|s| s.name.as_str()).collect();
-    assert_eq!(names, ["upright", "landing"]);
+    assert_eq!(names, ["a-upright", "b-landing"]);
     assert!(out_dir.join("a-upright.csv").exists() && out_dir.join("b-landing.csv").exists());
 
     // A violated requirement fails its scenario (3); one that cannot be run makes it 1.
@@ -227,11 +240,73 @@ fn harness_test_runs_every_scenario_of_a_folder_into_one_junit_report() {
     );
     let report: TestSuites =
         serde_xml_rs::from_str(&std::fs::read_to_string(&junit).unwrap()).unwrap();
-    assert_eq!((report.tests, report.failures), (4, 2));
+    // The violated requirement is a failure, the scenario that could not be run an error.
+    assert_eq!((report.tests, report.failures, report.errors), (4, 1, 1));
     let broken = &report.testsuite[2];
     assert_eq!(broken.name, "c-broken");
+    assert!(broken.testcase[0].failure.is_none());
     assert!(broken.testcase[0]
-        .failure
+        .error
         .as_ref()
         .is_some_and(|f| f.message.contains("could not be run")));
+}
+
+/// A window past the touchdown at 323.61 s: inconclusive, failing, for `always` and
+/// `eventually` alike, unless the requirement accepts an early end; a window the flight
+/// covers is judged as before.
+#[test]
+fn a_window_past_the_end_of_the_run_is_inconclusive_unless_an_early_end_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let junit = dir.path().join("junit.xml");
+    let out = dir.path().join("run.csv");
+    let run = |scenario: &str| {
+        let output = harness(&[
+            "run",
+            scenario,
+            "-o",
+            out.to_str().unwrap(),
+            "--junit",
+            junit.to_str().unwrap(),
+        ]);
+        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        let report: TestSuites =
+            serde_xml_rs::from_str(&std::fs::read_to_string(&junit).unwrap()).unwrap();
+        (output.status.code(), stdout, report)
+    };
+    let requirements = |early_end: &str| {
+        format!(
+            "\n[[requirement]]\nname = \"above ground\"\nformula = \"always [0, 400] \
+             plant.r_nue[2] > -0.01\"\n{early_end}\n[[requirement]]\nname = \"climbs \
+             back\"\nformula = \"eventually [0, 400] plant.r_nue[2] > 2000\"\n{early_end}"
+        )
+    };
+    let (code, stdout, report) = run(&landing_with_text(dir.path(), &requirements("")));
+    assert_eq!(code, Some(3), "{stdout}");
+    for name in ["above ground", "climbs back"] {
+        assert!(
+            stdout.contains(&format!(
+                "requirement {name}: INCONCLUSIVE (window [0, 400] s, run ended at 323.609 s:"
+            )),
+            "{stdout}"
+        );
+    }
+    assert_eq!((report.tests, report.failures), (3, 2));
+    assert!(report.testsuite[0].testcase[1]
+        .failure
+        .as_ref()
+        .is_some_and(|f| f.message.contains("INCONCLUSIVE (window [0, 400] s")));
+
+    // Accepted: judged over the flight, which stays above ground and never climbs back.
+    let accepted = landing_with_text(dir.path(), &requirements("early_end = \"accept\"\n"));
+    let (code, stdout, report) = run(&accepted);
+    assert_eq!(code, Some(3), "{stdout}");
+    assert!(
+        stdout.contains("requirement above ground: holds (robustness +"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("requirement climbs back: VIOLATED (robustness -"),
+        "{stdout}"
+    );
+    assert_eq!((report.tests, report.failures), (3, 1));
 }
