@@ -13,6 +13,7 @@ impl From<UnpackError> for LoadError {
             UnpackError::MissingModelDescription { path } => {
                 LoadError::MissingModelDescription { path }
             }
+            other => LoadError::Unpack(other),
         }
     }
 }

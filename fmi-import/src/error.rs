@@ -23,6 +23,11 @@ pub enum LoadError {
     },
     #[error("FMU {path} has no modelDescription.xml at its top level")]
     MissingModelDescription { path: PathBuf },
+    /// An archive refused while it was unpacked: an entry that is a link, lands outside the
+    /// extraction directory or is named twice, or the archive is past a bound. The message
+    /// names the archive and the entry.
+    #[error(transparent)]
+    Unpack(fmi_abi::unpack::UnpackError),
     #[error("cannot read model description {path}")]
     ModelDescription {
         path: PathBuf,

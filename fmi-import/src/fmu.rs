@@ -78,7 +78,7 @@ impl Fmu {
         }
         let description = ModelDescription::from_file(&description_path).map_err(|source| {
             LoadError::ModelDescription {
-                path: description_path.clone(),
+                path: described_path(&unpacked),
                 source,
             }
         })?;
@@ -129,10 +129,9 @@ impl Fmu {
     }
 
     fn load_fmi3(unpacked: Unpacked, bytes: &[u8]) -> Result<Self, LoadError> {
-        let description_path = unpacked.model_description_path();
         let description3 = model_description::fmi3::Fmi3ModelDescription::from_bytes(bytes)
             .map_err(|source| LoadError::ModelDescription {
-                path: description_path.clone(),
+                path: described_path(&unpacked),
                 source,
             })?;
         let view = fmi3::scalar_view(&description3)?;
@@ -272,6 +271,15 @@ impl FmuShared {
     /// The unpacked `resources` folder, if the FMU has one.
     pub(crate) fn resources_dir(&self) -> Option<PathBuf> {
         Some(self.unpacked.root().join("resources")).filter(|dir| dir.is_dir())
+    }
+}
+
+/// The model description as the user knows it: inside the `.fmu` they gave, not in the
+/// temporary directory that is gone by the time they read the message.
+fn described_path(unpacked: &Unpacked) -> PathBuf {
+    match unpacked.archive() {
+        Some(archive) => archive.join("modelDescription.xml"),
+        None => unpacked.model_description_path(),
     }
 }
 
