@@ -25,6 +25,8 @@ use crate::controller::{
 use crate::guidance::retarget::MAX_DIVERT_TIME_S;
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::{GncDesign, GncParameters};
+use crate::supervision::consistency::{MonitorSettings, Observation};
+use crate::supervision::{feasibility, SupervisionSettings, Supervisor};
 use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
 use serde::{Deserialize, Serialize};
 
@@ -44,6 +46,10 @@ pub struct LanderGnc {
     time_s: f64,
     /// Set by `exit_initialization`: the parameters are fixed from then on.
     initialized: bool,
+    /// Feasibility and input consistency findings (observes only).
+    supervisor: Supervisor,
+    /// The supervision's outputs as the last get showed them.
+    supervision_outputs: SupervisionOutputs,
     /// Derived from the parameters once they are fixed; a restored or deserialized instance
     /// derives it again at its first evaluation.
     #[serde(skip)]
@@ -51,6 +57,16 @@ pub struct LanderGnc {
     /// A cache, not state: a restored or deserialized instance evaluates afresh.
     #[serde(skip)]
     evaluated: Evaluated,
+}
+
+/// The supervision's outputs: its findings so far and the residuals of the last window.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+struct SupervisionOutputs {
+    status: i32,
+    attitude_residual_rad: f64,
+    position_residual_m: f64,
+    acceleration_residual_mps2: f64,
+    angular_response: f64,
 }
 
 /// The latest sample evaluated without being committed, with the time and inputs it was
@@ -109,6 +125,11 @@ impl Default for LanderGnc {
             start_time_s: 0.0,
             time_s: 0.0,
             initialized: false,
+            supervisor: Supervisor::default(),
+            supervision_outputs: SupervisionOutputs {
+                angular_response: 1.0,
+                ..SupervisionOutputs::default()
+            },
             design: None,
             evaluated: Evaluated::default(),
         }
@@ -213,6 +234,14 @@ impl LanderGnc {
         kept.input_bits = self.inputs.to_bits();
         kept.valid = true;
         report(&kept.advance, self.time_s, log);
+        let residuals = self.supervisor.residuals();
+        self.supervision_outputs = SupervisionOutputs {
+            status: self.supervisor.status(),
+            attitude_residual_rad: residuals.attitude_rad,
+            position_residual_m: residuals.position_m,
+            acceleration_residual_mps2: residuals.acceleration_mps2,
+            angular_response: residuals.angular_response,
+        };
         // Validated parameters give finite outputs for the finite inputs the layer admits;
         // before the end of initialization has validated them, the outputs shown are
         // provisional and may not be.
@@ -260,6 +289,48 @@ impl LanderGnc {
             }
         }
         self.evaluated.valid = false;
+        self.supervise(log);
+    }
+
+    /// The supervision of the committed sample: the inputs at the current time with the
+    /// command last shown, which is the one acting from now on whatever the master's order
+    /// (read before the step, or after the previous one).
+    fn supervise(&mut self, log: &mut Log) {
+        let p = &self.params;
+        let settings = SupervisionSettings {
+            monitor: MonitorSettings {
+                gravity_mps2: p.gravity_mps2,
+                inertia_body_kgm2: p.inertia_body_kgm2,
+            },
+            monitor_enabled: p.input_monitor,
+            thrust_range_n: (p.thrust_min_n, p.thrust_max_n),
+            torque_limit_body_nm: p.torque_limit_body_nm,
+            saturation_time_s: p.saturation_time_s,
+        };
+        let nav = &self.inputs;
+        // Forces other than thrust and gravity: the gear on the ground, after the engine cut.
+        let height_m = nav.r_nue_m[1] - p.terminal_ground_height_m;
+        let ground_contact_possible = self.guidance.engine_cut
+            || (self.guidance.phase == crate::guidance::sequencer::Phase::TerminalDescent
+                && height_m < GROUND_CONTACT_HEIGHT_M);
+        let observation = Observation {
+            t_s: self.time_s,
+            r_nue_m: nav.r_nue_m,
+            v_nue_mps: nav.v_nue_mps,
+            q_body_to_nue: nav.q_body_to_nue,
+            omega_body_radps: nav.omega_body_radps,
+            mass_kg: nav.mass_kg,
+            thrust_cmd_n: self.outputs.thrust_cmd_n,
+            torque_cmd_body_nm: self.outputs.torque_cmd_body_nm,
+            ground_contact_possible,
+        };
+        let tilt_error_rad = self.outputs.tilt_error_rad;
+        for message in self
+            .supervisor
+            .observe(&settings, observation, tilt_error_rad)
+        {
+            log.warning(format!("t = {} s: {message}", self.time_s));
+        }
     }
 
     /// Whether the memory a sample at the time of `e` commits may differ from `e`'s for the
@@ -296,6 +367,10 @@ impl LanderGnc {
     }
 }
 
+/// Height above `terminal_ground_height` below which, in the terminal descent, the gear may
+/// touch: the legs and a margin for the terrain.
+const GROUND_CONTACT_HEIGHT_M: f64 = 5.0;
+
 /// Log what the sample found wrong with its inputs, if anything.
 #[inline(always)]
 fn report(advance: &Advance, time_s: f64, log: &mut Log) {
@@ -327,7 +402,8 @@ impl Model for LanderGnc {
         'Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3'";
     /// 2: the thrust-axis profile and the initialization flag; 3: and the RCS thruster
     /// model's modulators.
-    const STATE_VERSION: u32 = 4;
+    /// 5: and the supervision.
+    const STATE_VERSION: u32 = 5;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,
@@ -360,6 +436,18 @@ impl Model for LanderGnc {
         self.guidance = GuidanceState::initial(self.params.gravity_mps2);
         self.profile = PhiProfile::default();
         self.pwpf = PwpfBank::default();
+        self.supervisor = Supervisor::default();
+        let p = &self.params;
+        for message in self
+            .supervisor
+            .parameters(feasibility::bandwidth_out_of_reach(
+                p.control_bandwidth_hz,
+                p.inertia_body_kgm2,
+                p.torque_limit_body_nm,
+            ))
+        {
+            log.warning(message);
+        }
         self.preview(log);
         Ok(())
     }
@@ -592,6 +680,12 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(121, output tilt_error: outputs.tilt_error_rad, "rad", "angle between the body thrust axis and the commanded thrust direction"),
     decl!(122, discrete_output guidance_phase: outputs.guidance_phase as i32, "guidance phase: 1 hover, 2 polynomial descent, 3 hover at the descent target, 4 hold, 5 terminal descent", int_min = 1, int_max = 5),
     decl!(123, output time_to_go: outputs.time_to_go_s, "s", "descent time-to-go at the last guidance sample (0 outside the descent)"),
+    // supervision (observes only; docs/interface.md, bringing your own vehicle)
+    decl!(124, discrete_output monitor_status: supervision_outputs.status as i32, "supervision findings so far, a sum of bits: 1 attitude vs body rates, 2 position vs velocity, 4 velocity change vs thrust and gravity, 8 angular response vs torque and inertia, 16 weight above thrust_max, 32 control_bandwidth beyond the torque limit, 64 thrust pinned at a limit, 128 torque pinned at a limit, 256 tilt error beyond 90 deg; 0 = none", int_min = 0, int_max = 511),
+    decl!(125, output monitor_attitude_residual: supervision_outputs.attitude_residual_rad, "rad", "input monitor: angle between the attitude's change and the integrated omega_body over the last window"),
+    decl!(126, output monitor_position_residual: supervision_outputs.position_residual_m, "m", "input monitor: distance between the position's change and the integrated v_nue over the last window"),
+    decl!(127, output monitor_acceleration_residual: supervision_outputs.acceleration_residual_mps2, "m/s2", "input monitor: difference between the velocity's change and gravity plus thrust_cmd / mass along body +y over the last window"),
+    decl!(128, output monitor_angular_response: supervision_outputs.angular_response, "1", "input monitor: the body rates' change over what torque_cmd_body predicts for inertia_body in the last window judged (1 = as predicted)"),
     // parameters
     // An Integer in the model description, so that every master can select the law (libcosim
     // and Ecos ignore FMI 2.0 Enumerations); the values are listed from ControlLaw.
@@ -636,6 +730,8 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(232, parameter retarget_time: params.retarget_time_s, "s", "retarget (beyond the paper): time after the start time (the phase schedule's clock) at which the site becomes retarget_site_nue; from the guidance cycle at or after it the guidance re-plans to the new site (docs/retarget.md); negative = never (default); <= 1e6 s", max = 1e6),
     decl!(233, parameter retarget_site_nue[3]: params.retarget_site_nue_m, "m", "retarget: the new site, the hover point replacing descent_target_nue from retarget_time on (the terminal descent descends over it), each within +-1e7 m", min = -1e7, max = 1e7, components = NUE),
     decl!(236, parameter retarget_max_tilt: params.retarget_max_tilt_rad, "rad", "retarget: tilt of the thrust axis from vertical the divert may count on; the lateral authority is min(g tan(retarget_max_tilt), sqrt((thrust_max / mass)^2 - g^2)) at the retarget, in (0, 80 deg]; default 15 deg", above = 0.0, max = 1.3962634015954636),
+    decl!(242, parameter input_monitor: params.input_monitor as bool, "supervision: compare the inputs' changes with the body rates, the velocity, the commands, gravity and inertia, and log once the likely cause of a mismatch (true, default); observes only"),
+    decl!(243, parameter saturation_time: params.saturation_time_s, "s", "supervision: a thrust or torque command at a limit of its range for longer than this is logged once, <= 1e6 s", min = 0.0, max = 1e6),
     decl!(237, parameter retarget_replan: params.retarget_replan as bool, "retarget: true (default) re-plans a cubic divert from the current state whose duration keeps its peak lateral acceleration within the authority, then hovers at the site; false only moves the target, the phase schedule unchanged (the baseline)"),
 ];
 
@@ -695,9 +791,14 @@ mod tests {
         gnc
     }
 
+    /// Supervision off: `navigation` is no flight (its attitude does not follow its rates),
+    /// and the supervision judges the command a get showed, which these tests vary on
+    /// purpose between instances that must commit the same memory.
     fn paper_params() -> GncParameters {
         GncParameters {
             phi_cmd_rad: 150f64.to_radians(),
+            input_monitor: false,
+            saturation_time_s: 1e6,
             ..GncParameters::default()
         }
     }

@@ -8,6 +8,8 @@
 //!   decoupled and reduced laws, gains and saturation.
 //! * [`actuation`]: thruster mode: torque allocation to eight thrusters and PWPF modulation.
 //! * [`controller`]: one GNC sample from navigation inputs (pure).
+//! * [`supervision`]: feasibility of the parameters and the input consistency monitor (pure,
+//!   observes only).
 //! * [`fmu`]: the FMI variable table and timing; no math.
 #![deny(unsafe_code)]
 
@@ -18,6 +20,7 @@ pub mod conventions;
 pub mod fmu;
 pub mod guidance;
 pub mod params;
+pub mod supervision;
 
 pub use fmu::LanderGnc;
 

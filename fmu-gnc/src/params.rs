@@ -72,6 +72,10 @@ pub struct GncParameters {
     pub pwpf_off_threshold: f64,
     /// The period a duty refers to: the communication step, s.
     pub rcs_duty_period_s: f64,
+    /// The input consistency monitor (supervision, beyond the paper) is on.
+    pub input_monitor: bool,
+    /// A command at a limit of its range for longer than this is reported, s.
+    pub saturation_time_s: f64,
 }
 
 /// Everything the samples use that follows from the parameters alone, derived once from
@@ -161,6 +165,8 @@ impl Default for GncParameters {
             pwpf_on_threshold: 0.5,
             pwpf_off_threshold: 0.2,
             rcs_duty_period_s: 0.01,
+            input_monitor: true,
+            saturation_time_s: 10.0,
         }
     }
 }
@@ -437,6 +443,12 @@ impl GncParameters {
             "engine_cutoff_height_m",
             p.engine_cutoff_height_m,
             "must be finite and <= 1e4 m (negative = never)",
+        )?;
+        check(
+            (0.0..=MAX_DURATION_S).contains(&p.saturation_time_s),
+            "saturation_time_s",
+            p.saturation_time_s,
+            "must be in [0, 1e6] s",
         )?;
         check(
             (0.0..=MAX_PHI_RATE_RADPS).contains(&p.phi_rate_limit_radps),

@@ -62,6 +62,10 @@ fn the_interface_names_are_all_declared() {
 #[test]
 fn hover_then_descent_with_direct_feedthrough() {
     let gnc = Gnc::new();
+    // The inputs below are no flight: they ignore the commands (and the torque read for
+    // the tilted attitude stays the last one shown, at its limit).
+    assert_eq!(gnc.set_boolean(vr::INPUT_MONITOR, false), fmi2OK);
+    assert_eq!(gnc.set_reals(&[vr::SATURATION_TIME], &[1e6]), fmi2OK);
     assert_eq!(gnc.initialize(), fmi2OK);
     // GIVEN upright at rest on the hover target
     gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);
@@ -196,6 +200,8 @@ const PHI_PROFILE_LIMITS: [u32; 2] = [230, 231];
 
 fn save_restore_and_serialization_are_bit_exact(shaped: bool) {
     let gnc = Gnc::new();
+    // The made-up navigation history is no flight: it ignores the commands.
+    assert_eq!(gnc.set_boolean(vr::INPUT_MONITOR, false), fmi2OK);
     assert_eq!(gnc.set_integer(vr::CONTROL_LAW, 1), fmi2OK);
     assert_eq!(gnc.set_reals(&[vr::PHI_CMD], &[2.6]), fmi2OK);
     if shaped {
@@ -218,6 +224,7 @@ fn save_restore_and_serialization_are_bit_exact(shaped: bool) {
     // AND a serialized copy, restored into a fresh instance, replays bit-identically too
     let bytes = gnc.serialize(saved);
     let other = Gnc::new();
+    assert_eq!(other.set_boolean(vr::INPUT_MONITOR, false), fmi2OK);
     if shaped {
         assert_eq!(other.set_reals(&PHI_PROFILE_LIMITS, &[1.0, 1.0]), fmi2OK);
     }

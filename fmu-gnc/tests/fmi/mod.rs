@@ -21,6 +21,8 @@ pub mod vr {
     pub const CONTROL_LAW: u32 = 200;
     pub const PHI_CMD: u32 = 201;
     pub const CONTROL_BANDWIDTH: u32 = 203;
+    pub const INPUT_MONITOR: u32 = 242;
+    pub const SATURATION_TIME: u32 = 243;
     /// thrust_cmd, torque_cmd_body[1..3], a_cmd_nue[1..3], q_ref[1..4], phi_b, err_*, tilt, tgo
     pub const ALL_REAL_OUTPUTS: [u32; 17] = [
         100, 101, 102, 103, 110, 111, 112, 113, 114, 115, 116, 117, 118, 119, 120, 121, 123,

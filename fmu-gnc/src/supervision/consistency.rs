@@ -1,0 +1,537 @@
+//! The input consistency monitor: does the navigation the GNC is given move the way its own
+//! rates, velocity and commands say it should? A plant wired with another convention (a
+//! scalar-last or conjugate quaternion, rates in deg/s, ENU axes, another gravity, inertia or
+//! mass unit) flies on for a minute or two before it fails; the inputs betray it within a
+//! second.
+//!
+//! Over windows of [`WINDOW_S`] the monitor compares
+//! - the attitude's change with the body rates integrated,
+//! - the position's change with the velocity integrated,
+//! - the velocity's change with gravity plus the thrust along body +y the GNC commanded, for
+//!   the mass it was given,
+//! - the body rates' change with what the commanded torque gives the declared inertia.
+//!
+//! A check that fails in [`PERSISTENCE`] windows in a row is raised, once, with the likely
+//! cause: the monitor tries the usual mistakes (scalar-last, conjugate, deg/s, ENU) and names
+//! the one that explains the inputs. It observes only: nothing here changes a command.
+//!
+//! Thresholds are absolute plus relative, sized so that the shipped scenarios (sensor noise,
+//! the filter's estimates, engine lag, the plant's own throttle and torque limits) stay
+//! well inside them and each mistake lands well outside (docs/interface.md gives the numbers).
+use nalgebra::{Matrix3, Quaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// Length of one comparison window.
+pub const WINDOW_S: f64 = 0.5;
+/// Failed windows in a row that raise a check: one window may straddle a transient (a
+/// guidance phase change, an engine switched on), two in a row do not.
+pub const PERSISTENCE: u8 = 2;
+
+/// Attitude: the change and the integrated rates may differ by this much (rad) plus
+/// [`ATTITUDE_RELATIVE`] of the larger rotation: gyro noise and a filter's attitude
+/// corrections stay below a few milliradians in a window.
+pub const ATTITUDE_ABSOLUTE_RAD: f64 = 0.01;
+pub const ATTITUDE_RELATIVE: f64 = 0.25;
+/// Position: metres per window plus a share of the distance flown.
+pub const POSITION_ABSOLUTE_M: f64 = 1.0;
+pub const POSITION_RELATIVE: f64 = 0.2;
+/// Acceleration: m/s2 plus, along the thrust, a share of the predicted specific force; covers a plant that
+/// clamps the command to its own throttle range (800 N against a thrust_min of 720 N) and an
+/// engine's lag.
+pub const ACCELERATION_ABSOLUTE_MPS2: f64 = 0.3;
+pub const ACCELERATION_RELATIVE: f64 = 0.3;
+/// Across the thrust axis: a share of the specific force for the attitude's error (0.1 is
+/// 6 deg).
+pub const ACCELERATION_ACROSS: f64 = 0.1;
+/// Angular response: judged only when the commanded torque should change the rates by this
+/// much in a window (a steady torque against a disturbance changes them by little); raised
+/// when the response is off by more than [`ANGULAR_RATIO_LIMIT`] either way.
+pub const ANGULAR_MIN_PREDICTED_RADPS: f64 = 0.03;
+pub const ANGULAR_RATIO_LIMIT: f64 = 10.0;
+
+/// Bits of the monitor's status output, one per check.
+pub const ATTITUDE_BIT: i32 = 1;
+pub const POSITION_BIT: i32 = 2;
+pub const ACCELERATION_BIT: i32 = 4;
+pub const ANGULAR_BIT: i32 = 8;
+
+/// What the GNC was given at one sample, and the command that acts from it on.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Observation {
+    pub t_s: f64,
+    pub r_nue_m: [f64; 3],
+    pub v_nue_mps: [f64; 3],
+    /// As exchanged: scalar first if the plant keeps the convention.
+    pub q_body_to_nue: [f64; 4],
+    pub omega_body_radps: [f64; 3],
+    pub mass_kg: f64,
+    pub thrust_cmd_n: f64,
+    pub torque_cmd_body_nm: [f64; 3],
+    /// The ground may push on the vehicle (terminal descent near the ground, engine cut):
+    /// forces other than thrust and gravity, so the acceleration and angular checks rest.
+    pub ground_contact_possible: bool,
+}
+
+/// What the monitor needs of the parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MonitorSettings {
+    pub gravity_mps2: f64,
+    pub inertia_body_kgm2: [f64; 3],
+}
+
+/// The residuals of the last window judged (0 before the first).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Residuals {
+    /// Angle between the attitude's change and the integrated rates, rad.
+    pub attitude_rad: f64,
+    /// Distance between the position's change and the integrated velocity, m.
+    pub position_m: f64,
+    /// Difference between the velocity's change and gravity plus the commanded thrust, m/s2.
+    pub acceleration_mps2: f64,
+    /// The rates' change over what the commanded torque predicts (1 = as predicted; 1 when
+    /// not judged).
+    pub angular_response: f64,
+}
+
+/// The interpretations of the inputs the monitor tries when a check fails.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Reading {
+    AsGiven,
+    ScalarLast,
+    Conjugate,
+}
+
+const READINGS: [Reading; 3] = [Reading::AsGiven, Reading::ScalarLast, Reading::Conjugate];
+
+impl Reading {
+    /// The body-to-NUE attitude `q` stands for under this reading (normalised).
+    fn attitude(self, q: [f64; 4]) -> Option<Quaternion<f64>> {
+        let raw = match self {
+            Reading::AsGiven => Quaternion::new(q[0], q[1], q[2], q[3]),
+            Reading::ScalarLast => Quaternion::new(q[3], q[0], q[1], q[2]),
+            Reading::Conjugate => Quaternion::new(q[0], -q[1], -q[2], -q[3]),
+        };
+        let norm = raw.norm();
+        (norm.is_finite() && norm > 1e-6).then(|| raw / norm)
+    }
+
+    fn cause(self) -> &'static str {
+        match self {
+            Reading::AsGiven => "",
+            Reading::ScalarLast => {
+                "the quaternion looks scalar-last: q_body_to_nue[1] must be the scalar part"
+            }
+            Reading::Conjugate => {
+                "the quaternion looks like its conjugate (NUE to body): q_body_to_nue must \
+                 rotate body vectors into NUE"
+            }
+        }
+    }
+}
+
+/// `q` rotating body `v` into NUE.
+fn rotate(q: &Quaternion<f64>, v: &Vector3<f64>) -> Vector3<f64> {
+    let p = q * Quaternion::from_imag(*v) * q.conjugate();
+    p.imag()
+}
+
+/// The rotation angle of a unit quaternion, in [0, pi].
+fn angle(q: &Quaternion<f64>) -> f64 {
+    2.0 * libm::atan2(q.imag().norm(), q.w.abs())
+}
+
+/// `q` advanced by body rate `omega` over `dt` (first order, renormalised).
+fn advance(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Quaternion<f64> {
+    let half = omega * (0.5 * dt);
+    let dq = Quaternion::new(1.0, half.x, half.y, half.z);
+    let p = q * dq;
+    p / p.norm()
+}
+
+/// NUE components of a vector a plant wrote in ENU order into NUE slots.
+fn enu_read_as_nue(v: &Vector3<f64>) -> Vector3<f64> {
+    Vector3::new(v[1], v[2], v[0])
+}
+
+/// What a window accumulates from its first observation on.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+struct Window {
+    start: Observation,
+    last: Observation,
+    /// The body rotation the rates integrate to, as given and read as deg/s.
+    rotation_from_rates: [f64; 4],
+    rotation_from_rates_deg: [f64; 4],
+    /// Integral of the velocity, m.
+    distance_nue_m: [f64; 3],
+    /// Integral of the commanded specific force along body +y under each [`Reading`], m/s.
+    thrust_impulse_nue_mps: [[f64; 3]; 3],
+    /// Integral of what the commanded torque gives the declared inertia, rad/s.
+    rate_change_predicted_radps: [f64; 3],
+    contact: bool,
+}
+
+/// The monitor's memory: the open window, the checks failing in a row, what it raised.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct ConsistencyMonitor {
+    window: Option<Window>,
+    failing_in_a_row: [u8; 4],
+    /// Bits of the checks raised in this run.
+    pub raised: i32,
+    pub residuals: Residuals,
+}
+
+fn q_of(a: [f64; 4]) -> Quaternion<f64> {
+    Quaternion::new(a[0], a[1], a[2], a[3])
+}
+
+fn a_of(q: &Quaternion<f64>) -> [f64; 4] {
+    [q.w, q.i, q.j, q.k]
+}
+
+fn usable(o: &Observation) -> bool {
+    let finite = o
+        .r_nue_m
+        .iter()
+        .chain(&o.v_nue_mps)
+        .chain(&o.q_body_to_nue)
+        .chain(&o.omega_body_radps)
+        .chain(&o.torque_cmd_body_nm)
+        .chain([&o.t_s, &o.mass_kg, &o.thrust_cmd_n])
+        .all(|x| x.is_finite());
+    finite && o.mass_kg > 0.0 && Reading::AsGiven.attitude(o.q_body_to_nue).is_some()
+}
+
+impl ConsistencyMonitor {
+    /// Takes the next observation; the messages of checks raised by it (each check raises
+    /// once a run).
+    pub fn observe(&mut self, settings: &MonitorSettings, o: Observation) -> Vec<String> {
+        if !usable(&o) {
+            self.window = None;
+            return Vec::new();
+        }
+        let Some(mut w) = self.window.filter(|w| o.t_s > w.last.t_s) else {
+            self.window = Some(Window::open(o));
+            return Vec::new();
+        };
+        w.accumulate(settings, &o);
+        if o.t_s - w.start.t_s < WINDOW_S * (1.0 - 1e-9) {
+            self.window = Some(w);
+            return Vec::new();
+        }
+        self.window = Some(Window::open(o));
+        self.judge(settings, &w)
+    }
+
+    fn judge(&mut self, settings: &MonitorSettings, w: &Window) -> Vec<String> {
+        let mut findings: [Option<String>; 4] = [None, None, None, None];
+        let attitude = w.attitude_check();
+        self.residuals.attitude_rad = attitude.residual;
+        findings[0] = attitude.finding;
+        let position = w.position_check();
+        self.residuals.position_m = position.residual;
+        findings[1] = position.finding;
+        // Thrust direction and torque response rest on the attitude and rates: judged only
+        // while those agree, so one mistake is named once, by its first symptom.
+        if findings[0].is_none() && !w.contact {
+            let acceleration = w.acceleration_check(settings);
+            self.residuals.acceleration_mps2 = acceleration.residual;
+            findings[2] = acceleration.finding;
+            let angular = w.angular_check(settings);
+            self.residuals.angular_response = angular.residual;
+            findings[3] = angular.finding;
+        } else {
+            self.residuals.angular_response = 1.0;
+        }
+        let mut raised = Vec::new();
+        for (k, finding) in findings.into_iter().enumerate() {
+            let bit = 1 << k;
+            match finding {
+                Some(message) => {
+                    self.failing_in_a_row[k] = self.failing_in_a_row[k].saturating_add(1);
+                    if self.failing_in_a_row[k] >= PERSISTENCE && self.raised & bit == 0 {
+                        self.raised |= bit;
+                        raised.push(format!(
+                            "input monitor, window from t = {} s to {} s: {message}",
+                            w.start.t_s, w.last.t_s
+                        ));
+                    }
+                }
+                None => self.failing_in_a_row[k] = 0,
+            }
+        }
+        raised
+    }
+}
+
+/// One check's verdict on a window.
+struct Check {
+    residual: f64,
+    finding: Option<String>,
+}
+
+impl Window {
+    fn open(o: Observation) -> Window {
+        let identity = [1.0, 0.0, 0.0, 0.0];
+        Window {
+            start: o,
+            last: o,
+            rotation_from_rates: identity,
+            rotation_from_rates_deg: identity,
+            distance_nue_m: [0.0; 3],
+            thrust_impulse_nue_mps: [[0.0; 3]; 3],
+            rate_change_predicted_radps: [0.0; 3],
+            contact: o.ground_contact_possible,
+        }
+    }
+
+    fn accumulate(&mut self, settings: &MonitorSettings, o: &Observation) {
+        let p = self.last;
+        let dt = o.t_s - p.t_s;
+        let omega_mid =
+            (Vector3::from(p.omega_body_radps) + Vector3::from(o.omega_body_radps)) * 0.5;
+        self.rotation_from_rates = a_of(&advance(&q_of(self.rotation_from_rates), &omega_mid, dt));
+        self.rotation_from_rates_deg = a_of(&advance(
+            &q_of(self.rotation_from_rates_deg),
+            &(omega_mid * std::f64::consts::PI / 180.0),
+            dt,
+        ));
+        let v_mid = (Vector3::from(p.v_nue_mps) + Vector3::from(o.v_nue_mps)) * 0.5;
+        self.distance_nue_m = (Vector3::from(self.distance_nue_m) + v_mid * dt).into();
+        // The command read at p acts over [p, o]; the thrust axis moves with the attitude.
+        let specific_force = p.thrust_cmd_n / p.mass_kg;
+        for (k, reading) in READINGS.iter().enumerate() {
+            if let (Some(qp), Some(qo)) = (
+                reading.attitude(p.q_body_to_nue),
+                reading.attitude(o.q_body_to_nue),
+            ) {
+                let axis = (rotate(&qp, &Vector3::y()) + rotate(&qo, &Vector3::y())) * 0.5;
+                self.thrust_impulse_nue_mps[k] = (Vector3::from(self.thrust_impulse_nue_mps[k])
+                    + axis * (specific_force * dt))
+                    .into();
+            }
+        }
+        let inertia = Vector3::from(settings.inertia_body_kgm2);
+        let omega = Vector3::from(p.omega_body_radps);
+        let gyroscopic = omega.cross(&inertia.component_mul(&omega));
+        let accel = (Vector3::from(p.torque_cmd_body_nm) - gyroscopic).component_div(&inertia);
+        self.rate_change_predicted_radps =
+            (Vector3::from(self.rate_change_predicted_radps) + accel * dt).into();
+        self.contact |= o.ground_contact_possible;
+        self.last = *o;
+    }
+
+    fn duration_s(&self) -> f64 {
+        self.last.t_s - self.start.t_s
+    }
+
+    /// The attitude's change (body frame, from the window's start) under `reading`.
+    fn relative_rotation(&self, reading: Reading) -> Option<Quaternion<f64>> {
+        let q0 = reading.attitude(self.start.q_body_to_nue)?;
+        let q1 = reading.attitude(self.last.q_body_to_nue)?;
+        Some(q0.conjugate() * q1)
+    }
+
+    fn attitude_check(&self) -> Check {
+        let mismatch = |reading: Reading, from_rates: [f64; 4]| {
+            let measured = self.relative_rotation(reading)?;
+            let predicted = q_of(from_rates);
+            let residual = angle(&(predicted.conjugate() * measured));
+            let tolerance =
+                ATTITUDE_ABSOLUTE_RAD + ATTITUDE_RELATIVE * angle(&measured).max(angle(&predicted));
+            Some((
+                residual,
+                residual > tolerance,
+                angle(&measured),
+                angle(&predicted),
+            ))
+        };
+        let Some((residual, failed, measured, predicted)) =
+            mismatch(Reading::AsGiven, self.rotation_from_rates)
+        else {
+            return Check {
+                residual: 0.0,
+                finding: None,
+            };
+        };
+        if !failed {
+            return Check {
+                residual,
+                finding: None,
+            };
+        }
+        let deg = mismatch(Reading::AsGiven, self.rotation_from_rates_deg);
+        let cause = if deg.is_some_and(|(_, failed, ..)| !failed) {
+            "body rates look like deg/s: omega_body must be in rad/s".to_string()
+        } else if let Some(reading) = [Reading::ScalarLast, Reading::Conjugate]
+            .into_iter()
+            .find(|&r| mismatch(r, self.rotation_from_rates).is_some_and(|(_, f, ..)| !f))
+        {
+            reading.cause().to_string()
+        } else {
+            "the attitude does not turn the way omega_body says: check that omega_body is the \
+             body rate in body axes (rad/s) and q_body_to_nue the scalar-first body-to-NUE \
+             quaternion"
+                .to_string()
+        };
+        Check {
+            residual,
+            finding: Some(format!(
+                "{cause} (q_body_to_nue turned {:.3} deg, omega_body integrates to {:.3} deg)",
+                measured.to_degrees(),
+                predicted.to_degrees()
+            )),
+        }
+    }
+
+    fn position_check(&self) -> Check {
+        let moved = Vector3::from(self.last.r_nue_m) - Vector3::from(self.start.r_nue_m);
+        let integrated = Vector3::from(self.distance_nue_m);
+        let residual = (moved - integrated).norm();
+        let tolerance = POSITION_ABSOLUTE_M + POSITION_RELATIVE * integrated.norm();
+        let finding = (residual > tolerance).then(|| {
+            format!(
+                "the position's change ({:.3} m) is not what v_nue integrates to ({:.3} m) \
+                 over {:.2} s: check the units of r_nue (m) and v_nue (m/s), and that both \
+                 are NUE (North, Up, East)",
+                moved.norm(),
+                integrated.norm(),
+                self.duration_s()
+            )
+        });
+        Check { residual, finding }
+    }
+
+    fn acceleration_check(&self, settings: &MonitorSettings) -> Check {
+        let dt = self.duration_s();
+        let gravity_nue = Vector3::new(0.0, -settings.gravity_mps2, 0.0);
+        let dv = Vector3::from(self.last.v_nue_mps) - Vector3::from(self.start.v_nue_mps);
+        let predicted = |reading: usize| Vector3::from(self.thrust_impulse_nue_mps[reading]) / dt;
+        // Along the thrust the plant's throttle range and lag blur the magnitude; across
+        // it only the attitude's error does.
+        let mismatch = |acceleration: Vector3<f64>, reading: usize| {
+            let force = predicted(reading);
+            let residual = acceleration - force - gravity_nue;
+            let along = force
+                .try_normalize(1e-9)
+                .map_or(0.0, |axis| residual.dot(&axis));
+            let across = (residual.norm_squared() - along * along).max(0.0).sqrt();
+            (
+                residual.norm(),
+                along.abs() > ACCELERATION_ABSOLUTE_MPS2 + ACCELERATION_RELATIVE * force.norm()
+                    || across > ACCELERATION_ABSOLUTE_MPS2 + ACCELERATION_ACROSS * force.norm(),
+            )
+        };
+        let acceleration = dv / dt;
+        let (residual, failed) = mismatch(acceleration, 0);
+        if !failed {
+            return Check {
+                residual,
+                finding: None,
+            };
+        }
+        let enu = mismatch(enu_read_as_nue(&acceleration), 0);
+        let reading = (1..3).find(|&k| !mismatch(acceleration, k).1);
+        let force_measured = acceleration - gravity_nue;
+        let force_predicted = predicted(0);
+        let numbers = format!(
+            "(v_nue changed at [{:.3}, {:.3}, {:.3}] m/s2; gravity and thrust_cmd / mass along \
+             body +y predict [{:.3}, {:.3}, {:.3}] m/s2)",
+            acceleration.x,
+            acceleration.y,
+            acceleration.z,
+            (force_predicted + gravity_nue).x,
+            (force_predicted + gravity_nue).y,
+            (force_predicted + gravity_nue).z,
+        );
+        let cause = if !enu.1 {
+            "position and velocity look like ENU (East, North, Up): r_nue and v_nue must be \
+             North, Up, East"
+                .to_string()
+        } else if let Some(k) = reading {
+            READINGS[k].cause().to_string()
+        } else if force_predicted.norm() > ACCELERATION_ABSOLUTE_MPS2
+            && force_measured.normalize().dot(&force_predicted.normalize()) < 0.866
+        {
+            // Say where the specific force points in body axes: a plant whose thrust is
+            // along another body axis, or whose axes are another frame's, shows here.
+            let q = Reading::AsGiven
+                .attitude(self.last.q_body_to_nue)
+                .unwrap_or_else(Quaternion::identity);
+            let body = rotate(&q.conjugate(), &force_measured);
+            let k = body.iamax();
+            let axis = format!(
+                "{}{} body",
+                if body[k] < 0.0 { "-" } else { "+" },
+                ["x", "y", "z"][k]
+            );
+            format!(
+                "the velocity's change points along {axis}, not along the thrust axis \
+                 (+y body): check the frame (NUE axes, body +y the thrust axis; a plant with \
+                 thrust along another body axis needs the constant rotation at the interface)"
+            )
+        } else {
+            let implied_gravity = force_predicted.y - acceleration.y;
+            if (0.1..=30.0).contains(&implied_gravity)
+                && (implied_gravity - settings.gravity_mps2).abs() > 0.25 * settings.gravity_mps2
+            {
+                format!(
+                    "the vertical acceleration implies gravity {implied_gravity:.3} m/s2, not \
+                     gravity = {} m/s2: set gravity to the plant's (or check mass and thrust)",
+                    settings.gravity_mps2
+                )
+            } else {
+                let ratio = force_measured.dot(&force_predicted)
+                    / force_predicted.norm_squared().max(f64::MIN_POSITIVE);
+                format!(
+                    "the specific force is {ratio:.3e} times what thrust_cmd / mass predicts: \
+                     check mass (kg), the plant's thrust (N) and its throttle range"
+                )
+            }
+        };
+        Check {
+            residual,
+            finding: Some(format!("{cause} {numbers}")),
+        }
+    }
+
+    fn angular_check(&self, settings: &MonitorSettings) -> Check {
+        let predicted = Vector3::from(self.rate_change_predicted_radps);
+        let measured =
+            Vector3::from(self.last.omega_body_radps) - Vector3::from(self.start.omega_body_radps);
+        if predicted.norm() < ANGULAR_MIN_PREDICTED_RADPS {
+            return Check {
+                residual: 1.0,
+                finding: None,
+            };
+        }
+        let ratio = measured.dot(&predicted) / predicted.norm_squared();
+        let finding = !(1.0 / ANGULAR_RATIO_LIMIT..=ANGULAR_RATIO_LIMIT).contains(&ratio);
+        let inertia = Matrix3::from_diagonal(&Vector3::from(settings.inertia_body_kgm2));
+        let cause = if ratio > 1e-6 {
+            format!(
+                "the plant's inertia looks {:.3e} times the declared one; check inertia_body \
+                 (kg m2) and the torque's units (N m)",
+                1.0 / ratio
+            )
+        } else {
+            "the rates do not follow the commanded torque: check that torque_cmd_body reaches \
+             the plant, in body axes and N m, and omega_body comes back from it"
+                .to_string()
+        };
+        Check {
+            residual: ratio,
+            finding: finding.then(|| {
+                format!(
+                    "the body rates changed by {:.3e} rad/s, {ratio:.3e} times what \
+                     torque_cmd_body predicts for inertia_body = [{}, {}, {}] kg m2 \
+                     ({:.3e} rad/s): {cause}",
+                    measured.norm(),
+                    inertia[(0, 0)],
+                    inertia[(1, 1)],
+                    inertia[(2, 2)],
+                    predicted.norm(),
+                )
+            }),
+        }
+    }
+}
