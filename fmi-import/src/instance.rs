@@ -256,7 +256,11 @@ impl Instance {
     /// instance is in it; `terminateSimulation` is [`StepStatus::Terminated`].
     pub fn do_step(&mut self, current_time: f64, step_size: f64) -> Result<StepStatus, FmiError> {
         crate::blackbox::set_time(current_time);
-        noted!(self, "fmi2DoStep", "fmi3DoStep", i => i.do_step(current_time, step_size))
+        let stepped =
+            noted!(self, "fmi2DoStep", "fmi3DoStep", i => i.do_step(current_time, step_size));
+        // The calls after a step belong to the communication point it reached.
+        crate::blackbox::set_time(current_time + step_size);
+        stepped
     }
 
     /// Where the last step stopped (FMI 2.0: `fmi2GetRealStatus(fmi2LastSuccessfulTime)`;

@@ -379,7 +379,22 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     set_execution(&cli)?;
     match cli.command {
         Command::Run { request, junit } => {
-            let flown = run_scenario(&request, &cli.fmu_dir)?;
+            let started = std::time::Instant::now();
+            let flown = match run_scenario(&request, &cli.fmu_dir) {
+                Ok(flown) => flown,
+                Err(error) => {
+                    // A CI job reads the report: it says why there is no run.
+                    if let Some(path) = &junit {
+                        let suite = cosim::requirements::junit::error_suite(
+                            &suite_name(&request.scenario),
+                            started.elapsed().as_secs_f64(),
+                            &format!("could not be run: {error:#}"),
+                        );
+                        cosim::requirements::junit::write(path, &[suite])?;
+                    }
+                    return Err(error);
+                }
+            };
             exit_code = flown.exit_code;
             if let Some(path) = junit {
                 cosim::requirements::junit::write(&path, &[flown.suite])?;

@@ -10,7 +10,8 @@
 //! Anything larger is a change of behaviour.
 mod common;
 
-use cosim::master::{Simulation, Trajectory};
+use cosim::master::Trajectory;
+use cosim::supervise::Runner;
 use cosim::results::{read_csv, write_csv};
 use harness::paper::fly;
 use harness::scenarios::{self, Law};
@@ -63,7 +64,7 @@ fn sample(full: &Trajectory) -> Trajectory {
 #[test]
 fn nominal_decoupled_run_matches_the_golden_csv() {
     let system = scenarios::load("paper").unwrap();
-    let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
+    let mut simulation = Runner::new(system, &common::fmu_dir()).unwrap();
     let fresh = sample(&fly(&mut simulation, Law::Decoupled).unwrap().trajectory);
     let golden_path =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/paper-decoupled.csv");

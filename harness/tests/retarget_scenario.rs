@@ -110,7 +110,7 @@ fn harness_run_retarget_flies_the_built_in_scenario() {
 fn the_paper_comparison_measures_a_retargeted_flight_from_its_new_site() {
     // GIVEN the retarget scenario flown as `harness paper` flies it
     let system = harness::scenarios::load("retarget").unwrap();
-    let mut simulation = cosim::master::Simulation::new(system, &common::fmu_dir()).unwrap();
+    let mut simulation = cosim::supervise::Runner::new(system, &common::fmu_dir()).unwrap();
     let flight = harness::paper::fly(&mut simulation, Law::Decoupled).unwrap();
     // THEN its terminal error is counted from the new site (30 m North), not the old one
     assert!(

@@ -38,6 +38,8 @@ struct Worker {
     messages: Receiver<Incoming>,
     black_box: BlackBox,
     ring: Option<Ring>,
+    /// Says when the worker's stderr has all been passed on.
+    stderr_done: Receiver<()>,
     /// Calls the black box had counted when the parent last saw progress, and when.
     seen_calls: u64,
     since: Instant,
@@ -265,7 +267,7 @@ impl Supervised {
             let mut worker = Worker::spawn(&self.program, &self.limits, &self.stderr)?;
             let deadline = Instant::now() + self.limits.run_timeout();
             let setup = ToWorker::Setup {
-                system: self.system.clone(),
+                system: Box::new(self.system.clone()),
                 fmu_dir: self.fmu_dir.clone(),
                 conventions: self.conventions,
                 final_columns: self.final_requested.clone(),
@@ -382,11 +384,15 @@ impl Worker {
             }
         });
         let kept = Arc::clone(stderr);
+        let (done, stderr_done) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let mut buffer = [0u8; 8192];
             loop {
                 match err.read(&mut buffer) {
-                    Ok(0) | Err(_) => return,
+                    Ok(0) | Err(_) => {
+                        let _ = done.send(());
+                        return;
+                    }
                     Ok(n) => {
                         let _ = std::io::stderr().write_all(&buffer[..n]);
                         let mut kept = kept.lock().unwrap_or_else(|e| e.into_inner());
@@ -405,6 +411,7 @@ impl Worker {
             messages,
             black_box,
             ring: None,
+            stderr_done,
             seen_calls: 0,
             since: Instant::now(),
             dir,
@@ -481,7 +488,8 @@ impl Worker {
         MasterError::Abnormal(Box::new(Abnormal {
             how,
             last_call: self.black_box.last_call().filter(|call| call.calls > 0),
-            memory_limit_bytes: limits.memory_bytes(),
+            // Named only when the user set it: the default is far from any real allocation.
+            memory_limit_bytes: limits.memory_mb.map_or(0, |_| limits.memory_bytes()),
         }))
     }
 
@@ -533,5 +541,8 @@ impl Drop for Worker {
                 }
             }
         }
+        // What it wrote last (a C library flushes its buffers at exit) reaches our stderr
+        // before we go on, unless a process it started keeps the pipe open.
+        let _ = self.stderr_done.recv_timeout(Duration::from_secs(1));
     }
 }

@@ -15,7 +15,7 @@ const MAX_MESSAGE: usize = 256 << 20;
 pub(super) enum ToWorker {
     /// Load, resolve and instantiate; answered with `Ready` or `Failed`.
     Setup {
-        system: SystemDescription,
+        system: Box<SystemDescription>,
         fmu_dir: PathBuf,
         conventions: Conventions,
         final_columns: Vec<String>,

@@ -98,7 +98,7 @@ impl Worker {
                 conventions,
                 final_columns,
             } => {
-                let built = Simulation::new(system, &fmu_dir).and_then(|mut simulation| {
+                let built = Simulation::new(*system, &fmu_dir).and_then(|mut simulation| {
                     simulation.set_conventions(conventions);
                     if !final_columns.is_empty() {
                         simulation.set_final_columns(&final_columns)?;
@@ -235,7 +235,7 @@ impl Recorder for RingRecorder<'_> {
         }
         self.ring.write(self.rows, time, values);
         self.rows += 1;
-        if self.rows % self.ring.capacity as u64 == 0 {
+        if self.rows.is_multiple_of(self.ring.capacity as u64) {
             if let Err(error) = send(self.output, &FromWorker::Rows { upto: self.rows }) {
                 self.broken = Some(error);
             }
