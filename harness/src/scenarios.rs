@@ -2,6 +2,7 @@
 //! a TOML file, an SSP `.ssd` or an `.ssp` package.
 use cosim::master::{MasterError, Simulation};
 use cosim::system::{ssp, PackageDir, ParamValue, SystemDescription, SystemError};
+use fmi_abi::unpack::UnpackError;
 use std::path::Path;
 
 /// The `--scenario` help of the campaign commands, naming every built-in scenario.
@@ -134,22 +135,27 @@ fn read_package(path: &Path) -> Result<SystemDescription, SystemError> {
         path: path.to_owned(),
         message,
     };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let mut archive = zip::ZipArchive::new(file)
-        .map_err(|e| syntax(format!("not an SSP package (a zip archive): {e}")))?;
-    if archive.index_for_name(PACKAGE_SSD).is_none() {
+    let dir = fmi_abi::unpack::unpack_archive(path, "harness-ssp-").map_err(|e| match e {
+        UnpackError::Io { source, .. } => io(source),
+        UnpackError::Zip { source, .. } => {
+            syntax(format!("not an SSP package (a zip archive): {source}"))
+        }
+        UnpackError::Entry { entry, problem, .. } => syntax(format!("entry '{entry}' {problem}")),
+        other => syntax(other.to_string()),
+    })?;
+    if !dir.path().join(PACKAGE_SSD).is_file() {
         return Err(syntax(format!(
             "the package has no {PACKAGE_SSD} at its top level"
         )));
     }
-    let dir = tempfile::Builder::new()
-        .prefix("harness-ssp-")
-        .tempdir()
-        .map_err(io)?;
-    archive
-        .extract(dir.path())
-        .map_err(|e| syntax(format!("cannot unpack: {e}")))?;
-    let mut system = read_ssd(&dir.path().join(PACKAGE_SSD))?;
+    // Named inside the package the user gave: the temporary directory is gone when they read it.
+    let mut system = read_ssd(&dir.path().join(PACKAGE_SSD)).map_err(|e| match e {
+        SystemError::Syntax { message, .. } => SystemError::Syntax {
+            path: path.join(PACKAGE_SSD),
+            message,
+        },
+        other => other,
+    })?;
     for instance in &system.instances {
         if !instance.fmu.is_absolute() {
             return Err(syntax(format!(

@@ -222,6 +222,8 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         path: origin.to_owned(),
         message,
     };
+    // Before any parsing: an SSD's DTD could declare entities that expand without bound.
+    model_description::refuse_declarations(text.as_bytes()).map_err(|e| syntax(e.to_string()))?;
     let ssd: Ssd = serde_xml_rs::from_str(text).map_err(|e| syntax(e.to_string()))?;
     let mut instances = Vec::new();
     for component in ssd
@@ -614,6 +616,19 @@ mod tests {
         let text = write(&sample(), &[], &[]).replace(r#" stopTime="1.5""#, "");
         let error = parse(&text, Path::new("x.ssd")).unwrap_err().to_string();
         assert!(error.contains("stopTime"), "{error}");
+    }
+
+    #[test]
+    fn a_doctype_is_refused_before_any_entity_is_expanded() {
+        let text = write(&sample(), &[], &[])
+            .replacen(
+                "?>\n",
+                "?>\n<!DOCTYPE ssd:SystemStructureDescription [<!ENTITY n \"expanded\">]>\n",
+                1,
+            )
+            .replacen(r#"name="demo &lt;&amp;&gt;""#, r#"name="&n;""#, 1);
+        let error = parse(&text, Path::new("x.ssd")).unwrap_err().to_string();
+        assert!(error.starts_with("x.ssd: line 2: <!DOCTYPE"), "{error}");
     }
 
     #[test]
