@@ -430,9 +430,10 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             } else {
                 cli.fmu_dir.join(&fmu)
             };
-            let loaded = fmi_import::Fmu::load(&path)
+            // The description alone: listing variables runs no FMU code.
+            let (_, description) = fmi_import::read_description(&path)
                 .with_context(|| format!("loading {}", fmu.display()))?;
-            print!("{}", harness::vars::table(loaded.model_description(), only));
+            print!("{}", harness::vars::table(&description, only));
         }
         Command::Paper {
             scenario,

@@ -352,3 +352,75 @@ fn in_process_runs_remain_for_debugging_and_give_the_same_rows() {
         std::fs::read(&in_process).unwrap()
     );
 }
+
+#[test]
+fn a_campaign_records_a_crashed_flight_as_an_error_and_completes_the_others() {
+    let faulty = Faulty::build();
+    let work = TempDir::new().unwrap();
+    let tmp = TempDir::new().unwrap();
+    let paper = harness::scenarios::BUILT_IN
+        .iter()
+        .find(|(name, _)| *name == "paper")
+        .unwrap()
+        .1;
+    // The paper's descent with a third instance that crashes in the second flight only.
+    let scenario = work.path().join("paper-faulty.toml");
+    let instance = format!(
+        "\n[[instance]]\nname = \"faulty\"\nfmu = \"{}\"\n",
+        faulty.dir().display()
+    );
+    let at = paper.find("[[instance]]").unwrap();
+    std::fs::write(
+        &scenario,
+        format!("{}{instance}\n{}", &paper[..at], &paper[at..]),
+    )
+    .unwrap();
+    let out = work.path().join("campaign");
+    let counter = work.path().join("counter");
+    let output = harness_with(
+        &[
+            ("FAULTY_FMU_FAULT", "segv"),
+            ("FAULTY_FMU_CALL", "fmi2DoStep"),
+            ("FAULTY_FMU_TIME", "20"),
+            ("FAULTY_FMU_RUNS", "2"),
+            ("FAULTY_FMU_COUNTER", counter.to_str().unwrap()),
+        ],
+        tmp.path(),
+        &[
+            "--fmu-dir",
+            common::fmu_dir().to_str().unwrap(),
+            "monte-carlo",
+            "--scenario",
+            scenario.to_str().unwrap(),
+            "--runs",
+            "3",
+            "--law",
+            "decoupled",
+            "--phi-cmd-deg",
+            "0",
+            "--workers",
+            "1",
+            "--no-plots",
+            "--out-dir",
+            out.to_str().unwrap(),
+        ],
+    );
+    let said = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{said}");
+    let manifest = std::fs::read_to_string(out.join("manifest.csv")).unwrap();
+    let rows: Vec<&str> = manifest.lines().skip(1).collect();
+    assert_eq!(rows.len(), 3, "{manifest}");
+    let crashed: Vec<&&str> = rows.iter().filter(|r| r.contains("SIGSEGV")).collect();
+    assert_eq!(crashed.len(), 1, "{manifest}");
+    assert!(
+        crashed[0].contains("instance 'faulty' did not return from fmi2DoStep at t = 20"),
+        "{manifest}"
+    );
+    assert_eq!(
+        rows.iter().filter(|r| r.contains(",completed,")).count(),
+        2,
+        "{manifest}"
+    );
+    assert!(said.contains("1 flights ended in error"), "{said}");
+    assert_nothing_left_in(tmp.path());
+}

@@ -158,7 +158,8 @@ pub struct ReplayArgs {
 const FAILED_SHOWN: usize = 20;
 
 /// Summary table, `summary.csv`, the failed flights and the figure of finished rows; returns
-/// the exit code ([`crate::verdict::EXIT_FAILED_VERDICT`] when a flight failed its verdict).
+/// the exit code ([`crate::verdict::EXIT_ERROR`] when a flight ended in error,
+/// [`crate::verdict::EXIT_FAILED_VERDICT`] when one failed its verdict).
 fn report(
     rows: &[Row],
     scenario: &str,
@@ -197,6 +198,13 @@ fn report(
     }
     let path = crate::report::write(dir, title, &failed)?;
     println!("wrote {}", path.display());
+    // A flight that could not be judged (its FMU crashed, exited or hung) is no verdict:
+    // the campaign's result is an error, whatever the others did.
+    let errors = rows.iter().filter(|row| row.end.is_error()).count();
+    if errors > 0 {
+        println!("{errors} flights ended in error (manifest.csv, column end)");
+        return Ok(crate::verdict::EXIT_ERROR);
+    }
     Ok(if failed.is_empty() {
         crate::verdict::EXIT_OK
     } else {
