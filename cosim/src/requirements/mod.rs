@@ -151,12 +151,12 @@ impl Judged {
         let at = short(r.at_s);
         let margin = if r.value == 0.0 {
             // The sign cannot say whether the limit itself is allowed: `<` and `<=` differ.
-            let allowed = if self.holds() {
-                "which it allows"
-            } else {
-                "which it does not allow"
+            let allowed = match r.truth {
+                Truth::Holds => ", which it allows",
+                Truth::Violated => ", which it does not allow",
+                _ => "",
             };
-            format!("robustness 0 at t = {at} s: exactly at its limit, {allowed}")
+            format!("robustness 0 at t = {at} s: exactly at its limit{allowed}")
         } else if r.value.is_infinite() && self.early_end == EarlyEnd::Accept {
             format!(
                 "no recorded sample falls in its window at t = {at} s, and the scenario \
@@ -575,6 +575,7 @@ mod judging_tests {
             requirement("eventually decided", "eventually [0, 8] m.y > 4", None),
             requirement("until", "m.y >= 0 until [0, 8] m.y > 6", None),
             requirement("covered", "always [0, 5] m.y < 100", None),
+            requirement("at its limit", "always [0, 8] m.y <= 5", None),
         ]
         .concat();
         let judged = judged(&text, &times, &y, &z);
@@ -589,8 +590,16 @@ mod judging_tests {
                 Truth::Violated,
                 Truth::Holds,
                 open(0.0, 8.0),
-                Truth::Holds
+                Truth::Holds,
+                open(0.0, 8.0)
             ]
+        );
+        assert!(
+            judged[7].describe().contains(
+                "over the recorded part robustness 0 at t = 5 s: exactly at its limit; early_end"
+            ),
+            "{}",
+            judged[7].describe()
         );
         for j in &judged[..3] {
             assert!(!j.holds());
