@@ -11,8 +11,8 @@
 mod common;
 
 use cosim::master::Trajectory;
-use cosim::supervise::Runner;
 use cosim::results::{read_csv, write_csv};
+use cosim::supervise::Runner;
 use harness::paper::fly;
 use harness::scenarios::{self, Law};
 use std::path::PathBuf;

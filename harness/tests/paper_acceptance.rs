@@ -16,17 +16,17 @@
 //!   positions must agree to rounding; in practice they are bit-identical.
 mod common;
 
-use cosim::master::Simulation;
+use cosim::supervise::Runner;
 use cosim::system::ParamValue;
 use harness::paper::{fly, Flight};
 use harness::scenarios::{self, Law};
 
-fn simulation(scenario: &str, phi_cmd_deg: Option<f64>) -> Simulation {
+fn simulation(scenario: &str, phi_cmd_deg: Option<f64>) -> Runner {
     let mut system = scenarios::load(scenario).unwrap();
     if let Some(deg) = phi_cmd_deg {
         system.set_parameter("gnc", "phi_cmd", ParamValue::Real(deg.to_radians()));
     }
-    Simulation::new(system, &common::fmu_dir()).unwrap()
+    Runner::new(system, &common::fmu_dir()).unwrap()
 }
 
 fn max_position_difference(a: &Flight, b: &Flight) -> f64 {
@@ -128,7 +128,7 @@ fn braking_limited_shaping_keeps_a_dispersed_start_near_the_vertical() {
     system.set_parameter("gnc", "phi_cmd", ParamValue::Real(0.0));
     system.set_parameter("plant", "r0_nue[1]", ParamValue::Real(1.0));
     system.set_parameter("gnc", "rate_shaping_margin", ParamValue::Real(0.5));
-    let mut sim = Simulation::new(system.clone(), &common::fmu_dir()).unwrap();
+    let mut sim = Runner::new(system.clone(), &common::fmu_dir()).unwrap();
     for law in Law::ALL {
         let flight = fly(&mut sim, law).unwrap();
         assert!(
@@ -140,7 +140,7 @@ fn braking_limited_shaping_keeps_a_dispersed_start_near_the_vertical() {
     // AND without the shaping (the paper's law, the default) the same start drifts far more,
     // so the test above measures the shaping, not an easy case
     system.set_parameter("gnc", "rate_shaping_margin", ParamValue::Real(0.0));
-    let mut paper_law = Simulation::new(system, &common::fmu_dir()).unwrap();
+    let mut paper_law = Runner::new(system, &common::fmu_dir()).unwrap();
     let flight = fly(&mut paper_law, Law::Decoupled).unwrap();
     assert!(
         flight.metrics.max_horizontal_deviation_m > 20.0,
