@@ -47,6 +47,10 @@ struct Cli {
     /// of the memory available, or the scenario's `[limits] memory_mb`).
     #[arg(long, global = true, value_name = "MB")]
     memory_limit: Option<f64>,
+    /// The most an FMU or SSP archive may unpack to (e.g. 500M, 8GiB; default 4GiB, or the
+    /// HARNESS_MAX_UNPACKED_BYTES environment variable).
+    #[arg(long, global = true, value_name = "SIZE", value_parser = fmi_abi::unpack::parse_byte_size)]
+    max_unpacked: Option<u64>,
     #[command(subcommand)]
     command: Command,
 }
@@ -516,6 +520,9 @@ fn set_execution(cli: &Cli) -> anyhow::Result<()> {
     let problems = limits.problems("command line");
     if !problems.is_empty() {
         anyhow::bail!("{}", problems.join("\n"));
+    }
+    if let Some(bytes) = cli.max_unpacked {
+        fmi_abi::unpack::set_max_unpacked_bytes(bytes);
     }
     let execution = if cli.in_process {
         cosim::supervise::Execution::InProcess

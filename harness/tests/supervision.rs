@@ -424,3 +424,27 @@ fn a_campaign_records_a_crashed_flight_as_an_error_and_completes_the_others() {
     assert!(said.contains("1 flights ended in error"), "{said}");
     assert_nothing_left_in(tmp.path());
 }
+
+#[test]
+fn the_unpacked_size_bound_is_settable_on_the_command_line() {
+    let tmp = TempDir::new().unwrap();
+    let output = harness_with(
+        &[],
+        tmp.path(),
+        &[
+            "--fmu-dir",
+            common::fmu_dir().to_str().unwrap(),
+            "--max-unpacked",
+            "10k",
+            "run",
+            "paper",
+            "-o",
+            tmp.path().join("never.csv").to_str().unwrap(),
+        ],
+    );
+    let said = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{said}");
+    assert!(said.contains("LanderGnc.fmu"), "{said}");
+    assert!(said.contains("10000"), "{said}");
+    assert_nothing_left_in(tmp.path());
+}

@@ -339,6 +339,11 @@ impl Worker {
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped());
+        // The bound on what an archive may unpack to, as this process has it (a command-line
+        // setting included), holds in the worker too.
+        if let Ok(bytes) = fmi_abi::unpack::max_unpacked_bytes() {
+            command.env(fmi_abi::unpack::MAX_UNPACKED_BYTES_ENV, bytes.to_string());
+        }
         let memory = limits.memory_bytes();
         {
             use std::os::unix::process::CommandExt;
