@@ -58,13 +58,23 @@ pub unsafe fn install(record: *mut Record) {
     RECORD.store(record, Ordering::Release);
 }
 
-/// Marks the end of a call when dropped.
-pub struct Call(Option<&'static Record>);
+/// Marks the end of a call when dropped; a call noted inside another (an FMI 3.0 step that
+/// first leaves Event Mode) gives the outer one back its name.
+pub struct Call(Option<(&'static Record, Option<&'static str>)>);
+
+std::thread_local! {
+    /// The function of the call this thread is in, if any.
+    static CURRENT: std::cell::Cell<Option<&'static str>> = const { std::cell::Cell::new(None) };
+}
 
 impl Drop for Call {
     fn drop(&mut self) {
-        if let Some(record) = self.0 {
-            record.in_call.store(0, Ordering::Release);
+        if let Some((record, outer)) = self.0 {
+            CURRENT.with(|current| current.set(outer));
+            match outer {
+                Some(function) => store_text(&record.function, &record.function_len, function),
+                None => record.in_call.store(0, Ordering::Release),
+            }
         }
     }
 }
@@ -108,7 +118,8 @@ pub fn enter<'a>(what: impl FnOnce() -> (&'static str, &'a str)) -> Call {
     store_text(&record.function, &record.function_len, function);
     record.in_call.store(1, Ordering::Relaxed);
     record.calls.fetch_add(1, Ordering::Release);
-    Call(Some(record))
+    let outer = CURRENT.with(|current| current.replace(Some(function)));
+    Call(Some((record, outer)))
 }
 
 /// The simulation time the following calls belong to.
@@ -156,12 +167,20 @@ mod tests {
             assert_eq!(seen.calls, 1);
         }
         assert!(!read(unsafe { &*pointer }).unwrap().in_call);
+        {
+            let _step = enter(|| ("fmi3DoStep", "gnc"));
+            drop(enter(|| ("fmi3EnterStepMode", "gnc")));
+            let seen = read(unsafe { &*pointer }).unwrap();
+            assert_eq!(seen.function, "fmi3DoStep", "the outer call named again");
+            assert!(seen.in_call);
+        }
+        assert!(!read(unsafe { &*pointer }).unwrap().in_call);
         let long = "x".repeat(200);
         drop(enter(|| ("fmi3GetFloat64", long.as_str())));
         let seen = read(unsafe { &*pointer }).unwrap();
         assert_eq!(seen.instance, "x".repeat(INSTANCE_BYTES));
         assert_eq!(seen.function, "fmi3GetFloat64");
-        assert_eq!(seen.calls, 2);
+        assert_eq!(seen.calls, 4);
         RECORD.store(std::ptr::null_mut(), Ordering::Release);
     }
 }

@@ -311,8 +311,10 @@ impl Fmi3Instance {
         call: crate::tables::fmi3::Only,
     ) -> Result<Success, FmiError> {
         let mark = self.log.mark();
+        let noted = crate::blackbox::enter(|| (function, self.name.as_str()));
         // SAFETY: a live instance; the function takes nothing else.
         let raw = unsafe { call(self.c()) };
+        drop(noted);
         self.check(function, mark, raw)
     }
 
@@ -426,6 +428,7 @@ impl Fmi3Instance {
             let (mut again, mut terminate, mut nominals, mut values, mut defined, mut next) =
                 (false, false, false, false, false, 0.0);
             let mark = self.log.mark();
+            let noted = crate::blackbox::enter(|| (F, self.name.as_str()));
             // SAFETY: a live instance and valid out-pointers.
             let raw = unsafe {
                 (self.functions.update_discrete_states)(
@@ -438,6 +441,7 @@ impl Fmi3Instance {
                     &mut next,
                 )
             };
+            drop(noted);
             self.check(F, mark, raw)?;
             if terminate {
                 return Ok(true);
