@@ -4,7 +4,7 @@
 //! 3.0 array element, `r0_nue[2]` in both).
 use crate::state::State;
 use crate::status::CallError;
-use fmi_model::{range_text, readable, Causality, EnumType, Limit, Variability};
+use fmi_model::{readable, Causality, EnumType, Limit, Variability};
 
 /// `Ok` if a variable of this causality and variability may be set in `state` (a state in
 /// which setting is legal at all), otherwise why not.
@@ -53,7 +53,10 @@ pub fn real_in_range(value: f64, min: Option<Limit>, max: Option<Limit>) -> bool
         && max.is_none_or(|m| m.admits_below(value))
 }
 
-/// A real value for variable `name`: finite and within its declared bounds.
+/// A real value for variable `name` (declared in `unit`): finite and within its declared
+/// bounds. A refusal names the unit and, where the unit has a display unit (rad: deg), says
+/// what the value would be had it been meant in that one, when that would be in range: a
+/// user who typed 150 for 150 deg reads the fix in the refusal.
 #[cold]
 pub fn check_real(
     name: impl FnOnce() -> String,
@@ -61,6 +64,7 @@ pub fn check_real(
     value: f64,
     min: Option<Limit>,
     max: Option<Limit>,
+    unit: Option<&str>,
 ) -> Result<(), CallError> {
     if !value.is_finite() {
         return Err(CallError::NonFinite {
@@ -70,11 +74,29 @@ pub fn check_real(
         });
     }
     if !real_in_range(value, min, max) {
+        let symbol = unit.filter(|u| *u != "1");
+        let with_unit = |text: String| match symbol {
+            Some(u) => format!("{text} {u}"),
+            None => text,
+        };
+        let mut range = with_unit(crate::units::range_in_unit(min, max, symbol));
+        if let Some(u) = symbol {
+            if let Some((display, factor)) = crate::units::display_unit(u) {
+                let meant = value / factor;
+                if real_in_range(meant, min, max) {
+                    range.push_str(&format!(
+                        "; did you mean {} {display} = {} {u}?",
+                        readable(value),
+                        crate::units::short(meant)
+                    ));
+                }
+            }
+        }
         return Err(CallError::OutOfRange {
             name: name(),
             vr,
-            value: readable(value),
-            range: range_text(min, max),
+            value: with_unit(readable(value)),
+            range,
         });
     }
     Ok(())
@@ -156,6 +178,49 @@ mod tests {
             State::Instantiated
         )
         .is_err());
+    }
+
+    #[test]
+    fn an_out_of_range_angle_names_its_unit_and_the_degrees_it_may_have_meant() {
+        let four_pi = 4.0 * std::f64::consts::PI;
+        let refused = |value: f64, unit: Option<&str>| {
+            check_real(
+                || "phi_cmd".into(),
+                201,
+                value,
+                Some(Limit::Inclusive(-four_pi)),
+                Some(Limit::Inclusive(four_pi)),
+                unit,
+            )
+            .unwrap_err()
+            .to_string()
+        };
+        assert_eq!(
+            refused(150.0, Some("rad")),
+            "variable phi_cmd (vr 201): value 150 rad is outside [-4π, 4π] rad; did you mean \
+             150 deg = 2.618 rad?"
+        );
+        // no guess that would itself be refused, and no unit for a pure number
+        assert_eq!(
+            refused(1e4, Some("rad")),
+            "variable phi_cmd (vr 201): value 10000 rad is outside [-4π, 4π] rad"
+        );
+        assert_eq!(
+            refused(13.0, Some("1")),
+            "variable phi_cmd (vr 201): value 13 is outside [-12.566370614359172, 12.566370614359172]"
+        );
+        let mass = check_real(
+            || "m0".into(),
+            113,
+            -5.0,
+            Some(Limit::Exclusive(0.0)),
+            None,
+            Some("kg"),
+        );
+        assert_eq!(
+            mass.unwrap_err().to_string(),
+            "variable m0 (vr 113): value -5 kg is outside (0, inf) kg"
+        );
     }
 
     #[test]

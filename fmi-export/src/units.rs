@@ -50,6 +50,63 @@ pub fn display_unit(symbol: &str) -> Option<(&'static str, f64)> {
         .map(|&(_, name, factor)| (name, factor))
 }
 
+/// A declared range as a refusal shows it in `unit`: [`fmi_model::range_text`], with an
+/// angle's ends that are simple multiples of pi written so (`[-4π, 4π]`), as the
+/// declarations state them.
+pub fn range_in_unit(
+    min: Option<fmi_model::Limit>,
+    max: Option<fmi_model::Limit>,
+    unit: Option<&str>,
+) -> String {
+    let angle = unit.is_some_and(|u| u.starts_with("rad"));
+    let as_pi = |limit: Option<fmi_model::Limit>| limit.map(|l| l.value()).and_then(pi_multiple);
+    match (angle, as_pi(min), as_pi(max)) {
+        (true, Some(low), Some(high)) => {
+            let text = fmi_model::range_text(min, max);
+            let (open, close) = (&text[..1], &text[text.len() - 1..]);
+            format!("{open}{low}, {high}{close}")
+        }
+        _ => fmi_model::range_text(min, max),
+    }
+}
+
+/// `value` as `kπ/n` for small `k` and `n`, if it is one (to the last bits).
+fn pi_multiple(value: f64) -> Option<String> {
+    if value == 0.0 {
+        return Some("0".into());
+    }
+    for n in [1_i32, 2, 3, 4, 6] {
+        let k = value * f64::from(n) / std::f64::consts::PI;
+        let rounded = k.round();
+        if rounded != 0.0 && rounded.abs() <= 24.0 && (k - rounded).abs() < 1e-12 {
+            let sign = if rounded < 0.0 { "-" } else { "" };
+            let k = rounded.abs() as i32;
+            let numerator = if k == 1 {
+                "π".to_string()
+            } else {
+                format!("{k}π")
+            };
+            return Some(if n == 1 {
+                format!("{sign}{numerator}")
+            } else {
+                format!("{sign}{numerator}/{n}")
+            });
+        }
+    }
+    None
+}
+
+/// A suggested value, short: four significant digits.
+pub fn short(value: f64) -> String {
+    let text = format!("{value:.4}");
+    let trimmed = text.trim_end_matches('0').trim_end_matches('.');
+    if value != 0.0 && (value.abs() < 1e-3 || value.abs() >= 1e6) {
+        format!("{value:.3e}")
+    } else {
+        trimmed.to_string()
+    }
+}
+
 /// The `<BaseUnit>` of a known symbol.
 pub fn base_unit(symbol: &str) -> Option<BaseUnit> {
     let &(_, [kg, m, s, rad]) = UNITS.iter().find(|(name, _)| *name == symbol)?;
@@ -81,6 +138,31 @@ pub fn check_units<M: fmi_model::Model>() -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn angle_ranges_in_multiples_of_pi_and_others_plain() {
+        use fmi_model::Limit;
+        let pi = std::f64::consts::PI;
+        let range = |a: f64, b: f64, u: &str| {
+            range_in_unit(
+                Some(Limit::Inclusive(a)),
+                Some(Limit::Inclusive(b)),
+                Some(u),
+            )
+        };
+        assert_eq!(range(-4.0 * pi, 4.0 * pi, "rad"), "[-4π, 4π]");
+        assert_eq!(range(0.0, pi / 2.0, "rad"), "[0, π/2]");
+        assert_eq!(
+            range(0.0, 1.3962634015954636, "rad"),
+            "[0, 1.3962634015954636]"
+        );
+        assert_eq!(
+            range(-4.0 * pi, 4.0 * pi, "m"),
+            "[-12.566370614359172, 12.566370614359172]"
+        );
+        assert_eq!(short(2.6179938779914944), "2.618");
+        assert_eq!(short(3.0), "3");
+    }
 
     #[test]
     fn symbols_are_unique() {

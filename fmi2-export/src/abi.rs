@@ -554,6 +554,7 @@ fn refuse_real<M: Model>(var: &Variable<M>, value: f64, state: State) -> Result<
             value,
             *min,
             *max,
+            var.unit,
         ),
         _ => Ok(()),
     }

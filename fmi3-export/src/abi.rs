@@ -486,7 +486,7 @@ fn refused_float64<M>(
             d.name.to_string()
         }
     };
-    match check_real(name, d.value_reference, v, min, max) {
+    match check_real(name, d.value_reference, v, min, max, d.unit) {
         Err(error) => error,
         Ok(()) => CallError::InvalidArgument(format!("{}: value {v} refused", d.name)),
     }

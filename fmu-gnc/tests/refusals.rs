@@ -10,11 +10,30 @@ static FUNCTIONS3: Fmi3Functions = fmi3_functions!(fmu_gnc);
 
 const REFUSALS: Refusals = Refusals {
     in_the_set: &[
-        ("phi_cmd", 13.0, "13"),
-        ("control_bandwidth", 0.0, "0"),
-        ("control_damping", 101.0, "101"),
+        // The unit named, and the value in the display unit it was likely meant in
+        (
+            "phi_cmd",
+            150.0,
+            "value 150 rad is outside [-4π, 4π] rad; did you mean 150 deg = 2.618 rad?",
+        ),
+        (
+            "phi_cmd",
+            13.0,
+            "value 13 rad is outside [-4π, 4π] rad; did you mean 13 deg = 0.2269 rad?",
+        ),
+        (
+            "control_bandwidth",
+            0.0,
+            "value 0 Hz is outside (0, inf) Hz",
+        ),
+        ("control_damping", 101.0, "value 101 is outside (0, 100]"),
+        (
+            "saturation_time",
+            -1.0,
+            "value -1 s is outside [0, 1000000] s",
+        ),
         ("gravity", f64::NAN, "NaN"),
-        ("reduced_yaw_weight", -0.5, "-0.5"),
+        ("reduced_yaw_weight", -0.5, "value -0.5 is outside [0, 1]"),
         ("descent_time_to_go", f64::INFINITY, "inf"),
     ],
     at_exit: &[

@@ -102,7 +102,7 @@ fn refused_values_name_the_variable_and_change_nothing() {
     let log = plant.log();
     for expected in [
         "fmi3SetFloat64: nValues = 2, the 1 variables asked for have 3 elements",
-        "fmi3SetFloat64: variable m0 (vr 113): value -5 is outside (0, inf)",
+        "fmi3SetFloat64: variable m0 (vr 113): value -5 kg is outside (0, inf) kg",
         "fmi3SetFloat64: variable m0 (vr 113): value NaN is not finite",
         "a fixed parameter can only be set before the end of initialization",
         "variable mass (vr 23) cannot be set: an output is computed by the FMU",

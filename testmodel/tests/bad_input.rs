@@ -131,7 +131,7 @@ fn bounds_of_the_table_are_enforced() {
     refused(
         &fmu,
         fmu.set_real(vr::K, -1.0),
-        "fmi2SetReal: variable k (vr 1): value -1 is outside [0, inf)",
+        "fmi2SetReal: variable k (vr 1): value -1 N/m is outside [0, inf) N/m",
     );
     refused(
         &fmu,
@@ -431,7 +431,7 @@ fn bad_values_are_refused_by_name_in_each_version<D: Osc>() {
     );
     refused(
         fmu.set_real(vr::K, -1.0),
-        format!("{set}: variable k (vr 1): value -1 is outside [0, inf)"),
+        format!("{set}: variable k (vr 1): value -1 N/m is outside [0, inf) N/m"),
     );
     refused(
         fmu.set_integer(vr::SUBSTEPS, 0),
