@@ -22,6 +22,7 @@
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
 mod conventions;
+mod finite;
 mod loops;
 mod model_exchange;
 mod resolve;
@@ -80,6 +81,20 @@ pub enum MasterError {
         time: f64,
         #[source]
         source: Box<model_exchange::MeError>,
+    },
+    /// A Real the master read (an output exchanged or recorded, a recorded calculated
+    /// parameter, a final value) was NaN or infinite with status OK, and the system does not
+    /// allow it for that variable. The row of `time` is the last recorded.
+    #[error(
+        "instance '{instance}' returned '{variable}' = {value} at t = {time} with status OK: a \
+         value that is not a finite number ends the run (its row is the last recorded); if \
+         the FMU means \"no value\" by it, list '{instance}.{variable}' in allow_non_finite"
+    )]
+    NonFinite {
+        instance: String,
+        variable: String,
+        time: f64,
+        value: f64,
     },
     /// The recorder could not keep a row (a full disk, a closed pipe): the run stops there
     /// rather than simulate on for nothing.
@@ -405,6 +420,8 @@ pub struct Simulation {
     /// Per unit: a get may not follow a set at one communication point (an FMI 3.0 instance
     /// in Step Mode), so its outputs are read before its inputs are set.
     get_before_set: Vec<bool>,
+    /// Values that are not numbers among those read.
+    finite: finite::Check,
     fresh: bool,
     conventions: Conventions,
 }
@@ -476,6 +493,13 @@ impl Simulation {
             }
         }
         resolve::algebraic_loop(&system, &fmus, &pairs, &mut problems);
+        let mut finite = finite::Check::new(&system, &fmus, &mut problems);
+        for port in recorded
+            .iter()
+            .chain(pairs.iter().map(|(source, _)| source))
+        {
+            finite.name(port.instance, port.kind, port.value_reference, &port.name);
+        }
         if !problems.is_empty() {
             return Err(MasterError::Resolve {
                 system: system.name.clone(),
@@ -575,6 +599,7 @@ impl Simulation {
             outputs_read: vec![false; read_after_step.len()],
             read_after_step,
             get_before_set,
+            finite,
             fresh: true,
             conventions: Conventions::default(),
         })
@@ -664,6 +689,10 @@ impl Simulation {
             .map(|p| format!("{}.{}", self.system.instances[p.instance].name, p.name))
             .collect();
         self.final_row = vec![f64::NAN; ports.len()];
+        for port in &ports {
+            self.finite
+                .name(port.instance, port.kind, port.value_reference, &port.name);
+        }
         self.final_ports = ports;
         Ok(())
     }
@@ -715,6 +744,7 @@ impl Simulation {
         }
         self.fresh = false;
         self.final_row.fill(f64::NAN);
+        self.finite.reset();
         self.initialize()?;
         let SystemDescription {
             start_time,
@@ -807,7 +837,7 @@ impl Simulation {
                         };
                         self.get_outputs(u)?;
                         self.record(last_successful_time, recorder)?;
-                        self.read_final()?;
+                        self.read_final(last_successful_time)?;
                         self.terminate_all();
                         return Ok(RunEnd::Terminated {
                             instance: name,
@@ -857,7 +887,7 @@ impl Simulation {
             self.get_outputs(u)?;
         }
         self.record(clock.end_time(), recorder)?;
-        self.read_final()?;
+        self.read_final(clock.end_time())?;
         self.terminate_all();
         Ok(RunEnd::Completed)
     }
@@ -941,6 +971,7 @@ impl Simulation {
                 })?;
             }
         }
+        self.finite.armed = true;
         Ok(())
     }
 
@@ -1030,7 +1061,16 @@ impl Simulation {
             }
             Ok(())
         })();
-        result.map_err(|e| call(&unit.name, "getting outputs", e))
+        result.map_err(|e| call(&unit.name, "getting outputs", e))?;
+        let real = part.of(&outputs.real);
+        if self.finite.armed && !finite::all_finite(&outputs.real.values[real.clone()]) {
+            self.finite.note(
+                u,
+                &outputs.real.vrs[real.clone()],
+                &outputs.real.values[real],
+            );
+        }
+        Ok(())
     }
 
     fn record(&mut self, time: f64, recorder: &mut dyn Recorder) -> Result<(), MasterError> {
@@ -1053,17 +1093,30 @@ impl Simulation {
             }
         }
         recorder.record(time, &self.row);
-        match recorder.failure() {
-            None => Ok(()),
-            Some(reason) => {
-                self.terminate_all();
-                Err(MasterError::Record { time, reason })
-            }
+        if let Some(reason) = recorder.failure() {
+            self.terminate_all();
+            return Err(MasterError::Record { time, reason });
         }
+        self.settle_non_finite(time)
     }
 
-    /// Reads the final-only outputs, one call per value: a handful, once per run.
-    fn read_final(&mut self) -> Result<(), MasterError> {
+    /// Ends the run with the first value read for the row of `time` that was not a finite
+    /// number and is not allowed (warning about those allowed).
+    fn settle_non_finite(&mut self, time: f64) -> Result<(), MasterError> {
+        if !self.finite.pending() {
+            return Ok(());
+        }
+        let names: Vec<String> = self.units.iter().map(|u| u.name.clone()).collect();
+        let settled = self.finite.settle(time, &names);
+        if settled.is_err() {
+            self.terminate_all();
+        }
+        settled
+    }
+
+    /// Reads the final-only outputs, one call per value: a handful, once per run. `time` is
+    /// that of the last row.
+    fn read_final(&mut self, time: f64) -> Result<(), MasterError> {
         for (value, port) in self.final_row.iter_mut().zip(&self.final_ports) {
             let unit = &mut self.units[port.instance];
             let vr = [port.value_reference];
@@ -1086,8 +1139,12 @@ impl Simulation {
                 }
             };
             *value = read.map_err(|e| call(&unit.name, "getting final outputs", e))?;
+            if !value.is_finite() {
+                self.finite
+                    .note(port.instance, &[port.value_reference], &[*value]);
+            }
         }
-        Ok(())
+        self.settle_non_finite(time)
     }
 
     fn terminate_all(&mut self) {

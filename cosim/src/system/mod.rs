@@ -79,6 +79,12 @@ pub struct SystemDescription {
     /// Timeouts and memory of a supervised run, as the scenario sets them.
     #[serde(default)]
     pub limits: crate::supervise::Limits,
+    /// Variables (`instance.variable`, vectors allowed) whose NaN or infinite values, returned
+    /// with status OK, are only warned about (once per variable and run) instead of ending
+    /// the run: for FMUs that mean "no value" by NaN. Defaulted so that a description from
+    /// before the option reads.
+    #[serde(default)]
+    pub allow_non_finite: Vec<String>,
     /// Keeps an unpacked `.ssp` on disk as long as the description refers to its FMUs. Not
     /// sent to a worker process: the parent keeps the directory while the worker reads it.
     #[serde(skip)]
@@ -234,6 +240,7 @@ mod partial_step_tests {
             connections: vec![],
             record: None,
             limits: Default::default(),
+            allow_non_finite: Vec::new(),
             package: None,
         };
         assert_eq!(system.partial_last_step(), None);

@@ -338,6 +338,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         connections,
         record: None,
         limits: Default::default(),
+        allow_non_finite: Vec::new(),
         package: None,
     };
     system.validate()?;
@@ -541,6 +542,7 @@ mod tests {
             }],
             record: None,
             limits: Default::default(),
+            allow_non_finite: Vec::new(),
             package: None,
         }
     }

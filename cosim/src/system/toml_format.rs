@@ -23,6 +23,8 @@ struct File {
     /// `[limits]`: call_timeout_s, run_timeout_s, memory_mb of a supervised run.
     #[serde(default)]
     limits: crate::supervise::Limits,
+    #[serde(default)]
+    allow_non_finite: Vec<String>,
 }
 
 fn default_step() -> f64 {
@@ -192,6 +194,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             .collect(),
         record: file.record,
         limits: file.limits,
+        allow_non_finite: file.allow_non_finite,
         package: None,
     };
     system.validate()?;
@@ -242,6 +245,17 @@ mod tests {
             .parameters
             .contains(&("label".into(), ParamValue::String("x".into()))));
         assert_eq!(system.connections[0].from, "a.y");
+    }
+
+    #[test]
+    fn allow_non_finite_is_a_top_level_list_of_paths_empty_by_default() {
+        assert!(parse(SAMPLE, Path::new("demo.toml"))
+            .unwrap()
+            .allow_non_finite
+            .is_empty());
+        let text = format!("allow_non_finite = [\"a.y\", \"b.v\"]\n{SAMPLE}");
+        let system = parse(&text, Path::new("demo.toml")).unwrap();
+        assert_eq!(system.allow_non_finite, ["a.y", "b.v"]);
     }
 
     #[test]
