@@ -301,6 +301,7 @@ impl LanderGnc {
             monitor: MonitorSettings {
                 gravity_mps2: p.gravity_mps2,
                 inertia_body_kgm2: p.inertia_body_kgm2,
+                torque_is_applied: p.rcs() == RcsModel::Torque,
             },
             monitor_enabled: p.input_monitor,
             thrust_range_n: (p.thrust_min_n, p.thrust_max_n),

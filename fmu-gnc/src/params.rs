@@ -166,7 +166,9 @@ impl Default for GncParameters {
             pwpf_off_threshold: 0.2,
             rcs_duty_period_s: 0.01,
             input_monitor: true,
-            saturation_time_s: 10.0,
+            // Twice the longest saturation of the shipped scenarios (14 s: full-fidelity's
+            // unshaped 150 deg roll from t = 0 holds the roll torque at its limit).
+            saturation_time_s: 30.0,
         }
     }
 }

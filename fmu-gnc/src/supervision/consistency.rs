@@ -77,10 +77,14 @@ pub struct Observation {
 pub struct MonitorSettings {
     pub gravity_mps2: f64,
     pub inertia_body_kgm2: [f64; 3],
+    /// `torque_cmd_body` is the torque the plant applies (the torque model). Thrusters
+    /// deliver what the allocation and the modulators make of it, another torque from
+    /// window to window: the angular check then rests.
+    pub torque_is_applied: bool,
 }
 
-/// The residuals of the last window judged (0 before the first).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+/// The residuals of the last window judged (as predicted before the first).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Residuals {
     /// Angle between the attitude's change and the integrated rates, rad.
     pub attitude_rad: f64,
@@ -91,6 +95,17 @@ pub struct Residuals {
     /// The rates' change over what the commanded torque predicts (1 = as predicted; 1 when
     /// not judged).
     pub angular_response: f64,
+}
+
+impl Default for Residuals {
+    fn default() -> Self {
+        Residuals {
+            attitude_rad: 0.0,
+            position_m: 0.0,
+            acceleration_mps2: 0.0,
+            angular_response: 1.0,
+        }
+    }
 }
 
 /// The interpretations of the inputs the monitor tries when a check fails.
@@ -236,9 +251,11 @@ impl ConsistencyMonitor {
             let acceleration = w.acceleration_check(settings);
             self.residuals.acceleration_mps2 = acceleration.residual;
             findings[2] = acceleration.finding;
-            let angular = w.angular_check(settings);
-            self.residuals.angular_response = angular.residual;
-            findings[3] = angular.finding;
+            if settings.torque_is_applied {
+                let angular = w.angular_check(settings);
+                self.residuals.angular_response = angular.residual;
+                findings[3] = angular.finding;
+            }
         } else {
             self.residuals.angular_response = 1.0;
         }

@@ -89,7 +89,13 @@ impl SaturationClock {
         thrust_range_n: (f64, f64),
         torque_limit_body_nm: [f64; 3],
         limit_s: f64,
+        ground_contact_possible: bool,
     ) -> Vec<Pinned> {
+        // On the ground the gear holds the vehicle against its commands.
+        if ground_contact_possible {
+            *self = SaturationClock::default();
+            return Vec::new();
+        }
         let (thrust_min_n, thrust_max_n) = thrust_range_n;
         let at = |value: f64, limit: f64| (value - limit).abs() <= AT_LIMIT * limit.abs().max(1.0);
         // An engine switched off is a choice of guidance, not a saturation.
@@ -179,7 +185,7 @@ mod tests {
             let t = f64::from(k) * 0.01;
             // a break at 2 s
             let thrust = if k == 200 { 1500.0 } else { 1600.0 };
-            found.extend(clock.observe(t, thrust, [0.0, -116.0, 0.0], range, limits, 4.0));
+            found.extend(clock.observe(t, thrust, [0.0, -116.0, 0.0], range, limits, 4.0, false));
         }
         assert!(found
             .iter()
@@ -190,12 +196,20 @@ mod tests {
         assert!(!found
             .iter()
             .any(|p| matches!(p, Pinned::Thrust(m) if m.contains("since t = 0 s"))));
+        // on the ground the clocks rest
+        let mut clock = SaturationClock::default();
+        for k in 0..700 {
+            let t = f64::from(k) * 0.01;
+            assert!(clock
+                .observe(t, 1600.0, [116.0; 3], range, limits, 4.0, true)
+                .is_empty());
+        }
         // an engine switched off is no saturation
         let mut clock = SaturationClock::default();
         for k in 0..700 {
             let t = f64::from(k) * 0.01;
             assert!(clock
-                .observe(t, 0.0, [0.0; 3], (0.0, 1600.0), limits, 4.0)
+                .observe(t, 0.0, [0.0; 3], (0.0, 1600.0), limits, 4.0, false)
                 .is_empty());
         }
     }

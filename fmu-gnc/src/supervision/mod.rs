@@ -91,6 +91,7 @@ impl Supervisor {
             settings.thrust_range_n,
             settings.torque_limit_body_nm,
             settings.saturation_time_s,
+            o.ground_contact_possible,
         ) {
             let (bit, message) = match pinned {
                 Pinned::Thrust(m) => (THRUST_PINNED_BIT, m),
