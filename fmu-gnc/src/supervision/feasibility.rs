@@ -68,6 +68,14 @@ pub struct SaturationClock {
     torque_since_s: Option<f64>,
 }
 
+/// The ranges of the commands and how long one may sit at a limit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    pub thrust_range_n: (f64, f64),
+    pub torque_limit_body_nm: [f64; 3],
+    pub time_s: f64,
+}
+
 /// A command pinned at a limit longer than allowed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Pinned {
@@ -80,15 +88,13 @@ const AT_LIMIT: f64 = 1e-9;
 
 impl SaturationClock {
     /// Counts the command `thrust_cmd_n`, `torque_cmd_body_nm` shown at `t_s`; the commands
-    /// pinned for longer than `limit_s` (`None` when neither is).
+    /// pinned for longer than `limits.time_s`.
     pub fn observe(
         &mut self,
         t_s: f64,
         thrust_cmd_n: f64,
         torque_cmd_body_nm: [f64; 3],
-        thrust_range_n: (f64, f64),
-        torque_limit_body_nm: [f64; 3],
-        limit_s: f64,
+        limits: &Limits,
         ground_contact_possible: bool,
     ) -> Vec<Pinned> {
         // On the ground the gear holds the vehicle against its commands.
@@ -96,7 +102,8 @@ impl SaturationClock {
             *self = SaturationClock::default();
             return Vec::new();
         }
-        let (thrust_min_n, thrust_max_n) = thrust_range_n;
+        let (thrust_min_n, thrust_max_n) = limits.thrust_range_n;
+        let (torque_limit_body_nm, limit_s) = (limits.torque_limit_body_nm, limits.time_s);
         let at = |value: f64, limit: f64| (value - limit).abs() <= AT_LIMIT * limit.abs().max(1.0);
         // An engine switched off is a choice of guidance, not a saturation.
         let thrust_pinned = thrust_cmd_n > 1.0
@@ -178,14 +185,17 @@ mod tests {
     #[test]
     fn a_command_pinned_past_the_allowed_time_is_found_and_a_break_restarts_the_clock() {
         let mut clock = SaturationClock::default();
-        let range = (720.0, 1600.0);
-        let limits = [116.0; 3];
+        let limits = Limits {
+            thrust_range_n: (720.0, 1600.0),
+            torque_limit_body_nm: [116.0; 3],
+            time_s: 4.0,
+        };
         let mut found = Vec::new();
         for k in 0..700 {
             let t = f64::from(k) * 0.01;
             // a break at 2 s
             let thrust = if k == 200 { 1500.0 } else { 1600.0 };
-            found.extend(clock.observe(t, thrust, [0.0, -116.0, 0.0], range, limits, 4.0, false));
+            found.extend(clock.observe(t, thrust, [0.0, -116.0, 0.0], &limits, false));
         }
         assert!(found
             .iter()
@@ -201,16 +211,14 @@ mod tests {
         for k in 0..700 {
             let t = f64::from(k) * 0.01;
             assert!(clock
-                .observe(t, 1600.0, [116.0; 3], range, limits, 4.0, true)
+                .observe(t, 1600.0, [116.0; 3], &limits, true)
                 .is_empty());
         }
         // an engine switched off is no saturation
         let mut clock = SaturationClock::default();
         for k in 0..700 {
             let t = f64::from(k) * 0.01;
-            assert!(clock
-                .observe(t, 0.0, [0.0; 3], (0.0, 1600.0), limits, 4.0, false)
-                .is_empty());
+            assert!(clock.observe(t, 0.0, [0.0; 3], &limits, false).is_empty());
         }
     }
 }

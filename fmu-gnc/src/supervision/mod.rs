@@ -84,13 +84,16 @@ impl Supervisor {
             );
             messages.extend(self.report(CANNOT_HOVER_BIT, finding));
         }
+        let limits = feasibility::Limits {
+            thrust_range_n: settings.thrust_range_n,
+            torque_limit_body_nm: settings.torque_limit_body_nm,
+            time_s: settings.saturation_time_s,
+        };
         for pinned in self.saturation.observe(
             o.t_s,
             o.thrust_cmd_n,
             o.torque_cmd_body_nm,
-            settings.thrust_range_n,
-            settings.torque_limit_body_nm,
-            settings.saturation_time_s,
+            &limits,
             o.ground_contact_possible,
         ) {
             let (bit, message) = match pinned {
