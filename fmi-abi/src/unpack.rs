@@ -256,6 +256,17 @@ pub struct Unpacked {
 
 impl Unpacked {
     pub fn open(path: &Path) -> Result<Self, UnpackError> {
+        Self::open_with(path, None)
+    }
+
+    /// [`Unpacked::open`] of the model description alone, for a reader that loads no
+    /// binary: the archive is checked whole as `open` checks it, but only the one file is
+    /// written.
+    pub fn open_description(path: &Path) -> Result<Self, UnpackError> {
+        Self::open_with(path, Some(Path::new("modelDescription.xml")))
+    }
+
+    fn open_with(path: &Path, only: Option<&Path>) -> Result<Self, UnpackError> {
         let unpacked = if path.is_dir() {
             Self {
                 root: path.to_path_buf(),
@@ -263,7 +274,7 @@ impl Unpacked {
                 _temp_dir: None,
             }
         } else {
-            let temp_dir = unpack_archive(path, "fmu-")?;
+            let temp_dir = unpack_bounded(path, "fmu-", max_unpacked_bytes()?, MAX_ENTRIES, only)?;
             Self {
                 root: temp_dir.path().to_path_buf(),
                 archive: Some(path.to_path_buf()),
@@ -318,14 +329,16 @@ pub fn unpack_archive_within(
     prefix: &str,
     max_bytes: u64,
 ) -> Result<TempDir, UnpackError> {
-    unpack_bounded(archive, prefix, max_bytes, MAX_ENTRIES)
+    unpack_bounded(archive, prefix, max_bytes, MAX_ENTRIES, None)
 }
 
+/// Unpacks `archive` (only the entry at `only`, if given) after checking all of it.
 fn unpack_bounded(
     archive: &Path,
     prefix: &str,
     max_bytes: u64,
     max_entries: usize,
+    only: Option<&Path>,
 ) -> Result<TempDir, UnpackError> {
     let io_error = |source| UnpackError::Io {
         path: archive.to_path_buf(),
@@ -411,6 +424,9 @@ fn unpack_bounded(
         }
         if !seen.insert(relative.clone()) {
             return Err(refuse(&name, EntryProblem::Duplicate));
+        }
+        if only.is_some_and(|only| relative != only) {
+            continue;
         }
         let target = root.join(&relative);
         let write_error = |source| refuse(&name, EntryProblem::Write(source));
@@ -655,8 +671,8 @@ mod tests {
         let names: Vec<String> = (0..=10).map(|i| format!("e{i}")).collect();
         let entries: Vec<(&str, &[u8])> = names.iter().map(|n| (n.as_str(), &b""[..])).collect();
         let path = archive_of(dir.path(), &entries);
-        assert!(unpack_bounded(&path, "test-", 1 << 20, 11).is_ok());
-        let (entry, problem) = refusal(unpack_bounded(&path, "test-", 1 << 20, 10));
+        assert!(unpack_bounded(&path, "test-", 1 << 20, 11, None).is_ok());
+        let (entry, problem) = refusal(unpack_bounded(&path, "test-", 1 << 20, 10, None));
         assert_eq!(entry, "e10");
         assert!(
             matches!(problem, EntryProblem::TooManyEntries { .. }),

@@ -1,18 +1,32 @@
-//! An FMU's model description without its binary: what a master needs to plan a run it will
-//! make in another process (names, units, start values) while no FMU code runs in its own.
+//! An FMU's model description, read and checked the one way both a load and a plan use: what
+//! a master needs to plan a run it will make in another process (names, units, start
+//! values) while no FMU code runs in its own.
 use super::archive::Unpacked;
 use super::error::LoadError;
-use super::fmi3;
+use super::fmi3::{self, View};
 use super::fmu::FmiVersion;
+use model_description::fmi3::Fmi3ModelDescription;
 use model_description::ModelDescription;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// The model description of a `.fmu` archive or unpacked FMU directory, as [`crate::Fmu`]
-/// sees it once loaded (for FMI 3.0 its scalar view), read without loading the binary.
-pub fn read_description(
-    path: impl AsRef<Path>,
-) -> Result<(FmiVersion, ModelDescription), LoadError> {
-    let unpacked = Unpacked::open(path.as_ref())?;
+/// A model description as read, by FMI version.
+pub(crate) enum Described {
+    Fmi2(ModelDescription),
+    /// The file as read, and its scalar view (`r_nue` as `r_nue[1..3]`).
+    Fmi3(Box<Fmi3ModelDescription>, View),
+}
+
+/// Where a description's errors say it is: inside its archive, not in a temporary directory
+/// that is gone by the time the user reads the message.
+pub(crate) fn described_path(unpacked: &Unpacked) -> PathBuf {
+    match unpacked.archive() {
+        Some(archive) => archive.join("modelDescription.xml"),
+        None => unpacked.model_description_path(),
+    }
+}
+
+/// Reads the unpacked FMU's description (FMI 2.0 or 3.0, by its `fmiVersion`).
+pub(crate) fn parse(unpacked: &Unpacked) -> Result<Described, LoadError> {
     let description_path = unpacked.model_description_path();
     let bytes = std::fs::read(&description_path).map_err(|source| LoadError::Io {
         path: description_path.clone(),
@@ -23,19 +37,18 @@ pub fn read_description(
         .as_deref()
         .is_some_and(|v| v.trim().starts_with("3."))
     {
-        let description3 = model_description::fmi3::Fmi3ModelDescription::from_bytes(&bytes)
-            .map_err(|source| LoadError::ModelDescription {
-                path: description_path.clone(),
+        let description3 = Fmi3ModelDescription::from_bytes(&bytes).map_err(|source| {
+            LoadError::ModelDescription {
+                path: described_path(unpacked),
                 source,
-            })?;
-        return Ok((
-            FmiVersion::Fmi3,
-            fmi3::scalar_view(&description3)?.description,
-        ));
+            }
+        })?;
+        let view = fmi3::scalar_view(&description3)?;
+        return Ok(Described::Fmi3(Box::new(description3), view));
     }
     let description = ModelDescription::from_file(&description_path).map_err(|source| {
         LoadError::ModelDescription {
-            path: description_path.clone(),
+            path: described_path(unpacked),
             source,
         }
     })?;
@@ -44,5 +57,18 @@ pub fn read_description(
             found: description.fmi_version.clone(),
         });
     }
-    Ok((FmiVersion::Fmi2, description))
+    Ok(Described::Fmi2(description))
+}
+
+/// The model description of a `.fmu` archive or unpacked FMU directory, as [`crate::Fmu`]
+/// sees it once loaded (for FMI 3.0 its scalar view), read without writing or loading its
+/// binaries; the archive is checked as a load checks it.
+pub fn read_description(
+    path: impl AsRef<Path>,
+) -> Result<(FmiVersion, ModelDescription), LoadError> {
+    let unpacked = Unpacked::open_description(path.as_ref())?;
+    Ok(match parse(&unpacked)? {
+        Described::Fmi2(description) => (FmiVersion::Fmi2, description),
+        Described::Fmi3(_, view) => (FmiVersion::Fmi3, view.description),
+    })
 }

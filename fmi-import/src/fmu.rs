@@ -2,6 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::archive::{Unpacked, PLATFORM};
+use super::describe::{parse, Described};
 use super::error::{CallError, LoadError, VariableError};
 use super::instance::{Instance, InstanceOptions};
 use super::variables::{VariableIndex, VariableInfo};
@@ -64,29 +65,12 @@ impl Fmu {
     pub fn load(path: impl AsRef<Path>) -> Result<Self, LoadError> {
         let path = path.as_ref();
         let unpacked = Unpacked::open(path)?;
-        let description_path = unpacked.model_description_path();
-        let bytes = std::fs::read(&description_path).map_err(|source| LoadError::Io {
-            path: description_path.clone(),
-            source,
-        })?;
-        let version = model_description::fmi3::fmi_version_of(&bytes);
-        if version
-            .as_deref()
-            .is_some_and(|v| v.trim().starts_with("3."))
-        {
-            return Self::load_fmi3(unpacked, &bytes);
-        }
-        let description = ModelDescription::from_file(&description_path).map_err(|source| {
-            LoadError::ModelDescription {
-                path: described_path(&unpacked),
-                source,
+        let description = match parse(&unpacked)? {
+            Described::Fmi2(description) => description,
+            Described::Fmi3(description3, view) => {
+                return Self::load_fmi3(unpacked, *description3, view)
             }
-        })?;
-        if description.fmi_version.trim() != "2.0" {
-            return Err(LoadError::UnsupportedFmiVersion {
-                found: description.fmi_version.clone(),
-            });
-        }
+        };
         // One binary: Co-Simulation's, else Model Exchange's. Model Exchange is offered from
         // the same binary only (an FMU with two identifiers ships two libraries).
         let co_simulation = description
@@ -128,13 +112,11 @@ impl Fmu {
         })
     }
 
-    fn load_fmi3(unpacked: Unpacked, bytes: &[u8]) -> Result<Self, LoadError> {
-        let description3 = model_description::fmi3::Fmi3ModelDescription::from_bytes(bytes)
-            .map_err(|source| LoadError::ModelDescription {
-                path: described_path(&unpacked),
-                source,
-            })?;
-        let view = fmi3::scalar_view(&description3)?;
+    fn load_fmi3(
+        unpacked: Unpacked,
+        description3: model_description::fmi3::Fmi3ModelDescription,
+        view: fmi3::View,
+    ) -> Result<Self, LoadError> {
         // As for FMI 2.0: Co-Simulation's binary, else Model Exchange's, which is offered
         // from the same binary only.
         let co_simulation = description3
@@ -271,15 +253,6 @@ impl FmuShared {
     /// The unpacked `resources` folder, if the FMU has one.
     pub(crate) fn resources_dir(&self) -> Option<PathBuf> {
         Some(self.unpacked.root().join("resources")).filter(|dir| dir.is_dir())
-    }
-}
-
-/// The model description as the user knows it: inside the `.fmu` they gave, not in the
-/// temporary directory that is gone by the time they read the message.
-fn described_path(unpacked: &Unpacked) -> PathBuf {
-    match unpacked.archive() {
-        Some(archive) => archive.join("modelDescription.xml"),
-        None => unpacked.model_description_path(),
     }
 }
 

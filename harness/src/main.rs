@@ -353,9 +353,11 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    // Started as a supervised worker: serve the parent and exit, before anything else.
-    cosim::supervise::serve_if_worker();
+    // Warnings (an allowed non-finite value, say) go to stderr, which a worker's parent
+    // passes on.
     init_logging();
+    // Started as a supervised worker: serve the parent and exit.
+    cosim::supervise::serve_if_worker();
     let cli = Cli::parse();
     match run(cli) {
         Ok(code) => std::process::exit(code),
@@ -574,6 +576,7 @@ fn test_folder(
             stop_time: None,
             step_size: None,
         };
+        let started = std::time::Instant::now();
         match run_scenario(&request, fmu_dir) {
             Ok(flown) => {
                 match flown.exit_code {
@@ -589,7 +592,7 @@ fn test_folder(
                 eprintln!("{}: {message}", path.display());
                 suites.push(cosim::requirements::junit::error_suite(
                     &suite_name(&path.to_string_lossy()),
-                    0.0,
+                    started.elapsed().as_secs_f64(),
                     &message,
                 ));
             }

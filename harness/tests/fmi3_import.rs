@@ -60,8 +60,10 @@ fn run(dir: &Path, label: &str, text: &str, extra: &[&str]) -> (String, String) 
     let mut args = vec!["run", toml.to_str().unwrap(), "-o", csv.to_str().unwrap()];
     args.extend_from_slice(extra);
     let output = harness_in(&fmu_dir(), &args);
+    // Flown: exit 0, or 3 when a shortened run leaves the scenario's requirement windows
+    // uncovered (inconclusive); the trajectories are what is compared.
     assert!(
-        output.status.success(),
+        matches!(output.status.code(), Some(0 | 3)),
         "{label}: harness run failed: {}",
         String::from_utf8_lossy(&output.stderr)
     );

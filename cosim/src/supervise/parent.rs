@@ -83,24 +83,13 @@ impl Supervised {
         limits: Limits,
     ) -> Result<Self, MasterError> {
         crate::master::check_fmus_exist(&system, fmu_dir)?;
-        let mut descriptions = Vec::with_capacity(system.instances.len());
-        for instance in &system.instances {
-            let path = crate::master::fmu_path(fmu_dir, &instance.fmu);
-            let description =
-                fmi_import::read_description(&path).map_err(|source| MasterError::Load {
-                    instance: instance.name.clone(),
-                    path,
-                    source: Box::new(source),
-                })?;
-            descriptions.push(description);
-        }
         let mut supervised = Self {
             program,
             limits,
             system,
             fmu_dir: fmu_dir.to_owned(),
             conventions: Conventions::default(),
-            descriptions,
+            descriptions: Vec::new(),
             column_names: Vec::new(),
             column_units: Vec::new(),
             final_requested: Vec::new(),
@@ -111,7 +100,21 @@ impl Supervised {
             worker: None,
             stderr: Arc::new(Mutex::new(Vec::new())),
         };
-        supervised.worker()?;
+        // The worker loads the FMUs while this process reads their descriptions.
+        let started = supervised.start()?;
+        let mut descriptions = Vec::with_capacity(supervised.system.instances.len());
+        for instance in &supervised.system.instances {
+            let path = crate::master::fmu_path(fmu_dir, &instance.fmu);
+            let description =
+                fmi_import::read_description(&path).map_err(|source| MasterError::Load {
+                    instance: instance.name.clone(),
+                    path,
+                    source: Box::new(source),
+                })?;
+            descriptions.push(description);
+        }
+        supervised.descriptions = descriptions;
+        supervised.finish_start(started)?;
         Ok(supervised)
     }
 
@@ -264,44 +267,52 @@ impl Supervised {
     /// The live worker, started (with the system as it is now) if there is none.
     fn worker(&mut self) -> Result<&mut Worker, MasterError> {
         if self.worker.is_none() {
-            let mut worker = Worker::spawn(&self.program, &self.limits, &self.stderr)?;
-            let deadline = Instant::now() + self.limits.run_timeout();
-            let setup = ToWorker::Setup {
-                system: Box::new(self.system.clone()),
-                fmu_dir: self.fmu_dir.clone(),
-                conventions: self.conventions,
-                final_columns: self.final_requested.clone(),
-            };
-            let answer = worker
-                .send(&setup)
-                .and_then(|()| worker.next(deadline, &self.limits));
-            match answer {
-                Ok(FromWorker::Ready {
-                    column_names,
-                    column_units,
-                    final_names,
-                    ring_capacity,
-                }) => {
-                    let ring = Ring::open(
-                        &worker.dir.path().join(RING),
-                        column_names.len(),
-                        ring_capacity as usize,
-                    )
-                    .map_err(|e| broken(format!("cannot map its row ring: {e}")))?;
-                    worker.ring = Some(ring);
-                    self.column_names = column_names;
-                    self.column_units = column_units;
-                    self.final_values = vec![f64::NAN; final_names.len()];
-                    self.final_names = final_names;
-                    self.pending.clear();
-                }
-                Ok(FromWorker::Failed { error, .. }) => return Err(error.into()),
-                Ok(other) => return Err(broken(format!("answered {other:?} to its setup"))),
-                Err(error) => return Err(error),
-            }
-            self.worker = Some(worker);
+            let started = self.start()?;
+            self.finish_start(started)?;
         }
         Ok(self.worker.as_mut().expect("started above"))
+    }
+
+    /// Starts a worker and sends it the system; it loads while the caller goes on.
+    fn start(&mut self) -> Result<(Worker, Instant), MasterError> {
+        let mut worker = Worker::spawn(&self.program, &self.limits, &self.stderr)?;
+        let deadline = Instant::now() + self.limits.run_timeout();
+        worker.send(&ToWorker::Setup {
+            system: Box::new(self.system.clone()),
+            fmu_dir: self.fmu_dir.clone(),
+            conventions: self.conventions,
+            final_columns: self.final_requested.clone(),
+        })?;
+        Ok((worker, deadline))
+    }
+
+    /// Waits for a started worker to be ready and makes it the live one.
+    fn finish_start(&mut self, (mut worker, deadline): (Worker, Instant)) -> Result<(), MasterError> {
+        match worker.next(deadline, &self.limits)? {
+            FromWorker::Ready {
+                column_names,
+                column_units,
+                final_names,
+                ring_capacity,
+            } => {
+                let ring = Ring::open(
+                    &worker.dir.path().join(RING),
+                    column_names.len(),
+                    ring_capacity as usize,
+                )
+                .map_err(|e| broken(format!("cannot map its row ring: {e}")))?;
+                worker.ring = Some(ring);
+                self.column_names = column_names;
+                self.column_units = column_units;
+                self.final_values = vec![f64::NAN; final_names.len()];
+                self.final_names = final_names;
+                self.pending.clear();
+                self.worker = Some(worker);
+                Ok(())
+            }
+            FromWorker::Failed { error, .. } => Err(error.into()),
+            other => Err(broken(format!("answered {other:?} to its setup"))),
+        }
     }
 
     /// Drops the worker (killing it if it still runs, removing its directory) and returns

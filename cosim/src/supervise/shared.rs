@@ -123,8 +123,9 @@ pub(super) struct Ring {
 
 /// Bytes of the ring's header: the row count written so far, then padding.
 const HEADER: usize = 64;
-/// Bytes a half of the ring aims at: a few hundred rows of a wide run per message.
-const HALF_BYTES: usize = 256 * 1024;
+/// Bytes a half of the ring aims at: every hand-over wakes both processes, so a wide paper
+/// flight (91 columns, 12.5 MB) takes six, a campaign flight one.
+const HALF_BYTES: usize = 2 << 20;
 
 impl Ring {
     pub(super) fn capacity_for(width: usize) -> usize {

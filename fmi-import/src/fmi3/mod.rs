@@ -6,7 +6,7 @@ mod view;
 
 use crate::binary::Fmi3Functions;
 pub(crate) use instance::Fmi3Instance;
-pub(crate) use view::{scalar_view, Element, Starts};
+pub(crate) use view::{scalar_view, Element, Starts, View};
 
 /// What an FMI 3.0 FMU shares with its instances besides the library.
 #[derive(Debug)]

@@ -1,7 +1,8 @@
 //! Both FMUs in the harness's own master: the paper scenario, and a Monte Carlo campaign.
 use crate::record::paper_system;
 use anyhow::{ensure, Result};
-use cosim::master::{RunEnd, Simulation, Trajectory};
+use cosim::master::{RunEnd, Trajectory};
+use cosim::supervise::{Execution, Runner};
 use harness::montecarlo::campaign::{CampaignSpec, Shard};
 use harness::montecarlo::dispersion::DispersionRanges;
 use harness::montecarlo::runner::{self, RunOptions};
@@ -9,26 +10,56 @@ use harness::scenarios::Law;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// Wall time of each of `runs` paper flights through [`Simulation::run`], every output
+/// Wall time of each of `runs` paper flights through `Simulation::run`, every output
 /// recorded in memory as a user's run does; loading and instantiating are done once,
 /// before. Every flight must reach the stop time.
 pub fn paper_flights(fmu_dir: &Path, runs: usize, stop_time_s: Option<f64>) -> Result<Vec<f64>> {
-    let mut simulation = Simulation::new(paper_system(stop_time_s)?, fmu_dir)?;
+    Ok(paper_flights_with(fmu_dir, runs, stop_time_s, Execution::InProcess)?.seconds)
+}
+
+/// Paper flights run where `execution` says, timed one by one.
+pub struct Flights {
+    /// Each flight's wall time (the worker, if any, already started).
+    pub seconds: Vec<f64>,
+    /// From loading the system (starting the worker) to the end of its first flight.
+    pub first_with_start_s: f64,
+    /// The last flight's rows.
+    pub trajectory: Trajectory,
+}
+
+/// [`paper_flights`] in process or in a supervised worker.
+pub fn paper_flights_with(
+    fmu_dir: &Path,
+    runs: usize,
+    stop_time_s: Option<f64>,
+    execution: Execution,
+) -> Result<Flights> {
+    let loading = Instant::now();
+    let mut simulation = Runner::with(paper_system(stop_time_s)?, fmu_dir, execution)?;
     let mut seconds = Vec::with_capacity(runs);
-    for _ in 0..runs {
-        let mut trajectory = Trajectory {
+    let mut first_with_start_s = 0.0;
+    let mut trajectory = Trajectory::default();
+    for run in 0..runs {
+        trajectory = Trajectory {
             names: simulation.column_names().to_vec(),
             ..Default::default()
         };
         let started = Instant::now();
         let end = simulation.run(&mut trajectory)?;
         seconds.push(started.elapsed().as_secs_f64());
+        if run == 0 {
+            first_with_start_s = loading.elapsed().as_secs_f64();
+        }
         ensure!(
             end == RunEnd::Completed,
             "the paper flight ended early: {end:?}"
         );
     }
-    Ok(seconds)
+    Ok(Flights {
+        seconds,
+        first_with_start_s,
+        trajectory,
+    })
 }
 
 /// What one campaign did, as the harness's runner reports it.

@@ -16,7 +16,8 @@
 use anyhow::{ensure, Context, Result};
 use clap::{Parser, Subcommand};
 use fmi_import::Fmu;
-use speed_bench::closed_loop::{monte_carlo, paper_flights};
+use cosim::supervise::Execution;
+use speed_bench::closed_loop::{monte_carlo, paper_flights, paper_flights_with};
 use speed_bench::duel::{self, Duel};
 use speed_bench::python::{self, PythonEnv};
 use speed_bench::record::PaperRecord;
@@ -71,6 +72,14 @@ enum Child {
     },
 }
 
+/// Runs in a worker process of this very program, as the harness runs its flights.
+fn supervised_execution() -> Result<Execution> {
+    Ok(Execution::Supervised {
+        program: std::env::current_exe().context("this program's path, to start workers")?,
+        limits: cosim::supervise::Limits::default(),
+    })
+}
+
 /// How much of each measurement a run does.
 #[derive(Debug, Clone, Copy)]
 struct Counts {
@@ -112,6 +121,8 @@ const QUICK: Counts = Counts {
 };
 
 fn main() -> Result<()> {
+    // The supervised rows start this program again as their worker.
+    cosim::supervise::serve_if_worker();
     let cli = Cli::parse();
     let fmu_dir = cli.fmu_dir.clone().unwrap_or_else(interop_tests::fmu_dir);
     for name in ["LanderGnc.fmu", "LanderPlant.fmu"] {
@@ -242,11 +253,49 @@ fn measure_all(fmu_dir: &Path, counts: Counts, workers: usize, with_python: bool
         ),
     ));
 
+    progress("3s: the paper scenario in a supervised worker");
+    let supervised = supervised_execution()?;
+    let in_process = paper_flights_with(fmu_dir, 1, counts.stop_time_s, Execution::InProcess)?;
+    let worker = paper_flights_with(fmu_dir, counts.flights, counts.stop_time_s, supervised.clone())?;
+    ensure!(
+        worker.trajectory.times == in_process.trajectory.times
+            && worker
+                .trajectory
+                .values
+                .iter()
+                .zip(&in_process.trajectory.values)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+        "the supervised flight differs from the in-process one"
+    );
+    let worker_flights = summary(&worker.seconds)?;
+    rows.push(Row::timed(
+        "3s",
+        "The same, its FMUs in a supervised worker process (the harness's default)",
+        worker_flights,
+        1e3,
+        "ms",
+        table::count(worker_flights.count, "flight"),
+        format!(
+            "{}x row 3's median; rows bit-identical to in-process; starting the worker and \
+             the first flight {} ms",
+            figure(worker_flights.median / flights.median),
+            figure(worker.first_with_start_s * 1e3)
+        ),
+    ));
+
     progress(&format!(
         "4: Monte Carlo, {} runs on {workers} workers",
         counts.mc_runs
     ));
     let campaign = monte_carlo(fmu_dir, counts.mc_runs, workers)?;
+    progress(&format!(
+        "4s: Monte Carlo, {} runs on {workers} supervised workers",
+        counts.mc_runs
+    ));
+    cosim::supervise::set_default(supervised);
+    let supervised_campaign = monte_carlo(fmu_dir, counts.mc_runs, workers);
+    cosim::supervise::set_default(Execution::InProcess);
+    let supervised_campaign = supervised_campaign?;
     rows.push(Row::timed(
         "4",
         format!(
@@ -261,6 +310,23 @@ fn measure_all(fmu_dir: &Path, counts: Counts, workers: usize, with_python: bool
             "{} runs/s; {} failed; harness montecarlo runner, manifest streamed to disk",
             figure(campaign.flights_per_second()),
             campaign.failed
+        ),
+    ));
+    rows.push(Row::timed(
+        "4s",
+        format!(
+            "The same campaign, each worker's FMUs in a supervised process (the harness's \
+             default)",
+        ),
+        Summary::of(&[supervised_campaign.elapsed.as_secs_f64()]).context("campaign time")?,
+        1.0,
+        "s",
+        "1 campaign",
+        format!(
+            "{} runs/s, {}x row 4's; {} failed",
+            figure(supervised_campaign.flights_per_second()),
+            figure(supervised_campaign.flights_per_second() / campaign.flights_per_second()),
+            supervised_campaign.failed
         ),
     ));
 
