@@ -260,8 +260,8 @@ impl Unpacked {
     }
 
     /// [`Unpacked::open`] of the model description alone, for a reader that loads no
-    /// binary: the archive is checked whole as `open` checks it, but only the one file is
-    /// written.
+    /// binary: the archive's directory is checked as `open` checks it (names, links,
+    /// duplicates, declared sizes), but only the one file is inflated and written.
     pub fn open_description(path: &Path) -> Result<Self, UnpackError> {
         Self::open_with(path, Some(Path::new("modelDescription.xml")))
     }

@@ -61,12 +61,24 @@ pub(crate) fn parse(unpacked: &Unpacked) -> Result<Described, LoadError> {
 }
 
 /// The model description of a `.fmu` archive or unpacked FMU directory, as [`crate::Fmu`]
-/// sees it once loaded (for FMI 3.0 its scalar view), read without writing or loading its
-/// binaries; the archive is checked as a load checks it.
+/// sees it once loaded (for FMI 3.0 its scalar view), without loading its binary; the archive
+/// is unpacked and checked whole, as a load checks it.
 pub fn read_description(
     path: impl AsRef<Path>,
 ) -> Result<(FmiVersion, ModelDescription), LoadError> {
-    let unpacked = Unpacked::open_description(path.as_ref())?;
+    described(Unpacked::open(path.as_ref())?)
+}
+
+/// [`read_description`] writing only the description: the archive's directory is checked
+/// (names, links, duplicates, declared sizes) but no other entry is inflated. For a master
+/// whose worker process loads (and checks whole) the same FMU.
+pub fn peek_description(
+    path: impl AsRef<Path>,
+) -> Result<(FmiVersion, ModelDescription), LoadError> {
+    described(Unpacked::open_description(path.as_ref())?)
+}
+
+fn described(unpacked: Unpacked) -> Result<(FmiVersion, ModelDescription), LoadError> {
     Ok(match parse(&unpacked)? {
         Described::Fmi2(description) => (FmiVersion::Fmi2, description),
         Described::Fmi3(_, view) => (FmiVersion::Fmi3, view.description),

@@ -40,7 +40,7 @@ mod status;
 pub mod tables;
 mod variables;
 
-pub use describe::read_description;
+pub use describe::{peek_description, read_description};
 pub use error::{CallError, FmiError, LoadError, VariableError};
 pub use fmu::{FmiVersion, Fmu};
 pub use instance::{FmuState, Instance, InstanceOptions};

@@ -782,7 +782,11 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
                     "{name}: the run failed; its {rows} rows up to t = {t} s are in {}",
                     partial.display()
                 ),
-                _ => {
+                (None, Some(_)) => {
+                    let _ = std::fs::remove_file(&partial);
+                    println!("{name}: the run failed, and so did writing its rows");
+                }
+                (_, None) => {
                     let _ = std::fs::remove_file(&partial);
                     println!("{name}: the run failed before its first row");
                 }

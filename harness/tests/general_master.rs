@@ -316,7 +316,9 @@ fn the_cli_reports_every_bad_set_at_once_and_an_fmu_error_once() {
             .output()
             .unwrap();
         assert!(!output.status.success(), "{args:?} succeeded");
+        // Refusals before the run go to stderr, a run's error verdict to stdout: read both.
         String::from_utf8_lossy(&output.stderr).into_owned()
+            + &String::from_utf8_lossy(&output.stdout)
     };
     let out = tempfile::tempdir().unwrap();
     let csv = out.path().join("run.csv");

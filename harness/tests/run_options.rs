@@ -8,9 +8,10 @@ use common::harness;
 fn stop_time_and_step_size_override_the_scenario() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("short.csv");
+    // A scenario without requirements: cut short, the paper's would be inconclusive.
     let output = harness(&[
         "run",
-        "paper",
+        "upright",
         "--stop-time",
         "5",
         "--step-size",
@@ -137,7 +138,8 @@ fn a_write_error_stops_the_run_where_it_happened() {
     // fails with ENOSPC.
     std::os::unix::fs::symlink("/dev/full", dir.path().join("full.csv.partial")).unwrap();
     let output = harness(&["run", "paper", "-o", out.to_str().unwrap()]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
+    // The error verdict of a run that started is on stdout.
+    let stderr = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     let time: f64 = stderr
         .split("recording the row at t = ")
@@ -170,7 +172,7 @@ fn results_carry_the_units_the_fmus_declare() {
     for out in [&csv, &arrow] {
         let output = harness(&[
             "run",
-            "paper",
+            "upright",
             "--stop-time",
             "0.1",
             "-o",

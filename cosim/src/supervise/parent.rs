@@ -106,7 +106,7 @@ impl Supervised {
         for instance in &supervised.system.instances {
             let path = crate::master::fmu_path(fmu_dir, &instance.fmu);
             let description =
-                fmi_import::read_description(&path).map_err(|source| MasterError::Load {
+                fmi_import::peek_description(&path).map_err(|source| MasterError::Load {
                     instance: instance.name.clone(),
                     path,
                     source: Box::new(source),
@@ -220,7 +220,9 @@ impl Supervised {
         let worker = self.worker()?;
         let deadline = Instant::now() + limits.run_timeout();
         recorder.reserve(rows_hint, width);
-        let mut taken = 0u64;
+        // Rows handed on, and the first row the recorder could not keep (the run ends there,
+        // as it does in process, though the worker has flown a little further).
+        let mut hand = Hand::default();
         let mut answer = worker.send(&ToWorker::Run {
             parameters,
             conventions,
@@ -231,8 +233,8 @@ impl Supervised {
             }
             match worker.next(deadline, &limits) {
                 Ok(FromWorker::Rows { upto }) => {
-                    worker.hand_on(&mut taken, upto, recorder);
-                    let stop = recorder.failure();
+                    worker.hand_on(&mut hand, upto, recorder);
+                    let stop = hand.failed.as_ref().map(|(_, reason)| reason.clone());
                     // A worker that died meanwhile is noticed at the next message.
                     answer = Ok(());
                     let _ = worker.send(&ToWorker::Ack { upto, stop });
@@ -243,14 +245,17 @@ impl Supervised {
                     final_values,
                     events,
                 }) => {
-                    worker.hand_on(&mut taken, rows, recorder);
+                    worker.hand_on(&mut hand, rows, recorder);
+                    if let Some(error) = hand.record_error() {
+                        return Err(error);
+                    }
                     self.final_values = final_values;
                     self.events = events;
                     return Ok(end);
                 }
                 Ok(FromWorker::Failed { rows, error }) => {
-                    worker.hand_on(&mut taken, rows, recorder);
-                    return Err(error.into());
+                    worker.hand_on(&mut hand, rows, recorder);
+                    return Err(hand.record_error().unwrap_or_else(|| error.into()));
                 }
                 Ok(other) => break broken(format!("answered {other:?} during a run")),
                 Err(error) => break error,
@@ -259,7 +264,7 @@ impl Supervised {
         // The worker is gone: the rows it wrote before are still in the ring.
         if let Some(ring) = &worker.ring {
             let written = ring.written();
-            worker.hand_on(&mut taken, written, recorder);
+            worker.hand_on(&mut hand, written, recorder);
         }
         Err(self.lose_worker(error))
     }
@@ -287,7 +292,10 @@ impl Supervised {
     }
 
     /// Waits for a started worker to be ready and makes it the live one.
-    fn finish_start(&mut self, (mut worker, deadline): (Worker, Instant)) -> Result<(), MasterError> {
+    fn finish_start(
+        &mut self,
+        (mut worker, deadline): (Worker, Instant),
+    ) -> Result<(), MasterError> {
         match worker.next(deadline, &self.limits)? {
             FromWorker::Ready {
                 column_names,
@@ -322,6 +330,21 @@ impl Supervised {
             worker.kill();
         }
         error
+    }
+}
+
+/// The rows of a run handed on so far, and the first the recorder could not keep.
+#[derive(Default)]
+struct Hand {
+    taken: u64,
+    failed: Option<(f64, String)>,
+}
+
+impl Hand {
+    /// The error of the first row the recorder could not keep, as the master gives it.
+    fn record_error(&self) -> Option<MasterError> {
+        let (time, reason) = self.failed.clone()?;
+        Some(MasterError::Record { time, reason })
     }
 }
 
@@ -442,16 +465,25 @@ impl Worker {
         Ok(())
     }
 
-    /// Hands rows `taken..upto` of the ring to `recorder`.
-    fn hand_on(&self, taken: &mut u64, upto: u64, recorder: &mut dyn Recorder) {
+    /// Hands rows `hand.taken..upto` of the ring to `recorder`, up to the first it cannot
+    /// keep.
+    fn hand_on(&self, hand: &mut Hand, upto: u64, recorder: &mut dyn Recorder) {
         let Some(ring) = &self.ring else { return };
         // Never more than the ring holds: a worker cannot make the parent read stale slots.
-        let first = (*taken).max(upto.saturating_sub(2 * ring.capacity as u64));
+        let first = hand
+            .taken
+            .max(upto.saturating_sub(2 * ring.capacity as u64));
         for row in first..upto {
+            if hand.failed.is_some() {
+                break;
+            }
             let (time, values) = ring.read(row);
             recorder.record(time, values);
+            if let Some(reason) = recorder.failure() {
+                hand.failed = Some((time, reason));
+            }
         }
-        *taken = (*taken).max(upto);
+        hand.taken = hand.taken.max(upto);
     }
 
     /// The worker's next message, or how it ended without one.
