@@ -3,18 +3,109 @@
 //!
 //! A supervising master maps a small shared file into its worker and installs it here with
 //! [`install`]; from then on every call the importer makes into an FMU first writes the
-//! instance, the function and the simulation time there. Without an installed record each call
-//! costs one relaxed load.
+//! instance, the function and the simulation time there, as small numbers: an instance's name
+//! is written once, when it is made, and a function is its index in [`FUNCTIONS`], known at
+//! compile time. Without an installed record a call costs one load.
 #![allow(unsafe_code)]
 
 use std::sync::atomic::{AtomicPtr, AtomicU32, AtomicU64, Ordering};
 
+/// Instances whose names a record keeps; later ones are told by number.
+pub const NAMED_INSTANCES: usize = 24;
 /// Bytes kept of an instance's name.
-pub const INSTANCE_BYTES: usize = 96;
-/// Bytes kept of a function's name (the longest FMI name is 38 bytes).
-pub const FUNCTION_BYTES: usize = 48;
+pub const NAME_BYTES: usize = 96;
 /// Written first, so a reader can tell a record from a file of zeros.
-pub const MAGIC: u64 = 0x464d_4942_4258_0001;
+pub const MAGIC: u64 = 0x464d_4942_4258_0002;
+/// The function of "no call": the index after the last name.
+const NO_FUNCTION: u32 = u32::MAX;
+
+/// Every FMI function the importer notes, by the index a record stores.
+pub const FUNCTIONS: &[&str] = &[
+    "fmi2Instantiate",
+    "fmi2FreeInstance",
+    "fmi2SetDebugLogging",
+    "fmi2SetupExperiment",
+    "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode",
+    "fmi2Terminate",
+    "fmi2Reset",
+    "fmi2DoStep",
+    "fmi2SetTime",
+    "fmi2SetContinuousStates",
+    "fmi2GetDerivatives",
+    "fmi2EnterEventMode",
+    "fmi2EnterContinuousTimeMode",
+    "fmi2NewDiscreteStates",
+    "fmi2CompletedIntegratorStep",
+    "fmi2SetReal",
+    "fmi2GetReal",
+    "fmi2SetInteger",
+    "fmi2GetInteger",
+    "fmi2SetBoolean",
+    "fmi2GetBoolean",
+    "fmi2SetString",
+    "fmi2GetString",
+    "fmi3InstantiateCoSimulation",
+    "fmi3InstantiateModelExchange",
+    "fmi3FreeInstance",
+    "fmi3SetDebugLogging",
+    "fmi3EnterInitializationMode",
+    "fmi3ExitInitializationMode",
+    "fmi3Terminate",
+    "fmi3Reset",
+    "fmi3DoStep",
+    "fmi3EnterEventMode",
+    "fmi3EnterStepMode",
+    "fmi3UpdateDiscreteStates",
+    "fmi3SetTime",
+    "fmi3SetContinuousStates",
+    "fmi3GetContinuousStateDerivatives",
+    "fmi3EnterContinuousTimeMode",
+    "fmi3CompletedIntegratorStep",
+    "fmi3SetFloat64",
+    "fmi3GetFloat64",
+    "fmi3SetInt32",
+    "fmi3GetInt32",
+    "fmi3SetBoolean",
+    "fmi3GetBoolean",
+    "fmi3SetString",
+    "fmi3GetString",
+];
+
+/// The index of `name` in [`FUNCTIONS`]; a name not there fails the build where it is used
+/// in a constant.
+pub const fn function(name: &str) -> u32 {
+    let mut i = 0;
+    while i < FUNCTIONS.len() {
+        if equal(FUNCTIONS[i].as_bytes(), name.as_bytes()) {
+            return i as u32;
+        }
+        i += 1;
+    }
+    panic!("not an FMI function the black box knows")
+}
+
+const fn equal(a: &[u8], b: &[u8]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// The index of a function known only at run time (a name passed along); `None` if unknown.
+pub fn function_at_run_time(name: &str) -> u32 {
+    FUNCTIONS
+        .iter()
+        .position(|f| *f == name)
+        .map_or(NO_FUNCTION, |i| i as u32)
+}
 
 /// The record, laid out the same in every process that maps it.
 #[repr(C)]
@@ -25,13 +116,16 @@ pub struct Record {
     pub calls: AtomicU64,
     /// 1 from a call's start to its return.
     pub in_call: AtomicU32,
-    pub instance_len: AtomicU32,
-    pub function_len: AtomicU32,
-    _pad: u32,
+    /// Index in [`FUNCTIONS`].
+    pub function: AtomicU32,
+    /// The instance's number (see [`register`]).
+    pub instance: AtomicU32,
+    /// Instances registered so far.
+    pub instances: AtomicU32,
     /// The simulation time of the call, as f64 bits.
     pub time_bits: AtomicU64,
-    pub instance: [AtomicU64; INSTANCE_BYTES / 8],
-    pub function: [AtomicU64; FUNCTION_BYTES / 8],
+    pub name_lens: [AtomicU32; NAMED_INSTANCES],
+    pub names: [[AtomicU64; NAME_BYTES / 8]; NAMED_INSTANCES],
 }
 
 /// What a record says, read back.
@@ -58,67 +152,68 @@ pub unsafe fn install(record: *mut Record) {
     RECORD.store(record, Ordering::Release);
 }
 
-/// Marks the end of a call when dropped; a call noted inside another (an FMI 3.0 step that
-/// first leaves Event Mode) gives the outer one back its name.
-pub struct Call(Option<(&'static Record, Option<&'static str>)>);
-
-std::thread_local! {
-    /// The function of the call this thread is in, if any.
-    static CURRENT: std::cell::Cell<Option<&'static str>> = const { std::cell::Cell::new(None) };
-}
-
-impl Drop for Call {
-    fn drop(&mut self) {
-        if let Some((record, outer)) = self.0 {
-            CURRENT.with(|current| current.set(outer));
-            match outer {
-                Some(function) => store_text(&record.function, &record.function_len, function),
-                None => record.in_call.store(0, Ordering::Release),
-            }
-        }
-    }
-}
-
 fn installed() -> Option<&'static Record> {
     let pointer = RECORD.load(Ordering::Acquire);
     // SAFETY: only `install` stores a non-null pointer, to memory mapped for good.
     (!pointer.is_null()).then(|| unsafe { &*pointer })
 }
 
-fn store_text(slots: &[AtomicU64], len: &AtomicU32, text: &str) {
-    let bytes = text.as_bytes();
-    let kept = bytes.len().min(slots.len() * 8);
-    for (slot, chunk) in slots.iter().zip(bytes[..kept].chunks(8)) {
-        let mut word = [0u8; 8];
-        word[..chunk.len()].copy_from_slice(chunk);
-        slot.store(u64::from_le_bytes(word), Ordering::Relaxed);
+/// The number an instance named `name` is noted by (0 when no record is installed).
+pub fn register(name: &str) -> u32 {
+    let Some(record) = installed() else {
+        return 0;
+    };
+    // One thread makes instances at a time in a worker; a lost race only misnames.
+    let number = record.instances.fetch_add(1, Ordering::Relaxed);
+    if let Some(slots) = record.names.get(number as usize) {
+        let bytes = &name.as_bytes()[..name.len().min(NAME_BYTES)];
+        for (slot, chunk) in slots.iter().zip(bytes.chunks(8)) {
+            let mut word = [0u8; 8];
+            for (w, b) in word.iter_mut().zip(chunk) {
+                *w = *b;
+            }
+            slot.store(u64::from_le_bytes(word), Ordering::Relaxed);
+        }
+        record.name_lens[number as usize].store(bytes.len() as u32, Ordering::Release);
     }
-    len.store(kept as u32, Ordering::Relaxed);
+    number
 }
 
-fn load_text(slots: &[AtomicU64], len: &AtomicU32) -> String {
-    let len = (len.load(Ordering::Relaxed) as usize).min(slots.len() * 8);
-    let bytes: Vec<u8> = slots
-        .iter()
-        .flat_map(|slot| slot.load(Ordering::Relaxed).to_le_bytes())
-        .take(len)
-        .collect();
-    String::from_utf8_lossy(&bytes).into_owned()
+/// Marks the end of a call when dropped; a call noted inside another (an FMI 3.0 step that
+/// first leaves Event Mode) gives the outer one back its function.
+pub struct Call(Option<(&'static Record, u32)>);
+
+impl Drop for Call {
+    #[inline]
+    fn drop(&mut self) {
+        if let Some((record, outer)) = self.0 {
+            if outer == NO_FUNCTION {
+                record.in_call.store(0, Ordering::Release);
+            } else {
+                record.function.store(outer, Ordering::Relaxed);
+            }
+        }
+    }
 }
 
-/// Notes the start of a call of `function` on `instance` (both asked only when a record is
-/// installed); the call ends when the returned guard drops.
+/// Notes the start of a call of the function numbered `function` (see [`function`]) on the
+/// instance numbered `instance`; the call ends when the returned guard drops.
 #[inline]
-pub fn enter<'a>(what: impl FnOnce() -> (&'static str, &'a str)) -> Call {
+pub fn enter(instance: u32, function: u32) -> Call {
     let Some(record) = installed() else {
         return Call(None);
     };
-    let (function, instance) = what();
-    store_text(&record.instance, &record.instance_len, instance);
-    store_text(&record.function, &record.function_len, function);
+    let outer = if record.in_call.load(Ordering::Relaxed) == 1 {
+        record.function.load(Ordering::Relaxed)
+    } else {
+        NO_FUNCTION
+    };
+    record.instance.store(instance, Ordering::Relaxed);
+    record.function.store(function, Ordering::Relaxed);
     record.in_call.store(1, Ordering::Relaxed);
-    record.calls.fetch_add(1, Ordering::Release);
-    let outer = CURRENT.with(|current| current.replace(Some(function)));
+    // One writer: a plain increment, published with the fields above.
+    let calls = record.calls.load(Ordering::Relaxed);
+    record.calls.store(calls + 1, Ordering::Release);
     Call(Some((record, outer)))
 }
 
@@ -135,10 +230,26 @@ pub fn read(record: &Record) -> Option<LastCall> {
     if record.magic.load(Ordering::Acquire) != MAGIC {
         return None;
     }
+    let number = record.instance.load(Ordering::Relaxed) as usize;
+    let instance = match record.names.get(number) {
+        Some(slots) => {
+            let len = (record.name_lens[number].load(Ordering::Acquire) as usize).min(NAME_BYTES);
+            let bytes: Vec<u8> = slots
+                .iter()
+                .flat_map(|slot| slot.load(Ordering::Relaxed).to_le_bytes())
+                .take(len)
+                .collect();
+            String::from_utf8_lossy(&bytes).into_owned()
+        }
+        None => format!("#{number}"),
+    };
+    let function = FUNCTIONS
+        .get(record.function.load(Ordering::Relaxed) as usize)
+        .map_or_else(|| "an FMI function".to_owned(), |f| (*f).to_owned());
     Some(LastCall {
         calls: record.calls.load(Ordering::Acquire),
-        instance: load_text(&record.instance, &record.instance_len),
-        function: load_text(&record.function, &record.function_len),
+        instance,
+        function,
         time: f64::from_bits(record.time_bits.load(Ordering::Relaxed)),
         in_call: record.in_call.load(Ordering::Acquire) == 1,
     })
@@ -149,16 +260,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_record_reads_back_what_the_last_call_wrote_and_truncates_long_names() {
+    fn a_record_reads_back_the_last_call_and_an_inner_call_gives_the_outer_one_back() {
         let record: &'static mut Record =
             Box::leak(Box::new(unsafe { std::mem::zeroed::<Record>() }));
         assert_eq!(read(record), None, "zeros are no record");
         let pointer: *mut Record = record;
         // SAFETY: leaked, so mapped for the rest of the process.
         unsafe { install(pointer) };
+        let plant = register("plant");
+        let long = register(&"x".repeat(200));
         set_time(0.25);
         {
-            let _call = enter(|| ("fmi2DoStep", "plant"));
+            let _call = enter(plant, function("fmi2DoStep"));
             let seen = read(unsafe { &*pointer }).unwrap();
             assert_eq!(seen.instance, "plant");
             assert_eq!(seen.function, "fmi2DoStep");
@@ -168,19 +281,26 @@ mod tests {
         }
         assert!(!read(unsafe { &*pointer }).unwrap().in_call);
         {
-            let _step = enter(|| ("fmi3DoStep", "gnc"));
-            drop(enter(|| ("fmi3EnterStepMode", "gnc")));
+            let _step = enter(plant, function("fmi3DoStep"));
+            drop(enter(plant, function("fmi3EnterStepMode")));
             let seen = read(unsafe { &*pointer }).unwrap();
             assert_eq!(seen.function, "fmi3DoStep", "the outer call named again");
             assert!(seen.in_call);
         }
         assert!(!read(unsafe { &*pointer }).unwrap().in_call);
-        let long = "x".repeat(200);
-        drop(enter(|| ("fmi3GetFloat64", long.as_str())));
+        drop(enter(long, function_at_run_time("fmi3GetFloat64")));
         let seen = read(unsafe { &*pointer }).unwrap();
-        assert_eq!(seen.instance, "x".repeat(INSTANCE_BYTES));
+        assert_eq!(seen.instance, "x".repeat(NAME_BYTES));
         assert_eq!(seen.function, "fmi3GetFloat64");
         assert_eq!(seen.calls, 4);
         RECORD.store(std::ptr::null_mut(), Ordering::Release);
+    }
+
+    #[test]
+    fn every_function_has_its_own_index() {
+        for (i, name) in FUNCTIONS.iter().enumerate() {
+            assert_eq!(function(name), i as u32);
+            assert_eq!(function_at_run_time(name), i as u32);
+        }
     }
 }

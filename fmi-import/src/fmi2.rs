@@ -21,6 +21,8 @@ use std::sync::Arc;
 pub(crate) struct Fmi2Instance {
     component: NonNull<c_void>,
     name: String,
+    /// The number its calls are noted by in the black box.
+    pub(crate) black_box: u32,
     fmu: Arc<FmuShared>,
     functions: Fmi2Functions,
     interface: Interface,
@@ -74,7 +76,11 @@ impl Fmi2Instance {
         let log = Arc::new(LogEnv::new());
         let callbacks = Box::new(log.callbacks());
         let mark = log.mark();
-        let call = crate::blackbox::enter(|| ("fmi2Instantiate", name));
+        let black_box = crate::blackbox::register(name);
+        let call = crate::blackbox::enter(
+            black_box,
+            const { crate::blackbox::function("fmi2Instantiate") },
+        );
         // SAFETY: every pointer is valid for the call, and `log`, `callbacks` and the strings
         // are moved into the instance, which outlives the component.
         let component = unsafe {
@@ -102,6 +108,7 @@ impl Fmi2Instance {
         Ok(Self {
             component,
             name: name.to_owned(),
+            black_box,
             fmu,
             functions,
             interface,
@@ -815,7 +822,10 @@ impl Drop for Fmi2Instance {
             // failure cannot be reported from drop; the FMU has logged it.
             unsafe { (functions.free_fmu_state)(self.component.as_ptr(), pointer) };
         }
-        let _call = crate::blackbox::enter(|| ("fmi2FreeInstance", self.name.as_str()));
+        let _call = crate::blackbox::enter(
+            self.black_box,
+            const { crate::blackbox::function("fmi2FreeInstance") },
+        );
         // SAFETY: the component is live and never used again; the callbacks and log sink
         // are dropped only after this returns.
         unsafe { (functions.free_instance)(self.component.as_ptr()) };

@@ -94,10 +94,16 @@ macro_rules! both {
 /// function's name in the instance's FMI version.
 macro_rules! noted {
     ($self:ident, $fmi2:literal, $fmi3:literal, $backend:ident => $call:expr) => {{
-        let _call = crate::blackbox::enter(|| match &$self.backend {
-            Backend::Fmi2(i) => ($fmi2, i.name()),
-            Backend::Fmi3(i) => ($fmi3, i.name()),
-        });
+        let _call = match &$self.backend {
+            Backend::Fmi2(i) => crate::blackbox::enter(
+                i.black_box,
+                const { crate::blackbox::function($fmi2) },
+            ),
+            Backend::Fmi3(i) => crate::blackbox::enter(
+                i.black_box,
+                const { crate::blackbox::function($fmi3) },
+            ),
+        };
         both!($self, $backend => $call)
     }};
 }

@@ -107,6 +107,8 @@ const PLAN_CACHE: usize = 64;
 pub(crate) struct Fmi3Instance {
     instance: NonNull<c_void>,
     name: String,
+    /// The number its calls are noted by in the black box.
+    pub(crate) black_box: u32,
     api: Arc<Fmi3Api>,
     functions: Fmi3Functions,
     log: Arc<LogEnv>,
@@ -198,7 +200,9 @@ impl Fmi3Instance {
         let mark = log.mark();
         let resource = resource_path.as_ref().map_or(ptr::null(), |p| p.as_ptr());
         let environment = Arc::as_ptr(&log) as *mut c_void;
-        let call = crate::blackbox::enter(|| (function, name));
+        let black_box = crate::blackbox::register(name);
+        let call =
+            crate::blackbox::enter(black_box, crate::blackbox::function_at_run_time(function));
         // SAFETY: every pointer is valid for the call; `log` and the strings move into the
         // instance, which outlives the FMU's instance.
         let instance = unsafe {
@@ -240,6 +244,7 @@ impl Fmi3Instance {
         Ok(Self {
             instance,
             name: name.to_owned(),
+            black_box,
             shadow: api.starts.clone(),
             functions,
             api,
@@ -308,10 +313,11 @@ impl Fmi3Instance {
     fn only(
         &mut self,
         function: &'static str,
+        noted_as: u32,
         call: crate::tables::fmi3::Only,
     ) -> Result<Success, FmiError> {
         let mark = self.log.mark();
-        let noted = crate::blackbox::enter(|| (function, self.name.as_str()));
+        let noted = crate::blackbox::enter(self.black_box, noted_as);
         // SAFETY: a live instance; the function takes nothing else.
         let raw = unsafe { call(self.c()) };
         drop(noted);
@@ -384,7 +390,11 @@ impl Fmi3Instance {
     /// Into Event Mode with `eventModeUsed`, else Step Mode (FMI 3.0, 4.2.1).
     pub(crate) fn exit_initialization_mode(&mut self) -> Result<Success, FmiError> {
         let call = self.functions.exit_initialization_mode;
-        let success = self.only("fmi3ExitInitializationMode", call)?;
+        let success = self.only(
+            "fmi3ExitInitializationMode",
+            const { crate::blackbox::function("fmi3ExitInitializationMode") },
+            call,
+        )?;
         // Model Exchange always leaves initialization into Event Mode (FMI 3.0, 3.2).
         self.mode = if self.event_mode_used || self.interface == Interface::ModelExchange {
             Mode::Event
@@ -397,14 +407,22 @@ impl Fmi3Instance {
 
     pub(crate) fn terminate(&mut self) -> Result<Success, FmiError> {
         let call = self.functions.terminate;
-        let success = self.only("fmi3Terminate", call);
+        let success = self.only(
+            "fmi3Terminate",
+            const { crate::blackbox::function("fmi3Terminate") },
+            call,
+        );
         self.mode = Mode::Terminated;
         success
     }
 
     pub(crate) fn reset(&mut self) -> Result<Success, FmiError> {
         let call = self.functions.reset;
-        let success = self.only("fmi3Reset", call)?;
+        let success = self.only(
+            "fmi3Reset",
+            const { crate::blackbox::function("fmi3Reset") },
+            call,
+        )?;
         self.mode = Mode::Instantiated;
         self.set_since_step = false;
         self.terminated = false;
@@ -414,7 +432,11 @@ impl Fmi3Instance {
 
     fn enter_event_mode(&mut self) -> Result<(), FmiError> {
         let call = self.functions.enter_event_mode;
-        self.only("fmi3EnterEventMode", call)?;
+        self.only(
+            "fmi3EnterEventMode",
+            const { crate::blackbox::function("fmi3EnterEventMode") },
+            call,
+        )?;
         self.mode = Mode::Event;
         Ok(())
     }
@@ -428,7 +450,8 @@ impl Fmi3Instance {
             let (mut again, mut terminate, mut nominals, mut values, mut defined, mut next) =
                 (false, false, false, false, false, 0.0);
             let mark = self.log.mark();
-            let noted = crate::blackbox::enter(|| (F, self.name.as_str()));
+            let noted =
+                crate::blackbox::enter(self.black_box, const { crate::blackbox::function(F) });
             // SAFETY: a live instance and valid out-pointers.
             let raw = unsafe {
                 (self.functions.update_discrete_states)(
@@ -450,7 +473,11 @@ impl Fmi3Instance {
                 let Some(co_simulation) = self.functions.co_simulation else {
                     return Err(self.not_co_simulation("fmi3EnterStepMode"));
                 };
-                self.only("fmi3EnterStepMode", co_simulation.enter_step_mode)?;
+                self.only(
+                    "fmi3EnterStepMode",
+                    const { crate::blackbox::function("fmi3EnterStepMode") },
+                    co_simulation.enter_step_mode,
+                )?;
                 self.mode = Mode::Step;
                 return Ok(false);
             }
@@ -773,7 +800,7 @@ impl Fmi3Instance {
     pub(crate) fn enter_continuous_time_mode(&mut self) -> Result<Success, FmiError> {
         const F: &str = "fmi3EnterContinuousTimeMode";
         let call = self.model_exchange(F)?.enter_continuous_time_mode;
-        let success = self.only(F, call)?;
+        let success = self.only(F, const { crate::blackbox::function(F) }, call)?;
         self.mode = Mode::ContinuousTime;
         Ok(success)
     }
@@ -1232,7 +1259,10 @@ impl Fmi3Instance {
 
 impl Drop for Fmi3Instance {
     fn drop(&mut self) {
-        let _call = crate::blackbox::enter(|| ("fmi3FreeInstance", self.name.as_str()));
+        let _call = crate::blackbox::enter(
+            self.black_box,
+            const { crate::blackbox::function("fmi3FreeInstance") },
+        );
         // SAFETY: the instance is live and never used again; the logger environment is
         // dropped only after this returns.
         unsafe { (self.functions.free_instance)(self.instance.as_ptr()) };
