@@ -80,6 +80,29 @@ impl Faulty {
     }
 }
 
+impl Faulty {
+    /// The paper's scenario with the faulty FMU as a third instance, connected to nothing.
+    fn paper_with_it(&self, folder: &Path) -> PathBuf {
+        let paper = harness::scenarios::BUILT_IN
+            .iter()
+            .find(|(name, _)| *name == "paper")
+            .unwrap()
+            .1;
+        let path = folder.join("paper-faulty.toml");
+        let instance = format!(
+            "\n[[instance]]\nname = \"faulty\"\nfmu = \"{}\"\n",
+            self.dir().display()
+        );
+        let at = paper.find("[[instance]]").unwrap();
+        std::fs::write(
+            &path,
+            format!("{}{instance}\n{}", &paper[..at], &paper[at..]),
+        )
+        .unwrap();
+        path
+    }
+}
+
 /// `harness ARGS` with the fault in the environment and TMPDIR pointing at `tmp`.
 fn harness_with(fault: &[(&str, &str)], tmp: &Path, args: &[&str]) -> Output {
     let mut command = Command::new(env!("CARGO_BIN_EXE_harness"));
@@ -358,23 +381,8 @@ fn a_campaign_records_a_crashed_flight_as_an_error_and_completes_the_others() {
     let faulty = Faulty::build();
     let work = TempDir::new().unwrap();
     let tmp = TempDir::new().unwrap();
-    let paper = harness::scenarios::BUILT_IN
-        .iter()
-        .find(|(name, _)| *name == "paper")
-        .unwrap()
-        .1;
     // The paper's descent with a third instance that crashes in the second flight only.
-    let scenario = work.path().join("paper-faulty.toml");
-    let instance = format!(
-        "\n[[instance]]\nname = \"faulty\"\nfmu = \"{}\"\n",
-        faulty.dir().display()
-    );
-    let at = paper.find("[[instance]]").unwrap();
-    std::fs::write(
-        &scenario,
-        format!("{}{instance}\n{}", &paper[..at], &paper[at..]),
-    )
-    .unwrap();
+    let scenario = faulty.paper_with_it(work.path());
     let out = work.path().join("campaign");
     let counter = work.path().join("counter");
     let output = harness_with(
@@ -446,5 +454,42 @@ fn the_unpacked_size_bound_is_settable_on_the_command_line() {
     assert_eq!(output.status.code(), Some(1), "{said}");
     assert!(said.contains("LanderGnc.fmu"), "{said}");
     assert!(said.contains("10000"), "{said}");
+    assert_nothing_left_in(tmp.path());
+}
+
+#[test]
+fn harness_paper_ends_with_an_error_naming_the_call_when_a_law_s_flight_crashes() {
+    let faulty = Faulty::build();
+    let work = TempDir::new().unwrap();
+    let tmp = TempDir::new().unwrap();
+    let scenario = faulty.paper_with_it(work.path());
+    let counter = work.path().join("counter");
+    // The second law's flight crashes; the first has flown.
+    let output = harness_with(
+        &[
+            ("FAULTY_FMU_FAULT", "abort"),
+            ("FAULTY_FMU_CALL", "fmi2DoStep"),
+            ("FAULTY_FMU_TIME", "10"),
+            ("FAULTY_FMU_RUNS", "2"),
+            ("FAULTY_FMU_COUNTER", counter.to_str().unwrap()),
+        ],
+        tmp.path(),
+        &[
+            "--fmu-dir",
+            common::fmu_dir().to_str().unwrap(),
+            "paper",
+            scenario.to_str().unwrap(),
+            "--no-plots",
+            "--out-dir",
+            work.path().join("paper").to_str().unwrap(),
+        ],
+    );
+    let said = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{said}");
+    assert!(
+        said.contains("instance 'faulty' did not return from fmi2DoStep at t = 10"),
+        "{said}"
+    );
+    assert!(said.contains("SIGABRT"), "{said}");
     assert_nothing_left_in(tmp.path());
 }
