@@ -493,3 +493,79 @@ fn harness_paper_ends_with_an_error_naming_the_call_when_a_law_s_flight_crashes(
     assert!(said.contains("SIGABRT"), "{said}");
     assert_nothing_left_in(tmp.path());
 }
+
+#[test]
+fn a_scenario_sets_its_own_limits_and_a_bad_one_is_refused_by_name() {
+    let faulty = Faulty::build();
+    let work = TempDir::new().unwrap();
+    let tmp = TempDir::new().unwrap();
+    let with_limits = |name: &str, limits: &str| {
+        let path = faulty.scenario(work.path(), name);
+        let text = std::fs::read_to_string(&path).unwrap();
+        // Top-level keys come before the first table.
+        let at = text.find("[[instance]]").unwrap();
+        std::fs::write(
+            &path,
+            format!("{}[limits]\n{limits}\n\n{}", &text[..at], &text[at..]),
+        )
+        .unwrap();
+        path
+    };
+    let hang = [
+        ("FAULTY_FMU_FAULT", "hang"),
+        ("FAULTY_FMU_CALL", "fmi2DoStep"),
+        ("FAULTY_FMU_TIME", "0.2"),
+    ];
+    let scenario = with_limits("limited", "call_timeout_s = 1.0");
+    let out = work.path().join("limited.csv");
+    let started = std::time::Instant::now();
+    let output = harness_with(
+        &hang,
+        tmp.path(),
+        &[
+            "run",
+            scenario.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+    );
+    let said = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{said}");
+    assert!(said.contains("call timeout"), "{said}");
+    assert!(started.elapsed().as_secs_f64() < 30.0, "{said}");
+    // The command line overrides the scenario.
+    let output = harness_with(
+        &hang,
+        tmp.path(),
+        &[
+            "--call-timeout",
+            "0.5",
+            "run",
+            scenario.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        text(&output).contains("for 0.5 s (the call timeout)"),
+        "{}",
+        text(&output)
+    );
+    let bad = with_limits("bad", "call_timeout_s = -1.0\nmemory_mb = 0.0");
+    let output = harness_with(
+        &[],
+        tmp.path(),
+        &["run", bad.to_str().unwrap(), "-o", out.to_str().unwrap()],
+    );
+    let said = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{said}");
+    assert!(
+        said.contains("call_timeout_s = -1 must be a positive number"),
+        "{said}"
+    );
+    assert!(
+        said.contains("memory_mb = 0 must be a positive number"),
+        "{said}"
+    );
+    assert_nothing_left_in(tmp.path());
+}
