@@ -15,8 +15,8 @@
 
 use anyhow::{ensure, Context, Result};
 use clap::{Parser, Subcommand};
-use fmi_import::Fmu;
 use cosim::supervise::Execution;
+use fmi_import::Fmu;
 use speed_bench::closed_loop::{monte_carlo, paper_flights, paper_flights_with};
 use speed_bench::duel::{self, Duel};
 use speed_bench::python::{self, PythonEnv};
@@ -256,7 +256,12 @@ fn measure_all(fmu_dir: &Path, counts: Counts, workers: usize, with_python: bool
     progress("3s: the paper scenario in a supervised worker");
     let supervised = supervised_execution()?;
     let in_process = paper_flights_with(fmu_dir, 1, counts.stop_time_s, Execution::InProcess)?;
-    let worker = paper_flights_with(fmu_dir, counts.flights, counts.stop_time_s, supervised.clone())?;
+    let worker = paper_flights_with(
+        fmu_dir,
+        counts.flights,
+        counts.stop_time_s,
+        supervised.clone(),
+    )?;
     ensure!(
         worker.trajectory.times == in_process.trajectory.times
             && worker
