@@ -319,10 +319,8 @@ fn measure_all(fmu_dir: &Path, counts: Counts, workers: usize, with_python: bool
     ));
     rows.push(Row::timed(
         "4s",
-        format!(
-            "The same campaign, each worker's FMUs in a supervised process (the harness's \
-             default)",
-        ),
+        "The same campaign, each worker's FMUs in a supervised process (the harness's \
+         default)",
         Summary::of(&[supervised_campaign.elapsed.as_secs_f64()]).context("campaign time")?,
         1.0,
         "s",
