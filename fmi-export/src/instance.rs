@@ -152,9 +152,11 @@ impl<M: Model, A: Abi> Instance<M, A> {
         self.forward(function, &log)
     }
 
-    /// Passes a model's messages to the logger; a warning makes the call's status Warning.
-    /// A warning of a kind already logged in this run is counted, not logged again (see
-    /// [`crate::warnings`]); the summary comes at termination.
+    /// Passes a model's messages to the logger; a warning logged makes the call's status
+    /// Warning. A warning of a kind already logged in this run is counted, not logged again
+    /// (see [`crate::warnings`]), and leaves the status OK: both standards tie a Warning to a
+    /// message the master is to show, and this one was shown; the summary comes at
+    /// termination.
     #[inline(always)]
     pub fn forward(&mut self, function: A::Function, log: &Log) -> Success {
         if log.entries.is_empty() {
@@ -168,6 +170,7 @@ impl<M: Model, A: Abi> Instance<M, A> {
     #[inline(never)]
     fn forward_entries(&mut self, function: A::Function, log: &Log) -> Success {
         let time_s = self.core.time;
+        let mut warned = false;
         for (level, message) in &log.entries {
             let (status, category) = match level {
                 Level::Info => (Status::Ok, Category::StatusOk),
@@ -175,6 +178,7 @@ impl<M: Model, A: Abi> Instance<M, A> {
             };
             if *level == Level::Warning {
                 if self.warnings.first_of_its_kind(message, time_s) {
+                    warned = true;
                     self.logger.log(
                         status,
                         category,
@@ -190,7 +194,7 @@ impl<M: Model, A: Abi> Instance<M, A> {
                     .log(status, category, &format!("{}: {message}", function.name()));
             }
         }
-        if log.has_warning() {
+        if warned {
             Success::Warning
         } else {
             Success::Ok

@@ -150,12 +150,11 @@ fn a_repeated_warning_is_logged_once_and_summarised_at_termination<D: Osc>() {
     fmu.set_real(vr::K, 1e4);
     fmu.set_integer(vr::SUBSTEPS, 1);
     fmu.initialize();
+    // The first step warns; the repeats, counted and not logged, leave the status OK (a
+    // Warning is a message for the master to show, and there is none).
     for k in 0..100 {
-        assert_eq!(
-            fmu.step(k as f64 * H, H).status,
-            Status::Warning,
-            "step {k}"
-        );
+        let expected = if k == 0 { Status::Warning } else { Status::Ok };
+        assert_eq!(fmu.step(k as f64 * H, H).status, expected, "step {k}");
     }
     let coarse = |m: &String| m.contains("is coarse");
     let messages = fmu.messages();
