@@ -700,7 +700,9 @@ fn degenerate_gnc_inputs_give_a_warning_and_safe_commands() {
         .take_log()
         .iter()
         .any(|r| r.status == fmi2Warning && r.message().starts_with("fmi2GetReal")));
-    assert_eq!(inst.step(0.0, 0.01), fmi2Warning);
+    // The step meets the same fault: counted, not logged again, so OK.
+    assert_eq!(inst.step(0.0, 0.01), fmi2OK);
+    assert!(inst.take_log().iter().all(|r| r.status != fmi2Warning));
 }
 
 #[test]
