@@ -112,7 +112,8 @@ fn degenerate_first_inputs_warn_and_command_safe_outputs() {
     // THEN the get warns, and the outputs are minimum thrust and zero torque
     assert_eq!(status, fmi2Warning);
     assert_eq!(out, vec![720.0, 0.0, 0.0, 0.0]);
-    assert_eq!(gnc.do_step(0.0, 0.01), fmi2Warning);
+    // (the step meets the same fault: counted, not logged again, so OK)
+    assert_eq!(gnc.do_step(0.0, 0.01), fmi2OK);
     assert!(gnc.messages().iter().any(|m| m.contains("q_body_to_nue")));
     // AND with real inputs the next step is fine
     gnc.set_navigation([0.0, 800.0, 0.0], [0.0; 3], UPRIGHT, [0.0; 3], 900.0);

@@ -53,7 +53,10 @@ fn quick_run_prints_every_row_with_a_positive_median() {
     // THEN every measurement has its row, in order, with a positive, finite median
     let rows = rows(&stdout);
     let ids: Vec<&str> = rows.iter().map(|(id, _)| id.as_str()).collect();
-    assert_eq!(ids, ["1", "1b", "2", "3", "4", "5", "6", "6b", "6c"]);
+    assert_eq!(
+        ids,
+        ["1", "1b", "2", "3", "3s", "4", "4s", "5", "6", "6b", "6c"]
+    );
     for (id, cells) in &rows {
         let median = leading_number(&cells[1]);
         assert!(median.is_finite() && median > 0.0, "row {id}: {cells:?}");
