@@ -21,6 +21,7 @@ mod declaration;
 mod enumeration;
 mod interface;
 mod model;
+pub mod parameter;
 pub mod prepared;
 pub mod registry;
 pub mod restored;

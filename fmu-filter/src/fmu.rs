@@ -12,7 +12,7 @@
 //! propagation of the coming step waits for the next point's inputs.
 use crate::model::covariance::{N, NAVIGATION};
 use crate::model::parameters::bounds::*;
-use crate::model::{Eskf, FilterParameters, Heading, Imu, ParameterError};
+use crate::model::{Eskf, FilterParameters, Heading, Imu};
 use fmi_model::{
     decl, readable, Causality, Declaration, Dependencies, Experiment, Log, Model, ModelError, Role,
     StepEnd, Variability,
@@ -119,15 +119,6 @@ impl LanderFilter {
     }
     pub fn estimate(&self) -> Option<&Eskf> {
         self.running.as_ref()
-    }
-}
-
-fn parameter_error(e: ParameterError) -> ModelError {
-    ModelError::InvalidParameter {
-        field: e.field,
-        index: e.index,
-        value: e.value,
-        reason: e.reason,
     }
 }
 
@@ -243,7 +234,7 @@ impl Model for LanderFilter {
             None => {
                 if let Err(e) = self.params.validate() {
                     self.out = Outputs::default();
-                    let e = parameter_error(e);
+                    let e = ModelError::from(e);
                     let described = fmi2_export::fmi_export::describe_model_error::<Self>(&e);
                     log.warning(format!("no estimate: {described}"));
                     return;
@@ -280,7 +271,7 @@ impl Model for LanderFilter {
     }
 
     fn exit_initialization(&mut self, _start_time: f64, _log: &mut Log) -> Result<(), ModelError> {
-        self.params.validate().map_err(parameter_error)?;
+        self.params.validate().map_err(ModelError::from)?;
         self.running = Some(Eskf::start(&self.params));
         self.pending = None;
         Ok(())
@@ -290,7 +281,7 @@ impl Model for LanderFilter {
         match (initialized, &self.running) {
             (false, None) => Ok(()),
             (true, Some(eskf)) => {
-                self.params.validate().map_err(parameter_error)?;
+                self.params.validate().map_err(ModelError::from)?;
                 if !eskf.is_sound() {
                     return Err(ModelError::Other(
                         "restored state: an estimate or covariance value is not finite".into(),

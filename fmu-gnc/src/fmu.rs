@@ -421,15 +421,7 @@ impl Model for LanderGnc {
     }
 
     fn exit_initialization(&mut self, start_time: f64, log: &mut Log) -> Result<(), ModelError> {
-        let design = self
-            .params
-            .design()
-            .map_err(|e| ModelError::InvalidParameter {
-                field: e.field,
-                index: e.index,
-                value: e.value,
-                reason: e.reason.to_string(),
-            })?;
+        let design = self.params.design().map_err(ModelError::from)?;
         self.design = Some(design);
         self.initialized = true;
         self.start_time_s = start_time;
@@ -458,14 +450,7 @@ impl Model for LanderGnc {
             // Parameters are checked at exit_initialization; the memory is the initial one.
             return Ok(());
         }
-        self.params
-            .validate()
-            .map_err(|e| ModelError::InvalidParameter {
-                field: e.field,
-                index: e.index,
-                value: e.value,
-                reason: e.reason.to_string(),
-            })?;
+        self.params.validate().map_err(ModelError::from)?;
         restored_guidance_inconsistency(
             &self.params,
             &self.guidance,

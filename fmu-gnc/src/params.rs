@@ -204,24 +204,10 @@ pub const MAX_PHI_ACCEL_RADPS2: f64 = 1e4;
 pub const MAX_THRUST_N: f64 = 1e9;
 pub const MAX_TORQUE_NM: f64 = 1e9;
 
-/// A parameter value the GNC refuses, naming the field of [`GncParameters`] (and the element
-/// of a vector, 0-based); an interface layer names it as its users know it.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("parameter {field}{} = {value}: {reason}", index.map(|i| format!("[{i}]")).unwrap_or_default())]
-pub struct InvalidParameter {
-    pub field: &'static str,
-    pub index: Option<usize>,
-    pub value: String,
-    pub reason: &'static str,
-}
+pub use fmi_model::parameter::ParameterError;
 
-fn check(
-    ok: bool,
-    field: &'static str,
-    value: f64,
-    reason: &'static str,
-) -> Result<(), InvalidParameter> {
-    check_at(ok, field, None, value, reason)
+fn check(ok: bool, field: &'static str, value: f64, reason: &str) -> Result<(), ParameterError> {
+    ParameterError::require(ok, field, None, value, reason)
 }
 
 fn check_at(
@@ -229,42 +215,23 @@ fn check_at(
     field: &'static str,
     index: Option<usize>,
     value: f64,
-    reason: &'static str,
-) -> Result<(), InvalidParameter> {
-    if ok {
-        Ok(())
-    } else {
-        Err(InvalidParameter {
-            field,
-            index,
-            value: readable(value),
-            reason,
-        })
-    }
-}
-
-/// A value as a user reads it: plain digits, but an exponent where plain digits would run to
-/// hundreds (1e300) or bury the value in zeros (1e-12).
-fn readable(value: f64) -> String {
-    if value != 0.0 && value.is_finite() && !(1e-6..1e16).contains(&value.abs()) {
-        format!("{value:e}")
-    } else {
-        format!("{value}")
-    }
+    reason: &str,
+) -> Result<(), ParameterError> {
+    ParameterError::require(ok, field, index, value, reason)
 }
 
 impl GncParameters {
     /// Refuse values the laws cannot work with; the error names the field.
     /// Non-finite values are refused everywhere (the layer already refuses them on set).
-    pub fn validate(&self) -> Result<(), InvalidParameter> {
+    pub fn validate(&self) -> Result<(), ParameterError> {
         let p = self;
         if ControlLaw::from_index(p.control_law).is_none() {
-            return Err(InvalidParameter {
-                field: "control_law",
-                index: None,
-                value: p.control_law.to_string(),
-                reason: "must be 1 (coupled), 2 (decoupled) or 3 (reduced)",
-            });
+            return Err(ParameterError::new(
+                "control_law",
+                None,
+                p.control_law,
+                "must be 1 (coupled), 2 (decoupled) or 3 (reduced)",
+            ));
         }
         check(
             p.phi_cmd_rad.abs() <= MAX_PHI_CMD_RAD,
@@ -480,15 +447,15 @@ impl GncParameters {
     }
 
     /// The thruster chain's parameters (checked in either RCS model).
-    fn validate_rcs(&self) -> Result<(), InvalidParameter> {
+    fn validate_rcs(&self) -> Result<(), ParameterError> {
         let p = self;
         if RcsModel::from_index(p.rcs_model).is_none() {
-            return Err(InvalidParameter {
-                field: "rcs_model",
-                index: None,
-                value: p.rcs_model.to_string(),
-                reason: "must be 1 (torque) or 2 (thrusters)",
-            });
+            return Err(ParameterError::new(
+                "rcs_model",
+                None,
+                p.rcs_model,
+                "must be 1 (torque) or 2 (thrusters)",
+            ));
         }
         for (k, value) in p.rcs_position_body_m.into_iter().enumerate() {
             check_at(
@@ -551,7 +518,7 @@ impl GncParameters {
     }
 
     /// Validate, then derive what the samples use.
-    pub fn design(&self) -> Result<GncDesign, InvalidParameter> {
+    pub fn design(&self) -> Result<GncDesign, ParameterError> {
         self.validate()?;
         Ok(self.design_unchecked())
     }
@@ -607,7 +574,7 @@ impl GncParameters {
     }
 
     /// The attitude settings these parameters describe; the law is validated.
-    pub fn attitude_settings(&self) -> Result<AttitudeSettings, InvalidParameter> {
+    pub fn attitude_settings(&self) -> Result<AttitudeSettings, ParameterError> {
         self.validate()?;
         Ok(self.design_unchecked().attitude)
     }

@@ -81,14 +81,7 @@ impl Model for LanderNav {
     }
 
     fn exit_initialization(&mut self, _start_time: f64, _log: &mut Log) -> Result<(), ModelError> {
-        self.params
-            .validate()
-            .map_err(|e| ModelError::InvalidParameter {
-                field: e.field,
-                index: e.index,
-                value: e.value,
-                reason: e.reason,
-            })?;
+        self.params.validate().map_err(ModelError::from)?;
         let errors = NavErrors::start(&self.params);
         if let Some(group) = errors.overflowing(&self.params) {
             return Err(overflow(&self.params, group, "at the start"));
@@ -101,14 +94,7 @@ impl Model for LanderNav {
         match (initialized, &self.running) {
             (false, None) => Ok(()),
             (true, Some(errors)) => {
-                self.params
-                    .validate()
-                    .map_err(|e| ModelError::InvalidParameter {
-                        field: e.field,
-                        index: e.index,
-                        value: e.value,
-                        reason: e.reason,
-                    })?;
+                self.params.validate().map_err(ModelError::from)?;
                 match errors.inconsistency(&self.params) {
                     Some(why) => Err(ModelError::Other(format!("restored state: {why}"))),
                     None => Ok(()),

@@ -164,15 +164,6 @@ impl LanderPlant {
     }
 }
 
-fn parameter_error(e: crate::physics::parameters::ParameterError) -> ModelError {
-    ModelError::InvalidParameter {
-        field: e.field,
-        index: e.index,
-        value: e.value,
-        reason: e.reason,
-    }
-}
-
 fn restored(field: &str, value: impl std::fmt::Display, reason: &str) -> ModelError {
     ModelError::Other(format!("restored state {field} = {value}: {reason}"))
 }
@@ -368,7 +359,7 @@ impl Model for LanderPlant {
     }
 
     fn exit_initialization(&mut self, _start_time: f64, log: &mut Log) -> Result<(), ModelError> {
-        let (plant, run, warning) = Plant::new(&self.parameters).map_err(parameter_error)?;
+        let (plant, run, warning) = Plant::new(&self.parameters).map_err(ModelError::from)?;
         if let Some(w) = warning {
             log.warning(w);
         }
@@ -389,7 +380,7 @@ impl Model for LanderPlant {
                 )),
             };
         };
-        let (fresh, _, _) = Plant::new(&self.parameters).map_err(parameter_error)?;
+        let (fresh, _, _) = Plant::new(&self.parameters).map_err(ModelError::from)?;
         if *plant != fresh {
             return Err(restored(
                 "plant constants",

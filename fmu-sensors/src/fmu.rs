@@ -3,7 +3,7 @@
 //! names LanderFilter reads. Timing: see [`crate::model::sensors`].
 use crate::model::parameters::bounds::*;
 use crate::model::truth::InputError;
-use crate::model::{Measurements, ParameterError, SensorParameters, Sensors, Truth};
+use crate::model::{Measurements, SensorParameters, Sensors, Truth};
 use fmi_model::{
     decl, readable, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
 };
@@ -22,15 +22,6 @@ pub struct LanderSensors {
 impl LanderSensors {
     pub fn parameters(&self) -> &SensorParameters {
         &self.params
-    }
-}
-
-fn parameter_error(e: ParameterError) -> ModelError {
-    ModelError::InvalidParameter {
-        field: e.field,
-        index: e.index,
-        value: e.value,
-        reason: e.reason,
     }
 }
 
@@ -94,10 +85,7 @@ impl Model for LanderSensors {
             None => {
                 if let Err(e) = self.params.validate() {
                     self.meas = Measurements::default();
-                    log.warning(format!(
-                        "no measurement: {}",
-                        described(&parameter_error(e))
-                    ));
+                    log.warning(format!("no measurement: {}", described(&e.into())));
                     return;
                 }
                 started = Sensors::start(&self.params);
@@ -119,7 +107,7 @@ impl Model for LanderSensors {
     }
 
     fn exit_initialization(&mut self, _start_time: f64, _log: &mut Log) -> Result<(), ModelError> {
-        self.params.validate().map_err(parameter_error)?;
+        self.params.validate().map_err(ModelError::from)?;
         self.running = Some(Sensors::start(&self.params));
         Ok(())
     }
@@ -128,7 +116,7 @@ impl Model for LanderSensors {
         match (initialized, &self.running) {
             (false, None) => Ok(()),
             (true, Some(sensors)) => {
-                self.params.validate().map_err(parameter_error)?;
+                self.params.validate().map_err(ModelError::from)?;
                 match sensors.inconsistency() {
                     Some(why) => Err(ModelError::Other(format!("restored state: {why}"))),
                     None => Ok(()),

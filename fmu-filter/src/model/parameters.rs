@@ -106,13 +106,7 @@ impl Default for FilterParameters {
     }
 }
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct ParameterError {
-    pub field: &'static str,
-    pub index: Option<usize>,
-    pub value: String,
-    pub reason: String,
-}
+pub use fmi_model::parameter::ParameterError;
 
 /// The declared bounds, shared with the declarations in `fmu.rs`.
 pub mod bounds {
@@ -142,12 +136,7 @@ pub mod bounds {
 }
 
 fn refuse(field: &'static str, index: Option<usize>, value: f64, reason: String) -> ParameterError {
-    ParameterError {
-        field,
-        index,
-        value: value.to_string(),
-        reason,
-    }
+    ParameterError::new(field, index, value, reason)
 }
 
 /// `value` in `[lo, hi]`, or `(lo, hi]` when `lo_open`.
@@ -176,22 +165,6 @@ fn each(field: &'static str, v: &[f64], bound: f64) -> Result<(), ParameterError
     v.iter()
         .enumerate()
         .try_for_each(|(i, x)| within(field, Some(i), *x, -bound, false, bound))
-}
-
-fn direction(field: &'static str, v: &[f64; 3]) -> Result<(), ParameterError> {
-    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-        return Err(refuse(field, Some(i), v[i], "not finite".into()));
-    }
-    let norm = libm::sqrt(v.iter().map(|x| x * x).sum::<f64>());
-    if norm <= 1e-9 {
-        return Err(refuse(
-            field,
-            None,
-            norm,
-            "a direction must have a length (its norm is below 1e-9)".into(),
-        ));
-    }
-    Ok(())
 }
 
 impl FilterParameters {
@@ -292,7 +265,7 @@ impl FilterParameters {
                 MISALIGNMENT_SIGMA_MAX_RAD,
             )?;
         }
-        direction("altimeter_beam_body", &self.altimeter_beam_body)?;
+        ParameterError::direction("altimeter_beam_body", &self.altimeter_beam_body)?;
         // A measurement noise of zero would make the innovation variance singular when the
         // covariance has collapsed: the noises are strictly positive.
         within(
@@ -311,9 +284,9 @@ impl FilterParameters {
             false,
             RANGE_NOISE_PROPORTIONAL_MAX,
         )?;
-        direction("velocimeter_beam_1_body", &self.velocimeter_beam_1_body)?;
-        direction("velocimeter_beam_2_body", &self.velocimeter_beam_2_body)?;
-        direction("velocimeter_beam_3_body", &self.velocimeter_beam_3_body)?;
+        ParameterError::direction("velocimeter_beam_1_body", &self.velocimeter_beam_1_body)?;
+        ParameterError::direction("velocimeter_beam_2_body", &self.velocimeter_beam_2_body)?;
+        ParameterError::direction("velocimeter_beam_3_body", &self.velocimeter_beam_3_body)?;
         within(
             "velocimeter_noise_sigma_mps",
             None,
@@ -331,7 +304,7 @@ impl FilterParameters {
             TERRAIN_HEIGHT_MAX_M,
         )?;
         let n = &self.terrain_slope_normal_nue;
-        direction("terrain_slope_normal_nue", n)?;
+        ParameterError::direction("terrain_slope_normal_nue", n)?;
         if n[1] <= 0.0 {
             return Err(refuse(
                 "terrain_slope_normal_nue",

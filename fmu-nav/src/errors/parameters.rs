@@ -79,15 +79,7 @@ pub struct NavParameters {
     pub mass: GroupErrors,
 }
 
-/// A refused parameter: `field` is its path in [`NavParameters`] (as declared), `index` the
-/// element of a vector.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ParameterError {
-    pub field: &'static str,
-    pub index: Option<usize>,
-    pub value: String,
-    pub reason: String,
-}
+pub use fmi_model::parameter::ParameterError;
 
 /// The field paths of one group, so that an error names the declared field.
 struct Fields {
@@ -201,12 +193,7 @@ fn refuse(
     value: impl ToString,
     reason: &str,
 ) -> ParameterError {
-    ParameterError {
-        field,
-        index,
-        value: value.to_string(),
-        reason: reason.to_string(),
-    }
+    ParameterError::new(field, index, value, reason)
 }
 
 #[cfg(test)]

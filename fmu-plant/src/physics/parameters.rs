@@ -157,16 +157,7 @@ impl Default for PlantParameters {
     }
 }
 
-/// A parameter value the plant refuses: the field (a path in [`PlantParameters`], e.g.
-/// `engines.count`) and, for a vector, the 0-based element.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("parameter {field}{} = {value}: {reason}", index.map(|i| format!("[{i}]")).unwrap_or_default())]
-pub struct ParameterError {
-    pub field: &'static str,
-    pub index: Option<usize>,
-    pub value: String,
-    pub reason: String,
-}
+pub use fmi_model::parameter::ParameterError;
 
 /// One field (or one element of a vector field, `index`).
 type Field = (&'static str, Option<usize>);
@@ -176,20 +167,16 @@ fn refuse(
     value: impl ToString,
     reason: impl Into<String>,
 ) -> ParameterError {
-    ParameterError {
-        field,
-        index,
-        value: value.to_string(),
-        reason: reason.into(),
-    }
+    ParameterError::new(field, index, value, reason)
 }
 
-fn require(ok: bool, field: Field, value: f64, reason: &str) -> Result<(), ParameterError> {
-    if ok {
-        Ok(())
-    } else {
-        Err(refuse(field, value, reason))
-    }
+fn require(
+    ok: bool,
+    (field, index): Field,
+    value: f64,
+    reason: &str,
+) -> Result<(), ParameterError> {
+    ParameterError::require(ok, field, index, value, reason)
 }
 
 fn positive(field: Field, value: f64) -> Result<(), ParameterError> {

@@ -119,14 +119,7 @@ impl Default for SensorParameters {
     }
 }
 
-/// A refused parameter: the field (a path as declared in `fmu.rs`), the element, why.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ParameterError {
-    pub field: &'static str,
-    pub index: Option<usize>,
-    pub value: String,
-    pub reason: String,
-}
+pub use fmi_model::parameter::ParameterError;
 
 /// The declared bounds (inclusive unless said), shared with the declarations.
 pub mod bounds {
@@ -151,12 +144,7 @@ pub mod bounds {
 }
 
 fn refuse(field: &'static str, index: Option<usize>, value: f64, reason: &str) -> ParameterError {
-    ParameterError {
-        field,
-        index,
-        value: value.to_string(),
-        reason: reason.into(),
-    }
+    ParameterError::new(field, index, value, reason)
 }
 
 /// `value` in `[lo, hi]` (or `(lo, hi]` when `lo_exclusive`).
@@ -184,22 +172,6 @@ fn within(
             &format!("must be in {open}{lo}, {hi}]"),
         ))
     }
-}
-
-fn direction(field: &'static str, v: &[f64; 3]) -> Result<(), ParameterError> {
-    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-        return Err(refuse(field, Some(i), v[i], "not finite"));
-    }
-    if super::quaternion::unit(v).is_none() {
-        let norm = libm::sqrt(v.iter().map(|x| x * x).sum::<f64>());
-        return Err(refuse(
-            field,
-            None,
-            norm,
-            "a direction must have a length (its norm is below 1e-9)",
-        ));
-    }
-    Ok(())
 }
 
 impl SensorParameters {
@@ -352,10 +324,10 @@ impl SensorParameters {
                 "the velocimeter has no range-proportional noise",
             ));
         }
-        direction("altimeter_beam_body", &self.altimeter_beam_body)?;
-        direction("velocimeter_beam_1_body", &self.velocimeter_beam_1_body)?;
-        direction("velocimeter_beam_2_body", &self.velocimeter_beam_2_body)?;
-        direction("velocimeter_beam_3_body", &self.velocimeter_beam_3_body)?;
+        ParameterError::direction("altimeter_beam_body", &self.altimeter_beam_body)?;
+        ParameterError::direction("velocimeter_beam_1_body", &self.velocimeter_beam_1_body)?;
+        ParameterError::direction("velocimeter_beam_2_body", &self.velocimeter_beam_2_body)?;
+        ParameterError::direction("velocimeter_beam_3_body", &self.velocimeter_beam_3_body)?;
         within(
             "terrain_height_m",
             None,
@@ -365,7 +337,7 @@ impl SensorParameters {
             TERRAIN_HEIGHT_MAX_M,
         )?;
         let n = &self.terrain_slope_normal_nue;
-        direction("terrain_slope_normal_nue", n)?;
+        ParameterError::direction("terrain_slope_normal_nue", n)?;
         if n[1] <= 0.0 {
             return Err(refuse(
                 "terrain_slope_normal_nue",
