@@ -41,12 +41,16 @@ impl Faulty {
         std::fs::create_dir_all(&binaries).unwrap();
         std::fs::write(dir.join("modelDescription.xml"), DESCRIPTION).unwrap();
         let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/faulty_fmu.c");
+        // The FMI 2.0 types every C fixture shares live beside the importer's stub FMU.
+        let types = common::workspace_root().join("fmi-import/tests/fixtures");
         let compiler = std::env::var("CC").unwrap_or_else(|_| "cc".to_owned());
         let output = Command::new(&compiler)
             .args([
                 "-shared", "-fPIC", "-std=c99", "-Wall", "-Wextra", "-Werror", "-o",
             ])
             .arg(binaries.join("Faulty.so"))
+            .arg("-I")
+            .arg(&types)
             .arg(&source)
             .output()
             .unwrap_or_else(|e| panic!("cannot run the C compiler `{compiler}`: {e}"));

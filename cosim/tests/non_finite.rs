@@ -1,77 +1,13 @@
 //! A value that is not a number, returned with fmi2OK by an output the master reads, ends the
 //! run with an error naming the instance, the variable and the time, unless the scenario
 //! allows it for that variable (then a warning, once per variable and run). The FMU is
-//! tests/fixtures/non_finite_fmu.c, compiled here.
+//! tests/fixtures/non_finite_fmu.c, compiled by tests/non_finite_fmu.rs.
 use cosim::master::{MasterError, Simulation, Trajectory};
 use cosim::system::{Connection, InstanceDesc, Ordering, ParamValue, SystemDescription};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 use std::sync::{Mutex, OnceLock};
-use tempfile::TempDir;
 
-/// Variables in the order of the fixture's value references, which the ModelStructure's
-/// indices (1-based) count.
-const DESCRIPTION: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
-<fmiModelDescription fmiVersion="2.0" modelName="NonFinite" guid="{non-finite}">
-  <CoSimulation modelIdentifier="NonFinite"/>
-  <ModelVariables>
-    <ScalarVariable name="y" valueReference="0" causality="output"><Real/></ScalarVariable>
-    <ScalarVariable name="z" valueReference="1" causality="output"><Real/></ScalarVariable>
-    <ScalarVariable name="v[1]" valueReference="2" causality="output"><Real/></ScalarVariable>
-    <ScalarVariable name="v[2]" valueReference="3" causality="output"><Real/></ScalarVariable>
-    <ScalarVariable name="k" valueReference="4" causality="calculatedParameter"
-        variability="fixed" initial="calculated"><Real/></ScalarVariable>
-    <ScalarVariable name="u" valueReference="5" causality="input"><Real start="0"/></ScalarVariable>
-    <ScalarVariable name="t_bad" valueReference="6" causality="parameter" variability="fixed"
-        initial="exact"><Real start="0.45"/></ScalarVariable>
-    <ScalarVariable name="echo" valueReference="7" causality="output"><Real/></ScalarVariable>
-  </ModelVariables>
-  <ModelStructure>
-    <Outputs>
-      <Unknown index="1" dependencies=""/>
-      <Unknown index="2" dependencies=""/>
-      <Unknown index="3" dependencies=""/>
-      <Unknown index="4" dependencies=""/>
-      <Unknown index="8" dependencies="6"/>
-    </Outputs>
-  </ModelStructure>
-</fmiModelDescription>
-"#;
-
-/// The fixture compiled with `defines` into an unpacked FMU directory.
-struct NonFiniteFmu {
-    dir: PathBuf,
-    _temp: TempDir,
-}
-
-impl NonFiniteFmu {
-    fn build(defines: &[&str]) -> Self {
-        let temp = TempDir::new().expect("temporary directory");
-        let dir = temp.path().join("NonFinite");
-        let binaries = dir.join("binaries").join("linux64");
-        std::fs::create_dir_all(&binaries).expect("create binaries/linux64");
-        std::fs::write(dir.join("modelDescription.xml"), DESCRIPTION).expect("write description");
-        let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/non_finite_fmu.c");
-        let compiler = std::env::var("CC").unwrap_or_else(|_| "cc".to_owned());
-        let output = Command::new(&compiler)
-            .args([
-                "-shared", "-fPIC", "-std=c99", "-Wall", "-Wextra", "-Werror", "-o",
-            ])
-            .arg(binaries.join("NonFinite.so"))
-            .arg(&source)
-            .args(defines)
-            .arg("-lm")
-            .output()
-            .unwrap_or_else(|error| panic!("cannot run the C compiler `{compiler}`: {error}"));
-        assert!(
-            output.status.success(),
-            "compiling {} failed:\n{}",
-            source.display(),
-            String::from_utf8_lossy(&output.stderr)
-        );
-        Self { dir, _temp: temp }
-    }
-}
+use crate::non_finite_fmu::NonFiniteFmu;
 
 fn instance(name: &str, fmu: &NonFiniteFmu) -> InstanceDesc {
     InstanceDesc {
@@ -314,73 +250,4 @@ fn a_misspelt_allowed_variable_is_refused_with_a_suggestion() {
     assert!(error.contains("allow_non_finite"), "{error}");
     assert!(error.contains("did you mean 'y'?"), "{error}");
     assert!(error.contains("did you mean 'src'?"), "{error}");
-}
-
-/// `harness run` on a TOML scenario of the fixture, with `extra` top-level keys.
-fn harness_run(
-    fmu: &NonFiniteFmu,
-    extra: &str,
-    options: &[&str],
-) -> (std::process::Output, TempDir) {
-    let work = TempDir::new().unwrap();
-    let scenario = work.path().join("nan.toml");
-    std::fs::write(
-        &scenario,
-        format!(
-            "name = \"nan\"\nstop_time = 1.0\nstep_size = 0.1\n{extra}\n\
-             [[instance]]\nname = \"src\"\nfmu = \"{}\"\n",
-            fmu.dir.display()
-        ),
-    )
-    .unwrap();
-    let output = Command::new(env!("CARGO_BIN_EXE_harness"))
-        .arg("--fmu-dir")
-        .arg(work.path())
-        .args(options)
-        .arg("run")
-        .arg(&scenario)
-        .arg("-o")
-        .arg(work.path().join("out.csv"))
-        .env("RUST_BACKTRACE", "0")
-        .env_remove("RUST_LOG")
-        .output()
-        .unwrap();
-    (output, work)
-}
-
-#[test]
-fn the_cli_fails_a_nan_run_with_exit_code_1_and_names_it() {
-    let fmu = NonFiniteFmu::build(&[]);
-    let (output, _work) = harness_run(&fmu, "", &[]);
-    let said = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    assert_eq!(output.status.code(), Some(1), "{said}");
-    assert!(
-        said.contains("'src'") && said.contains("'y'") && said.contains("t = 0.5"),
-        "{said}"
-    );
-}
-
-#[test]
-fn the_cli_completes_an_allowed_nan_run_and_warns_once_per_variable() {
-    let fmu = NonFiniteFmu::build(&[]);
-    let allow = "allow_non_finite = [\"src.y\", \"src.v\"]";
-    // A supervised worker (the default) completes it too.
-    let (output, _work) = harness_run(&fmu, allow, &[]);
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    // In process, the warnings reach the harness's logger.
-    let (output, work) = harness_run(&fmu, allow, &["--in-process"]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}");
-    assert_eq!(stderr.matches("'src.y'").count(), 1, "{stderr}");
-    assert_eq!(stderr.matches("'src.v[2]'").count(), 1, "{stderr}");
-    let csv = std::fs::read_to_string(work.path().join("out.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 12, "{csv}");
 }

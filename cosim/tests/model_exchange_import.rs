@@ -1,9 +1,7 @@
 //! Model Exchange import: LanderPlant driven through its Model Exchange interface by the
 //! master's adaptive solver (`ode-solver`), against the analytic free fall and against the
 //! same plant as Co-Simulation in the closed loop of the paper scenario.
-mod common;
-
-use common::{unzip_to, zip_dir};
+use crate::common::{fmu_dir, lander_loop, unzip_to, zip_dir};
 use cosim::master::{RunEnd, Simulation, Trajectory};
 use cosim::system::{toml_format, SystemDescription};
 use std::path::Path;
@@ -111,7 +109,7 @@ fn assert_free_fall(trajectory: &Trajectory, end: &RunEnd, what: &str) {
 #[test]
 fn the_fmi3_plants_free_fall_as_model_exchange_follows_the_parabola() {
     // GIVEN the FMI 3.0 plant alone, as Model Exchange
-    let fmu = common::fmu_dir().join("fmi3/LanderPlant.fmu");
+    let fmu = fmu_dir().join("fmi3/LanderPlant.fmu");
     let (trajectory, end) = fly(free_fall(&fmu, "interface = \"model-exchange\""));
     // THEN the same figures as FMI 2.0
     assert_free_fall(&trajectory, &end, "FMI 3.0");
@@ -119,7 +117,7 @@ fn the_fmi3_plants_free_fall_as_model_exchange_follows_the_parabola() {
 
 #[test]
 fn the_plants_free_fall_as_model_exchange_follows_the_parabola_with_either_solver() {
-    let fmu = common::fmu_dir().join("LanderPlant.fmu");
+    let fmu = fmu_dir().join("LanderPlant.fmu");
     // BDF is of order 5 at most with error estimates per step, so it needs a tighter
     // tolerance than Tsitouras 5(4) for the same figures (at the defaults, 1e-8 and 1e-10,
     // its touchdown is 1.3e-6 s early).
@@ -145,7 +143,7 @@ fn the_plants_free_fall_as_model_exchange_follows_the_parabola_with_either_solve
 /// The FMU with its `<CoSimulation>` element removed from the description.
 fn model_exchange_only(fmu: &str, dir: &Path) -> std::path::PathBuf {
     let unpacked = dir.join("unpacked");
-    unzip_to(&common::fmu_dir().join(fmu), &unpacked);
+    unzip_to(&fmu_dir().join(fmu), &unpacked);
     let description_path = unpacked.join("modelDescription.xml");
     let description = std::fs::read_to_string(&description_path).unwrap();
     let start = description.find("<CoSimulation").unwrap();
@@ -195,7 +193,7 @@ fn a_model_exchange_only_fmu_runs_with_the_solver_and_is_refused_as_co_simulatio
 
 #[test]
 fn solver_settings_without_model_exchange_and_unknown_solvers_are_refused_together() {
-    let fmu = common::fmu_dir().join("LanderPlant.fmu");
+    let fmu = fmu_dir().join("LanderPlant.fmu");
     let text = format!(
         "name = \"x\"\nstop_time = 1.0\n[[instance]]\nname = \"plant\"\nfmu = \"{}\"\nsolver = \
          \"bdf\"\n[[instance]]\nname = \"other\"\nfmu = \"{}\"\ninterface = \
@@ -227,7 +225,7 @@ fn the_fmi3_paper_loop_with_the_plant_as_model_exchange_matches_the_co_simulatio
 
 fn paper_loop_model_exchange_against_co_simulation(fmi3: bool) {
     // GIVEN the paper scenario, once as shipped and once with the plant as Model Exchange
-    let mut shipped = harness::scenarios::load("paper").unwrap();
+    let mut shipped = lander_loop();
     if fmi3 {
         for instance in &mut shipped.instances {
             instance.fmu = Path::new("fmi3").join(&instance.fmu);
@@ -236,7 +234,7 @@ fn paper_loop_model_exchange_against_co_simulation(fmi3: bool) {
     let mut model_exchange = shipped.clone();
     model_exchange.instance_mut("plant").unwrap().model_exchange =
         Some(cosim::master::SolverSettings::default());
-    let fmu_dir = common::fmu_dir();
+    let fmu_dir = fmu_dir();
     let run = |system: SystemDescription| {
         let (trajectory, end, _) = fly_in(system, &fmu_dir);
         (trajectory, end)
@@ -276,40 +274,5 @@ fn paper_loop_model_exchange_against_co_simulation(fmi3: bool) {
     assert!(
         worst_position > 0.0,
         "the Model Exchange plant must not be the CS plant"
-    );
-}
-
-#[test]
-fn the_shipped_model_exchange_landing_touches_down_where_the_co_simulation_landing_does() {
-    // GIVEN the shipped landing, and its twin with the plant as Model Exchange
-    let fmu_dir = common::fmu_dir();
-    let run = |name: &str| {
-        let (trajectory, end, _) = fly_in(harness::scenarios::load(name).unwrap(), &fmu_dir);
-        (trajectory, end)
-    };
-    let (cs, cs_end) = run("landing");
-    let (me, me_end) = run("landing-model-exchange");
-    let touchdown = |end: &RunEnd| match end {
-        RunEnd::Terminated { instance, time } if instance == "plant" => *time,
-        other => panic!("not the plant's touchdown: {other:?}"),
-    };
-    // THEN both touch down at the same instant, to the solver's event tolerance (measured:
-    // 4e-11 s apart, altitudes within 5.5e-11 m on the way down)
-    let (t_cs, t_me) = (touchdown(&cs_end), touchdown(&me_end));
-    assert!((t_cs - t_me).abs() < 1e-8, "{t_cs} vs {t_me}");
-    assert_eq!(cs.times.len(), me.times.len());
-    let (a, b) = (
-        cs.column("plant.r_nue[2]").unwrap(),
-        me.column("plant.r_nue[2]").unwrap(),
-    );
-    let worst = a
-        .iter()
-        .zip(&b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max);
-    assert!(worst < 1e-8, "altitudes differ by {worst} m");
-    assert!(
-        worst > 0.0,
-        "the Model Exchange plant must not be the Co-Simulation plant"
     );
 }

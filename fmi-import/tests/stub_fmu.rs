@@ -1,7 +1,6 @@
 //! The loader against a C FMU written independently of our export layer (tests/fixtures/stub_fmu.c).
-mod common;
-
-use common::{StubFmu, STUB_DESCRIPTION};
+use crate::archives::STUB_DESCRIPTION;
+use crate::common::StubFmu;
 use fmi_import::{
     CallError, Failure, Fmu, LoadError, Status, StepStatus, Success, VariableError, VariableKind,
 };

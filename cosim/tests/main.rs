@@ -1,0 +1,9 @@
+//! The master's tests, one binary (each test binary is linked on its own): systems refused
+//! before the run with every problem named, algebraic loops, Model Exchange instances on the
+//! solver, and outputs that stop being numbers.
+mod common;
+mod general_master;
+mod master_errors;
+mod model_exchange_import;
+mod non_finite;
+mod non_finite_fmu;

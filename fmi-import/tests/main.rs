@@ -1,0 +1,9 @@
+//! The importer's tests, one binary (each test binary is linked on its own): the loader
+//! against an independent C stub FMU and against the export layer's Oscillator, `.fmu`
+//! archives, and FMI 3.0 FMUs beside their FMI 2.0 twins.
+mod archives;
+mod common;
+mod fmi3_import;
+mod fmu_archive;
+mod oscillator;
+mod stub_fmu;

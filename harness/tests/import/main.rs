@@ -1,0 +1,21 @@
+//! The harness's side of importing FMUs and systems, one binary (each test binary is linked on
+//! its own): the command line's verdicts, exit codes and messages with FMI 3.0 FMUs, with an
+//! FMU that is not a lander, with archives the importer refuses and with outputs that stop
+//! being numbers; and the scenarios it loads from SSP packages, SSDs and its shipped files.
+//! The importer's and the master's own behaviour is tested in fmi-import/tests and
+//! cosim/tests.
+#[path = "../common/mod.rs"]
+mod common;
+
+// The importer's and the master's fixtures, included rather than copied.
+#[path = "../../../fmi-import/tests/archives.rs"]
+mod archives;
+#[path = "../../../cosim/tests/non_finite_fmu.rs"]
+mod non_finite_fmu;
+
+mod fmi3_import;
+mod fmu_archive;
+mod model_exchange;
+mod non_finite;
+mod oscillator;
+mod ssp;
