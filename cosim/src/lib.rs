@@ -5,6 +5,8 @@
 //! what the FMUs model.
 #![deny(unsafe_code)]
 
+mod abnormal;
+mod limits;
 pub mod master;
 pub mod memory;
 pub mod requirements;

@@ -4,7 +4,7 @@
 use super::archive::Unpacked;
 use super::error::LoadError;
 use super::fmi3::{self, View};
-use super::fmu::FmiVersion;
+use super::version::FmiVersion;
 use model_description::fmi3::Fmi3ModelDescription;
 use model_description::ModelDescription;
 use std::path::{Path, PathBuf};

@@ -95,7 +95,7 @@ impl FmiError {
     pub(crate) fn from_importer(
         function: &'static str,
         instance: &str,
-        version: crate::FmiVersion,
+        version: crate::version::FmiVersion,
         message: String,
     ) -> Self {
         FmiError {

@@ -5,14 +5,14 @@
 
 use super::error::{CallError, FmiError};
 use super::ffi::{self, fmi2Component, fmi2FMUstate, fmi2Status};
-use super::fmu::FmuShared;
-use super::instance::FmuState;
+use super::loaded::FmuShared;
 use super::logger::{LogEnv, LogMark};
+use super::state::FmuState;
 use super::status::{Failure, Status, StepStatus, Success};
 use crate::binary::Fmi2Functions;
-use crate::fmu::FmiVersion;
 use crate::model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
 use crate::tables::fmi2::{Fmi2CoSimulation, Fmi2ModelExchange};
+use crate::version::FmiVersion;
 use std::ffi::{c_void, CStr, CString};
 use std::ptr::{self, NonNull};
 use std::sync::Arc;

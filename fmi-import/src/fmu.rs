@@ -8,47 +8,21 @@ use super::instance::{Instance, InstanceOptions};
 use super::variables::{VariableIndex, VariableInfo};
 use crate::binary::Fmi2Functions;
 use crate::binary::Fmi3Functions;
-use crate::fmi3::{self, Fmi3Api};
+use crate::fmi3;
+use crate::loaded::{Api, Fmi3Api, FmuShared};
+use crate::version::FmiVersion;
 use libloading::Library;
 use model_description::ModelDescription;
 use model_description::VariableKind;
 use std::ffi::{c_char, CStr};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
-
-/// The FMI version of a loaded FMU.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FmiVersion {
-    Fmi2,
-    Fmi3,
-}
-
-/// The functions of one version, resolved from the binary.
-// One per loaded FMU, behind its `Arc`: the FMI 2.0 table inline costs nothing worth a box.
-#[allow(clippy::large_enum_variant)]
-pub(crate) enum Api {
-    Fmi2(Fmi2Functions),
-    Fmi3(Arc<Fmi3Api>),
-}
 
 /// An FMI 2.0 or 3.0 Co-Simulation FMU, loaded and checked. Cheap to clone; every [`Instance`] keeps
 /// the library loaded (and the unpacked files present) for as long as it lives.
 #[derive(Clone)]
 pub struct Fmu {
     shared: Arc<FmuShared>,
-}
-
-pub(crate) struct FmuShared {
-    pub(crate) api: Api,
-    /// FMI 2.0: the file's description; FMI 3.0: its scalar view (`fmi3/view.rs`).
-    pub(crate) description: ModelDescription,
-    pub(crate) variables: VariableIndex,
-    pub(crate) resource_uri: String,
-    binary_path: PathBuf,
-    // Declared last and in this order: fields drop in declaration order, so the library is
-    // unloaded before the temporary directory holding its file is deleted.
-    _library: Library,
-    unpacked: Unpacked,
 }
 
 impl std::fmt::Debug for Fmu {
@@ -246,13 +220,6 @@ impl Fmu {
         options: InstanceOptions,
     ) -> Result<Instance, CallError> {
         Instance::new(Arc::clone(&self.shared), name, options)
-    }
-}
-
-impl FmuShared {
-    /// The unpacked `resources` folder, if the FMU has one.
-    pub(crate) fn resources_dir(&self) -> Option<PathBuf> {
-        Some(self.unpacked.root().join("resources")).filter(|dir| dir.is_dir())
     }
 }
 

@@ -8,13 +8,15 @@
 use super::error::{CallError, FmiError};
 use super::fmi2::Fmi2Instance;
 use super::fmi3::Fmi3Instance;
-use super::fmu::{Api, FmiVersion, FmuShared};
+use super::loaded::{Api, FmuShared};
 use super::logger::{LogEnv, LogMessage};
+use super::state::FmuState;
 use super::status::{StepStatus, Success};
 use super::variables::VariableInfo;
+use super::version::FmiVersion;
 use crate::model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
 use model_description::VariableKind;
-use std::sync::{Arc, Weak};
+use std::sync::Arc;
 
 /// How a master means to drive an instance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -71,14 +73,6 @@ const _: () = {
     assert_send::<FmuState>();
     assert_send_sync::<super::Fmu>();
 };
-
-/// A saved FMU state, usable only with the instance that made it. Free it with
-/// [`Instance::free_fmu_state`]; states still held when the instance drops are freed then.
-#[derive(Debug)]
-pub struct FmuState {
-    pub(crate) slot: usize,
-    pub(crate) owner: Weak<LogEnv>,
-}
 
 /// Calls the same method on whichever backend the instance has.
 macro_rules! both {

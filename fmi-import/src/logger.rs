@@ -20,7 +20,7 @@ pub struct LogMessage {
     pub instance_name: String,
     /// The FMI 3.0 status of the same number when `version` is FMI 3.0.
     pub status: Status,
-    pub version: super::FmiVersion,
+    pub version: crate::version::FmiVersion,
     pub category: String,
     pub message: String,
 }
@@ -29,7 +29,7 @@ impl fmt::Display for LogMessage {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let status = self.status.to_string();
         let status = match (self.version, status.strip_prefix("fmi2")) {
-            (super::FmiVersion::Fmi3, Some(rest)) => format!("fmi3{rest}"),
+            (crate::version::FmiVersion::Fmi3, Some(rest)) => format!("fmi3{rest}"),
             _ => status,
         };
         write!(f, "[{status}] {}: {}", self.category, self.message)
@@ -168,7 +168,7 @@ extern "C" fn forward_log_message(
         let message = LogMessage {
             instance_name: text(instance_name),
             status: Status::from_raw(status),
-            version: super::FmiVersion::Fmi2,
+            version: crate::version::FmiVersion::Fmi2,
             category: text(category),
             message: text(message),
         };
@@ -206,7 +206,7 @@ pub(crate) unsafe extern "C" fn log_message_fmi3(
         let message = LogMessage {
             instance_name: env.instance_name.clone(),
             status: Status::from_raw(ffi::fmi2Status(status.0)),
-            version: super::FmiVersion::Fmi3,
+            version: crate::version::FmiVersion::Fmi3,
             category: text(category),
             message: text(message),
         };

@@ -105,7 +105,7 @@ pub enum MasterError {
     Worker { message: String },
     /// The supervised worker process ended without finishing: a crash, an exit, a timeout.
     #[error(transparent)]
-    Abnormal(Box<crate::supervise::Abnormal>),
+    Abnormal(Box<crate::abnormal::Abnormal>),
 }
 
 /// How a run ended.

@@ -8,29 +8,9 @@
 //! master has just set are constant over the step and may have jumped at its start, which a
 //! multistep method must not integrate across. (A fresh solver per step also keeps the
 //! simulation `Send`: diffsol's solver is not, and campaigns move simulations to workers.)
+pub use crate::system::SolverSettings;
 use fmi_import::{FmiError, Instance, MeVector, StepStatus, Success};
-use ode_solver::{Advance, Integrator, Method, OdeSystem, SolverError, Tolerances};
-
-/// How the master integrates one Model Exchange instance (a scenario's `solver`,
-/// `relative_tolerance`, `absolute_tolerance`, `event_tolerance`).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct SolverSettings {
-    pub method: Method,
-    pub tolerances: Tolerances,
-}
-
-impl Default for SolverSettings {
-    fn default() -> Self {
-        Self {
-            method: Method::Tsit45,
-            tolerances: Tolerances {
-                relative: 1e-8,
-                absolute: 1e-10,
-                event_time: 1e-10,
-            },
-        }
-    }
-}
+use ode_solver::{Advance, Integrator, Method, OdeSystem, SolverError};
 
 /// Event iterations (`fmi2NewDiscreteStates` or `fmi3UpdateDiscreteStates` calls at one instant) before the master gives up:
 /// an FMU that keeps asking for new discrete states would otherwise hang the run.

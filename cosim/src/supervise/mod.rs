@@ -7,13 +7,13 @@
 //!
 //! A program becomes able to supervise by calling [`serve_if_worker`] first in `main` (a
 //! worker never returns from it) and [`set_default`] with the program's own path.
-mod ending;
 mod parent;
 mod protocol;
 mod shared;
 mod worker;
 
-pub use ending::{signal_name, Abnormal, How};
+pub use crate::abnormal::{signal_name, Abnormal, How};
+pub use crate::limits::Limits;
 pub use parent::Supervised;
 
 use crate::master::{Conventions, EventCounts, MasterError, Recorder, RunEnd, Simulation};
@@ -22,80 +22,11 @@ use fmi_import::FmiVersion;
 use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use std::time::Duration;
 
 /// The argument that makes a program a worker: `<program> --cosim-worker <dir>`.
 pub const WORKER_FLAG: &str = "--cosim-worker";
 const BLACK_BOX: &str = "black-box";
 const RING: &str = "rows";
-
-/// Per-call and per-run limits of a supervised run; each `None` takes its default.
-#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Limits {
-    /// Longest one FMU call may take (also the longest stretch with no call started). 60 s.
-    pub call_timeout_s: Option<f64>,
-    /// Longest one run may take, from its start to its last row. 3600 s.
-    pub run_timeout_s: Option<f64>,
-    /// The worker's address space in MB (a larger allocation fails). By default 80 % of
-    /// the memory available when the worker starts.
-    pub memory_mb: Option<f64>,
-}
-
-impl Limits {
-    pub const DEFAULT_CALL_TIMEOUT_S: f64 = 60.0;
-    pub const DEFAULT_RUN_TIMEOUT_S: f64 = 3600.0;
-
-    /// These limits where set, else `fallback`'s.
-    pub fn or(self, fallback: Limits) -> Limits {
-        Limits {
-            call_timeout_s: self.call_timeout_s.or(fallback.call_timeout_s),
-            run_timeout_s: self.run_timeout_s.or(fallback.run_timeout_s),
-            memory_mb: self.memory_mb.or(fallback.memory_mb),
-        }
-    }
-
-    /// Every problem with the values, naming each (`where_` says where they came from).
-    pub fn problems(&self, where_: &str) -> Vec<String> {
-        [
-            ("call_timeout_s", self.call_timeout_s),
-            ("run_timeout_s", self.run_timeout_s),
-            ("memory_mb", self.memory_mb),
-        ]
-        .into_iter()
-        .filter_map(|(name, value)| {
-            let value = value?;
-            (!(value.is_finite() && value > 0.0))
-                .then(|| format!("{where_}: {name} = {value} must be a positive number"))
-        })
-        .collect()
-    }
-
-    pub fn call_timeout_s(&self) -> f64 {
-        self.call_timeout_s.unwrap_or(Self::DEFAULT_CALL_TIMEOUT_S)
-    }
-
-    pub fn run_timeout_s(&self) -> f64 {
-        self.run_timeout_s.unwrap_or(Self::DEFAULT_RUN_TIMEOUT_S)
-    }
-
-    fn call_timeout(&self) -> Duration {
-        Duration::from_secs_f64(self.call_timeout_s())
-    }
-
-    fn run_timeout(&self) -> Duration {
-        Duration::from_secs_f64(self.run_timeout_s())
-    }
-
-    /// The worker's address-space limit in bytes; 0 for none (memory unknown).
-    pub fn memory_bytes(&self) -> u64 {
-        match self.memory_mb {
-            Some(mb) => (mb * 1e6) as u64,
-            None => crate::memory::available_bytes()
-                .map_or(0, |bytes| (crate::memory::USABLE_FRACTION * bytes) as u64),
-        }
-    }
-}
 
 /// Where runs go: into a worker of `program` under `limits`, or this process.
 #[derive(Debug, Clone, PartialEq)]

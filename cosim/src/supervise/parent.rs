@@ -4,10 +4,11 @@
 //! with the call it was in, after every row it recorded has been handed on.
 #![allow(unsafe_code)]
 
-use super::ending::{Abnormal, How};
 use super::protocol::{receive, send, FromWorker, ToWorker};
 use super::shared::{BlackBox, Ring};
-use super::{Limits, BLACK_BOX, RING, WORKER_FLAG};
+use super::{BLACK_BOX, RING, WORKER_FLAG};
+use crate::abnormal::{Abnormal, How};
+use crate::limits::Limits;
 use crate::master::{Conventions, EventCounts, MasterError, Recorder, RunEnd};
 use crate::system::{ParamValue, SystemDescription};
 use fmi_import::FmiVersion;

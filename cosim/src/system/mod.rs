@@ -2,8 +2,11 @@
 //! by variable name, the communication step and the exchange ordering. Read from a TOML
 //! scenario file ([`toml_format`]) or an SSP 1.0 `SystemStructure.ssd` ([`ssp`]), and written
 //! back to SSD so the shipped `.ssd` is generated from the TOML and never drifts.
+mod solver;
 pub mod ssp;
 pub mod toml_format;
+
+pub use solver::SolverSettings;
 
 use std::path::PathBuf;
 
@@ -43,7 +46,7 @@ pub struct InstanceDesc {
     /// as TOML): connections must use them, and they must match the FMU's variables.
     pub connectors: Option<Vec<DeclaredConnector>>,
     /// Run the FMU through Model Exchange with this solver; `None`: Co-Simulation.
-    pub model_exchange: Option<crate::master::SolverSettings>,
+    pub model_exchange: Option<SolverSettings>,
 }
 
 /// A connector as an SSD declares it.
@@ -78,7 +81,7 @@ pub struct SystemDescription {
     pub record: Option<Vec<String>>,
     /// Timeouts and memory of a supervised run, as the scenario sets them.
     #[serde(default)]
-    pub limits: crate::supervise::Limits,
+    pub limits: crate::limits::Limits,
     /// Variables (`instance.variable`, vectors allowed) whose NaN or infinite values, returned
     /// with status OK, are only warned about (once per variable and run) instead of ending
     /// the run: for FMUs that mean "no value" by NaN. Defaulted so that a description from

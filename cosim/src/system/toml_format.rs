@@ -22,7 +22,7 @@ struct File {
     record: Option<Vec<String>>,
     /// `[limits]`: call_timeout_s, run_timeout_s, memory_mb of a supervised run.
     #[serde(default)]
-    limits: crate::supervise::Limits,
+    limits: crate::limits::Limits,
     #[serde(default)]
     allow_non_finite: Vec<String>,
 }
@@ -49,9 +49,7 @@ struct Instance {
 }
 
 /// The instance's interface and solver, every problem named at once.
-fn solver_settings(
-    instance: &Instance,
-) -> Result<Option<crate::master::SolverSettings>, Vec<String>> {
+fn solver_settings(instance: &Instance) -> Result<Option<super::SolverSettings>, Vec<String>> {
     let name = &instance.name;
     let mut problems = Vec::new();
     let model_exchange = match instance.interface.as_deref() {
@@ -86,7 +84,7 @@ fn solver_settings(
             Err(problems)
         };
     }
-    let mut settings = crate::master::SolverSettings::default();
+    let mut settings = super::SolverSettings::default();
     match instance.solver.as_deref() {
         None | Some("tsit45") => settings.method = ode_solver::Method::Tsit45,
         Some("bdf") => settings.method = ode_solver::Method::Bdf,

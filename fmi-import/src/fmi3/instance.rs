@@ -20,10 +20,10 @@
 //!   is kept.
 #![allow(unsafe_code)]
 
-use super::{Element, Fmi3Api, Starts};
+use super::view::{Element, Starts};
 use crate::binary::Fmi3Functions;
 use crate::error::{CallError, FmiError};
-use crate::fmu::FmuShared;
+use crate::loaded::{Fmi3Api, FmuShared};
 use crate::logger::{log_message_fmi3, LogEnv, LogMark};
 use crate::model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
 use crate::status::{Status, StepStatus, Success};
@@ -528,7 +528,7 @@ impl Fmi3Instance {
         Err(FmiError::from_importer(
             "fmi3DoStep",
             &self.name,
-            crate::fmu::FmiVersion::Fmi3,
+            crate::version::FmiVersion::Fmi3,
             format!(
                 "the step from t = {current_time} returned early 10,000 times without \
                  reaching t = {end}"
@@ -717,7 +717,7 @@ impl Fmi3Instance {
         FmiError::from_importer(
             function,
             &self.name,
-            crate::fmu::FmiVersion::Fmi3,
+            crate::version::FmiVersion::Fmi3,
             format!(
                 "{function} is a {wanted} function and this instance was made for {:?}",
                 self.interface

@@ -67,3 +67,24 @@ function_table! {
         get_nominals_of_continuous_states: fmi2GetRealVectorTYPE = fmi2GetNominalsOfContinuousStates,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::assert_listed_once;
+    use super::*;
+
+    #[test]
+    fn the_fmi2_tables_list_the_standards_25_common_9_co_simulation_and_10_model_exchange_functions(
+    ) {
+        assert_listed_once(Fmi2Common::SYMBOLS, "fmi2", 25);
+        assert_listed_once(Fmi2CoSimulation::SYMBOLS, "fmi2", 9);
+        assert_listed_once(Fmi2ModelExchange::SYMBOLS, "fmi2", 10);
+        let all = [
+            Fmi2Common::SYMBOLS,
+            Fmi2CoSimulation::SYMBOLS,
+            Fmi2ModelExchange::SYMBOLS,
+        ]
+        .concat();
+        assert_listed_once(&all, "fmi2", 44);
+    }
+}

@@ -134,3 +134,22 @@ function_table! {
         get_number_of_continuous_states: GetCount = fmi3GetNumberOfContinuousStates,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::assert_listed_once;
+    use super::*;
+
+    #[test]
+    fn the_fmi3_tables_list_each_function_once_across_the_interfaces() {
+        let all = [
+            Fmi3Common::SYMBOLS,
+            Fmi3CoSimulation::SYMBOLS,
+            Fmi3ModelExchange::SYMBOLS,
+        ]
+        .concat();
+        assert_listed_once(&all, "fmi3", all.len());
+        assert!(Fmi3CoSimulation::SYMBOLS.contains(&"fmi3InstantiateCoSimulation"));
+        assert!(Fmi3ModelExchange::SYMBOLS.contains(&"fmi3InstantiateModelExchange"));
+    }
+}

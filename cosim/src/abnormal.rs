@@ -1,4 +1,5 @@
-//! How a worker ended without finishing, told with the call it was in.
+//! How a worker ended without finishing, told with the call it was in: what a run that failed
+//! this way reports (`MasterError::Abnormal`), below the master and the supervisor alike.
 use fmi_import::blackbox::LastCall;
 
 /// Why the parent had no answer from its worker.
