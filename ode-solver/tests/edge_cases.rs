@@ -1,3 +1,6 @@
+// std's transcendental functions make the exact solution (cos) the solver is measured against here, outside any FMU (the
+// workspace clippy.toml forbids them for the FMUs' sake).
+#![allow(clippy::disallowed_methods)]
 mod common;
 
 use common::run_to;
