@@ -19,58 +19,47 @@ pub const MAGIC: u64 = 0x464d_4942_4258_0002;
 /// The function of "no call": the index after the last name.
 const NO_FUNCTION: u32 = u32::MAX;
 
-/// Every FMI function the importer notes, by the index a record stores.
-pub const FUNCTIONS: &[&str] = &[
-    "fmi2Instantiate",
-    "fmi2FreeInstance",
-    "fmi2SetDebugLogging",
-    "fmi2SetupExperiment",
-    "fmi2EnterInitializationMode",
-    "fmi2ExitInitializationMode",
-    "fmi2Terminate",
-    "fmi2Reset",
-    "fmi2DoStep",
-    "fmi2SetTime",
-    "fmi2SetContinuousStates",
-    "fmi2GetDerivatives",
-    "fmi2EnterEventMode",
-    "fmi2EnterContinuousTimeMode",
-    "fmi2NewDiscreteStates",
-    "fmi2CompletedIntegratorStep",
-    "fmi2SetReal",
-    "fmi2GetReal",
-    "fmi2SetInteger",
-    "fmi2GetInteger",
-    "fmi2SetBoolean",
-    "fmi2GetBoolean",
-    "fmi2SetString",
-    "fmi2GetString",
-    "fmi3InstantiateCoSimulation",
-    "fmi3InstantiateModelExchange",
-    "fmi3FreeInstance",
-    "fmi3SetDebugLogging",
-    "fmi3EnterInitializationMode",
-    "fmi3ExitInitializationMode",
-    "fmi3Terminate",
-    "fmi3Reset",
-    "fmi3DoStep",
-    "fmi3EnterEventMode",
-    "fmi3EnterStepMode",
-    "fmi3UpdateDiscreteStates",
-    "fmi3SetTime",
-    "fmi3SetContinuousStates",
-    "fmi3GetContinuousStateDerivatives",
-    "fmi3EnterContinuousTimeMode",
-    "fmi3CompletedIntegratorStep",
-    "fmi3SetFloat64",
-    "fmi3GetFloat64",
-    "fmi3SetInt32",
-    "fmi3GetInt32",
-    "fmi3SetBoolean",
-    "fmi3GetBoolean",
-    "fmi3SetString",
-    "fmi3GetString",
-];
+/// Every function of both standards, by the index a record stores: the entry-point tables'
+/// listings (`crate::tables`) one after the other, so a function has one listing.
+pub const FUNCTIONS: [&str; FUNCTION_COUNT] = concatenated(LISTINGS);
+
+const LISTINGS: &[&[&str]] = {
+    use crate::tables::fmi2::{Fmi2CoSimulation, Fmi2Common, Fmi2ModelExchange};
+    use crate::tables::fmi3::{Fmi3CoSimulation, Fmi3Common, Fmi3ModelExchange};
+    &[
+        Fmi2Common::SYMBOLS,
+        Fmi2CoSimulation::SYMBOLS,
+        Fmi2ModelExchange::SYMBOLS,
+        Fmi3Common::SYMBOLS,
+        Fmi3CoSimulation::SYMBOLS,
+        Fmi3ModelExchange::SYMBOLS,
+    ]
+};
+
+const FUNCTION_COUNT: usize = {
+    let mut count = 0;
+    let mut i = 0;
+    while i < LISTINGS.len() {
+        count += LISTINGS[i].len();
+        i += 1;
+    }
+    count
+};
+
+const fn concatenated(listings: &[&[&'static str]]) -> [&'static str; FUNCTION_COUNT] {
+    let mut all = [""; FUNCTION_COUNT];
+    let (mut k, mut i) = (0, 0);
+    while i < listings.len() {
+        let mut j = 0;
+        while j < listings[i].len() {
+            all[k] = listings[i][j];
+            k += 1;
+            j += 1;
+        }
+        i += 1;
+    }
+    all
+}
 
 /// The index of `name` in [`FUNCTIONS`]; a name not there fails the build where it is used
 /// in a constant.
