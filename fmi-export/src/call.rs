@@ -13,11 +13,11 @@
 
 use crate::instance::{Instance, Options, Tag};
 use crate::logging::{Category, Logger};
+use crate::registry::{Entered, Refusal, Reporting};
 use crate::state::{Interface, State};
 use crate::status::{CallError, Status, Success};
 use crate::version::{Abi, Function};
 use fmi_abi::args::panic_text;
-use fmi_model::registry::{Entered, Refusal, Reporting};
 use fmi_model::Model;
 use std::ffi::CString;
 use std::os::raw::c_void;
@@ -30,7 +30,7 @@ pub type Held<'a, M, A> = (Entered<'static, Logger<A>>, &'a mut Instance<M, A>);
 
 /// The instance behind `handle` (the registry's, never an address), marked busy until the returned guard drops. `None` (the
 /// call returns Error) when it is no live instance of `M` and `A`, or when another call on
-/// it has not returned (refused with a log line, see [`fmi_model::registry`]).
+/// it has not returned (refused with a log line, see [`crate::registry`]).
 ///
 /// # Safety
 /// `handle` is what the master passed; it is never dereferenced: the registry gives the

@@ -11,11 +11,12 @@
 //! the instance could have reached is accepted. A refusal names the field at fault and
 //! leaves the instance as it was.
 use crate::instance::{Core, Instance};
+use crate::restored::{check_bookkeeping, check_declared_values, Bookkeeping};
+use crate::snapshot;
 use crate::state::{Interface, State, StateMask};
 use crate::status::{CallError, Success};
 use crate::version::Abi;
-use fmi_model::restored::{check_bookkeeping, check_declared_values, Bookkeeping};
-use fmi_model::{snapshot, Model};
+use fmi_model::Model;
 use std::collections::HashMap;
 use std::os::raw::c_void;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -2,11 +2,11 @@
 //! keeps for the master (logger, prepared lists, returned strings, FMU states).
 use crate::fmu_state::FmuStates;
 use crate::logging::{Category, Logger};
+use crate::prepared::{PreparedGet, PreparedSet};
 use crate::state::{Interface, State};
 use crate::status::{CallError, Status, Success};
 use crate::version::{Abi, Function};
 use crate::warnings::WarningTally;
-use fmi_model::prepared::{PreparedGet, PreparedSet};
 use fmi_model::{Level, Log, Model, ModelError};
 use serde::{Deserialize, Serialize};
 use std::any::TypeId;

@@ -7,14 +7,20 @@
 //! A version layer implements [`Abi`] (its status codes, its state table, its logger call,
 //! its variable view, its symbol prefix and state magic) and keeps only what is its own: the
 //! exported symbols, the unpacking of C arguments, its XML writer and its view of the
-//! variables (FMI 2.0 scalars, FMI 3.0 arrays). Everything else lives here: the instance and
-//! its copied core, the call guard (registry lookup, re-entrancy, panic guard, call trace,
-//! state check, one log line per refusal), the step rules with a version-neutral outcome,
-//! FMU-state storage and serialization, the setter rules and their messages, the
-//! description of a model's errors, the Model Exchange accessors and the unit table.
+//! variables (FMI 2.0 scalars, FMI 3.0 arrays). Everything else lives here: the registry of
+//! live instances (`registry`), the instance and its copied core, the call guard (registry
+//! lookup, re-entrancy, panic guard, call trace, state check, one log line per refusal), the
+//! step rules with a version-neutral outcome, FMU-state storage, its serialized form
+//! (`snapshot`) and the checks of a restored one (`restored`), the setter rules and their
+//! messages, the Real value lists a master repeats (`prepared`), the description of a
+//! model's errors, the Model Exchange accessors and the unit table.
 //!
 //! Nothing here names an FMI version: messages speak of "initialization", "the step" and
 //! "the FMU state"; a version's function names come from its own table.
+//!
+//! `unsafe` is denied but for the modules that need it, each allowing it by name: the C
+//! bodies (`raw`), entering a call through a handle (`call`), the master's logger
+//! (`logging`) and the model's bytes behind a prepared list (`prepared`).
 #![deny(unsafe_code)]
 
 pub mod call;
@@ -26,8 +32,12 @@ pub mod instance;
 pub mod lifecycle;
 pub mod logging;
 pub mod model_exchange;
+pub mod prepared;
 pub mod raw;
+pub mod registry;
+pub mod restored;
 pub mod setters;
+pub mod snapshot;
 pub mod state;
 pub mod status;
 pub mod step;

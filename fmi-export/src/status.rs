@@ -1,8 +1,8 @@
 //! A call's result as a Rust `Result`: `Ok(Success)` is OK or Warning, `Err(CallError)` is
 //! Discard, Error (or Fatal) together with the one log line that explains it. A version
 //! layer maps [`Status`] onto its own C enumeration.
+use crate::snapshot::SnapshotError;
 use crate::state::{Interface, State};
-use fmi_model::snapshot::SnapshotError;
 
 /// The five statuses both FMI versions share (FMI 2.0's `fmi2Pending` is never returned),
 /// with the codes both C enumerations give them.

@@ -1,8 +1,8 @@
 //! What a version layer tells the core about itself.
 use crate::logging::{Category, Logger, Sink};
+use crate::registry::Registry;
 use crate::state::{Interface, State};
 use crate::status::{Refusal, Status};
-use fmi_model::registry::Registry;
 use fmi_model::Model;
 use std::ffi::CStr;
 
@@ -55,7 +55,7 @@ pub fn assert_function_table<F: Function + PartialEq>(
 
 /// One FMI version, as the core needs to know it.
 pub trait Abi: Sized + 'static {
-    /// Magic bytes of a serialized FMU state of this version ([`fmi_model::snapshot`]).
+    /// Magic bytes of a serialized FMU state of this version ([`crate::snapshot`]).
     const SNAPSHOT_MAGIC: [u8; 8];
     /// The version's C status type (a C `int`).
     type CStatus: Copy + From<std::os::raw::c_int>;

@@ -1,19 +1,21 @@
-//! The version-neutral core of our FMUs.
+//! The model author's API: what a model crate writes, and nothing that runs in an FMU.
 //!
-//! A model crate implements [`Model`] and declares each variable once, in a table of
-//! [`Declaration`]s (usually written with [`decl!`]). An FMI layer (`fmi2-export`, and the
-//! FMI 3.0 layer built on the same declarations) turns that table into its variables, its
-//! get/set dispatch and its `modelDescription.xml`:
+//! A model crate implements [`Model`] (and [`ContinuousModel`] for Model Exchange) and
+//! declares each variable once, in a table of [`Declaration`]s (usually written with
+//! [`decl!`]). An FMI layer (`fmi2-export`, `fmi3-export`, on the export core `fmi-export`)
+//! turns that table into its variables, its get/set dispatch and its `modelDescription.xml`:
 //!
 //! ```text
-//! declarations (this crate) -> FMI 2.0 layer / FMI 3.0 layer -> model crates
+//! declarations (this crate) -> fmi-export -> FMI 2.0 layer / FMI 3.0 layer -> model crates
 //! ```
 //!
 //! Nothing here knows an FMI version: a vector is one declaration with a [`Shape`] (FMI 2.0
 //! expands it to scalars `r_nue[1]`.., FMI 3.0 writes one array), start values are read
 //! from the model's `Default`, bounds are the ones the layer enforces on every set, and an
-//! enumeration comes from its Rust enum ([`Enumeration`]). No `unsafe` here.
-#![deny(unsafe_code)]
+//! enumeration comes from its Rust enum ([`Enumeration`]). The runtime that serves the C
+//! calls (instance registry, prepared value lists, FMU-state serialization and its checks)
+//! is the export core's. No `unsafe` here, and the compiler holds it so.
+#![forbid(unsafe_code)]
 
 mod check;
 pub mod continuous;
@@ -22,10 +24,6 @@ mod enumeration;
 mod interface;
 mod model;
 pub mod parameter;
-pub mod prepared;
-pub mod registry;
-pub mod restored;
-pub mod snapshot;
 
 pub use check::check_declarations;
 pub use continuous::{ContinuousModel, EventUpdate};

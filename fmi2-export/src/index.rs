@@ -101,7 +101,7 @@ pub struct RealSlot<M> {
     pub set: Option<fn(&mut M, usize, f64)>,
     /// The element of the declaration, passed to `get` and `set`.
     pub element: usize,
-    pub place: fmi_model::prepared::Place<M>,
+    pub place: fmi_export::prepared::Place<M>,
     /// The lowest and highest finite values the declared bounds admit (an exclusive bound
     /// moved one ulp inwards; no bound: the largest finite magnitude); NaN for a NaN bound.
     pub lowest: f64,

@@ -38,5 +38,5 @@ pub use model_exchange_description::{model_description_me, model_description_xml
 pub use variable::{variables, Access, Variable};
 pub use version::Fmi2;
 
-/// Magic bytes of a serialized FMI 2.0 FMU state (see [`fmi_model::snapshot`]).
+/// Magic bytes of a serialized FMI 2.0 FMU state (see [`fmi_export::snapshot`]).
 pub const SNAPSHOT_MAGIC: [u8; 8] = *b"FMI2SNAP";

@@ -19,7 +19,7 @@ pub enum Access<M> {
         set: Option<fn(&mut M, usize, f64)>,
         /// The element of the declaration this scalar is (0 for a scalar declaration).
         element: usize,
-        place: fmi_model::prepared::Place<M>,
+        place: fmi_export::prepared::Place<M>,
     },
     Integer {
         start: Option<i32>,

@@ -5,8 +5,8 @@ use crate::ffi::*;
 use crate::index::VariableIndex;
 use crate::state::Function;
 use crate::variable::Variable;
+use fmi_export::registry::Registry;
 use fmi_export::{Abi, Category, Logger, Sink, State, StateMask, Status};
-use fmi_model::registry::Registry;
 use fmi_model::Model;
 use std::ffi::CStr;
 

@@ -21,11 +21,11 @@ use crate::version::Fmi3;
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
+use fmi_export::prepared::{Getter, Setter};
 use fmi_export::setters::{check_enumeration, check_integer, check_real};
 use fmi_export::step::Advance;
 use fmi_export::Sink;
 use fmi_export::{lifecycle, CallError, Category, Logger, Options, Status, Success};
-use fmi_model::prepared::{Getter, Setter};
 use fmi_model::{Declaration, Kind, Model};
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
@@ -501,7 +501,7 @@ fn refuse_set<M>(d: &Declaration<M>, reason: &'static str) -> CallError {
 }
 
 /// The two kinds of state a Float64's settability depends on, as bits for
-/// [`fmi_model::prepared`].
+/// [`fmi_export::prepared`].
 const INITIALIZING: u16 = 1;
 const RUNNING: u16 = 2;
 

@@ -23,5 +23,5 @@ pub use fmi_export;
 pub use me::no_me;
 pub use version::Fmi3;
 
-/// Magic bytes of a serialized FMI 3.0 FMU state (see [`fmi_model::snapshot`]).
+/// Magic bytes of a serialized FMI 3.0 FMU state (see [`fmi_export::snapshot`]).
 pub const SNAPSHOT_MAGIC: [u8; 8] = *b"FMI3SNAP";

@@ -61,7 +61,7 @@ pub struct Float64Slot<M: 'static> {
     pub len: usize,
     pub get: fn(&M, usize) -> f64,
     pub set: Option<fn(&mut M, usize, f64)>,
-    pub place: fmi_model::prepared::Place<M>,
+    pub place: fmi_export::prepared::Place<M>,
     /// The closed range of finite values the bounds admit ([`Limit::lowest_admitted`]).
     pub lowest: f64,
     pub highest: f64,

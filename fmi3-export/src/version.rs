@@ -4,8 +4,8 @@
 use crate::ffi::*;
 use crate::state::Function;
 use crate::variables::{Float64Slot, Index};
+use fmi_export::registry::Registry;
 use fmi_export::{Abi, Category, Logger, Sink, State, StateMask, Status};
-use fmi_model::registry::Registry;
 use fmi_model::Model;
 use std::ffi::CStr;
 

@@ -854,14 +854,14 @@ mod tests {
         }
         assert!(gnc.pwpf.iter().any(|m| m.filter != 0.0), "{:?}", gnc.pwpf);
         // WHEN its state is serialized and restored into a fresh instance
-        let header = fmi_model::snapshot::Header {
+        let header = fmi_export::snapshot::Header {
             magic: *b"testtest",
             state_version: 2,
             guid: Default::default(),
             interface: fmi_model::Interface::CoSimulation,
         };
-        let bytes = fmi_model::snapshot::encode(&gnc, header).unwrap();
-        let mut restored: LanderGnc = fmi_model::snapshot::decode(&bytes, header).unwrap();
+        let bytes = fmi_export::snapshot::encode(&gnc, header).unwrap();
+        let mut restored: LanderGnc = fmi_export::snapshot::decode(&bytes, header).unwrap();
         // THEN both command the same duties from there on
         for k in 150..400 {
             for m in [&mut gnc, &mut restored] {

@@ -5,7 +5,7 @@
 mod fmi3_common;
 
 use fmi3_common::Plant;
-use fmi_model::snapshot::{reseal, HEADER_LEN};
+use fmi_export::snapshot::{reseal, HEADER_LEN};
 use fmi_testkit::fmi3_ffi::*;
 
 /// The status of a step (its out-arguments are not what these tests look at).

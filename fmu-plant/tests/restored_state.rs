@@ -5,7 +5,7 @@
 mod common;
 
 use common::Plant;
-use fmi_model::snapshot::HEADER_LEN;
+use fmi_export::snapshot::HEADER_LEN;
 use fmi_testkit::fmi2::*;
 use proptest::prelude::*;
 use std::ops::Deref;
@@ -262,7 +262,7 @@ fn a_restored_enumeration_value_that_is_no_item_is_refused_by_name() {
 #[test]
 fn a_step_that_grows_the_body_rate_past_a_representable_gyroscopic_torque_is_refused() {
     use fmi2_export::variable::Access;
-    use fmi_model::snapshot::reseal;
+    use fmi_export::snapshot::reseal;
     const INPUT: [u8; 76] = [
         0xe3, 0x2a, 0x3f, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,
         0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd, 0xcd,

@@ -12,7 +12,7 @@
 #![allow(dead_code)]
 
 use fmi2_export::variable::{Access, Variable};
-use fmi_model::snapshot::{reseal, HEADER_LEN};
+use fmi_export::snapshot::{reseal, HEADER_LEN};
 use fmi_model::Model;
 use fmi_testkit::fmi2::*;
 use fmi_testkit::{Fmi2Functions, Instance};

@@ -12,7 +12,7 @@
 #![allow(dead_code)]
 
 use fmi3_export::variables::{Type, TIME_VR};
-use fmi_model::snapshot::{reseal, HEADER_LEN};
+use fmi_export::snapshot::{reseal, HEADER_LEN};
 use fmi_model::{Kind, Model};
 use fmi_testkit::fmi3_ffi::*;
 use fmi_testkit::{CoSimulationOptions, Fmi3Functions, Fmi3Instance};

@@ -5,7 +5,7 @@
 mod common;
 
 use common::{vr, Interface, Osc, Status, Version};
-use fmi_model::registry::CAPACITY;
+use fmi_export::registry::CAPACITY;
 
 fn one_instance_beyond_the_capacity_is_refused_with_a_reason<D: Osc>() {
     let instantiate = || {

@@ -237,7 +237,7 @@ fn foreign_and_freed_state_pointers_are_refused() {
 
 /// The payload position of the only byte that differs between two genuine states.
 fn differing_byte(a: &[u8], b: &[u8]) -> usize {
-    use fmi_model::snapshot::HEADER_LEN;
+    use fmi_export::snapshot::HEADER_LEN;
     assert_eq!(a.len(), b.len());
     let at: Vec<usize> = (HEADER_LEN..a.len()).filter(|&i| a[i] != b[i]).collect();
     assert_eq!(at.len(), 1, "{at:?}");
@@ -246,7 +246,7 @@ fn differing_byte(a: &[u8], b: &[u8]) -> usize {
 
 #[test]
 fn a_restored_integer_outside_its_declared_bounds_is_refused_by_name() {
-    use fmi_model::snapshot::{reseal, HEADER_LEN};
+    use fmi_export::snapshot::{reseal, HEADER_LEN};
     // GIVEN genuine states before initialization with substeps = 8 (the default) and 9
     let fmu = Fmu::new(false);
     let serialized = |fmu: &Fmu| {

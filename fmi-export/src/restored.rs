@@ -4,7 +4,7 @@
 //! parameter and input holding a value the layer's set functions would have accepted
 //! ([`check_declared_values`]), then [`Model::validate_restored`]. Each refusal is one line
 //! `FMU state refused: <field> = <value>: <reason>`.
-use crate::{range_text, readable, Causality, Kind, Model};
+use fmi_model::{range_text, readable, Causality, Kind, Model};
 use std::fmt::Display;
 
 /// A refusal naming the field at fault.

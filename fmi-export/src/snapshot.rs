@@ -20,7 +20,7 @@
 //! reverse) and leave it in a state of the other interface's. The reserved byte must be 0:
 //! a buffer with anything else there was not written in this format. Format 1 (bytes 10 and
 //! 11 both reserved, no interface) is refused by its version.
-use crate::Interface;
+use fmi_model::Interface;
 use serde::{de::DeserializeOwned, Serialize};
 use uuid::Uuid;
 
