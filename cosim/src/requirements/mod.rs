@@ -426,7 +426,7 @@ mod kept_tests {
             let mut kept = Kept::new(&requirements, &names);
             for k in 0..rows {
                 let t = start + k as f64 * 0.1;
-                let row = [7.0, (t * 1.3).sin(), (t * 0.7).cos() * 1.5];
+                let row = [7.0, libm::sin(t * 1.3), libm::cos(t * 0.7) * 1.5];
                 whole.record(t, &row);
                 kept.record(t, &row);
             }
