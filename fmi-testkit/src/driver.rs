@@ -173,6 +173,12 @@ pub trait Driver: Sized {
     fn set_string(&self, vr: u32, value: &str) -> Status;
     fn get_string(&self, vr: u32) -> (Status, Option<String>);
 
+    /// The `n` elements of one Real declaration (FMI 2.0: the scalars numbered upwards from
+    /// `vr`; FMI 3.0: one Float64 array).
+    fn get_real_elements(&self, vr: u32, n: usize) -> (Status, Vec<f64>);
+    /// Sets every element of one Real declaration (see [`get_real_elements`](Self::get_real_elements)).
+    fn set_real_elements(&self, vr: u32, values: &[f64]) -> Status;
+
     fn set_real(&self, vr: u32, value: f64) -> Status {
         self.set_reals(&[vr], &[value])
     }
@@ -322,6 +328,16 @@ impl Driver for Instance {
     fn get_reals(&self, vrs: &[u32]) -> (Status, Vec<f64>) {
         let (s, v) = Instance::get_reals(self, vrs);
         (s.into(), v)
+    }
+
+    fn get_real_elements(&self, vr: u32, n: usize) -> (Status, Vec<f64>) {
+        let vrs: Vec<u32> = (vr..).take(n).collect();
+        Driver::get_reals(self, &vrs)
+    }
+
+    fn set_real_elements(&self, vr: u32, values: &[f64]) -> Status {
+        let vrs: Vec<u32> = (vr..).take(values.len()).collect();
+        Driver::set_reals(self, &vrs, values)
     }
 
     fn set_integers(&self, vrs: &[u32], values: &[i32]) -> Status {
@@ -534,6 +550,15 @@ impl Driver for Fmi3Instance {
     fn get_reals(&self, vrs: &[u32]) -> (Status, Vec<f64>) {
         let (s, v) = self.get_float64(vrs, vrs.len());
         (s.into(), v)
+    }
+
+    fn get_real_elements(&self, vr: u32, n: usize) -> (Status, Vec<f64>) {
+        let (s, v) = self.get_float64(&[vr], n);
+        (s.into(), v)
+    }
+
+    fn set_real_elements(&self, vr: u32, values: &[f64]) -> Status {
+        self.set_float64(&[vr], values).into()
     }
 
     fn set_integers(&self, vrs: &[u32], values: &[i32]) -> Status {

@@ -17,11 +17,15 @@
 //! - [`assert_refused_in_the_set`], [`assert_refused_at_exit`]: a rejected parameter refused
 //!   with a log line naming it, in either version, the instance left usable.
 //!
+//! - [`conformance!`]: the conformance suite an FMU crate gets with one line, derived from its
+//!   declarations and its `[package.metadata.fmu]`.
+//!
 //! It is a dev-dependency only; nothing here ends up in an FMU.
 #![allow(unsafe_code)]
 
 mod alloc;
 mod bounds;
+pub mod conformance;
 mod drift;
 mod driver;
 mod fmi3;

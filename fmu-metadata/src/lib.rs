@@ -168,16 +168,73 @@ fn read(path: &Path) -> Result<String, Error> {
     std::fs::read_to_string(path).map_err(|e| error(format!("cannot read {}: {e}", path.display())))
 }
 
-/// Every workspace member of `root/Cargo.toml` with a `[package.metadata.fmu]` table, in
-/// the order of `workspace.members`.
-pub fn workspace_fmus(root: &Path) -> Result<Vec<FmuCrate>, Error> {
+/// The FMU crates of the workspace `dir` belongs to (`dir` or its nearest ancestor whose
+/// Cargo.toml has a `[workspace]`): the one list of FMUs every test, tool and fuzz target
+/// derives its own from, e.g. `fmu_metadata::fmus_around(env!("CARGO_MANIFEST_DIR"))`.
+pub fn fmus_around(dir: impl AsRef<Path>) -> Result<Vec<FmuCrate>, Error> {
+    workspace_fmus(&workspace_root_of(dir.as_ref())?)
+}
+
+/// `dir` or its nearest ancestor whose Cargo.toml declares a `[workspace]`.
+pub fn workspace_root_of(dir: &Path) -> Result<PathBuf, Error> {
+    dir.ancestors()
+        .find(|d| {
+            std::fs::read_to_string(d.join("Cargo.toml"))
+                .ok()
+                .and_then(|text| toml::from_str::<toml::Table>(&text).ok())
+                .is_some_and(|t| t.contains_key("workspace"))
+        })
+        .map(Path::to_path_buf)
+        .ok_or_else(|| error(format!("no workspace Cargo.toml above {}", dir.display())))
+}
+
+/// The member folders of `root/Cargo.toml`, relative to `root`, in the order of
+/// `workspace.members`; a member ending in `*` (`fmu-*`) stands for every folder with a
+/// Cargo.toml whose path starts with what precedes it, in name order, as cargo reads it.
+pub fn workspace_members(root: &Path) -> Result<Vec<PathBuf>, Error> {
     let path = root.join("Cargo.toml");
     let workspace: WorkspaceManifest =
         toml::from_str(&read(&path)?).map_err(|e| error(format!("{}: {e}", path.display())))?;
-    let mut fmus = Vec::new();
+    let mut members: Vec<PathBuf> = Vec::new();
     for member in workspace.workspace.members {
+        let found = match member.strip_suffix('*') {
+            None => vec![PathBuf::from(&member)],
+            Some(prefix) => {
+                let (parent, start) = match prefix.rsplit_once('/') {
+                    Some((parent, start)) => (PathBuf::from(parent), start.to_string()),
+                    None => (PathBuf::new(), prefix.to_string()),
+                };
+                if start.contains(['*', '?', '[']) {
+                    return Err(error(format!("{member}: only a trailing * is understood")));
+                }
+                let entries = std::fs::read_dir(root.join(&parent))
+                    .map_err(|e| error(format!("{member}: {e}")))?;
+                let mut dirs: Vec<PathBuf> = entries
+                    .filter_map(Result::ok)
+                    .filter(|e| e.file_name().to_string_lossy().starts_with(&start))
+                    .filter(|e| e.path().join("Cargo.toml").is_file())
+                    .map(|e| parent.join(e.file_name()))
+                    .collect();
+                dirs.sort();
+                dirs
+            }
+        };
+        for dir in found {
+            if !members.contains(&dir) {
+                members.push(dir);
+            }
+        }
+    }
+    Ok(members)
+}
+
+/// Every workspace member of `root/Cargo.toml` with a `[package.metadata.fmu]` table, in
+/// the order of `workspace.members`.
+pub fn workspace_fmus(root: &Path) -> Result<Vec<FmuCrate>, Error> {
+    let mut fmus = Vec::new();
+    for member in workspace_members(root)? {
         let manifest = root.join(&member).join("Cargo.toml");
-        if let Some(fmu) = parse_manifest(Path::new(&member), &read(&manifest)?)
+        if let Some(fmu) = parse_manifest(&member, &read(&manifest)?)
             .map_err(|e| error(format!("{}: {e}", manifest.display())))?
         {
             fmus.push(fmu);
@@ -370,6 +427,39 @@ fmi3 = ["co-simulation"]
         assert_eq!(fmu.model_identifier, "LanderPlant");
         assert!(fmu.ships_model_exchange(Fmi::V2));
         assert!(fmu.ships(Fmi::V3) && !fmu.ships_model_exchange(Fmi::V3));
+    }
+
+    #[test]
+    fn a_trailing_star_in_the_members_stands_for_each_crate_folder_it_matches() {
+        let root = std::env::temp_dir().join(format!("fmu-metadata-{}", std::process::id()));
+        let write = |path: &str, text: &str| {
+            let path = root.join(path);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(path, text).unwrap();
+        };
+        write(
+            "Cargo.toml",
+            "[workspace]\nmembers = [\"tools\", \"fmu-*\"]\n",
+        );
+        write("tools/Cargo.toml", "[package]\nname = \"tools\"\n");
+        write("fmu-plant/Cargo.toml", PLANT);
+        write(
+            "fmu-b/Cargo.toml",
+            &PLANT
+                .replace("LanderPlant", "B")
+                .replace("fmu-plant", "fmu-b"),
+        );
+        write("fmu-empty/README.md", "no crate here");
+        write("other/Cargo.toml", "[package]\nname = \"other\"\n");
+        let members = workspace_members(&root).unwrap();
+        let fmus = fmus_around(root.join("tools")).unwrap();
+        std::fs::remove_dir_all(&root).unwrap();
+        assert_eq!(
+            members,
+            ["tools", "fmu-b", "fmu-plant"].map(PathBuf::from).to_vec()
+        );
+        let ids: Vec<&str> = fmus.iter().map(|f| f.model_identifier.as_str()).collect();
+        assert_eq!(ids, ["B", "LanderPlant"]);
     }
 
     #[test]

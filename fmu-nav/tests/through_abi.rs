@@ -1,6 +1,7 @@
 //! LanderNav through its exported C functions, as a master drives it (the workspace's test
-//! kit): model description drift, the identity with direct feedthrough, reads that never
-//! change the sequence, FMU-state save/restore and serialization, refused parameters.
+//! kit): the identity with direct feedthrough, reads that never change the sequence,
+//! FMU-state save/restore and serialization, parameters refused together. What every FMU
+//! owes (description drift, bounds, refusals at the set) is tests/conformance.rs.
 // std's transcendental functions here make test inputs and references, outside the model.
 #![allow(clippy::disallowed_methods)]
 use fmi_testkit::fmi2::*;
@@ -140,15 +141,6 @@ fn fly(fmu: &Instance, k0: usize, k1: usize) -> Vec<Vec<u64>> {
 }
 
 #[test]
-fn checked_in_model_description_matches_the_table() {
-    fmi_testkit::assert_file_matches(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
-        &fmi2_export::model_description_xml::<LanderNav>(),
-        "cargo run -p fmu-nav --bin fmu_nav_model_description > fmu-nav/modelDescription.xml",
-    );
-}
-
-#[test]
 fn by_default_the_outputs_are_the_inputs_bit_for_bit_with_direct_feedthrough() {
     let fmu = instance();
     fmu.enter_init();
@@ -237,28 +229,6 @@ fn save_restore_and_serialization_reproduce_the_continuation_bit_for_bit() {
 }
 
 #[test]
-fn a_negative_sigma_is_refused_at_the_set_naming_the_variable() {
-    let fmu = instance();
-    fmu.enter_init();
-    assert_eq!(fmu.set_real(vr("v_nue_noise_sigma"), -0.1), fmi2Error);
-    let message = fmu.last_message();
-    assert!(message.contains("v_nue_noise_sigma"), "{message}");
-    assert_eq!(fmu.set_real(vr("attitude_bias[2]"), f64::NAN), fmi2Error);
-    assert!(
-        fmu.last_message().contains("attitude_bias[2]"),
-        "{:?}",
-        fmu.messages()
-    );
-    // The refused values were not taken: initialization succeeds with the defaults.
-    assert_eq!(
-        fmu.exit_initialization_mode(),
-        fmi2OK,
-        "{:?}",
-        fmu.messages()
-    );
-}
-
-#[test]
 fn a_latency_beyond_its_bound_fails_initialization_naming_the_variable() {
     let fmu = instance();
     fmu.enter_init();
@@ -282,14 +252,6 @@ fn a_latency_beyond_its_bound_fails_initialization_naming_the_variable() {
         "{:?}",
         fresh.messages()
     );
-}
-
-#[test]
-fn a_negative_seed_is_refused_naming_it() {
-    let fmu = instance();
-    fmu.enter_init();
-    assert_eq!(fmu.set_integer(vr("seed"), -3), fmi2Error);
-    assert!(fmu.last_message().contains("seed"), "{:?}", fmu.messages());
 }
 
 #[test]
