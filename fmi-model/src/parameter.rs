@@ -81,3 +81,96 @@ impl From<ParameterError> for ModelError {
         }
     }
 }
+
+/// Every settable parameter of `model` against its declaration: a Real finite and within
+/// its declared bounds, an Integer within its own, an enumeration one of its items. The FMI
+/// layers check each value as it is set; this is the same check for a model built or
+/// changed without them (in-process, tests, a restored state), so that a model's own
+/// validation keeps to what declarations cannot say (relations between parameters). The
+/// refusal names the field below the model's own one that holds it (`params.thrust_max_n`
+/// is `thrust_max_n`), as the model's validation names its fields, the value with its unit
+/// and the declared range.
+pub fn check_declared<M: crate::Model>(model: &M) -> Result<(), ParameterError> {
+    use crate::{Causality, Kind};
+    for d in M::declarations() {
+        if d.causality != Causality::Parameter {
+            continue;
+        }
+        let field = d.field.split_once('.').map_or(d.field, |(_, below)| below);
+        match d.kind {
+            Kind::Real {
+                shape,
+                min,
+                max,
+                get,
+                set: Some(_),
+                ..
+            } => {
+                let unit = d.unit.filter(|u| *u != "1");
+                let with_unit = |text: String| match unit {
+                    Some(u) => format!("{text} {u}"),
+                    None => text,
+                };
+                for i in 0..shape.len() {
+                    let value = get(model, i);
+                    let admitted = value.is_finite()
+                        && min.is_none_or(|m| m.admits_above(value))
+                        && max.is_none_or(|m| m.admits_below(value));
+                    if !admitted {
+                        let index = (shape != crate::Shape::Scalar).then_some(i);
+                        let range = with_unit(crate::range_text(min, max));
+                        return Err(ParameterError::new(
+                            field,
+                            index,
+                            with_unit(crate::readable(value)),
+                            format!("outside its declared range {range}"),
+                        ));
+                    }
+                }
+            }
+            Kind::Integer {
+                min,
+                max,
+                get,
+                set: Some(_),
+            } => {
+                let value = get(model);
+                if min.is_some_and(|m| value < m) || max.is_some_and(|m| value > m) {
+                    let end = |b: Option<i32>, none: &str| b.map_or(none.into(), |b| b.to_string());
+                    let (open, close) = (
+                        if min.is_some() { '[' } else { '(' },
+                        if max.is_some() { ']' } else { ')' },
+                    );
+                    return Err(ParameterError::new(
+                        field,
+                        None,
+                        value,
+                        format!(
+                            "outside its declared range {open}{}, {}{close}",
+                            end(min, "-inf"),
+                            end(max, "inf")
+                        ),
+                    ));
+                }
+            }
+            Kind::Enumeration {
+                ty,
+                get,
+                set: Some(_),
+                ..
+            } => {
+                let value = get(model);
+                if ty.item(value).is_none() {
+                    return Err(ParameterError::new(
+                        field,
+                        None,
+                        value,
+                        format!("not an item of {}: {}", ty.name, ty.listing()),
+                    ));
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}

@@ -180,3 +180,23 @@ fn a_model_error_names_the_field_and_element() {
         "parameter inner.gain_per_s[1] = -1: must be > 0"
     );
 }
+
+#[test]
+fn a_parameter_outside_its_declaration_is_refused_naming_field_value_unit_and_range() {
+    use fmi_model::parameter::check_declared;
+    assert_eq!(check_declared(&Toy::default()), Ok(()));
+    let mut toy = Toy::default();
+    toy.inner.gain_per_s[1] = 0.0;
+    let e = check_declared(&toy).unwrap_err();
+    assert_eq!((e.field, e.index), ("gain_per_s", Some(1)));
+    assert_eq!(e.value, "0 1/s");
+    assert_eq!(e.reason, "outside its declared range (0, inf) 1/s");
+    toy.inner.gain_per_s[1] = f64::NAN;
+    assert_eq!(check_declared(&toy).unwrap_err().value, "NaN 1/s");
+    // An input is the master's to set at every step, not a parameter.
+    let toy = Toy {
+        offset_m: 5.0,
+        ..Toy::default()
+    };
+    assert_eq!(check_declared(&toy), Ok(()));
+}

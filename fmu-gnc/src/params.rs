@@ -1,5 +1,6 @@
 //! The GNC parameters, their defaults (paper Tables I-II and the ERRATA modelling defaults)
-//! and their validation.
+//! and their validation (relations between them; each value's own bounds are declared in
+//! `fmu.rs`).
 use crate::actuation::allocation::Allocator;
 use crate::actuation::pwpf::PwpfSettings;
 use crate::actuation::{RcsModel, THRUSTER_COUNT};
@@ -7,7 +8,6 @@ use crate::attitude::gains::AttitudeGains;
 use crate::attitude::profile::ProfileLimits;
 use crate::attitude::{AttitudeSettings, ControlLaw, ThrustAxisRotation};
 use crate::guidance::pv::PvGains;
-use crate::guidance::retarget::MAX_RETARGET_TILT_RAD;
 use crate::guidance::sequencer::{Retarget, Scenario};
 use crate::guidance::terminal::TerminalDescent;
 use nalgebra::Vector3;
@@ -221,68 +221,11 @@ fn check_at(
 }
 
 impl GncParameters {
-    /// Refuse values the laws cannot work with; the error names the field.
-    /// Non-finite values are refused everywhere (the layer already refuses them on set).
+    /// What the declarations cannot say (each value on its own is checked against its
+    /// declaration first, [`GncParameters::check`]): relations between parameters, and gains
+    /// that overflow in combination. The error names the field.
     pub fn validate(&self) -> Result<(), ParameterError> {
         let p = self;
-        if ControlLaw::from_index(p.control_law).is_none() {
-            return Err(ParameterError::new(
-                "control_law",
-                None,
-                p.control_law,
-                "must be 1 (coupled), 2 (decoupled) or 3 (reduced)",
-            ));
-        }
-        check(
-            p.phi_cmd_rad.abs() <= MAX_PHI_CMD_RAD,
-            "phi_cmd_rad",
-            p.phi_cmd_rad,
-            "must be within +-4 pi",
-        )?;
-        check(
-            p.phi_cmd_time_s.is_finite(),
-            "phi_cmd_time_s",
-            p.phi_cmd_time_s,
-            "must be finite",
-        )?;
-        let positive = [
-            ("control_bandwidth_hz", p.control_bandwidth_hz),
-            ("control_damping", p.control_damping),
-            ("guidance_bandwidth_hz", p.guidance_bandwidth_hz),
-            ("guidance_damping", p.guidance_damping),
-            ("guidance_cycle_s", p.guidance_cycle_s),
-            ("descent_time_to_go_s", p.descent_time_to_go_s),
-            ("gravity_mps2", p.gravity_mps2),
-        ];
-        for (name, value) in positive {
-            check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
-        }
-        for (name, value) in [
-            ("control_damping", p.control_damping),
-            ("guidance_damping", p.guidance_damping),
-        ] {
-            check(value <= MAX_DAMPING, name, value, "must be <= 100")?;
-        }
-        check(
-            p.guidance_cycle_s >= MIN_GUIDANCE_CYCLE_S,
-            "guidance_cycle_s",
-            p.guidance_cycle_s,
-            "must be >= 1 ms",
-        )?;
-        check(
-            p.gravity_mps2 <= MAX_GRAVITY_MPS2,
-            "gravity_mps2",
-            p.gravity_mps2,
-            "must be <= 100 m/s2",
-        )?;
-        for (name, value) in [
-            ("hover_duration_s", p.hover_duration_s),
-            ("descent_time_to_go_s", p.descent_time_to_go_s),
-            ("descent_freeze_time_to_go_s", p.descent_freeze_time_to_go_s),
-            ("target_hover_duration_s", p.target_hover_duration_s),
-        ] {
-            check(value <= MAX_DURATION_S, name, value, "must be <= 1e6 s")?;
-        }
         // Guidance is held over its cycle: a loop faster than the cycle's Nyquist rate is not a
         // loop any more (and absurd values overflow the gains to NaN).
         check(
@@ -291,16 +234,6 @@ impl GncParameters {
             p.guidance_bandwidth_hz,
             "must be <= 0.5 / guidance_cycle (the Nyquist rate of the guidance cycle)",
         )?;
-        for (k, value) in p.inertia_body_kgm2.into_iter().enumerate() {
-            let ok = value > 0.0 && value <= MAX_INERTIA_KGM2;
-            check_at(
-                ok,
-                "inertia_body_kgm2",
-                Some(k),
-                value,
-                "must be in (0, 1e9]",
-            )?;
-        }
         let gains = p.attitude_gains();
         // Kp = I w^2 and Kd = 2 zeta w I: the bandwidth is the factor that can grow without a
         // bound of its own, so it is the one named.
@@ -317,155 +250,32 @@ impl GncParameters {
             p.control_bandwidth_hz,
             "gives gains whose torques overflow with this inertia",
         )?;
-        for (k, value) in p.torque_limit_body_nm.into_iter().enumerate() {
-            let ok = (0.0..=MAX_TORQUE_NM).contains(&value);
-            check_at(
-                ok,
-                "torque_limit_body_nm",
-                Some(k),
-                value,
-                "must be in [0, 1e9]",
-            )?;
-        }
-        for (field, target) in [
-            ("hover_target_nue_m", p.hover_target_nue_m),
-            ("descent_target_nue_m", p.descent_target_nue_m),
-            ("retarget_site_nue_m", p.retarget_site_nue_m),
-        ] {
-            for (k, value) in target.into_iter().enumerate() {
-                let ok = value.abs() <= MAX_TARGET_M;
-                check_at(ok, field, Some(k), value, "must be within +-1e7 m")?;
-            }
-        }
         check(
-            p.thrust_min_n >= 0.0,
-            "thrust_min_n",
-            p.thrust_min_n,
-            "must be >= 0",
-        )?;
-        check(
-            p.thrust_max_n >= p.thrust_min_n && p.thrust_max_n <= MAX_THRUST_N,
+            p.thrust_max_n >= p.thrust_min_n,
             "thrust_max_n",
             p.thrust_max_n,
-            "must be >= thrust_min and <= 1e9 N",
-        )?;
-        check(
-            p.hover_duration_s >= 0.0 && p.hover_duration_s.is_finite(),
-            "hover_duration_s",
-            p.hover_duration_s,
-            "must be >= 0",
-        )?;
-        check(
-            p.target_hover_duration_s >= 0.0 && p.target_hover_duration_s.is_finite(),
-            "target_hover_duration_s",
-            p.target_hover_duration_s,
-            "must be >= 0",
+            "must be >= thrust_min",
         )?;
         // The last solve then has tgo >= one guidance cycle: no division by a vanishing tgo.
         check(
-            p.descent_freeze_time_to_go_s >= p.guidance_cycle_s
-                && p.descent_freeze_time_to_go_s.is_finite(),
+            p.descent_freeze_time_to_go_s >= p.guidance_cycle_s,
             "descent_freeze_time_to_go_s",
             p.descent_freeze_time_to_go_s,
             "must be >= guidance_cycle",
         )?;
         check(
-            (0.0..=1.0).contains(&p.reduced_yaw_weight),
-            "reduced_yaw_weight",
-            p.reduced_yaw_weight,
-            "must be in [0, 1]",
-        )?;
-        check(
-            (0.0..=1.0).contains(&p.rate_shaping_margin),
-            "rate_shaping_margin",
-            p.rate_shaping_margin,
-            "must be in [0, 1]",
-        )?;
-        check(
-            p.terminal_descent_speed_mps >= 0.0 && p.terminal_descent_speed_mps.is_finite(),
-            "terminal_descent_speed_mps",
-            p.terminal_descent_speed_mps,
-            "must be finite and >= 0 (0 = no terminal descent)",
-        )?;
-        check(
-            (0.0..=MAX_DURATION_S).contains(&p.terminal_flare_time_s),
-            "terminal_flare_time_s",
-            p.terminal_flare_time_s,
-            "must be in [0, 1e6] (0 = a constant sink rate)",
-        )?;
-        check(
-            p.terminal_final_speed_mps >= 0.0
-                && (p.terminal_final_speed_mps <= p.terminal_descent_speed_mps
-                    || p.terminal_flare_time_s == 0.0),
+            p.terminal_final_speed_mps <= p.terminal_descent_speed_mps
+                || p.terminal_flare_time_s == 0.0,
             "terminal_final_speed_mps",
             p.terminal_final_speed_mps,
-            "must be >= 0 and, with a flare time, <= terminal_descent_speed",
-        )?;
-        check(
-            p.terminal_ground_height_m.abs() <= MAX_TARGET_M,
-            "terminal_ground_height_m",
-            p.terminal_ground_height_m,
-            "must be within +-1e7 m",
-        )?;
-        check(
-            p.engine_cutoff_height_m.is_finite() && p.engine_cutoff_height_m <= 1e4,
-            "engine_cutoff_height_m",
-            p.engine_cutoff_height_m,
-            "must be finite and <= 1e4 m (negative = never)",
-        )?;
-        check(
-            (0.0..=MAX_DURATION_S).contains(&p.saturation_time_s),
-            "saturation_time_s",
-            p.saturation_time_s,
-            "must be in [0, 1e6] s",
-        )?;
-        check(
-            (0.0..=MAX_PHI_RATE_RADPS).contains(&p.phi_rate_limit_radps),
-            "phi_rate_limit_radps",
-            p.phi_rate_limit_radps,
-            "must be in [0, 100] (0 = unlimited)",
-        )?;
-        check(
-            (0.0..=MAX_PHI_ACCEL_RADPS2).contains(&p.phi_accel_limit_radps2),
-            "phi_accel_limit_radps2",
-            p.phi_accel_limit_radps2,
-            "must be in [0, 1e4] (0 = unlimited)",
-        )?;
-        check(
-            p.retarget_time_s.is_finite() && p.retarget_time_s <= MAX_DURATION_S,
-            "retarget_time_s",
-            p.retarget_time_s,
-            "must be finite and <= 1e6 s (negative = never)",
-        )?;
-        check(
-            p.retarget_max_tilt_rad > 0.0 && p.retarget_max_tilt_rad <= MAX_RETARGET_TILT_RAD,
-            "retarget_max_tilt_rad",
-            p.retarget_max_tilt_rad,
-            "must be in (0, 80 deg]",
+            "must be, with a flare time, <= terminal_descent_speed",
         )?;
         self.validate_rcs()
     }
 
-    /// The thruster chain's parameters (checked in either RCS model).
+    /// The thruster chain's relations (checked in either RCS model).
     fn validate_rcs(&self) -> Result<(), ParameterError> {
         let p = self;
-        if RcsModel::from_index(p.rcs_model).is_none() {
-            return Err(ParameterError::new(
-                "rcs_model",
-                None,
-                p.rcs_model,
-                "must be 1 (torque) or 2 (thrusters)",
-            ));
-        }
-        for (k, value) in p.rcs_position_body_m.into_iter().enumerate() {
-            check_at(
-                value.is_finite(),
-                "rcs_position_body_m",
-                Some(k),
-                value,
-                "must be finite",
-            )?;
-        }
         for k in 0..THRUSTER_COUNT {
             let d = &p.rcs_direction_body[3 * k..3 * k + 3];
             let norm = d.iter().map(|x| x * x).sum::<f64>().sqrt();
@@ -477,21 +287,11 @@ impl GncParameters {
                 "the thruster's direction must be a unit vector (norm within 1e-6 of 1)",
             )?;
         }
-        let positive = [
-            ("rcs_thruster_force_n", p.rcs_thruster_force_n),
-            ("pwpf_gain", p.pwpf_gain),
-            ("pwpf_time_constant_s", p.pwpf_time_constant_s),
-            ("pwpf_off_threshold", p.pwpf_off_threshold),
-            ("rcs_duty_period_s", p.rcs_duty_period_s),
-        ];
-        for (name, value) in positive {
-            check(value > 0.0 && value.is_finite(), name, value, "must be > 0")?;
-        }
         check(
-            p.pwpf_on_threshold > p.pwpf_off_threshold && p.pwpf_on_threshold.is_finite(),
+            p.pwpf_on_threshold > p.pwpf_off_threshold,
             "pwpf_on_threshold",
             p.pwpf_on_threshold,
-            "must be finite and > pwpf_off_threshold (the trigger's hysteresis)",
+            "must be > pwpf_off_threshold (the trigger's hysteresis)",
         )
     }
 
@@ -517,9 +317,9 @@ impl GncParameters {
         }
     }
 
-    /// Validate, then derive what the samples use.
+    /// Check, then derive what the samples use.
     pub fn design(&self) -> Result<GncDesign, ParameterError> {
-        self.validate()?;
+        self.check()?;
         Ok(self.design_unchecked())
     }
 
@@ -575,7 +375,7 @@ impl GncParameters {
 
     /// The attitude settings these parameters describe; the law is validated.
     pub fn attitude_settings(&self) -> Result<AttitudeSettings, ParameterError> {
-        self.validate()?;
+        self.check()?;
         Ok(self.design_unchecked().attitude)
     }
 
@@ -608,7 +408,7 @@ mod tests {
 
     #[test]
     fn defaults_are_valid() {
-        assert_eq!(GncParameters::default().validate(), Ok(()));
+        assert_eq!(GncParameters::default().check(), Ok(()));
     }
 
     #[test]
@@ -660,7 +460,7 @@ mod tests {
         for (name, spoil) in cases {
             let mut p = GncParameters::default();
             spoil(&mut p);
-            let err = p.validate().unwrap_err();
+            let err = p.check().unwrap_err();
             let named = match err.index {
                 Some(k) => format!("{}[{k}]", err.field),
                 None => err.field.to_string(),

@@ -7,6 +7,7 @@
 //! inputs there (or `latency` steps earlier) with the error of the interval that starts
 //! there; `fmi2DoStep` records the inputs and draws the next interval's error.
 use crate::errors::{Group, NavErrors, NavParameters, Navigation, LATENCY_CAP_STEPS};
+use fmi_model::parameter::{check_declared, ParameterError};
 use fmi_model::{
     decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, Shape, StepEnd,
 };
@@ -26,6 +27,25 @@ impl LanderNav {
     /// The parameters (for tests and tools).
     pub fn parameters(&self) -> &NavParameters {
         &self.params
+    }
+
+    /// Each parameter against its declaration, then what declarations cannot say.
+    fn check_parameters(&self) -> Result<(), ParameterError> {
+        check_declared(self)?;
+        self.params.validate()
+    }
+}
+
+impl NavParameters {
+    /// Every check of the parameters, for errors built without an FMI layer: each value
+    /// against its declaration (as the layer checks it on every set), then
+    /// [`NavParameters::validate`].
+    pub fn check(&self) -> Result<(), ParameterError> {
+        LanderNav {
+            params: *self,
+            ..LanderNav::default()
+        }
+        .check_parameters()
     }
 }
 
@@ -70,7 +90,7 @@ impl Model for LanderNav {
             None => {
                 let errors = NavErrors::start(&self.params);
                 let valid =
-                    self.params.validate().is_ok() && errors.overflowing(&self.params).is_none();
+                    self.check_parameters().is_ok() && errors.overflowing(&self.params).is_none();
                 if valid {
                     errors.estimate(&self.params, &self.truth)
                 } else {
@@ -81,7 +101,7 @@ impl Model for LanderNav {
     }
 
     fn exit_initialization(&mut self, _start_time: f64, _log: &mut Log) -> Result<(), ModelError> {
-        self.params.validate().map_err(ModelError::from)?;
+        self.check_parameters()?;
         let errors = NavErrors::start(&self.params);
         if let Some(group) = errors.overflowing(&self.params) {
             return Err(overflow(&self.params, group, "at the start"));
@@ -94,7 +114,7 @@ impl Model for LanderNav {
         match (initialized, &self.running) {
             (false, None) => Ok(()),
             (true, Some(errors)) => {
-                self.params.validate().map_err(ModelError::from)?;
+                self.check_parameters()?;
                 match errors.inconsistency(&self.params) {
                     Some(why) => Err(ModelError::Other(format!("restored state: {why}"))),
                     None => Ok(()),
@@ -145,8 +165,9 @@ const QUATERNION: &[&str] = &[
 const CAP: i32 = LATENCY_CAP_STEPS;
 
 /// The declarations, one line each so that they read as a table. Start values are those of
-/// `LanderNav::default()` (every error off); bounds are those `NavParameters::validate`
-/// enforces on a single value (latency <= max_latency_steps is checked there only).
+/// `LanderNav::default()` (every error off); the bounds of each value are checked from here
+/// only (`fmi_model::parameter::check_declared`), latency <= max_latency_steps in
+/// `NavParameters::validate`.
 #[rustfmt::skip]
 static DECLARATIONS: &[Declaration<LanderNav>] = &[
     // Inputs: LanderPlant's navigation outputs.
@@ -198,7 +219,7 @@ static DECLARATIONS: &[Declaration<LanderNav>] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fmi_model::{Causality, Kind};
+    use fmi_model::Causality;
 
     #[test]
     fn an_attitude_bias_too_large_to_square_shows_finite_outputs_and_is_refused() {
@@ -230,48 +251,6 @@ mod tests {
     #[test]
     fn the_export_layer_accepts_the_declarations() {
         assert_eq!(fmi2_export::check_table::<LanderNav>(), Ok(()));
-    }
-
-    /// The declared bounds are the ones validation enforces: a value just past a declared
-    /// bound is refused by the model's own validation, naming the declared field.
-    #[test]
-    fn declared_real_bounds_agree_with_the_validation() {
-        let probed = fmi_testkit::assert_declared_bounds_are_validated::<LanderNav>(|m| {
-            m.params.validate().err().map(|e| e.field)
-        });
-        assert!(probed >= 12, "{probed}");
-    }
-
-    /// As above for the Integer parameters (the test kit probes Reals only).
-    #[test]
-    fn declared_integer_bounds_agree_with_the_validation() {
-        let mut probed = 0;
-        for d in LanderNav::declarations() {
-            let Kind::Integer {
-                min,
-                max,
-                set: Some(set),
-                ..
-            } = d.kind
-            else {
-                continue;
-            };
-            for value in min.map(|m| m - 1).into_iter().chain(max.map(|m| m + 1)) {
-                let mut m = LanderNav::default();
-                // Latencies are bounded by max_latency_steps too: lift it to the cap, so
-                // that the probe past a latency's own bound is what gets refused.
-                m.params.max_latency_steps = LATENCY_CAP_STEPS;
-                set(&mut m, value);
-                let e = m.params.validate().expect_err(d.name);
-                assert!(
-                    d.has_field(e.field),
-                    "{} = {value}: refused as {e:?}",
-                    d.name
-                );
-                probed += 1;
-            }
-        }
-        assert!(probed >= 12, "{probed}");
     }
 
     /// Exact ModelStructure: each estimate depends on its own true signal only (element by

@@ -188,11 +188,11 @@ fn a_full_step_couple_matches_the_torque_model_at_its_limit() {
 fn a_thruster_direction_that_is_not_a_unit_vector_is_refused_by_name() {
     let mut p = thruster_model();
     p.thrusters.direction_body[3 * 5 + 2] = -0.5;
-    let e = p.validate().unwrap_err();
+    let e = p.check().unwrap_err();
     assert_eq!((e.field, e.index), ("thrusters.direction_body", Some(15)));
     // Elements 16..18 (1-based) are the sixth thruster's.
     assert!(e.reason.contains("thruster 6"), "{e}");
     let mut p = thruster_model();
     p.rcs_model = 3;
-    assert_eq!(p.validate().unwrap_err().field, "rcs_model");
+    assert_eq!(p.check().unwrap_err().field, "rcs_model");
 }

@@ -108,23 +108,11 @@ impl Default for FilterParameters {
 
 pub use fmi_model::parameter::ParameterError;
 
-/// The declared bounds, shared with the declarations in `fmu.rs`.
+/// The declared bounds of the filter's own parameters; those of the sensors' parameters are
+/// LanderSensors' ([`lander_math::sensor_limits`]).
 pub mod bounds {
+    pub use lander_math::sensor_limits::*;
     pub const GRAVITY_MAX: f64 = 30.0;
-    pub const SAMPLE_PERIOD_MAX_S: f64 = 1.0;
-    pub const ACCEL_BIAS_SIGMA_MAX: f64 = 10.0;
-    pub const GYRO_BIAS_SIGMA_MAX: f64 = 1.0;
-    pub const ACCEL_NOISE_DENSITY_MAX: f64 = 1.0;
-    pub const GYRO_NOISE_DENSITY_MAX: f64 = 0.1;
-    pub const ACCEL_BIAS_RANDOM_WALK_MAX: f64 = 1.0;
-    pub const GYRO_BIAS_RANDOM_WALK_MAX: f64 = 0.1;
-    /// The calibration errors are first-order in the model: 10 % and 0.1 rad at most.
-    pub const SCALE_FACTOR_SIGMA_MAX: f64 = 0.1;
-    pub const MISALIGNMENT_SIGMA_MAX_RAD: f64 = 0.1;
-    pub const RANGE_NOISE_SIGMA_MAX_M: f64 = 1000.0;
-    pub const RANGE_NOISE_PROPORTIONAL_MAX: f64 = 1.0;
-    pub const LOS_NOISE_SIGMA_MAX_MPS: f64 = 100.0;
-    pub const TERRAIN_HEIGHT_MAX_M: f64 = 1e6;
     pub const POSITION_MAX_M: f64 = 1e7;
     pub const VELOCITY_MAX_MPS: f64 = 1e4;
     pub const R0_SIGMA_MAX_M: f64 = 1e5;
@@ -136,173 +124,19 @@ pub mod bounds {
 }
 
 fn refuse(field: &'static str, index: Option<usize>, value: f64, reason: String) -> ParameterError {
-    ParameterError::new(field, index, value, reason)
-}
-
-/// `value` in `[lo, hi]`, or `(lo, hi]` when `lo_open`.
-fn within(
-    field: &'static str,
-    index: Option<usize>,
-    value: f64,
-    lo: f64,
-    lo_open: bool,
-    hi: f64,
-) -> Result<(), ParameterError> {
-    let above = if lo_open { value > lo } else { value >= lo };
-    if above && value <= hi {
-        return Ok(());
-    }
-    let open = if lo_open { "(" } else { "[" };
-    Err(refuse(
-        field,
-        index,
-        value,
-        format!("must be in {open}{lo}, {hi}]"),
-    ))
-}
-
-fn each(field: &'static str, v: &[f64], bound: f64) -> Result<(), ParameterError> {
-    v.iter()
-        .enumerate()
-        .try_for_each(|(i, x)| within(field, Some(i), *x, -bound, false, bound))
+    ParameterError::real(field, index, value, reason)
 }
 
 impl FilterParameters {
+    /// What the declarations cannot say (each value on its own is checked against its
+    /// declaration, `fmi_model::parameter::check_declared`): directions, an upward terrain
+    /// normal, a white noise variance that stays finite, a unit initial attitude.
     pub fn validate(&self) -> Result<(), ParameterError> {
-        use bounds::*;
-        within(
-            "gravity_mps2",
-            None,
-            self.gravity_mps2,
-            0.0,
-            false,
-            GRAVITY_MAX,
-        )?;
-        within(
-            "sample_period_s",
-            None,
-            self.sample_period_s,
-            0.0,
-            true,
-            SAMPLE_PERIOD_MAX_S,
-        )?;
-        let a = &self.accel;
-        within(
-            "accel.bias_sigma",
-            None,
-            a.bias_sigma,
-            0.0,
-            false,
-            ACCEL_BIAS_SIGMA_MAX,
-        )?;
-        within(
-            "accel.noise_density",
-            None,
-            a.noise_density,
-            0.0,
-            false,
-            ACCEL_NOISE_DENSITY_MAX,
-        )?;
-        within(
-            "accel.bias_random_walk",
-            None,
-            a.bias_random_walk,
-            0.0,
-            false,
-            ACCEL_BIAS_RANDOM_WALK_MAX,
-        )?;
-        let g = &self.gyro;
-        within(
-            "gyro.bias_sigma",
-            None,
-            g.bias_sigma,
-            0.0,
-            false,
-            GYRO_BIAS_SIGMA_MAX,
-        )?;
-        within(
-            "gyro.noise_density",
-            None,
-            g.noise_density,
-            0.0,
-            false,
-            GYRO_NOISE_DENSITY_MAX,
-        )?;
-        within(
-            "gyro.bias_random_walk",
-            None,
-            g.bias_random_walk,
-            0.0,
-            false,
-            GYRO_BIAS_RANDOM_WALK_MAX,
-        )?;
-        for (imu, scale, misalignment) in [
-            (
-                &self.accel,
-                "accel.scale_factor_sigma",
-                "accel.misalignment_sigma",
-            ),
-            (
-                &self.gyro,
-                "gyro.scale_factor_sigma",
-                "gyro.misalignment_sigma",
-            ),
-        ] {
-            within(
-                scale,
-                None,
-                imu.scale_factor_sigma,
-                0.0,
-                false,
-                SCALE_FACTOR_SIGMA_MAX,
-            )?;
-            within(
-                misalignment,
-                None,
-                imu.misalignment_sigma,
-                0.0,
-                false,
-                MISALIGNMENT_SIGMA_MAX_RAD,
-            )?;
-        }
+        use bounds::QUATERNION_NORM_TOLERANCE;
         ParameterError::direction("altimeter_beam_body", &self.altimeter_beam_body)?;
-        // A measurement noise of zero would make the innovation variance singular when the
-        // covariance has collapsed: the noises are strictly positive.
-        within(
-            "altimeter_noise_sigma_m",
-            None,
-            self.altimeter_noise_sigma_m,
-            0.0,
-            true,
-            RANGE_NOISE_SIGMA_MAX_M,
-        )?;
-        within(
-            "altimeter_noise_proportional",
-            None,
-            self.altimeter_noise_proportional,
-            0.0,
-            false,
-            RANGE_NOISE_PROPORTIONAL_MAX,
-        )?;
         ParameterError::direction("velocimeter_beam_1_body", &self.velocimeter_beam_1_body)?;
         ParameterError::direction("velocimeter_beam_2_body", &self.velocimeter_beam_2_body)?;
         ParameterError::direction("velocimeter_beam_3_body", &self.velocimeter_beam_3_body)?;
-        within(
-            "velocimeter_noise_sigma_mps",
-            None,
-            self.velocimeter_noise_sigma_mps,
-            0.0,
-            true,
-            LOS_NOISE_SIGMA_MAX_MPS,
-        )?;
-        within(
-            "terrain_height_m",
-            None,
-            self.terrain_height_m,
-            -TERRAIN_HEIGHT_MAX_M,
-            false,
-            TERRAIN_HEIGHT_MAX_M,
-        )?;
         let n = &self.terrain_slope_normal_nue;
         ParameterError::direction("terrain_slope_normal_nue", n)?;
         if n[1] <= 0.0 {
@@ -332,38 +166,10 @@ impl FilterParameters {
                 ));
             }
         }
-        each("r0_nue_m", &self.r0_nue_m, POSITION_MAX_M)?;
-        each("v0_nue_mps", &self.v0_nue_mps, VELOCITY_MAX_MPS)?;
-        each("q0_body_to_nue", &self.q0_body_to_nue, 1.0)?;
         let norm = super::rotation::norm(&self.q0_body_to_nue);
         if (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
             return Err(refuse("q0_body_to_nue", None, norm, format!("its norm {norm} is not 1 (tolerance {QUATERNION_NORM_TOLERANCE}): not an attitude")));
         }
-        within(
-            "r0_sigma_m",
-            None,
-            self.r0_sigma_m,
-            0.0,
-            false,
-            R0_SIGMA_MAX_M,
-        )?;
-        within(
-            "v0_sigma_mps",
-            None,
-            self.v0_sigma_mps,
-            0.0,
-            false,
-            V0_SIGMA_MAX_MPS,
-        )?;
-        within(
-            "attitude0_sigma_rad",
-            None,
-            self.attitude0_sigma_rad,
-            0.0,
-            false,
-            ATTITUDE0_SIGMA_MAX_RAD,
-        )?;
-        within("chi2_gate", None, self.chi2_gate, 0.0, true, CHI2_GATE_MAX)?;
         Ok(())
     }
 
@@ -382,7 +188,7 @@ mod tests {
 
     #[test]
     fn the_defaults_are_valid() {
-        assert_eq!(FilterParameters::default().validate(), Ok(()));
+        assert_eq!(FilterParameters::default().check(), Ok(()));
     }
 
     /// Found while covering the filter with the robustness suites: imu_sample_period =

@@ -81,27 +81,6 @@ pub struct NavParameters {
 
 pub use fmi_model::parameter::ParameterError;
 
-/// The field paths of one group, so that an error names the declared field.
-struct Fields {
-    noise_sigma: &'static str,
-    bias: &'static str,
-    random_walk: &'static str,
-    quantum: &'static str,
-    latency_steps: &'static str,
-}
-
-macro_rules! fields {
-    ($group:literal) => {
-        Fields {
-            noise_sigma: concat!($group, ".noise_sigma"),
-            bias: concat!($group, ".bias"),
-            random_walk: concat!($group, ".random_walk"),
-            quantum: concat!($group, ".quantum"),
-            latency_steps: concat!($group, ".latency_steps"),
-        }
-    };
-}
-
 impl NavParameters {
     pub fn group(&self, group: Group) -> &GroupErrors {
         match group {
@@ -127,56 +106,29 @@ impl NavParameters {
             .unwrap_or(0)
     }
 
-    /// `Ok`, or the first refused value.
+    /// What the declarations cannot say (each value on its own is checked against its
+    /// declaration, `fmi_model::parameter::check_declared`): no group is later than
+    /// `max_latency_steps`, which sizes the history.
     pub fn validate(&self) -> Result<(), ParameterError> {
-        if self.seed < 0 {
-            return Err(refuse("seed", None, self.seed, "must be >= 0"));
-        }
-        if !(0..=LATENCY_CAP_STEPS).contains(&self.max_latency_steps) {
-            return Err(refuse(
-                "max_latency_steps",
-                None,
-                self.max_latency_steps,
-                &format!("must be in [0, {LATENCY_CAP_STEPS}]"),
-            ));
-        }
         let groups = [
-            (&self.r_nue, fields!("r_nue")),
-            (&self.v_nue, fields!("v_nue")),
-            (&self.attitude, fields!("attitude")),
-            (&self.omega_body, fields!("omega_body")),
-            (&self.mass, fields!("mass")),
+            (&self.r_nue, "r_nue.latency_steps"),
+            (&self.v_nue, "v_nue.latency_steps"),
+            (&self.attitude, "attitude.latency_steps"),
+            (&self.omega_body, "omega_body.latency_steps"),
+            (&self.mass, "mass.latency_steps"),
         ];
-        for (errors, fields) in groups {
-            errors.validate(&fields, self.max_latency_steps)?;
-        }
-        Ok(())
-    }
-}
-
-impl GroupErrors {
-    fn validate(&self, fields: &Fields, max_latency_steps: i32) -> Result<(), ParameterError> {
-        for (field, value) in [
-            (fields.noise_sigma, self.noise_sigma),
-            (fields.random_walk, self.random_walk),
-            (fields.quantum, self.quantum),
-        ] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(refuse(field, None, value, "must be finite and >= 0"));
+        for (errors, field) in groups {
+            if errors.latency_steps > self.max_latency_steps {
+                return Err(refuse(
+                    field,
+                    None,
+                    errors.latency_steps,
+                    &format!(
+                        "must be in [0, max_latency_steps = {}]",
+                        self.max_latency_steps
+                    ),
+                ));
             }
-        }
-        for (i, &b) in self.bias.iter().enumerate() {
-            if !b.is_finite() {
-                return Err(refuse(fields.bias, Some(i), b, "must be finite"));
-            }
-        }
-        if !(0..=max_latency_steps).contains(&self.latency_steps) {
-            return Err(refuse(
-                fields.latency_steps,
-                None,
-                self.latency_steps,
-                &format!("must be in [0, max_latency_steps = {max_latency_steps}]"),
-            ));
         }
         Ok(())
     }
@@ -203,7 +155,7 @@ mod tests {
     #[test]
     fn the_defaults_are_valid_and_switch_every_error_off() {
         let p = NavParameters::default();
-        assert_eq!(p.validate(), Ok(()));
+        assert_eq!(p.check(), Ok(()));
         for g in Group::ALL {
             assert_eq!(*p.group(g), GroupErrors::default());
         }
@@ -241,7 +193,7 @@ mod tests {
         for (spoil, field, index) in cases {
             let mut p = NavParameters::default();
             spoil(&mut p);
-            let e = p.validate().expect_err(field);
+            let e = p.check().expect_err(field);
             assert_eq!((e.field, e.index), (field, index), "{e:?}");
         }
     }
@@ -254,7 +206,7 @@ mod tests {
         };
         p.v_nue.latency_steps = 3;
         p.mass.latency_steps = 1;
-        assert_eq!(p.validate(), Ok(()));
+        assert_eq!(p.check(), Ok(()));
         assert_eq!(p.longest_latency(), 3);
     }
 }

@@ -4,7 +4,7 @@
 //! an interface layer names it as its users know it.
 use super::actuators::{Engines, Rcs, ThrustLine};
 use super::gear::{GearParameters, LEG_COUNT};
-use super::slosh::{SloshParameters, TANK_COUNT};
+use super::slosh::SloshParameters;
 use super::thrusters::{ThrusterLayout, THRUSTER_COUNT};
 use nalgebra::{Quaternion, Vector3};
 use serde::{Deserialize, Serialize};
@@ -179,28 +179,6 @@ fn require(
     ParameterError::require(ok, field, index, value, reason)
 }
 
-fn positive(field: Field, value: f64) -> Result<(), ParameterError> {
-    require(
-        value.is_finite() && value > 0.0,
-        field,
-        value,
-        "must be finite and > 0",
-    )
-}
-
-fn non_negative(field: Field, value: f64) -> Result<(), ParameterError> {
-    require(
-        value.is_finite() && value >= 0.0,
-        field,
-        value,
-        "must be finite and >= 0",
-    )
-}
-
-fn finite(field: Field, value: f64) -> Result<(), ParameterError> {
-    require(value.is_finite(), field, value, "must be finite")
-}
-
 impl PlantParameters {
     pub fn translation_model_kind(&self) -> Result<TranslationModelKind, ParameterError> {
         match self.translation_model {
@@ -226,20 +204,10 @@ impl PlantParameters {
         }
     }
 
-    /// The thruster layout: finite positions, unit directions (within 1e-6), a finite
-    /// non-negative minimum impulse bit. Checked in either RCS model.
+    /// The thruster layout's directions are unit vectors (within 1e-6). Checked in either
+    /// RCS model.
     fn validate_thrusters(&self) -> Result<(), ParameterError> {
         let layout = &self.thrusters;
-        for k in 0..3 * THRUSTER_COUNT {
-            finite(
-                ("thrusters.position_body_m", Some(k)),
-                layout.position_body_m[k],
-            )?;
-            finite(
-                ("thrusters.direction_body", Some(k)),
-                layout.direction_body[k],
-            )?;
-        }
         for k in 0..THRUSTER_COUNT {
             let norm = layout.direction(k).norm();
             require(
@@ -252,10 +220,7 @@ impl PlantParameters {
                 ),
             )?;
         }
-        non_negative(
-            ("thrusters.min_impulse_bit_ns", None),
-            layout.min_impulse_bit_ns,
-        )
+        Ok(())
     }
 
     /// The initial attitude as a unit quaternion, and a warning when it had to be normalised
@@ -287,19 +252,10 @@ impl PlantParameters {
         }
     }
 
-    /// Checks every parameter; the first offending one is named.
+    /// Checks what the declarations cannot say: relations between parameters, the norm of a
+    /// vector, whatever overflows in combination; each value on its own is checked against
+    /// its declaration first ([`PlantParameters::check`]). The first offending one is named.
     pub fn validate(&self) -> Result<(), ParameterError> {
-        for k in 0..3 {
-            let at = |field| (field, Some(k));
-            finite(at("r0_nue_m"), self.r0_nue_m[k])?;
-            finite(at("v0_nue_mps"), self.v0_nue_mps[k])?;
-            finite(at("omega0_body_radps"), self.omega0_body_radps[k])?;
-            positive(at("inertia_body_kgm2"), self.inertia_body_kgm2[k])?;
-            finite(
-                at("thrust_line.point_body_m"),
-                self.thrust_line.point_body_m[k],
-            )?;
-        }
         // A rigid body's principal moments obey the triangle inequality (equality for a
         // flat plate); a violation means a typo, not a vehicle.
         let i = self.inertia_body_kgm2;
@@ -312,29 +268,13 @@ impl PlantParameters {
                 "exceeds the sum of the other two principal moments: no rigid body has it",
             )?;
         }
-        positive(("m0_kg", None), self.m0_kg)?;
-        positive(("dry_mass_kg", None), self.dry_mass_kg)?;
         require(
             self.m0_kg > self.dry_mass_kg,
             ("m0_kg", None),
             self.m0_kg,
             &format!("must exceed dry_mass = {}", self.dry_mass_kg),
         )?;
-        positive(("gravity_mps2", None), self.gravity_mps2)?;
-        positive(("isp_s", None), self.isp_s)?;
-        positive(("g0_mps2", None), self.g0_mps2)?;
         let e = &self.engines;
-        if e.count == 0 {
-            return Err(refuse(("engines.count", None), e.count, "must be >= 1"));
-        }
-        non_negative(
-            ("engines.min_thrust_per_engine_n", None),
-            e.min_thrust_per_engine_n,
-        )?;
-        non_negative(
-            ("engines.max_thrust_per_engine_n", None),
-            e.max_thrust_per_engine_n,
-        )?;
         require(
             e.min_thrust_per_engine_n <= e.max_thrust_per_engine_n,
             ("engines.min_thrust_per_engine_n", None),
@@ -344,14 +284,6 @@ impl PlantParameters {
                 e.max_thrust_per_engine_n
             ),
         )?;
-        non_negative(("engines.off_threshold_n", None), e.off_threshold_n)?;
-        non_negative(("engines.time_constant_s", None), e.time_constant_s)?;
-        require(
-            e.thrust_scale > 0.0 && e.thrust_scale <= 2.0,
-            ("engines.thrust_scale", None),
-            e.thrust_scale,
-            "must be in (0, 2]",
-        )?;
         // An overflowing maximum itself is refused below, naming the maximum.
         let total_max_n = f64::from(e.count) * e.max_thrust_per_engine_n;
         require(
@@ -360,47 +292,13 @@ impl PlantParameters {
             e.thrust_scale,
             "times the maximum total thrust overflows",
         )?;
-        non_negative(("rcs.thruster_force_n", None), self.rcs.thruster_force_n)?;
-        non_negative(("rcs.moment_arm_m", None), self.rcs.moment_arm_m)?;
-        non_negative(("rcs.time_constant_s", None), self.rcs.time_constant_s)?;
-        let misalignment = self.thrust_line.misalignment_rad;
-        require(
-            misalignment.is_finite() && misalignment.abs() < std::f64::consts::FRAC_PI_2,
-            ("thrust_line.misalignment_rad", None),
-            misalignment,
-            "must be finite and below pi/2 in magnitude",
-        )?;
-        finite(
-            ("thrust_line.misalignment_azimuth_rad", None),
-            self.thrust_line.misalignment_azimuth_rad,
-        )?;
-        self.rcs_model_kind()?;
         self.validate_thrusters()?;
-        positive(("integration_step_s", None), self.integration_step_s)?;
         let kind = self.translation_model_kind()?;
-        positive(("moon_radius_m", None), self.moon_radius_m)?;
-        finite(
-            ("moon_rotation_rate_radps", None),
-            self.moon_rotation_rate_radps,
-        )?;
-        finite(("site_longitude_rad", None), self.site_longitude_rad)?;
-        require(
-            self.site_latitude_rad.abs() <= MAX_SITE_LATITUDE_RAD,
-            ("site_latitude_rad", None),
-            self.site_latitude_rad,
-            "must be within +-85 deg (1.4835 rad): eq. 1 is singular at the poles",
-        )?;
         self.validated_q0()?;
         self.validate_gear(kind)?;
         self.validate_slosh(kind)?;
         self.validate_mass_properties()?;
         let a = &self.actuators;
-        non_negative(
-            ("actuators.throttle_rate_limit_nps", None),
-            a.throttle_rate_limit_nps,
-        )?;
-        non_negative(("actuators.rcs_valve_delay_s", None), a.rcs_valve_delay_s)?;
-        non_negative(("actuators.rcs_isp_s", None), a.rcs_isp_s)?;
         require(
             a.rcs_isp_s == 0.0 || (1.0 / (a.rcs_isp_s * self.g0_mps2)).is_finite(),
             ("actuators.rcs_isp_s", None),
@@ -423,13 +321,10 @@ impl PlantParameters {
 pub const MAX_TERRAIN_SLOPE_RAD: f64 = std::f64::consts::PI / 3.0;
 
 impl PlantParameters {
-    /// The gear and terrain: every value always (a gear switched on later finds them valid),
-    /// the start above the terrain and the flat Moon only with the gear on.
+    /// The gear: the footpads below the centre of mass always (a gear switched on later finds
+    /// them valid), the start above the terrain and the flat Moon only with the gear on.
     fn validate_gear(&self, kind: TranslationModelKind) -> Result<(), ParameterError> {
         let g = &self.gear;
-        for k in 0..3 * LEG_COUNT {
-            finite(("gear.footpad_body_m", Some(k)), g.footpad_body_m[k])?;
-        }
         for k in 0..LEG_COUNT {
             require(
                 g.footpad_body_m[3 * k + 1] < 0.0,
@@ -438,37 +333,6 @@ impl PlantParameters {
                 "a footpad must lie below the centre of mass (body y < 0)",
             )?;
         }
-        positive(("gear.stiffness_npm", None), g.stiffness_npm)?;
-        non_negative(("gear.damping_nspm", None), g.damping_nspm)?;
-        positive(("gear.max_stroke_m", None), g.max_stroke_m)?;
-        non_negative(("gear.friction_coefficient", None), g.friction_coefficient)?;
-        positive(
-            ("gear.friction_velocity_mps", None),
-            g.friction_velocity_mps,
-        )?;
-        finite(("gear.terrain_height_m", None), g.terrain_height_m)?;
-        require(
-            g.terrain_slope_rad.is_finite()
-                && (0.0..MAX_TERRAIN_SLOPE_RAD).contains(&g.terrain_slope_rad),
-            ("gear.terrain_slope_rad", None),
-            g.terrain_slope_rad,
-            "must be in [0, 60 deg)",
-        )?;
-        finite(
-            ("gear.terrain_slope_azimuth_rad", None),
-            g.terrain_slope_azimuth_rad,
-        )?;
-        require(
-            (0..=2).contains(&g.engine_cutoff_mode),
-            ("gear.engine_cutoff_mode", None),
-            f64::from(g.engine_cutoff_mode),
-            "must be 0 (none), 1 (first footpad contact) or 2 (at engine_cutoff_height)",
-        )?;
-        non_negative(
-            ("gear.engine_cutoff_height_m", None),
-            g.engine_cutoff_height_m,
-        )?;
-        positive(("gear.contact_step_s", None), g.contact_step_s)?;
         if !g.enabled {
             return Ok(());
         }
@@ -491,17 +355,9 @@ impl PlantParameters {
 }
 
 impl PlantParameters {
-    /// The dry inertia: all zero (off) or all > 0 obeying the triangle inequality; the
-    /// centre-of-mass offset finite.
+    /// The dry inertia: all zero (off) or all > 0 obeying the triangle inequality.
     fn validate_mass_properties(&self) -> Result<(), ParameterError> {
         let i = self.inertia_dry_body_kgm2;
-        for k in 0..3 {
-            non_negative(("inertia_dry_body_kgm2", Some(k)), i[k])?;
-            finite(
-                ("com_offset_dry_body_m", Some(k)),
-                self.com_offset_dry_body_m[k],
-            )?;
-        }
         if i == Vector3::zeros() {
             return Ok(());
         }
@@ -523,27 +379,10 @@ impl PlantParameters {
         Ok(())
     }
 
-    /// The slosh tanks: every value always, the flat Moon and the sloshing masses below the
-    /// dry mass only with slosh on.
+    /// The slosh tanks: the flat Moon and the sloshing masses below the dry mass, with slosh
+    /// on.
     fn validate_slosh(&self, kind: TranslationModelKind) -> Result<(), ParameterError> {
         let s = &self.slosh;
-        for k in 0..TANK_COUNT {
-            positive(("slosh.tank_radius_m", Some(k)), s.tank_radius_m[k])?;
-            positive(("slosh.fill_height_m", Some(k)), s.fill_height_m[k])?;
-            non_negative(("slosh.liquid_mass_kg", Some(k)), s.liquid_mass_kg[k])?;
-        }
-        for k in 0..3 * TANK_COUNT {
-            finite(("slosh.hinge_body_m", Some(k)), s.hinge_body_m[k])?;
-        }
-        for k in 0..2 * TANK_COUNT {
-            finite(("slosh.delta0_m", Some(k)), s.delta0_m[k])?;
-        }
-        require(
-            s.damping_ratio.is_finite() && (0.0..=1.0).contains(&s.damping_ratio),
-            ("slosh.damping_ratio", None),
-            s.damping_ratio,
-            "must be in [0, 1]",
-        )?;
         if !s.enabled {
             return Ok(());
         }
@@ -777,12 +616,12 @@ mod tests {
 
     #[test]
     fn defaults_are_valid() {
-        assert_eq!(PlantParameters::default().validate(), Ok(()));
+        assert_eq!(PlantParameters::default().check(), Ok(()));
     }
 
     /// The refused field, with its element if any (`inertia_body_kgm2[1]`).
     fn refused_name(p: PlantParameters) -> String {
-        let e = p.validate().expect_err("must be refused");
+        let e = p.check().expect_err("must be refused");
         match e.index {
             Some(k) => format!("{}[{k}]", e.field),
             None => e.field.to_string(),

@@ -290,7 +290,7 @@ impl Plant {
     /// Validates the parameters and builds the plant and its initial run state; the second
     /// element is a warning worth logging (a noticeably non-unit q0 that was normalised).
     pub fn new(p: &PlantParameters) -> Result<(Self, PlantRun, Option<String>), ParameterError> {
-        p.validate()?;
+        p.check()?;
         let (q0, warning) = p.validated_q0()?;
         let translation = match p.translation_model_kind()? {
             TranslationModelKind::Flat => Translation::Flat {

@@ -1,6 +1,6 @@
 //! The sensors' parameters, their defaults (a tactical-grade IMU, a laser altimeter down the
 //! thrust axis, three Doppler beams canted 20 degrees from it) and their validation, which
-//! names the field at fault. The bounds here are the ones declared in `fmu.rs`.
+//! names the field at fault. The bounds of each value are declared in `fmu.rs`.
 use serde::{Deserialize, Serialize};
 
 /// Cant of each velocimeter beam from body -y, and their azimuths about body y.
@@ -121,200 +121,15 @@ impl Default for SensorParameters {
 
 pub use fmi_model::parameter::ParameterError;
 
-/// The declared bounds (inclusive unless said), shared with the declarations.
-pub mod bounds {
-    pub const SAMPLE_PERIOD_MAX_S: f64 = 1.0;
-    pub const ACCEL_BIAS_SIGMA_MAX: f64 = 10.0;
-    pub const GYRO_BIAS_SIGMA_MAX: f64 = 1.0;
-    pub const SCALE_FACTOR_ERROR_MAX: f64 = 0.5;
-    pub const MISALIGNMENT_MAX_RAD: f64 = 0.1;
-    /// The drawn calibration errors' 1-sigmas: a tenth of the fixed values' bounds, so that
-    /// a draw stays within them to many sigmas and the first-order model holds.
-    pub const SCALE_FACTOR_SIGMA_MAX: f64 = 0.05;
-    pub const MISALIGNMENT_SIGMA_MAX_RAD: f64 = 0.01;
-    pub const ACCEL_NOISE_DENSITY_MAX: f64 = 1.0;
-    pub const GYRO_NOISE_DENSITY_MAX: f64 = 0.1;
-    pub const ACCEL_BIAS_RANDOM_WALK_MAX: f64 = 1.0;
-    pub const GYRO_BIAS_RANDOM_WALK_MAX: f64 = 0.1;
-    pub const RANGE_NOISE_SIGMA_MAX_M: f64 = 1000.0;
-    pub const RANGE_NOISE_PROPORTIONAL_MAX: f64 = 1.0;
-    pub const MAX_RANGE_MAX_M: f64 = 1e6;
-    pub const LOS_NOISE_SIGMA_MAX_MPS: f64 = 100.0;
-    pub const TERRAIN_HEIGHT_MAX_M: f64 = 1e6;
-}
-
 fn refuse(field: &'static str, index: Option<usize>, value: f64, reason: &str) -> ParameterError {
-    ParameterError::new(field, index, value, reason)
-}
-
-/// `value` in `[lo, hi]` (or `(lo, hi]` when `lo_exclusive`).
-fn within(
-    field: &'static str,
-    index: Option<usize>,
-    value: f64,
-    lo: f64,
-    lo_exclusive: bool,
-    hi: f64,
-) -> Result<(), ParameterError> {
-    let above = if lo_exclusive {
-        value > lo
-    } else {
-        value >= lo
-    };
-    if above && value <= hi {
-        Ok(())
-    } else {
-        let open = if lo_exclusive { "(" } else { "[" };
-        Err(refuse(
-            field,
-            index,
-            value,
-            &format!("must be in {open}{lo}, {hi}]"),
-        ))
-    }
+    ParameterError::real(field, index, value, reason)
 }
 
 impl SensorParameters {
+    /// What the declarations cannot say (each value on its own is checked against its
+    /// declaration, `fmi_model::parameter::check_declared`): the beams and the terrain normal
+    /// are directions, the normal points up, the velocimeter has no range-proportional noise.
     pub fn validate(&self) -> Result<(), ParameterError> {
-        use bounds::*;
-        if self.seed < 0 {
-            return Err(refuse("seed", None, self.seed as f64, "must be >= 0"));
-        }
-        within(
-            "sample_period_s",
-            None,
-            self.sample_period_s,
-            0.0,
-            true,
-            SAMPLE_PERIOD_MAX_S,
-        )?;
-        for (imu, bias_max, density_max, walk_max, fields) in [
-            (
-                &self.accel,
-                ACCEL_BIAS_SIGMA_MAX,
-                ACCEL_NOISE_DENSITY_MAX,
-                ACCEL_BIAS_RANDOM_WALK_MAX,
-                [
-                    "accel.bias_sigma",
-                    "accel.scale_factor_error",
-                    "accel.misalignment_rad",
-                    "accel.noise_density",
-                    "accel.bias_random_walk",
-                    "accel.scale_factor_sigma",
-                    "accel.misalignment_sigma",
-                ],
-            ),
-            (
-                &self.gyro,
-                GYRO_BIAS_SIGMA_MAX,
-                GYRO_NOISE_DENSITY_MAX,
-                GYRO_BIAS_RANDOM_WALK_MAX,
-                [
-                    "gyro.bias_sigma",
-                    "gyro.scale_factor_error",
-                    "gyro.misalignment_rad",
-                    "gyro.noise_density",
-                    "gyro.bias_random_walk",
-                    "gyro.scale_factor_sigma",
-                    "gyro.misalignment_sigma",
-                ],
-            ),
-        ] {
-            within(fields[0], None, imu.bias_sigma, 0.0, false, bias_max)?;
-            for i in 0..3 {
-                let s = imu.scale_factor_error[i];
-                within(
-                    fields[1],
-                    Some(i),
-                    s,
-                    -SCALE_FACTOR_ERROR_MAX,
-                    false,
-                    SCALE_FACTOR_ERROR_MAX,
-                )?;
-                let m = imu.misalignment_rad[i];
-                within(
-                    fields[2],
-                    Some(i),
-                    m,
-                    -MISALIGNMENT_MAX_RAD,
-                    false,
-                    MISALIGNMENT_MAX_RAD,
-                )?;
-            }
-            within(fields[3], None, imu.noise_density, 0.0, false, density_max)?;
-            within(fields[4], None, imu.bias_random_walk, 0.0, false, walk_max)?;
-            within(
-                fields[5],
-                None,
-                imu.scale_factor_sigma,
-                0.0,
-                false,
-                SCALE_FACTOR_SIGMA_MAX,
-            )?;
-            within(
-                fields[6],
-                None,
-                imu.misalignment_sigma,
-                0.0,
-                false,
-                MISALIGNMENT_SIGMA_MAX_RAD,
-            )?;
-        }
-        for (beam, fields) in [
-            (
-                &self.altimeter,
-                [
-                    "altimeter.noise_sigma",
-                    "altimeter.noise_proportional",
-                    "altimeter.max_range_m",
-                    "altimeter.dropout_probability",
-                ],
-            ),
-            (
-                &self.velocimeter,
-                [
-                    "velocimeter.noise_sigma",
-                    "velocimeter.noise_proportional",
-                    "velocimeter.max_range_m",
-                    "velocimeter.dropout_probability",
-                ],
-            ),
-        ] {
-            within(
-                fields[0],
-                None,
-                beam.noise_sigma,
-                0.0,
-                false,
-                RANGE_NOISE_SIGMA_MAX_M,
-            )?;
-            within(
-                fields[1],
-                None,
-                beam.noise_proportional,
-                0.0,
-                false,
-                RANGE_NOISE_PROPORTIONAL_MAX,
-            )?;
-            within(
-                fields[2],
-                None,
-                beam.max_range_m,
-                0.0,
-                true,
-                MAX_RANGE_MAX_M,
-            )?;
-            within(fields[3], None, beam.dropout_probability, 0.0, false, 1.0)?;
-        }
-        if self.velocimeter.noise_sigma > LOS_NOISE_SIGMA_MAX_MPS {
-            let v = self.velocimeter.noise_sigma;
-            return Err(refuse(
-                "velocimeter.noise_sigma",
-                None,
-                v,
-                &format!("must be in [0, {LOS_NOISE_SIGMA_MAX_MPS}]"),
-            ));
-        }
         if self.velocimeter.noise_proportional != 0.0 {
             let v = self.velocimeter.noise_proportional;
             return Err(refuse(
@@ -328,14 +143,6 @@ impl SensorParameters {
         ParameterError::direction("velocimeter_beam_1_body", &self.velocimeter_beam_1_body)?;
         ParameterError::direction("velocimeter_beam_2_body", &self.velocimeter_beam_2_body)?;
         ParameterError::direction("velocimeter_beam_3_body", &self.velocimeter_beam_3_body)?;
-        within(
-            "terrain_height_m",
-            None,
-            self.terrain_height_m,
-            -TERRAIN_HEIGHT_MAX_M,
-            false,
-            TERRAIN_HEIGHT_MAX_M,
-        )?;
         let n = &self.terrain_slope_normal_nue;
         ParameterError::direction("terrain_slope_normal_nue", n)?;
         if n[1] <= 0.0 {
@@ -366,7 +173,7 @@ mod tests {
     #[test]
     fn the_defaults_are_valid_and_the_beams_unit_and_canted() {
         let p = SensorParameters::default();
-        assert_eq!(p.validate(), Ok(()));
+        assert_eq!(p.check(), Ok(()));
         for b in p.velocimeter_beams_body() {
             let norm = libm::sqrt(b.iter().map(|x| x * x).sum::<f64>());
             assert!((norm - 1.0).abs() < 1e-15);
