@@ -4,10 +4,10 @@
 //!
 //! `cargo bench -p harness --bench montecarlo` (FMUs from `cargo xtask fmus`). Prints
 //! figures; there is no statistical repetition, a campaign is long enough on its own.
-use harness::montecarlo::campaign::{CampaignSpec, Shard};
-use harness::montecarlo::dispersion::DispersionRanges;
-use harness::montecarlo::runner;
-use harness::scenarios::Law;
+use campaign::dispersion::DispersionRanges;
+use campaign::runner;
+use campaign::{CampaignSpec, Shard};
+use lander::scenarios::Law;
 use std::path::{Path, PathBuf};
 
 /// Linux reports CPU times in /proc in USER_HZ, 100 per second on every architecture.

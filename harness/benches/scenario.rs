@@ -2,7 +2,7 @@
 //! all outputs recorded) per law. Target: under 20 ms.
 use cosim::master::{Simulation, Trajectory};
 use criterion::{criterion_group, criterion_main, Criterion};
-use harness::scenarios::{self, Law};
+use lander::scenarios::{self, Law};
 use std::path::PathBuf;
 
 fn fmu_dir() -> PathBuf {

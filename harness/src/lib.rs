@@ -1,16 +1,7 @@
-//! The lander mission over the co-simulation master (`cosim`) and the importer
-//! (`fmi-import`): the shipped scenarios, verdicts, flight metrics, the paper's law
-//! comparison and the divert, Monte Carlo campaigns, figures and reports, and the `harness`
-//! command line.
+//! The `harness` command line is the binary (`main.rs`); the mission, campaigns and reports
+//! it drives are the `lander`, `campaign` and `report` crates. This library only passes on
+//! the shipped scenarios under their old path, `harness::scenarios`, for the end-to-end
+//! tests that still load them from here (`tests/import`, `tests/supervision.rs`).
 #![forbid(unsafe_code)]
 
-pub mod metrics;
-pub mod montecarlo;
-pub mod overrides;
-pub mod paper;
-pub mod plots;
-pub mod report;
-pub mod retarget;
-pub mod scenarios;
-pub mod vars;
-pub mod verdict;
+pub use lander::scenarios;

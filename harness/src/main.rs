@@ -3,8 +3,11 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cosim::master::{MasterError, Trajectory};
 use cosim::supervise::Runner;
-use harness::scenarios::Law;
+use lander::scenarios::Law;
 use std::path::PathBuf;
+
+mod monte_carlo;
+mod vars;
 
 #[derive(Parser)]
 #[command(
@@ -135,7 +138,7 @@ enum Command {
         #[arg(long)]
         no_plots: bool,
     },
-    // Monte Carlo subcommands (harness/src/montecarlo/cli.rs).
+    // Monte Carlo subcommands (harness/src/monte_carlo.rs).
     /// Monte Carlo campaign over phi_cmd x laws x dispersed runs: manifest.csv, campaign.toml
     /// and the paper's Monte Carlo figure.
     #[command(
@@ -154,14 +157,14 @@ enum Command {
                       depend on --workers or --shard; any flight can be replayed bit-exactly \
                       with `harness replay`."
     )]
-    MonteCarlo(harness::montecarlo::cli::MonteCarloArgs),
+    MonteCarlo(monte_carlo::MonteCarloArgs),
     /// Merge `monte-carlo --shard k/N` directories, checking for duplicate and missing flights.
     #[command(name = "merge-mc", allow_negative_numbers = true)]
-    MergeMc(harness::montecarlo::cli::MergeArgs),
+    MergeMc(monte_carlo::MergeArgs),
     /// Re-fly one Monte Carlo flight from its seed (or a manifest row) and write its full
     /// trajectory; from a manifest, check its metrics bit for bit.
     #[command(allow_negative_numbers = true)]
-    Replay(harness::montecarlo::cli::ReplayArgs),
+    Replay(monte_carlo::ReplayArgs),
     /// Write DIR/report.html: one self-contained page with the figures, tables and verdicts
     /// of a `paper` or `monte-carlo` output directory (merged or Dask campaigns too).
     Report {
@@ -315,7 +318,7 @@ fn run_progress(
 
 impl RunRecorder {
     /// The run's last row as a one-row trajectory with every column's name: all that
-    /// [`harness::verdict::judge`] reads.
+    /// [`lander::verdict::judge`] reads.
     fn last_row(&self, names: &[String]) -> Trajectory {
         Trajectory {
             names: names.to_vec(),
@@ -379,9 +382,9 @@ fn main() {
 
 /// The command's exit code, or the error that stopped it (exit code 1).
 fn run(cli: Cli) -> anyhow::Result<i32> {
-    // 0, or harness::verdict::EXIT_FAILED_VERDICT when a run did not end as expected; errors
+    // 0, or lander::verdict::EXIT_FAILED_VERDICT when a run did not end as expected; errors
     // return through `?` (exit code 1).
-    let mut exit_code = harness::verdict::EXIT_OK;
+    let mut exit_code = lander::verdict::EXIT_OK;
     set_execution(&cli)?;
     match cli.command {
         Command::Run { request, junit } => {
@@ -424,7 +427,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Vars { fmu, causality } => {
             let only = match causality.as_deref() {
                 None => None,
-                Some(text) => Some(harness::vars::parse_causality(text).ok_or_else(|| {
+                Some(text) => Some(vars::parse_causality(text).ok_or_else(|| {
                     anyhow::anyhow!(
                         "--causality {text}: not a causality (parameter, calculatedParameter, \
                          input, output, local, independent)"
@@ -439,7 +442,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             // The description alone: listing variables runs no FMU code.
             let (_, description) = fmi_import::read_description(&path)
                 .with_context(|| format!("loading {}", fmu.display()))?;
-            print!("{}", harness::vars::table(&description, only));
+            print!("{}", vars::table(&description, only));
         }
         Command::Paper {
             scenario,
@@ -448,8 +451,8 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             format,
             sets,
         } => {
-            let (mut system, spec) = harness::verdict::scenario::load(&scenario)?;
-            let (problems, _) = harness::overrides::apply_sets(
+            let (mut system, spec) = lander::scenarios::spec::load(&scenario)?;
+            let (problems, _) = lander::overrides::apply_sets(
                 &mut system,
                 &sets,
                 &[(
@@ -460,22 +463,31 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             if !problems.is_empty() {
                 anyhow::bail!("{}", problems.join("\n"));
             }
-            let requirements = harness::verdict::scenario::requirements(&scenario)?;
+            let requirements = lander::scenarios::spec::requirements(&scenario)?;
             let name = system.name.clone();
-            let own = harness::paper::scenario_law(&system);
-            let flights = harness::paper::fly_all(
+            let own = lander::paper::scenario_law(&system);
+            let flights = lander::paper::fly_all(
                 system,
                 &cli.fmu_dir,
                 &Law::ALL,
                 &spec.envelope,
                 &requirements,
             )?;
-            let summary = harness::paper::summary(&name, &flights, spec.expect, own);
+            let summary = lander::paper::summary(&name, &flights, spec.expect, own);
             print!("{summary}");
-            exit_code = exit_code.max(harness::paper::exit_code(&flights, spec.expect, own));
-            for path in harness::paper::write_outputs(
-                &flights, &out_dir, &name, &summary, !no_plots, format,
-            )? {
+            exit_code = exit_code.max(lander::paper::exit_code(&flights, spec.expect, own));
+            let mut written =
+                lander::paper::write_results(&flights, &out_dir, &name, &summary, format)?;
+            if !no_plots {
+                written.extend(report::plots::paper_figures(&flights, &out_dir, &name)?);
+            }
+            written.extend(lander::paper::write_provenance(&flights, &out_dir)?);
+            written.push(report::html::write(
+                &out_dir,
+                &format!("lander-fmi: scenario '{name}' flown with each control law"),
+                &[],
+            )?);
+            for path in written {
                 println!("wrote {}", path.display());
             }
         }
@@ -484,29 +496,31 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             out_dir,
             no_plots,
         } => {
-            let (system, spec) = harness::verdict::scenario::load(&scenario)?;
+            let (system, spec) = lander::scenarios::spec::load(&scenario)?;
             let name = system.name.clone();
-            let (command, flights) = harness::retarget::fly_all(
+            let (command, flights) = lander::retarget::fly_all(
                 system,
                 &cli.fmu_dir,
-                &harness::retarget::LAWS,
+                &lander::retarget::LAWS,
                 &spec.envelope,
             )?;
-            let summary = harness::retarget::table(&name, &command, &flights);
+            let summary = lander::retarget::table(&name, &command, &flights);
             print!("{summary}");
-            for path in harness::retarget::write_outputs(
-                &flights, &command, &out_dir, &name, &summary, !no_plots,
-            )? {
+            let mut written = lander::retarget::write_results(&flights, &out_dir, &name, &summary)?;
+            if !no_plots {
+                written.extend(report::plots::retarget::figures(
+                    &flights, &command, &out_dir, &name,
+                )?);
+            }
+            for path in written {
                 println!("wrote {}", path.display());
             }
         }
-        Command::MonteCarlo(args) => {
-            exit_code = harness::montecarlo::cli::monte_carlo(&args, &cli.fmu_dir)?
-        }
-        Command::MergeMc(args) => exit_code = harness::montecarlo::cli::merge_mc(&args)?,
-        Command::Replay(args) => harness::montecarlo::cli::replay(&args, &cli.fmu_dir)?,
+        Command::MonteCarlo(args) => exit_code = monte_carlo::monte_carlo(&args, &cli.fmu_dir)?,
+        Command::MergeMc(args) => exit_code = monte_carlo::merge_mc(&args)?,
+        Command::Replay(args) => monte_carlo::replay(&args, &cli.fmu_dir)?,
         Command::Report { dir } => {
-            println!("wrote {}", harness::report::for_directory(&dir)?.display())
+            println!("wrote {}", report::html::for_directory(&dir)?.display())
         }
     }
     Ok(exit_code)
@@ -580,8 +594,8 @@ fn test_folder(
         match run_scenario(&request, fmu_dir) {
             Ok(flown) => {
                 match flown.exit_code {
-                    harness::verdict::EXIT_OK => {}
-                    harness::verdict::EXIT_ERROR => broken += 1,
+                    lander::verdict::EXIT_OK => {}
+                    lander::verdict::EXIT_ERROR => broken += 1,
                     _ => failed += 1,
                 }
                 suites.push(flown.suite);
@@ -606,11 +620,11 @@ fn test_folder(
         junit.display()
     );
     Ok(if broken > 0 {
-        harness::verdict::EXIT_ERROR
+        lander::verdict::EXIT_ERROR
     } else if failed > 0 {
-        harness::verdict::EXIT_FAILED_VERDICT
+        lander::verdict::EXIT_FAILED_VERDICT
     } else {
-        harness::verdict::EXIT_OK
+        lander::verdict::EXIT_OK
     })
 }
 
@@ -679,9 +693,9 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         step_size,
     } = request;
     let started = std::time::Instant::now();
-    let (mut system, spec) = harness::verdict::scenario::load(scenario)?;
-    let requirements = harness::verdict::scenario::requirements(scenario)?;
-    let (mut problems, seen) = harness::overrides::apply_sets(&mut system, sets, &[]);
+    let (mut system, spec) = lander::scenarios::spec::load(scenario)?;
+    let requirements = lander::scenarios::spec::requirements(scenario)?;
+    let (mut problems, seen) = lander::overrides::apply_sets(&mut system, sets, &[]);
     if let Some(stop) = stop_time {
         system.stop_time = *stop;
     }
@@ -799,7 +813,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             );
             suite.system_err = Some(simulation.take_stderr()).filter(|e| !e.is_empty());
             return Ok(Flown {
-                exit_code: harness::verdict::EXIT_ERROR,
+                exit_code: lander::verdict::EXIT_ERROR,
                 suite,
             });
         }
@@ -823,7 +837,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             return Err(error);
         }
     };
-    let verdict = harness::verdict::judge(&last, &end, &spec.envelope);
+    let verdict = lander::verdict::judge(&last, &end, &spec.envelope);
     println!(
         "{}: {} rows x {} columns -> {}\nverdict: {}",
         simulation.system().name,
@@ -843,14 +857,14 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     for j in &judged {
         println!("{}", j.describe());
         if !j.holds() {
-            exit_code = exit_code.max(harness::verdict::EXIT_FAILED_VERDICT);
+            exit_code = exit_code.max(lander::verdict::EXIT_FAILED_VERDICT);
         }
     }
     let system_err = simulation.take_stderr();
     let mut suite = cosim::requirements::junit::suite(
         &suite_name(scenario),
         started.elapsed().as_secs_f64(),
-        (verdict.exit_code(spec.expect) == harness::verdict::EXIT_OK).then(String::new),
+        (verdict.exit_code(spec.expect) == lander::verdict::EXIT_OK).then(String::new),
         &verdict.describe(spec.expect),
         &judged,
     );

@@ -10,7 +10,7 @@ use std::process::Command;
 
 /// The paper scenario's TOML with `stop_time` replaced.
 fn paper_until(stop_time: &str) -> String {
-    let paper = harness::scenarios::BUILT_IN
+    let paper = lander::scenarios::BUILT_IN
         .iter()
         .find(|(name, _)| *name == "paper")
         .unwrap()
@@ -31,8 +31,8 @@ fn refused(args: &[&str]) -> String {
 fn the_streamed_results_are_the_in_memory_trajectorys_byte_for_byte() {
     let dir = tempfile::tempdir().unwrap();
     // The trajectory as `harness run` recorded it before it streamed: all in memory.
-    let (mut system, _) = harness::verdict::scenario::load("paper").unwrap();
-    let requirements = harness::verdict::scenario::requirements("paper").unwrap();
+    let (mut system, _) = lander::scenarios::spec::load("paper").unwrap();
+    let requirements = lander::scenarios::spec::requirements("paper").unwrap();
     if let Some(list) = system.record.as_mut() {
         cosim::requirements::record_signals(list, &requirements);
     }
@@ -122,7 +122,7 @@ fn a_run_too_large_to_record_is_refused_with_its_estimate_unless_forced() {
     let out = out.to_str().unwrap();
     // The paper scenario records every output of its FMUs, and the time.
     let columns =
-        1 + cosim::master::Simulation::new(harness::scenarios::load("paper").unwrap(), &fmu_dir())
+        1 + cosim::master::Simulation::new(lander::scenarios::load("paper").unwrap(), &fmu_dir())
             .unwrap()
             .column_names()
             .len();

@@ -3,11 +3,11 @@
 //! `harness retarget` measures the nominal flight.
 mod common;
 
-use harness::montecarlo::campaign::Flight;
-use harness::montecarlo::dispersion::DispersionRanges;
-use harness::montecarlo::flight::{campaign_system, Flyer};
-use harness::montecarlo::summary;
-use harness::scenarios::Law;
+use campaign::dispersion::DispersionRanges;
+use campaign::flight::{campaign_system, Flyer};
+use campaign::summary;
+use campaign::Flight;
+use lander::scenarios::Law;
 
 fn flight(run: u64, law: Law) -> Flight {
     Flight {
@@ -36,13 +36,13 @@ fn an_undispersed_flight_measures_the_divert_that_harness_retarget_measures() {
         system.record = None;
         let mut full = Flyer::new(
             system,
-            harness::verdict::scenario::load("retarget").unwrap().1,
+            lander::scenarios::spec::load("retarget").unwrap().1,
             &common::fmu_dir(),
         )
         .unwrap();
         full.fly(&flight(0, law), &DispersionRanges::none());
-        let command = harness::retarget::RetargetCommand::of(full.simulation().system()).unwrap();
-        let reference = harness::retarget::divert_metrics(full.trajectory(), &command).unwrap();
+        let command = lander::retarget::RetargetCommand::of(full.simulation().system()).unwrap();
+        let reference = lander::retarget::divert_metrics(full.trajectory(), &command).unwrap();
         // THEN the campaign's divert metrics are those, bit for bit
         let m = row.metrics;
         assert_eq!(m.divert_overshoot_m, reference.overshoot_m, "{law:?}");

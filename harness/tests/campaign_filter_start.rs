@@ -3,11 +3,11 @@
 //! claims, instead of at the scenario's nominal start it would otherwise keep.
 mod common;
 
-use harness::montecarlo::campaign::Flight;
-use harness::montecarlo::dispersion::DispersionRanges;
-use harness::montecarlo::estimator_start::{self, ClaimedStartError, Start};
-use harness::montecarlo::flight::{campaign_system, Flyer};
-use harness::scenarios::Law;
+use campaign::dispersion::DispersionRanges;
+use campaign::estimator_start::{self, ClaimedStartError, Start};
+use campaign::flight::{campaign_system, Flyer};
+use campaign::Flight;
+use lander::scenarios::Law;
 
 #[test]
 fn each_run_starts_the_filter_at_its_dispersed_truth_with_the_claimed_error() {

@@ -5,11 +5,11 @@
 //! matter) equals a replay that records everything, bit for bit.
 mod common;
 
+use campaign::dispersion::DispersionRanges;
+use campaign::{replay, runner};
+use campaign::{CampaignSpec, Shard};
 use cosim::master::{Simulation, Trajectory};
-use harness::montecarlo::campaign::{CampaignSpec, Shard};
-use harness::montecarlo::dispersion::DispersionRanges;
-use harness::montecarlo::{replay, runner};
-use harness::scenarios::{self, Law};
+use lander::scenarios::{self, Law};
 
 #[test]
 fn final_values_equal_the_last_recorded_row_for_every_exchange_type() {

@@ -6,7 +6,7 @@ use common::harness;
 
 /// The paper scenario with one requirement appended.
 fn paper_with(dir: &std::path::Path, formula: &str) -> String {
-    let paper = harness::scenarios::BUILT_IN
+    let paper = lander::scenarios::BUILT_IN
         .iter()
         .find(|(name, _)| *name == "paper")
         .unwrap()
@@ -45,7 +45,7 @@ fn flights_beyond_the_shipped_deviation_limit_fail_and_the_others_pass() {
     ]);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(3), "{stdout}");
-    let rows = harness::montecarlo::manifest::read(&out_dir.join("manifest.csv")).unwrap();
+    let rows = campaign::manifest::read(&out_dir.join("manifest.csv")).unwrap();
     assert_eq!(rows.len(), 40);
     // The requirement and the descent metric measure the same excursion (the metric over
     // the descent phase's samples, the requirement over its time window): they agree away

@@ -4,7 +4,7 @@
 mod common;
 
 use common::harness;
-use harness::plots::style::decimate;
+use report::plots::style::decimate;
 use std::path::Path;
 
 fn run(args: &[&str]) {
@@ -73,7 +73,7 @@ fn the_paper_report_shows_the_run_and_orders_its_figures() {
     let out = dir.path().join("paper");
     run(&["paper", "paper", "--out-dir", out.to_str().unwrap()]);
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
-    let provenance = harness::report::Provenance::read(&out.join("provenance.toml")).unwrap();
+    let provenance = lander::provenance::Provenance::read(&out.join("provenance.toml")).unwrap();
     assert_eq!(provenance.scenario, "paper");
     assert_eq!(provenance.laws, ["coupled", "decoupled", "reduced"]);
     assert_eq!(provenance.instance.len(), 2);
@@ -86,7 +86,7 @@ fn the_paper_report_shows_the_run_and_orders_its_figures() {
     position(&html, "<code>phi_cmd</code>");
     position(&html, "2.6179938779914944");
     position(&html, "each flight sets its law");
-    position(&html, env!("LANDER_COMMIT"));
+    position(&html, report::html::COMMIT);
     position(&html, "(UTC)");
     let order = [
         "<h3>3-D trajectories, scenario 'paper' (paper Fig. 3)</h3>",

@@ -5,11 +5,11 @@
 //! over 50 seeded runs.
 mod common;
 
+use campaign::attitude::{self, Quat};
+use campaign::estimator_start::{self, ClaimedStartError, Start};
 use cosim::master::{Simulation, Trajectory};
 use cosim::system::ParamValue;
-use harness::montecarlo::attitude::{self, Quat};
-use harness::montecarlo::estimator_start::{self, ClaimedStartError, Start};
-use harness::scenarios::Law;
+use lander::scenarios::Law;
 
 fn flown(system: cosim::system::SystemDescription) -> (Trajectory, cosim::master::RunEnd) {
     let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
@@ -24,13 +24,13 @@ fn flown(system: cosim::system::SystemDescription) -> (Trajectory, cosim::master
 #[test]
 fn it_lands_on_its_footpads_inside_the_envelope_and_settles_upright() {
     // GIVEN the built-in scenario
-    let (system, spec) = harness::verdict::scenario::load("full-fidelity").unwrap();
+    let (system, spec) = lander::scenarios::spec::load("full-fidelity").unwrap();
     // WHEN it is flown
     let (run, end) = flown(system);
     // THEN it lands inside the envelope
-    let verdict = harness::verdict::judge(&run, &end, &spec.envelope);
+    let verdict = lander::verdict::judge(&run, &end, &spec.envelope);
     assert!(
-        matches!(verdict, harness::verdict::Verdict::Landed(_)),
+        matches!(verdict, lander::verdict::Verdict::Landed(_)),
         "{verdict:?}"
     );
     let column = |name: &str| run.column_index(name).unwrap();
@@ -78,7 +78,7 @@ fn the_filter_position_velocity_and_attitude_errors_are_consistent_with_its_cova
     // each with its own sensor noise seed and an initial estimate off the truth by an error
     // drawn from the filter's claimed initial 1-sigma (10 m, 1 m/s, 0.01 rad per axis), as a
     // campaign starts it
-    let (mut system, _) = harness::verdict::scenario::load("full-fidelity").unwrap();
+    let (mut system, _) = lander::scenarios::spec::load("full-fidelity").unwrap();
     system.stop_time = 60.0;
     // Per axis: position truth, estimate, variance; then the same of velocity
     // (covariance_diag[4..6]); then both attitudes and the attitude variances
@@ -177,22 +177,22 @@ fn attitude_error_body(q_true: Quat, q_estimate: Quat) -> [f64; 3] {
 fn every_law_lands_the_decoupled_laws_deviate_least_and_the_readme_says_by_how_much() {
     // GIVEN the full-fidelity and the paper scenarios, flown with every law
     let fly = |name: &str| {
-        let (system, spec) = harness::verdict::scenario::load(name).unwrap();
-        harness::paper::fly_all(system, &common::fmu_dir(), &Law::ALL, &spec.envelope, &[]).unwrap()
+        let (system, spec) = lander::scenarios::spec::load(name).unwrap();
+        lander::paper::fly_all(system, &common::fmu_dir(), &Law::ALL, &spec.envelope, &[]).unwrap()
     };
     let full = fly("full-fidelity");
     let paper = fly("paper");
     // THEN with every effect on each law lands
     for flight in &full {
         assert!(
-            matches!(flight.verdict, harness::verdict::Verdict::Landed(_)),
+            matches!(flight.verdict, lander::verdict::Verdict::Landed(_)),
             "{:?}: {:?}",
             flight.law,
             flight.verdict
         );
     }
     // AND the paper's ordering holds: the coupled law deviates more than twice as far
-    let deviation = |flights: &[harness::paper::Flight], law: Law| {
+    let deviation = |flights: &[lander::paper::Flight], law: Law| {
         flights
             .iter()
             .find(|f| f.law == law)

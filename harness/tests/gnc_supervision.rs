@@ -17,7 +17,7 @@ fn scenario_with_monitor(
     stop_s: u32,
     edit: impl Fn(&str) -> String,
 ) -> String {
-    let text = harness::scenarios::BUILT_IN
+    let text = lander::scenarios::BUILT_IN
         .iter()
         .find(|(built_in, _)| *built_in == name)
         .unwrap_or_else(|| panic!("no built-in scenario {name}"))
@@ -59,7 +59,7 @@ fn campaign(scenario: &str, out_dir: &std::path::Path, runs: &str) -> (usize, us
         String::from_utf8_lossy(&output.stdout),
         String::from_utf8_lossy(&output.stderr)
     );
-    let rows = harness::montecarlo::manifest::read(&out_dir.join("manifest.csv")).unwrap();
+    let rows = campaign::manifest::read(&out_dir.join("manifest.csv")).unwrap();
     let violated = rows
         .iter()
         .filter(|row| {

@@ -13,8 +13,8 @@ mod common;
 use cosim::master::Trajectory;
 use cosim::results::{read_csv, write_csv};
 use cosim::supervise::Runner;
-use harness::paper::fly;
-use harness::scenarios::{self, Law};
+use lander::paper::fly;
+use lander::scenarios::{self, Law};
 use std::path::PathBuf;
 
 const COLUMNS: &[&str] = &[

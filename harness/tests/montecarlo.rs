@@ -3,10 +3,10 @@
 //! distribution, and the paper's trend over phi_cmd.
 mod common;
 
-use harness::montecarlo::campaign::{CampaignSpec, Shard};
-use harness::montecarlo::dispersion::{Dispersion, DispersionRanges};
-use harness::montecarlo::{manifest, merge, replay, runner, seed, summary};
-use harness::scenarios::Law;
+use campaign::dispersion::{Dispersion, DispersionRanges};
+use campaign::{manifest, merge, replay, runner, seed, summary};
+use campaign::{CampaignSpec, Shard};
+use lander::scenarios::Law;
 use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 

@@ -174,7 +174,7 @@ fn a_phi_cmd_outside_its_declared_range_is_refused_in_degrees_before_any_flight(
 fn a_step_too_small_to_record_is_refused_before_the_run() {
     let dir = tempfile::tempdir().unwrap();
     let scenario = dir.path().join("tiny-step.toml");
-    let paper = harness::scenarios::BUILT_IN
+    let paper = lander::scenarios::BUILT_IN
         .iter()
         .find(|(name, _)| *name == "paper")
         .unwrap()
@@ -305,7 +305,7 @@ fn a_campaign_over_the_flight_limit_is_refused_unless_forced() {
 fn the_campaign_help_names_every_built_in_scenario() {
     let output = harness(&["monte-carlo", "--help"]);
     let help = String::from_utf8_lossy(&output.stdout);
-    for (name, _) in harness::scenarios::BUILT_IN {
+    for (name, _) in lander::scenarios::BUILT_IN {
         assert!(help.contains(name), "{name} missing from: {help}");
     }
     assert!(help.contains(".ssp package"), "{help}");

@@ -5,7 +5,7 @@ mod common;
 
 use cosim::master::{RunEnd, Simulation, Trajectory};
 use cosim::system::{toml_format, ParamValue, SystemDescription};
-use harness::scenarios;
+use lander::scenarios;
 use std::path::{Path, PathBuf};
 
 fn nav_scenario() -> SystemDescription {

@@ -6,7 +6,7 @@ mod common;
 
 use cosim::master::{Recorder, Simulation, Trajectory};
 use cosim::system::SystemDescription;
-use harness::scenarios;
+use lander::scenarios;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;

@@ -18,8 +18,8 @@ mod common;
 
 use cosim::supervise::Runner;
 use cosim::system::ParamValue;
-use harness::paper::{fly, Flight};
-use harness::scenarios::{self, Law};
+use lander::paper::{fly, Flight};
+use lander::scenarios::{self, Law};
 
 fn simulation(scenario: &str, phi_cmd_deg: Option<f64>) -> Runner {
     let mut system = scenarios::load(scenario).unwrap();

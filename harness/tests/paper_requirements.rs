@@ -6,7 +6,7 @@ mod common;
 use common::harness;
 
 fn paper_text() -> &'static str {
-    harness::scenarios::BUILT_IN
+    lander::scenarios::BUILT_IN
         .iter()
         .find(|(name, _)| *name == "paper")
         .expect("the paper scenario is built in")

@@ -19,7 +19,7 @@ fn landing_with(dir: &Path, requirements: &[(&str, &str)]) -> String {
 
 /// The landing scenario with `requirements` (TOML) appended.
 fn landing_with_text(dir: &Path, requirements: &str) -> String {
-    let landing = harness::scenarios::BUILT_IN
+    let landing = lander::scenarios::BUILT_IN
         .iter()
         .find(|(name, _)| *name == "landing")
         .unwrap()
@@ -183,7 +183,7 @@ fn harness_test_runs_every_scenario_of_a_folder_into_one_junit_report() {
     let scenarios = dir.path().join("scenarios");
     std::fs::create_dir(&scenarios).unwrap();
     let built_in = |name: &str| {
-        harness::scenarios::BUILT_IN
+        lander::scenarios::BUILT_IN
             .iter()
             .find(|(n, _)| *n == name)
             .unwrap()

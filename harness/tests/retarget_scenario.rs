@@ -17,12 +17,12 @@
 //!   twice the decoupled one.
 mod common;
 
-use harness::retarget::{fly_all, DivertFlight, LAWS};
-use harness::scenarios::Law;
-use harness::verdict::Envelope;
+use lander::retarget::{fly_all, DivertFlight, LAWS};
+use lander::scenarios::Law;
+use lander::verdict::Envelope;
 
 fn flights() -> Vec<DivertFlight> {
-    let system = harness::scenarios::load("retarget").unwrap();
+    let system = lander::scenarios::load("retarget").unwrap();
     let (_, flights) = fly_all(system, &common::fmu_dir(), &LAWS, &Envelope::default()).unwrap();
     flights
 }
@@ -109,9 +109,9 @@ fn harness_run_retarget_flies_the_built_in_scenario() {
 #[test]
 fn the_paper_comparison_measures_a_retargeted_flight_from_its_new_site() {
     // GIVEN the retarget scenario flown as `harness paper` flies it
-    let system = harness::scenarios::load("retarget").unwrap();
+    let system = lander::scenarios::load("retarget").unwrap();
     let mut simulation = cosim::supervise::Runner::new(system, &common::fmu_dir()).unwrap();
-    let flight = harness::paper::fly(&mut simulation, Law::Decoupled).unwrap();
+    let flight = lander::paper::fly(&mut simulation, Law::Decoupled).unwrap();
     // THEN its terminal error is counted from the new site (30 m North), not the old one
     assert!(
         flight.metrics.terminal_position_error_m < 0.05,

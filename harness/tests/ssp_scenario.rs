@@ -4,7 +4,7 @@
 mod common;
 
 use cosim::master::{Simulation, Trajectory};
-use harness::scenarios;
+use lander::scenarios;
 use std::path::PathBuf;
 
 fn scenarios_dir() -> PathBuf {

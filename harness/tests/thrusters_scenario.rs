@@ -3,11 +3,11 @@
 //! phi_cmd = 150 deg, and a Monte Carlo run draws its own navigation errors.
 mod common;
 
+use campaign::flight::{campaign_system, Flyer};
+use campaign::{DispersionRanges, Flight};
 use cosim::master::{Simulation, Trajectory};
 use cosim::system::{toml_format, SystemDescription};
-use harness::montecarlo::flight::{campaign_system, Flyer};
-use harness::montecarlo::{DispersionRanges, Flight};
-use harness::scenarios::Law;
+use lander::scenarios::Law;
 use std::path::{Path, PathBuf};
 
 const SCENARIO: &str = concat!(

@@ -24,7 +24,7 @@ fn a_heavy_lander_lands_hard_and_the_run_fails_naming_the_broken_limits() {
     // WHEN it is run
     let (code, text) = harness(&["run", "paper", "--set", "plant.m0=1000", "-o", "r.csv"]);
     // THEN the verdict is a hard landing, naming the vertical speed and the tilt
-    assert_eq!(code, harness::verdict::EXIT_FAILED_VERDICT, "{text}");
+    assert_eq!(code, lander::verdict::EXIT_FAILED_VERDICT, "{text}");
     assert!(text.contains("HARD LANDING"), "{text}");
     assert!(
         text.contains("vertical speed") && text.contains("> 2.00 m/s"),
@@ -39,7 +39,7 @@ fn a_heavy_lander_lands_hard_and_the_run_fails_naming_the_broken_limits() {
 #[test]
 fn the_landing_scenario_touches_down_inside_the_envelope() {
     let (code, text) = harness(&["run", "landing", "-o", "r.csv"]);
-    assert_eq!(code, harness::verdict::EXIT_OK, "{text}");
+    assert_eq!(code, lander::verdict::EXIT_OK, "{text}");
     assert!(text.contains("landed inside the envelope"), "{text}");
     assert!(
         text.contains("vertical 1.0"),
@@ -50,7 +50,7 @@ fn the_landing_scenario_touches_down_inside_the_envelope() {
 #[test]
 fn the_paper_scenario_completes_and_a_landing_it_does_not_expect_fails() {
     let (code, text) = harness(&["run", "paper", "-o", "r.csv"]);
-    assert_eq!(code, harness::verdict::EXIT_OK, "{text}");
+    assert_eq!(code, lander::verdict::EXIT_OK, "{text}");
     assert!(text.contains("verdict: completed"), "{text}");
     // the terminal descent switched on in a scenario expecting a hover: a soft landing at
     // ~150 s from a descent to 20 m, and still a failed run
@@ -66,7 +66,7 @@ fn the_paper_scenario_completes_and_a_landing_it_does_not_expect_fails() {
         "-o",
         "r.csv",
     ]);
-    assert_eq!(code, harness::verdict::EXIT_FAILED_VERDICT, "{text}");
+    assert_eq!(code, lander::verdict::EXIT_FAILED_VERDICT, "{text}");
     assert!(text.contains("landed inside the envelope"), "{text}");
     assert!(text.contains("expects: completed"), "{text}");
 }
@@ -74,7 +74,7 @@ fn the_paper_scenario_completes_and_a_landing_it_does_not_expect_fails() {
 #[test]
 fn a_run_that_cannot_start_is_an_error_not_a_failed_verdict() {
     let (code, text) = harness(&["run", "paper", "--set", "plant.m0=-5", "-o", "r.csv"]);
-    assert_eq!(code, harness::verdict::EXIT_ERROR, "{text}");
+    assert_eq!(code, lander::verdict::EXIT_ERROR, "{text}");
 }
 
 /// The number after `key` in a verdict line (`vertical 1.87 m/s` -> 1.87).
@@ -102,7 +102,7 @@ fn a_flaring_terminal_descent_cuts_the_engine_and_falls_the_last_metre() {
     }
     let (code, text) = harness(&args);
     // THEN it lands inside the envelope, sooner than at a constant 1 m/s (323.6 s)
-    assert_eq!(code, harness::verdict::EXIT_OK, "{text}");
+    assert_eq!(code, lander::verdict::EXIT_OK, "{text}");
     let t = number_after(&text, "touchdown at t =");
     assert!(t > 250.0 && t < 290.0, "{text}");
     // AND at the free-fall speed from the cut-off, sqrt(0.5^2 + 2 g 1 m) = 1.87 m/s (the cut
@@ -111,7 +111,7 @@ fn a_flaring_terminal_descent_cuts_the_engine_and_falls_the_last_metre() {
     let vertical = number_after(&text, "vertical");
     assert!(vertical > 1.80 && vertical < 1.90, "{text}");
     let (code, text) = harness(&args[..args.len() - 2]);
-    assert_eq!(code, harness::verdict::EXIT_OK, "{text}");
+    assert_eq!(code, lander::verdict::EXIT_OK, "{text}");
     let vertical = number_after(&text, "vertical");
     assert!((vertical - 0.5).abs() < 0.05, "{text}");
 }

@@ -84,8 +84,7 @@ pub fn ssp_path() -> PathBuf {
 
 /// A built-in scenario of the harness, or a scenario file (`.toml`, `.ssd`).
 pub fn scenario(name_or_path: &str) -> SystemDescription {
-    harness::scenarios::load(name_or_path)
-        .unwrap_or_else(|e| panic!("scenario {name_or_path}: {e}"))
+    lander::scenarios::load(name_or_path).unwrap_or_else(|e| panic!("scenario {name_or_path}: {e}"))
 }
 
 /// Flies `system` in the harness with `conventions`; FMU paths relative to the packaged FMUs.

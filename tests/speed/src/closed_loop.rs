@@ -1,12 +1,12 @@
 //! Both FMUs in the harness's own master: the paper scenario, and a Monte Carlo campaign.
 use crate::record::paper_system;
 use anyhow::{ensure, Result};
+use campaign::dispersion::DispersionRanges;
+use campaign::runner::{self, RunOptions};
+use campaign::{CampaignSpec, Shard};
 use cosim::master::{RunEnd, Trajectory};
 use cosim::supervise::{Execution, Runner};
-use harness::montecarlo::campaign::{CampaignSpec, Shard};
-use harness::montecarlo::dispersion::DispersionRanges;
-use harness::montecarlo::runner::{self, RunOptions};
-use harness::scenarios::Law;
+use lander::scenarios::Law;
 use std::path::Path;
 use std::time::{Duration, Instant};
 

@@ -117,7 +117,7 @@ impl PaperRecord {
 
 /// The built-in paper scenario, optionally ending earlier.
 pub fn paper_system(stop_time_s: Option<f64>) -> Result<SystemDescription> {
-    let mut system = harness::scenarios::load("paper").context("the built-in paper scenario")?;
+    let mut system = lander::scenarios::load("paper").context("the built-in paper scenario")?;
     if let Some(stop) = stop_time_s {
         ensure!(
             stop > system.start_time && stop <= system.stop_time,

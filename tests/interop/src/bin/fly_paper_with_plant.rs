@@ -18,7 +18,7 @@ fn main() -> Result<()> {
     let [plant_fmu, out_csv] = args.as_slice() else {
         bail!("usage: fly_paper_with_plant PLANT.fmu OUT.csv");
     };
-    let mut system = harness::scenarios::load("paper")?;
+    let mut system = lander::scenarios::load("paper")?;
     system
         .instance_mut("plant")
         .context("the paper scenario has no instance 'plant'")?

@@ -20,7 +20,7 @@ use cosim::master::{Simulation, Trajectory};
 use std::io::Write;
 
 fn fly(scenario: &str, out_csv: &str) -> Result<()> {
-    let system = harness::scenarios::load(scenario)?;
+    let system = lander::scenarios::load(scenario)?;
     let mut simulation = Simulation::new(system, &interop_tests::fmu_dir())?;
     let mut trajectory = Trajectory {
         names: simulation.column_names().to_vec(),

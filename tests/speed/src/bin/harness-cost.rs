@@ -125,7 +125,7 @@ fn master(fmu_dir: &Path, mut system: SystemDescription, mode: &str) -> Result<V
 /// Campaign flights through a reused `Flyer`, the first outside the count; prints the steps
 /// flown in the counted ones.
 fn campaign(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
-    use harness::montecarlo::{flight, CampaignSpec, DispersionRanges};
+    use campaign::{flight, CampaignSpec, DispersionRanges};
     let (mut system, spec) = flight::campaign_system("paper", &[], false)?;
     if let Some(stop) = stop_time {
         system.stop_time = stop;
@@ -134,7 +134,7 @@ fn campaign(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
         scenario: "paper".into(),
         seed: 1,
         phi_cmd_deg: vec![150.0],
-        laws: vec![harness::scenarios::Law::Decoupled],
+        laws: vec![lander::scenarios::Law::Decoupled],
         runs_per_point: CAMPAIGN_FLIGHTS + 1,
         dispersions: DispersionRanges::default(),
         sets: Vec::new(),

@@ -1,8 +1,0 @@
-//! PNG figures mirroring the paper's: Fig. 3 the 3-D trajectories of the laws, Fig. 4 the
-//! position components against time, Fig. 5 the body rates ([`paper`]); the Monte Carlo
-//! Fig. 6 is in [`crate::montecarlo::plots`]; the retarget comparison in [`retarget`]. [`style`] gives every figure one look.
-pub mod paper;
-pub mod retarget;
-pub mod style;
-
-pub use paper::paper_figures;
