@@ -1,7 +1,6 @@
 //! FMU archives built entry by entry, each broken in one way the unpacker refuses, and the
 //! stub's model description they carry. Shared with the command line's tests
 //! (harness/tests/import), which check that `harness` refuses the same archives cleanly.
-#![allow(dead_code)] // the wide entity bomb is the command line's case only
 
 use std::fs;
 use std::io::Write;
@@ -104,6 +103,7 @@ pub fn entity_bomb() -> String {
 
 /// One entity of a megabyte referenced a thousand times: a gigabyte once expanded (without
 /// the refusal, `harness vars` took 18 s and 2 GB of memory on it).
+#[allow(dead_code)] // the command line's case only (harness/tests/import)
 pub fn wide_entity_bomb() -> String {
     STUB_DESCRIPTION
         .replacen(

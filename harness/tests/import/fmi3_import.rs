@@ -1,7 +1,9 @@
 //! The harness imports FMI 3.0 Co-Simulation FMUs (`cargo xtask fmus` writes them to
 //! target/fmu/fmi3/): the paper scenario flown with the FMI 3.0 pair gives the FMI 2.0 pair's
 //! verdict and trajectory, array elements answer to the FMI 2.0 scalar names, a model alone
-//! runs, and FMI 3.0 input the harness cannot drive is refused before the run.
+//! runs, and FMI 3.0 input the harness cannot drive is refused before the run. The importer's
+//! own FMI 3.0 behaviour (Step and Event Mode, every exchanged type) is tested in
+//! fmi-import/tests/fmi3_import.rs.
 use crate::common;
 use fmi_import::{FmiVersion, Fmu};
 use std::fs;
