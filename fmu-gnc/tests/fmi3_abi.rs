@@ -1,6 +1,6 @@
 //! LanderGnc through its FMI 3.0 C functions, on the test kit's FMI 3.0 driver:
-//! Co-Simulation works with array inputs and outputs; Model Exchange, which it does not
-//! offer, is refused with the reason.
+//! Co-Simulation works with array inputs and outputs (Model Exchange, which it does not
+//! offer, refused with the reason: tests/conformance.rs).
 
 use fmi_testkit::fmi3_ffi::*;
 use fmi_testkit::{fmi3_functions, CoSimulationOptions, Fmi3Functions, Fmi3Instance};
@@ -9,17 +9,6 @@ static FUNCTIONS: Fmi3Functions = fmi3_functions!(fmu_gnc);
 
 fn token() -> String {
     fmi3_export::instantiation_token::<fmu_gnc::LanderGnc>()
-}
-
-#[test]
-fn model_exchange_is_refused_with_the_reason() {
-    let log = Fmi3Instance::model_exchange(&FUNCTIONS, "gnc", &token(), false)
-        .expect_err("LanderGnc instantiated as Model Exchange");
-    let messages: Vec<String> = log.into_iter().filter_map(|r| r.message).collect();
-    assert_eq!(
-        messages,
-        ["fmi3InstantiateModelExchange: LanderGnc offers Co-Simulation only, not Model Exchange"]
-    );
 }
 
 #[test]

@@ -7,7 +7,7 @@ mod fmi3_common;
 
 use fmi3_common::{vr, Plant};
 use fmi_testkit::fmi3_ffi::*;
-use fmi_testkit::{Fmi3Instance, Fmi3Step};
+use fmi_testkit::Fmi3Step;
 use fmu_plant as fmu;
 
 /// A step that must not end early (and, without Event Mode, needs no event handling):
@@ -175,19 +175,6 @@ fn a_serialized_fmu_state_restores_the_run_bit_for_bit_and_a_corrupt_one_is_refu
     }
     assert_eq!(plant.get("q_body_to_nue", 4), reference, "bit for bit");
     assert!(plant.log().contains("checksum"), "{}", plant.log());
-}
-
-#[test]
-fn a_wrong_instantiation_token_gives_null_and_says_why() {
-    let log =
-        Fmi3Instance::model_exchange(&fmi3_common::FUNCTIONS, "plant", "{not-the-token}", false)
-            .expect_err("instantiated with a wrong token");
-    assert!(
-        log[0].message.as_deref().unwrap_or_default().contains(
-            "fmi3InstantiateModelExchange: instantiationToken \"{not-the-token}\" does not match"
-        ),
-        "{log:?}"
-    );
 }
 
 #[test]

@@ -7,15 +7,6 @@ use fmi_testkit::fmi2::*;
 const G: f64 = 1.62;
 
 #[test]
-fn checked_in_model_description_matches_the_table() {
-    fmi_testkit::assert_file_matches(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml"),
-        &fmi2_export::model_description_xml_me::<fmu_plant::LanderPlant>(),
-        "cargo run -p fmu-plant --bin fmu_plant_model_description > fmu-plant/modelDescription.xml",
-    );
-}
-
-#[test]
 fn free_fall_through_the_c_api() {
     // GIVEN the default plant at 800 m, engines off
     let fmu = Plant::new();
