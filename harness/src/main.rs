@@ -1,4 +1,6 @@
-//! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals).
+//! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals). The
+//! command line only: what it flies is `lander`'s and `campaign`'s, what it draws `report`'s;
+//! it adds the options, the printing and the exit codes.
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cosim::master::{MasterError, Trajectory};
