@@ -92,7 +92,7 @@ impl Probe {
         let q = match fmu.lander() {
             Lander::Plant | Lander::Nav | Lander::Filter => Some("q_body_to_nue"),
             Lander::Gnc => Some("q_ref"),
-            Lander::Sensors => None,
+            _ => None,
         };
         let omega = (fmu.lander() == Lander::Plant)
             .then(|| [1, 2, 3].map(|k| at(&format!("omega_body[{k}]"))));
@@ -282,7 +282,7 @@ pub fn parameters(lander: Lander) -> Vec<(String, f64)> {
         Lander::Plant => plant_parameters(),
         Lander::Nav => nav_errors_on(2026),
         Lander::Sensors => sensors_parameters(),
-        Lander::Gnc | Lander::Filter => Vec::new(),
+        _ => Vec::new(),
     }
 }
 

@@ -1,6 +1,9 @@
 //! The legal run every invariant comes back to: a master's ordinary sequence (setup,
 //! initialize, then per step set inputs, get outputs, do step) with deterministic inputs,
 //! recorded as the bit patterns of every Real output. Two runs agree only if every bit does.
+// std's transcendental functions make the legal run's deterministic inputs here, outside any FMU (the
+// workspace clippy.toml forbids them for the FMUs' sake).
+#![allow(clippy::disallowed_methods)]
 use crate::ffi::*;
 use crate::instance::{Fmu, Instance};
 use crate::package::Lander;
@@ -49,6 +52,8 @@ pub fn inputs_at(lander: Lander, t_s: f64) -> Vec<f64> {
                 .collect()
         }
         Lander::Filter => measurements_at(t_s).reals(),
+        // An FMU this suite knows nothing of runs on its start values.
+        _ => Vec::new(),
     }
 }
 
@@ -94,6 +99,7 @@ pub fn input_names(lander: Lander) -> Vec<String> {
             .chain(std::iter::once("altimeter_range".to_string()))
             .chain(indexed("velocimeter_los_velocity", 3))
             .collect(),
+        _ => Vec::new(),
     }
 }
 

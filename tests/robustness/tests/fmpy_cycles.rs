@@ -5,6 +5,7 @@
 //! (measured, VmRSS after 1,000 -> 10,000 cycles: LanderGnc 38,192 -> 38,200 KiB, LanderPlant
 //! 38,584 -> 39,096 KiB, LanderNav 38,072 -> 38,072 KiB, LanderSensors 38,016 -> 38,028 KiB,
 //! LanderFilter 38,148 -> 38,164 KiB).
+use robustness_tests::package::Lander;
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -49,18 +50,14 @@ fn cycles_rss(fmu: &str, cycles: u32, warm_up: u32) -> (u64, u64) {
 
 #[test]
 fn resident_memory_stays_flat_over_fmpy_cycles() {
-    for fmu in [
-        "LanderGnc",
-        "LanderPlant",
-        "LanderNav",
-        "LanderSensors",
-        "LanderFilter",
-    ] {
+    // Every FMU the workspace packages as FMI 2.0, from its [package.metadata.fmu].
+    for lander in Lander::all() {
+        let fmu = lander.model_identifier();
         // GIVEN 1,500 cycles after a warm-up of 1,000 (fmpy's and the interpreter's caches
         // grow by ~700 KiB over them, then stop); LanderPlant's RSS steps up once more, by
         // 496 KiB, between cycles 1,000 and 2,000 and is flat from there to 10,000
         // (measured), so its warm-up is 2,000
-        let warm_up = if fmu == "LanderPlant" { 2000 } else { 1000 };
+        let warm_up = if lander == Lander::Plant { 2000 } else { 1000 };
         let (after_warm_up, at_end) = cycles_rss(fmu, warm_up + 1500, warm_up);
         // THEN the 1,500 cycles after it grow RSS by less than 512 KiB: an instance holds
         // ~6 KiB, so one leaked instance per cycle would add ~9 MiB.

@@ -13,7 +13,7 @@ const VALGRIND_CYCLES: &str = "300";
 
 #[test]
 fn cycles_under_valgrind_lose_no_memory_and_make_no_memory_error() {
-    for lander in Lander::ALL {
+    for lander in Lander::all() {
         let output = Command::new("valgrind")
             .args([
                 "--leak-check=full",
@@ -45,7 +45,7 @@ fn cycles_under_valgrind_lose_no_memory_and_make_no_memory_error() {
 #[test]
 fn resident_memory_is_flat_over_the_cycles() {
     const CYCLES: usize = 3000;
-    for lander in Lander::ALL {
+    for lander in Lander::all() {
         let fmu = Fmu::load(lander).expect("packaged FMU");
         let wiring = Wiring::of(&fmu);
         let mut rss = Vec::new();

@@ -26,6 +26,9 @@ fn parameters(lander: Lander, k: usize) -> Vec<(&'static str, f64)> {
         Lander::Sensors => vec![("seed", 21.0 + k), ("altimeter_noise_sigma", 0.1 + 0.1 * k)],
         // Deterministic: a different initial uncertainty per run.
         Lander::Filter => vec![("r0_sigma", 10.0 + k), ("gravity", 1.62 + 0.001 * k)],
+        // Another FMU runs at its defaults: a mix-up between its runs cannot show, one with
+        // another FMU's can.
+        _ => Vec::new(),
     }
 }
 
@@ -36,7 +39,7 @@ fn run(fmu: &Fmu, k: usize) -> Vec<u64> {
 
 #[test]
 fn concurrent_instances_give_the_serial_results_bit_for_bit() {
-    let fmus: Vec<Fmu> = Lander::ALL
+    let fmus: Vec<Fmu> = Lander::all()
         .into_iter()
         .map(|l| Fmu::load(l).expect("packaged FMU"))
         .collect();
@@ -47,8 +50,12 @@ fn concurrent_instances_give_the_serial_results_bit_for_bit() {
     let serial: Vec<Vec<u64>> = jobs.iter().map(|(f, k)| run(f, *k)).collect();
     // The runs differ from each other, so a mix-up could not go unnoticed.
     for (i, a) in serial.iter().enumerate() {
-        for b in &serial[i + 1..] {
-            assert_ne!(a, b);
+        for (j, b) in serial.iter().enumerate().skip(i + 1) {
+            let same_defaults = jobs[i].0.lander() == jobs[j].0.lander()
+                && parameters(jobs[i].0.lander(), 0).is_empty();
+            if !same_defaults {
+                assert_ne!(a, b);
+            }
         }
     }
     let concurrent: Vec<Vec<u64>> = std::thread::scope(|scope| {

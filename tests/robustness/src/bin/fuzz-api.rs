@@ -30,7 +30,7 @@ fn main() -> anyhow::Result<()> {
         Some(name) => {
             vec![Lander::parse(name).ok_or_else(|| anyhow::anyhow!("unknown FMU {name}"))?]
         }
-        None => Lander::ALL.to_vec(),
+        None => Lander::all(),
     };
     let dog = Watchdog::start(Duration::from_secs_f64(args.call_limit));
     for lander in landers {

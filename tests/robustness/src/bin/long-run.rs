@@ -27,7 +27,7 @@ fn main() -> anyhow::Result<()> {
         Some(name) => {
             vec![Lander::parse(name).ok_or_else(|| anyhow::anyhow!("unknown FMU {name}"))?]
         }
-        None => Lander::ALL.to_vec(),
+        None => Lander::all(),
     };
     for lander in landers {
         let fmu = Fmu::load(lander)?;
