@@ -11,6 +11,8 @@ mod dist;
 mod doc_page;
 mod fmu_zip;
 mod fmus;
+mod fuzz_crates;
+mod new_fmu;
 mod platform;
 mod python_env;
 mod ssp;
@@ -78,6 +80,22 @@ enum Command {
     /// processes, or --scheduler's cluster), merged into the files `harness monte-carlo`
     /// writes: `cargo xtask campaign-dask --workers 4 -- -n 100 --out-dir target/mc`.
     CampaignDask(campaign_dask::Args),
+    /// Write fuzz/<name>/ (a cargo-fuzz crate with the FMI 2.0 and 3.0 targets) for every
+    /// FMU crate, from its [package.metadata.fmu].
+    FuzzCrates {
+        /// Write nothing; fail when a fuzz crate is missing or differs.
+        #[arg(long)]
+        check: bool,
+    },
+    /// Write a new FMU crate fmu-<name>/ (a tiny model, its metadata, the conformance
+    /// suite) that `cargo xtask fmus` packages as it is.
+    NewFmu {
+        /// The model identifier, UpperCamelCase (e.g. LanderRadar: crate fmu-lander-radar).
+        name: String,
+        /// Write the crate folder into DIR instead of the workspace root (to look at it).
+        #[arg(long, value_name = "DIR")]
+        into: Option<std::path::PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -95,6 +113,8 @@ fn main() -> ExitCode {
         Command::PythonEnv => python_env::ensure(&ws),
         Command::Bench { args } => bench::run(&ws, &args),
         Command::CampaignDask(args) => campaign_dask::run(&ws, &args),
+        Command::FuzzCrates { check } => fuzz_crates::run(&ws, check),
+        Command::NewFmu { name, into } => new_fmu::run(&ws, &name, into.as_deref()).map(|_| ()),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

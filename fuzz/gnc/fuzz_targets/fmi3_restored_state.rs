@@ -1,6 +1,6 @@
 #![no_main]
-//! (a) FMI 3.0: a crafted FMU-state payload with a valid header and checksum, then gets and
-//! a step.
+//! FMI 3.0: (a) A crafted FMU-state payload with a valid header and checksum, then gets and a step.
+//! Written by `cargo xtask fuzz-crates` from [package.metadata.fmu].
 #[path = "../../common/driver3.rs"]
 mod driver3;
 

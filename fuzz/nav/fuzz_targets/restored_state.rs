@@ -1,5 +1,6 @@
 #![no_main]
 //! (a) A crafted FMU-state payload with a valid header and checksum, then gets and a step.
+//! Written by `cargo xtask fuzz-crates` from [package.metadata.fmu].
 #[path = "../../common/driver.rs"]
 mod driver;
 

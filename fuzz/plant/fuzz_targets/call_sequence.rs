@@ -1,5 +1,6 @@
 #![no_main]
 //! (b) A random sequence of calls over the whole C ABI of one instance.
+//! Written by `cargo xtask fuzz-crates` from [package.metadata.fmu].
 #[path = "../../common/driver.rs"]
 mod driver;
 

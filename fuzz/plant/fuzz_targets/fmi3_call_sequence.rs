@@ -1,6 +1,6 @@
 #![no_main]
-//! (b) FMI 3.0: a random sequence of calls over the whole C ABI of one instance
-//! (Co-Simulation with each choice of the master, or Model Exchange).
+//! FMI 3.0: (b) A random sequence of calls over the whole C ABI of one instance.
+//! Written by `cargo xtask fuzz-crates` from [package.metadata.fmu].
 #[path = "../../common/driver3.rs"]
 mod driver3;
 
