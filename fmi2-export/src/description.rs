@@ -1,6 +1,7 @@
 //! `modelDescription.xml` and the GUID, both produced from the variable table.
-use crate::check::{check_table, effective_initial};
+use crate::check::check_table;
 use crate::model::{Dependencies, Model};
+use crate::variable::effective_initial;
 use crate::variable::{variables, Access, Causality, EnumType, Initial, Variability, Variable};
 use crate::version::CATEGORIES;
 use fmi_export::base_unit;

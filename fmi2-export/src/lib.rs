@@ -31,10 +31,11 @@ pub use fmi_model::{
     Experiment, Initial, Level, Limit, Log, Model, ModelError, Shape, StepEnd, Variability,
 };
 
-pub use check::{check_table, effective_initial, initial_rule, TableError};
+pub use check::{check_table, TableError};
 pub use description::{guid, interface_uuid, model_description, model_description_xml};
 pub use fmi_export::base_unit;
 pub use model_exchange_description::{model_description_me, model_description_xml_me};
+pub use variable::{effective_initial, initial_rule};
 pub use variable::{variables, Access, Variable};
 pub use version::Fmi2;
 

@@ -245,9 +245,70 @@ pub(crate) fn needs_start(
 ) -> bool {
     causality == Causality::Input
         || matches!(
-            initial.or_else(|| {
-                crate::check::initial_rule(causality, variability).and_then(|(d, _)| d)
-            }),
+            initial.or_else(|| { initial_rule(causality, variability).and_then(|(d, _)| d) }),
             Some(Initial::Exact | Initial::Approx)
         )
+}
+
+/// The `initial` attribute a (causality, variability) pair allows, FMI 2.0 table of
+/// §2.2.7: `None` if the pair itself is illegal; otherwise (default, allowed values), where
+/// an empty `allowed` means the attribute must be absent (inputs, independent).
+pub fn initial_rule(
+    causality: Causality,
+    variability: Variability,
+) -> Option<(Option<Initial>, &'static [Initial])> {
+    use Causality as C;
+    use Initial::*;
+    use Variability as V;
+    const A: (Option<Initial>, &[Initial]) = (Some(Exact), &[Exact]);
+    const B: (Option<Initial>, &[Initial]) = (Some(Calculated), &[Approx, Calculated]);
+    const C_: (Option<Initial>, &[Initial]) = (Some(Calculated), &[Exact, Approx, Calculated]);
+    const NONE: (Option<Initial>, &[Initial]) = (None, &[]);
+    match (causality, variability) {
+        (C::Parameter, V::Fixed | V::Tunable) => Some(A),
+        (C::CalculatedParameter, V::Fixed | V::Tunable) => Some(B),
+        (C::Output | C::Local, V::Constant) => Some(A),
+        (C::Local, V::Fixed | V::Tunable) => Some(B),
+        (C::Output | C::Local, V::Discrete | V::Continuous) => Some(C_),
+        (C::Input, V::Discrete | V::Continuous) => Some(NONE),
+        (C::Independent, V::Continuous) => Some(NONE),
+        _ => None,
+    }
+}
+
+/// The declared `initial`, or the default for the variable's causality and variability.
+pub fn effective_initial<M>(var: &Variable<M>) -> Option<Initial> {
+    var.initial
+        .or_else(|| initial_rule(var.causality, var.variability).and_then(|(d, _)| d))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A few cells of the FMI 2.0 table, read off the standard independently of the match.
+    #[test]
+    fn initial_rules_match_the_standard_table() {
+        use Causality as C;
+        use Initial::*;
+        use Variability as V;
+        assert_eq!(
+            initial_rule(C::Parameter, V::Fixed),
+            Some((Some(Exact), &[Exact][..]))
+        );
+        assert_eq!(initial_rule(C::Input, V::Continuous), Some((None, &[][..])));
+        assert_eq!(
+            initial_rule(C::Output, V::Continuous),
+            Some((Some(Calculated), &[Exact, Approx, Calculated][..]))
+        );
+        assert_eq!(
+            initial_rule(C::CalculatedParameter, V::Tunable),
+            Some((Some(Calculated), &[Approx, Calculated][..]))
+        );
+        // Illegal pairs: constant inputs, continuous parameters, fixed outputs.
+        assert_eq!(initial_rule(C::Input, V::Constant), None);
+        assert_eq!(initial_rule(C::Parameter, V::Continuous), None);
+        assert_eq!(initial_rule(C::Output, V::Fixed), None);
+        assert_eq!(initial_rule(C::Independent, V::Discrete), None);
+    }
 }
