@@ -487,16 +487,12 @@ fn circle(component: &[usize], tree: &Tree, edges: &Edges) -> String {
 /// The workspace's member crates: name and directory.
 fn members() -> Vec<(String, PathBuf)> {
     let root = workspace_root();
-    let manifest: toml::Table = std::fs::read_to_string(root.join("Cargo.toml"))
-        .unwrap()
-        .parse()
-        .unwrap();
-    manifest["workspace"]["members"]
-        .as_array()
-        .unwrap()
-        .iter()
+    // A member `fmu-*` stands for several folders: expanded as cargo expands it.
+    fmu_metadata::workspace_members(&root)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .into_iter()
         .map(|m| {
-            let dir = root.join(m.as_str().unwrap());
+            let dir = root.join(m);
             let own: toml::Table = std::fs::read_to_string(dir.join("Cargo.toml"))
                 .unwrap()
                 .parse()
