@@ -599,14 +599,6 @@ fmi_model::enumeration! {
     }
 }
 
-fmi_model::enumeration! {
-    ControlLaw = "ControlLaw", "Attitude control law" {
-        Coupled: "coupled", "classical quaternion PD on q_ref";
-        Decoupled: "decoupled", "decoupled thrust-axis control (the paper)";
-        Reduced: "reduced", "PX4-style reduced attitude (Brescianini et al. 2013)";
-    }
-}
-
 const THRUSTERS: &[&str] = &[
     "thruster 1",
     "thruster 2",
@@ -688,7 +680,7 @@ static DECLARATIONS: &[Declaration<LanderGnc>] = &[
     decl!(128, output monitor_angular_response: supervision_outputs.angular_response, "1", "input monitor: the body rates' change over what torque_cmd_body predicts for inertia_body in the last window judged (1 = as predicted)"),
     // parameters
     // An Integer in the model description, so that every master can select the law (libcosim
-    // and Ecos ignore FMI 2.0 Enumerations); the values are listed from ControlLaw.
+    // and Ecos ignore FMI 2.0 Enumerations); the values are listed from ControlLaw's table (attitude/mod.rs).
     decl!(200, parameter control_law: params.control_law as enum ControlLaw, "attitude control law", as_integer = true),
     decl!(201, parameter phi_cmd: params.phi_cmd_rad, "rad", "commanded rotation about the thrust axis (mission constraint), within +-4 pi", min = -params::MAX_PHI_CMD_RAD, max = params::MAX_PHI_CMD_RAD),
     decl!(202, parameter phi_cmd_time: params.phi_cmd_time_s, "s", "time at which phi_cmd is applied (before it: 0)"),

@@ -28,3 +28,15 @@ pub fn coupled_torque_body(
     let error = coupled_angle_error_body(q_body_to_nue, q_ref);
     (pd_torque_body(gains, &error, omega_body, reference), error)
 }
+
+/// The law as [`ControlLaw`](super::ControlLaw) runs it.
+#[inline(always)]
+pub fn torque(inputs: &super::LawInputs) -> (Vector3<f64>, Vector3<f64>) {
+    coupled_torque_body(
+        &inputs.settings.gains,
+        inputs.q_body_to_nue,
+        inputs.omega_body,
+        inputs.q_ref,
+        inputs.roll,
+    )
+}

@@ -18,3 +18,17 @@ pub fn decoupled_torque_body(
 ) -> Vector3<f64> {
     pd_torque_body(gains, &errors.angle_error_body(), omega_body, reference)
 }
+
+/// The law as [`ControlLaw`](super::ControlLaw) runs it.
+#[inline(always)]
+pub fn torque(inputs: &super::LawInputs) -> (Vector3<f64>, Vector3<f64>) {
+    (
+        decoupled_torque_body(
+            &inputs.settings.gains,
+            inputs.split,
+            inputs.omega_body,
+            inputs.roll,
+        ),
+        inputs.split.angle_error_body(),
+    )
+}

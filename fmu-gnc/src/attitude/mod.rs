@@ -1,12 +1,9 @@
 //! Reference attitude and the three attitude control laws (paper Sec. III-IV, plus the
 //! reduced law for comparison), all pure functions of the current sample.
-pub mod coupled;
-pub mod decoupled;
 pub mod errors;
 pub mod gains;
 pub mod phi_b;
 pub mod profile;
-pub mod reduced;
 pub mod reference;
 
 use crate::conventions::Attitude;
@@ -15,26 +12,66 @@ use nalgebra::Vector3;
 use profile::RollReference;
 use serde::{Deserialize, Serialize};
 
-/// Which attitude law runs; exchanged as the Enumeration parameter `control_law`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum ControlLaw {
+/// The attitude laws, each written once: its variant, its value in the `control_law`
+/// enumeration, its name and description there, and its module. The enum, its FMI items (and
+/// the values a refusal lists), [`ControlLaw::from_index`] and the dispatch of a sample all
+/// come from this table: a new law is its own module with a `torque` function taking
+/// [`LawInputs`], and one row here.
+macro_rules! control_laws {
+    ($($(#[$doc:meta])* $variant:ident = $value:literal, $name:literal, $description:literal, $module:ident;)+) => {
+        $(pub mod $module;)+
+
+        /// Which attitude law runs; exchanged as the Enumeration parameter `control_law`.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+        pub enum ControlLaw {
+            $($(#[$doc])* $variant = $value,)+
+        }
+
+        fmi_model::enumeration! {
+            ControlLaw = "ControlLaw", "Attitude control law" {
+                $($variant: $name, $description;)+
+            }
+        }
+
+        impl ControlLaw {
+            /// The unsaturated torque of the law and the angle errors it acted on, body axes.
+            #[inline(always)]
+            fn torque(self, inputs: &LawInputs) -> (Vector3<f64>, Vector3<f64>) {
+                match self {
+                    $(ControlLaw::$variant => $module::torque(inputs),)+
+                }
+            }
+        }
+    };
+}
+
+control_laws! {
     /// Classical quaternion PD on the full reference attitude (paper Sec. IV).
-    Coupled = 1,
+    Coupled = 1, "coupled", "classical quaternion PD on q_ref", coupled;
     /// The paper's decoupled thrust-axis law (paper Sec. IV).
-    Decoupled = 2,
+    Decoupled = 2, "decoupled", "decoupled thrust-axis control (the paper)", decoupled;
     /// PX4-style reduced attitude (Brescianini et al. 2013).
-    Reduced = 3,
+    Reduced = 3, "reduced", "PX4-style reduced attitude (Brescianini et al. 2013)", reduced;
 }
 
 impl ControlLaw {
+    /// The law of a `control_law` value, `None` if it is no item.
     pub fn from_index(value: i32) -> Option<Self> {
-        match value {
-            1 => Some(Self::Coupled),
-            2 => Some(Self::Decoupled),
-            3 => Some(Self::Reduced),
-            _ => None,
-        }
+        <Self as fmi_model::Enumeration>::from_value(value)
     }
+}
+
+/// What every law is given at one sample.
+#[derive(Debug, Clone, Copy)]
+pub struct LawInputs<'a> {
+    pub settings: &'a AttitudeSettings,
+    pub q_body_to_nue: &'a Attitude,
+    pub omega_body: &'a Vector3<f64>,
+    /// The full reference attitude, `q_guid ⊗ q_phi`.
+    pub q_ref: &'a Attitude,
+    /// The thrust-axis split of the attitude error, computed once per sample.
+    pub split: &'a errors::ThrustAxisErrors,
+    pub roll: &'a RollReference,
 }
 
 /// Everything an attitude law needs besides the current sample.
@@ -119,24 +156,14 @@ pub fn tracking_attitude_command(
     let q_guid = reference::q_guid(a_thrust_cmd_nue);
     let q_ref = q_guid * settings.phi_cmd_rotation.at(roll.phi_rad);
     let split = errors::thrust_axis_errors(q_body_to_nue, &q_guid, roll.phi_rad);
-    let gains = &settings.gains;
-    let (torque, angle_error_body) = match settings.law {
-        ControlLaw::Coupled => {
-            coupled::coupled_torque_body(gains, q_body_to_nue, omega_body, &q_ref, roll)
-        }
-        ControlLaw::Decoupled => (
-            decoupled::decoupled_torque_body(gains, &split, omega_body, roll),
-            split.angle_error_body(),
-        ),
-        ControlLaw::Reduced => reduced::reduced_torque_body(
-            gains,
-            q_body_to_nue,
-            omega_body,
-            &q_ref,
-            settings.reduced_yaw_weight,
-            roll,
-        ),
-    };
+    let (torque, angle_error_body) = settings.law.torque(&LawInputs {
+        settings,
+        q_body_to_nue,
+        omega_body,
+        q_ref: &q_ref,
+        split: &split,
+        roll,
+    });
     AttitudeCommand {
         torque_body_nm: saturate_torque_body(&torque, &settings.torque_limit_body_nm),
         q_ref,

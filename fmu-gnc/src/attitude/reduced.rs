@@ -53,3 +53,16 @@ pub fn reduced_torque_body(
     let error = coupled_angle_error_body(q_body_to_nue, &target);
     (pd_torque_body(gains, &error, omega_body, reference), error)
 }
+
+/// The law as [`ControlLaw`](super::ControlLaw) runs it.
+#[inline(always)]
+pub fn torque(inputs: &super::LawInputs) -> (Vector3<f64>, Vector3<f64>) {
+    reduced_torque_body(
+        &inputs.settings.gains,
+        inputs.q_body_to_nue,
+        inputs.omega_body,
+        inputs.q_ref,
+        inputs.settings.reduced_yaw_weight,
+        inputs.roll,
+    )
+}
