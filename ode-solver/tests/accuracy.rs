@@ -1,7 +1,7 @@
 // std's transcendental functions make the exact solutions (exp) the solver is measured against here, outside any FMU (the
 // workspace clippy.toml forbids them for the FMUs' sake).
 #![allow(clippy::disallowed_methods)]
-mod common;
+use crate::common;
 
 use common::{run_to, Decay, FreeFall, Robertson, G_MOON};
 use ode_solver::{Advance, Integrator, Method, Tolerances};
