@@ -2,7 +2,7 @@
 //! dispersion ranges, and how its flights are numbered and split into shards.
 //!
 //! A *run* `j` (0..runs_per_point) is one dispersion draw, seeded by
-//! [`run_seed`](crate::seed::run_seed)`(seed, j)`. Each run is flown once for every
+//! [`run_seed`]`(seed, j)`. Each run is flown once for every
 //! (phi_cmd, law) pair, so every law and every phi_cmd point sees the same N dispersed
 //! landers (common random numbers): differences between laws and along phi_cmd come from
 //! the law and phi_cmd, not from different draws. A *flight* is one (run, phi_cmd, law);
