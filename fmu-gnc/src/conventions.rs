@@ -12,7 +12,8 @@
 //!
 //! Internally the crate uses nalgebra's [`UnitQuaternion`], which stores the scalar **last**
 //! (`coords = [i, j, k, w]`) while its constructor `Quaternion::new(w, i, j, k)` takes it first.
-//! Conversions to and from the scalar-first arrays happen only through the functions below.
+//! Conversions to and from the scalar-first arrays happen only through the functions below,
+//! on `lander_math::quaternion`'s bridge, shared with the other FMUs.
 use nalgebra::{Matrix3, Quaternion, Unit, UnitQuaternion, Vector3};
 
 /// The attitude type used throughout: body-to-NUE rotation.
@@ -30,7 +31,7 @@ pub const MIN_QUATERNION_NORM: f64 = 1e-6;
 /// Scalar-first components `[q0, q1, q2, q3]` to a unit quaternion, normalising.
 /// `None` if the norm is below [`MIN_QUATERNION_NORM`] (no direction to normalise to).
 pub fn attitude_from_scalar_first(q: [f64; 4]) -> Option<Attitude> {
-    let raw = Quaternion::new(q[0], q[1], q[2], q[3]);
+    let raw = lander_math::quaternion::to_nalgebra(&q);
     let norm = raw.norm();
     if norm.is_finite() && norm >= MIN_QUATERNION_NORM {
         Some(UnitQuaternion::new_unchecked(raw / norm))
@@ -41,7 +42,7 @@ pub fn attitude_from_scalar_first(q: [f64; 4]) -> Option<Attitude> {
 
 /// A unit quaternion to scalar-first components `[q0, q1, q2, q3]`.
 pub fn attitude_to_scalar_first(q: &Attitude) -> [f64; 4] {
-    [q.w, q.i, q.j, q.k]
+    lander_math::quaternion::from_nalgebra(q)
 }
 
 /// `q` or `-q`, whichever has a non-negative scalar part: the same rotation, and the short

@@ -122,7 +122,7 @@ impl Reading {
     /// The body-to-NUE attitude `q` stands for under this reading (normalised).
     fn attitude(self, q: [f64; 4]) -> Option<Quaternion<f64>> {
         let raw = match self {
-            Reading::AsGiven => Quaternion::new(q[0], q[1], q[2], q[3]),
+            Reading::AsGiven => lander_math::quaternion::to_nalgebra(&q),
             Reading::ScalarLast => Quaternion::new(q[3], q[0], q[1], q[2]),
             Reading::Conjugate => Quaternion::new(q[0], -q[1], -q[2], -q[3]),
         };
@@ -196,11 +196,11 @@ pub struct ConsistencyMonitor {
 }
 
 fn q_of(a: [f64; 4]) -> Quaternion<f64> {
-    Quaternion::new(a[0], a[1], a[2], a[3])
+    lander_math::quaternion::to_nalgebra(&a)
 }
 
 fn a_of(q: &Quaternion<f64>) -> [f64; 4] {
-    [q.w, q.i, q.j, q.k]
+    lander_math::quaternion::from_nalgebra(q)
 }
 
 fn usable(o: &Observation) -> bool {

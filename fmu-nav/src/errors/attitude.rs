@@ -7,6 +7,7 @@
 //! so the estimated body axes are the true ones rotated by `theta`. The product of a unit
 //! quaternion with a unit rotation stays unit (to rounding); the input's norm is kept, and
 //! nothing is renormalised, so a degenerate input passes through as degenerate as it came.
+use lander_math::quaternion::{from_nalgebra, to_nalgebra};
 use nalgebra::{Quaternion, Unit, UnitQuaternion, Vector3};
 
 /// `q` (scalar first, Hamilton) with the body-axis rotation `theta_body_rad` applied; `q`
@@ -16,15 +17,14 @@ pub fn rotate_body(q: [f64; 4], theta_body_rad: [f64; 3]) -> [f64; 4] {
         return q;
     }
     let error = from_scaled_axis(Vector3::from(theta_body_rad));
-    let rotated = Quaternion::new(q[0], q[1], q[2], q[3]) * error;
-    [rotated.w, rotated.i, rotated.j, rotated.k]
+    let rotated = to_nalgebra(&q) * error;
+    from_nalgebra(&rotated)
 }
 
 /// The body-axis rotation (rad) that takes `truth` to `estimate` (unit quaternions, scalar
 /// first), the inverse of [`rotate_body`]: for checking the error statistics.
 pub fn body_error(truth: [f64; 4], estimate: [f64; 4]) -> [f64; 3] {
-    let unit =
-        |q: [f64; 4]| UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]));
+    let unit = |q: [f64; 4]| UnitQuaternion::from_quaternion(to_nalgebra(&q));
     let error = unit(truth).inverse() * unit(estimate);
     scaled_axis(&error).into()
 }

@@ -159,7 +159,7 @@ impl StateLayout {
             .translation
             .iter()
             .copied()
-            .chain([q.w, q.i, q.j, q.k])
+            .chain(lander_math::quaternion::from_nalgebra(q))
             .chain(x.omega_body.iter().copied())
             .chain([x.mass_kg]);
         let lags = [x.thrust_lag_n]

@@ -9,9 +9,8 @@
 //!   `v_nue = q ⊗ v_body ⊗ q*`. Identity = upright (body x North, y Up, z East).
 //! * **Kinematics**: `q' = ½ q ⊗ [0, omega_body]`, `omega_body` in body axes.
 //!
-//! nalgebra stores a quaternion with w *last* (`coords = [i, j, k, w]`) although
-//! `Quaternion::new(w, i, j, k)` takes w first. The two functions below are the only places in
-//! the crate where a scalar-first array meets a nalgebra quaternion.
+//! A scalar-first array meets a nalgebra quaternion (which stores w last) only through
+//! `lander_math::quaternion::{to_nalgebra, from_nalgebra}`, shared with the other FMUs.
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 /// Thrust axis in body coordinates.
@@ -24,15 +23,9 @@ pub fn up_nue() -> Vector3<f64> {
     Vector3::y()
 }
 
-/// `[q0, q1, q2, q3]` (scalar first) to a nalgebra quaternion, not normalised.
-pub fn quaternion_from_scalar_first(q: [f64; 4]) -> Quaternion<f64> {
-    Quaternion::new(q[0], q[1], q[2], q[3])
-}
-
-/// A nalgebra quaternion to `[q0, q1, q2, q3]` (scalar first).
-pub fn quaternion_to_scalar_first(q: &Quaternion<f64>) -> [f64; 4] {
-    [q.w, q.i, q.j, q.k]
-}
+/// The plant's outputs as a scalar-first array (the shared bridge, under the name the speed
+/// bench uses).
+pub use lander_math::quaternion::from_nalgebra as quaternion_to_scalar_first;
 
 /// Rotates a body vector into NUE with the attitude `q_body_to_nue` (unit or not: the
 /// rotation of the normalised quaternion is used).
@@ -49,22 +42,14 @@ pub fn tilt_from_vertical(q_body_to_nue: &Quaternion<f64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use lander_math::quaternion::to_nalgebra;
     use std::f64::consts::FRAC_PI_2;
-
-    #[test]
-    fn scalar_first_round_trip_keeps_the_scalar_in_slot_one() {
-        let q = [0.5, -0.1, 0.7, 0.2];
-        let nq = quaternion_from_scalar_first(q);
-        assert_eq!(nq.w, 0.5);
-        assert_eq!(nq.coords[3], 0.5, "nalgebra keeps w last in storage");
-        assert_eq!(quaternion_to_scalar_first(&nq), q);
-    }
 
     #[test]
     fn positive_rotation_about_pitch_tips_the_thrust_axis_from_up_towards_north() {
         // GIVEN a +90 deg rotation about body z (pitch, = East when upright), scalar first
         let h = std::f64::consts::FRAC_1_SQRT_2;
-        let q = quaternion_from_scalar_first([h, 0.0, 0.0, h]);
+        let q = to_nalgebra(&[h, 0.0, 0.0, h]);
         // WHEN the thrust axis (body +y) is rotated into NUE
         let t = body_to_nue(&q, &thrust_axis_body());
         // THEN z x y = -x: the thrust axis points South (-North), a right-handed rotation.
@@ -74,7 +59,7 @@ mod tests {
 
     #[test]
     fn body_to_nue_matches_the_explicit_sandwich_product() {
-        let q = quaternion_from_scalar_first([0.9, 0.1, -0.3, 0.2]).normalize();
+        let q = to_nalgebra(&[0.9, 0.1, -0.3, 0.2]).normalize();
         let v = Vector3::new(0.3, -1.2, 2.0);
         let sandwich = q * Quaternion::from_imag(v) * q.conjugate();
         assert!((body_to_nue(&q, &v) - sandwich.imag()).norm() < 1e-14);

@@ -227,7 +227,7 @@ impl PlantParameters {
     /// noticeably.
     pub fn validated_q0(&self) -> Result<(Quaternion<f64>, Option<String>), ParameterError> {
         let [w, x, y, z] = self.q0_body_to_nue;
-        let q = Quaternion::new(w, x, y, z);
+        let q = lander_math::quaternion::to_nalgebra(&self.q0_body_to_nue);
         let norm = q.norm();
         let shown = format!("[{w}, {x}, {y}, {z}]");
         if !norm.is_finite() {

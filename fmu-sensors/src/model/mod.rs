@@ -5,7 +5,6 @@ pub mod beams;
 pub mod draws;
 pub mod imu;
 pub mod parameters;
-pub mod quaternion;
 pub mod sensors;
 pub mod terrain;
 pub mod truth;

@@ -4,11 +4,11 @@
 //! Reading the outputs never draws: they are a function of (parameters, inputs, state).
 use super::draws::{bias_draws, calibration_draws, SampleDraws};
 use super::parameters::{ImuErrors, SensorParameters};
-use super::quaternion::{body_to_nue, unit};
 use super::terrain::Terrain;
 use super::truth::Truth;
 use super::{beams, imu};
-use nalgebra::Vector3;
+use lander_math::frames::{Body, BodyToNue, Nue};
+use lander_math::quaternion::direction;
 use serde::{Deserialize, Serialize};
 
 /// What the sensors output at one communication point.
@@ -105,10 +105,10 @@ impl Sensors {
         let terrain = Terrain::new(params.terrain_height_m, &params.terrain_slope_normal_nue)?;
         let q = &truth.q_body_to_nue;
         let norm = libm::sqrt(q.iter().map(|x| x * x).sum::<f64>());
-        let rotation = body_to_nue(&q.map(|x| x / norm));
-        let r = Vector3::from(truth.r_nue_m);
-        let v = Vector3::from(truth.v_nue_mps);
-        let beam_nue = |b: &[f64; 3]| unit(b).map(|b| rotation * b);
+        let attitude = BodyToNue::of(&q.map(|x| x / norm));
+        let r = Nue::from(truth.r_nue_m);
+        let v = Nue::from(truth.v_nue_mps);
+        let beam_nue = |b: &[f64; 3]| direction(b).map(|b| attitude.to_nue(&Body(b)));
 
         let d = beam_nue(&params.altimeter_beam_body)?;
         let altimeter = beams::sample(
