@@ -120,11 +120,17 @@ fn load(
         .ok_or_else(|| anyhow!("{} has no Co-Simulation interface", path.display()))?;
     let binary = match binaries {
         None => unpacked.binary_path(&identifier),
-        Some(dir) => dir.join(match identifier.as_str() {
-            "LanderGnc" => "libfmu_gnc.so",
-            "LanderPlant" => "libfmu_plant.so",
-            other => return Err(anyhow!("no unstripped twin known for {other}")),
-        }),
+        // The unstripped twin is the crate's own cdylib, named after its [lib] (the
+        // FMU crates' metadata says which crate builds which FMU).
+        Some(dir) => {
+            let fmus = fmu_metadata::fmus_around(env!("CARGO_MANIFEST_DIR"))
+                .map_err(|e| anyhow!("[package.metadata.fmu]: {e}"))?;
+            let fmu = fmus
+                .iter()
+                .find(|f| f.model_identifier == identifier)
+                .ok_or_else(|| anyhow!("no unstripped twin known for {identifier}"))?;
+            dir.join(format!("lib{}.so", fmu.lib_name))
+        }
     };
     // SAFETY: our own FMU's binary, whose fmi2* symbols have the standard's signatures.
     let library = unsafe { libloading::Library::new(&binary) }
