@@ -64,12 +64,53 @@ fn fmi(version: Version) -> Fmi {
     }
 }
 
+/// The inputs of step `k` an FMU crate may give the suite (`conformance!(.., inputs = f)`)
+/// for the checks that run steps (FMU state, heap): `(name, value)`, a vector's element as
+/// `name[i]` from 1, a Boolean as 0 or 1. Without it, every input keeps its start value.
+pub type Inputs = fn(k: usize) -> Vec<(&'static str, f64)>;
+
 /// One version's entry points and token of the FMU under test.
 #[derive(Debug)]
 pub struct Subject<D: Driver + 'static> {
     pub functions: &'static D::Functions,
     pub token: String,
     pub manifest_dir: &'static str,
+    pub inputs: Option<Inputs>,
+}
+
+/// Sets the inputs of step `k`, if the crate gave any.
+fn feed<M: Model, D: Driver>(fmu: &D, inputs: Option<Inputs>, k: usize) {
+    let Some(inputs) = inputs else {
+        return;
+    };
+    for (name, value) in inputs(k) {
+        let (base, element) = match name.split_once('[') {
+            Some((base, rest)) => {
+                let i: usize = rest
+                    .trim_end_matches(']')
+                    .parse()
+                    .unwrap_or_else(|_| panic!("input {name}: no element number"));
+                (base, i.checked_sub(1).expect("elements count from 1"))
+            }
+            None => (name, 0),
+        };
+        let d = M::declarations()
+            .iter()
+            .find(|d| d.name == base && d.causality == Causality::Input)
+            .unwrap_or_else(|| panic!("{name} is no declared input"));
+        let value = match read(fmu, d).1 {
+            Value::Reals(mut bits) => {
+                bits[element] = value.to_bits();
+                Value::Reals(bits)
+            }
+            Value::Integer(_) => Value::Integer(value as i32),
+            Value::Enumeration(_) => Value::Enumeration(value as i64),
+            Value::Boolean(_) => Value::Boolean(value != 0.0),
+            Value::String(_) => panic!("{name}: a String input takes no number"),
+        };
+        let status = write(fmu, d, &value);
+        assert!(status.is_success(), "set {name}: {:?}", fmu.messages());
+    }
 }
 
 impl<D: Driver> Subject<D> {
@@ -523,10 +564,16 @@ fn outputs<M: Model, D: Driver>(fmu: &D) -> Vec<Value> {
 
 /// `n` steps of the default step size from step `k0`: the status and every output after
 /// each.
-fn run<M: Model, D: Driver>(fmu: &D, k0: usize, n: usize) -> Vec<(Status, Vec<Value>)> {
+fn run<M: Model, D: Driver>(
+    fmu: &D,
+    inputs: Option<Inputs>,
+    k0: usize,
+    n: usize,
+) -> Vec<(Status, Vec<Value>)> {
     let h = M::DEFAULT_EXPERIMENT.step_size;
     (k0..k0 + n)
         .map(|k| {
+            feed::<M, D>(fmu, inputs, k);
             let step = fmu.step(k as f64 * h, h);
             assert!(step.status.is_success(), "step {k}: {:?}", fmu.messages());
             (step.status, outputs::<M, D>(fmu))
@@ -543,15 +590,15 @@ pub fn fmu_state_round_trip<M: Model, D: Driver>(subject: &Subject<D>) {
     let (before, after) = (5, 10);
     let fmu = subject.open("state");
     fmu.initialize();
-    run::<M, D>(&fmu, 0, before);
+    run::<M, D>(&fmu, subject.inputs, 0, before);
     let (status, state) = fmu.get_state();
     assert_eq!(status, Status::Ok, "{:?}", fmu.messages());
     let (status, bytes) = fmu.serialize(state);
     assert_eq!(status, Status::Ok, "{:?}", fmu.messages());
-    let continuation = run::<M, D>(&fmu, before, after);
+    let continuation = run::<M, D>(&fmu, subject.inputs, before, after);
     assert_eq!(fmu.set_state(state), Status::Ok, "{:?}", fmu.messages());
     assert_eq!(
-        run::<M, D>(&fmu, before, after),
+        run::<M, D>(&fmu, subject.inputs, before, after),
         continuation,
         "after set state"
     );
@@ -568,7 +615,7 @@ pub fn fmu_state_round_trip<M: Model, D: Driver>(subject: &Subject<D>) {
         other.messages()
     );
     assert_eq!(
-        run::<M, D>(&other, before, after),
+        run::<M, D>(&other, subject.inputs, before, after),
         continuation,
         "after deserialize"
     );
@@ -586,8 +633,8 @@ pub fn fmu_state_round_trip<M: Model, D: Driver>(subject: &Subject<D>) {
     assert!(D::is_null(refused));
 }
 
-/// The heap one instance holds while it is initialized, fed its inputs' start values and
-/// read every output for up to 200 steps: below [`HEAP_LIMIT_BYTES`] at its peak, all of
+/// The heap one instance holds while it is initialized, fed its inputs (their start values,
+/// then the crate's [`Inputs`] if it gave any) and read every output for up to 200 steps: below [`HEAP_LIMIT_BYTES`] at its peak, all of
 /// it freed by the free. Measured twice (the first also counts what the process sets up
 /// once), judged on the second.
 pub fn heap_within_limit<M: Model, D: Driver>(subject: &Subject<D>, allocator: &CountingAllocator) {
@@ -612,6 +659,7 @@ pub fn heap_within_limit<M: Model, D: Driver>(subject: &Subject<D>, allocator: &
                     for (d, value) in inputs.iter().zip(&starts) {
                         assert!(write(fmu, d, value).is_success(), "{:?}", fmu.messages());
                     }
+                    feed::<M, D>(fmu, subject.inputs, k);
                     outputs::<M, D>(fmu);
                     let step = fmu.step(k as f64 * h, h);
                     assert!(step.status.is_success(), "{:?}", fmu.messages());
@@ -717,19 +765,14 @@ pub fn model_exchange_declared(manifest_dir: &str, declared: bool) {
 
 /// The conformance suite of an FMU crate, in its `tests/conformance.rs`:
 /// `fmi_testkit::conformance!(fmu_gnc, LanderGnc);`, with `, model_exchange` when its
-/// `[package.metadata.fmu]` lists Model Exchange (the model is then a `ContinuousModel`).
+/// `[package.metadata.fmu]` lists Model Exchange (the model is then a `ContinuousModel`),
+/// and `, inputs = f` ([`Inputs`]) to step it with inputs of the crate's choosing.
 /// The crate must export both FMI versions and depend on `fmi2-export` and `fmi3-export`
 /// (every FMU crate does). It installs a counting global allocator in that test binary.
 #[macro_export]
 macro_rules! conformance {
-    ($krate:ident, $model:ident) => {
-        $crate::conformance!(@suite $krate, $model, false, |version| match version {
-            $crate::conformance::Fmi::V2 => ::fmi2_export::model_description_xml::<$krate::$model>(),
-            $crate::conformance::Fmi::V3 => ::fmi3_export::model_description_xml::<$krate::$model>(),
-        });
-    };
-    ($krate:ident, $model:ident, model_exchange) => {
-        $crate::conformance!(@suite $krate, $model, true, |version| {
+    ($krate:ident, $model:ident, model_exchange $(, inputs = $inputs:path)?) => {
+        $crate::conformance!(@suite $krate, $model, true, $crate::conformance!(@inputs $($inputs)?), |version| {
             let fmu = $crate::conformance::this_fmu(env!("CARGO_MANIFEST_DIR"));
             match (version, fmu.ships_model_exchange(version)) {
                 ($crate::conformance::Fmi::V2, true) => ::fmi2_export::model_description_xml_me::<$krate::$model>(),
@@ -739,7 +782,19 @@ macro_rules! conformance {
             }
         });
     };
-    (@suite $krate:ident, $model:ident, $me:expr, $generate:expr) => {
+    ($krate:ident, $model:ident $(, inputs = $inputs:path)?) => {
+        $crate::conformance!(@suite $krate, $model, false, $crate::conformance!(@inputs $($inputs)?), |version| match version {
+            $crate::conformance::Fmi::V2 => ::fmi2_export::model_description_xml::<$krate::$model>(),
+            $crate::conformance::Fmi::V3 => ::fmi3_export::model_description_xml::<$krate::$model>(),
+        });
+    };
+    (@inputs) => {
+        ::std::option::Option::None
+    };
+    (@inputs $inputs:path) => {
+        ::std::option::Option::Some($inputs as $crate::conformance::Inputs)
+    };
+    (@suite $krate:ident, $model:ident, $me:expr, $inputs:expr, $generate:expr) => {
         #[global_allocator]
         static CONFORMANCE_ALLOCATOR: $crate::CountingAllocator = $crate::CountingAllocator::new();
         static CONFORMANCE_FMI2: $crate::Fmi2Functions = $crate::fmi2_functions!($krate);
@@ -750,6 +805,7 @@ macro_rules! conformance {
                 functions: &CONFORMANCE_FMI2,
                 token: ::fmi2_export::guid::<$krate::$model>(),
                 manifest_dir: env!("CARGO_MANIFEST_DIR"),
+                inputs: $inputs,
             }
         }
 
@@ -758,6 +814,7 @@ macro_rules! conformance {
                 functions: &CONFORMANCE_FMI3,
                 token: ::fmi3_export::instantiation_token::<$krate::$model>(),
                 manifest_dir: env!("CARGO_MANIFEST_DIR"),
+                inputs: $inputs,
             }
         }
 
