@@ -37,6 +37,13 @@ macro_rules! frame_vector {
             }
         }
 
+        impl std::ops::Add for $frame {
+            type Output = Self;
+            fn add(self, other: Self) -> Self {
+                Self(self.0 + other.0)
+            }
+        }
+
         impl std::ops::Sub for $frame {
             type Output = Self;
             fn sub(self, other: Self) -> Self {

@@ -9,6 +9,7 @@ use super::covariance::{self, Matrix, Sparse, BA, BG, MA, MG, N, R as IR, SA, SG
 use super::measurement::{self, Plane, Prediction};
 use super::parameters::FilterParameters;
 use super::rotation::{self, skew, Quaternion};
+use lander_math::frames::{Body, BodyToNue, Nue};
 use nalgebra::{Matrix3, Matrix6, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -294,17 +295,17 @@ impl Eskf {
         y: f64,
     ) -> Option<Update> {
         let plane = Plane::new(params.terrain_height_m, &params.terrain_slope_normal_nue);
-        let beam = rotation::unit(&v3(&params.altimeter_beam_body));
-        let r = v3(&self.r_nue_m);
-        let rotation = self.rotation();
-        let mut pred = measurement::altimeter(&plane, &r, &rotation, &beam)?;
+        let beam = Body(rotation::unit(&v3(&params.altimeter_beam_body)));
+        let r = Nue::from(self.r_nue_m);
+        let attitude = BodyToNue::of(&self.q_body_to_nue);
+        let mut pred = measurement::altimeter(&plane, &r, &attitude, &beam)?;
         let sigma0 = params.altimeter_noise_sigma_m;
         let prop = params.altimeter_noise_proportional * pred.value;
         // The range's second-order part under the covariance of (dr, dtheta).
         let at = |i: usize| if i < 3 { IR + i } else { THETA + i - 3 };
         let p_z = Matrix6::from_fn(|i, j| self.p[at(i)][at(j)]);
         let (mean, variance) =
-            measurement::altimeter_second_order(&plane, &r, &rotation, &beam, &p_z);
+            measurement::altimeter_second_order(&plane, &r, &attitude, &beam, &p_z);
         pred.value += mean;
         let noise = sigma0 * sigma0 + prop * prop + variance.max(0.0);
         Some(self.update(dx, &pred, y, noise, gate(params)))
@@ -323,10 +324,10 @@ impl Eskf {
         i: usize,
         y: f64,
     ) -> Update {
-        let beam = rotation::unit(&v3(&params.velocimeter_beams_body()[i]));
-        let rotation = self.rotation();
-        let mut pred = measurement::velocimeter(&v3(&self.v_nue_mps), &rotation, &beam);
-        let c = -rotation * skew(&beam);
+        let beam = Body(rotation::unit(&v3(&params.velocimeter_beams_body()[i])));
+        let attitude = BodyToNue::of(&self.q_body_to_nue);
+        let mut pred = measurement::velocimeter(&Nue::from(self.v_nue_mps), &attitude, &beam);
+        let c = -attitude.matrix() * skew(&beam.0);
         let block = |at: usize, bt: usize| Matrix3::from_fn(|a, b| self.p[at + a][bt + b]);
         let (pvv, ptt, ptv) = (block(IV, IV), block(THETA, THETA), block(THETA, IV));
         // Isserlis: E[dv^T C dt] = tr(C P_tv), Var = tr(C P_tt C^T P_vv) + tr(C P_tv C P_tv).

@@ -8,6 +8,7 @@
 //! - Velocimeter beam `b`: `y = v . R b`. `d y / d dv = (R b)^T`, `d y / d dtheta = -v^T R [b]x`.
 use super::covariance::{Row, N, R as IR, THETA, V as IV};
 use super::rotation::skew;
+use lander_math::frames::{Body, BodyToNue, Nue};
 use nalgebra::{Matrix3, Matrix6, Vector3};
 
 /// A scalar measurement's prediction from the nominal state and its Jacobian row.
@@ -20,15 +21,15 @@ pub struct Prediction {
 /// The terrain plane: a point and its upward unit normal (NUE).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Plane {
-    pub point_nue: Vector3<f64>,
-    pub normal_nue: Vector3<f64>,
+    pub point_nue: Nue,
+    pub normal_nue: Nue,
 }
 
 impl Plane {
     pub fn new(height_m: f64, normal_nue: &[f64; 3]) -> Plane {
         Plane {
-            point_nue: Vector3::new(0.0, height_m, 0.0),
-            normal_nue: super::rotation::unit(&Vector3::from(*normal_nue)),
+            point_nue: Nue::new(0.0, height_m, 0.0),
+            normal_nue: Nue(super::rotation::unit(&Vector3::from(*normal_nue))),
         }
     }
 }
@@ -40,21 +41,16 @@ fn put(row: &mut Row, at: usize, v: &Vector3<f64>) {
 /// The predicted slant range, or `None` when the predicted beam misses the plane (the
 /// lander estimated on or below it, or the beam at or above its horizon): then the
 /// measurement cannot be used.
-pub fn altimeter(
-    plane: &Plane,
-    r: &Vector3<f64>,
-    rotation: &Matrix3<f64>,
-    beam_body: &Vector3<f64>,
-) -> Option<Prediction> {
+pub fn altimeter(plane: &Plane, r: &Nue, attitude: &BodyToNue, beam: &Body) -> Option<Prediction> {
     let n = plane.normal_nue;
-    let h = n.dot(&(r - plane.point_nue));
-    let c = -n.dot(&(rotation * beam_body));
+    let h = n.dot(&(*r - plane.point_nue));
+    let c = -n.dot(&attitude.to_nue(beam));
     if h <= 0.0 || c <= 0.0 {
         return None;
     }
     let mut jacobian = [0.0; N];
-    put(&mut jacobian, IR, &(n / c));
-    let d_theta = -(h / (c * c)) * (rotation.transpose() * n).transpose() * skew(beam_body);
+    put(&mut jacobian, IR, &(n.0 / c));
+    let d_theta = -(h / (c * c)) * attitude.to_body(&n).0.transpose() * skew(&beam.0);
     put(&mut jacobian, THETA, &d_theta.transpose());
     Some(Prediction {
         value: h / c,
@@ -73,20 +69,21 @@ pub fn altimeter(
 /// a hundred updates a second would otherwise read as attitude information.
 pub fn altimeter_second_order(
     plane: &Plane,
-    r: &Vector3<f64>,
-    rotation: &Matrix3<f64>,
-    beam_body: &Vector3<f64>,
+    r: &Nue,
+    attitude: &BodyToNue,
+    beam: &Body,
     p_z: &Matrix6<f64>,
 ) -> (f64, f64) {
     let n = plane.normal_nue;
-    let h = n.dot(&(r - plane.point_nue));
-    let u = rotation.transpose() * n;
+    let h = n.dot(&(*r - plane.point_nue));
+    let u = attitude.to_body(&n).0;
+    let beam_body = &beam.0;
     let c0 = -u.dot(beam_body);
     let w = u.cross(beam_body);
     let m =
         (u * beam_body.transpose() + beam_body * u.transpose()) * 0.5 + Matrix3::identity() * c0;
     let a = m * (h / (c0 * c0)) + w * w.transpose() * (2.0 * h / (c0 * c0 * c0));
-    let b = -(n * w.transpose()) / (c0 * c0);
+    let b = -(n.0 * w.transpose()) / (c0 * c0);
     let mut q = Matrix6::zeros();
     q.fixed_view_mut::<3, 3>(0, 3).copy_from(&b);
     q.fixed_view_mut::<3, 3>(3, 0).copy_from(&b.transpose());
@@ -96,15 +93,11 @@ pub fn altimeter_second_order(
 }
 
 /// The predicted line-of-sight velocity along the body beam `b`.
-pub fn velocimeter(
-    v: &Vector3<f64>,
-    rotation: &Matrix3<f64>,
-    beam_body: &Vector3<f64>,
-) -> Prediction {
-    let d = rotation * beam_body;
+pub fn velocimeter(v: &Nue, attitude: &BodyToNue, beam: &Body) -> Prediction {
+    let d = attitude.to_nue(beam);
     let mut jacobian = [0.0; N];
-    put(&mut jacobian, IV, &d);
-    let d_theta = -(rotation.transpose() * v).transpose() * skew(beam_body);
+    put(&mut jacobian, IV, &d.0);
+    let d_theta = -attitude.to_body(v).0.transpose() * skew(&beam.0);
     put(&mut jacobian, THETA, &d_theta.transpose());
     Prediction {
         value: v.dot(&d),
@@ -114,7 +107,7 @@ pub fn velocimeter(
 
 #[cfg(test)]
 mod tests {
-    use super::super::rotation::{exp, matrix};
+    use super::super::rotation::exp;
     use super::*;
     use rand::SeedableRng;
     use rand_distr::{Distribution, StandardNormal};
@@ -125,8 +118,8 @@ mod tests {
     fn the_altimeter_second_order_terms_are_the_exact_range_s_mean_and_variance() {
         let plane = Plane::new(20.0, &[0.1, 1.0, -0.05]);
         let q = exp(&Vector3::new(0.05, 0.2, -0.1));
-        let r = Vector3::new(30.0, 800.0, -10.0);
-        let beam = Vector3::new(0.05, -1.0, 0.02).normalize();
+        let r = Nue::new(30.0, 800.0, -10.0);
+        let beam = Body(Vector3::new(0.05, -1.0, 0.02).normalize());
         // Errors of 10 m and 0.01 rad per axis, position and attitude correlated.
         let mut l = Matrix6::<f64>::zeros();
         for i in 0..3 {
@@ -135,8 +128,8 @@ mod tests {
             l[(3 + i, i)] = 0.004;
         }
         let p_z = l * l.transpose();
-        let (mean, variance) = altimeter_second_order(&plane, &r, &matrix(&q), &beam, &p_z);
-        let linear = altimeter(&plane, &r, &matrix(&q), &beam).unwrap();
+        let (mean, variance) = altimeter_second_order(&plane, &r, &BodyToNue::of(&q), &beam, &p_z);
+        let linear = altimeter(&plane, &r, &BodyToNue::of(&q), &beam).unwrap();
         let mut rng = rand_chacha::ChaCha12Rng::seed_from_u64(7);
         let draws = 200_000;
         let (mut sum, mut sum2) = (0.0, 0.0);
@@ -145,8 +138,10 @@ mod tests {
             let z = l * nalgebra::Vector6::from_column_slice(&e);
             let dr = Vector3::new(z[0], z[1], z[2]);
             let dt = Vector3::new(z[3], z[4], z[5]);
-            let turned = matrix(&super::super::rotation::mul(&q, &exp(&dt)));
-            let exact = altimeter(&plane, &(r + dr), &turned, &beam).unwrap().value;
+            let turned = BodyToNue::of(&super::super::rotation::mul(&q, &exp(&dt)));
+            let exact = altimeter(&plane, &(r + Nue(dr)), &turned, &beam)
+                .unwrap()
+                .value;
             let first: f64 = (0..3)
                 .map(|k| linear.jacobian[IR + k] * dr[k] + linear.jacobian[THETA + k] * dt[k])
                 .sum();
@@ -173,28 +168,28 @@ mod tests {
     fn the_jacobians_are_the_derivatives_of_the_models() {
         let plane = Plane::new(20.0, &[0.1, 1.0, -0.05]);
         let q = exp(&Vector3::new(0.1, 0.2, -0.15));
-        let r = Vector3::new(30.0, 500.0, -10.0);
-        let v = Vector3::new(2.0, -8.0, 1.0);
-        let beam = Vector3::new(0.3, -0.9, 0.1).normalize();
-        let alt = altimeter(&plane, &r, &matrix(&q), &beam).unwrap();
-        let vel = velocimeter(&v, &matrix(&q), &beam);
+        let r = Nue::new(30.0, 500.0, -10.0);
+        let v = Nue::new(2.0, -8.0, 1.0);
+        let beam = Body(Vector3::new(0.3, -0.9, 0.1).normalize());
+        let alt = altimeter(&plane, &r, &BodyToNue::of(&q), &beam).unwrap();
+        let vel = velocimeter(&v, &BodyToNue::of(&q), &beam);
         let eps = 1e-6;
         for k in 0..3 {
             let mut e = Vector3::zeros();
             e[k] = eps;
-            let up = |d: Vector3<f64>| matrix(&super::super::rotation::mul(&q, &exp(&d)));
-            let d_alt_r = (altimeter(&plane, &(r + e), &matrix(&q), &beam)
+            let up = |d: Vector3<f64>| BodyToNue::of(&super::super::rotation::mul(&q, &exp(&d)));
+            let d_alt_r = (altimeter(&plane, &(r + Nue(e)), &BodyToNue::of(&q), &beam)
                 .unwrap()
                 .value
-                - altimeter(&plane, &(r - e), &matrix(&q), &beam)
+                - altimeter(&plane, &(r - Nue(e)), &BodyToNue::of(&q), &beam)
                     .unwrap()
                     .value)
                 / (2.0 * eps);
             let d_alt_t = (altimeter(&plane, &r, &up(e), &beam).unwrap().value
                 - altimeter(&plane, &r, &up(-e), &beam).unwrap().value)
                 / (2.0 * eps);
-            let d_vel_v = (velocimeter(&(v + e), &matrix(&q), &beam).value
-                - velocimeter(&(v - e), &matrix(&q), &beam).value)
+            let d_vel_v = (velocimeter(&(v + Nue(e)), &BodyToNue::of(&q), &beam).value
+                - velocimeter(&(v - Nue(e)), &BodyToNue::of(&q), &beam).value)
                 / (2.0 * eps);
             let d_vel_t = (velocimeter(&v, &up(e), &beam).value
                 - velocimeter(&v, &up(-e), &beam).value)
