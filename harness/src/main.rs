@@ -1,4 +1,4 @@
-//! `harness`: runs the lander FMUs (or any FMI 2.0 CS FMUs exposing the same signals). The
+//! `harness`: runs the lander FMUs, or any FMI 2.0 and 3.0 FMUs a scenario connects. The
 //! command line only: what it flies is `lander`'s and `campaign`'s, what it draws `report`'s;
 //! it adds the options, the printing and the exit codes.
 use anyhow::Context;
@@ -15,12 +15,8 @@ mod vars;
 #[command(
     name = "harness",
     version,
-    about = "FMI 2.0 co-simulation master for the lunar-lander GNC and plant FMUs",
-    long_about = "Loads FMI 2.0 Co-Simulation FMUs through their C ABI, connects them as a \
-                  scenario describes (TOML or SSP .ssd), and flies the paper's powered descent.\n\
-                  Built-in scenarios: paper (tilted start, phi_cmd = 150 deg at t = 0), upright \
-                  (Table II literally), descent-roll (tilted start, phi_cmd at the descent), \
-                  landing (the paper's descent, then a terminal descent to touchdown).",
+    about = "FMI 2.0 and 3.0 co-simulation master for the lunar-lander GNC and plant FMUs",
+    long_about = long_about(),
     after_help = "Exit codes: 0 every run ended as its scenario expects (the `[verdict]` table \
                   of its TOML: completed, or landed inside the touchdown envelope); 1 error \
                   (bad input, FMU failure); 2 usage error; 3 a run was flown but its verdict \
@@ -630,12 +626,32 @@ fn test_folder(
     })
 }
 
+/// The built-in scenarios' names, comma-separated.
+fn built_in_names() -> String {
+    let names: Vec<&str> = lander::scenarios::BUILT_IN
+        .iter()
+        .map(|(n, _)| *n)
+        .collect();
+    names.join(", ")
+}
+
+fn long_about() -> String {
+    format!(
+        "Loads FMI 2.0 and 3.0 FMUs (Co-Simulation and Model Exchange) through their C ABI, in a \
+         supervised worker process, connects them as a scenario describes (TOML, SSP .ssd or \
+         .ssp package), flies it and judges it.\nBuilt-in scenarios: {}.",
+        built_in_names()
+    )
+}
+
 /// What `harness run` flies.
 #[derive(clap::Args)]
 struct RunRequest {
-    /// paper, upright, descent-roll, landing, paper-nav, paper-thrusters, retarget,
-    /// landing-model-exchange (the files of harness/scenarios/), or a path to a .toml/.ssd
-    /// scenario or .ssp package.
+    #[arg(help = format!(
+        "{} (the files of harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp \
+         package",
+        built_in_names()
+    ))]
     scenario: String,
     /// Output file (columns: time, instance.variable...), written row by row under
     /// OUT.partial and renamed to OUT when the run has ended.

@@ -2,7 +2,7 @@
 //! CLI twice, to CSV and to .arrow, then read by pandas, polars and pyarrow (the venv of
 //! `cargo xtask python-env`), which must find the CSV's values bit for bit; and read back
 //! here, equal to the CSV bit for bit.
-mod common;
+use crate::common;
 
 use cosim::results::{read_arrow, read_csv};
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! trajectory held in memory, byte for byte, and memory does not grow with the run's
 //! length (shown under `ulimit -v`). A run too large to record is refused before it
 //! starts with its estimate; `--force` goes on.
-mod common;
+use crate::common;
 
 use common::{fmu_dir, harness};
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! dispersed, the propellant a descent burns is driven by that mass alone (the engine holds
 //! the lander's weight), and on the same draws the decoupled law's descent deviation at
 //! phi_cmd = 150 deg is lower than the coupled law's on every run (the paper's result).
-mod common;
+use crate::common;
 
 use common::harness;
 

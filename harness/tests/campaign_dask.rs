@@ -1,6 +1,6 @@
 //! `cargo xtask campaign-dask` with 2 Dask workers on loopback leaves the files of the same
 //! `harness monte-carlo` campaign run locally, manifest.csv and summary.csv byte for byte.
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

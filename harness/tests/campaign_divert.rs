@@ -1,7 +1,7 @@
 //! A campaign over a scenario that commands a retarget measures each flight's divert:
 //! overshoot past the new site, cross-track drift, settling time and peak tilt, as
 //! `harness retarget` measures the nominal flight.
-mod common;
+use crate::common;
 
 use campaign::dispersion::DispersionRanges;
 use campaign::flight::{campaign_system, Flyer};

@@ -1,7 +1,7 @@
 //! A campaign over a scenario with an on-board navigation filter starts the filter where
 //! each run's dispersed plant starts, off by an error drawn from the covariance the filter
 //! claims, instead of at the scenario's nominal start it would otherwise keep.
-mod common;
+use crate::common;
 
 use campaign::dispersion::DispersionRanges;
 use campaign::estimator_start::{self, ClaimedStartError, Start};

@@ -3,7 +3,7 @@
 //! gives what recording every output gives: the final values equal the last recorded row,
 //! and every manifest row of a landing campaign (touchdowns, so the final-only columns
 //! matter) equals a replay that records everything, bit for bit.
-mod common;
+use crate::common;
 
 use campaign::dispersion::DispersionRanges;
 use campaign::{replay, runner};

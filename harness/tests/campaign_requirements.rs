@@ -1,6 +1,6 @@
 //! A campaign judges every flight by its scenario's `[[requirement]]` entries too: a flight
 //! that wanders beyond a stated limit has not ended as expected, whatever its verdict.
-mod common;
+use crate::common;
 
 use common::harness;
 

@@ -1,7 +1,7 @@
 //! Every harness command line the documents show names a subcommand the harness has, with
 //! options that subcommand (or the harness as a whole) takes: a renamed option or a removed
 //! command fails here with the document and line, not in a reader's terminal.
-mod common;
+use crate::common;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::process::Command;

@@ -1,7 +1,7 @@
 //! The figures and reports `harness paper` and `harness monte-carlo` write: the decimation
 //! the plots use keeps every column's extremes, the pages carry human headings in a
 //! meaningful order and the paper run's scenario, FMUs and versions.
-mod common;
+use crate::common;
 
 use common::harness;
 use report::plots::style::decimate;

@@ -3,7 +3,7 @@
 //! lands with its verdict taken at the first foot contact, settles upright, and the
 //! filter's position, velocity and attitude estimates are consistent with its covariance
 //! over 50 seeded runs.
-mod common;
+use crate::common;
 
 use campaign::attitude::{self, Quat};
 use campaign::estimator_start::{self, ClaimedStartError, Start};

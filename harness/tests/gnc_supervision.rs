@@ -3,7 +3,7 @@
 //! thrusters, terrain), nor on any of 100 dispersed paper flights, judged by a requirement on
 //! its `monitor_status`; and the same campaign with a wrong `gravity` fails that requirement
 //! on every flight, so the requirement does watch the monitor.
-mod common;
+use crate::common;
 
 use common::harness;
 

@@ -8,7 +8,7 @@
 //! relative between glibc's functions and libm's, which the well-damped decoupled loop
 //! (closed-loop poles at 0.5 Hz / 0.06 Hz, zeta 0.8) keeps far below 1e-6 relative.
 //! Anything larger is a change of behaviour.
-mod common;
+use crate::common;
 
 use cosim::master::Trajectory;
 use cosim::results::{read_csv, write_csv};

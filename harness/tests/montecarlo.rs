@@ -1,7 +1,7 @@
 //! Monte Carlo campaigns through the packaged FMUs (`target/fmu`, from `cargo xtask fmus`):
 //! determinism across seeds, worker counts and shards, bit-exact replay, the dispersion
 //! distribution, and the paper's trend over phi_cmd.
-mod common;
+use crate::common;
 
 use campaign::dispersion::{Dispersion, DispersionRanges};
 use campaign::{manifest, merge, replay, runner, seed, summary};

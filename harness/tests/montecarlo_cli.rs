@@ -1,6 +1,6 @@
 //! The monte-carlo command line: negative values without `=`, every bad range named at once
 //! in a readable message, options that would be ignored refused.
-mod common;
+use crate::common;
 
 use std::process::Command;
 

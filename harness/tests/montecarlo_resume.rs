@@ -2,7 +2,7 @@
 //! last row cut as a kill mid-write would leave it, resumed; no flight is flown twice, none
 //! is lost, and the manifest is the uninterrupted campaign's byte for byte. `--rerun` then
 //! re-flies chosen flights to the same rows.
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output};

@@ -1,7 +1,7 @@
 //! The three-FMU loop plant -> LanderNav -> GNC (`harness/scenarios/paper-nav.toml`): with
 //! every navigation error off it flies the two-FMU paper scenario bit for bit, the SSD
 //! written from it flies the same, and an error switched on does reach the GNC.
-mod common;
+use crate::common;
 
 use cosim::master::{RunEnd, Simulation, Trajectory};
 use cosim::system::{toml_format, ParamValue, SystemDescription};

@@ -14,7 +14,7 @@
 //! - From an upright start (or with phi_cmd = 0 from the tilted start) the roll demand never
 //!   produces a lateral error in either law (a pure roll, resp. a pure pitch manoeuvre), so the
 //!   positions must agree to rounding; in practice they are bit-identical.
-mod common;
+use crate::common;
 
 use cosim::supervise::Runner;
 use cosim::system::ParamValue;

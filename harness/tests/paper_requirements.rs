@@ -1,7 +1,7 @@
 //! `harness paper` judges each law against the scenario's shipped limits: the law the
 //! scenario flies must meet them (exit 3 otherwise); a comparison law's violation is the
 //! comparison's finding, printed as such, and leaves the exit status alone.
-mod common;
+use crate::common;
 
 use common::harness;
 

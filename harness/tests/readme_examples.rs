@@ -1,7 +1,7 @@
 //! The README's example sessions, run: each `$ harness ...` line of a shell block is flown
 //! and its printed lines and exit code must be the ones the README shows, so the README
 //! cannot go stale.
-mod common;
+use crate::common;
 
 use std::process::Command;
 

@@ -3,7 +3,7 @@
 //! `target/report-screenshots/` to look at) and, on `report.html?check`, the page's own script
 //! says whether the document is wider than the window. Skips, saying why, only when Chromium
 //! is missing and cannot be installed.
-mod common;
+use crate::common;
 
 use common::harness;
 use std::path::{Path, PathBuf};

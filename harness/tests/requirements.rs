@@ -1,6 +1,6 @@
 //! `[[requirement]]` entries of a scenario: judged after the run with their robustness,
 //! part of the exit code, written as JUnit XML; a bad one refused before the run.
-mod common;
+use crate::common;
 
 use std::path::Path;
 

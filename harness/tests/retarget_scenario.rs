@@ -15,7 +15,7 @@
 //!   the coupled law's shortest path swings the thrust axis sideways; the decoupled law keeps
 //!   it on the guidance direction. We require the coupled cross-track deviation to be at least
 //!   twice the decoupled one.
-mod common;
+use crate::common;
 
 use lander::retarget::{fly_all, DivertFlight, LAWS};
 use lander::scenarios::Law;

@@ -1,6 +1,6 @@
 //! `harness run --stop-time/--step-size` and `harness paper --set`: the options change what
 //! is flown, and bad values are refused before anything runs, all at once, exit code 1.
-mod common;
+use crate::common;
 
 use common::harness;
 

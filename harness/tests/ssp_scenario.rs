@@ -1,7 +1,7 @@
 //! The paper scenario ships as TOML and as SSP `SystemStructure.ssd`; the SSD is generated from
 //! the TOML (never hand-edited) and both fly the same trajectory. Regenerate after changing the
 //! TOML with `UPDATE_SSD=1 cargo test -p harness --test ssp_scenario`.
-mod common;
+use crate::common;
 
 use cosim::master::{Simulation, Trajectory};
 use lander::scenarios;

@@ -2,7 +2,7 @@
 //! allocate without bound, in each kind of FMI call, ends its run with an error verdict
 //! naming the instance, the function and the time, exit code 1, the rows recorded until then
 //! kept (partial), the JUnit report written, and no temporary directory left behind.
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -87,7 +87,7 @@ impl Faulty {
 impl Faulty {
     /// The paper's scenario with the faulty FMU as a third instance, connected to nothing.
     fn paper_with_it(&self, folder: &Path) -> PathBuf {
-        let paper = harness::scenarios::BUILT_IN
+        let paper = lander::scenarios::BUILT_IN
             .iter()
             .find(|(name, _)| *name == "paper")
             .unwrap()

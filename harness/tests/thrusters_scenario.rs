@@ -1,7 +1,7 @@
 //! `harness/scenarios/paper-thrusters.toml`: the paper scenario with eight thrusters and
 //! navigation errors. The thrusters do fly it, the decoupled law beats the coupled one at
 //! phi_cmd = 150 deg, and a Monte Carlo run draws its own navigation errors.
-mod common;
+use crate::common;
 
 use campaign::flight::{campaign_system, Flyer};
 use campaign::{DispersionRanges, Flight};

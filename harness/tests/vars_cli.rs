@@ -1,6 +1,6 @@
 //! The small commands: `harness vars FMU` (an FMU's variables as a user wires them) and
 //! `harness completions SHELL`.
-mod common;
+use crate::common;
 
 use common::harness;
 

@@ -1,6 +1,6 @@
 //! Verdicts of whole runs through the packaged FMUs and the `harness` binary: the exit code
 //! says whether each run ended as its scenario expects, and a hard landing names its limits.
-mod common;
+use crate::common;
 
 use std::process::Command;
 

@@ -20,7 +20,7 @@ fn the_shipped_model_exchange_landing_touches_down_where_the_co_simulation_landi
     // GIVEN the shipped landing, and its twin with the plant as Model Exchange
     let fmu_dir = crate::common::fmu_dir();
     let run = |name: &str| {
-        let (trajectory, end, _) = fly_in(harness::scenarios::load(name).unwrap(), &fmu_dir);
+        let (trajectory, end, _) = fly_in(lander::scenarios::load(name).unwrap(), &fmu_dir);
         (trajectory, end)
     };
     let (cs, cs_end) = run("landing");

@@ -5,7 +5,7 @@ use crate::common;
 
 use cosim::master::{MasterError, Simulation, Trajectory};
 use cosim::system::SystemDescription;
-use harness::scenarios;
+use lander::scenarios;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
