@@ -11,16 +11,17 @@
 //!
 //! A scalar-first array meets a nalgebra quaternion (which stores w last) only through
 //! `lander_math::quaternion::{to_nalgebra, from_nalgebra}`, shared with the other FMUs.
+pub use lander_math::frames::{Body, Nue};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 /// Thrust axis in body coordinates.
-pub fn thrust_axis_body() -> Vector3<f64> {
-    Vector3::y()
+pub fn thrust_axis_body() -> Body {
+    Body(Vector3::y())
 }
 
 /// Local vertical (Up) in NUE coordinates.
-pub fn up_nue() -> Vector3<f64> {
-    Vector3::y()
+pub fn up_nue() -> Nue {
+    Nue(Vector3::y())
 }
 
 /// The plant's outputs as a scalar-first array (the shared bridge, under the name the speed
@@ -29,8 +30,8 @@ pub use lander_math::quaternion::from_nalgebra as quaternion_to_scalar_first;
 
 /// Rotates a body vector into NUE with the attitude `q_body_to_nue` (unit or not: the
 /// rotation of the normalised quaternion is used).
-pub fn body_to_nue(q_body_to_nue: &Quaternion<f64>, v_body: &Vector3<f64>) -> Vector3<f64> {
-    UnitQuaternion::from_quaternion(*q_body_to_nue) * v_body
+pub fn body_to_nue(q_body_to_nue: &Quaternion<f64>, v_body: &Body) -> Nue {
+    Nue(UnitQuaternion::from_quaternion(*q_body_to_nue) * v_body.0)
 }
 
 /// Angle between the thrust axis and the local vertical, in [0, pi] rad.
@@ -53,7 +54,7 @@ mod tests {
         // WHEN the thrust axis (body +y) is rotated into NUE
         let t = body_to_nue(&q, &thrust_axis_body());
         // THEN z x y = -x: the thrust axis points South (-North), a right-handed rotation.
-        assert!((t - Vector3::new(-1.0, 0.0, 0.0)).norm() < 1e-15);
+        assert!((t - Nue::new(-1.0, 0.0, 0.0)).0.norm() < 1e-15);
         assert!((tilt_from_vertical(&q) - FRAC_PI_2).abs() < 1e-15);
     }
 
@@ -62,6 +63,6 @@ mod tests {
         let q = to_nalgebra(&[0.9, 0.1, -0.3, 0.2]).normalize();
         let v = Vector3::new(0.3, -1.2, 2.0);
         let sandwich = q * Quaternion::from_imag(v) * q.conjugate();
-        assert!((body_to_nue(&q, &v) - sandwich.imag()).norm() < 1e-14);
+        assert!((body_to_nue(&q, &Body(v)).0 - sandwich.imag()).norm() < 1e-14);
     }
 }

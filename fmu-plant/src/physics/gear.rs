@@ -16,7 +16,7 @@
 //! * friction: `f_k = -mu N_k v_t / sqrt(|v_t|^2 + v_reg^2)` with `v_t` the tangential
 //!   footpad velocity (Coulomb for `|v_t| >> v_reg`, viscous below);
 //! * force on the lander `sum(N_k n + f_k)` in NUE, torque `sum(b_k x R^T (N_k n + f_k))`.
-use super::frames::body_to_nue;
+use super::frames::{body_to_nue, Body};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -255,8 +255,8 @@ impl Gear {
 
     /// Angle between body +y and the terrain normal, rad.
     pub fn tilt_from_normal(&self, q: &Quaternion<f64>) -> f64 {
-        let axis = body_to_nue(q, &Vector3::y());
-        libm::acos(axis.dot(&self.terrain_normal_nue).clamp(-1.0, 1.0))
+        let axis = body_to_nue(q, &Body(Vector3::y()));
+        libm::acos(axis.0.dot(&self.terrain_normal_nue).clamp(-1.0, 1.0))
     }
 
     /// Whether the lander has tipped over: its centre of mass, seen along gravity (-Up),

@@ -1,7 +1,7 @@
 //! The plant: equations of motion, the sub-stepped RK4 advance and its events.
 use super::actuators::{lag_rate, lagged_or_direct, Engines, Rcs, ThrustLine};
 use super::events::find_crossing;
-use super::frames::{body_to_nue, tilt_from_vertical};
+use super::frames::{body_to_nue, tilt_from_vertical, Body};
 use super::gear::{EngineCutoff, Gear};
 use super::integrator::{rk4_step_with_quadrature, OdeState, SubSteps};
 use super::parameters::{ParameterError, PlantParameters, RcsModelKind, TranslationModelKind};
@@ -633,7 +633,7 @@ impl Plant {
             None => self.thrust_direction_body * (d.thrust_n / mass_kg),
             Some(_) => (self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n) / mass_kg,
         };
-        let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &thrust_body);
+        let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &Body(thrust_body)).0;
         let torque_body = d.rcs_torque_body_nm + d.engine_torque_body_nm;
         // Without the gear both pass through untouched.
         let (a_thrust_nue, torque_body) = match self.contact(x) {
@@ -796,7 +796,7 @@ impl Plant {
             &x.omega_body,
             &dx.omega_body,
         );
-        let extra_nue = body_to_nue(&x.q_body_to_nue, &effect.extra_acceleration_body);
+        let extra_nue = body_to_nue(&x.q_body_to_nue, &Body(effect.extra_acceleration_body)).0;
         for i in 0..3 {
             dx.translation[3 + i] += extra_nue[i];
         }

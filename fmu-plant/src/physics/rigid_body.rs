@@ -33,7 +33,8 @@ pub fn angular_momentum_nue(
     q_body_to_nue: &Quaternion<f64>,
     omega_body: &Vector3<f64>,
 ) -> Vector3<f64> {
-    super::frames::body_to_nue(q_body_to_nue, &inertia.component_mul(omega_body))
+    let momentum_body = super::frames::Body(inertia.component_mul(omega_body));
+    super::frames::body_to_nue(q_body_to_nue, &momentum_body).0
 }
 
 /// Rotational kinetic energy ½ wᵀ I w in J.
