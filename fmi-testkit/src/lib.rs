@@ -13,7 +13,6 @@
 //!   bisection on the indicators) over an FMU's ME entry points ([`fmi2_me_functions!`]);
 //! - [`CountingAllocator`]: a global allocator that counts live and peak bytes;
 //! - [`assert_file_matches`]: the drift check of a generated file kept under version control;
-//! - [`assert_declared_bounds_are_validated`]: declared bounds and a model's validation agree;
 //! - [`assert_refused_in_the_set`], [`assert_refused_at_exit`]: a rejected parameter refused
 //!   with a log line naming it, in either version, the instance left usable.
 //!
@@ -24,7 +23,6 @@
 #![allow(unsafe_code)]
 
 mod alloc;
-mod bounds;
 pub mod conformance;
 mod drift;
 mod driver;
@@ -37,7 +35,6 @@ mod refusals;
 mod test_model;
 
 pub use alloc::{CountingAllocator, HeapUse};
-pub use bounds::assert_declared_bounds_are_validated;
 pub use drift::assert_file_matches;
 pub use driver::{Driver, Fmi2, Fmi3, Interface, Status, StepOutcome, Version};
 pub use fmi3::{CoSimulationOptions, Fmi3EventUpdate, Fmi3Functions, Fmi3Instance, Fmi3Step};
