@@ -1,6 +1,6 @@
 //! Golden trajectory: the nominal decoupled flight of the paper scenario, sampled once per
 //! second, compared with the checked-in CSV. Regenerate (after a reviewed, intended change of
-//! behaviour) with `UPDATE_GOLDEN=1 cargo test -p harness --test golden_trajectory`.
+//! behaviour) with `UPDATE_GOLDEN=1 cargo test -p harness --test main golden_trajectory::`.
 //!
 //! Tolerance: |fresh - golden| <= 1e-6 (1 + |golden|). The FMUs compute their transcendental
 //! functions with the libm crate, so the run is meant to be bit-exact on every platform

@@ -1,6 +1,6 @@
 //! The paper scenario ships as TOML and as SSP `SystemStructure.ssd`; the SSD is generated from
 //! the TOML (never hand-edited) and both fly the same trajectory. Regenerate after changing the
-//! TOML with `UPDATE_SSD=1 cargo test -p harness --test ssp_scenario`.
+//! TOML with `UPDATE_SSD=1 cargo test -p harness --test main ssp_scenario::`.
 use crate::common;
 
 use cosim::master::{Simulation, Trajectory};

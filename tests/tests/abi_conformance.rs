@@ -14,7 +14,7 @@
 //!    i.e. a compile error.
 //! 3. The compiled program dlopens each packaged library, binds all 34 functions through
 //!    their typedefs and runs a short simulation with its checks (see abi_check.c).
-mod exports;
+use crate::exports;
 
 use exports::{dynamic_symbols, expected_exports, official_headers};
 use fmi_abi::unpack::Unpacked;

@@ -8,10 +8,10 @@
 //! and the system tests never build anything themselves. Run them with
 //!
 //!     cargo xtask fmus --all-platforms
-//!     cargo test -p system-tests --test all_platforms -- --ignored
+//!     cargo test -p system-tests --test main all_platforms:: -- --ignored
 //!
 //! A missing FMU or tool fails these tests; nothing is skipped.
-mod exports;
+use crate::exports;
 
 use exports::{dynamic_symbols, expected_exports};
 use fmi_abi::unpack::Unpacked;

@@ -81,3 +81,38 @@ fn the_readme_table_of_fmus_is_the_metadata() {
         "the README's opening should say Co-Simulation for all {count} ({landers:?})"
     );
 }
+
+/// What a crate description must say of the versions and interfaces `fmu` ships.
+fn promised(fmu: &FmuCrate) -> Vec<&'static str> {
+    let mut words = Vec::new();
+    match (fmu.ships(Fmi::V2), fmu.ships(Fmi::V3)) {
+        (true, true) => words.push("FMI 2.0 and 3.0"),
+        (true, false) => words.push("FMI 2.0"),
+        (false, true) => words.push("FMI 3.0"),
+        (false, false) => {}
+    }
+    words.push("Co-Simulation");
+    if fmu.ships_model_exchange(Fmi::V2) || fmu.ships_model_exchange(Fmi::V3) {
+        words.push("Model Exchange");
+    }
+    words
+}
+
+#[test]
+fn each_fmu_crate_description_states_what_it_ships() {
+    let root = workspace_root();
+    for fmu in fmu_crates() {
+        let manifest: toml::Table = std::fs::read_to_string(root.join(&fmu.dir).join("Cargo.toml"))
+            .unwrap()
+            .parse()
+            .unwrap();
+        let description = manifest["package"]["description"].as_str().unwrap_or("");
+        for words in promised(&fmu) {
+            assert!(
+                description.contains(words),
+                "{}'s description should say {words:?}: {description:?}",
+                fmu.package
+            );
+        }
+    }
+}

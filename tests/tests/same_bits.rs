@@ -14,10 +14,10 @@
 //! x86_64-windows), and FMI 3.0 against FMI 2.0 on x86_64 Linux. Not in the default suite: it needs the cross toolchains, qemu and Wine.
 //!
 //!     cargo xtask fmus --all-platforms
-//!     cargo test -p system-tests --test same_bits -- --ignored --nocapture
+//!     cargo test -p system-tests --test main same_bits:: -- --ignored --nocapture
 //!
 //! A missing FMU or tool fails the test with the command that provides it.
-mod cross;
+use crate::cross;
 
 use cross::{differences, first_difference, fly, Plan, Platform, Run};
 use system_tests::Fmi;

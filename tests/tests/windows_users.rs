@@ -15,8 +15,8 @@
 //! Not in the default suite: it needs Wine and the cross toolchains.
 //!
 //!     cargo xtask fmus --all-platforms
-//!     cargo test -p system-tests --test windows_users -- --ignored
-mod cross;
+//!     cargo test -p system-tests --test main windows_users:: -- --ignored
+use crate::cross;
 
 use cross::{first_difference, fly, require, run_ok, scratch, Fmu, Plan, Platform, UnitPlan};
 use std::path::{Path, PathBuf};

@@ -4,7 +4,7 @@
 //! FMUs are named. Each asserts the returned status and that the
 //! log names the function and the variable or value; where a refusal must leave the instance
 //! untouched, that is checked too.
-mod common;
+use crate::common;
 
 use common::assert_refused;
 use model_description::{Causality, VariableKind};
