@@ -690,6 +690,16 @@ pub fn heap_within_limit<M: Model, D: Driver>(subject: &Subject<D>, allocator: &
     }
 }
 
+/// The name libtest gives test `function` of module `module_path` (`module_path!()`, which
+/// starts with the crate's name where libtest's names do not): the conformance suite may be
+/// a module of a crate's one test binary or that binary's root.
+pub fn test_name(module_path: &str, function: &str) -> String {
+    match module_path.split_once("::") {
+        Some((_, module)) => format!("{module}::{function}"),
+        None => function.to_owned(),
+    }
+}
+
 /// Runs `test` (this test binary's test of that exact name) alone in a child process, where
 /// [`HEAP_CHILD`] is set: there no other test allocates while it measures.
 pub fn in_a_child_process(test: &str) {
@@ -877,7 +887,10 @@ macro_rules! conformance {
             if ::std::env::var_os($crate::conformance::HEAP_CHILD).is_some() {
                 $crate::conformance::heap_within_limit::<$krate::$model, $crate::$driver>(&$subject(), &CONFORMANCE_ALLOCATOR);
             } else {
-                $crate::conformance::in_a_child_process(stringify!($heap));
+                $crate::conformance::in_a_child_process(&$crate::conformance::test_name(
+                    module_path!(),
+                    stringify!($heap),
+                ));
             }
         }
     };
