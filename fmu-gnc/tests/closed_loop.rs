@@ -2,7 +2,7 @@
 //! attitudes, with the state quaternion's sign flipped at every control step (no unwinding).
 // std's transcendental functions here are a reference independent of the libm the model uses.
 #![allow(clippy::disallowed_methods)]
-mod common;
+use crate::common;
 
 use common::{paper_settings, RigidBody};
 use fmu_gnc::attitude::phi_b::phi_b;

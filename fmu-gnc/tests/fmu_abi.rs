@@ -3,7 +3,7 @@
 //! drift, bounds) is tests/conformance.rs.
 // std's transcendental functions here are a reference independent of the libm the model uses.
 #![allow(clippy::disallowed_methods)]
-mod fmi;
+use crate::fmi;
 
 use fmi::{vr, Gnc};
 use fmi2_export::Causality;

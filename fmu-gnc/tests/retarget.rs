@@ -4,7 +4,7 @@
 // std's functions measure the flight here (tilt, horizontal norms), a reference independent of
 // the libm the model uses; the hashed values are the model's outputs alone.
 #![allow(clippy::disallowed_methods)]
-mod common;
+use crate::common;
 
 use common::RigidBody;
 use fmu_gnc::attitude::profile::PhiProfile;

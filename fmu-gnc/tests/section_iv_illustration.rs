@@ -2,7 +2,7 @@
 //! axis along East, guidance wants the thrust axis vertical.
 // std's transcendental functions here are a reference independent of the libm the model uses.
 #![allow(clippy::disallowed_methods)]
-mod common;
+use crate::common;
 
 use common::{paper_settings, RigidBody};
 use fmu_gnc::attitude::{attitude_command, ControlLaw};

@@ -6,7 +6,7 @@
 //! three laws together.
 // std's transcendental functions here are a reference independent of the libm the model uses.
 #![allow(clippy::disallowed_methods)]
-mod common;
+use crate::common;
 
 use common::RigidBody;
 use fmu_gnc::attitude::profile::PhiProfile;

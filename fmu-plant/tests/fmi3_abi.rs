@@ -3,7 +3,7 @@
 //! FMU lacks.
 #![allow(unsafe_code)]
 
-mod fmi3_common;
+use crate::fmi3_common;
 
 use fmi3_common::{vr, Plant};
 use fmi_testkit::fmi3_ffi::*;

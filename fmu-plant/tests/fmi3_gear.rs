@@ -1,6 +1,6 @@
 //! The landing gear through the FMI 3.0 C functions: its Boolean parameter, array outputs and
 //! Booleans in Co-Simulation, its refusal in Model Exchange.
-mod fmi3_common;
+use crate::fmi3_common;
 
 use fmi3_common::{vr, Plant};
 use fmi_testkit::fmi3_ffi::*;

@@ -8,7 +8,7 @@
 //! provide intermediate update), however the step ends.
 #![allow(unsafe_code)]
 
-mod fmi3_common;
+use crate::fmi3_common;
 
 use fmi3_common::vr;
 use fmi_testkit::fmi3_ffi::*;

@@ -2,7 +2,7 @@
 //! header and checksum is accepted only if the plant could have reached the state it holds
 //! (the checks the FMI 2.0 layer makes); a refusal names the field and leaves the instance
 //! as it was. Also: communication points a corrupt or crafted time cannot sneak past.
-mod fmi3_common;
+use crate::fmi3_common;
 
 use fmi3_common::Plant;
 use fmi_export::snapshot::{reseal, HEADER_LEN};

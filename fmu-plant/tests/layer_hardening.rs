@@ -2,7 +2,7 @@
 //! both FMI versions: states of the other interface, reserved header bytes, stale handles
 //! whose memory the allocator has reused, an over-long step, bounds at the declared min and
 //! max, extreme numbers in log lines. Each refusal leaves the instance usable.
-mod common;
+use crate::common;
 
 use fmi_model::Model;
 use fmi_testkit::fmi2::{fmi2Error, fmi2OK};

@@ -2,7 +2,7 @@
 //! kit's own ME master ([`MeSolver`]: classical RK4 at a fixed step, events by bisection on
 //! the event indicators), against the analytic solution and the Co-Simulation interface.
 #![allow(unsafe_code)]
-mod common;
+use crate::common;
 
 use common::{vr, Plant, FUNCTIONS};
 use fmi_testkit::fmi2::*;

@@ -3,7 +3,7 @@
 //! nothing; the states an ordinary integrator (explicit Euler, RK4) leaves, and a mass just
 //! past the dry mass, are states the instance accepts back as FMU states.
 #![allow(unsafe_code)]
-mod common;
+use crate::common;
 
 use fmi3_export::ffi::*;
 use fmi_testkit::fmi2::*;

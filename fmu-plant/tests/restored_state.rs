@@ -2,7 +2,7 @@
 //! plant could have reached the state it holds; a refusal names the field and leaves the
 //! instance as it was. Crafted buffers are built by editing the payload of a genuine one
 //! and recomputing its checksum.
-mod common;
+use crate::common;
 
 use common::Plant;
 use fmi_export::snapshot::HEADER_LEN;

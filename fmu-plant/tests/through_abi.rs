@@ -1,5 +1,5 @@
 //! LanderPlant through its exported C functions, as a master drives it.
-mod common;
+use crate::common;
 
 use common::{navigation_vrs, Plant};
 use fmi_testkit::fmi2::*;

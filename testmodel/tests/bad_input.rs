@@ -1,6 +1,6 @@
 //! Each class of bad input: its status and the one log line naming function, variable and
 //! value; a refused call changes nothing.
-mod common;
+use crate::common;
 
 use common::{callbacks, guid, records_of, vr, Fmu, Sink};
 use fmi_testkit::fmi2::*;

@@ -3,7 +3,7 @@
 //! both FMI versions.
 // std's transcendental functions here are a reference independent of the libm the model uses.
 #![allow(clippy::disallowed_methods)]
-mod common;
+use crate::common;
 
 use common::{Osc, Status};
 

@@ -2,7 +2,7 @@
 //! foreign pointers are refused without reading out of bounds.
 // std's transcendental functions here are a reference independent of the libm the model uses.
 #![allow(clippy::disallowed_methods)]
-mod common;
+use crate::common;
 
 use common::{vr, Fmu};
 use fmi_testkit::fmi2::*;

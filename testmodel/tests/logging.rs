@@ -1,7 +1,7 @@
 //! What reaches the master's logger, under which category, with which arguments; for both
 //! FMI versions (FMI 2.0's logger is variadic and gets the instance name; FMI 3.0's gets
 //! the instance environment only, and a message the FMU formatted).
-mod common;
+use crate::common;
 
 use common::{vr, Osc, Status, Version};
 use fmi_testkit::Record;

@@ -2,7 +2,7 @@
 //! solution, the early stop, warnings, model errors, Reset, threads, logging.
 // std's transcendental functions here are a reference independent of the libm the model uses.
 #![allow(clippy::disallowed_methods)]
-mod common;
+use crate::common;
 
 use common::{analytic_x, vr, Fmu};
 use fmi_testkit::fmi2::*;

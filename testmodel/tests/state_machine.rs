@@ -3,7 +3,7 @@
 //!
 //! StepCanceled is unreachable (fmi2DoStep never returns fmi2Pending, so fmi2CancelStep is
 //! never legal) and Fatal needs a panicking model: both are covered in fmi2-export's tests.
-mod common;
+use crate::common;
 
 use common::{vr, Fmu};
 use fmi2_export::state::{Function, State};
