@@ -1,7 +1,6 @@
 //! The Oscillator's tests, one binary (each test binary is linked on its own): every part of the
 //! export layers through the C ABI. The registry's capacity is a binary of its own
 //! (capacity.rs): it fills the registry, which would refuse other tests' instances.
-#[allow(dead_code)] // each test module uses its own part
 #[macro_use]
 mod common;
 mod bad_input;
