@@ -5,7 +5,7 @@
 //! options are checked against its own `--help` by harness/tests/doc_commands.rs.)
 //!
 //! CHANGELOG.md is history: it names what was, and is not read.
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use system_tests::workspace_root;
 
@@ -161,6 +161,68 @@ fn workspace_crates(root: &Path) -> BTreeSet<String> {
     names
 }
 
+/// Each workspace package's integration-test targets: its `[[test]]` names and, where cargo
+/// finds them itself (`autotests`, on by default), its `tests/*.rs` and `tests/*/main.rs`.
+fn test_targets(root: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mut targets = BTreeMap::new();
+    for member in fmu_metadata::workspace_members(root).unwrap_or_else(|e| panic!("{e}")) {
+        let dir = root.join(member);
+        let manifest: toml::Table = std::fs::read_to_string(dir.join("Cargo.toml"))
+            .unwrap()
+            .parse()
+            .unwrap();
+        let Some(package) = manifest.get("package") else {
+            continue;
+        };
+        let name = package["name"].as_str().unwrap().to_owned();
+        let mut names: BTreeSet<String> = manifest
+            .get("test")
+            .and_then(|t| t.as_array())
+            .into_iter()
+            .flatten()
+            .filter_map(|t| t.get("name")?.as_str().map(str::to_owned))
+            .collect();
+        let automatic = package.get("autotests").and_then(|a| a.as_bool()) != Some(false);
+        if let (true, Ok(entries)) = (automatic, std::fs::read_dir(dir.join("tests"))) {
+            for path in entries.flatten().map(|e| e.path()) {
+                if path.extension().is_some_and(|e| e == "rs") || path.join("main.rs").is_file() {
+                    names.insert(path.file_stem().unwrap().to_string_lossy().into_owned());
+                }
+            }
+        }
+        targets.insert(name, names);
+    }
+    targets
+}
+
+/// What is wrong with a `cargo test -p PACKAGE --test TARGET ...` line, if anything.
+fn test_command_problems(
+    command: &str,
+    targets: &BTreeMap<String, BTreeSet<String>>,
+) -> Vec<String> {
+    let words: Vec<&str> = command.split_whitespace().collect();
+    let after = |flag: &str| -> Vec<&str> {
+        words
+            .windows(2)
+            .filter(|w| w[0] == flag)
+            .map(|w| w[1])
+            .collect()
+    };
+    let mut problems = Vec::new();
+    for package in after("-p") {
+        let Some(known) = targets.get(package) else {
+            problems.push(format!("no package `{package}`"));
+            continue;
+        };
+        for target in after("--test") {
+            if !known.contains(target) {
+                problems.push(format!("`{package}` has no test target `{target}`"));
+            }
+        }
+    }
+    problems
+}
+
 /// Crates and tools from outside the workspace that the documents name.
 const FOREIGN: &[&str] = &[
     "cargo-fuzz",
@@ -244,6 +306,7 @@ fn every_path_crate_and_task_the_documents_name_exists() {
     let root = workspace_root();
     let crates = workspace_crates(&root);
     let tasks = xtask_commands(&root);
+    let targets = test_targets(&root);
     assert!(
         tasks.contains("fmus") && tasks.contains("test"),
         "{tasks:?}"
@@ -265,6 +328,12 @@ fn every_path_crate_and_task_the_documents_name_exists() {
                 checked += 1;
                 if !crates.contains(&reference) && !FOREIGN.contains(&reference.as_str()) {
                     dead.push(format!("{shown}:{line}: no crate `{reference}`"));
+                }
+            }
+            for command in reference.split("cargo test ").skip(1) {
+                checked += 1;
+                for problem in test_command_problems(command, &targets) {
+                    dead.push(format!("{shown}:{line}: {problem}"));
                 }
             }
             for task in reference.split("cargo xtask ").skip(1) {
@@ -308,4 +377,10 @@ fn a_moved_file_an_unknown_crate_and_a_removed_task_are_caught() {
     assert!(!looks_like_a_crate("early-end") && !looks_like_a_crate("--in-process"));
     assert!(is_scenario("landing-model-exchange", &root) && !is_scenario("fmi-loader", &root));
     assert!(!xtask_commands(&root).contains("release"));
+    let targets = test_targets(&root);
+    assert!(test_command_problems("-p harness --test main x::", &targets).is_empty());
+    assert_eq!(
+        test_command_problems("-p harness --test golden_trajectory", &targets),
+        ["`harness` has no test target `golden_trajectory`"]
+    );
 }
