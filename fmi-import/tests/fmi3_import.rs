@@ -4,17 +4,13 @@
 use fmi_import::{CallError, Fmu, InstanceOptions, StepStatus, VariableKind};
 use std::path::PathBuf;
 
-/// target/fmu (checked to hold the FMI 2.0 landers) with the FMI 3.0 FMUs under fmi3/.
+/// target/fmu (checked to hold the FMI 2.0 FMUs) with every FMI 3.0 FMU the crates'
+/// metadata ships under fmi3/.
 fn fmu_dir() -> PathBuf {
     let dir = crate::common::fmu_dir();
-    for fmu in [
-        "LanderGnc",
-        "LanderPlant",
-        "LanderNav",
-        "LanderSensors",
-        "LanderFilter",
-        "Oscillator",
-    ] {
+    let fmus = fmu_metadata::fmus_around(env!("CARGO_MANIFEST_DIR")).unwrap();
+    let shipped = fmus.iter().filter(|f| f.ships(fmu_metadata::Fmi::V3));
+    for fmu in shipped.map(|f| &f.model_identifier) {
         let path = dir.join("fmi3").join(format!("{fmu}.fmu"));
         assert!(
             path.is_file(),
