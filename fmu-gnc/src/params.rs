@@ -1,7 +1,7 @@
 //! The GNC parameters, their defaults (paper Tables I-II and the ERRATA modelling defaults)
 //! and their validation (relations between them; each value's own bounds are declared in
 //! `fmu.rs`).
-use crate::actuation::allocation::Allocator;
+use crate::actuation::allocation::{default_layout_column, Allocator, DEFAULT_THRUSTER_FORCE_N};
 use crate::actuation::pwpf::PwpfSettings;
 use crate::actuation::{RcsModel, THRUSTER_COUNT};
 use crate::attitude::gains::AttitudeGains;
@@ -98,27 +98,6 @@ pub struct ThrusterDesign {
     pub pwpf: PwpfSettings,
 }
 
-/// The plant's default thruster layout (docs/rcs-layout.md): position (m) and force
-/// direction of each thruster, body axes.
-const DEFAULT_RCS_LAYOUT: [([f64; 3], [f64; 3]); THRUSTER_COUNT] = [
-    ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-    ([-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]),
-    ([1.0, 0.0, 0.0], [0.0, -1.0, 0.0]),
-    ([-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-    ([-1.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
-    ([-1.0, -1.0, 0.0], [0.0, 0.0, -1.0]),
-    ([1.0, 1.0, 0.0], [0.0, 0.0, -1.0]),
-    ([1.0, -1.0, 0.0], [0.0, 0.0, 1.0]),
-];
-
-fn default_layout_column(direction: bool) -> [f64; 3 * THRUSTER_COUNT] {
-    let mut out = [0.0; 3 * THRUSTER_COUNT];
-    for (k, (r, d)) in DEFAULT_RCS_LAYOUT.iter().enumerate() {
-        out[3 * k..3 * k + 3].copy_from_slice(if direction { d } else { r });
-    }
-    out
-}
-
 impl Default for GncParameters {
     fn default() -> Self {
         Self {
@@ -157,7 +136,7 @@ impl Default for GncParameters {
             rcs_model: RcsModel::Torque as i32,
             rcs_position_body_m: default_layout_column(false),
             rcs_direction_body: default_layout_column(true),
-            rcs_thruster_force_n: 58.0,
+            rcs_thruster_force_n: DEFAULT_THRUSTER_FORCE_N,
             rcs_tilt_first: true,
             // PWPF: Km 10, Tm 0.5 s, Uon 0.5, Uoff 0.2 (docs/rcs-layout.md explains the choice).
             pwpf_gain: 10.0,

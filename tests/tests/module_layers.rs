@@ -14,12 +14,6 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use system_tests::workspace_root;
 
-/// Crates whose module circles were there before this test and are left to the engineers
-/// reworking those crates; each fails the test once its circles are gone, so that it leaves
-/// this list and stays clean. What the test found in each:
-/// - fmu-gnc: params.rs, actuation/mod.rs and actuation/allocation.rs.
-const KNOWN_CIRCLES: &[&str] = &["fmu-gnc"];
-
 /// The mission crates, held to the stricter rule of the header.
 const MISSION_CRATES: &[&str] = &["lander", "campaign", "report", "harness"];
 
@@ -538,19 +532,7 @@ fn no_crate_has_a_module_circle_of_more_than_two_files() {
     );
     let mut failures = Vec::new();
     for (name, dir) in &members {
-        let found = circles(name, dir);
-        match (KNOWN_CIRCLES.contains(&name.as_str()), found.is_empty()) {
-            (false, false) => failures.extend(found),
-            (true, true) => failures.push(format!(
-                "{name} has no module circle any more: take it off KNOWN_CIRCLES"
-            )),
-            (true, false) => {
-                for circle in found {
-                    eprintln!("known, left to its owners: {circle}");
-                }
-            }
-            (false, true) => {}
-        }
+        failures.extend(circles(name, dir));
     }
     assert!(
         failures.is_empty(),

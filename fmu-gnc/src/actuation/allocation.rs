@@ -134,17 +134,39 @@ fn scaled_into_range(fraction: [f64; THRUSTER_COUNT]) -> [f64; THRUSTER_COUNT] {
     }
 }
 
+/// The plant's default thruster layout (docs/rcs-layout.md): position (m) and force
+/// direction of each thruster, body axes.
+const DEFAULT_RCS_LAYOUT: [([f64; 3], [f64; 3]); THRUSTER_COUNT] = [
+    ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+    ([-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]),
+    ([1.0, 0.0, 0.0], [0.0, -1.0, 0.0]),
+    ([-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+    ([-1.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+    ([-1.0, -1.0, 0.0], [0.0, 0.0, -1.0]),
+    ([1.0, 1.0, 0.0], [0.0, 0.0, -1.0]),
+    ([1.0, -1.0, 0.0], [0.0, 0.0, 1.0]),
+];
+
+pub fn default_layout_column(direction: bool) -> [f64; 3 * THRUSTER_COUNT] {
+    let mut out = [0.0; 3 * THRUSTER_COUNT];
+    for (k, (r, d)) in DEFAULT_RCS_LAYOUT.iter().enumerate() {
+        out[3 * k..3 * k + 3].copy_from_slice(if direction { d } else { r });
+    }
+    out
+}
+
+/// The plant's default force of one thruster (docs/rcs-layout.md), N.
+pub const DEFAULT_THRUSTER_FORCE_N: f64 = 58.0;
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::GncParameters;
 
     fn default_allocator() -> Allocator {
-        let p = GncParameters::default();
         Allocator::new(
-            &p.rcs_position_body_m,
-            &p.rcs_direction_body,
-            p.rcs_thruster_force_n,
+            &default_layout_column(false),
+            &default_layout_column(true),
+            DEFAULT_THRUSTER_FORCE_N,
         )
     }
 
