@@ -3,6 +3,7 @@
 //! archives, and FMI 3.0 FMUs beside their FMI 2.0 twins.
 mod archives;
 mod common;
+mod files;
 mod fmi3_import;
 mod fmu_archive;
 mod oscillator;
