@@ -60,6 +60,18 @@ fn campaign(scenario: &str, out_dir: &std::path::Path, runs: &str) -> (usize, us
         String::from_utf8_lossy(&output.stderr)
     );
     let rows = campaign::manifest::read(&out_dir.join("manifest.csv")).unwrap();
+    // A flight that errored or was cut short before its window ended was never judged: it
+    // must not count as one that raised nothing.
+    for row in &rows {
+        assert_ne!(row.verdict.word, "error", "{:?}", row.verdict);
+        assert!(
+            !row.verdict
+                .detail
+                .contains(&format!("{REQUIREMENT}: INCONCLUSIVE")),
+            "{:?}",
+            row.verdict
+        );
+    }
     let violated = rows
         .iter()
         .filter(|row| {
