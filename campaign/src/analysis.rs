@@ -14,8 +14,8 @@
 use crate::dispersion::Dispersion;
 use crate::manifest::Row;
 use crate::stats;
+use lander::laws::Law;
 use lander::metrics;
-use lander::scenarios::Law;
 
 /// How an input is read from a run's draw.
 pub type Input = fn(&Dispersion) -> f64;

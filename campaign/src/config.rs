@@ -3,7 +3,7 @@
 use crate::definition::{CampaignSpec, Shard};
 use crate::dispersion::DispersionRanges;
 use anyhow::Context;
-use lander::scenarios::Law;
+use lander::laws::Law;
 use std::path::Path;
 
 pub const FILE_NAME: &str = "campaign.toml";
@@ -85,14 +85,8 @@ impl CampaignSection {
     }
 
     pub fn to_spec(&self) -> anyhow::Result<CampaignSpec> {
-        let laws = self
-            .laws
-            .iter()
-            .map(|name| {
-                <Law as clap::ValueEnum>::from_str(name, false)
-                    .map_err(|e| anyhow::anyhow!("law '{name}': {e}"))
-            })
-            .collect::<anyhow::Result<_>>()?;
+        // Checked against the GNC FMU's laws when the campaign loads it.
+        let laws = self.laws.iter().map(|name| Law::named(name)).collect();
         let spec = CampaignSpec {
             scenario: self.scenario.clone(),
             seed: self.seed,
@@ -168,7 +162,7 @@ mod tests {
             scenario: "paper".into(),
             seed: u64::MAX >> 1,
             phi_cmd_deg: vec![0.0, 0.1 + 0.2, 150.0],
-            laws: vec![Law::Decoupled, Law::Coupled],
+            laws: vec![Law::DECOUPLED, Law::COUPLED],
             runs_per_point: 3,
             dispersions: DispersionRanges::default(),
             sets: vec!["plant.m0=850".into(), "gnc.rate_shaping_margin=0.5".into()],
@@ -200,7 +194,7 @@ mod tests {
             scenario: "paper".into(),
             seed: 1,
             phi_cmd_deg: vec![0.0],
-            laws: vec![Law::Decoupled],
+            laws: vec![Law::DECOUPLED],
             runs_per_point: 3,
             dispersions: DispersionRanges::default(),
             sets: Vec::new(),

@@ -10,7 +10,7 @@
 //! interrupted campaign holds whole runs' worth of comparisons.
 use crate::dispersion::DispersionRanges;
 use crate::seed::run_seed;
-use lander::scenarios::Law;
+use lander::laws::Law;
 
 /// The definition of a campaign: everything a flight's result depends on (with the FMUs).
 #[derive(Debug, Clone, PartialEq)]
@@ -140,7 +140,7 @@ mod tests {
             scenario: "paper".into(),
             seed: 7,
             phi_cmd_deg: vec![0.0, 90.0, 180.0],
-            laws: vec![Law::Coupled, Law::Decoupled],
+            laws: vec![Law::COUPLED, Law::DECOUPLED],
             runs_per_point: 4,
             dispersions: DispersionRanges::default(),
             sets: Vec::new(),

@@ -7,6 +7,7 @@ use crate::manifest::{End, Judged, Row};
 use cosim::master::{RunEnd, Trajectory};
 use cosim::supervise::Runner;
 use cosim::system::{ParamValue, SystemDescription};
+use lander::laws::Laws;
 use lander::metrics::{self, nan_metrics, Metrics};
 use lander::retarget::{divert_metrics, RetargetCommand};
 use lander::verdict::{self, Spec};
@@ -57,6 +58,8 @@ pub struct Flyer {
     /// What the scenario's navigation filter claims about its initial error, when it has
     /// one: each run starts it from the dispersed truth off by an error of that spread.
     filter_claim: Option<ClaimedStartError>,
+    /// The laws of the GNC FMU, which every flight's law is one of.
+    laws: Laws,
     /// The scenario's retarget command, when it has one: each flight's divert is measured.
     retarget: Option<RetargetCommand>,
 }
@@ -116,6 +119,7 @@ impl Flyer {
         };
         let nominal = Nominal::from_scenario(simulation.system(), PLANT, start_of)
             .map_err(anyhow::Error::msg)?;
+        let laws = Laws::of_runner(&simulation, GNC)?;
         let filter_claim = claimed_start_error(&simulation)?;
         let retarget = RetargetCommand::of(simulation.system()).ok();
         let trajectory = Trajectory {
@@ -128,6 +132,7 @@ impl Flyer {
         };
         Ok(Self {
             simulation,
+            laws,
             spec,
             nominal,
             target_nue,
@@ -154,6 +159,11 @@ impl Flyer {
 
     pub fn simulation(&self) -> &Runner {
         &self.simulation
+    }
+
+    /// The laws of the GNC FMU.
+    pub fn laws(&self) -> &Laws {
+        &self.laws
     }
 
     pub fn nominal(&self) -> &Nominal {
@@ -194,7 +204,11 @@ impl Flyer {
         dispersion: &Dispersion,
     ) -> anyhow::Result<(Metrics, End, Judged)> {
         let sim = &mut self.simulation;
-        sim.set_parameter(GNC, "control_law", flight.law.parameter())?;
+        let law = self
+            .laws
+            .parameter(flight.law)
+            .map_err(anyhow::Error::msg)?;
+        sim.set_parameter(GNC, lander::laws::PARAMETER, law)?;
         sim.set_parameter(
             GNC,
             "phi_cmd",

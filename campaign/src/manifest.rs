@@ -5,8 +5,8 @@
 use crate::definition::Flight;
 use crate::dispersion::{self, Dispersion};
 use anyhow::Context;
+use lander::laws::Law;
 use lander::metrics::{metric_values, metrics_from, Metrics, METRIC_COUNT, METRIC_NAMES};
-use lander::scenarios::Law;
 use std::io::Write;
 use std::path::Path;
 
@@ -242,8 +242,8 @@ fn read_from<R: std::io::Read>(
         let field = |i: usize| record.get(i).unwrap_or_default();
         let integer = |i: usize| field(i).parse::<u64>().with_context(at);
         let real = |i: usize| field(i).parse::<f64>().with_context(at);
-        let law = <Law as clap::ValueEnum>::from_str(field(3), false)
-            .map_err(|e| anyhow::anyhow!("{}: law: {e}", at()))?;
+        anyhow::ensure!(!field(3).is_empty(), "{}: no law", at());
+        let law = Law::named(field(3));
         let mut fields = [0.0; dispersion::FIELD_COUNT];
         for (k, slot) in fields.iter_mut().enumerate() {
             *slot = real(IDENTITY.len() + k)?;
@@ -303,7 +303,7 @@ mod tests {
                     index: 3,
                     run: 1,
                     run_seed: u64::MAX,
-                    law: Law::Reduced,
+                    law: Law::new("reduced"),
                     phi_cmd_deg: 150.0,
                 },
                 dispersion,
@@ -320,7 +320,7 @@ mod tests {
                     index: 4,
                     run: 1,
                     run_seed: 5,
-                    law: Law::Coupled,
+                    law: Law::COUPLED,
                     phi_cmd_deg: -1e-300,
                 },
                 dispersion,
@@ -335,7 +335,7 @@ mod tests {
                     index: 5,
                     run: 1,
                     run_seed: 5,
-                    law: Law::Decoupled,
+                    law: Law::DECOUPLED,
                     phi_cmd_deg: 0.1 + 0.2,
                 },
                 dispersion,

@@ -80,6 +80,7 @@ pub fn run_resumed(
     // any file is written; the first worker then takes it over.
     let first = Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?
         .with_requirements(requirements.clone())?;
+    first.laws().check(&spec.laws).map_err(anyhow::Error::msg)?;
     if first.nominal().thrust_scale.is_none() && spec.dispersions.thrust_level_fraction > 0.0 {
         anyhow::bail!(
             "--disp-thrust-frac {}: the plant of scenario '{}' has no engine_thrust_scale \

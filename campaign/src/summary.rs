@@ -1,7 +1,7 @@
 //! Per (law, phi_cmd) statistics of a campaign's rows: what the figure's mean lines show
 //! and what `harness monte-carlo` prints.
 use crate::manifest::Row;
-use lander::scenarios::Law;
+use lander::laws::Law;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Statistic {
@@ -89,7 +89,7 @@ impl PointSummary {
     }
 }
 
-/// One summary per (law, phi_cmd) present, ordered by law then phi_cmd.
+/// One summary per (law, phi_cmd) present, ordered by law (by name) then phi_cmd.
 pub fn summarise(rows: &[Row]) -> Vec<PointSummary> {
     let mut keys: Vec<(Law, f64)> = Vec::new();
     for row in rows {
@@ -98,7 +98,7 @@ pub fn summarise(rows: &[Row]) -> Vec<PointSummary> {
             keys.push(key);
         }
     }
-    keys.sort_by(|a, b| (a.0 as i32).cmp(&(b.0 as i32)).then(a.1.total_cmp(&b.1)));
+    keys.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
     keys.into_iter()
         .map(|(law, phi)| {
             let point: Vec<&Row> = rows
@@ -284,7 +284,7 @@ mod tests {
     #[test]
     fn the_printed_table_gives_tail_bounds_only_where_supported_and_says_what_they_need() {
         let row = |p95_ub90, p99_73_ub90| PointSummary {
-            law: Law::Decoupled,
+            law: Law::DECOUPLED,
             phi_cmd_deg: 150.0,
             flights: 30,
             failed: 0,

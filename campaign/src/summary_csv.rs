@@ -11,8 +11,8 @@
 use crate::analysis;
 use crate::manifest::{self, Row};
 use crate::stats::{self, THREE_SIGMA};
+use lander::laws::Law;
 use lander::metrics::{self, METRIC_NAMES};
-use lander::scenarios::Law;
 use lander::verdict::Expect;
 use std::path::Path;
 
@@ -86,7 +86,7 @@ pub fn reference_law(cells: &[(Law, f64)]) -> Option<Law> {
     cells
         .iter()
         .map(|c| c.0)
-        .find(|l| *l == Law::Coupled)
+        .find(|l| *l == Law::COUPLED)
         .or(cells.first().map(|c| c.0))
 }
 
@@ -116,7 +116,7 @@ fn number(x: f64) -> String {
     }
 }
 
-/// The cells present, ordered by law then phi_cmd.
+/// The cells present, ordered by law (by name) then phi_cmd.
 fn cells(rows: &[Row]) -> Vec<(Law, f64)> {
     let mut keys: Vec<(Law, f64)> = Vec::new();
     for row in rows {
@@ -125,7 +125,7 @@ fn cells(rows: &[Row]) -> Vec<(Law, f64)> {
             keys.push(key);
         }
     }
-    keys.sort_by(|a, b| (a.0 as i32).cmp(&(b.0 as i32)).then(a.1.total_cmp(&b.1)));
+    keys.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
     keys
 }
 
@@ -306,7 +306,7 @@ mod tests {
 
     #[test]
     fn a_cell_row_holds_counts_confidence_ellipse_and_percentiles() {
-        let rows: Vec<Row> = (0..11).map(|j| row(j, Law::Decoupled)).collect();
+        let rows: Vec<Row> = (0..11).map(|j| row(j, Law::DECOUPLED)).collect();
         let records = records(&rows, Expect::Landed, 0);
         assert_eq!(records.len(), 1);
         let header = header();
@@ -339,7 +339,7 @@ mod tests {
             .any(|h| h.ends_with("_p95") || h.ends_with("_p99_73")));
         // 100 runs bound p95 at 90 % by the 99th of them (P(Bin(100, 0.95) <= 98) = 0.963,
         // <= 97: 0.882); still nothing for p99.73.
-        let rows: Vec<Row> = (0..100).map(|j| row(j, Law::Decoupled)).collect();
+        let rows: Vec<Row> = (0..100).map(|j| row(j, Law::DECOUPLED)).collect();
         let hundred = super::records(&rows, Expect::Landed, 0);
         let get = |name: &str| {
             let k = header.iter().position(|h| h == name).unwrap();
@@ -360,7 +360,7 @@ mod tests {
 
     #[test]
     fn without_touchdowns_the_ellipse_is_of_the_end_of_descent() {
-        let mut rows: Vec<Row> = (0..5).map(|j| row(j, Law::Coupled)).collect();
+        let mut rows: Vec<Row> = (0..5).map(|j| row(j, Law::COUPLED)).collect();
         for r in &mut rows {
             r.metrics.descent_end_north_m = r.metrics.touchdown_north_m;
             r.metrics.descent_end_east_m = 0.1 * r.metrics.touchdown_north_m;

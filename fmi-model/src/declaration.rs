@@ -227,7 +227,8 @@ pub enum Kind<M> {
         get: fn(&M) -> i32,
         set: Option<fn(&mut M, i32)>,
         /// Exchange it as a plain Integer: bounds from the items, the items listed in the
-        /// description. For a selector every master must be able to set: some (libcosim,
+        /// description, the type still written in `TypeDefinitions` for a tool that reads
+        /// the items' names. For a selector every master must be able to set: some (libcosim,
         /// Ecos) ignore FMI 2.0 Enumeration variables altogether.
         as_integer: bool,
     },

@@ -151,16 +151,12 @@ fn unit_definitions<M>(table: &[Variable<M>]) -> Option<md::UnitDefinitions> {
     })
 }
 
-/// The enumeration types the declarations use, each once, in order of first use.
+/// The enumeration types the declarations use, each once, in order of first use. A type
+/// exchanged as an Integer is written too, so that a tool can read its items' names.
 fn enumeration_types<M: Model>() -> Vec<&'static EnumType> {
     let mut types: Vec<&'static EnumType> = Vec::new();
     for var in variables::<M>() {
-        if let Access::Enumeration {
-            ty,
-            as_integer: false,
-            ..
-        } = &var.access
-        {
+        if let Access::Enumeration { ty, .. } = &var.access {
             if !types.iter().any(|t| t.name == ty.name) {
                 types.push(ty);
             }

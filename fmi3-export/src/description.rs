@@ -276,12 +276,9 @@ fn write_types<M: Model>(x: &mut String) {
     }
     let mut written: Vec<&str> = Vec::new();
     for d in M::declarations() {
-        if let Kind::Enumeration {
-            ty,
-            as_integer: false,
-            ..
-        } = &d.kind
-        {
+        // A type exchanged as an Integer is written too, so that a tool can read its items'
+        // names.
+        if let Kind::Enumeration { ty, .. } = &d.kind {
             if written.contains(&ty.name) {
                 continue;
             }

@@ -413,7 +413,7 @@ impl Model for LanderGnc {
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str =
         "Lunar lander guidance (PV hover, cubic-polynomial descent) and \
-        attitude control (coupled, decoupled thrust-axis, reduced) after Rallapalli et al., \
+        attitude control (the laws of the ControlLaw type) after Rallapalli et al., \
         'Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3'";
     /// 2: the thrust-axis profile and the initialization flag; 3: and the RCS thruster
     /// model's modulators.

@@ -7,7 +7,7 @@
 use campaign::dispersion::DispersionRanges;
 use campaign::runner;
 use campaign::{CampaignSpec, Shard};
-use lander::scenarios::Law;
+use lander::laws::Law;
 use std::path::{Path, PathBuf};
 
 /// Linux reports CPU times in /proc in USER_HZ, 100 per second on every architecture.
@@ -48,7 +48,7 @@ fn spec(runs: u64) -> CampaignSpec {
         scenario: "paper".into(),
         seed: 1,
         phi_cmd_deg: (0..10).map(|i| 20.0 * f64::from(i)).collect(),
-        laws: vec![Law::Coupled, Law::Decoupled],
+        laws: vec![Law::COUPLED, Law::DECOUPLED],
         runs_per_point: runs,
         dispersions: DispersionRanges::default(),
         sets: Vec::new(),

@@ -2,7 +2,8 @@
 //! all outputs recorded) per law. Target: under 20 ms.
 use cosim::master::{Simulation, Trajectory};
 use criterion::{criterion_group, criterion_main, Criterion};
-use lander::scenarios::{self, Law};
+use lander::laws::{Law, Laws};
+use lander::scenarios;
 use std::path::PathBuf;
 
 fn fmu_dir() -> PathBuf {
@@ -17,9 +18,10 @@ fn fmu_dir() -> PathBuf {
 fn paper_scenario(c: &mut Criterion) {
     let mut group = c.benchmark_group("paper_scenario");
     group.sample_size(20);
-    for law in [Law::Coupled, Law::Decoupled] {
+    for law in [Law::COUPLED, Law::DECOUPLED] {
         let mut system = scenarios::load("paper").unwrap();
-        system.set_parameter("gnc", "control_law", law.parameter());
+        let laws = Laws::of_instance(&system, "gnc", &fmu_dir()).unwrap();
+        system.set_parameter("gnc", "control_law", laws.parameter(law).unwrap());
         let mut simulation = Simulation::new(system.clone(), &fmu_dir()).unwrap();
         group.bench_function(format!("{}_all_outputs", law.name()), |b| {
             b.iter(|| {

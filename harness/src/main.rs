@@ -5,7 +5,7 @@ use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cosim::master::{MasterError, Trajectory};
 use cosim::supervise::Runner;
-use lander::scenarios::Law;
+use lander::laws::Laws;
 use std::path::PathBuf;
 
 mod monte_carlo;
@@ -101,7 +101,7 @@ enum Command {
         #[arg(long)]
         causality: Option<String>,
     },
-    /// Fly a scenario with the coupled, decoupled and reduced laws: table, CSVs and plots.
+    /// Fly a scenario with each control law of the GNC FMU: table, CSVs and plots.
     #[command(allow_negative_numbers = true)]
     Paper {
         /// Scenario (default: the paper's).
@@ -455,7 +455,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 &sets,
                 &[(
                     "gnc.control_law",
-                    "it flies the coupled, decoupled and reduced laws in turn",
+                    "it flies each law of the GNC FMU in turn",
                 )],
             );
             if !problems.is_empty() {
@@ -463,11 +463,12 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             }
             let requirements = lander::scenarios::spec::requirements(&scenario)?;
             let name = system.name.clone();
-            let own = lander::paper::scenario_law(&system);
+            let laws = Laws::of_instance(&system, "gnc", &cli.fmu_dir)?;
+            let own = lander::paper::scenario_law(&system, &laws);
             let flights = lander::paper::fly_all(
                 system,
                 &cli.fmu_dir,
-                &Law::ALL,
+                &laws.all(),
                 &spec.envelope,
                 &requirements,
             )?;

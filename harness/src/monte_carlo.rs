@@ -4,7 +4,7 @@ use campaign::manifest::{self, Row};
 use campaign::seed::run_seed;
 use campaign::{merge, replay, runner, summary, summary_csv};
 use campaign::{CampaignSpec, Flight, Shard};
-use lander::scenarios::Law;
+use lander::laws::{Law, Laws};
 use std::path::{Path, PathBuf};
 
 /// The definition of a campaign: with the same options, `monte-carlo` flies the same
@@ -26,9 +26,10 @@ pub struct CampaignArgs {
         default_values_t = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]
     )]
     pub phi_cmd_deg: Vec<f64>,
-    /// Control laws, comma-separated or repeated.
-    #[arg(long = "law", value_enum, value_delimiter = ',', num_args = 1.., default_values_t = Law::ALL)]
-    pub laws: Vec<Law>,
+    /// Control laws, comma-separated or repeated [default: every law of the GNC FMU's
+    /// control_law enumeration]
+    #[arg(long = "law", value_delimiter = ',', num_args = 1..)]
+    pub laws: Vec<String>,
     /// Runs (dispersion draws) per (phi_cmd, law) point.
     #[arg(long, short = 'n', default_value_t = 10)]
     pub runs: u64,
@@ -42,16 +43,24 @@ pub struct CampaignArgs {
 }
 
 impl CampaignArgs {
-    pub fn spec(&self) -> CampaignSpec {
-        CampaignSpec {
+    /// The campaign these options define, its laws those of the scenario's GNC FMU in
+    /// `fmu_dir` when `--law` names none.
+    pub fn spec(&self, fmu_dir: &Path) -> anyhow::Result<CampaignSpec> {
+        let laws = if self.laws.is_empty() {
+            let (system, _) = lander::scenarios::spec::load(&self.scenario)?;
+            Laws::of_instance(&system, "gnc", fmu_dir)?.all()
+        } else {
+            self.laws.iter().map(|name| Law::named(name)).collect()
+        };
+        Ok(CampaignSpec {
             scenario: self.scenario.clone(),
             seed: self.seed,
             phi_cmd_deg: self.phi_cmd_deg.clone(),
-            laws: self.laws.clone(),
+            laws,
             runs_per_point: self.runs,
             dispersions: self.dispersions.clone(),
             sets: self.sets.clone(),
-        }
+        })
     }
 }
 
@@ -129,9 +138,9 @@ pub struct ReplayArgs {
     /// Run j (the manifest's `run` column): which dispersion draw.
     #[arg(long, required_unless_present = "manifest")]
     pub run: Option<u64>,
-    /// Law to fly the run with (without --manifest).
-    #[arg(long, value_enum, default_value = "decoupled")]
-    pub law: Law,
+    /// Law to fly the run with (without --manifest): a law of the GNC FMU.
+    #[arg(long, default_value = "decoupled")]
+    pub law: String,
     /// phi_cmd to fly the run with (deg; without --manifest).
     #[arg(
         long = "phi-cmd-deg",
@@ -325,7 +334,7 @@ fn check_campaign_size(
 
 pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32> {
     check_phi_cmd_deg(&args.campaign.phi_cmd_deg)?;
-    let spec = args.campaign.spec();
+    let spec = args.campaign.spec(fmu_dir)?;
     let workers = args.workers.unwrap_or_else(runner::default_workers);
     check_campaign_size(
         &spec,
@@ -439,7 +448,7 @@ pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
                 index: u64::MAX,
                 run,
                 run_seed: run_seed(seed, run),
-                law: args.law,
+                law: Law::named(&args.law),
                 phi_cmd_deg: args.phi_cmd_deg,
             };
             args.dispersions.validate().map_err(anyhow::Error::msg)?;

@@ -7,7 +7,7 @@ use campaign::dispersion::DispersionRanges;
 use campaign::flight::{campaign_system, Flyer};
 use campaign::summary;
 use campaign::Flight;
-use lander::scenarios::Law;
+use lander::laws::Law;
 
 fn flight(run: u64, law: Law) -> Flight {
     Flight {
@@ -29,7 +29,7 @@ fn an_undispersed_flight_measures_the_divert_that_harness_retarget_measures() {
     // GIVEN the retarget scenario as a campaign records it (only the metrics' columns), with
     // no dispersion
     let mut lean = flyer("retarget", &[]);
-    for law in [Law::Coupled, Law::Decoupled] {
+    for law in [Law::COUPLED, Law::DECOUPLED] {
         let row = lean.fly(&flight(0, law), &DispersionRanges::none());
         // WHEN the same flight is measured from every output, as `harness retarget` does
         let (mut system, _) = campaign_system("retarget", &[], true).unwrap();
@@ -68,7 +68,7 @@ fn dispersed_diverts_stay_near_the_site_when_re_planned_and_overshoot_when_only_
     let mut moved = flyer("retarget", &["gnc.retarget_replan=false".to_owned()]);
     let mut rows = Vec::new();
     for run in 0..3 {
-        for law in [Law::Coupled, Law::Decoupled] {
+        for law in [Law::COUPLED, Law::DECOUPLED] {
             // WHEN each is flown
             let re = replanned.fly(&flight(run, law), &ranges);
             let mo = moved.fly(&flight(run, law), &ranges);
@@ -95,7 +95,7 @@ fn a_scenario_without_a_retarget_has_no_divert_metrics() {
     let (mut system, spec) = campaign_system("paper", &[], false).unwrap();
     system.stop_time = 20.0;
     let mut flyer = Flyer::new(system, spec, &common::fmu_dir()).unwrap();
-    let row = flyer.fly(&flight(0, Law::Decoupled), &DispersionRanges::default());
+    let row = flyer.fly(&flight(0, Law::DECOUPLED), &DispersionRanges::default());
     // THEN its divert metrics are NaN (not applicable), and the table has no divert block
     let m = row.metrics;
     assert!(

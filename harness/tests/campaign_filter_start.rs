@@ -7,7 +7,7 @@ use campaign::dispersion::DispersionRanges;
 use campaign::estimator_start::{self, ClaimedStartError, Start};
 use campaign::flight::{campaign_system, Flyer};
 use campaign::Flight;
-use lander::scenarios::Law;
+use lander::laws::Law;
 
 #[test]
 fn each_run_starts_the_filter_at_its_dispersed_truth_with_the_claimed_error() {
@@ -22,7 +22,7 @@ fn each_run_starts_the_filter_at_its_dispersed_truth_with_the_claimed_error() {
             index: run,
             run,
             run_seed: 0x5eed_0000 + run,
-            law: Law::Decoupled,
+            law: Law::DECOUPLED,
             phi_cmd_deg: 150.0,
         };
         let row = flyer.fly(&flight, &ranges);

@@ -9,7 +9,8 @@ use campaign::dispersion::DispersionRanges;
 use campaign::{replay, runner};
 use campaign::{CampaignSpec, Shard};
 use cosim::master::{Simulation, Trajectory};
-use lander::scenarios::{self, Law};
+use lander::laws::Law;
+use lander::scenarios;
 
 #[test]
 fn final_values_equal_the_last_recorded_row_for_every_exchange_type() {
@@ -69,7 +70,7 @@ fn a_landing_campaign_equals_its_replays_that_record_every_output() {
         scenario: "landing".into(),
         seed: 7,
         phi_cmd_deg: vec![150.0],
-        laws: vec![Law::Decoupled, Law::Reduced],
+        laws: vec![Law::DECOUPLED, Law::new("reduced")],
         runs_per_point: 1,
         dispersions: DispersionRanges::default(),
         sets: Vec::new(),

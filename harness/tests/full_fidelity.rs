@@ -9,7 +9,7 @@ use campaign::attitude::{self, Quat};
 use campaign::estimator_start::{self, ClaimedStartError, Start};
 use cosim::master::{Simulation, Trajectory};
 use cosim::system::ParamValue;
-use lander::scenarios::Law;
+use lander::laws::{Law, Laws};
 
 fn flown(system: cosim::system::SystemDescription) -> (Trajectory, cosim::master::RunEnd) {
     let mut simulation = Simulation::new(system, &common::fmu_dir()).unwrap();
@@ -178,7 +178,9 @@ fn every_law_lands_the_decoupled_laws_deviate_least_and_the_readme_says_by_how_m
     // GIVEN the full-fidelity and the paper scenarios, flown with every law
     let fly = |name: &str| {
         let (system, spec) = lander::scenarios::spec::load(name).unwrap();
-        lander::paper::fly_all(system, &common::fmu_dir(), &Law::ALL, &spec.envelope, &[]).unwrap()
+        let laws = Laws::of_instance(&system, "gnc", &common::fmu_dir()).unwrap();
+        lander::paper::fly_all(system, &common::fmu_dir(), &laws.all(), &spec.envelope, &[])
+            .unwrap()
     };
     let full = fly("full-fidelity");
     let paper = fly("paper");
@@ -200,9 +202,9 @@ fn every_law_lands_the_decoupled_laws_deviate_least_and_the_readme_says_by_how_m
             .metrics
             .max_horizontal_deviation_descent_m
     };
-    for other in [Law::Decoupled, Law::Reduced] {
+    for other in [Law::DECOUPLED, Law::new("reduced")] {
         assert!(
-            deviation(&full, Law::Coupled) > 2.0 * deviation(&full, other),
+            deviation(&full, Law::COUPLED) > 2.0 * deviation(&full, other),
             "{other:?}"
         );
     }
@@ -215,12 +217,12 @@ fn every_law_lands_the_decoupled_laws_deviate_least_and_the_readme_says_by_how_m
     let sentence = format!(
         "the largest horizontal deviation during the descent is {:.1} m coupled, {:.1} m \
          decoupled and {:.1} m reduced ({:.1}, {:.1} and {:.1} m in the paper scenario)",
-        deviation(&full, Law::Coupled),
-        deviation(&full, Law::Decoupled),
-        deviation(&full, Law::Reduced),
-        deviation(&paper, Law::Coupled),
-        deviation(&paper, Law::Decoupled),
-        deviation(&paper, Law::Reduced),
+        deviation(&full, Law::COUPLED),
+        deviation(&full, Law::DECOUPLED),
+        deviation(&full, Law::new("reduced")),
+        deviation(&paper, Law::COUPLED),
+        deviation(&paper, Law::DECOUPLED),
+        deviation(&paper, Law::new("reduced")),
     );
     assert!(
         readme.contains(&sentence),

@@ -13,8 +13,9 @@ use crate::common;
 use cosim::master::Trajectory;
 use cosim::results::{read_csv, write_csv};
 use cosim::supervise::Runner;
+use lander::laws::Law;
 use lander::paper::fly;
-use lander::scenarios::{self, Law};
+use lander::scenarios;
 use std::path::PathBuf;
 
 const COLUMNS: &[&str] = &[
@@ -65,7 +66,7 @@ fn sample(full: &Trajectory) -> Trajectory {
 fn nominal_decoupled_run_matches_the_golden_csv() {
     let system = scenarios::load("paper").unwrap();
     let mut simulation = Runner::new(system, &common::fmu_dir()).unwrap();
-    let fresh = sample(&fly(&mut simulation, Law::Decoupled).unwrap().trajectory);
+    let fresh = sample(&fly(&mut simulation, Law::DECOUPLED).unwrap().trajectory);
     let golden_path =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/paper-decoupled.csv");
     if std::env::var_os("UPDATE_GOLDEN").is_some() {

@@ -6,7 +6,7 @@ use crate::common;
 use campaign::dispersion::{Dispersion, DispersionRanges};
 use campaign::{manifest, merge, replay, runner, seed, summary};
 use campaign::{CampaignSpec, Shard};
-use lander::scenarios::Law;
+use lander::laws::Law;
 use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 
@@ -15,7 +15,7 @@ fn small_campaign(seed: u64) -> CampaignSpec {
         scenario: "paper".into(),
         seed,
         phi_cmd_deg: vec![0.0, 150.0],
-        laws: vec![Law::Coupled, Law::Decoupled],
+        laws: vec![Law::COUPLED, Law::DECOUPLED],
         runs_per_point: 2,
         dispersions: DispersionRanges::default(),
         sets: Vec::new(),
@@ -108,7 +108,7 @@ fn same_seed_same_rows_whatever_the_worker_count_and_sharding() {
     let flight = spec.flight(index);
     assert_eq!(
         (flight.law, flight.phi_cmd_deg, flight.run),
-        (Law::Coupled, 150.0, 1)
+        (Law::COUPLED, 150.0, 1)
     );
     let replayed =
         replay::from_manifest(&one.join(manifest::FILE_NAME), index, &common::fmu_dir()).unwrap();
@@ -260,7 +260,7 @@ fn a_small_campaign_shows_the_papers_trend() {
         scenario: "paper".into(),
         seed: 3,
         phi_cmd_deg: vec![0.0, 90.0, 150.0],
-        laws: vec![Law::Coupled, Law::Decoupled],
+        laws: vec![Law::COUPLED, Law::DECOUPLED],
         runs_per_point: 3,
         dispersions: DispersionRanges {
             horizontal_position_m: 0.0,
@@ -290,24 +290,24 @@ fn a_small_campaign_shows_the_papers_trend() {
             .median
     };
     for &phi in &spec.phi_cmd_deg {
-        let d = median(Law::Decoupled, phi);
+        let d = median(Law::DECOUPLED, phi);
         assert!(d < 10.0, "decoupled at {phi} deg: median {d} m");
     }
     let coupled = spec
         .phi_cmd_deg
         .iter()
-        .map(|&phi| median(Law::Coupled, phi))
+        .map(|&phi| median(Law::COUPLED, phi))
         .collect::<Vec<f64>>();
     assert!(
         coupled[0] < coupled[1] && coupled[1] < coupled[2],
         "coupled deviation grows with phi_cmd: {coupled:?}"
     );
-    let decoupled_150 = median(Law::Decoupled, 150.0);
+    let decoupled_150 = median(Law::DECOUPLED, 150.0);
     assert!(
         coupled[2] > 10.0 * decoupled_150,
         "at 150 deg: coupled {} m vs decoupled {decoupled_150} m",
         coupled[2]
     );
-    let gap = (coupled[0] - median(Law::Decoupled, 0.0)).abs();
+    let gap = (coupled[0] - median(Law::DECOUPLED, 0.0)).abs();
     assert!(gap < 1.0, "at phi_cmd 0 the laws differ by {gap} m");
 }

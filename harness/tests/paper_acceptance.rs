@@ -18,8 +18,9 @@ use crate::common;
 
 use cosim::supervise::Runner;
 use cosim::system::ParamValue;
+use lander::laws::{Law, Laws};
 use lander::paper::{fly, Flight};
-use lander::scenarios::{self, Law};
+use lander::scenarios;
 
 fn simulation(scenario: &str, phi_cmd_deg: Option<f64>) -> Runner {
     let mut system = scenarios::load(scenario).unwrap();
@@ -60,8 +61,8 @@ fn paper_scenario_coupled_law_drifts_off_the_vertical_decoupled_does_not() {
     // GIVEN the paper scenario: tilted start, phi_cmd = 150 deg at t = 0
     let mut sim = simulation("paper", None);
     // WHEN each law flies it
-    let coupled = fly(&mut sim, Law::Coupled).unwrap();
-    let decoupled = fly(&mut sim, Law::Decoupled).unwrap();
+    let coupled = fly(&mut sim, Law::COUPLED).unwrap();
+    let decoupled = fly(&mut sim, Law::DECOUPLED).unwrap();
     let (c, d) = (&coupled.metrics, &decoupled.metrics);
     println!(
         "max horizontal deviation: coupled {:.3} m, decoupled {:.3} m",
@@ -88,8 +89,8 @@ fn paper_scenario_coupled_law_drifts_off_the_vertical_decoupled_does_not() {
 fn with_no_roll_demand_the_laws_fly_the_same_trajectory() {
     // GIVEN the tilted start and phi_cmd = 0: re-erecting the thrust axis is a pure pitch
     let mut sim = simulation("paper", Some(0.0));
-    let coupled = fly(&mut sim, Law::Coupled).unwrap();
-    let decoupled = fly(&mut sim, Law::Decoupled).unwrap();
+    let coupled = fly(&mut sim, Law::COUPLED).unwrap();
+    let decoupled = fly(&mut sim, Law::DECOUPLED).unwrap();
     // THEN the positions agree to rounding
     let difference = max_position_difference(&coupled, &decoupled);
     assert!(difference < 1e-9, "max position difference {difference} m");
@@ -100,8 +101,8 @@ fn from_an_upright_start_the_laws_agree_for_every_roll_demand() {
     for phi_cmd_deg in [0.0, 30.0, 90.0, 150.0, 180.0] {
         // GIVEN an upright start and phi_cmd applied at the start of the descent
         let mut sim = simulation("upright", Some(phi_cmd_deg));
-        let coupled = fly(&mut sim, Law::Coupled).unwrap();
-        let decoupled = fly(&mut sim, Law::Decoupled).unwrap();
+        let coupled = fly(&mut sim, Law::COUPLED).unwrap();
+        let decoupled = fly(&mut sim, Law::DECOUPLED).unwrap();
         // THEN the trajectories agree to rounding (the roll is about the thrust axis only)
         let difference = max_position_difference(&coupled, &decoupled);
         assert!(difference < 1e-9, "phi_cmd {phi_cmd_deg}: {difference} m");
@@ -129,7 +130,7 @@ fn braking_limited_shaping_keeps_a_dispersed_start_near_the_vertical() {
     system.set_parameter("plant", "r0_nue[1]", ParamValue::Real(1.0));
     system.set_parameter("gnc", "rate_shaping_margin", ParamValue::Real(0.5));
     let mut sim = Runner::new(system.clone(), &common::fmu_dir()).unwrap();
-    for law in Law::ALL {
+    for law in Laws::of_runner(&sim, "gnc").unwrap().all() {
         let flight = fly(&mut sim, law).unwrap();
         assert!(
             flight.metrics.max_horizontal_deviation_m < 5.0,
@@ -141,7 +142,7 @@ fn braking_limited_shaping_keeps_a_dispersed_start_near_the_vertical() {
     // so the test above measures the shaping, not an easy case
     system.set_parameter("gnc", "rate_shaping_margin", ParamValue::Real(0.0));
     let mut paper_law = Runner::new(system, &common::fmu_dir()).unwrap();
-    let flight = fly(&mut paper_law, Law::Decoupled).unwrap();
+    let flight = fly(&mut paper_law, Law::DECOUPLED).unwrap();
     assert!(
         flight.metrics.max_horizontal_deviation_m > 20.0,
         "{:?}",

@@ -17,8 +17,8 @@
 //!   twice the decoupled one.
 use crate::common;
 
+use lander::laws::Law;
 use lander::retarget::{fly_all, DivertFlight, LAWS};
-use lander::scenarios::Law;
 use lander::verdict::Envelope;
 
 fn flights() -> Vec<DivertFlight> {
@@ -57,8 +57,8 @@ fn the_replanned_divert_arrives_within_the_tilt_limit_and_only_moving_the_target
     }
     // AND with the re-plan the decoupled law keeps the thrust axis on the guidance direction
     // through the turn about it: less cross-track deviation than the coupled law
-    let coupled = find(&flights, Law::Coupled, true).metrics.cross_track_m;
-    let decoupled = find(&flights, Law::Decoupled, true).metrics.cross_track_m;
+    let coupled = find(&flights, Law::COUPLED, true).metrics.cross_track_m;
+    let decoupled = find(&flights, Law::DECOUPLED, true).metrics.cross_track_m;
     assert!(coupled > 2.0 * decoupled, "{coupled} vs {decoupled}");
     // AND the README states these flights' numbers as they are
     let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
@@ -76,8 +76,8 @@ fn the_replanned_divert_arrives_within_the_tilt_limit_and_only_moving_the_target
         "re-plan both laws pass the new site by at most {overshoot_mm} mm, the coupled law \
          drifting {coupled:.2} m sideways during the turn and the decoupled law {decoupled:.2} \
          m; with the target only moved they overshoot by {:.0} m and {:.0} m",
-        moved(Law::Coupled),
-        moved(Law::Decoupled)
+        moved(Law::COUPLED),
+        moved(Law::DECOUPLED)
     );
     assert!(
         readme.contains(&sentence),
@@ -111,7 +111,7 @@ fn the_paper_comparison_measures_a_retargeted_flight_from_its_new_site() {
     // GIVEN the retarget scenario flown as `harness paper` flies it
     let system = lander::scenarios::load("retarget").unwrap();
     let mut simulation = cosim::supervise::Runner::new(system, &common::fmu_dir()).unwrap();
-    let flight = lander::paper::fly(&mut simulation, Law::Decoupled).unwrap();
+    let flight = lander::paper::fly(&mut simulation, Law::DECOUPLED).unwrap();
     // THEN its terminal error is counted from the new site (30 m North), not the old one
     assert!(
         flight.metrics.terminal_position_error_m < 0.05,

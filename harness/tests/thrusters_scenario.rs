@@ -7,7 +7,7 @@ use campaign::flight::{campaign_system, Flyer};
 use campaign::{DispersionRanges, Flight};
 use cosim::master::{Simulation, Trajectory};
 use cosim::system::{toml_format, SystemDescription};
-use lander::scenarios::Law;
+use lander::laws::{Law, Laws};
 use std::path::{Path, PathBuf};
 
 const SCENARIO: &str = concat!(
@@ -50,10 +50,11 @@ fn thrusters_fly_the_paper_scenario_and_the_decoupled_law_deviates_least() {
     // GIVEN the scenario with each law
     let with_law = |law: Law| {
         let mut system = toml_format::read(Path::new(SCENARIO)).unwrap();
-        assert!(system.set_parameter("gnc", "control_law", law.parameter()));
+        let laws = Laws::of_instance(&system, "gnc", &common::fmu_dir()).unwrap();
+        assert!(system.set_parameter("gnc", "control_law", laws.parameter(law).unwrap()));
         fly(system)
     };
-    let (coupled, decoupled) = (with_law(Law::Coupled), with_law(Law::Decoupled));
+    let (coupled, decoupled) = (with_law(Law::COUPLED), with_law(Law::DECOUPLED));
     // THEN the plant is driven by pulses: duties strictly between 0 and 1 occur
     let duty = decoupled.column("gnc.rcs_duty[5]").unwrap();
     assert!(
@@ -82,7 +83,7 @@ fn each_monte_carlo_run_draws_its_own_navigation_errors() {
             index: 0,
             run: 0,
             run_seed,
-            law: Law::Decoupled,
+            law: Law::DECOUPLED,
             phi_cmd_deg: 150.0,
         };
         flyer.fly(&flight, &none);

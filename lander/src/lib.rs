@@ -4,13 +4,14 @@
 //! divert (`retarget`), and `--set` overrides. No figures, pages or command line: those are
 //! the `report` and `harness` crates', above this one.
 //!
-//! Modules from the bottom up: `verdict`, `retarget::command`, `scenarios`, `metrics`,
+//! Modules from the bottom up: `laws`, `verdict`, `retarget::command`, `scenarios`, `metrics`,
 //! `provenance`, `overrides`; then `paper`, and `retarget`'s comparison on top of it.
 #![forbid(unsafe_code)]
 // std's transcendental functions compute the flight metrics and the attitude geometry of a
 // scenario here, outside any FMU (the workspace clippy.toml forbids them for the FMUs' sake).
 #![allow(clippy::disallowed_methods)]
 
+pub mod laws;
 pub mod metrics;
 pub mod overrides;
 pub mod paper;

@@ -1,7 +1,7 @@
 //! `harness paper`: one scenario flown with each control law, compared.
+use crate::laws::{Law, Laws};
 use crate::metrics::{self, Metrics};
 use crate::provenance::Provenance;
-use crate::scenarios::Law;
 use crate::verdict::{self, Envelope, Verdict};
 use cosim::master::{MasterError, RunEnd, Trajectory};
 use cosim::requirements::{Judged, Requirement};
@@ -38,9 +38,12 @@ pub fn fly_all(
     requirements: &[Requirement],
 ) -> anyhow::Result<Vec<Flight>> {
     let mut simulation = Runner::new(system, fmu_dir)?;
-    let unrecorded = cosim::requirements::unrecorded(requirements, simulation.column_names());
-    if !unrecorded.is_empty() {
-        anyhow::bail!("{}", unrecorded.join("\n"));
+    let mut problems = cosim::requirements::unrecorded(requirements, simulation.column_names());
+    if let Err(unknown) = Laws::of_runner(&simulation, "gnc")?.check(laws) {
+        problems.push(unknown);
+    }
+    if !problems.is_empty() {
+        anyhow::bail!("{}", problems.join("\n"));
     }
     laws.iter()
         .map(|&law| fly_judged(&mut simulation, law, envelope, requirements))
@@ -52,8 +55,9 @@ pub fn fly(simulation: &mut Runner, law: Law) -> anyhow::Result<Flight> {
     fly_judged(simulation, law, &Envelope::default(), &[])
 }
 
-/// The law a scenario itself flies (its `gnc.control_law`), when it sets one.
-pub fn scenario_law(system: &SystemDescription) -> Option<Law> {
+/// The law a scenario itself flies (its `gnc.control_law`), when it sets one that is one of
+/// `laws`.
+pub fn scenario_law(system: &SystemDescription, laws: &Laws) -> Option<Law> {
     let gnc = system.instance("gnc")?;
     let (_, value) = gnc.parameters.iter().find(|(n, _)| n == "control_law")?;
     let code = match value {
@@ -61,7 +65,7 @@ pub fn scenario_law(system: &SystemDescription) -> Option<Law> {
         cosim::system::ParamValue::Real(x) if x.fract() == 0.0 => *x as i64,
         _ => return None,
     };
-    Law::ALL.into_iter().find(|l| *l as i64 == code)
+    laws.of_value(code)
 }
 
 /// Flies one law on a loaded simulation and judges its end against `envelope` and its
@@ -73,7 +77,10 @@ pub fn fly_judged(
     requirements: &[Requirement],
 ) -> anyhow::Result<Flight> {
     let provenance = std::sync::Arc::new(Provenance::of(simulation));
-    simulation.set_parameter("gnc", "control_law", law.parameter())?;
+    let value = Laws::of_runner(simulation, "gnc")?
+        .parameter(law)
+        .map_err(anyhow::Error::msg)?;
+    simulation.set_parameter("gnc", crate::laws::PARAMETER, value)?;
     let mut trajectory = Trajectory {
         names: simulation.column_names().to_vec(),
         ..Default::default()
@@ -301,7 +308,7 @@ mod tests {
         };
         let flights = [
             flight(
-                Law::Coupled,
+                Law::COUPLED,
                 Verdict::Completed {
                     end_time_s: 142.01,
                     touchdown_recorded: true,
@@ -309,7 +316,7 @@ mod tests {
                 RunEnd::Completed,
             ),
             flight(
-                Law::Decoupled,
+                Law::DECOUPLED,
                 Verdict::HardLanding {
                     touchdown,
                     broken: vec![],

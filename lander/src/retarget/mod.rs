@@ -6,8 +6,8 @@ pub mod command;
 
 pub use command::{divert_metrics, DivertMetrics, RetargetCommand, SETTLE_RADIUS_M};
 
+use crate::laws::Law;
 use crate::paper::{self, Flight};
-use crate::scenarios::Law;
 use crate::verdict::Envelope;
 use cosim::master::RunEnd;
 use cosim::supervise::Runner;
@@ -15,7 +15,7 @@ use cosim::system::{ParamValue, SystemDescription};
 use std::path::{Path, PathBuf};
 
 /// The laws `harness retarget` compares: the paper's pair.
-pub const LAWS: [Law; 2] = [Law::Coupled, Law::Decoupled];
+pub const LAWS: [Law; 2] = [Law::COUPLED, Law::DECOUPLED];
 
 /// One law flown one way.
 pub struct DivertFlight {

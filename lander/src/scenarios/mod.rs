@@ -1,7 +1,7 @@
 //! The shipped scenarios and how a scenario argument is resolved: a built-in name,
 //! a TOML file, an SSP `.ssd` or an `.ssp` package.
 use cosim::master::{MasterError, Simulation};
-use cosim::system::{ssp, PackageDir, ParamValue, SystemDescription, SystemError};
+use cosim::system::{ssp, PackageDir, SystemDescription, SystemError};
 use fmi_abi::unpack::UnpackError;
 use std::path::Path;
 
@@ -198,34 +198,10 @@ pub fn ssd_for(system: &SystemDescription, fmu_dir: &Path) -> Result<String, Mas
     ))
 }
 
-/// The three attitude laws of LanderGnc's `control_law` enumeration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Law {
-    Coupled = 1,
-    Decoupled = 2,
-    Reduced = 3,
-}
-
-impl Law {
-    pub const ALL: [Law; 3] = [Law::Coupled, Law::Decoupled, Law::Reduced];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Law::Coupled => "coupled",
-            Law::Decoupled => "decoupled",
-            Law::Reduced => "reduced",
-        }
-    }
-
-    pub fn parameter(self) -> ParamValue {
-        ParamValue::Integer(self as i64)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use cosim::system::ParamValue;
 
     #[test]
     fn the_terminal_target_is_the_scenarios_own() {

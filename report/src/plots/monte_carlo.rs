@@ -8,11 +8,11 @@
 //! legend above the panels names each law's median, band, range and (when drawn) bound, laws
 //! in the order of `summary.csv`; no line crosses a phi_cmd where a law has no value. The error after the final hover is
 //! not shown: the hover removes what the controller did.
-use super::style::{self, tick, Key, Legend, DRAW_ORDER};
+use super::style::{self, tick, Key, Legend, Marker};
 use campaign::manifest::Row;
 use campaign::stats::{percentile_of_sorted, quantile_upper_bound, runs_for_quantile_bound};
 use campaign::summary_csv::CONFIDENCE;
-use lander::scenarios::Law;
+use lander::laws::Law;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -96,10 +96,14 @@ fn grid(rows: &[Row]) -> Vec<f64> {
 
 /// The laws of `rows`, in the order of `summary.csv` and the report's tables.
 fn laws(rows: &[Row]) -> Vec<Law> {
-    Law::ALL
-        .into_iter()
-        .filter(|l| rows.iter().any(|r| r.flight.law == *l))
-        .collect()
+    let mut laws: Vec<Law> = Vec::new();
+    for row in rows {
+        if !laws.contains(&row.flight.law) {
+            laws.push(row.flight.law);
+        }
+    }
+    laws.sort();
+    laws
 }
 
 /// Whether any point of `law` has the runs for the p95 upper bound.
@@ -227,10 +231,11 @@ fn draw_laws<Y>(
 where
     Y: Ranged<ValueType = f64>,
 {
+    let order = style::draw_order(per_law.iter().map(|(law, _)| *law));
     let in_order = || {
-        DRAW_ORDER
-            .into_iter()
-            .filter_map(|law| per_law.iter().find(|(l, _)| *l == law))
+        order
+            .iter()
+            .filter_map(|law| per_law.iter().find(|(l, _)| l == law))
     };
     for (law, b) in in_order() {
         let c = style::colour(*law);
@@ -296,11 +301,14 @@ where
             ))?,
         };
         let show = move |on: bool| if on { c.filled() } else { TRANSPARENT.filled() };
+        let line = move |on: bool| show(on).stroke_width(2);
+        let marker = style::look(law).marker;
         chart.draw_series(median.iter().map(|&p| {
             EmptyElement::at(p)
-                + Circle::new((0, 0), 5, show(law == Law::Coupled))
-                + TriangleMarker::new((0, 0), 7, show(law == Law::Decoupled))
-                + Rectangle::new([(-4, -4), (4, 4)], show(law == Law::Reduced))
+                + Circle::new((0, 0), 5, show(marker == Marker::Circle))
+                + TriangleMarker::new((0, 0), 7, show(marker == Marker::Triangle))
+                + Rectangle::new([(-4, -4), (4, 4)], show(marker == Marker::Square))
+                + Cross::new((0, 0), 5, line(marker == Marker::Cross))
         }))?;
     }
     Ok(())

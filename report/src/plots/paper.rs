@@ -4,9 +4,9 @@
 //! of the flight on axes of their own). Only the paper scenario's figures carry the paper's
 //! figure numbers and its phase boundaries; every figure has one legend, above its plots, in
 //! the order of the comparison table.
-use super::style::{self, tick, Key, Legend, DRAW_ORDER};
+use super::style::{self, tick, Key, Legend};
+use lander::laws::Law;
 use lander::paper::Flight;
-use lander::scenarios::Law;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::ops::Range;
@@ -163,7 +163,7 @@ fn draw_panel(area: &Area<'_>, panel: &Panel<'_>, markers: &[(f64, &str)]) -> an
     if panel.time {
         style::phase_markers(&mut chart, markers)?;
     }
-    for law in DRAW_ORDER {
+    for law in style::draw_order(panel.series.iter().map(|(law, _)| *law)) {
         if let Some((_, points)) = panel.series.iter().find(|(l, _)| *l == law) {
             if panel.time {
                 style::draw_law_curve(&mut chart, law, points)?;
@@ -323,7 +323,7 @@ fn trajectory_3d(
     ] {
         chart.draw_series(std::iter::once(Text::new(text, at, label.clone())))?;
     }
-    for law in DRAW_ORDER {
+    for law in style::draw_order(tracks.iter().map(|(law, _)| *law)) {
         let Some((_, points)) = tracks.iter().find(|(l, _)| *l == law) else {
             continue;
         };

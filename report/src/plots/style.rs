@@ -1,19 +1,104 @@
 //! One look for every figure: a colour, a line pattern and a marker per law (so a curve under
 //! another stays visible, also in grey print), compact tick labels, a plain grid, one legend
 //! outside the plots, curves decimated without losing their peaks and broken at gaps.
-use lander::scenarios::Law;
+use lander::laws::Law;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::ops::Range;
 
-pub fn colour(law: Law) -> RGBColor {
+/// The marker of a law's curve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Marker {
+    Circle,
+    Triangle,
+    Square,
+    Cross,
+}
+
+/// How a law is drawn in every figure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Look {
+    pub colour: RGBColor,
+    /// Dash and gap in pixels; `None` for a solid line.
+    pub dashes: Option<(u32, u32)>,
+    pub width: u32,
+    pub marker: Marker,
+    /// Where along a tenth of the axis the markers sit, so that overlapping curves keep
+    /// distinct markers.
+    pub marker_shift: f64,
+}
+
+/// The paper's two laws keep the paper's look: coupled red, solid, circles; decoupled blue,
+/// short dashes, triangles.
+const COUPLED: Look = Look {
+    colour: RGBColor(214, 39, 40),
+    dashes: None,
+    width: 3,
+    marker: Marker::Circle,
+    marker_shift: 0.0,
+};
+const DECOUPLED: Look = Look {
+    colour: RGBColor(31, 119, 180),
+    dashes: Some((6, 5)),
+    width: 2,
+    marker: Marker::Triangle,
+    marker_shift: 2.0 / 3.0,
+};
+
+/// The looks of every other law the GNC FMU offers, one picked by the law's name (the same
+/// in every figure, whatever other laws fly beside it).
+const OTHERS: [Look; 4] = [
+    Look {
+        colour: RGBColor(148, 103, 189),
+        dashes: Some((3, 4)),
+        width: 3,
+        marker: Marker::Cross,
+        marker_shift: 1.0 / 6.0,
+    },
+    Look {
+        colour: RGBColor(44, 160, 44),
+        dashes: Some((14, 6)),
+        width: 3,
+        marker: Marker::Square,
+        marker_shift: 1.0 / 3.0,
+    },
+    Look {
+        colour: RGBColor(255, 127, 14),
+        dashes: Some((10, 3)),
+        width: 2,
+        marker: Marker::Cross,
+        marker_shift: 1.0 / 2.0,
+    },
+    Look {
+        colour: RGBColor(140, 86, 75),
+        dashes: Some((2, 6)),
+        width: 3,
+        marker: Marker::Square,
+        marker_shift: 5.0 / 6.0,
+    },
+];
+
+pub fn look(law: Law) -> Look {
     match law {
-        Law::Coupled => RGBColor(214, 39, 40),
-        Law::Decoupled => RGBColor(31, 119, 180),
-        Law::Reduced => RGBColor(44, 160, 44),
+        Law::COUPLED => COUPLED,
+        Law::DECOUPLED => DECOUPLED,
+        other => {
+            // FNV-1a: stable across runs and platforms, unlike std's hasher.
+            let hash = other
+                .name()
+                .bytes()
+                .fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+                    (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+                });
+            OTHERS[(hash % OTHERS.len() as u64) as usize]
+        }
     }
+}
+
+pub fn colour(law: Law) -> RGBColor {
+    look(law).colour
 }
 
 /// Solid lines are stroked as filled polygons: an unfilled thick line comes out as a double
@@ -22,24 +107,27 @@ pub fn line(law: Law, width: u32) -> ShapeStyle {
     colour(law).filled().stroke_width(width)
 }
 
-/// Laws drawn in this order, so the thin dashed decoupled curve lies on top of the others.
-pub const DRAW_ORDER: [Law; 3] = [Law::Coupled, Law::Reduced, Law::Decoupled];
+/// `laws` in the order they are drawn: the coupled law first, the paper's thin dashed
+/// decoupled curve last, on top of the others; the rest by name between them.
+pub fn draw_order(laws: impl IntoIterator<Item = Law>) -> Vec<Law> {
+    let rank = |law: &Law| match *law {
+        Law::COUPLED => 0,
+        Law::DECOUPLED => 2,
+        _ => 1,
+    };
+    let mut laws: Vec<Law> = laws.into_iter().collect();
+    laws.sort_by(|a, b| rank(a).cmp(&rank(b)).then(a.name().cmp(b.name())));
+    laws.dedup();
+    laws
+}
 
-/// Pattern of a law's line: coupled solid, reduced long dashes, decoupled short dashes.
+/// Pattern of a law's line.
 pub fn dashes(law: Law) -> Option<(u32, u32)> {
-    match law {
-        Law::Coupled => None,
-        Law::Reduced => Some((14, 6)),
-        Law::Decoupled => Some((6, 5)),
-    }
+    look(law).dashes
 }
 
 pub fn width(law: Law) -> u32 {
-    match law {
-        Law::Coupled => 3,
-        Law::Reduced => 3,
-        Law::Decoupled => 2,
-    }
+    look(law).width
 }
 
 /// Draws a law's curve (with its pattern, one polyline per gap-free piece, decimated to the
@@ -98,14 +186,8 @@ pub fn draw_law_path(
     stroke(chart, law, &pieces, &markers)
 }
 
-/// Where along a tenth of the axis a law's markers sit: apart, so overlapping curves keep
-/// distinct markers.
 fn marker_shift(law: Law) -> f64 {
-    match law {
-        Law::Coupled => 0.0,
-        Law::Reduced => 1.0 / 3.0,
-        Law::Decoupled => 2.0 / 3.0,
-    }
+    look(law).marker_shift
 }
 
 fn stroke(
@@ -131,12 +213,15 @@ fn stroke(
         }
     }
     let c = colour(law);
+    let marker = look(law).marker;
     let show = move |on: bool| if on { c.filled() } else { TRANSPARENT.filled() };
+    let line = move |on: bool| show(on).stroke_width(2);
     chart.draw_series(markers.iter().map(|&p| {
         EmptyElement::at(p)
-            + Circle::new((0, 0), 5, show(law == Law::Coupled))
-            + TriangleMarker::new((0, 0), 7, show(law == Law::Decoupled))
-            + Rectangle::new([(-4, -4), (4, 4)], show(law == Law::Reduced))
+            + Circle::new((0, 0), 5, show(marker == Marker::Circle))
+            + TriangleMarker::new((0, 0), 7, show(marker == Marker::Triangle))
+            + Rectangle::new([(-4, -4), (4, 4)], show(marker == Marker::Square))
+            + Cross::new((0, 0), 5, line(marker == Marker::Cross))
     }))?;
     Ok(())
 }
@@ -365,13 +450,14 @@ fn draw_key(
             }
             let c = colour(law);
             let (cx, cy) = (x + SAMPLE / 2, y);
-            match law {
-                Law::Coupled => area.draw(&Circle::new((cx, cy), 5, c.filled()))?,
-                Law::Decoupled => area.draw(&TriangleMarker::new((cx, cy), 7, c.filled()))?,
-                Law::Reduced => area.draw(&Rectangle::new(
+            match look(law).marker {
+                Marker::Circle => area.draw(&Circle::new((cx, cy), 5, c.filled()))?,
+                Marker::Triangle => area.draw(&TriangleMarker::new((cx, cy), 7, c.filled()))?,
+                Marker::Square => area.draw(&Rectangle::new(
                     [(cx - 4, cy - 4), (cx + 4, cy + 4)],
                     c.filled(),
                 ))?,
+                Marker::Cross => area.draw(&Cross::new((cx, cy), 5, c.stroke_width(2)))?,
             }
         }
         Key::Dashed(law) => dashed((8, 6), colour(law).filled().stroke_width(2))?,

@@ -6,7 +6,7 @@ use campaign::runner::{self, RunOptions};
 use campaign::{CampaignSpec, Shard};
 use cosim::master::{RunEnd, Trajectory};
 use cosim::supervise::{Execution, Runner};
-use lander::scenarios::Law;
+use lander::laws::Law;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -86,7 +86,7 @@ pub fn monte_carlo(fmu_dir: &Path, runs: u64, workers: usize) -> Result<Campaign
         scenario: "paper".into(),
         seed: 1,
         phi_cmd_deg: vec![150.0],
-        laws: vec![Law::Decoupled],
+        laws: vec![Law::DECOUPLED],
         runs_per_point: runs,
         dispersions: DispersionRanges::default(),
         sets: Vec::new(),

@@ -134,7 +134,7 @@ fn campaign(fmu_dir: &Path, stop_time: Option<f64>) -> Result<()> {
         scenario: "paper".into(),
         seed: 1,
         phi_cmd_deg: vec![150.0],
-        laws: vec![lander::scenarios::Law::Decoupled],
+        laws: vec![lander::laws::Law::DECOUPLED],
         runs_per_point: CAMPAIGN_FLIGHTS + 1,
         dispersions: DispersionRanges::default(),
         sets: Vec::new(),
