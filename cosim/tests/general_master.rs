@@ -148,6 +148,7 @@ fn an_unknown_instance_in_a_connection_gets_a_suggestion() {
         parameters: vec![],
         connectors: None,
         model_exchange: None,
+        interface_named: false,
     });
     system.connections.push(Connection {
         from: "plant2.mass".into(),

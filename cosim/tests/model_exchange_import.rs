@@ -166,15 +166,21 @@ fn an_fmi3_model_exchange_only_fmu_runs_with_the_solver() {
     let fmu = model_exchange_only("fmi3/LanderPlant.fmu", dir.path());
     let (trajectory, end) = fly(free_fall(&fmu, "interface = \"model-exchange\""));
     assert_free_fall(&trajectory, &end, "FMI 3.0 Model Exchange only");
-    let error = Simulation::new(free_fall(&fmu, ""), Path::new("/"))
-        .err()
-        .expect("an FMI 3.0 Model Exchange only FMU cannot be a Co-Simulation instance");
+    // Naming no interface, it runs through the only one it declares.
+    let (trajectory, end) = fly(free_fall(&fmu, ""));
+    assert_free_fall(&trajectory, &end, "FMI 3.0 Model Exchange only, unnamed");
+    let error = Simulation::new(
+        free_fall(&fmu, "interface = \"co-simulation\""),
+        Path::new("/"),
+    )
+    .err()
+    .expect("an FMI 3.0 Model Exchange only FMU cannot be a Co-Simulation instance");
     let chain = chain(&error);
     assert!(chain.contains("no <CoSimulation> element"), "{chain}");
 }
 
 #[test]
-fn a_model_exchange_only_fmu_runs_with_the_solver_and_is_refused_as_co_simulation() {
+fn a_model_exchange_only_fmu_runs_with_the_solver_unasked_and_is_refused_as_co_simulation() {
     // GIVEN LanderPlant with its <CoSimulation> element removed
     let dir = tempfile::tempdir().unwrap();
     let fmu = model_exchange_only("LanderPlant.fmu", dir.path());
@@ -183,10 +189,17 @@ fn a_model_exchange_only_fmu_runs_with_the_solver_and_is_refused_as_co_simulatio
     let (trajectory, end) = fly(free_fall(&fmu, "interface = \"model-exchange\""));
     assert_free_fall(&trajectory, &end, "Model Exchange only");
 
-    // AND as Co-Simulation it is refused at instantiation, saying why
-    let error = Simulation::new(free_fall(&fmu, ""), Path::new("/"))
-        .err()
-        .expect("a Model Exchange only FMU cannot be a Co-Simulation instance");
+    // AND naming no interface, it runs through the only one it declares
+    let (unnamed, end) = fly(free_fall(&fmu, ""));
+    assert_free_fall(&unnamed, &end, "Model Exchange only, unnamed");
+
+    // AND named Co-Simulation it is refused at instantiation, saying why
+    let error = Simulation::new(
+        free_fall(&fmu, "interface = \"co-simulation\""),
+        Path::new("/"),
+    )
+    .err()
+    .expect("a Model Exchange only FMU cannot be a Co-Simulation instance");
     let chain = chain(&error);
     assert!(chain.contains("no <CoSimulation> element"), "{chain}");
 }

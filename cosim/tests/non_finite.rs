@@ -16,6 +16,7 @@ fn instance(name: &str, fmu: &NonFiniteFmu) -> InstanceDesc {
         parameters: Vec::new(),
         connectors: None,
         model_exchange: None,
+        interface_named: false,
     }
 }
 

@@ -71,9 +71,9 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         junit: Option<PathBuf>,
     },
-    /// Run every scenario of a folder (.toml, .ssd, .ssp, in name order) as `run` does and
-    /// write one JUnit XML report: a test suite per scenario, a test case for its verdict and
-    /// one per requirement. Exit code 0 when all pass, 3 when one failed, 1 when one could
+    /// Run every scenario of a folder (.toml, .ssd, .ssp, and each .fmu alone; in name order)
+    /// as `run` does and write one JUnit XML report: a test suite per scenario, a test case
+    /// for its verdict and one per requirement. Exit code 0 when all pass, 3 when one failed, 1 when one could
     /// not be run.
     Test {
         /// The folder of scenarios.
@@ -564,13 +564,16 @@ fn test_folder(
         .filter(|p| {
             matches!(
                 p.extension().and_then(|e| e.to_str()),
-                Some("toml" | "ssd" | "ssp")
+                Some("toml" | "ssd" | "ssp" | "fmu")
             )
         })
         .collect();
     scenarios.sort();
     if scenarios.is_empty() {
-        anyhow::bail!("{}: no scenario (.toml, .ssd or .ssp) in it", dir.display());
+        anyhow::bail!(
+            "{}: no scenario (.toml, .ssd, .ssp) or FMU (.fmu) in it",
+            dir.display()
+        );
     }
     let (mut failed, mut broken) = (0, 0);
     let mut suites = Vec::new();
@@ -578,9 +581,14 @@ fn test_folder(
         let stem = path
             .file_stem()
             .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        // An FMU beside the scenario of the same name gets results of its own.
+        let out = match path.extension().and_then(|e| e.to_str()) {
+            Some("fmu") => format!("{stem}.fmu.csv"),
+            _ => format!("{stem}.csv"),
+        };
         let request = RunRequest {
             scenario: path.to_string_lossy().into_owned(),
-            out: out_dir.join(format!("{stem}.csv")),
+            out: out_dir.join(out),
             sets: Vec::new(),
             record: Vec::new(),
             ordering: None,
@@ -588,6 +596,8 @@ fn test_folder(
             force: false,
             stop_time: None,
             step_size: None,
+            start_time: None,
+            interface: Vec::new(),
         };
         let started = std::time::Instant::now();
         match run_scenario(&request, fmu_dir) {
@@ -649,8 +659,8 @@ fn long_about() -> String {
 #[derive(clap::Args)]
 struct RunRequest {
     #[arg(help = format!(
-        "{} (the files of harness/scenarios/), or a path to a .toml/.ssd scenario or .ssp \
-         package",
+        "{} (the files of harness/scenarios/), or a path to a .toml/.ssd scenario, an .ssp \
+         package, or one .fmu run alone over its DefaultExperiment",
         built_in_names()
     ))]
     scenario: String,
@@ -665,8 +675,9 @@ struct RunRequest {
     /// Override a parameter, e.g. --set gnc.phi_cmd=0.5 (repeatable).
     #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
     sets: Vec<String>,
-    /// Record only these columns (instance.variable, vectors allowed); default all outputs.
-    #[arg(long)]
+    /// Record only these columns (instance.variable, vectors allowed; comma-separated or
+    /// repeated; the bare variable for one FMU run alone); default all outputs.
+    #[arg(long, value_delimiter = ',')]
     record: Vec<String>,
     /// Exchange ordering, overriding the scenario's.
     #[arg(long, value_enum)]
@@ -681,6 +692,14 @@ struct RunRequest {
     /// Communication step in s, overriding the scenario's.
     #[arg(long, value_name = "S")]
     step_size: Option<f64>,
+    /// Start time in s, overriding the scenario's.
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    start_time: Option<f64>,
+    /// The FMI interface to run through: co-simulation or model-exchange, for every instance
+    /// or, as INSTANCE=KIND, for one (repeatable). Default: the scenario's, else the one the
+    /// FMU declares when it has one only, else co-simulation.
+    #[arg(long, value_name = "[INSTANCE=]KIND")]
+    interface: Vec<String>,
 }
 
 /// A scenario's JUnit suite name: its file stem (a built-in's name), the same whether it
@@ -710,20 +729,26 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         force,
         stop_time,
         step_size,
+        start_time,
+        interface,
     } = request;
     let started = std::time::Instant::now();
     let (mut system, spec) = lander::scenarios::spec::load(scenario)?;
     let requirements = lander::scenarios::spec::requirements(scenario)?;
     let (mut problems, seen) = lander::overrides::apply_sets(&mut system, sets, &[]);
+    problems.extend(lander::overrides::apply_interfaces(&mut system, interface));
+    if let Some(start) = start_time {
+        system.start_time = *start;
+    }
     if let Some(stop) = stop_time {
         system.stop_time = *stop;
     }
     if let Some(step) = step_size {
         system.step_size = *step;
     }
-    if stop_time.is_some() || step_size.is_some() {
+    if start_time.is_some() || stop_time.is_some() || step_size.is_some() {
         if let Err(error) = system.validate() {
-            problems.push(format!("--stop-time/--step-size: {error}"));
+            problems.push(format!("--start-time/--stop-time/--step-size: {error}"));
         }
     }
 
@@ -731,7 +756,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         .map_err(|problem| problems.push(format!("-o/--format: {problem}")))
         .ok();
     if !record.is_empty() {
-        system.record = Some(record.clone());
+        system.record = Some(lander::overrides::qualified(&system, record));
     }
     if let Some(list) = system.record.as_mut() {
         cosim::requirements::record_signals(list, &requirements);

@@ -472,7 +472,8 @@ impl Simulation {
     }
 
     /// As [`Simulation::new`], with FMUs already loaded (one per instance, in order).
-    pub fn from_fmus(system: SystemDescription, fmus: Vec<Fmu>) -> Result<Self, MasterError> {
+    pub fn from_fmus(mut system: SystemDescription, fmus: Vec<Fmu>) -> Result<Self, MasterError> {
+        choose_interfaces(&mut system, &fmus);
         let mut problems = Vec::new();
         resolve::declared_connectors(&system, &fmus, &mut problems);
         let pairs = resolve::connections(&system, &fmus, &mut problems);
@@ -1250,6 +1251,26 @@ fn feedthrough_last(
         for (unit_of, kind, slot) in columns.iter_mut().filter(|c| c.0 == u) {
             debug_assert_eq!(*unit_of, u);
             *slot = moved[block_index(*kind)][*slot];
+        }
+    }
+}
+
+/// An instance whose scenario names no interface runs through Model Exchange, with the
+/// default solver, when that is the only interface its FMU declares (as fmpy and fmusim
+/// choose); otherwise through Co-Simulation.
+fn choose_interfaces(system: &mut SystemDescription, fmus: &[Fmu]) {
+    for (desc, fmu) in system.instances.iter_mut().zip(fmus) {
+        let description = fmu.model_description();
+        let model_exchange_only =
+            description.co_simulation.is_none() && description.model_exchange.is_some();
+        if !desc.interface_named && desc.model_exchange.is_none() && model_exchange_only {
+            log::info!(
+                "instance '{}': model '{}' declares Model Exchange only: it runs through it \
+                 with the default solver",
+                desc.name,
+                fmu.model_name()
+            );
+            desc.model_exchange = Some(SolverSettings::default());
         }
     }
 }

@@ -1,7 +1,9 @@
 //! A system of connected FMUs: instances with parameter values, connections output -> input
 //! by variable name, the communication step and the exchange ordering. Read from a TOML
-//! scenario file ([`toml_format`]) or an SSP 1.0 `SystemStructure.ssd` ([`ssp`]), and written
-//! back to SSD so the shipped `.ssd` is generated from the TOML and never drifts.
+//! scenario file ([`toml_format`]) or an SSP 1.0 `SystemStructure.ssd` ([`ssp`]), or made of
+//! one FMU alone ([`single`]); written back to SSD so the shipped `.ssd` is generated from the
+//! TOML and never drifts.
+pub mod single;
 mod solver;
 pub mod ssp;
 pub mod toml_format;
@@ -47,6 +49,10 @@ pub struct InstanceDesc {
     pub connectors: Option<Vec<DeclaredConnector>>,
     /// Run the FMU through Model Exchange with this solver; `None`: Co-Simulation.
     pub model_exchange: Option<SolverSettings>,
+    /// Whether the scenario named the interface. When it did not, an FMU that declares Model
+    /// Exchange only runs through it with the default solver, as fmpy and fmusim choose.
+    #[serde(default)]
+    pub interface_named: bool,
 }
 
 /// A connector as an SSD declares it.

@@ -284,8 +284,10 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             fmu: component.source.into(),
             parameters,
             connectors,
-            // SSP selects no FMI interface for a component: it runs as Co-Simulation.
+            // SSP selects no FMI interface for a component: it runs as Co-Simulation, or as
+            // Model Exchange when that is the only interface its FMU declares.
             model_exchange: None,
+            interface_named: false,
         });
     }
     let mut connections = Vec::new();
@@ -527,6 +529,7 @@ mod tests {
                     ],
                     connectors: None,
                     model_exchange: None,
+                    interface_named: false,
                 },
                 InstanceDesc {
                     name: "b".into(),
@@ -534,6 +537,7 @@ mod tests {
                     parameters: vec![],
                     connectors: None,
                     model_exchange: None,
+                    interface_named: false,
                 },
             ],
             connections: vec![Connection {

@@ -142,6 +142,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
     let mut instances = Vec::with_capacity(file.instances.len());
     let mut problems = Vec::new();
     for instance in file.instances {
+        let interface_named = instance.interface.is_some();
         let model_exchange = solver_settings(&instance).unwrap_or_else(|p| {
             problems.extend(p);
             None
@@ -169,6 +170,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             parameters,
             connectors: None,
             model_exchange,
+            interface_named,
         });
     }
     problems.extend(file.limits.problems("[limits]"));

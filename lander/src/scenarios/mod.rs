@@ -100,7 +100,8 @@ pub fn terminal_target_nue(system: &cosim::system::SystemDescription) -> [f64; 3
     target
 }
 
-/// A built-in scenario by name, a `.toml` or `.ssd` file, or an `.ssp` package.
+/// A built-in scenario by name, a `.toml` or `.ssd` file, an `.ssp` package, or one `.fmu`
+/// run alone over its `DefaultExperiment`.
 ///
 /// An SSD's component sources are relative to the SSD (`resources/X.fmu` in an SSP); where that
 /// file exists it is used (as an absolute path, so the scenario runs from any directory),
@@ -116,6 +117,7 @@ pub fn load(name_or_path: &str) -> Result<SystemDescription, SystemError> {
     match path.extension().and_then(|e| e.to_str()) {
         Some("ssd") => read_ssd(path),
         Some("ssp") => read_package(path),
+        Some("fmu") => cosim::system::single::of_fmu(path),
         _ => {
             let text = std::fs::read_to_string(path).map_err(|e| not_found(name_or_path, e))?;
             spec::parse_toml(&text, path)

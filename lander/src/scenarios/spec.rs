@@ -17,7 +17,7 @@ fn toml_text(name_or_path: &str) -> Result<Option<(String, String)>, SystemError
     let path = Path::new(name_or_path);
     if matches!(
         path.extension().and_then(|e| e.to_str()),
-        Some("ssd" | "ssp")
+        Some("ssd" | "ssp" | "fmu")
     ) {
         return Ok(None);
     }
@@ -34,7 +34,8 @@ pub fn parse_toml(text: &str, origin: &Path) -> Result<SystemDescription, System
     toml_format::parse(&stripped, origin)
 }
 
-/// A scenario (built-in name, `.toml`, `.ssd` or `.ssp`) and what its run is expected to do.
+/// A scenario (built-in name, `.toml`, `.ssd`, `.ssp`, or one `.fmu` alone) and what its run
+/// is expected to do.
 pub fn load(name_or_path: &str) -> Result<(SystemDescription, Spec), SystemError> {
     match toml_text(name_or_path)? {
         None => Ok((scenarios::load(name_or_path)?, Spec::default())),
@@ -59,7 +60,7 @@ pub fn read_toml(path: &Path) -> Result<SystemDescription, SystemError> {
     parse_toml(&text, path)
 }
 
-/// The `[[requirement]]` entries of a scenario (none for an SSP file).
+/// The `[[requirement]]` entries of a scenario (none for an SSP file or an FMU).
 pub fn requirements(
     name_or_path: &str,
 ) -> Result<Vec<cosim::requirements::Requirement>, SystemError> {
