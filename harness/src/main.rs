@@ -598,6 +598,7 @@ fn test_folder(
             step_size: None,
             start_time: None,
             interface: Vec::new(),
+            input: None,
         };
         let started = std::time::Instant::now();
         match run_scenario(&request, fmu_dir) {
@@ -692,6 +693,11 @@ struct RunRequest {
     /// Communication step in s, overriding the scenario's.
     #[arg(long, value_name = "S")]
     step_size: Option<f64>,
+    /// Drive inputs from a CSV table: a first column `time`, one column per input
+    /// (instance.variable, or the bare variable for one FMU run alone), as fmpy and fmusim
+    /// read it. Real inputs are interpolated linearly, others held.
+    #[arg(long, value_name = "FILE.csv")]
+    input: Option<PathBuf>,
     /// Start time in s, overriding the scenario's.
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     start_time: Option<f64>,
@@ -731,12 +737,22 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         step_size,
         start_time,
         interface,
+        input,
     } = request;
     let started = std::time::Instant::now();
     let (mut system, spec) = lander::scenarios::spec::load(scenario)?;
     let requirements = lander::scenarios::spec::requirements(scenario)?;
     let (mut problems, seen) = lander::overrides::apply_sets(&mut system, sets, &[]);
     problems.extend(lander::overrides::apply_interfaces(&mut system, interface));
+    if let Some(path) = input {
+        match cosim::system::InputTable::read_csv(path) {
+            Ok(mut table) => {
+                table.names = lander::overrides::qualified(&system, &table.names);
+                system.inputs = Some(table);
+            }
+            Err(error) => problems.push(format!("--input: {error}")),
+        }
+    }
     if let Some(start) = start_time {
         system.start_time = *start;
     }

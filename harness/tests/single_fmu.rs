@@ -234,3 +234,85 @@ fn the_plant_of_a_scenario_runs_through_model_exchange_when_asked_on_the_command
     ));
     assert_ne!(csv_rows(&cs), csv_rows(&scenario));
 }
+
+/// fmpy's run of `fmu` with `table` as its inputs: (column names, rows).
+fn fmpy_with_input(fmu: &Path, table: &Path, out: &Path) -> Vec<Vec<String>> {
+    let python = common::workspace_root().join(".venv/bin/python");
+    assert!(
+        python.is_file(),
+        "{} is missing: run `cargo xtask python-env` (or `cargo xtask test`, which does)",
+        python.display()
+    );
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/python/simulate_with_input.py");
+    let output = std::process::Command::new(python)
+        .arg(script)
+        .arg(fmu)
+        .arg(table)
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    csv_rows(out)
+}
+
+#[test]
+fn an_input_table_drives_the_fmu_as_in_fmpy() {
+    let dir = tempfile::tempdir().unwrap();
+    let fmu = oscillator("2.0");
+    // A force ramped up, held, then stepped back to zero at 6 s.
+    let table = dir.path().join("in.csv");
+    std::fs::write(&table, "time,u\n0,0\n2,3\n6,3\n6,0\n10,0\n").unwrap();
+    let ours = dir.path().join("ours.csv");
+    run(&[
+        "run",
+        fmu.to_str().unwrap(),
+        "--input",
+        table.to_str().unwrap(),
+        "-o",
+        ours.to_str().unwrap(),
+    ]);
+    let ours = csv_rows(&ours);
+    let theirs = fmpy_with_input(&fmu, &table, &dir.path().join("fmpy.csv"));
+    assert_eq!(ours.len(), theirs.len());
+    // Same outputs at every point: fmpy sets the interpolated input at each communication
+    // point as the harness does.
+    let value = |cell: &str| cell.trim_matches('"').parse::<f64>().unwrap();
+    let mut worst = 0.0_f64;
+    for (a, b) in ours.iter().skip(1).zip(theirs.iter().skip(1)) {
+        for k in 0..3 {
+            worst = worst.max((value(&a[k]) - value(&b[k])).abs());
+        }
+    }
+    assert!(worst < 1e-12, "largest difference from fmpy: {worst:e}");
+    // And the input mattered: without it the oscillator does something else.
+    let free = dir.path().join("free.csv");
+    run(&["run", fmu.to_str().unwrap(), "-o", free.to_str().unwrap()]);
+    assert_ne!(csv_rows(&free)[500], ours[500]);
+}
+
+#[test]
+fn an_input_table_naming_no_input_is_refused_with_every_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("in.csv");
+    std::fs::write(&table, "time,u,x,uu\n0,0,0,0\n").unwrap();
+    let fmu = oscillator("3.0");
+    let output = harness(&[
+        "run",
+        fmu.to_str().unwrap(),
+        "--input",
+        table.to_str().unwrap(),
+        "-o",
+        dir.path().join("x.csv").to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("'Oscillator.x' has causality Output"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("no variable 'uu'"), "{stderr}");
+}

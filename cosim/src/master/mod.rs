@@ -26,6 +26,7 @@ mod finite;
 mod loops;
 mod model_exchange;
 mod resolve;
+mod table;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use model_exchange::{EventCounts, MeError, SolverSettings};
@@ -398,6 +399,10 @@ pub struct Simulation {
     outputs: Vec<Io>,
     /// Per unit: the connections into its inputs.
     copies_into: Vec<Vec<Copies>>,
+    /// Inputs driven by the system's input table, with their slots.
+    table_inputs: Vec<table::TableInput>,
+    /// The communication point inputs are set for.
+    now: f64,
     /// (unit, kind, output slot) per recorded column.
     columns: Vec<(usize, VariableKind, usize)>,
     /// The same columns as runs of consecutive slots of one unit and type, copied together.
@@ -494,6 +499,7 @@ impl Simulation {
             }
         }
         resolve::algebraic_loop(&system, &fmus, &pairs, &mut problems);
+        let table_inputs = table::resolve(&system, &fmus, &pairs, &mut problems);
         let mut finite = finite::Check::new(&system, &fmus, &mut problems);
         for port in recorded
             .iter()
@@ -508,6 +514,10 @@ impl Simulation {
             });
         }
         let mut inputs: Vec<Io> = fmus.iter().map(|_| Io::default()).collect();
+        let mut table_inputs = table_inputs;
+        for driven in &mut table_inputs {
+            driven.slot = inputs[driven.port.instance].slot(&driven.port);
+        }
         let mut outputs: Vec<Io> = fmus.iter().map(|_| Io::default()).collect();
         // Recorded outputs take their slots first, in column order, so that consecutive
         // columns of one unit and type are consecutive slots and a row is a few bulk copies.
@@ -561,9 +571,11 @@ impl Simulation {
                 connectors.push(decl);
             }
         }
+        let driven: Vec<Port> = table_inputs.iter().map(|t| t.port.clone()).collect();
         feedthrough_last(
             &fmus,
             &pairs,
+            &driven,
             &recorded,
             &mut outputs,
             &mut links,
@@ -587,6 +599,8 @@ impl Simulation {
             inputs,
             outputs,
             copies_into,
+            table_inputs,
+            now: 0.0,
             columns,
             column_runs,
             column_names,
@@ -758,6 +772,7 @@ impl Simulation {
             conventions::Clock::new(self.conventions.time_grid, start_time, stop_time, step_size);
         recorder.reserve(clock.rows_hint(), self.columns.len());
         while let Some((time, h)) = clock.next_step() {
+            self.now = time;
             if ordering == Ordering::GaussSeidel {
                 for u in 0..self.units.len() {
                     if self.get_before_set[u] {
@@ -879,6 +894,7 @@ impl Simulation {
                 }
             }
         }
+        self.now = clock.end_time();
         for u in 0..self.units.len() {
             // An instance that allows no get after a set (FMI 3.0 Step Mode) records the
             // outputs of its last step: its inputs at the stop time could change nothing read.
@@ -895,6 +911,7 @@ impl Simulation {
 
     fn initialize(&mut self) -> Result<(), MasterError> {
         let (start, stop) = (self.system.start_time, self.system.stop_time);
+        self.now = start;
         let declared_stop = self.conventions.stop_time_declared.then_some(stop);
         for (u, desc) in self.system.instances.iter().enumerate() {
             let unit = &mut self.units[u];
@@ -993,6 +1010,18 @@ impl Simulation {
         let inputs = &mut self.inputs[u];
         for copies in &self.copies_into[u] {
             copies.apply(&self.outputs[copies.from_unit], inputs);
+        }
+        if let Some(table) = &self.system.inputs {
+            for driven in self.table_inputs.iter().filter(|t| t.port.instance == u) {
+                let value = table.value(driven.column, self.now, driven.interpolate);
+                match driven.port.kind {
+                    VariableKind::Real => inputs.real.values[driven.slot] = value,
+                    VariableKind::Boolean => {
+                        inputs.boolean.values[driven.slot] = (value != 0.0) as i32
+                    }
+                    _ => inputs.integer.values[driven.slot] = value as i32,
+                }
+            }
         }
         let unit = &mut self.units[u];
         let result = (|| -> Result<(), CallError> {
@@ -1204,11 +1233,12 @@ impl ColumnRun {
 }
 
 /// Orders every unit's output slots so that those which may depend on one of its connected
-/// inputs (as its model description declares; an output that declares nothing may depend on
+/// or table-driven inputs (as its model description declares; an output that declares nothing may depend on
 /// every input) come last, and points the links and columns at the moved slots.
 fn feedthrough_last(
     fmus: &[Fmu],
     pairs: &[(Port, Port)],
+    driven: &[Port],
     recorded: &[Port],
     outputs: &mut [Io],
     links: &mut [Link],
@@ -1234,8 +1264,10 @@ fn feedthrough_last(
         let u = port.instance;
         let depends = pairs
             .iter()
-            .filter(|(_, destination)| destination.instance == u)
-            .any(|(_, input)| feedthrough[u].depends(&port.name, &input.name, false));
+            .map(|(_, destination)| destination)
+            .chain(driven)
+            .filter(|input| input.instance == u)
+            .any(|input| feedthrough[u].depends(&port.name, &input.name, false));
         let slot = outputs[u].slot(port);
         flags[u][block_index(port.kind)][slot] |= depends;
     }

@@ -3,11 +3,13 @@
 //! scenario file ([`toml_format`]) or an SSP 1.0 `SystemStructure.ssd` ([`ssp`]), or made of
 //! one FMU alone ([`single`]); written back to SSD so the shipped `.ssd` is generated from the
 //! TOML and never drifts.
+pub mod input_table;
 pub mod single;
 mod solver;
 pub mod ssp;
 pub mod toml_format;
 
+pub use input_table::InputTable;
 pub use solver::SolverSettings;
 
 use std::path::PathBuf;
@@ -94,6 +96,10 @@ pub struct SystemDescription {
     /// before the option reads.
     #[serde(default)]
     pub allow_non_finite: Vec<String>,
+    /// Signals that drive inputs of the instances (`harness run --input`), instead of
+    /// connections. Defaulted so that a description from before the option reads.
+    #[serde(default)]
+    pub inputs: Option<InputTable>,
     /// Keeps an unpacked `.ssp` on disk as long as the description refers to its FMUs. Not
     /// sent to a worker process: the parent keeps the directory while the worker reads it.
     #[serde(skip)]
@@ -250,6 +256,7 @@ mod partial_step_tests {
             record: None,
             limits: Default::default(),
             allow_non_finite: Vec::new(),
+            inputs: None,
             package: None,
         };
         assert_eq!(system.partial_last_step(), None);

@@ -341,6 +341,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         record: None,
         limits: Default::default(),
         allow_non_finite: Vec::new(),
+        inputs: None,
         package: None,
     };
     system.validate()?;
@@ -547,6 +548,7 @@ mod tests {
             record: None,
             limits: Default::default(),
             allow_non_finite: Vec::new(),
+            inputs: None,
             package: None,
         }
     }

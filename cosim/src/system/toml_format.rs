@@ -195,6 +195,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         record: file.record,
         limits: file.limits,
         allow_non_finite: file.allow_non_finite,
+        inputs: None,
         package: None,
     };
     system.validate()?;
