@@ -412,7 +412,11 @@ mod tests {
             }),
             ("inertia_body_kgm2[2]", |p| p.inertia_body_kgm2[2] = 1e300),
             ("guidance_damping", |p| p.guidance_damping = 1e300),
-            ("control_law", |p| p.control_law = 4),
+            ("control_law", |p| {
+                // One past the last law, however many there are.
+                let last = <ControlLaw as fmi_model::Enumeration>::TYPE.max();
+                p.control_law = last.unwrap_or(0) + 1
+            }),
             ("phi_cmd_rad", |p| p.phi_cmd_rad = f64::NAN),
             ("control_bandwidth_hz", |p| p.control_bandwidth_hz = 0.0),
             ("control_damping", |p| p.control_damping = -0.1),
