@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 /// All parameters, SI units, NUE / body axes as named.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct GncParameters {
-    /// Enumeration value: 1 coupled, 2 decoupled, 3 reduced.
+    /// The value of an item of [`ControlLaw`].
     pub control_law: i32,
     pub phi_cmd_rad: f64,
     /// Absolute simulation time at which `phi_cmd` is applied (0 before it).

@@ -73,7 +73,10 @@ fn provenance_section(p: &Provenance, html: &mut String) {
     for i in &p.instance {
         for Parameter { name, value } in &i.parameter {
             let shown = if i.name == "gnc" && name == "control_law" && !p.laws.is_empty() {
-                format!("{value} in the scenario; each flight sets its law (1 coupled, 2 decoupled, 3 reduced)")
+                format!(
+                    "{value} in the scenario; each flight sets its law ({})",
+                    p.laws.join(", ")
+                )
             } else {
                 value.clone()
             };
