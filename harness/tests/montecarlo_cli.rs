@@ -207,6 +207,8 @@ fn a_campaign_too_large_to_summarise_is_refused_before_any_flight_with_the_estim
         "monte-carlo",
         "-n",
         "100000000",
+        "--law",
+        "coupled,decoupled,reduced",
         "--workers",
         "2",
         "--out-dir",
