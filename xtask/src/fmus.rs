@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 /// `<crate>_model_description` (FMI 2.0) and `<crate>_model_description_fmi3`, named after
 /// the crate because binaries of one name in several packages collide in `target/`. A
 /// binary, not an example: an example would build the crate's dev-dependencies (the test
-/// kit, bindgen, criterion) in release mode only to print a file.
+/// kit, bindgen, criterion) only to print a file.
 fn description_binary(fmu: &FmuCrate, version: Fmi) -> String {
     let stem = fmu.package.replace('-', "_");
     match version {
@@ -78,6 +78,14 @@ pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
     package_for(ws, &[])
 }
 
+/// As [`package_all`], building the dev-profile `packages` (the demo's harness) alongside
+/// the description binaries, in the same cargo invocation.
+pub fn package_all_with(ws: &Workspace, packages: &[&str]) -> Result<Vec<PathBuf>> {
+    let fmus = fmu_crates(ws)?;
+    let build = build_host(ws, &fmus, packages)?;
+    package(ws, &fmus, &[build], &ws.fmu_dir())
+}
+
 /// Where a build for one platform puts its libraries.
 struct Build {
     platform: Platform,
@@ -112,13 +120,25 @@ fn announce(platform: &Platform) -> Result<()> {
 }
 
 /// The host build of today's `cargo xtask fmus`, with rustup's (the invoking) cargo: the
-/// libraries and, in the same invocation, the description binaries. One invocation for both
-/// resolves the dependencies' features once, so neither a later run of the binaries nor a
-/// rerun of this build recompiles anything.
-fn build_host(ws: &Workspace, fmus: &[FmuCrate]) -> Result<Build> {
+/// release libraries and, at the same time, the description binaries (see
+/// [`build_describers`]) with `also_dev`.
+fn build_host(ws: &Workspace, fmus: &[FmuCrate], also_dev: &[&str]) -> Result<Build> {
     let platform = Platform::host()?;
     announce(&platform)?;
-    build_host_targets(ws, fmus, &["--lib", "--bins"])?;
+    let mut libs = ws.cargo();
+    libs.args(["build", "--release", "--lib"]);
+    for fmu in fmus {
+        libs.args(["-p", &fmu.package]);
+    }
+    // Two cargo processes at once (they lock different profile folders): each has serial
+    // stretches (the LTO links, the crate chain up to the harness) that the other fills.
+    libs.env("CARGO_TERM_PROGRESS_WHEN", "never");
+    let started = libs
+        .spawn()
+        .with_context(|| format!("could not start {}", workspace::describe(&libs)))?;
+    let described = build_describers(ws, fmus, also_dev);
+    let built = workspace::wait(started, &libs);
+    described.and(built)?;
     Ok(Build {
         strip: strip_for(&platform, &platform),
         platform,
@@ -138,7 +158,7 @@ pub fn package_all_platforms(ws: &Workspace) -> Result<Vec<PathBuf>> {
     let mut builds = Vec::new();
     let mut timings = Vec::new();
     let started = std::time::Instant::now();
-    builds.push(build_host(ws, &fmus)?);
+    builds.push(build_host(ws, &fmus, &[])?);
     timings.push((builds[0].platform.triple.clone(), started.elapsed()));
     let host = Platform::host()?;
     for target in &crate::cross::TARGETS {
@@ -159,21 +179,30 @@ pub fn package_all_platforms(ws: &Workspace) -> Result<Vec<PathBuf>> {
     package(ws, &fmus, &builds, &ws.fmu_dir())
 }
 
-fn build_host_targets(ws: &Workspace, fmus: &[FmuCrate], targets: &[&str]) -> Result<()> {
+/// The description binaries in the dev profile: they only print XML, so optimising and
+/// LTO-linking ten of them would cost as much as the libraries themselves, and unoptimised
+/// they share their artifacts with `cargo test`. `also_dev` packages are built in the same
+/// invocation, so that the features of shared dependencies are resolved once.
+fn build_describers(ws: &Workspace, fmus: &[FmuCrate], also_dev: &[&str]) -> Result<()> {
     let mut build = ws.cargo();
-    build.args(["build", "--release"]).args(targets);
-    for fmu in fmus {
-        build.args(["-p", &fmu.package]);
+    build.args(["build", "--bins"]);
+    for package in fmus
+        .iter()
+        .map(|f| f.package.as_str())
+        .chain(also_dev.iter().copied())
+    {
+        build.args(["-p", package]);
     }
+    build.env("CARGO_TERM_PROGRESS_WHEN", "never");
     workspace::run(&mut build)
 }
 
-/// The model description `fmu`'s binary (built by [`build_host_targets`]) prints for
+/// The model description `fmu`'s binary (built by [`build_describers`]) prints for
 /// `version`.
 fn describe(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> Result<String> {
     let binary = ws
         .target_dir
-        .join("release")
+        .join("debug")
         .join(description_binary(fmu, version));
     let mut command = std::process::Command::new(&binary);
     // generationDateAndTime: the commit's time, so that a commit packages the same bytes on
@@ -204,7 +233,7 @@ fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Ve
     let mut builds = Vec::new();
     let host = Platform::host()?;
     if triples.is_empty() {
-        return Ok(vec![build_host(ws, fmus)?]);
+        return Ok(vec![build_host(ws, fmus, &[])?]);
     }
     for triple in triples {
         match Platform::from_triple(triple) {
@@ -229,7 +258,7 @@ fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Ve
         bail!("{}", problems.join("\n"));
     }
     // The descriptions are printed on the host whatever the targets.
-    build_host_targets(ws, fmus, &["--bins"])?;
+    build_describers(ws, fmus, &[])?;
     for target in &builds {
         announce(&target.platform)?;
         let mut build = ws.cargo();

@@ -49,6 +49,17 @@ pub fn run(cmd: &mut Command) -> Result<()> {
     Ok(())
 }
 
+/// Wait for a child started from `cmd`; an unsuccessful exit is an error naming the command.
+pub fn wait(mut child: std::process::Child, cmd: &Command) -> Result<()> {
+    let status = child
+        .wait()
+        .with_context(|| format!("lost {}", describe(cmd)))?;
+    if !status.success() {
+        bail!("{} failed ({status})", describe(cmd));
+    }
+    Ok(())
+}
+
 /// Run a command and capture its stdout; stderr goes to the terminal.
 pub fn output(cmd: &mut Command) -> Result<String> {
     let out = cmd
