@@ -1,191 +1,209 @@
-//! Everything diffsol-specific: problem construction, the two methods, error mapping.
+//! The two methods behind one interface, so the integrator's stepping and event logic does
+//! not care which one runs.
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
-
-use diffsol::error::OdeSolverError;
-use diffsol::{
-    Bdf, Closure, ConstantClosure, DiffsolError, ExplicitRk, NalgebraLU, NalgebraMat, OdeBuilder,
-    OdeSolverEquations, OdeSolverMethod, OdeSolverProblem, OdeSolverStopReason, UnitCallable,
-};
-
-use crate::bridge::Shared;
+use crate::bdf::Bdf;
+use crate::eval::Eval;
+use crate::tsit5::Tsit5;
 use crate::{Method, SolverError, Tolerances};
-
-type M = NalgebraMat<f64>;
-type LS = NalgebraLU<f64>;
-// Boxed so the equation type can be named in a struct.
-type RhsFn = Box<dyn Fn(&[f64], &[f64], f64, &mut [f64])>;
-type JacFn = Box<dyn Fn(&[f64], &[f64], f64, &[f64], &mut [f64])>;
-type InitFn = Box<dyn Fn(&[f64], f64, &mut [f64])>;
-type Unit = UnitCallable<M>;
-type Eqn = OdeSolverEquations<
-    M,
-    Closure<M, RhsFn, JacFn>,
-    ConstantClosure<M, InitFn>,
-    Unit,
-    Unit,
-    Unit,
-    Unit,
->;
-type Problem = OdeSolverProblem<Eqn>;
-
-pub(crate) enum Solver<'a> {
-    Bdf(Box<Bdf<'a, Eqn, LS>>),
-    Tsit45(Box<ExplicitRk<'a, Eqn>>),
-}
-
-// diffsol solvers borrow their problem; the integrator must own both.
-self_cell::self_cell!(
-    struct Cell {
-        owner: Problem,
-        #[not_covariant]
-        dependent: Solver,
-    }
-);
-
-macro_rules! dispatch {
-    ($solver:expr, $s:ident => $body:expr) => {
-        match $solver {
-            Solver::Bdf($s) => $body,
-            Solver::Tsit45($s) => $body,
-        }
-    };
-}
 
 pub(crate) enum Stop {
     Internal,
     TstopReached,
 }
 
-pub(crate) struct Backend {
-    cell: Cell,
+#[derive(Debug)]
+pub(crate) enum Backend {
+    Bdf(Box<Bdf>),
+    Tsit45(Box<Tsit5>),
+}
+
+macro_rules! dispatch {
+    ($backend:expr, $s:ident => $body:expr) => {
+        match $backend {
+            Backend::Bdf($s) => $body,
+            Backend::Tsit45($s) => $body,
+        }
+    };
 }
 
 impl Backend {
-    /// A fresh solver at (t0, shared.x0): new step-size estimate, new Jacobian, order 1.
+    /// A fresh solver at (t0, x0): f(t0, x0), a new step-size estimate, and for BDF order 1
+    /// and no Jacobian yet (it is formed at the first step).
     pub fn new(
         method: Method,
         tol: &Tolerances,
-        n: usize,
+        eval: &mut Eval<'_>,
         t0: f64,
-        shared: &Shared,
+        x0: &[f64],
     ) -> Result<Self, SolverError> {
-        let (s1, s2, s3) = (shared.clone(), shared.clone(), shared.clone());
-        let rhs: RhsFn = Box::new(move |x, _p, t, dx| s1.borrow_mut().rhs(t, x, dx));
-        let jac: JacFn = Box::new(move |x, _p, t, v, jv| s2.borrow_mut().jac_mul(t, x, v, jv));
-        let init: InitFn = Box::new(move |_p, _t, y| y.copy_from_slice(&s3.borrow().x0));
-        let mut problem = OdeBuilder::<M>::new()
-            .t0(t0)
-            .rtol(tol.relative)
-            .atol(vec![tol.absolute; n])
-            .rhs_implicit(rhs, jac)
-            .init(init, n)
-            .build()
-            .map_err(map_err)?;
-        // The integrator applies its own cap, counted per stretch toward a t_stop.
-        problem.ode_options.max_number_timesteps = usize::MAX;
-        let cell = Cell::try_new(problem, |p| {
-            guarded(|| {
-                Ok(match method {
-                    Method::Bdf => Solver::Bdf(Box::new(p.bdf::<LS>()?)),
-                    Method::Tsit45 => Solver::Tsit45(Box::new(p.tsit45()?)),
-                })
-            })
-        })?;
-        Ok(Self { cell })
+        Ok(match method {
+            Method::Bdf => Self::Bdf(Box::new(Bdf::new(eval, tol, t0, x0)?)),
+            Method::Tsit45 => Self::Tsit45(Box::new(Tsit5::new(eval, tol, t0, x0)?)),
+        })
     }
 
-    pub fn set_stop_time(&mut self, t_stop: f64) -> Result<(), SolverError> {
-        self.cell
-            .with_dependent_mut(|_, s| guarded(|| dispatch!(s, s => s.set_stop_time(t_stop))))
-    }
-
-    pub fn step(&mut self) -> Result<Stop, SolverError> {
-        self.cell.with_dependent_mut(|_, s| {
-            guarded(|| {
-                Ok(match dispatch!(s, s => s.step())? {
-                    OdeSolverStopReason::TstopReached => Stop::TstopReached,
-                    // No root function is given to diffsol, so this cannot occur.
-                    OdeSolverStopReason::InternalTimestep | OdeSolverStopReason::RootFound(..) => {
-                        Stop::Internal
-                    }
-                })
-            })
+    /// One accepted step, never past `t_stop`; a step that reaches it ends on it bit-exactly.
+    pub fn step(&mut self, eval: &mut Eval<'_>, t_stop: f64) -> Result<Stop, SolverError> {
+        if t_stop.is_nan() || t_stop <= self.time() {
+            return Err(SolverError::InvalidInput(format!(
+                "t_stop {t_stop} is not after the solver's time {}",
+                self.time()
+            )));
+        }
+        let landed = dispatch!(self, s => s.step(eval, t_stop))?;
+        Ok(if landed {
+            Stop::TstopReached
+        } else {
+            Stop::Internal
         })
     }
 
     pub fn time(&self) -> f64 {
-        self.cell
-            .with_dependent(|_, s| dispatch!(s, s => s.state().t))
+        dispatch!(self, s => s.time())
     }
 
     pub fn state(&self, out: &mut [f64]) {
-        self.cell.with_dependent(
-            |_, s| dispatch!(s, s => out.copy_from_slice(s.state().y.batch_as_slice(0))),
-        )
+        out.copy_from_slice(dispatch!(self, s => s.state()));
     }
 
     /// Dense output inside the last accepted step; no derivative calls.
     pub fn interpolate(&self, t: f64, out: &mut [f64]) -> Result<(), SolverError> {
-        self.cell.with_dependent(|_, s| {
-            guarded(|| {
-                let y = dispatch!(s, s => s.interpolate(t))?;
-                out.copy_from_slice(y.batch_as_slice(0));
-                Ok(())
-            })
-        })
+        dispatch!(self, s => s.interpolate(t, out))
     }
 
     /// Move the solver back to `t` inside the last step (after a located event).
     pub fn move_back(&mut self, t: f64) -> Result<(), SolverError> {
-        self.cell
-            .with_dependent_mut(|_, s| guarded(|| dispatch!(s, s => s.state_mut_back(t))))
+        dispatch!(self, s => s.move_back(t))
     }
 
     /// (accepted steps, rejected attempts) of this solver instance.
     pub fn counters(&self) -> (u64, u64) {
-        self.cell.with_dependent(|_, s| {
-            let st = dispatch!(s, s => s.get_statistics());
-            let rejected = st.number_of_error_test_failures + st.number_of_nonlinear_solver_fails;
-            (st.number_of_steps as u64, rejected as u64)
-        })
+        dispatch!(self, s => (s.steps, s.rejected))
     }
 }
 
-/// Run a diffsol call, turning its errors and any panic into `SolverError`.
-fn guarded<R>(f: impl FnOnce() -> Result<R, DiffsolError>) -> Result<R, SolverError> {
-    match catch_unwind(AssertUnwindSafe(f)) {
-        Ok(r) => r.map_err(map_err),
-        Err(p) => {
-            let msg = p
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| p.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic".into());
-            Err(SolverError::Backend(format!("panic in diffsol: {msg}")))
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::Counts;
+    use crate::OdeSystem;
+
+    const METHODS: [Method; 2] = [Method::Bdf, Method::Tsit45];
+
+    /// x'' = -x from [1, 0]: [cos t, -sin t].
+    struct Oscillator;
+
+    impl OdeSystem for Oscillator {
+        fn state_count(&self) -> usize {
+            2
+        }
+        fn indicator_count(&self) -> usize {
+            0
+        }
+        fn derivatives(&mut self, _t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), String> {
+            dx[0] = x[1];
+            dx[1] = -x[0];
+            Ok(())
+        }
+        fn indicators(&mut self, _t: f64, _x: &[f64], _z: &mut [f64]) -> Result<(), String> {
+            Ok(())
         }
     }
-}
 
-fn map_err(e: DiffsolError) -> SolverError {
-    match &e {
-        DiffsolError::OdeSolverError(o) => match o {
-            OdeSolverError::StepSizeTooSmall { time } => {
-                SolverError::StepSizeUnderflow { t: *time }
-            }
-            OdeSolverError::TooManyTimesteps { time, num_steps } => SolverError::TooManySteps {
-                t: *time,
-                steps: *num_steps as u64,
-            },
-            OdeSolverError::TooManyErrorTestFailures { time, .. }
-            | OdeSolverError::TooManyNonlinearSolverFailures { time, .. } => {
-                SolverError::ConvergenceFailure {
-                    t: *time,
-                    detail: o.to_string(),
+    fn exact(t: f64) -> [f64; 2] {
+        [libm::cos(t), -libm::sin(t)]
+    }
+
+    const TOL: Tolerances = Tolerances {
+        relative: 1e-8,
+        absolute: 1e-10,
+        event_time: 1e-12,
+    };
+
+    fn state(b: &Backend) -> Vec<f64> {
+        let mut x = vec![0.0; 2];
+        b.state(&mut x);
+        x
+    }
+
+    #[test]
+    fn dense_output_ends_on_the_steps_states_and_is_accurate_inside() {
+        for method in METHODS {
+            let (mut sys, mut counts) = (Oscillator, Counts::default());
+            let mut eval = Eval::new(&mut sys, &mut counts);
+            let mut b = Backend::new(method, &TOL, &mut eval, 0.0, &[1.0, 0.0]).unwrap();
+            let mut out = vec![0.0; 2];
+            // Before any step there is no step to interpolate in.
+            assert!(b.interpolate(0.0, &mut out).is_err());
+            let mut worst = 0.0f64;
+            for _ in 0..10_000 {
+                let (t0, x0) = (b.time(), state(&b));
+                b.step(&mut eval, 3.0).unwrap();
+                let (t1, x1) = (b.time(), state(&b));
+                b.interpolate(t0, &mut out).unwrap();
+                assert_eq!(out, x0, "{method:?} at the start of the step to {t1}");
+                b.interpolate(t1, &mut out).unwrap();
+                assert_eq!(out, x1, "{method:?} at the end of the step to {t1}");
+                // Against the exact flow from the step's start, so that the error carried in
+                // from earlier steps does not count.
+                for s in [0.25, 0.5, 0.75] {
+                    let t = t0 + s * (t1 - t0);
+                    b.interpolate(t, &mut out).unwrap();
+                    let (c, sn) = (libm::cos(t - t0), libm::sin(t - t0));
+                    let e = [x0[0] * c + x0[1] * sn, -x0[0] * sn + x0[1] * c];
+                    worst = worst.max((out[0] - e[0]).abs().max((out[1] - e[1]).abs()));
+                }
+                assert!(b.interpolate(t1 + 1e-9, &mut out).is_err());
+                assert!(b.interpolate(t0 - 1e-9, &mut out).is_err());
+                if t1 == 3.0 {
+                    break;
                 }
             }
-            _ => SolverError::Backend(e.to_string()),
-        },
-        _ => SolverError::Backend(e.to_string()),
+            assert_eq!(b.time(), 3.0, "{method:?}");
+            println!("{method:?}: dense output within {worst:e} of the exact solution");
+            assert!(
+                worst < 10.0 * (TOL.relative + TOL.absolute),
+                "{method:?}: {worst}"
+            );
+        }
+    }
+
+    #[test]
+    fn continuing_after_move_back_follows_the_exact_solution() {
+        for method in METHODS {
+            let (mut sys, mut counts) = (Oscillator, Counts::default());
+            let mut eval = Eval::new(&mut sys, &mut counts);
+            let mut b = Backend::new(method, &TOL, &mut eval, 0.0, &[1.0, 0.0]).unwrap();
+            // Move back into every fifth step, as an event inside it would.
+            let mut step = 0;
+            let mut moves = 0;
+            loop {
+                let t0 = b.time();
+                let reached = matches!(b.step(&mut eval, 6.0).unwrap(), Stop::TstopReached);
+                if reached {
+                    break;
+                }
+                step += 1;
+                if step % 5 == 0 {
+                    let t = t0 + 0.3 * (b.time() - t0);
+                    let mut expected = vec![0.0; 2];
+                    b.interpolate(t, &mut expected).unwrap();
+                    b.move_back(t).unwrap();
+                    assert_eq!((b.time(), state(&b)), (t, expected));
+                    // The last step now ends at t: the dense output does too.
+                    let mut out = vec![0.0; 2];
+                    assert!(b.interpolate(t + 1e-9, &mut out).is_err());
+                    moves += 1;
+                }
+            }
+            let (x, e) = (state(&b), exact(6.0));
+            let err = (x[0] - e[0]).abs().max((x[1] - e[1]).abs());
+            println!("{method:?}: {moves} moves back, error {err:e} at t = 6");
+            assert!(moves >= 3);
+            assert!(
+                err < 10.0 * (TOL.relative + TOL.absolute),
+                "{method:?}: {err}"
+            );
+        }
     }
 }

@@ -1,8 +1,5 @@
-use std::cell::RefCell;
-use std::rc::Rc;
-
 use crate::backend::{Backend, Stop};
-use crate::bridge::{attach, Bridge, Shared};
+use crate::eval::{Counts, Eval};
 use crate::events::{any_crossed, locate, which_crossed};
 use crate::{Advance, Method, OdeSystem, SolverError, Statistics, Tolerances};
 
@@ -13,7 +10,8 @@ pub struct Integrator {
     method: Method,
     tol: Tolerances,
     n: usize,
-    shared: Shared,
+    /// Calls into the system, over all backends since `new`.
+    counts: Counts,
     /// None for a system without continuous states: time alone advances.
     backend: Option<Backend>,
     t: f64,
@@ -22,8 +20,6 @@ pub struct Integrator {
     z: Vec<f64>,
     x_work: Vec<f64>,
     z_work: Vec<f64>,
-    /// The stop time diffsol currently holds, to set it only when it changes.
-    stop_set: Option<f64>,
     steps_since_reached: u64,
     max_steps: u64,
     /// Counters of backends replaced by `reset`.
@@ -46,14 +42,13 @@ impl Integrator {
             method,
             tol,
             n,
-            shared: Rc::new(RefCell::new(Bridge::default())),
+            counts: Counts::default(),
             backend: None,
             t: t0,
             x: Vec::new(),
             z: vec![0.0; nz],
             x_work: vec![0.0; n],
             z_work: vec![0.0; nz],
-            stop_set: None,
             steps_since_reached: 0,
             max_steps: DEFAULT_MAX_STEPS,
             retired: Statistics::default(),
@@ -131,24 +126,15 @@ impl Integrator {
                 "state {i} is not finite"
             )));
         }
-        let _lent = attach(&self.shared, system);
-        self.shared.borrow_mut().x0 = x.to_vec();
+        let mut eval = Eval::new(system, &mut self.counts);
         self.backend = None;
         if self.n > 0 {
-            // Building evaluates f(t, x) (and BDF's first Jacobian): errors surface here.
-            let b = Backend::new(self.method, &self.tol, self.n, t, &self.shared);
-            let err = self.shared.borrow_mut().take_error();
-            self.backend = Some(match (err, b) {
-                (Some(e), _) | (None, Err(e)) => return Err(e),
-                (None, Ok(b)) => b,
-            });
+            // Building evaluates f(t, x): a system that fails there fails here.
+            self.backend = Some(Backend::new(self.method, &self.tol, &mut eval, t, x)?);
         }
         self.t = t;
         self.x = x.to_vec();
-        self.shared
-            .borrow_mut()
-            .indicators(t, &self.x, &mut self.z)?;
-        self.stop_set = None;
+        eval.indicators(t, &self.x, &mut self.z)?;
         self.steps_since_reached = 0;
         self.failed = false;
         Ok(())
@@ -180,15 +166,17 @@ impl Integrator {
                 steps: self.steps_since_reached,
             });
         }
-        let _lent = attach(&self.shared, system);
-        let r = self.step_attached(t_stop);
+        // Lent out for the call, since the step needs the rest of `self` mutably too.
+        let mut counts = std::mem::take(&mut self.counts);
+        let r = self.step_with(&mut Eval::new(system, &mut counts), t_stop);
+        self.counts = counts;
         if r.is_err() {
             self.failed = true;
         }
         r
     }
 
-    fn step_attached(&mut self, t_stop: f64) -> Result<Advance, SolverError> {
+    fn step_with(&mut self, eval: &mut Eval<'_>, t_stop: f64) -> Result<Advance, SolverError> {
         let t_old = self.t;
         let reached = match self.backend.as_mut() {
             // No states: jump to t_stop; indicators can still depend on time.
@@ -197,20 +185,7 @@ impl Integrator {
                 true
             }
             Some(b) => {
-                if self.stop_set != Some(t_stop) {
-                    b.set_stop_time(t_stop)?;
-                    self.stop_set = Some(t_stop);
-                }
-                let stop = b.step();
-                // A failure inside a closure explains whatever diffsol made of the NaNs.
-                if let Some(e) = self.shared.borrow_mut().take_error() {
-                    return Err(e);
-                }
-                let reached = matches!(stop?, Stop::TstopReached);
-                if reached {
-                    // diffsol drops its stop time once reached.
-                    self.stop_set = None;
-                }
+                let reached = matches!(b.step(eval, t_stop)?, Stop::TstopReached);
                 b.state(&mut self.x_work);
                 reached
             }
@@ -220,12 +195,10 @@ impl Integrator {
             return Err(SolverError::StepSizeUnderflow { t: t_old });
         }
         self.steps_since_reached += 1;
-        self.shared
-            .borrow_mut()
-            .indicators(t_new, &self.x_work, &mut self.z_work)?;
+        eval.indicators(t_new, &self.x_work, &mut self.z_work)?;
 
         if any_crossed(&self.z, &self.z_work) {
-            return self.locate_event(t_old, t_new, reached);
+            return self.locate_event(eval, t_old, t_new, reached);
         }
         std::mem::swap(&mut self.x, &mut self.x_work);
         std::mem::swap(&mut self.z, &mut self.z_work);
@@ -245,11 +218,11 @@ impl Integrator {
     /// z crossed in (t_old, t_new]: bisect on the dense output, then move the solver back.
     fn locate_event(
         &mut self,
+        eval: &mut Eval<'_>,
         t_old: f64,
         t_new: f64,
         reached: bool,
     ) -> Result<Advance, SolverError> {
-        let shared = &self.shared;
         let backend = self.backend.as_ref();
         let mut x_mid = vec![0.0; self.n];
         let t_event = locate(
@@ -262,7 +235,7 @@ impl Integrator {
                 if let Some(b) = backend {
                     b.interpolate(t, &mut x_mid)?;
                 }
-                shared.borrow_mut().indicators(t, &x_mid, z)
+                eval.indicators(t, &x_mid, z)
             },
         )?;
         if t_event < t_new {
@@ -282,14 +255,13 @@ impl Integrator {
 
     /// Counters: steps, rhs evaluations, jacobian evaluations, rejected steps, ...
     pub fn statistics(&self) -> Statistics {
-        let b = self.shared.borrow();
         let (steps, rejected) = self.backend.as_ref().map_or((0, 0), |b| b.counters());
         Statistics {
             steps: self.retired.steps + steps,
-            rhs_evaluations: b.rhs_evaluations,
-            jacobian_evaluations: b.jacobian_evaluations,
+            rhs_evaluations: self.counts.rhs,
+            jacobian_evaluations: self.counts.jacobians,
             rejected_steps: self.retired.rejected_steps + rejected,
-            indicator_evaluations: b.indicator_evaluations,
+            indicator_evaluations: self.counts.indicators,
             restarts: self.retired.restarts,
         }
     }

@@ -1,15 +1,22 @@
 //! Adaptive, error-controlled ODE integration for FMI Model Exchange, free of FMI code.
 //!
-//! The numerics (BDF, Tsitouras 5(4)) come from `diffsol`; this crate adds what an FMU
-//! master needs on top: a `&mut` black-box right-hand side with finite-difference
-//! Jacobians, one accepted step per call, bit-exact stop times, FMI-style state-event
-//! location, and errors instead of panics.
+//! Two methods of its own, in pure Rust with no numerical dependency: variable-order BDF
+//! (1..5) for stiff systems and Tsitouras 5(4) for non-stiff ones. Around them, what an FMU
+//! master needs: a `&mut` black-box right-hand side with finite-difference Jacobians, one
+//! accepted step per call, bit-exact stop times, FMI-style state-event location on the dense
+//! output, and errors instead of panics.
 
 mod backend;
-mod bridge;
+mod bdf;
+mod differences;
 mod error;
+mod eval;
 mod events;
 mod integrator;
+mod lu;
+mod norm;
+mod step_control;
+mod tsit5;
 
 pub use error::SolverError;
 pub use integrator::Integrator;
