@@ -12,12 +12,22 @@ use crate::differences::{regrid, rescale, Poly};
 use crate::eval::Eval;
 use crate::lu::{Lu, Matrix};
 use crate::norm::{error_norm, scaled_rms};
-use crate::step_control::{initial_step, min_step, toward, MAX_ATTEMPTS, MAX_FACTOR, MIN_FACTOR};
+use crate::step_control::{initial_step, min_step, toward, MAX_ATTEMPTS, MIN_FACTOR};
 use crate::{SolverError, Tolerances};
 
 pub(crate) const MAX_ORDER: usize = 5;
 
 const NEWTON_MAXITER: usize = 4;
+
+/// Growth of the step size at one change, and the range of proposed factors for which the step
+/// size is kept. Every change re-grids the history, extrapolating its polynomial (and its
+/// rounding) by factor^order: few, moderate changes keep that error below the one the error
+/// test controls. Measured on exponential decay, an undamped oscillator and a free fall
+/// restarted every 0.1 s (as the Model Exchange master does), 5 and [0.9, 2) gave global
+/// errors 1.2 to 6 times smaller (6 on the free fall) than 10 and no range, for 10 to 30% more
+/// steps.
+const MAX_GROWTH: f64 = 5.0;
+const KEEP_STEP: std::ops::Range<f64> = 0.9..2.0;
 
 /// After this many failures within one step the order drops to 1: a step that keeps failing
 /// usually straddles a discontinuity, which the high-order history only misrepresents.
@@ -66,6 +76,10 @@ pub(crate) struct Bdf {
     jac_fresh: bool,
     /// Factorisation of I - c J for the current h, order and J.
     lu: Option<Lu>,
+    /// Contraction rate Newton last measured with this `lu`: lets the next step's Newton stop
+    /// after one iteration. Used once, then measured again, so that a Jacobian going stale
+    /// along the solution shows up in the rate.
+    newton_rate: Option<f64>,
     newton_tol: f64,
     last: Option<LastStep>,
     pub steps: u64,
@@ -85,6 +99,8 @@ enum Newton {
         iterations: usize,
         y: Vec<f64>,
         d: Vec<f64>,
+        /// The contraction rate measured, if there were two iterations or more.
+        rate: Option<f64>,
     },
     Failed,
 }
@@ -111,6 +127,7 @@ impl Bdf {
             jac: None,
             jac_fresh: false,
             lu: None,
+            newton_rate: None,
             // Newton need only be a little more accurate than the error test it feeds.
             newton_tol: (10.0 * f64::EPSILON / tol.relative).max(0.03f64.min(tol.relative.sqrt())),
             last: None,
@@ -229,9 +246,19 @@ impl Bdf {
                 }
                 if self.lu.is_none() {
                     self.lu = self.factor(c);
+                    self.newton_rate = None;
                 }
+                let hint = self.newton_rate.take();
                 let result = match &self.lu {
-                    Some(lu) => newton(eval, t_new, &y_pred, c, &psi, lu, &scale, self.newton_tol)?,
+                    Some(lu) => newton(
+                        eval,
+                        t_new,
+                        (&y_pred, &psi, &scale),
+                        c,
+                        lu,
+                        hint,
+                        self.newton_tol,
+                    )?,
                     None => Newton::Failed,
                 };
                 match result {
@@ -241,7 +268,13 @@ impl Bdf {
                     other => break other,
                 }
             };
-            let Newton::Converged { iterations, y, d } = newton else {
+            let Newton::Converged {
+                iterations,
+                y,
+                d,
+                rate,
+            } = newton
+            else {
                 failures += 1;
                 self.rejected += 1;
                 self.set_step(0.5 * h);
@@ -266,6 +299,7 @@ impl Bdf {
                 continue;
             }
 
+            self.newton_rate = rate;
             let y0 = self.accept(t, t_new, &y, &d);
             match before_landing {
                 // Rather than stretching the short step's grid back out to the old step
@@ -388,7 +422,10 @@ impl Bdf {
                 (f64::NEG_INFINITY, k),
                 |acc, c| if c.0 > acc.0 { c } else { acc },
             );
-        let factor = (safety * best).min(MAX_FACTOR);
+        let factor = (safety * best).min(MAX_GROWTH);
+        if order == k && KEEP_STEP.contains(&factor) {
+            return;
+        }
         self.order = order;
         self.lu = None;
         // set_step compares against the old h: force the re-grid even for a factor of 1.
@@ -440,17 +477,16 @@ impl Bdf {
 }
 
 /// Simplified Newton for d: (I - c J) Δ = c f(t_new, y_pred + d) - psi - d, stopped as soon
-/// as the observed contraction rate shows the remaining error is below `tol`, or shows it
-/// will not be within the iteration limit.
-#[allow(clippy::too_many_arguments)]
+/// as the contraction rate shows the remaining error is below `tol`, or shows it will not be
+/// within the iteration limit. The rate is measured from the second iteration on; `hint`, a
+/// rate measured with the same matrix at the previous step, may end it after the first.
 fn newton(
     eval: &mut Eval<'_>,
     t_new: f64,
-    y_pred: &[f64],
+    (y_pred, psi, scale): (&[f64], &[f64], &[f64]),
     c: f64,
-    psi: &[f64],
     lu: &Lu,
-    scale: &[f64],
+    hint: Option<f64>,
     tol: f64,
 ) -> Result<Newton, SolverError> {
     let n = y_pred.len();
@@ -470,8 +506,8 @@ fn newton(
         if !dy_norm.is_finite() {
             return Ok(Newton::Failed);
         }
-        let rate = dy_norm_old.map(|old| dy_norm / old);
-        if let Some(rate) = rate {
+        let measured = dy_norm_old.map(|old| dy_norm / old);
+        if let Some(rate) = measured {
             let left = (NEWTON_MAXITER - k) as f64;
             if rate >= 1.0 || libm::pow(rate, left) / (1.0 - rate) * dy_norm > tol {
                 return Ok(Newton::Failed);
@@ -481,11 +517,13 @@ fn newton(
             y[i] += dy[i];
             d[i] += dy[i];
         }
+        let rate = measured.or(hint.filter(|r| *r < 1.0));
         if dy_norm == 0.0 || rate.is_some_and(|r| r / (1.0 - r) * dy_norm < tol) {
             return Ok(Newton::Converged {
                 iterations: k + 1,
                 y,
                 d,
+                rate: measured,
             });
         }
         dy_norm_old = Some(dy_norm);

@@ -85,7 +85,7 @@ pub(crate) fn reject_factor(err: f64, order: u32) -> f64 {
 
 pub(crate) const SAFETY: f64 = 0.9;
 pub(crate) const MIN_FACTOR: f64 = 0.2;
-pub(crate) const MAX_FACTOR: f64 = 10.0;
+const MAX_FACTOR: f64 = 10.0;
 
 /// Gustafsson's PI step-size controller with Hairer's DOPRI5 gains: the previous step's error
 /// enters so that the step size does not oscillate between accepted and rejected steps.
