@@ -6,8 +6,7 @@
 //!
 //! Each communication step starts the solver afresh from the FMU's states: the inputs the
 //! master has just set are constant over the step and may have jumped at its start, which a
-//! multistep method must not integrate across. (A fresh solver per step also keeps the
-//! simulation `Send`: diffsol's solver is not, and campaigns move simulations to workers.)
+//! multistep method must not integrate across.
 pub use crate::system::SolverSettings;
 use fmi_import::{FmiError, Instance, MeVector, StepStatus, Success};
 use ode_solver::{Advance, Integrator, Method, OdeSystem, SolverError};

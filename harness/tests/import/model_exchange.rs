@@ -30,7 +30,7 @@ fn the_shipped_model_exchange_landing_touches_down_where_the_co_simulation_landi
         other => panic!("not the plant's touchdown: {other:?}"),
     };
     // THEN both touch down at the same instant, to the solver's event tolerance (measured:
-    // 4e-11 s apart, altitudes within 5.5e-11 m on the way down)
+    // 4e-11 s apart, altitudes within 1.0e-10 m on the way down)
     let (t_cs, t_me) = (touchdown(&cs_end), touchdown(&me_end));
     assert!((t_cs - t_me).abs() < 1e-8, "{t_cs} vs {t_me}");
     assert_eq!(cs.times.len(), me.times.len());
