@@ -19,7 +19,7 @@ pub enum SolverError {
     InvalidInput(String),
     /// A previous error left the integrator unusable until `reset`.
     NeedsReset,
-    /// Anything else the numerical backend reported (including a caught panic).
+    /// Anything else the numerical backend reported.
     Backend(String),
 }
 
