@@ -5,14 +5,18 @@
 //! (same operations in the same order, so the same bits).
 use crate::quaternion::{matrix, Quaternion};
 use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
 
 /// Components in the local frame of the landing site: axis 1 North, axis 2 Up, axis 3 East,
 /// origin at the landing site on the surface, fixed to the Moon.
-#[derive(Debug, Clone, Copy, PartialEq)]
+// Transparent: an FMU state that held the bare vector reads and writes the same bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(transparent)]
 pub struct Nue(pub Vector3<f64>);
 
 /// Components in body axes: 1 = yaw (x), 2 = roll (y) = the thrust axis, 3 = pitch (z).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(transparent)]
 pub struct Body(pub Vector3<f64>);
 
 macro_rules! frame_vector {
@@ -22,8 +26,16 @@ macro_rules! frame_vector {
                 Self(Vector3::new(x, y, z))
             }
 
+            pub fn zeros() -> Self {
+                Self(Vector3::zeros())
+            }
+
             pub fn dot(&self, other: &Self) -> f64 {
                 self.0.dot(&other.0)
+            }
+
+            pub fn norm(&self) -> f64 {
+                self.0.norm()
             }
 
             pub fn to_array(self) -> [f64; 3] {
@@ -48,6 +60,21 @@ macro_rules! frame_vector {
             type Output = Self;
             fn sub(self, other: Self) -> Self {
                 Self(self.0 - other.0)
+            }
+        }
+
+        impl std::ops::Neg for $frame {
+            type Output = Self;
+            fn neg(self) -> Self {
+                Self(-self.0)
+            }
+        }
+
+        /// A scale keeps the frame: `v * k`, the vector on the left as nalgebra has it.
+        impl std::ops::Mul<f64> for $frame {
+            type Output = Self;
+            fn mul(self, k: f64) -> Self {
+                Self(self.0 * k)
             }
         }
     };
