@@ -10,6 +10,7 @@ use crate::conventions::{
 use crate::guidance::sequencer::{guidance_sample, has_reached, GuidanceInputs, GuidanceState};
 use crate::guidance::thrust::thrust_magnitude_n;
 use crate::params::{GncDesign, GncParameters};
+use lander_math::frames::{Body, Nue};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -272,8 +273,8 @@ pub fn gnc_advance(
             guidance,
             t_s - start_time_s,
             &GuidanceInputs {
-                r_nue: Vector3::from(nav.r_nue_m),
-                v_nue: Vector3::from(nav.v_nue_mps),
+                r_nue: Nue::from(nav.r_nue_m),
+                v_nue: Nue::from(nav.v_nue_mps),
                 mass_kg: nav.mass_kg,
             },
         ),
@@ -329,7 +330,7 @@ pub fn gnc_outputs(
     let attitude = tracking_attitude_command(
         &design.attitude,
         &q,
-        &Vector3::from(nav.omega_body_radps),
+        &Body::from(nav.omega_body_radps),
         &next.a_thrust_cmd_nue,
         &advance.roll,
     );
@@ -344,14 +345,14 @@ pub fn gnc_outputs(
                 params.thrust_max_n,
             )
         },
-        torque_cmd_body_nm: attitude.torque_body_nm.into(),
+        torque_cmd_body_nm: attitude.torque_body_nm.to_array(),
         rcs_duty: [0.0; THRUSTER_COUNT],
-        a_cmd_nue_mps2: next.a_thrust_cmd_nue.into(),
+        a_cmd_nue_mps2: next.a_thrust_cmd_nue.to_array(),
         q_ref: attitude_to_scalar_first(&attitude.q_ref),
         phi_b_rad: attitude.phi_b_rad,
-        err_yaw_rad: attitude.angle_error_body.x,
-        err_roll_rad: attitude.angle_error_body.y,
-        err_pitch_rad: attitude.angle_error_body.z,
+        err_yaw_rad: attitude.angle_error_body.0.x,
+        err_roll_rad: attitude.angle_error_body.0.y,
+        err_pitch_rad: attitude.angle_error_body.0.z,
         tilt_error_rad: attitude.tilt_rad,
         guidance_phase: next.phase as i32,
         time_to_go_s: next.time_to_go_s,
@@ -388,7 +389,7 @@ fn safe_outputs(params: &GncParameters, guidance: &GuidanceState, phi_cmd_rad: f
             params.thrust_min_n
         },
         torque_cmd_body_nm: [0.0; 3],
-        a_cmd_nue_mps2: guidance.a_thrust_cmd_nue.into(),
+        a_cmd_nue_mps2: guidance.a_thrust_cmd_nue.to_array(),
         q_ref: attitude_to_scalar_first(&q_ref),
         guidance_phase: guidance.phase as i32,
         time_to_go_s: guidance.time_to_go_s,

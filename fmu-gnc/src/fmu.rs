@@ -522,7 +522,7 @@ fn restored_guidance_inconsistency(
             g.last_cycle
         ));
     }
-    if !g.a_thrust_cmd_nue.iter().all(|a| a.is_finite()) {
+    if !g.a_thrust_cmd_nue.0.iter().all(|a| a.is_finite()) {
         return Some("the held thrust command is not finite".into());
     }
     let scenario = params.scenario();
@@ -531,7 +531,7 @@ fn restored_guidance_inconsistency(
         let commanded = scenario
             .retarget
             .is_some_and(|r| elapsed_s + tolerance(elapsed_s) >= r.time_s);
-        let finite = p.site_nue.iter().all(|x| x.is_finite())
+        let finite = p.site_nue.0.iter().all(|x| x.is_finite())
             && p.lateral_authority_mps2.is_finite()
             && p.descent_start_s.is_finite()
             && p.descent_end_s.is_finite();
@@ -561,7 +561,7 @@ fn restored_guidance_inconsistency(
             .cubic
             .coeffs
             .iter()
-            .all(|c| c.iter().all(|v| v.is_finite()));
+            .all(|c| c.0.iter().all(|v| v.is_finite()));
         if !finite
             || !(0.0..=elapsed_s + tolerance(elapsed_s)).contains(&d.solved_at_s)
             || !(0.0..=tgo_max).contains(&d.time_to_go_at_solve_s)
@@ -1223,7 +1223,7 @@ mod tests {
         type Doctor = fn(&mut LanderGnc);
         let doctored: [Doctor; 4] = [
             |g| g.guidance.retarget.as_mut().unwrap().descent_end_s = f64::NAN,
-            |g| g.guidance.retarget.as_mut().unwrap().site_nue.x = f64::INFINITY,
+            |g| g.guidance.retarget.as_mut().unwrap().site_nue.0.x = f64::INFINITY,
             |g| g.guidance.retarget.as_mut().unwrap().descent_end_s = 1e7,
             |g| g.params.retarget_time_s = -1.0,
         ];

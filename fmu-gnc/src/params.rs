@@ -10,6 +10,7 @@ use crate::attitude::{AttitudeSettings, ControlLaw, ThrustAxisRotation};
 use crate::guidance::pv::PvGains;
 use crate::guidance::sequencer::{Retarget, Scenario};
 use crate::guidance::terminal::TerminalDescent;
+use lander_math::frames::Nue;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -325,9 +326,9 @@ impl GncParameters {
     /// The guidance scenario these parameters describe.
     pub fn scenario(&self) -> Scenario {
         Scenario {
-            hover_target_nue: Vector3::from(self.hover_target_nue_m),
+            hover_target_nue: Nue::from(self.hover_target_nue_m),
             hover_duration_s: self.hover_duration_s,
-            descent_target_nue: Vector3::from(self.descent_target_nue_m),
+            descent_target_nue: Nue::from(self.descent_target_nue_m),
             descent_time_to_go_s: self.descent_time_to_go_s,
             freeze_time_to_go_s: self.descent_freeze_time_to_go_s,
             target_hover_duration_s: self.target_hover_duration_s,
@@ -345,7 +346,7 @@ impl GncParameters {
             },
             retarget: (self.retarget_time_s >= 0.0).then(|| Retarget {
                 time_s: self.retarget_time_s,
-                site_nue: Vector3::from(self.retarget_site_nue_m),
+                site_nue: Nue::from(self.retarget_site_nue_m),
                 max_tilt_rad: self.retarget_max_tilt_rad,
                 replan: self.retarget_replan,
             }),

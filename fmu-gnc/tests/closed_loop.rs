@@ -9,6 +9,7 @@ use fmu_gnc::attitude::phi_b::phi_b;
 use fmu_gnc::attitude::reference::{q_guid, q_ref};
 use fmu_gnc::attitude::{attitude_command, ControlLaw};
 use fmu_gnc::conventions::wrap_angle;
+use lander_math::frames::{Body, Nue};
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 
 const DT_S: f64 = 0.01;
@@ -55,8 +56,14 @@ fn fly(
         } else {
             body.q_body_to_nue
         };
-        let cmd = attitude_command(&settings, &q_seen, &body.omega_body, a_thrust_nue, phi_cmd);
-        body.step(&cmd.torque_body_nm, DT_S);
+        let cmd = attitude_command(
+            &settings,
+            &q_seen,
+            &Body(body.omega_body),
+            &Nue(*a_thrust_nue),
+            phi_cmd,
+        );
+        body.step(&cmd.torque_body_nm.0, DT_S);
     }
     body
 }
@@ -72,7 +79,7 @@ fn cases() -> [(Vector3<f64>, f64); 3] {
 #[test]
 fn coupled_law_converges_to_the_full_reference() {
     for (a, phi_cmd) in cases() {
-        let target = q_ref(&q_guid(&a), phi_cmd);
+        let target = q_ref(&q_guid(&Nue(a)), phi_cmd);
         for q0 in initial_attitudes() {
             let end = fly(ControlLaw::Coupled, q0, &a, phi_cmd);
             let err = end.q_body_to_nue.angle_to(&target);
@@ -103,7 +110,7 @@ fn decoupled_law_aligns_the_thrust_axis_and_phi_b_converges_to_phi_cmd() {
 #[test]
 fn reduced_law_converges_with_and_without_thrust_axis_rotation() {
     for (a, phi_cmd) in cases() {
-        let target = q_ref(&q_guid(&a), phi_cmd);
+        let target = q_ref(&q_guid(&Nue(a)), phi_cmd);
         for q0 in initial_attitudes() {
             let end = fly(ControlLaw::Reduced, q0, &a, phi_cmd);
             let err = end.q_body_to_nue.angle_to(&target);

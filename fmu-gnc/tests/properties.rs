@@ -11,6 +11,7 @@ use fmu_gnc::attitude::{attitude_command, ControlLaw};
 use fmu_gnc::controller::{gnc_sample, NavigationInputs};
 use fmu_gnc::guidance::sequencer::GuidanceState;
 use fmu_gnc::params::GncParameters;
+use lander_math::frames::{Body, Nue};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use proptest::prelude::*;
 
@@ -65,7 +66,7 @@ proptest! {
         a in any_vector(), q in any_attitude(), phi in any_finite(), w in any_vector(),
         law in law(), weight in 0.0..=1.0,
     ) {
-        let guid = q_guid(&a);
+        let guid = q_guid(&Nue(a));
         prop_assert!(finite_quaternion(&guid));
         prop_assert!(finite_quaternion(&q_phi(phi)));
         prop_assert!(finite_quaternion(&q_ref(&guid, phi)));
@@ -73,10 +74,10 @@ proptest! {
         let e = thrust_axis_errors(&q, &guid, phi);
         prop_assert!([e.roll_rad, e.yaw_rad, e.pitch_rad, e.tilt_rad, e.phi_b_rad].iter().all(|x| x.is_finite()));
         prop_assert!(finite_quaternion(&reduced_reference(&q, &q_ref(&guid, phi), weight)));
-        let cmd = attitude_command(&settings(law, weight), &q, &w, &a, phi);
-        prop_assert!(cmd.torque_body_nm.iter().all(|x| x.is_finite()));
-        prop_assert!(cmd.torque_body_nm.iter().all(|x| x.abs() <= 116.0));
-        prop_assert!(cmd.angle_error_body.iter().all(|x| x.is_finite()));
+        let cmd = attitude_command(&settings(law, weight), &q, &Body(w), &Nue(a), phi);
+        prop_assert!(cmd.torque_body_nm.0.iter().all(|x| x.is_finite()));
+        prop_assert!(cmd.torque_body_nm.0.iter().all(|x| x.abs() <= 116.0));
+        prop_assert!(cmd.angle_error_body.0.iter().all(|x| x.is_finite()));
     }
 
     #[test]
@@ -101,7 +102,7 @@ proptest! {
     fn tilt_error_is_unchanged_by_rotation_about_the_thrust_axis(
         q in any_attitude(), a in bounded_vector(10.0), phi in -4.0..4.0, spin in -7.0..7.0,
     ) {
-        let guid = q_guid(&a);
+        let guid = q_guid(&Nue(a));
         let before = thrust_axis_errors(&q, &guid, phi);
         let after = thrust_axis_errors(&(q * q_phi(spin)), &guid, phi);
         prop_assert!((before.tilt_rad - after.tilt_rad).abs() < 1e-9);
@@ -117,7 +118,7 @@ proptest! {
         // A pure tilt in the paper's 1-3-2 sense: rotations about x and then z, none about y.
         let q = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), a1)
             * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), a3);
-        let e = thrust_axis_errors(&q, &q_guid(&target), 0.0);
+        let e = thrust_axis_errors(&q, &q_guid(&Nue(target)), 0.0);
         prop_assert!(e.roll_rad.abs() < 1e-9, "roll error {}", e.roll_rad);
     }
 
@@ -126,7 +127,7 @@ proptest! {
         a in bounded_vector(10.0), twist in -7.0..7.0, phi in -4.0..4.0,
     ) {
         prop_assume!(a.norm() > 1e-3);
-        let guid = q_guid(&a);
+        let guid = q_guid(&Nue(a));
         let e = thrust_axis_errors(&(guid * q_phi(twist)), &guid, phi);
         prop_assert!(e.yaw_rad.abs() < 1e-9 && e.pitch_rad.abs() < 1e-9, "{e:?}");
         prop_assert!(e.tilt_rad < 1e-7);
@@ -139,8 +140,8 @@ proptest! {
     ) {
         let s = settings(law, weight);
         let minus_q = UnitQuaternion::new_unchecked(-q.into_inner());
-        let t1 = attitude_command(&s, &q, &w, &a, phi).torque_body_nm;
-        let t2 = attitude_command(&s, &minus_q, &w, &a, phi).torque_body_nm;
+        let t1 = attitude_command(&s, &q, &Body(w), &Nue(a), phi).torque_body_nm.0;
+        let t2 = attitude_command(&s, &minus_q, &Body(w), &Nue(a), phi).torque_body_nm.0;
         prop_assert!((t1 - t2).norm() < 1e-9, "{t1} vs {t2}");
     }
 }

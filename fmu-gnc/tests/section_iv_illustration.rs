@@ -6,6 +6,7 @@ use crate::common;
 
 use common::{paper_settings, RigidBody};
 use fmu_gnc::attitude::{attitude_command, ControlLaw};
+use lander_math::frames::{Body, Nue};
 use nalgebra::{UnitQuaternion, Vector3};
 
 const LIMIT_NM: f64 = 116.0;
@@ -30,11 +31,12 @@ fn torque(law: ControlLaw, body: &RigidBody, phi_cmd_deg: f64) -> Vector3<f64> {
     attitude_command(
         &paper_settings(law),
         &body.q_body_to_nue,
-        &body.omega_body,
-        &hover_up(),
+        &Body(body.omega_body),
+        &Nue(hover_up()),
         phi_cmd_deg.to_radians(),
     )
     .torque_body_nm
+    .0
 }
 
 /// What the thrust axis did in a flight.

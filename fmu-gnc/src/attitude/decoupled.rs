@@ -2,7 +2,7 @@
 use super::errors::ThrustAxisErrors;
 use super::gains::{pd_torque_body, AttitudeGains};
 use super::profile::RollReference;
-use nalgebra::Vector3;
+use lander_math::frames::Body;
 
 /// Paper Sec. IV, decoupled law: lateral torques (body x, z) from the errors relative to
 /// `q_refL = q_guid ⊗ q_phib`, thrust-axis torque (body y) from `wrap(phi_b - phi_cmd)`, one set
@@ -13,15 +13,15 @@ use nalgebra::Vector3;
 pub fn decoupled_torque_body(
     gains: &AttitudeGains,
     errors: &ThrustAxisErrors,
-    omega_body: &Vector3<f64>,
+    omega_body: &Body,
     reference: &RollReference,
-) -> Vector3<f64> {
+) -> Body {
     pd_torque_body(gains, &errors.angle_error_body(), omega_body, reference)
 }
 
 /// The law as [`ControlLaw`](super::ControlLaw) runs it.
 #[inline(always)]
-pub fn torque(inputs: &super::LawInputs) -> (Vector3<f64>, Vector3<f64>) {
+pub fn torque(inputs: &super::LawInputs) -> (Body, Body) {
     (
         decoupled_torque_body(
             &inputs.settings.gains,

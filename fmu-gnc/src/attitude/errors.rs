@@ -3,7 +3,7 @@
 use super::phi_b::phi_b;
 use super::reference::q_phi;
 use crate::conventions::{angle_between, canonical, thrust_axis_body, wrap_angle, Attitude};
-use nalgebra::Vector3;
+use lander_math::frames::Body;
 
 /// Control errors about the body axes, all angles in rad (ERRATA 9).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,8 +22,8 @@ pub struct ThrustAxisErrors {
 
 impl ThrustAxisErrors {
     /// The three errors as a body-axis vector `[yaw (x), roll (y), pitch (z)]`.
-    pub fn angle_error_body(&self) -> Vector3<f64> {
-        Vector3::new(self.yaw_rad, self.roll_rad, self.pitch_rad)
+    pub fn angle_error_body(&self) -> Body {
+        Body::new(self.yaw_rad, self.roll_rad, self.pitch_rad)
     }
 }
 

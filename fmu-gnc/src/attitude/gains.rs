@@ -1,5 +1,6 @@
 //! Attitude gains from bandwidth, damping and inertia (ERRATA "Modelling defaults").
 use super::profile::RollReference;
+use lander_math::frames::Body;
 use nalgebra::Vector3;
 use std::f64::consts::TAU;
 
@@ -82,10 +83,11 @@ pub fn braking_limited_error(
 #[inline(always)]
 pub fn pd_torque_body(
     gains: &AttitudeGains,
-    angle_error_body: &Vector3<f64>,
-    omega_body: &Vector3<f64>,
+    angle_error_body: &Body,
+    omega_body: &Body,
     reference: &RollReference,
-) -> Vector3<f64> {
+) -> Body {
+    let (angle_error_body, omega_body) = (&angle_error_body.0, &omega_body.0);
     let inertia_omega = gains.inertia_kgm2.component_mul(omega_body);
     let shaped = Vector3::from_fn(|i, _| {
         braking_limited_error(
@@ -95,32 +97,32 @@ pub fn pd_torque_body(
             gains.braking_radps2[i],
         )
     });
-    let omega_error = omega_body - reference.omega_body();
+    let omega_error = omega_body - reference.omega_body().0;
     let torque = -gains.kp_nm_per_rad.component_mul(&shaped)
         - gains.kd_nms_per_rad.component_mul(&omega_error)
         + omega_body.cross(&inertia_omega);
     // Skipped at rest, where adding +0 could turn a -0 torque into +0: the paper's law stays
     // bit for bit what it was.
-    if reference.accel_radps2 == 0.0 {
+    Body(if reference.accel_radps2 == 0.0 {
         torque
     } else {
-        torque + gains.inertia_kgm2.component_mul(&reference.alpha_body())
-    }
+        torque + gains.inertia_kgm2.component_mul(&reference.alpha_body().0)
+    })
 }
 
 /// Per-axis saturation of a torque command to the RCS limits (each limit >= 0).
 ///
 /// A NaN component can only come from overflowing terms (`inf - inf` at body rates beyond
 /// ~1e150 rad/s); it is commanded as zero torque on that axis rather than passed on.
-pub fn saturate_torque_body(torque_body: &Vector3<f64>, limit_body: &Vector3<f64>) -> Vector3<f64> {
-    torque_body.zip_map(limit_body, |tau, limit| {
+pub fn saturate_torque_body(torque_body: &Body, limit_body: &Vector3<f64>) -> Body {
+    Body(torque_body.0.zip_map(limit_body, |tau, limit| {
         if tau.is_nan() {
             0.0
         } else {
             // max/min rather than clamp: never panics on a negative limit from a restored state.
             tau.max(-limit).min(limit)
         }
-    })
+    }))
 }
 
 #[cfg(test)]
@@ -204,7 +206,7 @@ mod tests {
             ..AttitudeGains::from_bandwidth(0.5, 0.8, inertia)
         };
         let w = Vector3::new(0.1, -0.2, 0.3);
-        let tau = pd_torque_body(&gains, &Vector3::zeros(), &w, &RollReference::default());
+        let tau = pd_torque_body(&gains, &Body::zeros(), &Body(w), &RollReference::default()).0;
         let w_dot = (tau - w.cross(&inertia.component_mul(&w))).component_div(&inertia);
         assert!(w_dot.norm() < 1e-15);
     }
@@ -212,12 +214,12 @@ mod tests {
     #[test]
     fn saturation_is_per_axis() {
         let limit = Vector3::new(116.0, 116.0, 50.0);
-        let tau = saturate_torque_body(&Vector3::new(500.0, -20.0, -60.0), &limit);
-        assert_eq!(tau, Vector3::new(116.0, -20.0, -50.0));
-        let overflowed = Vector3::new(f64::INFINITY, f64::NAN, f64::NEG_INFINITY);
+        let tau = saturate_torque_body(&Body::new(500.0, -20.0, -60.0), &limit);
+        assert_eq!(tau, Body::new(116.0, -20.0, -50.0));
+        let overflowed = Body::new(f64::INFINITY, f64::NAN, f64::NEG_INFINITY);
         assert_eq!(
             saturate_torque_body(&overflowed, &limit),
-            Vector3::new(116.0, 0.0, -50.0)
+            Body::new(116.0, 0.0, -50.0)
         );
     }
 }

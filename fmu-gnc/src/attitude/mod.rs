@@ -8,6 +8,7 @@ pub mod reference;
 
 use crate::conventions::Attitude;
 use gains::{saturate_torque_body, AttitudeGains};
+use lander_math::frames::{Body, Nue};
 use nalgebra::Vector3;
 use profile::RollReference;
 use serde::{Deserialize, Serialize};
@@ -36,7 +37,7 @@ macro_rules! control_laws {
         impl ControlLaw {
             /// The unsaturated torque of the law and the angle errors it acted on, body axes.
             #[inline(always)]
-            fn torque(self, inputs: &LawInputs) -> (Vector3<f64>, Vector3<f64>) {
+            fn torque(self, inputs: &LawInputs) -> (Body, Body) {
                 match self {
                     $(ControlLaw::$variant => $module::torque(inputs),)+
                 }
@@ -66,7 +67,7 @@ impl ControlLaw {
 pub struct LawInputs<'a> {
     pub settings: &'a AttitudeSettings,
     pub q_body_to_nue: &'a Attitude,
-    pub omega_body: &'a Vector3<f64>,
+    pub omega_body: &'a Body,
     /// The full reference attitude, `q_guid ⊗ q_phi`.
     pub q_ref: &'a Attitude,
     /// The thrust-axis split of the attitude error, computed once per sample.
@@ -117,10 +118,10 @@ impl ThrustAxisRotation {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AttitudeCommand {
     /// Saturated per axis to the RCS limits.
-    pub torque_body_nm: Vector3<f64>,
+    pub torque_body_nm: Body,
     pub q_ref: Attitude,
     /// The angle errors the law acted on, body axes `[yaw (x), roll (y), pitch (z)]`.
-    pub angle_error_body: Vector3<f64>,
+    pub angle_error_body: Body,
     pub phi_b_rad: f64,
     pub tilt_rad: f64,
 }
@@ -130,8 +131,8 @@ pub struct AttitudeCommand {
 pub fn attitude_command(
     settings: &AttitudeSettings,
     q_body_to_nue: &Attitude,
-    omega_body: &Vector3<f64>,
-    a_thrust_cmd_nue: &Vector3<f64>,
+    omega_body: &Body,
+    a_thrust_cmd_nue: &Nue,
     phi_cmd_rad: f64,
 ) -> AttitudeCommand {
     tracking_attitude_command(
@@ -149,8 +150,8 @@ pub fn attitude_command(
 pub fn tracking_attitude_command(
     settings: &AttitudeSettings,
     q_body_to_nue: &Attitude,
-    omega_body: &Vector3<f64>,
-    a_thrust_cmd_nue: &Vector3<f64>,
+    omega_body: &Body,
+    a_thrust_cmd_nue: &Nue,
     roll: &RollReference,
 ) -> AttitudeCommand {
     let q_guid = reference::q_guid(a_thrust_cmd_nue);

@@ -85,7 +85,8 @@ mod tests {
     #[test]
     fn errata_7_phi_b_is_not_the_swing_twist_angle_when_tilted() {
         // GIVEN the thrust axis tilted toward North-East (no twist in the swing-twist sense)
-        let tilt = crate::attitude::reference::q_guid(&Vector3::new(0.5, 1.0, 0.5));
+        let tilt =
+            crate::attitude::reference::q_guid(&lander_math::frames::Nue::new(0.5, 1.0, 0.5));
         // THEN the swing-twist angle about y is zero but the 1-3-2 angle is not
         assert!(twist_angle(&tilt, &Vector3::y_axis()).abs() < 1e-15);
         let offset = phi_b(&tilt);

@@ -6,7 +6,7 @@
 //!
 //! The profile is propagated in closed form between samples, so it is the same curve whatever
 //! the sample times, and it is exact at every sample.
-use nalgebra::Vector3;
+use lander_math::frames::Body;
 use serde::{Deserialize, Serialize};
 
 /// The limits of the profile, each infinite when unlimited (not both).
@@ -47,13 +47,13 @@ impl RollReference {
     }
 
     /// Reference body rate: a rotation about body y (the thrust axis).
-    pub fn omega_body(&self) -> Vector3<f64> {
-        Vector3::new(0.0, self.rate_radps, 0.0)
+    pub fn omega_body(&self) -> Body {
+        Body::new(0.0, self.rate_radps, 0.0)
     }
 
     /// Reference body angular acceleration, about body y.
-    pub fn alpha_body(&self) -> Vector3<f64> {
-        Vector3::new(0.0, self.accel_radps2, 0.0)
+    pub fn alpha_body(&self) -> Body {
+        Body::new(0.0, self.accel_radps2, 0.0)
     }
 }
 

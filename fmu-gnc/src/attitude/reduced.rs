@@ -12,7 +12,8 @@ use super::profile::RollReference;
 use crate::conventions::{
     canonical, rotation_about, rotation_about_thrust_axis, thrust_axis_body, Attitude,
 };
-use nalgebra::{Unit, UnitQuaternion, Vector3};
+use lander_math::frames::Body;
+use nalgebra::{Unit, UnitQuaternion};
 
 /// Beyond this tilt between current and reference thrust axes (rad) the shortest tilt has no
 /// well-defined axis; the law then falls back to the full reference attitude, whose error
@@ -44,11 +45,11 @@ pub fn reduced_reference(q_body_to_nue: &Attitude, q_ref: &Attitude, weight: f64
 pub fn reduced_torque_body(
     gains: &AttitudeGains,
     q_body_to_nue: &Attitude,
-    omega_body: &Vector3<f64>,
+    omega_body: &Body,
     q_ref: &Attitude,
     weight: f64,
     reference: &RollReference,
-) -> (Vector3<f64>, Vector3<f64>) {
+) -> (Body, Body) {
     let target = reduced_reference(q_body_to_nue, q_ref, weight);
     let error = coupled_angle_error_body(q_body_to_nue, &target);
     (pd_torque_body(gains, &error, omega_body, reference), error)
@@ -56,7 +57,7 @@ pub fn reduced_torque_body(
 
 /// The law as [`ControlLaw`](super::ControlLaw) runs it.
 #[inline(always)]
-pub fn torque(inputs: &super::LawInputs) -> (Vector3<f64>, Vector3<f64>) {
+pub fn torque(inputs: &super::LawInputs) -> (Body, Body) {
     reduced_torque_body(
         &inputs.settings.gains,
         inputs.q_body_to_nue,

@@ -1,6 +1,7 @@
 //! Reference attitude from guidance and mission (paper Sec. III, q_guid, A[phi_cmd], q_ref).
 use crate::conventions::{rotation_about_thrust_axis, Attitude};
-use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+use lander_math::frames::Nue;
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion};
 
 /// Paper Sec. III, q_guid with ERRATA 1-2: the shortest rotation taking the body thrust axis
 /// `t = [0, 1, 0]` onto the unit direction of `a_thrust_nue`, as an attitude (body to NUE).
@@ -15,8 +16,8 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 /// there, so inputs near `-t` in that plane map next to it. A zero vector (no direction) is
 /// treated as `t`: the identity. Always a unit quaternion for finite input.
 #[inline(always)]
-pub fn q_guid(a_thrust_nue: &Vector3<f64>) -> Attitude {
-    let (ax, ay, az) = (a_thrust_nue.x, a_thrust_nue.y, a_thrust_nue.z);
+pub fn q_guid(a_thrust_nue: &Nue) -> Attitude {
+    let (ax, ay, az) = (a_thrust_nue.0.x, a_thrust_nue.0.y, a_thrust_nue.0.z);
     let sin_norm = libm::hypot(ax, az);
     if sin_norm == 0.0 {
         return if ay < 0.0 {
@@ -62,10 +63,11 @@ pub fn q_ref(q_guid: &Attitude, phi_cmd_rad: f64) -> Attitude {
 mod tests {
     use super::*;
     use crate::conventions::{dcm_nue_to_body, thrust_axis_body};
+    use nalgebra::Vector3;
     use std::f64::consts::PI;
 
     fn assert_maps_thrust_axis(a: Vector3<f64>, tol: f64) {
-        let q = q_guid(&a);
+        let q = q_guid(&Nue(a));
         assert!(
             (q.into_inner().norm() - 1.0).abs() < 1e-14,
             "not unit for {a}"
@@ -95,12 +97,9 @@ mod tests {
     #[test]
     fn q_guid_at_the_singular_points_follows_the_written_policy() {
         // a_hat = t: identity
-        assert_eq!(
-            q_guid(&Vector3::new(0.0, 2.0, 0.0)),
-            UnitQuaternion::identity()
-        );
+        assert_eq!(q_guid(&Nue::new(0.0, 2.0, 0.0)), UnitQuaternion::identity());
         // a_hat = -t: pi about body z
-        let flipped = q_guid(&Vector3::new(0.0, -2.0, 0.0));
+        let flipped = q_guid(&Nue::new(0.0, -2.0, 0.0));
         assert_eq!(
             flipped.into_inner(),
             Quaternion::new(0.0, 0.0, 0.0, 1.0),
@@ -108,7 +107,7 @@ mod tests {
         );
         assert_maps_thrust_axis(Vector3::new(0.0, -1.0, 0.0), 1e-15);
         // zero vector: no direction, identity
-        assert_eq!(q_guid(&Vector3::zeros()), UnitQuaternion::identity());
+        assert_eq!(q_guid(&Nue::zeros()), UnitQuaternion::identity());
     }
 
     #[test]
@@ -121,13 +120,13 @@ mod tests {
                 assert_maps_thrust_axis(Vector3::new(eps * c, 1.0, eps * s), 1e-14);
                 assert_maps_thrust_axis(Vector3::new(eps * c, -1.0, eps * s), 1e-14);
                 // near +t the rotation is small: continuous with the identity
-                let near_up = q_guid(&Vector3::new(eps * c, 1.0, eps * s));
+                let near_up = q_guid(&Nue::new(eps * c, 1.0, eps * s));
                 assert!(near_up.angle() <= 1.0001 * eps);
             }
             // near -t in the pitch plane, from either side: next to the policy's rotation
-            let policy = q_guid(&Vector3::new(0.0, -1.0, 0.0));
+            let policy = q_guid(&Nue::new(0.0, -1.0, 0.0));
             for side in [1.0, -1.0] {
-                let near = q_guid(&Vector3::new(side * eps, -1.0, 0.0));
+                let near = q_guid(&Nue::new(side * eps, -1.0, 0.0));
                 // cos(pi/2) = 6e-17, not 0: the policy point itself is that far from exact
                 assert!(
                     near.angle_to(&policy) <= 1.0001 * eps + 2e-16,
@@ -152,7 +151,7 @@ mod tests {
     #[test]
     fn q_ref_keeps_the_thrust_axis_on_guidance() {
         let a = Vector3::new(0.3, 1.0, -0.2);
-        let q = q_ref(&q_guid(&a), 2.6);
+        let q = q_ref(&q_guid(&Nue(a)), 2.6);
         assert!((q * thrust_axis_body() - a.normalize()).norm() < 1e-15);
     }
 }

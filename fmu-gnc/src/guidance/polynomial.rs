@@ -4,32 +4,32 @@
 //! `a_net(s) = C0 + C1 s + C2 s^2 + C3 s^3`, whose coefficients satisfy the two-point boundary
 //! value problem over `[0, tgo]` per axis: start and end acceleration, end velocity and end
 //! position of the double integrator `r'' = a_net` (ERRATA 8: net, not thrust, acceleration).
-use nalgebra::Vector3;
+use lander_math::frames::Nue;
 use serde::{Deserialize, Serialize};
 
 /// Boundary conditions of one solve, all in NUE.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BoundaryConditions {
-    pub r0_nue: Vector3<f64>,
-    pub v0_nue: Vector3<f64>,
+    pub r0_nue: Nue,
+    pub v0_nue: Nue,
     /// Net acceleration at the start (the previous command, for continuity).
-    pub a0_net_nue: Vector3<f64>,
-    pub rf_nue: Vector3<f64>,
-    pub vf_nue: Vector3<f64>,
-    pub af_net_nue: Vector3<f64>,
+    pub a0_net_nue: Nue,
+    pub rf_nue: Nue,
+    pub vf_nue: Nue,
+    pub af_net_nue: Nue,
 }
 
 /// The cubic's coefficients per axis: `coeffs[k]` multiplies `s^k`, NUE components.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CubicAcceleration {
-    pub coeffs: [Vector3<f64>; 4],
+    pub coeffs: [Nue; 4],
 }
 
 impl CubicAcceleration {
     /// Paper Sec. III, eq. (eq3): the net acceleration `s` seconds after the solve.
-    pub fn net_acceleration_nue(&self, s: f64) -> Vector3<f64> {
-        let [c0, c1, c2, c3] = &self.coeffs;
-        c0 + (c1 + (c2 + c3 * s) * s) * s
+    pub fn net_acceleration_nue(&self, s: f64) -> Nue {
+        let [c0, c1, c2, c3] = self.coeffs.map(|c| c.0);
+        Nue(c0 + (c1 + (c2 + c3 * s) * s) * s)
     }
 }
 
@@ -61,10 +61,10 @@ pub fn boundary_value_matrix(tgo_s: f64) -> nalgebra::Matrix4<f64> {
 /// The right-hand side of paper Sec. III, eq. (gui_lin_eq) for one axis `i`.
 pub fn boundary_value_rhs(bc: &BoundaryConditions, tgo_s: f64, i: usize) -> nalgebra::Vector4<f64> {
     nalgebra::Vector4::new(
-        bc.a0_net_nue[i],
-        bc.af_net_nue[i],
-        bc.vf_nue[i] - bc.v0_nue[i],
-        bc.rf_nue[i] - bc.r0_nue[i] - bc.v0_nue[i] * tgo_s,
+        bc.a0_net_nue.0[i],
+        bc.af_net_nue.0[i],
+        bc.vf_nue.0[i] - bc.v0_nue.0[i],
+        bc.rf_nue.0[i] - bc.r0_nue.0[i] - bc.v0_nue.0[i] * tgo_s,
     )
 }
 
@@ -78,15 +78,16 @@ pub fn boundary_value_rhs(bc: &BoundaryConditions, tgo_s: f64, i: usize) -> nalg
 /// `tgo_s` must be positive; the sequencer freezes the coefficients before it gets small.
 pub fn solve_cubic(bc: &BoundaryConditions, tgo_s: f64) -> CubicAcceleration {
     let t = tgo_s;
-    let a0 = bc.a0_net_nue;
-    let big_a = bc.af_net_nue - a0;
-    let big_b = (bc.vf_nue - bc.v0_nue - a0 * t) / t;
-    let big_d = (bc.rf_nue - bc.r0_nue - bc.v0_nue * t - a0 * (0.5 * t * t)) / (t * t);
+    let a0 = bc.a0_net_nue.0;
+    let (r0, v0) = (bc.r0_nue.0, bc.v0_nue.0);
+    let big_a = bc.af_net_nue.0 - a0;
+    let big_b = (bc.vf_nue.0 - v0 - a0 * t) / t;
+    let big_d = (bc.rf_nue.0 - r0 - v0 * t - a0 * (0.5 * t * t)) / (t * t);
     let x1 = big_a * 3.0 - big_b * 24.0 + big_d * 60.0;
     let x2 = big_a * -12.0 + big_b * 84.0 - big_d * 180.0;
     let x3 = big_a * 10.0 - big_b * 60.0 + big_d * 120.0;
     CubicAcceleration {
-        coeffs: [a0, x1 / t, x2 / (t * t), x3 / (t * t * t)],
+        coeffs: [a0, x1 / t, x2 / (t * t), x3 / (t * t * t)].map(Nue),
     }
 }
 
@@ -101,15 +102,15 @@ pub(crate) fn integrate_open_loop(
     bc: &BoundaryConditions,
     cubic: &CubicAcceleration,
     s: f64,
-) -> (Vector3<f64>, Vector3<f64>) {
-    let mut v = bc.v0_nue;
-    let mut r = bc.r0_nue + bc.v0_nue * s;
-    for (k, c) in cubic.coeffs.iter().enumerate() {
+) -> (Nue, Nue) {
+    let mut v = bc.v0_nue.0;
+    let mut r = bc.r0_nue.0 + bc.v0_nue.0 * s;
+    for (k, c) in cubic.coeffs.iter().map(|c| c.0).enumerate() {
         let k = k as i32;
         v += c * s.powi(k + 1) / f64::from(k + 1);
         r += c * s.powi(k + 2) / f64::from((k + 1) * (k + 2));
     }
-    (r, v)
+    (Nue(r), Nue(v))
 }
 
 #[cfg(test)]
@@ -120,12 +121,12 @@ mod tests {
 
     fn descent_case() -> BoundaryConditions {
         BoundaryConditions {
-            r0_nue: Vector3::new(12.0, 800.0, -7.0),
-            v0_nue: Vector3::new(0.3, -1.5, 0.2),
-            a0_net_nue: Vector3::new(0.01, -0.05, 0.02),
-            rf_nue: Vector3::new(0.0, 150.0, 0.0),
-            vf_nue: Vector3::zeros(),
-            af_net_nue: Vector3::zeros(),
+            r0_nue: Nue::new(12.0, 800.0, -7.0),
+            v0_nue: Nue::new(0.3, -1.5, 0.2),
+            a0_net_nue: Nue::new(0.01, -0.05, 0.02),
+            rf_nue: Nue::new(0.0, 150.0, 0.0),
+            vf_nue: Nue::zeros(),
+            af_net_nue: Nue::zeros(),
         }
     }
 
@@ -140,9 +141,9 @@ mod tests {
                 for k in 0..4 {
                     let scale = c[k].abs().max(1e-12);
                     assert!(
-                        (closed.coeffs[k][i] - c[k]).abs() / scale < 1e-9,
+                        (closed.coeffs[k].0[i] - c[k]).abs() / scale < 1e-9,
                         "tgo {tgo} axis {i} C{k}: closed {} lu {}",
-                        closed.coeffs[k][i],
+                        closed.coeffs[k].0[i],
                         c[k]
                     );
                 }
@@ -159,8 +160,8 @@ mod tests {
         // WHEN it is integrated analytically over [0, tgo]
         let (r, v) = integrate_open_loop(&bc, &cubic, tgo);
         // THEN it arrives at the target position and velocity with the wanted accelerations
-        assert!((r - bc.rf_nue).norm() < 1e-9, "r(tgo) = {r}");
-        assert!((v - bc.vf_nue).norm() < 1e-11, "v(tgo) = {v}");
+        assert!((r - bc.rf_nue).norm() < 1e-9, "r(tgo) = {r:?}");
+        assert!((v - bc.vf_nue).norm() < 1e-11, "v(tgo) = {v:?}");
         assert!((cubic.net_acceleration_nue(0.0) - bc.a0_net_nue).norm() < 1e-15);
         assert!((cubic.net_acceleration_nue(tgo) - bc.af_net_nue).norm() < 1e-12);
     }
@@ -168,12 +169,12 @@ mod tests {
     #[test]
     fn already_on_target_at_rest_needs_no_acceleration() {
         let bc = BoundaryConditions {
-            r0_nue: Vector3::new(0.0, 150.0, 0.0),
-            v0_nue: Vector3::zeros(),
-            a0_net_nue: Vector3::zeros(),
-            rf_nue: Vector3::new(0.0, 150.0, 0.0),
-            vf_nue: Vector3::zeros(),
-            af_net_nue: Vector3::zeros(),
+            r0_nue: Nue::new(0.0, 150.0, 0.0),
+            v0_nue: Nue::zeros(),
+            a0_net_nue: Nue::zeros(),
+            rf_nue: Nue::new(0.0, 150.0, 0.0),
+            vf_nue: Nue::zeros(),
+            af_net_nue: Nue::zeros(),
         };
         let cubic = solve_cubic(&bc, 42.0);
         assert!(cubic.coeffs.iter().all(|c| c.norm() < 1e-15));

@@ -1,4 +1,5 @@
 //! Position-velocity (PV) guidance for hover (paper Sec. III, PV law).
+use lander_math::frames::Nue;
 use nalgebra::Vector3;
 use std::f64::consts::TAU;
 
@@ -29,16 +30,38 @@ impl PvGains {
 /// Returns the **thrust** acceleration in NUE. ERRATA 8: the paper's `g` is the
 /// gravity-cancelling vector `[0, +g, 0]`; writing it with the gravity vector `[0, -g, 0]` would
 /// command the lander down. The net acceleration is then `Kr r_e + Kv v_e`.
+///
+/// Positions and velocities are NUE by type; a body-axis vector is refused at compile time:
+///
+/// ```
+/// use fmu_gnc::guidance::pv::{pv_thrust_acceleration_nue, PvGains};
+/// use lander_math::frames::Nue;
+/// let gains = PvGains::from_bandwidth(0.06, 0.8);
+/// let r_nue = Nue::new(0.0, 790.0, 0.0);
+/// let v_nue = Nue::zeros();
+/// let target = Nue::new(0.0, 800.0, 0.0);
+/// pv_thrust_acceleration_nue(&gains, 1.62, &target, &Nue::zeros(), &r_nue, &v_nue);
+/// ```
+///
+/// ```compile_fail,E0308
+/// use fmu_gnc::guidance::pv::{pv_thrust_acceleration_nue, PvGains};
+/// use lander_math::frames::{Body, Nue};
+/// let gains = PvGains::from_bandwidth(0.06, 0.8);
+/// let r_nue = Nue::new(0.0, 790.0, 0.0);
+/// let v_body = Body::zeros(); // e.g. a velocimeter reading, not yet rotated into NUE
+/// let target = Nue::new(0.0, 800.0, 0.0);
+/// pv_thrust_acceleration_nue(&gains, 1.62, &target, &Nue::zeros(), &r_nue, &v_body);
+/// ```
 pub fn pv_thrust_acceleration_nue(
     gains: &PvGains,
     gravity_mps2: f64,
-    r_ref_nue: &Vector3<f64>,
-    v_ref_nue: &Vector3<f64>,
-    r_nue: &Vector3<f64>,
-    v_nue: &Vector3<f64>,
-) -> Vector3<f64> {
+    r_ref_nue: &Nue,
+    v_ref_nue: &Nue,
+    r_nue: &Nue,
+    v_nue: &Nue,
+) -> Nue {
     let g_cancel_nue = Vector3::new(0.0, gravity_mps2, 0.0);
-    g_cancel_nue + (r_ref_nue - r_nue) * gains.kr + (v_ref_nue - v_nue) * gains.kv
+    Nue(g_cancel_nue + (r_ref_nue.0 - r_nue.0) * gains.kr + (v_ref_nue.0 - v_nue.0) * gains.kv)
 }
 
 #[cfg(test)]
@@ -69,35 +92,27 @@ mod tests {
     #[test]
     fn on_target_at_rest_commands_exactly_gravity_cancellation() {
         let gains = PvGains::from_bandwidth(0.06, 0.8);
-        let r = Vector3::new(0.0, 800.0, 0.0);
-        let a =
-            pv_thrust_acceleration_nue(&gains, 1.62, &r, &Vector3::zeros(), &r, &Vector3::zeros());
-        assert_eq!(a, Vector3::new(0.0, 1.62, 0.0));
+        let r = Nue::new(0.0, 800.0, 0.0);
+        let a = pv_thrust_acceleration_nue(&gains, 1.62, &r, &Nue::zeros(), &r, &Nue::zeros());
+        assert_eq!(a, Nue::new(0.0, 1.62, 0.0));
     }
 
     #[test]
     fn below_target_commands_more_than_gravity_up() {
         let gains = PvGains::from_bandwidth(0.06, 0.8);
-        let r_ref = Vector3::new(0.0, 800.0, 0.0);
-        let r = Vector3::new(0.0, 790.0, 0.0);
-        let a = pv_thrust_acceleration_nue(
-            &gains,
-            1.62,
-            &r_ref,
-            &Vector3::zeros(),
-            &r,
-            &Vector3::zeros(),
-        );
-        assert!(a.y > 1.62);
+        let r_ref = Nue::new(0.0, 800.0, 0.0);
+        let r = Nue::new(0.0, 790.0, 0.0);
+        let a = pv_thrust_acceleration_nue(&gains, 1.62, &r_ref, &Nue::zeros(), &r, &Nue::zeros());
+        assert!(a.0.y > 1.62);
         // AND sinking makes it push harder still
         let a_sinking = pv_thrust_acceleration_nue(
             &gains,
             1.62,
             &r_ref,
-            &Vector3::zeros(),
+            &Nue::zeros(),
             &r,
-            &Vector3::new(0.0, -1.0, 0.0),
+            &Nue::new(0.0, -1.0, 0.0),
         );
-        assert!(a_sinking.y > a.y);
+        assert!(a_sinking.0.y > a.0.y);
     }
 }

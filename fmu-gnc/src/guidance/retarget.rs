@@ -9,7 +9,7 @@
 //! [`peak_lateral_acceleration_bound_mps2`]) is within the lateral authority
 //! ([`lateral_authority_mps2`]).
 use super::polynomial::{solve_cubic, BoundaryConditions, CubicAcceleration};
-use nalgebra::Vector3;
+use lander_math::frames::Nue;
 
 /// The longest divert the re-plan considers, s; a divert that needs more (its start
 /// acceleration alone beyond the authority, see [`divert_time_to_go_s`]) is flown over this.
@@ -49,17 +49,14 @@ pub fn lateral_authority_mps2(
 
 /// `a_thrust_nue` with its horizontal (North, East) part shortened to at most `limit_mps2`,
 /// the Up component unchanged.
-pub fn limit_horizontal(a_thrust_nue: &Vector3<f64>, limit_mps2: f64) -> Vector3<f64> {
-    let h = (a_thrust_nue.x * a_thrust_nue.x + a_thrust_nue.z * a_thrust_nue.z).sqrt();
+pub fn limit_horizontal(a_thrust_nue: &Nue, limit_mps2: f64) -> Nue {
+    let a = &a_thrust_nue.0;
+    let h = (a.x * a.x + a.z * a.z).sqrt();
     if h <= limit_mps2 || h == 0.0 {
         return *a_thrust_nue;
     }
     let scale = limit_mps2.max(0.0) / h;
-    Vector3::new(
-        a_thrust_nue.x * scale,
-        a_thrust_nue.y,
-        a_thrust_nue.z * scale,
-    )
+    Nue::new(a.x * scale, a.y, a.z * scale)
 }
 
 /// The largest `|c0 + c1 s + c2 s^2 + c3 s^3|` over `s` in `[0, end_s]`: the end points and
@@ -95,7 +92,7 @@ pub fn cubic_peak_abs(c: [f64; 4], end_s: f64) -> f64 {
 /// `sqrt(peak_N^2 + peak_E^2)` of the per-axis peaks, exact when the divert is along a fixed
 /// horizontal direction (rest to rest, or start velocity along the divert).
 pub fn peak_lateral_acceleration_bound_mps2(cubic: &CubicAcceleration, tgo_s: f64) -> f64 {
-    let axis = |i: usize| cubic_peak_abs(cubic.coeffs.map(|c| c[i]), tgo_s);
+    let axis = |i: usize| cubic_peak_abs(cubic.coeffs.map(|c| c.0[i]), tgo_s);
     let (north, east) = (axis(0), axis(2));
     (north * north + east * east).sqrt()
 }
@@ -116,7 +113,7 @@ pub fn divert_time_to_go_s(
     cycle_s: f64,
     authority_mps2: f64,
 ) -> f64 {
-    let a0 = &bc.a0_net_nue;
+    let a0 = &bc.a0_net_nue.0;
     let limit = authority_mps2.max((a0.x * a0.x + a0.z * a0.z).sqrt());
     // Integer steps from the lower bound: no accumulated rounding in the grid.
     let tgo = |k: u64| min_tgo_s + k as f64 * cycle_s;
@@ -157,8 +154,8 @@ pub fn rest_to_rest_divert_time_s(distance_m: f64, authority_mps2: f64) -> f64 {
 }
 
 /// The horizontal distance from `r_nue` to `site_nue`, m.
-pub fn horizontal_distance_m(r_nue: &Vector3<f64>, site_nue: &Vector3<f64>) -> f64 {
-    let d = site_nue - r_nue;
+pub fn horizontal_distance_m(r_nue: &Nue, site_nue: &Nue) -> f64 {
+    let d = (*site_nue - *r_nue).0;
     (d.x * d.x + d.z * d.z).sqrt()
 }
 
@@ -170,12 +167,12 @@ mod tests {
 
     fn rest_to_rest(distance_north_m: f64) -> BoundaryConditions {
         BoundaryConditions {
-            r0_nue: Vector3::new(0.0, 150.0, 0.0),
-            v0_nue: Vector3::zeros(),
-            a0_net_nue: Vector3::zeros(),
-            rf_nue: Vector3::new(distance_north_m, 150.0, 0.0),
-            vf_nue: Vector3::zeros(),
-            af_net_nue: Vector3::zeros(),
+            r0_nue: Nue::new(0.0, 150.0, 0.0),
+            v0_nue: Nue::zeros(),
+            a0_net_nue: Nue::zeros(),
+            rf_nue: Nue::new(distance_north_m, 150.0, 0.0),
+            vf_nue: Nue::zeros(),
+            af_net_nue: Nue::zeros(),
         }
     }
 
@@ -184,7 +181,7 @@ mod tests {
         (0..=20_000)
             .map(|k| {
                 let a = cubic.net_acceleration_nue(tgo_s * k as f64 / 20_000.0);
-                a.x.hypot(a.z)
+                a.0.x.hypot(a.0.z)
             })
             .fold(0.0, f64::max)
     }
@@ -248,7 +245,7 @@ mod tests {
         assert!(sampled_peak(&shorter, tgo - 0.1) > authority);
         // AND the peak is where the closed form puts it: tau = 1/2 - sqrt(3)/6
         let tau = 0.5 - 3f64.sqrt() / 6.0;
-        let at = cubic.net_acceleration_nue(tau * tgo).x;
+        let at = cubic.net_acceleration_nue(tau * tgo).0.x;
         assert!((at - peak).abs() < 1e-6, "{at} {peak}");
     }
 
@@ -256,12 +253,12 @@ mod tests {
     fn the_divert_cubic_passes_through_the_new_boundary_conditions() {
         // GIVEN a lander moving and accelerating off the line to a site 30 m North, 10 m West
         let bc = BoundaryConditions {
-            r0_nue: Vector3::new(0.4, 151.0, -0.3),
-            v0_nue: Vector3::new(-0.2, -0.3, 0.1),
-            a0_net_nue: Vector3::new(0.01, 0.02, -0.01),
-            rf_nue: Vector3::new(30.0, 150.0, -10.0),
-            vf_nue: Vector3::zeros(),
-            af_net_nue: Vector3::zeros(),
+            r0_nue: Nue::new(0.4, 151.0, -0.3),
+            v0_nue: Nue::new(-0.2, -0.3, 0.1),
+            a0_net_nue: Nue::new(0.01, 0.02, -0.01),
+            rf_nue: Nue::new(30.0, 150.0, -10.0),
+            vf_nue: Nue::zeros(),
+            af_net_nue: Nue::zeros(),
         };
         let authority = 0.434;
         let tgo = divert_time_to_go_s(&bc, 5.0, 0.1, authority);
@@ -269,8 +266,8 @@ mod tests {
         // WHEN the double integrator is integrated analytically over the divert
         let (r, v) = super::super::polynomial::integrate_open_loop(&bc, &cubic, tgo);
         // THEN it ends on the new site at rest, starting from the held acceleration
-        assert!((r - bc.rf_nue).norm() < 1e-9, "r = {r}");
-        assert!(v.norm() < 1e-10, "v = {v}");
+        assert!((r - bc.rf_nue).norm() < 1e-9, "r = {r:?}");
+        assert!(v.norm() < 1e-10, "v = {v:?}");
         assert!((cubic.net_acceleration_nue(0.0) - bc.a0_net_nue).norm() < 1e-15);
         assert!(cubic.net_acceleration_nue(tgo).norm() < 1e-12);
         // AND its true peak lateral acceleration is within the bound, the bound within authority
@@ -297,7 +294,7 @@ mod tests {
     fn a_start_beyond_the_authority_is_not_refused() {
         // GIVEN a held command already 0.8 m/s^2 North, above a 0.434 authority
         let bc = BoundaryConditions {
-            a0_net_nue: Vector3::new(0.8, 0.0, 0.0),
+            a0_net_nue: Nue::new(0.8, 0.0, 0.0),
             ..rest_to_rest(30.0)
         };
         // THEN the re-plan bounds the peak by the start's own acceleration, finitely

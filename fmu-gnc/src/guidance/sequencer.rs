@@ -25,7 +25,7 @@ use super::terminal::TerminalDescent;
 use super::thrust::{
     achievable_thrust_acceleration_nue, net_acceleration_nue, thrust_acceleration_nue,
 };
-use nalgebra::Vector3;
+use lander_math::frames::Nue;
 use serde::{Deserialize, Serialize};
 
 /// Relative tolerance of time comparisons against schedule boundaries: a master's time carries
@@ -55,9 +55,9 @@ pub fn guidance_cycle_index(elapsed_s: f64, cycle_s: f64) -> (i64, bool) {
 /// The scenario: targets, durations and the guidance settings, all in SI and NUE.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scenario {
-    pub hover_target_nue: Vector3<f64>,
+    pub hover_target_nue: Nue,
     pub hover_duration_s: f64,
-    pub descent_target_nue: Vector3<f64>,
+    pub descent_target_nue: Nue,
     pub descent_time_to_go_s: f64,
     /// ERRATA defaults: polynomial coefficients frozen once tgo drops below this.
     pub freeze_time_to_go_s: f64,
@@ -81,7 +81,7 @@ pub struct Retarget {
     /// Elapsed time since the start (the phase schedule's clock), s.
     pub time_s: f64,
     /// The new hover point, replacing the descent target for the rest of the flight, NUE.
-    pub site_nue: Vector3<f64>,
+    pub site_nue: Nue,
     /// Tilt of the thrust axis from vertical the divert may count on, rad.
     pub max_tilt_rad: f64,
     /// `true`: re-plan the divert for the authority. `false`: only move the target, the
@@ -92,7 +92,7 @@ pub struct Retarget {
 /// The schedule after a retarget, fixed at the guidance cycle it was commanded in.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RetargetPlan {
-    pub site_nue: Vector3<f64>,
+    pub site_nue: Nue,
     /// Elapsed times of the (re-planned) descent's start and end; the hover at the site
     /// follows for the target hover duration.
     pub descent_start_s: f64,
@@ -133,7 +133,7 @@ impl Scenario {
     }
 
     /// The site the descent, the hover after it and the terminal descent fly to.
-    pub fn site_with(&self, plan: Option<&RetargetPlan>) -> Vector3<f64> {
+    pub fn site_with(&self, plan: Option<&RetargetPlan>) -> Nue {
         plan.map_or(self.descent_target_nue, |p| p.site_nue)
     }
 
@@ -169,7 +169,7 @@ pub struct GuidanceState {
     pub last_cycle: Option<i64>,
     pub phase: Phase,
     /// Held command: thrust acceleration in NUE (what the thrust axis is aligned with).
-    pub a_thrust_cmd_nue: Vector3<f64>,
+    pub a_thrust_cmd_nue: Nue,
     /// Held time-to-go of the descent (0 outside it).
     pub time_to_go_s: f64,
     /// The latest descent solve, while in the descent phase.
@@ -187,7 +187,7 @@ impl GuidanceState {
         Self {
             last_cycle: None,
             phase: Phase::InitialHover,
-            a_thrust_cmd_nue: Vector3::new(0.0, gravity_mps2, 0.0),
+            a_thrust_cmd_nue: Nue::new(0.0, gravity_mps2, 0.0),
             time_to_go_s: 0.0,
             descent: None,
             retarget: None,
@@ -199,8 +199,8 @@ impl GuidanceState {
 /// The navigation state guidance samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GuidanceInputs {
-    pub r_nue: Vector3<f64>,
-    pub v_nue: Vector3<f64>,
+    pub r_nue: Nue,
+    pub v_nue: Nue,
     pub mass_kg: f64,
 }
 
@@ -251,9 +251,9 @@ pub fn guidance_sample(
             next.a_thrust_cmd_nue = hover(scenario, &site_nue, nav);
         }
         Phase::TerminalDescent => {
-            next.engine_cut = state.engine_cut || scenario.terminal.cuts_off_at(nav.r_nue.y);
+            next.engine_cut = state.engine_cut || scenario.terminal.cuts_off_at(nav.r_nue.0.y);
             next.a_thrust_cmd_nue = if next.engine_cut {
-                Vector3::new(0.0, scenario.gravity_mps2, 0.0)
+                Nue::new(0.0, scenario.gravity_mps2, 0.0)
             } else {
                 terminal_descent(scenario, &site_nue, nav)
             };
@@ -309,15 +309,15 @@ fn descent_boundary_conditions(
     scenario: &Scenario,
     state: &GuidanceState,
     nav: &GuidanceInputs,
-    site_nue: &Vector3<f64>,
+    site_nue: &Nue,
 ) -> BoundaryConditions {
     BoundaryConditions {
         r0_nue: nav.r_nue,
         v0_nue: nav.v_nue,
         a0_net_nue: net_acceleration_nue(&state.a_thrust_cmd_nue, scenario.gravity_mps2),
         rf_nue: *site_nue,
-        vf_nue: Vector3::zeros(),
-        af_net_nue: Vector3::zeros(),
+        vf_nue: Nue::zeros(),
+        af_net_nue: Nue::zeros(),
     }
 }
 
@@ -371,12 +371,12 @@ pub fn plan_retarget(
     }
 }
 
-fn hover(scenario: &Scenario, target_nue: &Vector3<f64>, nav: &GuidanceInputs) -> Vector3<f64> {
+fn hover(scenario: &Scenario, target_nue: &Nue, nav: &GuidanceInputs) -> Nue {
     pv_thrust_acceleration_nue(
         &scenario.pv_gains,
         scenario.gravity_mps2,
         target_nue,
-        &Vector3::zeros(),
+        &Nue::zeros(),
         &nav.r_nue,
         &nav.v_nue,
     )
@@ -386,14 +386,10 @@ fn hover(scenario: &Scenario, target_nue: &Vector3<f64>, nav: &GuidanceInputs) -
 /// ([`TerminalDescent::sink_rate_mps`]): the reference altitude is the current one, so only
 /// the velocity error drives the vertical axis and the lander keeps sinking whatever the
 /// ground height; a slowing reference's acceleration is fed forward.
-fn terminal_descent(
-    scenario: &Scenario,
-    target: &Vector3<f64>,
-    nav: &GuidanceInputs,
-) -> Vector3<f64> {
-    let (sink_mps, slowing_mps2) = scenario.terminal.sink_rate_mps(nav.r_nue.y);
-    let r_ref_nue = Vector3::new(target.x, nav.r_nue.y, target.z);
-    let v_ref_nue = Vector3::new(0.0, -sink_mps, 0.0);
+fn terminal_descent(scenario: &Scenario, target: &Nue, nav: &GuidanceInputs) -> Nue {
+    let (sink_mps, slowing_mps2) = scenario.terminal.sink_rate_mps(nav.r_nue.0.y);
+    let r_ref_nue = Nue::new(target.0.x, nav.r_nue.0.y, target.0.z);
+    let v_ref_nue = Nue::new(0.0, -sink_mps, 0.0);
     let pv = pv_thrust_acceleration_nue(
         &scenario.pv_gains,
         scenario.gravity_mps2,
@@ -405,7 +401,7 @@ fn terminal_descent(
     if slowing_mps2 == 0.0 {
         pv
     } else {
-        pv + Vector3::new(0.0, slowing_mps2, 0.0)
+        pv + Nue::new(0.0, slowing_mps2, 0.0)
     }
 }
 
@@ -414,12 +410,13 @@ fn terminal_descent(
 #[allow(clippy::disallowed_methods)]
 mod tests {
     use super::*;
+    use nalgebra::Vector3;
 
     fn paper_scenario() -> Scenario {
         Scenario {
-            hover_target_nue: Vector3::new(0.0, 800.0, 0.0),
+            hover_target_nue: Nue::new(0.0, 800.0, 0.0),
             hover_duration_s: 12.0,
-            descent_target_nue: Vector3::new(0.0, 150.0, 0.0),
+            descent_target_nue: Nue::new(0.0, 150.0, 0.0),
             descent_time_to_go_s: 130.0,
             freeze_time_to_go_s: 5.0,
             target_hover_duration_s: 30.0,
@@ -468,13 +465,13 @@ mod tests {
     fn command_is_held_within_a_cycle() {
         let s = paper_scenario();
         let nav = GuidanceInputs {
-            r_nue: Vector3::new(0.0, 790.0, 0.0),
-            v_nue: Vector3::zeros(),
+            r_nue: Nue::new(0.0, 790.0, 0.0),
+            v_nue: Nue::zeros(),
             mass_kg: 900.0,
         };
         let first = guidance_sample(&s, &GuidanceState::initial(1.62), 0.0, &nav);
         let moved = GuidanceInputs {
-            r_nue: Vector3::new(5.0, 700.0, 0.0),
+            r_nue: Nue::new(5.0, 700.0, 0.0),
             ..nav
         };
         assert_eq!(guidance_sample(&s, &first, 0.05, &moved), first);
@@ -491,7 +488,7 @@ mod tests {
         // keeps this test about the polynomial, not about saturation.
         let mass_kg = 820.0;
         let mut state = GuidanceState::initial(s.gravity_mps2);
-        let mut r = s.hover_target_nue;
+        let mut r = s.hover_target_nue.0;
         let mut v = Vector3::zeros();
         let dt = s.guidance_cycle_s;
         let mut max_tgo_seen: f64 = 0.0;
@@ -503,12 +500,12 @@ mod tests {
                 &state,
                 elapsed,
                 &GuidanceInputs {
-                    r_nue: r,
-                    v_nue: v,
+                    r_nue: Nue(r),
+                    v_nue: Nue(v),
                     mass_kg,
                 },
             );
-            let a_net = net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2);
+            let a_net = net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2).0;
             r += v * dt + a_net * (0.5 * dt * dt);
             v += a_net * dt;
             if state.phase == Phase::Descent {
@@ -517,7 +514,7 @@ mod tests {
             }
         }
         // THEN it arrives at 150 m at rest, within what the frozen last 5 s leave
-        assert!((r - s.descent_target_nue).norm() < 0.5, "r = {r}");
+        assert!((r - s.descent_target_nue.0).norm() < 0.5, "r = {r}");
         assert!(v.norm() < 0.05, "v = {v}");
         assert!((max_tgo_seen - 130.0).abs() < 1e-9);
         // AND the hover afterwards holds it there
@@ -526,8 +523,8 @@ mod tests {
             &state,
             142.0,
             &GuidanceInputs {
-                r_nue: r,
-                v_nue: v,
+                r_nue: Nue(r),
+                v_nue: Nue(v),
                 mass_kg,
             },
         );
@@ -539,8 +536,8 @@ mod tests {
     fn coefficients_freeze_below_the_freeze_time_to_go() {
         let s = paper_scenario();
         let nav = GuidanceInputs {
-            r_nue: Vector3::new(0.0, 160.0, 0.0),
-            v_nue: Vector3::new(0.0, -2.0, 0.0),
+            r_nue: Nue::new(0.0, 160.0, 0.0),
+            v_nue: Nue::new(0.0, -2.0, 0.0),
             mass_kg: 900.0,
         };
         // tgo = 5.1 s: solved afresh
@@ -554,7 +551,7 @@ mod tests {
         assert!((solved.solved_at_s - 136.9).abs() < 1e-12);
         // tgo = 4.9 s with a very different state: still the old coefficients
         let far = GuidanceInputs {
-            r_nue: Vector3::new(50.0, 300.0, 0.0),
+            r_nue: Nue::new(50.0, 300.0, 0.0),
             ..nav
         };
         let at_4_9 = guidance_sample(
@@ -567,7 +564,7 @@ mod tests {
             &far,
         );
         assert_eq!(at_4_9.descent.unwrap(), solved);
-        assert!(at_4_9.a_thrust_cmd_nue.iter().all(|a| a.is_finite()));
+        assert!(at_4_9.a_thrust_cmd_nue.0.iter().all(|a| a.is_finite()));
     }
 
     #[test]
@@ -604,13 +601,13 @@ mod tests {
         for k in 0..1000 {
             let elapsed = 172.0 + k as f64 * dt;
             let nav = GuidanceInputs {
-                r_nue: r,
-                v_nue: v,
+                r_nue: Nue(r),
+                v_nue: Nue(v),
                 mass_kg: 820.0,
             };
             state = guidance_sample(&s, &state, elapsed, &nav);
             assert_eq!(state.phase, Phase::TerminalDescent);
-            let a_net = net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2);
+            let a_net = net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2).0;
             r += v * dt + a_net * (0.5 * dt * dt);
             v += a_net * dt;
         }
@@ -648,8 +645,8 @@ mod tests {
         // it reaches the ground
         for k in 0..4000 {
             let nav = GuidanceInputs {
-                r_nue: r,
-                v_nue: v,
+                r_nue: Nue(r),
+                v_nue: Nue(v),
                 mass_kg: 820.0,
             };
             state = guidance_sample(&s, &state, 172.0 + k as f64 * dt, &nav);
@@ -662,7 +659,7 @@ mod tests {
             let a_net = if state.engine_cut {
                 Vector3::new(0.0, -s.gravity_mps2, 0.0)
             } else {
-                net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2)
+                net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2).0
             };
             r += v * dt + a_net * (0.5 * dt * dt);
             v += a_net * dt;
@@ -678,10 +675,7 @@ mod tests {
         let (h_cut, v_cut) = cut_at.unwrap();
         assert!(h_cut <= 1.5 && h_cut > 1.5 - 0.1, "{h_cut}");
         assert!((v_cut + 0.5).abs() < 0.1, "{v_cut}");
-        assert_eq!(
-            state.a_thrust_cmd_nue,
-            Vector3::new(0.0, s.gravity_mps2, 0.0)
-        );
+        assert_eq!(state.a_thrust_cmd_nue, Nue::new(0.0, s.gravity_mps2, 0.0));
         // AND it falls freely from there: v^2 = v_cut^2 + 2 g (h_cut - h), which from the
         // cut-off height is the touchdown speed sqrt(v_cut^2 + 2 g h_cut)
         let expected = (v_cut * v_cut + 2.0 * s.gravity_mps2 * (h_cut - r.y)).sqrt();
@@ -693,7 +687,7 @@ mod tests {
         Scenario {
             retarget: Some(Retarget {
                 time_s,
-                site_nue: Vector3::new(30.0, 150.0, 0.0),
+                site_nue: Nue::new(30.0, 150.0, 0.0),
                 max_tilt_rad: 15f64.to_radians(),
                 replan,
             }),
@@ -718,14 +712,14 @@ mod tests {
         for k in 0..(duration_s / dt).round() as i64 {
             let elapsed = start_s + k as f64 * dt;
             let nav = GuidanceInputs {
-                r_nue: r,
-                v_nue: v,
+                r_nue: Nue(r),
+                v_nue: Nue(v),
                 mass_kg,
             };
             state = guidance_sample(s, &state, elapsed, &nav);
-            let a = state.a_thrust_cmd_nue;
+            let a = state.a_thrust_cmd_nue.0;
             peak_lateral = peak_lateral.max(a.x.hypot(a.z));
-            let a_net = net_acceleration_nue(&a, s.gravity_mps2);
+            let a_net = net_acceleration_nue(&Nue(a), s.gravity_mps2).0;
             r += v * dt + a_net * (0.5 * dt * dt);
             v += a_net * dt;
         }
@@ -747,8 +741,8 @@ mod tests {
         let mass_kg = 840.0;
         let start = hovering_at_150_m();
         let nav = GuidanceInputs {
-            r_nue: Vector3::new(0.0, 150.0, 0.0),
-            v_nue: Vector3::zeros(),
+            r_nue: Nue::new(0.0, 150.0, 0.0),
+            v_nue: Nue::zeros(),
             mass_kg,
         };
         // WHEN guidance samples the retarget's cycle
@@ -770,7 +764,7 @@ mod tests {
         assert!((first.time_to_go_s - tgo).abs() < 1e-12);
         // AND flown open loop it reaches the new site at rest, never commanding more lateral
         // acceleration than the authority; then it hovers there, then holds
-        let (end, r, v, peak) = fly_open_loop(&s, first, nav.r_nue, 150.1, tgo + 40.0, mass_kg);
+        let (end, r, v, peak) = fly_open_loop(&s, first, nav.r_nue.0, 150.1, tgo + 40.0, mass_kg);
         assert!(
             (r - Vector3::new(30.0, 150.0, 0.0)).norm() < 0.05,
             "r = {r}"
@@ -790,8 +784,8 @@ mod tests {
         // GIVEN the same retarget with the re-plan off
         let s = retargeted(150.0, false);
         let nav = GuidanceInputs {
-            r_nue: Vector3::new(0.0, 150.0, 0.0),
-            v_nue: Vector3::zeros(),
+            r_nue: Nue::new(0.0, 150.0, 0.0),
+            v_nue: Nue::zeros(),
             mass_kg: 840.0,
         };
         let first = guidance_sample(&s, &hovering_at_150_m(), 150.0, &nav);
@@ -801,8 +795,12 @@ mod tests {
         assert_eq!((plan.descent_start_s, plan.descent_end_s), (12.0, 142.0));
         assert_eq!(first.phase, Phase::TargetHover);
         let unretargeted = guidance_sample(&paper_scenario(), &hovering_at_150_m(), 150.0, &nav);
-        assert!(first.a_thrust_cmd_nue.x > 0.5, "{}", first.a_thrust_cmd_nue);
-        assert_eq!(unretargeted.a_thrust_cmd_nue.x, 0.0);
+        assert!(
+            first.a_thrust_cmd_nue.0.x > 0.5,
+            "{}",
+            first.a_thrust_cmd_nue.0
+        );
+        assert_eq!(unretargeted.a_thrust_cmd_nue.0.x, 0.0);
     }
 
     #[test]
@@ -812,7 +810,7 @@ mod tests {
         let (state, r, _, _) = fly_open_loop(
             &s,
             GuidanceState::initial(1.62),
-            s.hover_target_nue,
+            s.hover_target_nue.0,
             0.0,
             142.0,
             820.0,
@@ -830,7 +828,7 @@ mod tests {
         let (a, ra, va, _) = fly_open_loop(
             &paper_scenario(),
             GuidanceState::initial(1.62),
-            paper_scenario().hover_target_nue,
+            paper_scenario().hover_target_nue.0,
             0.0,
             172.0,
             820.0,
@@ -838,7 +836,7 @@ mod tests {
         let (b, rb, vb, _) = fly_open_loop(
             &later,
             GuidanceState::initial(1.62),
-            later.hover_target_nue,
+            later.hover_target_nue.0,
             0.0,
             172.0,
             820.0,
