@@ -3,7 +3,7 @@
 mod model_exchange;
 
 use crate::physics::continuous::unit_attitude;
-use crate::physics::frames::quaternion_to_scalar_first;
+use crate::physics::frames::{quaternion_to_scalar_first, Body};
 use crate::physics::parameters::{
     PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
 };
@@ -86,10 +86,10 @@ impl LanderPlant {
         let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
         self.delivered = OnceCell::new();
         self.outputs = Outputs {
-            r_nue: r_nue.into(),
-            v_nue: v_nue.into(),
+            r_nue: r_nue.to_array(),
+            v_nue: v_nue.to_array(),
             q_body_to_nue: quaternion_to_scalar_first(&unit_attitude(&x.q_body_to_nue)),
-            omega_body: x.omega_body.into(),
+            omega_body: x.omega_body.to_array(),
             mass: x.mass_kg,
             altitude: plant.altitude(x),
             propellant_used: p.m0_kg - x.mass_kg,
@@ -204,8 +204,8 @@ const RESTORED_QUATERNION_NORM_TOLERANCE: f64 = 0.1;
 const RESTORED_MASS_BELOW_DRY_RELATIVE: f64 = 1e-3;
 
 /// Whether |omega|^2 x the largest inertia, a bound of |omega x (I omega)|, is finite.
-fn gyroscopic_torque_representable(omega_body: &nalgebra::Vector3<f64>, plant: &Plant) -> bool {
-    (omega_body.norm_squared() * plant.inertia_body_kgm2.max()).is_finite()
+fn gyroscopic_torque_representable(omega_body: &Body, plant: &Plant) -> bool {
+    (omega_body.0.norm_squared() * plant.inertia_body_kgm2.max()).is_finite()
 }
 
 /// A run the plant could have reached, in Co-Simulation or under a reasonable Model
@@ -235,7 +235,7 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
     if !gyroscopic_torque_representable(&x.omega_body, plant) {
         return Err(restored(
             "omega_body",
-            format!("{:?}", x.omega_body.as_slice()),
+            format!("{:?}", x.omega_body.0.as_slice()),
             "|omega_body|^2 x largest inertia (gyroscopic torque) overflows",
         ));
     }
@@ -295,8 +295,8 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
     if let Some(td) = &run.touchdown {
         let finite = td.time_s.is_finite()
             && td.tilt_rad.is_finite()
-            && td.v_nue_mps.iter().all(|v| v.is_finite())
-            && td.omega_body_radps.iter().all(|v| v.is_finite())
+            && td.v_nue_mps.0.iter().all(|v| v.is_finite())
+            && td.omega_body_radps.0.iter().all(|v| v.is_finite())
             && td.q_body_to_nue.coords.iter().all(|v| v.is_finite());
         if !finite {
             return Err(restored("touchdown", format!("{td:?}"), "not finite"));
@@ -485,9 +485,9 @@ impl Model for LanderPlant {
                 log.info(format!(
                     "touchdown (first footpad contact) at t = {} s: v_nue = [{:.3}, {:.3}, {:.3}] m/s, tilt = {:.2} deg",
                     td.time_s,
-                    td.v_nue_mps.x,
-                    td.v_nue_mps.y,
-                    td.v_nue_mps.z,
+                    td.v_nue_mps.0.x,
+                    td.v_nue_mps.0.y,
+                    td.v_nue_mps.0.z,
                     td.tilt_rad.to_degrees()
                 ));
             }
@@ -513,9 +513,9 @@ impl Model for LanderPlant {
                     terminated: true,
                     reason: format!(
                         "touchdown at t = {time} s: v_nue = [{:.3}, {:.3}, {:.3}] m/s, tilt = {:.2} deg",
-                        td.v_nue_mps.x,
-                        td.v_nue_mps.y,
-                        td.v_nue_mps.z,
+                        td.v_nue_mps.0.x,
+                        td.v_nue_mps.0.y,
+                        td.v_nue_mps.0.z,
                         td.tilt_rad.to_degrees()
                     ),
                 }
@@ -665,9 +665,9 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     Declaration::boolean(33, "propellant_exhausted", role::discrete_output, "True once the mass has reached dry_mass; the engines deliver no thrust from then on", |m| running_flag(m, |r| r.propellant_exhausted), |_, _| {}),
     Declaration::boolean(34, "touchdown", role::discrete_output, "True once the altitude has reached 0; the simulation ends there (the FMU asks the master to terminate). With gear_enabled: true from the first footpad contact with the terrain, and the simulation goes on (it ends when the centre of mass reaches the terrain)", |m| running_flag(m, |r| r.touchdown.is_some()), |_, _| {}),
     decl!(35, discrete_output touchdown_time: get |m, _| m.touchdown_field(|t| t.time_s), "s", "Time of touchdown (0 before touchdown)"),
-    decl!(36, discrete_output touchdown_v_nue[3]: get |m, i| m.touchdown_field(|t| t.v_nue_mps[i]), "m/s", "Velocity at touchdown (0 before touchdown)", components = NUE),
+    decl!(36, discrete_output touchdown_v_nue[3]: get |m, i| m.touchdown_field(|t| t.v_nue_mps.0[i]), "m/s", "Velocity at touchdown (0 before touchdown)", components = NUE),
     decl!(39, discrete_output touchdown_q_body_to_nue[4]: get |m, i| m.touchdown_field(|t| quaternion_to_scalar_first(&t.q_body_to_nue)[i]), "1", "Attitude at touchdown (0 before touchdown)", components = QUATERNION),
-    decl!(43, discrete_output touchdown_omega_body[3]: get |m, i| m.touchdown_field(|t| t.omega_body_radps[i]), "rad/s", "Body rate at touchdown (0 before touchdown)", components = BODY_AXES),
+    decl!(43, discrete_output touchdown_omega_body[3]: get |m, i| m.touchdown_field(|t| t.omega_body_radps.0[i]), "rad/s", "Body rate at touchdown (0 before touchdown)", components = BODY_AXES),
     decl!(46, discrete_output touchdown_tilt: get |m, _| m.touchdown_field(|t| t.tilt_rad), "rad", "Angle between the thrust axis and the local vertical at touchdown (0 before touchdown)"),
     // Landing gear and terrain (gear_enabled; docs/plant-gear.md).
     decl!(80, discrete_output foot_contact[4]: get |m, i| if m.gear_view().contact.stroke_m[i] > 0.0 { 1.0 } else { 0.0 }, "1", "Landing gear: 1 while footpad k touches the terrain, else 0 (0 without the gear)", components = LEGS),
@@ -1217,7 +1217,7 @@ mod tests {
         assert!(terminated);
         assert!((time - t_exact).abs() < 1e-9, "{time} vs {t_exact}");
         m.calculate_values(&mut log);
-        let v_td = m.touchdown_field(|td| td.v_nue_mps.y);
+        let v_td = m.touchdown_field(|td| td.v_nue_mps.0.y);
         assert!((v_td + 1.62 * t_exact).abs() < 1e-8, "{v_td}");
         assert!(m.outputs.altitude.abs() < 1e-9);
         assert!(matches!(

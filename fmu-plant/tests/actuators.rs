@@ -101,7 +101,7 @@ fn torque_run(delay: f64, torque_at: impl Fn(usize) -> f64, n: usize) -> Vec<f64
                 torque_cmd_body_nm: Vector3::new(torque_at(k), 0.0, 0.0),
             };
             step(&plant, &mut run, &c, &[0.0; 8], k, 0.01);
-            run.state.omega_body.x
+            run.state.omega_body.0.x
         })
         .collect()
 }
@@ -144,13 +144,13 @@ fn the_valve_delay_shifts_a_thruster_pulse() {
     duty[4] = 0.8;
     duty[5] = 0.8;
     step(&plant, &mut run, &thrust(0.0), &duty, 0, 0.01);
-    assert_eq!(run.state.omega_body.x, 0.0, "nothing before 13.7 ms");
+    assert_eq!(run.state.omega_body.0.x, 0.0, "nothing before 13.7 ms");
     step(&plant, &mut run, &thrust(0.0), &[0.0; 8], 1, 0.01);
     let partial = 116.0 / 400.0 * (0.02 - 0.0137);
-    assert!((run.state.omega_body.x - partial).abs() < 1e-12);
+    assert!((run.state.omega_body.0.x - partial).abs() < 1e-12);
     step(&plant, &mut run, &thrust(0.0), &[0.0; 8], 2, 0.01);
     let full = 116.0 / 400.0 * 0.008;
-    assert!((run.state.omega_body.x - full).abs() < 1e-12);
+    assert!((run.state.omega_body.0.x - full).abs() < 1e-12);
 }
 
 #[test]

@@ -37,7 +37,7 @@ fn fly(
 }
 
 fn velocity(plant: &Plant, run: &PlantRun) -> Vector3<f64> {
-    plant.translation.to_nue(&run.state.translation).1
+    plant.translation.to_nue(&run.state.translation).1 .0
 }
 
 fn stroke(plant: &Plant, run: &PlantRun) -> [f64; 4] {
@@ -62,7 +62,7 @@ fn first_footpad_contact_is_the_touchdown_at_the_free_fall_time_and_the_run_goes
     );
     println!("td {:?}", td);
     assert!(
-        (td.v_nue_mps.y + G * t_exact).abs() < 1e-8,
+        (td.v_nue_mps.0.y + G * t_exact).abs() < 1e-8,
         "{:?} {}",
         td.v_nue_mps,
         G * t_exact

@@ -32,7 +32,7 @@ fn a_constant_torque_spins_up_as_tau_over_i_dot_ln_i_over_i0_while_the_inertia_d
     let i_dot = (300.0 - 200.0) / 300.0 * m_dot;
     let i_t = 300.0 + i_dot * 20.0;
     let expected = 50.0 / i_dot * libm::log(i_t / 300.0);
-    let w = run.state.omega_body.y;
+    let w = run.state.omega_body.0.y;
     println!(
         "omega_y {w:.12} rad/s, (tau / I') ln(I / I0) = {expected:.12} rad/s, fixed inertia {:.12}",
         50.0 * 20.0 / 300.0
@@ -67,7 +67,7 @@ fn the_moving_centre_of_mass_turns_the_thrust_into_a_torque_in_proportion_to_the
         d.engine_torque_body_nm
     );
     // AND the body has turned about z under it (pitch rate negative)
-    assert!(run.state.omega_body.z < 0.0);
+    assert!(run.state.omega_body.0.z < 0.0);
 }
 
 #[test]

@@ -284,9 +284,9 @@ impl ContinuousModel for LanderPlant {
         if let (true, Some(td)) = (outcome.touchdown, run.touchdown) {
             log.info(format!(
                 "touchdown at t = {t} s: v_nue = [{:.3}, {:.3}, {:.3}] m/s, tilt = {:.2} deg",
-                td.v_nue_mps.x,
-                td.v_nue_mps.y,
-                td.v_nue_mps.z,
+                td.v_nue_mps.0.x,
+                td.v_nue_mps.0.y,
+                td.v_nue_mps.0.z,
                 td.tilt_rad.to_degrees()
             ));
         }

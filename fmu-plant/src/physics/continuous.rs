@@ -11,6 +11,7 @@
 //! `1 / (2 k)` s wherever the integrator's error pushed it. The equations already use only
 //! the direction of `q` (`body_to_nue` normalises), and the event update renormalises the
 //! state; outputs are the normalised quaternion.
+use super::frames::Body;
 use super::plant::{Commands, Plant, PlantRun, Translation};
 use super::state::PlantState;
 use nalgebra::{Quaternion, Vector3, Vector6};
@@ -160,13 +161,14 @@ impl StateLayout {
             .iter()
             .copied()
             .chain(lander_math::quaternion::from_nalgebra(q))
-            .chain(x.omega_body.iter().copied())
+            .chain(x.omega_body.0.iter().copied())
             .chain([x.mass_kg]);
         let lags = [x.thrust_lag_n]
             .into_iter()
             .filter(|_| self.engine_lag)
             .chain(
                 x.torque_lag_body_nm
+                    .0
                     .iter()
                     .copied()
                     .filter(|_| self.rcs_lag),
@@ -184,13 +186,13 @@ impl StateLayout {
         let mut take = || next.next().unwrap_or(0.0);
         let translation = Vector6::from_fn(|_, _| take());
         let (w, i, j, k) = (take(), take(), take(), take());
-        let omega_body = Vector3::from_fn(|_, _| take());
+        let omega_body = Body(Vector3::from_fn(|_, _| take()));
         let mass_kg = take();
         let thrust_lag_n = if self.engine_lag { take() } else { 0.0 };
         let torque_lag_body_nm = if self.rcs_lag {
-            Vector3::from_fn(|_, _| take())
+            Body(Vector3::from_fn(|_, _| take()))
         } else {
-            Vector3::zeros()
+            Body::zeros()
         };
         Ok(PlantState {
             translation,
@@ -217,10 +219,10 @@ impl Plant {
         let nominal = PlantState {
             translation,
             q_body_to_nue: Quaternion::new(1.0, 1.0, 1.0, 1.0),
-            omega_body: Vector3::repeat(1.0),
+            omega_body: Body::new(1.0, 1.0, 1.0),
             mass_kg: 1e3,
             thrust_lag_n: 1e3,
-            torque_lag_body_nm: Vector3::repeat(100.0),
+            torque_lag_body_nm: Body::new(100.0, 100.0, 100.0),
         };
         layout.pack(&nominal, out)
     }
@@ -281,12 +283,12 @@ impl Plant {
         {
             finite(StateElement::AttitudeComponent(i), v)?;
         }
-        for (i, v) in x.omega_body.iter().enumerate() {
+        for (i, v) in x.omega_body.0.iter().enumerate() {
             finite(StateElement::OmegaBody(i), *v)?;
         }
         finite(StateElement::Mass, x.mass_kg)?;
         finite(StateElement::ThrustLag, x.thrust_lag_n)?;
-        for (i, v) in x.torque_lag_body_nm.iter().enumerate() {
+        for (i, v) in x.torque_lag_body_nm.0.iter().enumerate() {
             finite(StateElement::TorqueLag(i), *v)?;
         }
 
@@ -355,12 +357,12 @@ impl Plant {
         }
 
         let inertia = &self.inertia_body_kgm2;
-        let gyroscopic = 4.0 * x.omega_body.norm_squared() * (inertia.max() / inertia.min());
+        let gyroscopic = 4.0 * x.omega_body.0.norm_squared() * (inertia.max() / inertia.min());
         if !gyroscopic.is_finite() {
-            let i = x.omega_body.iamax();
+            let i = x.omega_body.0.iamax();
             return Err(refuse(
                 StateElement::OmegaBody(i),
-                x.omega_body[i],
+                x.omega_body.0[i],
                 "4 |omega_body|^2 I_max / I_min (a bound of the gyroscopic acceleration) overflows"
                     .into(),
             ));
@@ -383,7 +385,7 @@ impl Plant {
             "beyond what a stable integration of the thrust lag reaches",
         )?;
         let limit = 3.0 * self.rcs.torque_limit_nm().abs();
-        for (i, v) in x.torque_lag_body_nm.iter().enumerate() {
+        for (i, v) in x.torque_lag_body_nm.0.iter().enumerate() {
             within(
                 StateElement::TorqueLag(i),
                 *v,

@@ -1,7 +1,7 @@
 //! The plant: equations of motion, the sub-stepped RK4 advance and its events.
 use super::actuators::{lag_rate, lagged_or_direct, Engines, Rcs, ThrustLine};
 use super::events::find_crossing;
-use super::frames::{body_to_nue, tilt_from_vertical, Body};
+use super::frames::{body_to_nue, tilt_from_vertical, Body, Nue};
 use super::gear::{EngineCutoff, Gear};
 use super::integrator::{rk4_step_with_quadrature, OdeState, SubSteps};
 use super::parameters::{ParameterError, PlantParameters, RcsModelKind, TranslationModelKind};
@@ -22,7 +22,7 @@ pub enum Translation {
 }
 
 impl Translation {
-    pub fn from_nue(&self, r_nue: &Vector3<f64>, v_nue: &Vector3<f64>) -> Vector6<f64> {
+    pub fn from_nue(&self, r_nue: &Nue, v_nue: &Nue) -> Vector6<f64> {
         match self {
             Self::Flat { .. } => translation_flat::pack(r_nue, v_nue),
             Self::Spherical(moon) => moon.from_nue(r_nue, v_nue),
@@ -30,7 +30,7 @@ impl Translation {
     }
 
     /// Position (m) and Moon-relative velocity (m/s) in site NUE.
-    pub fn to_nue(&self, x: &Vector6<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    pub fn to_nue(&self, x: &Vector6<f64>) -> (Nue, Nue) {
         match self {
             Self::Flat { .. } => (
                 translation_flat::position_nue(x),
@@ -48,7 +48,7 @@ impl Translation {
         }
     }
 
-    fn derivative(&self, x: &Vector6<f64>, a_thrust_nue: &Vector3<f64>) -> Vector6<f64> {
+    fn derivative(&self, x: &Vector6<f64>, a_thrust_nue: &Nue) -> Vector6<f64> {
         match self {
             Self::Flat { gravity_mps2 } => {
                 translation_flat::derivative(x, *gravity_mps2, a_thrust_nue)
@@ -88,9 +88,9 @@ pub struct Delivered {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Touchdown {
     pub time_s: f64,
-    pub v_nue_mps: Vector3<f64>,
+    pub v_nue_mps: Nue,
     pub q_body_to_nue: Quaternion<f64>,
-    pub omega_body_radps: Vector3<f64>,
+    pub omega_body_radps: Body,
     /// Angle between the thrust axis and the local vertical, rad.
     pub tilt_rad: f64,
 }
@@ -328,7 +328,7 @@ impl Plant {
             slosh: p.slosh.enabled.then(|| Slosh::new(&p.slosh)),
             mass_properties: super::mass_properties::MassProperties::new(p),
         };
-        let translation_state = translation.from_nue(&p.r0_nue_m, &p.v0_nue_mps);
+        let translation_state = translation.from_nue(&Nue(p.r0_nue_m), &Nue(p.v0_nue_mps));
         let altitude = translation.altitude(&translation_state);
         if plant.gear.is_none() && altitude.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Err(ParameterError {
@@ -344,10 +344,10 @@ impl Plant {
         let state = PlantState {
             translation: translation_state,
             q_body_to_nue: q0,
-            omega_body: p.omega0_body_radps,
+            omega_body: Body(p.omega0_body_radps),
             mass_kg: p.m0_kg,
             thrust_lag_n: 0.0,
-            torque_lag_body_nm: Vector3::zeros(),
+            torque_lag_body_nm: Body::zeros(),
         };
         let run = PlantRun {
             state,
@@ -484,7 +484,7 @@ impl Plant {
     pub fn contact(&self, x: &PlantState) -> Option<super::gear::Contact> {
         self.gear.as_ref().map(|gear| {
             let (r, v) = self.translation.to_nue(&x.translation);
-            gear.contact(&r, &v, &x.q_body_to_nue, &x.omega_body)
+            gear.contact(&r.0, &v.0, &x.q_body_to_nue, &x.omega_body.0)
         })
     }
 
@@ -525,13 +525,14 @@ impl Plant {
     fn ground_indicator(&self, x: &PlantState) -> f64 {
         match &self.gear {
             None => self.altitude(x),
-            Some(gear) => gear.clearance(&self.translation.to_nue(&x.translation).0),
+            Some(gear) => gear.clearance(&self.translation.to_nue(&x.translation).0 .0),
         }
     }
 
     /// Gear: clearance of the lowest footpad (unloaded leg), m.
     pub fn lowest_foot_clearance(&self, gear: &Gear, x: &PlantState) -> f64 {
-        gear.lowest_foot_clearance(&self.translation.to_nue(&x.translation).0, &x.q_body_to_nue)
+        let (r_nue, _) = self.translation.to_nue(&x.translation);
+        gear.lowest_foot_clearance(&r_nue.0, &x.q_body_to_nue)
     }
 
     fn delivered_from(
@@ -564,7 +565,11 @@ impl Plant {
             None => {
                 let tau = self.rcs.time_constant_s;
                 let torque = Vector3::from_fn(|k, _| {
-                    lagged_or_direct(targets.rcs_torque_body_nm[k], x.torque_lag_body_nm[k], tau)
+                    lagged_or_direct(
+                        targets.rcs_torque_body_nm[k],
+                        x.torque_lag_body_nm.0[k],
+                        tau,
+                    )
                 });
                 (Vector3::zeros(), torque)
             }
@@ -633,14 +638,14 @@ impl Plant {
             None => self.thrust_direction_body * (d.thrust_n / mass_kg),
             Some(_) => (self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n) / mass_kg,
         };
-        let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &Body(thrust_body)).0;
-        let torque_body = d.rcs_torque_body_nm + d.engine_torque_body_nm;
+        let a_thrust_nue = body_to_nue(&x.q_body_to_nue, &Body(thrust_body));
+        let torque_body = Body(d.rcs_torque_body_nm + d.engine_torque_body_nm);
         // Without the gear both pass through untouched.
         let (a_thrust_nue, torque_body) = match self.contact(x) {
             None => (a_thrust_nue, torque_body),
             Some(c) => (
-                a_thrust_nue + c.force_nue_n / mass_kg,
-                torque_body + c.torque_body_nm,
+                a_thrust_nue + Nue(c.force_nue_n / mass_kg),
+                torque_body + Body(c.torque_body_nm),
             ),
         };
         // Without lags the lag states stay at zero: skip their rates altogether. The torque
@@ -662,18 +667,18 @@ impl Plant {
                     targets.thrust_ramp_nps
                 },
                 match self.thrusters {
-                    None => Vector3::from_fn(|k, _| {
+                    None => Body(Vector3::from_fn(|k, _| {
                         lag_rate(
                             targets.rcs_torque_body_nm[k],
-                            x.torque_lag_body_nm[k],
+                            x.torque_lag_body_nm.0[k],
                             tau_rcs,
                         )
-                    }),
-                    Some(_) => Vector3::zeros(),
+                    })),
+                    Some(_) => Body::zeros(),
                 },
             )
         } else {
-            (0.0, Vector3::zeros())
+            (0.0, Body::zeros())
         };
         PlantState {
             translation: self.translation.derivative(&x.translation, &a_thrust_nue),
@@ -688,7 +693,7 @@ impl Plant {
                     omega_dot_body(
                         &mp.inertia_body_kgm2(x.mass_kg),
                         &x.omega_body,
-                        &(torque_body + shift),
+                        &(torque_body + Body(shift)),
                     )
                 }
             },
@@ -793,21 +798,21 @@ impl Plant {
             &y.slosh,
             &force_body,
             mass_kg,
-            &x.omega_body,
-            &dx.omega_body,
+            &x.omega_body.0,
+            &dx.omega_body.0,
         );
         let extra_nue = body_to_nue(&x.q_body_to_nue, &Body(effect.extra_acceleration_body)).0;
         for i in 0..3 {
             dx.translation[3 + i] += extra_nue[i];
         }
-        dx.omega_body += effect.torque_body_nm.component_div(&self.inertia_body_kgm2);
+        dx.omega_body.0 += effect.torque_body_nm.component_div(&self.inertia_body_kgm2);
         let specific_force = self.specific_force_body(x, &d) + effect.extra_acceleration_body;
         (
             Coupled {
                 plant: dx,
                 slosh: effect.derivative,
             },
-            mean_integrand(&specific_force, &x.omega_body),
+            mean_integrand(&specific_force, &x.omega_body.0),
         )
     }
 
@@ -827,7 +832,7 @@ impl Plant {
                     let d = self.delivered_from(s, &targets, firing, exhausted);
                     (
                         self.derivative_delivered(s, &d, &targets),
-                        mean_integrand(&self.specific_force_body(s, &d), &s.omega_body),
+                        mean_integrand(&self.specific_force_body(s, &d), &s.omega_body.0),
                     )
                 },
                 t,
@@ -842,7 +847,7 @@ impl Plant {
                 |_t, s: &PlantState| {
                     (
                         self.derivative_delivered(s, &d, &targets),
-                        mean_integrand(&self.specific_force_body(s, &d), &s.omega_body),
+                        mean_integrand(&self.specific_force_body(s, &d), &s.omega_body.0),
                     )
                 },
                 t,

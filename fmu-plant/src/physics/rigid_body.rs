@@ -4,42 +4,47 @@
 //! `q' = ½ q ⊗ [0, w]` (ERRATA item 3: the paper's printed Omega matrix is not skew-symmetric;
 //! this product form is). The landing-site frame is treated as inertial for the rotation: the
 //! Moon turns at 2.7e-6 rad/s, five orders of magnitude below the rates the RCS commands.
+use super::frames::{body_to_nue, Body, Nue};
 use nalgebra::{Quaternion, Vector3};
 
 /// Principal moments of inertia `[Ixx, Iyy, Izz]` in kg m^2 (body axes = principal axes).
 pub type PrincipalInertia = Vector3<f64>;
 
 /// Body angular acceleration in rad/s^2 from Euler's equations.
-pub fn omega_dot_body(
-    inertia: &PrincipalInertia,
-    omega_body: &Vector3<f64>,
-    torque_body: &Vector3<f64>,
-) -> Vector3<f64> {
+///
+/// Rate and torque are body axes by type; a torque still in NUE does not compile:
+///
+/// ```compile_fail,E0308
+/// use fmu_plant::physics::frames::{Body, Nue};
+/// use fmu_plant::physics::rigid_body::omega_dot_body;
+/// let inertia = nalgebra::Vector3::new(400.0, 300.0, 450.0);
+/// let torque_nue = Nue::new(0.0, 0.0, 116.0); // not yet rotated into body axes
+/// omega_dot_body(&inertia, &Body::zeros(), &torque_nue);
+/// ```
+pub fn omega_dot_body(inertia: &PrincipalInertia, omega_body: &Body, torque_body: &Body) -> Body {
+    let (omega_body, torque_body) = (&omega_body.0, &torque_body.0);
     let angular_momentum_body = inertia.component_mul(omega_body);
-    (torque_body - omega_body.cross(&angular_momentum_body)).component_div(inertia)
+    Body((torque_body - omega_body.cross(&angular_momentum_body)).component_div(inertia))
 }
 
 /// `q' = ½ q ⊗ [0, omega_body]` for `q` = body to NUE.
-pub fn quaternion_rate(
-    q_body_to_nue: &Quaternion<f64>,
-    omega_body: &Vector3<f64>,
-) -> Quaternion<f64> {
-    (q_body_to_nue * Quaternion::from_imag(*omega_body)) * 0.5
+pub fn quaternion_rate(q_body_to_nue: &Quaternion<f64>, omega_body: &Body) -> Quaternion<f64> {
+    (q_body_to_nue * Quaternion::from_imag(omega_body.0)) * 0.5
 }
 
 /// Angular momentum in NUE (constant when no torque acts).
 pub fn angular_momentum_nue(
     inertia: &PrincipalInertia,
     q_body_to_nue: &Quaternion<f64>,
-    omega_body: &Vector3<f64>,
-) -> Vector3<f64> {
-    let momentum_body = super::frames::Body(inertia.component_mul(omega_body));
-    super::frames::body_to_nue(q_body_to_nue, &momentum_body).0
+    omega_body: &Body,
+) -> Nue {
+    let momentum_body = Body(inertia.component_mul(&omega_body.0));
+    body_to_nue(q_body_to_nue, &momentum_body)
 }
 
 /// Rotational kinetic energy ½ wᵀ I w in J.
-pub fn rotational_energy(inertia: &PrincipalInertia, omega_body: &Vector3<f64>) -> f64 {
-    0.5 * omega_body.dot(&inertia.component_mul(omega_body))
+pub fn rotational_energy(inertia: &PrincipalInertia, omega_body: &Body) -> f64 {
+    0.5 * omega_body.0.dot(&inertia.component_mul(&omega_body.0))
 }
 
 #[cfg(test)]
@@ -50,7 +55,7 @@ mod tests {
     fn quaternion_rate_is_tangent_to_the_unit_sphere() {
         // d|q|^2/dt = 2 q . q' must vanish for any rate: the form preserves the norm.
         let q = Quaternion::new(0.8, 0.2, -0.4, 0.4).normalize();
-        let w = Vector3::new(0.3, -2.0, 1.1);
+        let w = Body::new(0.3, -2.0, 1.1);
         let qdot = quaternion_rate(&q, &w);
         assert!(q.coords.dot(&qdot.coords).abs() < 1e-15);
     }
@@ -70,7 +75,7 @@ mod tests {
         );
         let expected = omega * nalgebra::Vector4::new(q0, q1, q2, q3) * 0.5;
         assert_eq!(omega.transpose(), -omega, "skew-symmetric");
-        let got = quaternion_rate(&q, &Vector3::new(wx, wy, wz));
+        let got = quaternion_rate(&q, &Body::new(wx, wy, wz));
         let got = nalgebra::Vector4::new(got.w, got.i, got.j, got.k);
         assert!((got - expected).norm() < 1e-15);
     }
@@ -78,15 +83,15 @@ mod tests {
     #[test]
     fn gyroscopic_term_vanishes_for_spin_about_a_principal_axis() {
         let inertia = Vector3::new(400.0, 300.0, 450.0);
-        let wdot = omega_dot_body(&inertia, &Vector3::new(0.0, 3.0, 0.0), &Vector3::zeros());
-        assert_eq!(wdot, Vector3::zeros());
+        let wdot = omega_dot_body(&inertia, &Body::new(0.0, 3.0, 0.0), &Body::zeros());
+        assert_eq!(wdot, Body::zeros());
     }
 
     #[test]
     fn euler_equations_reproduce_the_hand_computed_gyroscopic_coupling() {
         // Ixx wx' = (Iyy - Izz) wy wz; with w = (0, 1, 2): (300 - 450) * 2 / 400 = -0.75.
         let inertia = Vector3::new(400.0, 300.0, 450.0);
-        let wdot = omega_dot_body(&inertia, &Vector3::new(0.0, 1.0, 2.0), &Vector3::zeros());
+        let wdot = omega_dot_body(&inertia, &Body::new(0.0, 1.0, 2.0), &Body::zeros()).0;
         assert!((wdot.x + 0.75).abs() < 1e-15);
         assert_eq!(wdot.y, 0.0);
         assert_eq!(wdot.z, 0.0);

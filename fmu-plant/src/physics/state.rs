@@ -1,6 +1,7 @@
 //! The integrated state of the plant.
+use super::frames::Body;
 use super::integrator::OdeState;
-use nalgebra::{Quaternion, Vector3, Vector6};
+use nalgebra::{Quaternion, Vector6};
 use serde::{Deserialize, Serialize};
 
 /// Everything RK4 integrates. The same type holds its own time derivative.
@@ -12,13 +13,13 @@ pub struct PlantState {
     /// Attitude, body to NUE (renormalised after every sub-step, not inside RK4 stages).
     pub q_body_to_nue: Quaternion<f64>,
     /// Body angular rate, rad/s.
-    pub omega_body: Vector3<f64>,
+    pub omega_body: Body,
     /// Total mass, kg.
     pub mass_kg: f64,
     /// First-order-lag state of the delivered engine thrust, N (unused when the lag is off).
     pub thrust_lag_n: f64,
     /// First-order-lag state of the delivered RCS torque, N m (unused when the lag is off).
-    pub torque_lag_body_nm: Vector3<f64>,
+    pub torque_lag_body_nm: Body,
 }
 
 impl OdeState for PlantState {
@@ -48,9 +49,9 @@ impl PlantState {
             .translation
             .iter()
             .chain(self.q_body_to_nue.coords.iter())
-            .chain(self.omega_body.iter())
+            .chain(self.omega_body.0.iter())
             .chain([&self.mass_kg, &self.thrust_lag_n])
-            .chain(self.torque_lag_body_nm.iter())
+            .chain(self.torque_lag_body_nm.0.iter())
             .map(|x| x * 0.0)
             .sum();
         probe == 0.0
@@ -81,10 +82,10 @@ mod tests {
         let base = PlantState {
             translation: Vector6::repeat(1e300),
             q_body_to_nue: Quaternion::new(1.0, 0.0, 0.0, 0.0),
-            omega_body: Vector3::repeat(-1e300),
+            omega_body: Body::new(-1e300, -1e300, -1e300),
             mass_kg: 900.0,
             thrust_lag_n: 0.0,
-            torque_lag_body_nm: Vector3::zeros(),
+            torque_lag_body_nm: Body::zeros(),
         };
         assert!(base.is_finite());
         for k in 0..18 {
@@ -93,10 +94,10 @@ mod tests {
                 let slot = match k {
                     0..=5 => &mut x.translation[k],
                     6..=9 => &mut x.q_body_to_nue.coords[k - 6],
-                    10..=12 => &mut x.omega_body[k - 10],
+                    10..=12 => &mut x.omega_body.0[k - 10],
                     13 => &mut x.mass_kg,
                     14 => &mut x.thrust_lag_n,
-                    _ => &mut x.torque_lag_body_nm[k - 15],
+                    _ => &mut x.torque_lag_body_nm.0[k - 15],
                 };
                 *slot = bad;
                 assert!(!x.is_finite(), "component {k} = {bad}");

@@ -18,6 +18,7 @@
 //! fixed to the Moon; the velocity is relative to the Moon's surface in both models.
 //! Limitation: `lon' = u / (r cos lat)` is singular at the poles; the site latitude is
 //! restricted to |lat| <= 85 deg by the parameter check.
+use super::frames::Nue;
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// The Moon as a rotating sphere and the landing site on it.
@@ -77,10 +78,10 @@ impl SphericalMoon {
     }
 
     /// State from a position and a Moon-relative velocity in site NUE.
-    pub fn from_nue(&self, r_nue: &Vector3<f64>, v_nue: &Vector3<f64>) -> Vector6<f64> {
+    pub fn from_nue(&self, r_nue: &Nue, v_nue: &Nue) -> Vector6<f64> {
         let site_nue_to_mf = self.mf_to_site_nue.transpose();
-        let p_mf = self.site_mf + site_nue_to_mf * r_nue;
-        let v_mf = site_nue_to_mf * v_nue;
+        let p_mf = self.site_mf + site_nue_to_mf * r_nue.0;
+        let v_mf = site_nue_to_mf * v_nue.0;
         let r = p_mf.norm();
         let lon = libm::atan2(p_mf.y, p_mf.x);
         let lat = libm::asin((p_mf.z / r).clamp(-1.0, 1.0));
@@ -96,13 +97,13 @@ impl SphericalMoon {
     }
 
     /// Position and Moon-relative velocity in site NUE.
-    pub fn to_nue(&self, x: &Vector6<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    pub fn to_nue(&self, x: &Vector6<f64>) -> (Nue, Nue) {
         let h = Horizon::at(x[1], x[2]);
         let p_mf = h.up * x[0];
         let v_mf = h.east * x[3] + h.north * x[4] + h.up * x[5];
         (
-            self.mf_to_site_nue * (p_mf - self.site_mf),
-            self.mf_to_site_nue * v_mf,
+            Nue(self.mf_to_site_nue * (p_mf - self.site_mf)),
+            Nue(self.mf_to_site_nue * v_mf),
         )
     }
 
@@ -112,10 +113,10 @@ impl SphericalMoon {
     }
 
     /// Time derivative for the thrust acceleration `a_thrust_nue` (site NUE, m/s^2).
-    pub fn derivative(&self, x: &Vector6<f64>, a_thrust_nue: &Vector3<f64>) -> Vector6<f64> {
+    pub fn derivative(&self, x: &Vector6<f64>, a_thrust_nue: &Nue) -> Vector6<f64> {
         let (r, lon, lat, u, v, w) = (x[0], x[1], x[2], x[3], x[4], x[5]);
         let h = Horizon::at(lon, lat);
-        let a_mf = self.mf_to_site_nue.transpose() * a_thrust_nue;
+        let a_mf = self.mf_to_site_nue.transpose() * a_thrust_nue.0;
         let (a_east, a_north, a_up) = (h.east.dot(&a_mf), h.north.dot(&a_mf), h.up.dot(&a_mf));
         let (slat, clat) = libm::sincos(lat);
         let tan_lat = slat / clat;
@@ -152,7 +153,8 @@ mod tests {
         let m = moon(2.66e-6);
         let r = Vector3::new(1200.0, 800.0, -350.0);
         let v = Vector3::new(-3.0, -20.0, 7.5);
-        let (r2, v2) = m.to_nue(&m.from_nue(&r, &v));
+        let (r2, v2) = m.to_nue(&m.from_nue(&Nue(r), &Nue(v)));
+        let (r2, v2) = (r2.0, v2.0);
         assert!((r2 - r).norm() < 1e-8, "{r2} vs {r}");
         assert!((v2 - v).norm() < 1e-11, "{v2} vs {v}");
     }
@@ -160,7 +162,7 @@ mod tests {
     #[test]
     fn the_site_is_the_origin_and_altitude_there_is_zero() {
         let m = moon(0.0);
-        let x = m.from_nue(&Vector3::zeros(), &Vector3::zeros());
+        let x = m.from_nue(&Nue::zeros(), &Nue::zeros());
         assert!(m.altitude(&x).abs() < 1e-9);
         assert!((x[2] - 0.6).abs() < 1e-15 && (x[1] + 1.1).abs() < 1e-15);
     }
@@ -214,11 +216,12 @@ mod tests {
         let v0 = Vector3::new(150.0, 20.0, 300.0);
         let a_thrust = Vector3::new(0.4, 1.0, -0.3);
         let (t_end, dt): (f64, f64) = (200.0, 0.05);
-        let mut x = m.from_nue(&r0, &v0);
+        let mut x = m.from_nue(&Nue(r0), &Nue(v0));
         for _ in 0..(t_end / dt).round() as usize {
-            x = rk4_step(|_t, x| m.derivative(x, &a_thrust), 0.0, &x, dt);
+            x = rk4_step(|_t, x| m.derivative(x, &Nue(a_thrust)), 0.0, &x, dt);
         }
         let (r, v) = m.to_nue(&x);
+        let (r, v) = (r.0, v.0);
         let (r_ref, v_ref) = inertial_reference(&m, r0, v0, a_thrust, t_end, dt);
         // The trajectory spans ~ 60 km; both integrations carry RK4 errors ~ 1e-6 m here.
         assert!((r - r_ref).norm() < 1e-4, "r {r} vs {r_ref}");
@@ -235,7 +238,7 @@ mod tests {
         let m = SphericalMoon::new(RADIUS_M, 1.62, 1e-3, 0.0, 0.0);
         let u = 100.0;
         let x = Vector6::new(RADIUS_M, 0.0, 0.0, u, 0.0, 0.0);
-        let w_dot = m.derivative(&x, &Vector3::zeros())[5];
+        let w_dot = m.derivative(&x, &Nue::zeros())[5];
         // Inertial speed of a point moving east at u on the equator: omega R + u; the net
         // inward acceleration of that circular motion is (omega R + u)^2 / R, so the
         // Moon-relative radial acceleration is -g + (omega R + u)^2 / R.
