@@ -26,7 +26,7 @@ const DOCUMENTATION: [&str; 3] = ["README.md", "CHANGELOG.md", "docs"];
 const LICENSES: [&str; 2] = ["LICENSE-MIT", "LICENSE-APACHE"];
 
 pub fn run(ws: &Workspace) -> Result<PathBuf> {
-    let written = fmus::package_all_platforms(ws)?;
+    let written = fmus::package_all_platforms(ws, fmus::Describers::Build(&[]))?;
     let release = ws
         .target_dir
         .join("dist")

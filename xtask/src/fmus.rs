@@ -82,7 +82,7 @@ pub fn package_all(ws: &Workspace) -> Result<Vec<PathBuf>> {
 /// the description binaries, in the same cargo invocation.
 pub fn package_all_with(ws: &Workspace, packages: &[&str]) -> Result<Vec<PathBuf>> {
     let fmus = fmu_crates(ws)?;
-    let build = build_host(ws, &fmus, packages)?;
+    let build = build_host(ws, &fmus, Describers::Build(packages))?;
     package(ws, &fmus, &[build], &ws.fmu_dir())
 }
 
@@ -119,10 +119,21 @@ fn announce(platform: &Platform) -> Result<()> {
     Ok(())
 }
 
+/// Where the host build gets the description binaries from.
+#[derive(Clone, Copy)]
+pub enum Describers<'a> {
+    /// Build them, with these further dev-profile packages in the same invocation.
+    Build(&'a [&'a str]),
+    /// `cargo test --workspace --no-run` has just built them with the features the tests
+    /// resolve; a build of the FMU crates alone would resolve other features of their
+    /// shared dependencies and compile those a second time.
+    FromTestBuild,
+}
+
 /// The host build of today's `cargo xtask fmus`, with rustup's (the invoking) cargo: the
 /// release libraries and, at the same time, the description binaries (see
-/// [`build_describers`]) with `also_dev`.
-fn build_host(ws: &Workspace, fmus: &[FmuCrate], also_dev: &[&str]) -> Result<Build> {
+/// [`build_describers`]).
+fn build_host(ws: &Workspace, fmus: &[FmuCrate], describers: Describers) -> Result<Build> {
     let platform = Platform::host()?;
     announce(&platform)?;
     let mut libs = ws.cargo();
@@ -136,7 +147,26 @@ fn build_host(ws: &Workspace, fmus: &[FmuCrate], also_dev: &[&str]) -> Result<Bu
     let started = libs
         .spawn()
         .with_context(|| format!("could not start {}", workspace::describe(&libs)))?;
-    let described = build_describers(ws, fmus, also_dev);
+    let described = match describers {
+        Describers::Build(also_dev) => build_describers(ws, fmus, also_dev),
+        Describers::FromTestBuild => {
+            // A crate without integration tests has no binaries in the test build.
+            let missing: Vec<FmuCrate> = fmus
+                .iter()
+                .filter(|fmu| {
+                    Fmi::ALL.iter().any(|&version| {
+                        fmu.ships(version) && !describer_path(ws, fmu, version).is_file()
+                    })
+                })
+                .cloned()
+                .collect();
+            if missing.is_empty() {
+                Ok(())
+            } else {
+                build_describers(ws, &missing, &[])
+            }
+        }
+    };
     let built = workspace::wait(started, &libs);
     described.and(built)?;
     Ok(Build {
@@ -150,7 +180,7 @@ fn build_host(ws: &Workspace, fmus: &[FmuCrate], also_dev: &[&str]) -> Result<Bu
 /// with Debian's toolchain ([`crate::cross`]), packaged into FMUs that carry all three under
 /// `target/fmu`, where the host-only FMUs go too: the FMUs every test loads are the ones a
 /// release ships (FMI 2.0 has no aarch64 Linux folder: those FMUs carry two).
-pub fn package_all_platforms(ws: &Workspace) -> Result<Vec<PathBuf>> {
+pub fn package_all_platforms(ws: &Workspace, describers: Describers) -> Result<Vec<PathBuf>> {
     let (packages, architectures) = crate::system_packages::for_all_platforms();
     crate::system_packages::ensure_with_architectures(&packages, architectures)?;
     let fmus = fmu_crates(ws)?;
@@ -158,7 +188,7 @@ pub fn package_all_platforms(ws: &Workspace) -> Result<Vec<PathBuf>> {
     let mut builds = Vec::new();
     let mut timings = Vec::new();
     let started = std::time::Instant::now();
-    builds.push(build_host(ws, &fmus, &[])?);
+    builds.push(build_host(ws, &fmus, describers)?);
     timings.push((builds[0].platform.triple.clone(), started.elapsed()));
     let host = Platform::host()?;
     for target in &crate::cross::TARGETS {
@@ -197,13 +227,17 @@ fn build_describers(ws: &Workspace, fmus: &[FmuCrate], also_dev: &[&str]) -> Res
     workspace::run(&mut build)
 }
 
+/// Where cargo puts the description binary of `fmu` for `version`.
+fn describer_path(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> PathBuf {
+    ws.target_dir
+        .join("debug")
+        .join(description_binary(fmu, version))
+}
+
 /// The model description `fmu`'s binary (built by [`build_describers`]) prints for
 /// `version`.
 fn describe(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> Result<String> {
-    let binary = ws
-        .target_dir
-        .join("debug")
-        .join(description_binary(fmu, version));
+    let binary = describer_path(ws, fmu, version);
     let mut command = std::process::Command::new(&binary);
     // generationDateAndTime: the commit's time, so that a commit packages the same bytes on
     // every machine (kept when the caller set SOURCE_DATE_EPOCH itself; none outside git).
@@ -233,7 +267,7 @@ fn build_all(ws: &Workspace, fmus: &[FmuCrate], triples: &[String]) -> Result<Ve
     let mut builds = Vec::new();
     let host = Platform::host()?;
     if triples.is_empty() {
-        return Ok(vec![build_host(ws, fmus, &[])?]);
+        return Ok(vec![build_host(ws, fmus, Describers::Build(&[]))?]);
     }
     for triple in triples {
         match Platform::from_triple(triple) {

@@ -104,7 +104,7 @@ fn main() -> ExitCode {
         Command::Fmus {
             all_platforms: true,
             ..
-        } => fmus::package_all_platforms(&ws).map(|_| ()),
+        } => fmus::package_all_platforms(&ws, fmus::Describers::Build(&[])).map(|_| ()),
         Command::Fmus { targets, .. } => fmus::package_for(&ws, &targets).map(|_| ()),
         Command::MergeFmus { out, inputs } => platform::merge_files(&out, &inputs),
         Command::Dist => dist::run(&ws).map(|_| ()),

@@ -9,7 +9,7 @@ struct Stage {
     run: fn(&Workspace) -> Result<()>,
 }
 
-const STAGES: [Stage; 7] = [
+const STAGES: [Stage; 8] = [
     // First: a missing C library otherwise fails deep inside a build script.
     Stage {
         name: "system packages",
@@ -35,10 +35,16 @@ const STAGES: [Stage; 7] = [
             ]))
         },
     },
+    // Every test binary, and with them the FMU crates' description binaries, which the
+    // packaging below then uses as built here: one resolution of features for both.
+    Stage {
+        name: "build tests",
+        run: |ws| workspace::run(ws.cargo().args(["test", "--workspace", "--no-run"])),
+    },
     // Every platform, so that every later test loads the FMUs a release ships.
     Stage {
         name: "package FMUs",
-        run: |ws| fmus::package_all_platforms(ws).map(|_| ()),
+        run: |ws| fmus::package_all_platforms(ws, fmus::Describers::FromTestBuild).map(|_| ()),
     },
     // Before the cargo tests: the fmpy system tests run in this venv.
     Stage {
@@ -57,10 +63,11 @@ const STAGES: [Stage; 7] = [
     Stage {
         name: "platforms",
         run: |ws| {
+            // `--workspace`, as the build above, so that nothing is compiled again for other
+            // features; only system-tests has tests of these names.
             workspace::run(ws.cargo().args([
                 "test",
-                "-p",
-                "system-tests",
+                "--workspace",
                 "--test",
                 "main",
                 "--",
@@ -68,7 +75,9 @@ const STAGES: [Stage; 7] = [
                 "all_platforms::",
                 "same_bits::",
                 "windows_users::",
-            ]))
+            ]))?;
+            // Kept to repeat a failed run by hand; a passed stage needs none of them.
+            remove_trajectories(&ws.target_dir.join("cross-runs").join("runs"))
         },
     },
 ];
@@ -105,6 +114,20 @@ pub fn run_all(ws: &Workspace) -> Result<()> {
         STAGES.len(),
         started.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+/// The `.out` trajectories of the platform runs (about 0.7 GB); their plans and logs stay.
+fn remove_trajectories(dir: &std::path::Path) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(());
+    };
+    for entry in entries {
+        let path = entry?.path();
+        if path.extension().is_some_and(|e| e == "out") {
+            std::fs::remove_file(&path)?;
+        }
+    }
     Ok(())
 }
 
