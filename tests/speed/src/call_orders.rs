@@ -264,10 +264,10 @@ impl PlainPair {
         let x = &self.run.state;
         let (r_nue, v_nue) = self.plant.translation.to_nue(&x.translation);
         NavigationInputs {
-            r_nue_m: r_nue.into(),
-            v_nue_mps: v_nue.into(),
+            r_nue_m: r_nue.to_array(),
+            v_nue_mps: v_nue.to_array(),
             q_body_to_nue: quaternion_to_scalar_first(&unit_attitude(&x.q_body_to_nue)),
-            omega_body_radps: x.omega_body.into(),
+            omega_body_radps: x.omega_body.to_array(),
             mass_kg: x.mass_kg,
         }
     }
