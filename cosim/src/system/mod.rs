@@ -42,7 +42,8 @@ pub enum ParamValue {
 pub struct InstanceDesc {
     /// Instance name, also the prefix of its columns in the results (`plant.r_nue[1]`).
     pub name: String,
-    /// The `.fmu` file; relative paths are resolved against the scenario file's FMU directory.
+    /// The `.fmu` file: absolute when it was found beside the scenario file, otherwise
+    /// relative paths are resolved against the master's FMU directory.
     pub fmu: PathBuf,
     /// Parameter and start values, applied in this order before initialization.
     pub parameters: Vec<(String, ParamValue)>,

@@ -1,7 +1,7 @@
 //! The TOML scenario format (see `harness/scenarios/paper.toml` for a commented example).
 use super::{Connection, InstanceDesc, Ordering, ParamValue, SystemDescription, SystemError};
 use serde::Deserialize;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -166,7 +166,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         }
         instances.push(InstanceDesc {
             name: instance.name,
-            fmu: instance.fmu.into(),
+            fmu: beside(origin, instance.fmu.into()),
             parameters,
             connectors: None,
             model_exchange,
@@ -200,6 +200,22 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
     };
     system.validate()?;
     Ok(system)
+}
+
+/// A relative `fmu` that exists beside the scenario file is taken from there, as an absolute
+/// path so the run works from any directory (as an SSD's are); otherwise it stays relative
+/// and the master looks it up in its FMU directory.
+fn beside(origin: &Path, fmu: PathBuf) -> PathBuf {
+    if fmu.is_absolute() || !origin.is_file() {
+        return fmu;
+    }
+    match std::path::absolute(origin) {
+        Ok(scenario) => match scenario.parent().map(|dir| dir.join(&fmu)) {
+            Some(path) if path.is_file() => path,
+            _ => fmu,
+        },
+        Err(_) => fmu,
+    }
 }
 
 /// Reads a TOML scenario file.
@@ -246,6 +262,26 @@ mod tests {
             .parameters
             .contains(&("label".into(), ParamValue::String("x".into()))));
         assert_eq!(system.connections[0].from, "a.y");
+    }
+
+    #[test]
+    fn an_fmu_beside_the_scenario_is_taken_from_there_and_others_stay_for_the_fmu_dir() {
+        let dir = tempfile::tempdir().unwrap();
+        let scenario = dir.path().join("demo.toml");
+        std::fs::write(&scenario, SAMPLE).unwrap();
+        std::fs::write(dir.path().join("A.fmu"), b"not read here").unwrap();
+        let system = read(&scenario).unwrap();
+        let a = &system.instance("a").unwrap().fmu;
+        assert!(a.is_absolute(), "{}", a.display());
+        assert_eq!(
+            std::fs::canonicalize(a).unwrap(),
+            std::fs::canonicalize(dir.path().join("A.fmu")).unwrap()
+        );
+        // Not beside the scenario: left to the master's FMU directory.
+        assert_eq!(system.instance("b").unwrap().fmu, Path::new("B.fmu"));
+        // A scenario that is no file (a built-in one) has no "beside".
+        let built_in = parse(SAMPLE, Path::new("<built-in scenario demo>")).unwrap();
+        assert_eq!(built_in.instance("a").unwrap().fmu, Path::new("A.fmu"));
     }
 
     #[test]
