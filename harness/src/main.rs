@@ -330,6 +330,38 @@ impl RunRecorder {
     }
 }
 
+/// The columns the landing verdict reads that a `record` list left out, where the instance
+/// `plant` declares them: read once, at the end of the run, so that recording a few signals
+/// does not leave a landing unjudged. Nothing for a system without that instance or list.
+fn set_verdict_columns(simulation: &mut Runner) -> anyhow::Result<()> {
+    let system = simulation.system();
+    let Some(plant) = system.instances.iter().position(|i| i.name == "plant") else {
+        return Ok(());
+    };
+    if system.record.is_none() {
+        return Ok(());
+    }
+    let (_, description) = simulation.description(plant);
+    let recorded = simulation.column_names();
+    let wanted: Vec<String> = lander::verdict::VERDICT_COLUMNS
+        .iter()
+        .chain(&["plant.tipped_over"])
+        .filter(|column| {
+            !recorded.iter().any(|r| {
+                r == *column || r.strip_prefix(*column).is_some_and(|i| i.starts_with('['))
+            })
+        })
+        .filter(|column| {
+            let name = column.strip_prefix("plant.").unwrap_or(column);
+            description.variable(name).is_some()
+                || description.variable(&format!("{name}[1]")).is_some()
+        })
+        .map(|column| column.to_string())
+        .collect();
+    simulation.set_final_columns(&wanted)?;
+    Ok(())
+}
+
 /// `path` with `.partial` appended: where a run writes until it has finished.
 fn partial_path(path: &std::path::Path) -> PathBuf {
     let mut name = path.as_os_str().to_owned();
@@ -819,6 +851,7 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     let kept = cosim::requirements::Kept::new(&requirements, simulation.column_names());
     check_run_size(&simulation, &kept, format, *force)?;
     let mut simulation = simulation;
+    set_verdict_columns(&mut simulation)?;
     // Rows go to the file as they are recorded, under a temporary name until the run has
     // ended: a failed or interrupted run never leaves a truncated file under `out`.
     let partial = partial_path(out);
@@ -897,6 +930,12 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             return Err(error);
         }
     };
+    let mut last = last;
+    if !last.values.is_empty() {
+        last.names
+            .extend(simulation.final_column_names().iter().cloned());
+        last.values.extend_from_slice(simulation.final_values());
+    }
     let verdict = lander::verdict::judge(&last, &end, &spec.envelope);
     println!(
         "{}: {} rows x {} columns -> {}\nverdict: {}",

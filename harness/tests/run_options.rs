@@ -237,3 +237,90 @@ fn a_closed_stdout_ends_the_run_quietly() {
 
 /// SIGPIPE on Linux and the BSDs.
 const SIGPIPE: i32 = 13;
+
+/// A `record` list that leaves out the touchdown columns still has its landing judged (they
+/// are read once, at the end, and not written), and a pattern records a family of columns.
+#[test]
+fn a_record_list_leaves_the_landing_judged_and_patterns_select_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let header = |path: &std::path::Path| -> Vec<String> {
+        let text = std::fs::read_to_string(path).unwrap();
+        text.lines()
+            .next()
+            .unwrap()
+            .split(',')
+            .map(str::to_owned)
+            .collect()
+    };
+    let few = dir.path().join("few.csv");
+    let output = harness(&[
+        "run",
+        "landing",
+        "--record",
+        "plant.r_nue",
+        "-o",
+        few.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(
+        output.status.code(),
+        Some(lander::verdict::EXIT_OK),
+        "{text}"
+    );
+    assert!(text.contains("landed inside the envelope"), "{text}");
+    assert_eq!(
+        header(&few),
+        ["time", "plant.r_nue[1]", "plant.r_nue[2]", "plant.r_nue[3]"]
+    );
+
+    let family = dir.path().join("family.csv");
+    let output = harness(&[
+        "run",
+        "landing",
+        "--record",
+        "plant.touchdown*,plant.r_nue[2],plant.touchdown",
+        "-o",
+        family.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(
+        output.status.code(),
+        Some(lander::verdict::EXIT_OK),
+        "{text}"
+    );
+    let columns = header(&family);
+    assert!(
+        columns
+            .iter()
+            .skip(1)
+            .all(|c| c.starts_with("plant.touchdown") || c == "plant.r_nue[2]"),
+        "{columns:?}"
+    );
+    for wanted in [
+        "plant.touchdown",
+        "plant.touchdown_time",
+        "plant.touchdown_v_nue[3]",
+        "plant.touchdown_tilt",
+    ] {
+        assert_eq!(
+            columns.iter().filter(|c| *c == wanted).count(),
+            1,
+            "{wanted} in {columns:?}"
+        );
+    }
+
+    let output = harness(&[
+        "run",
+        "landing",
+        "--record",
+        "plant.nothing_like_this*",
+        "-o",
+        family.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_ne!(output.status.code(), Some(0));
+    assert!(
+        stderr.contains("'plant.nothing_like_this*' matches no variable"),
+        "{stderr}"
+    );
+}

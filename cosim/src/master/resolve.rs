@@ -156,10 +156,26 @@ pub fn connections(
 /// The recorded columns: the system's selection, or every output of every instance.
 pub fn columns(system: &SystemDescription, fmus: &[Fmu], problems: &mut Vec<String>) -> Vec<Port> {
     match &system.record {
-        Some(selection) => selection
-            .iter()
-            .flat_map(|path| ports(system, fmus, path, &[], problems))
-            .collect(),
+        Some(selection) => {
+            let mut out: Vec<Port> = Vec::new();
+            for path in selection {
+                let found = if is_pattern(path) {
+                    pattern_ports(system, fmus, path, problems)
+                } else {
+                    ports(system, fmus, path, &[], problems)
+                };
+                // A column named twice (by a name and a pattern) is recorded once.
+                for port in found {
+                    if !out
+                        .iter()
+                        .any(|p| p.instance == port.instance && p.name == port.name)
+                    {
+                        out.push(port);
+                    }
+                }
+            }
+            out
+        }
         None => {
             let mut out = Vec::new();
             for (instance, fmu) in fmus.iter().enumerate() {
@@ -178,6 +194,76 @@ pub fn columns(system: &SystemDescription, fmus: &[Fmu], problems: &mut Vec<Stri
             out
         }
     }
+}
+
+fn is_pattern(path: &str) -> bool {
+    path.contains(['*', '?'])
+}
+
+/// The recordable variables (every type but String) that `instance.variable` matches, where
+/// either part may hold `*` (any run of characters, none included) and `?` (one character),
+/// in the FMUs' order.
+fn pattern_ports(
+    system: &SystemDescription,
+    fmus: &[Fmu],
+    path: &str,
+    problems: &mut Vec<String>,
+) -> Vec<Port> {
+    let Some((instance_pattern, variable_pattern)) = path.split_once('.') else {
+        problems.push(format!("'{path}' is not of the form instance.variable"));
+        return vec![];
+    };
+    let mut out = Vec::new();
+    for (instance, fmu) in fmus.iter().enumerate() {
+        if !glob_matches(instance_pattern, &system.instances[instance].name) {
+            continue;
+        }
+        for variable in fmu.model_description().variables() {
+            let Some(kind) = variable.kind().and_then(exchange_kind) else {
+                continue;
+            };
+            if glob_matches(variable_pattern, &variable.name) {
+                out.push(Port {
+                    instance,
+                    name: variable.name.clone(),
+                    value_reference: variable.value_reference,
+                    kind,
+                });
+            }
+        }
+    }
+    if out.is_empty() {
+        problems.push(format!(
+            "'{path}' matches no variable of any instance (in a record pattern `*` stands for \
+             any characters and `?` for one; strings are not recorded)"
+        ));
+    }
+    out
+}
+
+/// Whether `text` matches `pattern` as a whole: `*` any run of characters, `?` one.
+fn glob_matches(pattern: &str, text: &str) -> bool {
+    let (p, t): (Vec<char>, Vec<char>) = (pattern.chars().collect(), text.chars().collect());
+    let (mut pi, mut ti) = (0, 0);
+    // Where the last `*` was and the text position it has absorbed up to: on a mismatch it
+    // absorbs one more character, which keeps the search linear in practice and finite.
+    let mut star: Option<(usize, usize)> = None;
+    while ti < t.len() {
+        if pi < p.len() && (p[pi] == '?' || p[pi] == t[ti]) {
+            pi += 1;
+            ti += 1;
+        } else if pi < p.len() && p[pi] == '*' {
+            star = Some((pi, ti));
+            pi += 1;
+        } else if let Some((sp, st)) = star {
+            pi = sp + 1;
+            ti = st + 1;
+            star = Some((sp, st + 1));
+        } else {
+            return false;
+        }
+    }
+    p[pi..].iter().all(|&c| c == '*')
 }
 
 /// A parameter or start value the master would set on `instance`: the variable exists, the
@@ -483,5 +569,41 @@ pub fn algebraic_loop(
              running with the exchange order breaking it",
             loops::describe(&edges, &cycle)
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::glob_matches;
+
+    #[test]
+    fn a_record_pattern_matches_whole_names_with_star_and_question_mark() {
+        let names = [
+            "touchdown",
+            "touchdown_time",
+            "touchdown_v_nue[1]",
+            "r_nue[2]",
+            "tipped_over",
+        ];
+        let matched = |pattern: &str| -> Vec<&str> {
+            names
+                .iter()
+                .copied()
+                .filter(|n| glob_matches(pattern, n))
+                .collect()
+        };
+        assert_eq!(
+            matched("touchdown*"),
+            ["touchdown", "touchdown_time", "touchdown_v_nue[1]"]
+        );
+        assert_eq!(matched("*_nue[?]"), ["touchdown_v_nue[1]", "r_nue[2]"]);
+        assert_eq!(matched("*"), names);
+        assert_eq!(matched("t*d*e"), ["touchdown_time"]);
+        // Whole names only: no pattern character means equality.
+        assert_eq!(matched("touchdown"), ["touchdown"]);
+        assert!(matched("touch").is_empty());
+        assert!(matched("?").is_empty());
+        assert!(glob_matches("a**b", "ab") && glob_matches("**", ""));
+        assert!(!glob_matches("a*b", "abc"));
     }
 }
