@@ -164,7 +164,12 @@ pub struct Fmi3ModelDescription {
     pub model_name: String,
     pub instantiation_token: String,
     pub description: Option<String>,
+    pub author: Option<String>,
+    pub version: Option<String>,
+    pub copyright: Option<String>,
+    pub license: Option<String>,
     pub generation_tool: Option<String>,
+    pub generation_date_and_time: Option<String>,
     pub variable_naming_convention: Option<String>,
     pub co_simulation: Option<Fmi3CoSimulation>,
     /// The `modelIdentifier` of `<ModelExchange>` and `<ScheduledExecution>`, if declared.
@@ -279,7 +284,12 @@ impl Fmi3ModelDescription {
                 self.model_name = at.required("modelName")?.to_owned();
                 self.instantiation_token = at.required("instantiationToken")?.to_owned();
                 self.description = at.get("description").map(str::to_owned);
+                self.author = at.get("author").map(str::to_owned);
+                self.version = at.get("version").map(str::to_owned);
+                self.copyright = at.get("copyright").map(str::to_owned);
+                self.license = at.get("license").map(str::to_owned);
                 self.generation_tool = at.get("generationTool").map(str::to_owned);
+                self.generation_date_and_time = at.get("generationDateAndTime").map(str::to_owned);
                 self.variable_naming_convention =
                     at.get("variableNamingConvention").map(str::to_owned);
             }
@@ -527,7 +537,7 @@ mod tests {
     use super::*;
 
     const SAMPLE: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
-<fmiModelDescription fmiVersion="3.0" modelName="M" instantiationToken="{tok}">
+<fmiModelDescription fmiVersion="3.0" modelName="M" instantiationToken="{tok}" version="1.2" author="A" generationTool="T" generationDateAndTime="2026-01-02T03:04:05Z">
   <CoSimulation modelIdentifier="M" canHandleVariableCommunicationStepSize="true" hasEventMode="true" mightReturnEarlyFromDoStep="true"/>
   <TypeDefinitions>
     <Float64Type name="m" unit="m"/>
@@ -550,6 +560,15 @@ mod tests {
         let md = Fmi3ModelDescription::from_xml(SAMPLE).unwrap();
         assert_eq!(md.fmi_version, "3.0");
         assert_eq!(md.instantiation_token, "{tok}");
+        // What a report shows of where the FMU came from.
+        assert_eq!(md.version.as_deref(), Some("1.2"));
+        assert_eq!(md.author.as_deref(), Some("A"));
+        assert_eq!(md.generation_tool.as_deref(), Some("T"));
+        assert_eq!(
+            md.generation_date_and_time.as_deref(),
+            Some("2026-01-02T03:04:05Z")
+        );
+        assert_eq!(md.license, None);
         let cs = md.co_simulation.as_ref().unwrap();
         assert!(cs.has_event_mode && cs.might_return_early_from_do_step);
         assert!(!cs.provides_intermediate_update);

@@ -200,7 +200,12 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
         model_name: md.model_name.clone(),
         guid: md.instantiation_token.clone(),
         description: md.description.clone(),
+        author: md.author.clone(),
+        version: md.version.clone(),
+        copyright: md.copyright.clone(),
+        license: md.license.clone(),
         generation_tool: md.generation_tool.clone(),
+        generation_date_and_time: md.generation_date_and_time.clone(),
         variable_naming_convention: md.variable_naming_convention.clone(),
         model_exchange: md.model_exchange.as_ref().map(|id| ModelExchange {
             model_identifier: id.clone(),
