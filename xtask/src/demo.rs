@@ -10,5 +10,12 @@ use anyhow::Result;
 pub fn run(ws: &Workspace) -> Result<()> {
     system_packages::ensure(&system_packages::for_demo())?;
     fmus::package_all_with(ws, &["harness"])?;
-    workspace::run(ws.cargo().args(["run", "-p", "harness", "--", "paper"]))
+    // The binary just built, not `cargo run -p harness`: that resolves the features of the
+    // harness alone, unlike the build beside the FMUs, and would compile it again.
+    let harness = ws.target_dir.join("debug").join("harness");
+    workspace::run(
+        std::process::Command::new(harness)
+            .arg("paper")
+            .current_dir(&ws.root),
+    )
 }
