@@ -121,6 +121,17 @@ pub struct Fmi3Variable {
     pub dimensions: Vec<Fmi3Dimension>,
     /// `clocks`: the value references of the clocks this variable belongs to.
     pub clocks: Option<String>,
+    /// `<Alias>` children: other names of this variable.
+    pub aliases: Vec<Fmi3Alias>,
+}
+
+/// `<Alias name="h_ft" description="..." displayUnit="ft"/>`: another name of a variable,
+/// the same value under it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Fmi3Alias {
+    pub name: String,
+    pub description: Option<String>,
+    pub display_unit: Option<String>,
 }
 
 impl Fmi3Variable {
@@ -387,6 +398,7 @@ impl Fmi3ModelDescription {
                         .unwrap_or_default(),
                     dimensions: Vec::new(),
                     clocks: at.get("clocks").map(str::to_owned),
+                    aliases: Vec::new(),
                 });
             }
             ([_, "ModelVariables", _], "Dimension") => {
@@ -396,6 +408,16 @@ impl Fmi3ModelDescription {
                 };
                 if let Some(variable) = self.variables.last_mut() {
                     variable.dimensions.push(dimension);
+                }
+            }
+            ([_, "ModelVariables", _], "Alias") => {
+                let alias = Fmi3Alias {
+                    name: at.required("name")?.to_owned(),
+                    description: at.get("description").map(str::to_owned),
+                    display_unit: at.get("displayUnit").map(str::to_owned),
+                };
+                if let Some(variable) = self.variables.last_mut() {
+                    variable.aliases.push(alias);
                 }
             }
             ([_, "ModelVariables", _], "Start") => {
@@ -544,7 +566,7 @@ mod tests {
     <EnumerationType name="E"><Item name="a" value="1"/><Item name="b" value="2"/></EnumerationType>
   </TypeDefinitions>
   <ModelVariables>
-    <Float64 name="r" valueReference="1" causality="input" declaredType="m" start="0 800 0"><Dimension start="3"/></Float64>
+    <Float64 name="r" valueReference="1" causality="input" declaredType="m" start="0 800 0"><Dimension start="3"/><Alias name="r_alias" description="the same r"/></Float64>
     <Int32 name="n" valueReference="4" causality="output"/>
     <Enumeration name="e" valueReference="5" causality="parameter" variability="fixed" declaredType="E" start="2"/>
     <String name="s" valueReference="6" causality="parameter" variability="fixed"><Start value="hello world"/></String>
@@ -576,6 +598,9 @@ mod tests {
         assert_eq!(r.kind, Fmi3Type::Float64);
         assert_eq!(r.start, ["0", "800", "0"]);
         assert_eq!(r.dimensions[0].start, Some(3));
+        assert_eq!(r.aliases[0].name, "r_alias");
+        assert_eq!(r.aliases[0].description.as_deref(), Some("the same r"));
+        assert!(md.variables[1].aliases.is_empty());
         assert_eq!(r.variability_or_default(), Variability::Continuous);
         assert_eq!(
             md.variables[1].variability_or_default(),

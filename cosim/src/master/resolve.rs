@@ -179,10 +179,18 @@ pub fn columns(system: &SystemDescription, fmus: &[Fmu], problems: &mut Vec<Stri
         None => {
             let mut out = Vec::new();
             for (instance, fmu) in fmus.iter().enumerate() {
+                let first = out.len();
                 for variable in fmu.model_description().outputs() {
                     let Some(kind) = variable.kind().and_then(exchange_kind) else {
                         continue;
                     };
+                    // An alias (the same value reference and type) is one output, recorded
+                    // under its first name.
+                    if out[first..].iter().any(|p: &Port| {
+                        p.value_reference == variable.value_reference && p.kind == kind
+                    }) {
+                        continue;
+                    }
                     out.push(Port {
                         instance,
                         name: variable.name.clone(),

@@ -141,6 +141,30 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
         }
         by_reference.insert(variable.value_reference, first..first + len);
     }
+    // An alias is another name of the same value: its scalars carry the element references
+    // of the variable's own, so every get, set and connection by it reaches that variable.
+    // They follow all others, so that a scalar's element reference stays its position.
+    for variable in md.variables.iter().filter(|v| supported(v.kind)) {
+        let Some(range) = by_reference.get(&variable.value_reference) else {
+            continue;
+        };
+        let shape: Vec<usize> = variable
+            .dimensions
+            .iter()
+            .map(|d| d.start.unwrap_or(1) as usize)
+            .collect();
+        for alias in &variable.aliases {
+            for (index, element) in range.clone().enumerate() {
+                let name = element_name(&alias.name, &shape, index);
+                let mut aliased = scalars[element].clone();
+                aliased.name = name;
+                if alias.description.is_some() {
+                    aliased.description = alias.description.clone();
+                }
+                scalars.push(aliased);
+            }
+        }
+    }
     if !skipped.is_empty() {
         log::warn!(
             "model '{}' (FMI 3.0): variables of types the harness does not exchange are left \
@@ -393,6 +417,31 @@ mod tests {
         assert_eq!(outputs.len(), 2, "Float32 left out");
         assert_eq!(outputs[1].index, 5);
         assert_eq!(outputs[1].dependencies.as_deref(), Some("1 2 3"));
+    }
+
+    #[test]
+    fn an_alias_names_the_same_elements_after_every_variable() {
+        let xml = MD.replace(
+            r#"causality="output"><Dimension start="2"/></Float64>"#,
+            r#"causality="output"><Dimension start="2"/><Alias name="y_alias" description="y again"/></Float64>"#,
+        );
+        let md = Fmi3ModelDescription::from_xml(&xml).unwrap();
+        let view = scalar_view(&md).unwrap();
+        let variables = &view.description.model_variables.variables;
+        let named = |name: &str| variables.iter().find(|v| v.name == name).unwrap();
+        assert_eq!(variables.len(), 8);
+        for i in 1..=2 {
+            let (base, alias) = (named(&format!("y[{i}]")), named(&format!("y_alias[{i}]")));
+            assert_eq!(alias.value_reference, base.value_reference);
+            assert_eq!(alias.causality, base.causality);
+            assert_eq!(alias.description.as_deref(), Some("y again"));
+        }
+        // The variables' own scalars keep their element references as positions.
+        for (position, element) in view.elements.iter().enumerate() {
+            assert_eq!(variables[position].value_reference, position as u32);
+            assert!(element.index < element.len);
+        }
+        assert_eq!(view.elements.len(), 6);
     }
 
     #[test]
