@@ -895,13 +895,21 @@ impl Simulation {
             }
         }
         self.now = clock.end_time();
-        for u in 0..self.units.len() {
-            // An instance that allows no get after a set (FMI 3.0 Step Mode) records the
-            // outputs of its last step: its inputs at the stop time could change nothing read.
-            if !self.get_before_set[u] {
-                self.set_inputs(u)?;
+        // Jacobi records, at every point, the outputs read after the step that ended there,
+        // before any input is set: so also at the end, as fmpy's simulate_ssp, libcosim and
+        // Ecos do (a final exchange would show feedthrough outputs answering inputs that no
+        // step used). Gauss-Seidel sets each instance's inputs before reading it, at every
+        // point and so at the end.
+        if ordering == Ordering::GaussSeidel {
+            for u in 0..self.units.len() {
+                // An instance that allows no get after a set (FMI 3.0 Step Mode) records the
+                // outputs of its last step: its inputs at the stop time could change nothing
+                // read.
+                if !self.get_before_set[u] {
+                    self.set_inputs(u)?;
+                }
+                self.get_outputs(u)?;
             }
-            self.get_outputs(u)?;
         }
         self.record(clock.end_time(), recorder)?;
         self.read_final(clock.end_time())?;

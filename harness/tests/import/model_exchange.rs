@@ -48,4 +48,9 @@ fn the_shipped_model_exchange_landing_touches_down_where_the_co_simulation_landi
         worst > 0.0,
         "the Model Exchange plant must not be the Co-Simulation plant"
     );
+    // AND the last row is taken after the event update that ended the run: it carries the
+    // touchdown the plant latched in that update, which the row before does not.
+    let flag = me.column("plant.touchdown").unwrap();
+    assert_eq!(flag[flag.len() - 1], 1.0, "the touchdown row");
+    assert_eq!(flag[flag.len() - 2], 0.0, "the row before the event");
 }

@@ -15,16 +15,6 @@ use std::path::{Path, PathBuf};
 
 pub use system_tests::{fmu_dir, fmu_path, workspace_root};
 
-/// The plant's navigation outputs (docs/interface.md): they do not depend on its inputs, so a
-/// read after an exchange gives what a read right after the step gave.
-pub const PLANT_NAVIGATION: [&str; 5] = [
-    "plant.r_nue[",
-    "plant.v_nue[",
-    "plant.q_body_to_nue[",
-    "plant.omega_body[",
-    "plant.mass",
-];
-
 /// The paper scenario with LanderNav between the plant and the GNC
 /// (harness/scenarios/paper-nav.toml), with every kind of navigation error switched on in
 /// every signal group (white noise, bias, random walk, quantisation, latency), seeded: the

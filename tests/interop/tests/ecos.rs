@@ -16,9 +16,7 @@ use cosim::system::Ordering;
 use fmi_import::Fmu;
 use fmi_import::VariableKind;
 use interop_tests::compare::assert_identical_after_steps;
-use interop_tests::{
-    fmu_dir, python, read_trajectory, run_harness, scenario, scratch, ssp_path, PLANT_NAVIGATION,
-};
+use interop_tests::{fmu_dir, python, read_trajectory, run_harness, scenario, scratch, ssp_path};
 use std::io::{Read, Write};
 use std::path::Path;
 
@@ -91,7 +89,6 @@ fn ecos_flies_the_ssp_package_with_its_parameter_set_bit_identically() {
         "Ecos (SSP) vs harness (Jacobi, Ecos conventions)",
         &reference,
         &ecos,
-        &PLANT_NAVIGATION,
     );
     // AND the plant's parameters were applied: the package's 15 deg tilted start
     let q0 = ecos.column("plant.q_body_to_nue[1]").unwrap()[0];

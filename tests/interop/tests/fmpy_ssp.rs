@@ -12,9 +12,7 @@
 use cosim::master::Conventions;
 use cosim::system::Ordering;
 use interop_tests::compare::{assert_identical_after_steps, compare};
-use interop_tests::{
-    python, read_trajectory, run_harness, scratch, ssp_path, unpacked_ssp, PLANT_NAVIGATION,
-};
+use interop_tests::{python, read_trajectory, run_harness, scratch, ssp_path, unpacked_ssp};
 
 #[test]
 fn simulate_ssp_flies_the_packaged_system_bit_identically_to_the_harness_in_its_conventions() {
@@ -44,7 +42,6 @@ fn simulate_ssp_flies_the_packaged_system_bit_identically_to_the_harness_in_its_
         "fmpy simulate_ssp vs harness (Jacobi, fmpy conventions)",
         &reference,
         &after_steps,
-        &PLANT_NAVIGATION,
     );
     let altitude = reference.column("plant.r_nue[2]").unwrap();
     assert!((altitude.last().unwrap() - 150.0).abs() < 0.5);

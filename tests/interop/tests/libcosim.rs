@@ -17,7 +17,7 @@ use cosim::system::Ordering;
 use interop_tests::compare::{assert_identical_after_steps, compare};
 use interop_tests::{
     paper_with_navigation_errors, python, read_trajectory, run_harness, scenario, scratch,
-    unpacked_ssp, write_system_json, PLANT_NAVIGATION,
+    unpacked_ssp, write_system_json,
 };
 
 fn ns_arg(seconds: f64) -> String {
@@ -47,7 +47,6 @@ fn libcosim_built_through_its_api_flies_the_paper_scenario_bit_identically() {
         "libcosim (API) vs harness (Jacobi, libcosim conventions)",
         &reference,
         &libcosim,
-        &PLANT_NAVIGATION,
     );
     // AND the time arithmetic matters: with the harness's step counter it is not identical.
     let own = run_harness(system, Conventions::default());
@@ -92,7 +91,6 @@ fn libcosim_loading_the_ssp_package_flies_it_bit_identically() {
         "libcosim (SSP) vs harness (Jacobi, libcosim conventions)",
         &reference,
         &libcosim,
-        &PLANT_NAVIGATION,
     );
 }
 
@@ -127,6 +125,5 @@ fn libcosim_flies_plant_nav_gnc_with_seeded_navigation_errors_bit_identically() 
         "libcosim (API, three FMUs, navigation errors) vs harness (Jacobi, libcosim conventions)",
         &reference,
         &libcosim,
-        &PLANT_NAVIGATION,
     );
 }
