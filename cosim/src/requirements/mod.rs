@@ -33,17 +33,23 @@ pub enum EarlyEnd {
     Accept,
 }
 
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Entry {
+    name: String,
+    formula: String,
+    #[serde(default)]
+    early_end: EarlyEnd,
+}
+
+/// The keys a `[[requirement]]` entry accepts.
+pub fn keys() -> &'static [&'static str] {
+    crate::system::fields::of::<Entry>()
+}
+
 /// The `[[requirement]]` entries of a scenario's TOML text, every bad one named at once
 /// (which entry, where in its formula).
 pub fn from_toml(text: &str) -> Result<Vec<Requirement>, String> {
-    #[derive(serde::Deserialize)]
-    #[serde(deny_unknown_fields)]
-    struct Entry {
-        name: String,
-        formula: String,
-        #[serde(default)]
-        early_end: EarlyEnd,
-    }
     let mut table: toml::Table = toml::from_str(text).map_err(|e| e.to_string())?;
     let Some(entries) = table.remove("requirement") else {
         return Ok(Vec::new());

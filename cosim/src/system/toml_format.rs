@@ -218,6 +218,17 @@ fn beside(origin: &Path, fmu: PathBuf) -> PathBuf {
     }
 }
 
+/// The keys of each table of the format the system reads, by table (`""` the top level), as
+/// the reader accepts them; `[verdict]` and `[[requirement]]` are read elsewhere.
+pub fn keys() -> Vec<(&'static str, &'static [&'static str])> {
+    vec![
+        ("", super::fields::of::<File>()),
+        ("instance", super::fields::of::<Instance>()),
+        ("connection", super::fields::of::<ConnectionEntry>()),
+        ("limits", super::fields::of::<crate::limits::Limits>()),
+    ]
+}
+
 /// Reads a TOML scenario file.
 pub fn read(path: &Path) -> Result<SystemDescription, SystemError> {
     let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {

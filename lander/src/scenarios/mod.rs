@@ -5,6 +5,8 @@ use cosim::system::{ssp, PackageDir, SystemDescription, SystemError};
 use fmi_abi::unpack::UnpackError;
 use std::path::Path;
 
+#[cfg(test)]
+mod documented_keys;
 pub mod spec;
 
 /// The `--scenario` help of the campaign commands, naming every built-in scenario.
