@@ -229,7 +229,14 @@ mod tests {
         assert_eq!(laws.value(Law::COUPLED), Ok(1));
         assert_eq!(laws.value(Law::DECOUPLED), Ok(2));
         assert_eq!(laws.of_value(3), Some(Law::new("reduced")));
-        assert_eq!(laws.of_value(4), None);
+        // One past the last item is none, however many laws the FMU declares.
+        let last = laws
+            .all()
+            .iter()
+            .map(|&l| laws.value(l).unwrap())
+            .max()
+            .unwrap();
+        assert_eq!(laws.of_value(i64::from(last) + 1), None);
     }
 
     #[test]
@@ -254,13 +261,21 @@ mod tests {
             Path::new(env!("CARGO_MANIFEST_DIR")).join("../fmu-gnc/modelDescription.xml"),
         )
         .unwrap();
+        let shipped = Laws::of(&ModelDescription::from_xml(&xml).unwrap()).unwrap();
+        let next = shipped
+            .all()
+            .iter()
+            .map(|&l| shipped.value(l).unwrap())
+            .max()
+            .unwrap()
+            + 1;
         let (head, tail) = xml.split_once(r#"<Item name="reduced""#).unwrap();
         let xml = format!(
-            r#"{head}<Item name="lqr" value="4" description="a fourth law"/><Item name="reduced"{tail}"#
+            r#"{head}<Item name="lqr" value="{next}" description="one more law"/><Item name="reduced"{tail}"#
         );
         let laws = Laws::of(&ModelDescription::from_xml(&xml).unwrap()).unwrap();
-        assert_eq!(laws.value(Law::named("lqr")), Ok(4));
-        assert_eq!(laws.all().len(), 4);
+        assert_eq!(laws.value(Law::named("lqr")), Ok(next));
+        assert_eq!(laws.all().len(), shipped.all().len() + 1);
     }
 
     #[test]
