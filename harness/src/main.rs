@@ -164,9 +164,9 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Replay(monte_carlo::ReplayArgs),
     /// Write DIR/report.html: one self-contained page with the figures, tables and verdicts
-    /// of a `paper` or `monte-carlo` output directory (merged or Dask campaigns too).
+    /// of a `paper`, `test` or `monte-carlo` output directory (merged or Dask campaigns too).
     Report {
-        /// The output directory of `harness paper`, `monte-carlo` or `merge-mc`.
+        /// The output directory of `harness paper`, `test`, `monte-carlo` or `merge-mc`.
         dir: PathBuf,
     },
 }
@@ -655,6 +655,10 @@ fn test_folder(
         }
     }
     cosim::requirements::junit::write(junit, &suites)?;
+    cosim::requirements::junit::write_verdicts(
+        &out_dir.join(cosim::requirements::junit::VERDICTS_FILE),
+        &suites,
+    )?;
     println!(
         "{} scenarios: {} passed, {failed} failed, {broken} could not be run -> {}",
         scenarios.len(),

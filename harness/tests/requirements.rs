@@ -249,6 +249,25 @@ fn harness_test_runs_every_scenario_of_a_folder_into_one_junit_report() {
         .error
         .as_ref()
         .is_some_and(|f| f.message.contains("could not be run")));
+
+    // AND `harness report` on the results gives one page with a table per run, the violated
+    // requirement and the scenario that could not be run marked.
+    let output = harness(&["report", out_dir.to_str().unwrap()]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let html = std::fs::read_to_string(out_dir.join("report.html")).unwrap();
+    assert!(html.contains("Verdicts: 3 runs, 1 passed"), "{html}");
+    for name in ["a-upright", "b-landing", "c-broken"] {
+        assert!(html.contains(&format!("<h3>{name}</h3>")), "{name}");
+    }
+    let violated_row = html.lines().find(|l| l.contains("above 700 m")).unwrap();
+    assert!(
+        violated_row.starts_with("<tr class=\"fail\">") && violated_row.contains("VIOLATED"),
+        "{violated_row}"
+    );
 }
 
 /// A window past the touchdown at 323.61 s: inconclusive, failing, for `always` and

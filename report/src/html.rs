@@ -2,9 +2,10 @@
 //! text tables and verdicts the commands wrote (`*-summary.txt`), and `summary.csv`'s
 //! per-cell statistics with the failed flights of a campaign. Written by `harness paper` and
 //! `harness monte-carlo` into their directory, and by `harness report DIR` for any directory
-//! (a merged or Dask campaign, say).
+//! (a merged or Dask campaign, say, or a `harness test` folder's results with their verdicts).
 use anyhow::Context;
 use base64::Engine;
+use cosim::requirements::junit::{self, Outcome, Suite};
 use lander::provenance::{Parameter, Provenance, PROVENANCE_FILE};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -441,6 +442,10 @@ pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathB
     if provenance.is_file() {
         provenance_section(&Provenance::read(&provenance)?, &mut html);
     }
+    let verdicts = dir.join(junit::VERDICTS_FILE);
+    if verdicts.is_file() {
+        verdicts_section(&junit::read_verdicts(&verdicts)?, &mut html);
+    }
     // A campaign's definition holds what reproduces it: scenario, seed, grid, dispersions,
     // and the FMUs' model names, GUIDs and generation tools.
     let campaign = dir.join("campaign.toml");
@@ -521,6 +526,54 @@ pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathB
     Ok(out)
 }
 
+/// The runs of a `harness test` folder: per run its verdict and each requirement, the ones
+/// that failed or could not be judged highlighted, with their messages.
+fn verdicts_section(suites: &[Suite], html: &mut String) {
+    let passed = suites
+        .iter()
+        .filter(|s| s.cases.iter().all(|c| c.outcome == Outcome::Passed))
+        .count();
+    let _ = writeln!(
+        html,
+        "<h2 id=\"verdicts\">Verdicts: {} runs, {passed} passed</h2>",
+        suites.len()
+    );
+    for suite in suites {
+        let _ = writeln!(
+            html,
+            "<h3>{}</h3>\n<div class=\"scroll\"><table class=\"facts\"><tr><th>test</th>\
+             <th>result</th><th class=\"statement\">detail</th></tr>",
+            escape(&suite.name)
+        );
+        for case in &suite.cases {
+            let (class, result, message) = match &case.outcome {
+                Outcome::Passed => ("", "passed", ""),
+                Outcome::Failed(m) => (" class=\"fail\"", "FAILED", m.as_str()),
+                Outcome::Error(m) => (" class=\"fail\"", "ERROR", m.as_str()),
+            };
+            let detail = match (message.is_empty(), case.detail.is_empty()) {
+                (true, _) => case.detail.clone(),
+                (false, true) => message.to_owned(),
+                (false, false) => format!("{message}\n{}", case.detail),
+            };
+            let _ = writeln!(
+                html,
+                "<tr{class}><td>{}</td><td>{result}</td><td class=\"statement\">{}</td></tr>",
+                escape(&case.name),
+                escape(&detail)
+            );
+        }
+        let _ = writeln!(html, "</table></div>");
+        if let Some(err) = suite.system_err.as_deref().filter(|e| !e.is_empty()) {
+            let _ = writeln!(
+                html,
+                "<details><summary>What the run wrote to stderr</summary><pre>{}</pre></details>",
+                escape(err)
+            );
+        }
+    }
+}
+
 /// The current time, UTC, as xs:dateTime (`YYYY-MM-DDThh:mm:ssZ`).
 fn utc_now() -> String {
     let secs = std::time::SystemTime::now()
@@ -539,16 +592,19 @@ pub fn for_directory(dir: &Path) -> anyhow::Result<PathBuf> {
     } else {
         Vec::new()
     };
-    let found = !files(dir, "-summary.txt")?.is_empty()
+    let found = dir.join(junit::VERDICTS_FILE).is_file()
+        || !files(dir, "-summary.txt")?.is_empty()
         || !files(dir, ".png")?.is_empty()
         || dir.join(campaign::summary_csv::FILE_NAME).is_file()
         || manifest.is_file();
     if !found {
         anyhow::bail!(
-            "{} holds no results to report (no *-summary.txt, summary.csv, {} or *.png): \
-             write them first with `harness paper` or `harness monte-carlo --out-dir {0}`",
+            "{} holds no results to report (no *-summary.txt, summary.csv, {}, {} or *.png): \
+             write them first with `harness paper`, `harness test FOLDER --out-dir {0}` or \
+             `harness monte-carlo --out-dir {0}`",
             dir.display(),
-            campaign::manifest::FILE_NAME
+            campaign::manifest::FILE_NAME,
+            junit::VERDICTS_FILE
         );
     }
     let title = format!("lander-fmi results: {}", dir.display());
@@ -567,6 +623,78 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
         let missing = dir.path().join("nonexistent");
         assert!(for_directory(&missing).is_err());
+    }
+
+    #[test]
+    fn a_test_folders_verdicts_are_a_table_per_run_with_failures_highlighted() {
+        let dir = tempfile::tempdir().unwrap();
+        let case = |name: &str, outcome: Outcome, detail: &str| junit::Case {
+            name: name.into(),
+            time_s: 0.5,
+            outcome,
+            detail: detail.into(),
+        };
+        let suites = [
+            Suite {
+                name: "landing".into(),
+                time_s: 1.0,
+                cases: vec![case(
+                    "verdict",
+                    Outcome::Passed,
+                    "landed inside the envelope",
+                )],
+                system_err: None,
+            },
+            Suite {
+                name: "paper".into(),
+                time_s: 2.0,
+                cases: vec![
+                    case("verdict", Outcome::Passed, "completed"),
+                    case(
+                        "descent deviation",
+                        Outcome::Failed("VIOLATED (robustness -5.9e1 at t = 52.27 s)".into()),
+                        "always [12, 142] hypot(plant.r_nue[1], plant.r_nue[3]) <= 10",
+                    ),
+                ],
+                system_err: Some("gnc: a warning <b>".into()),
+            },
+            Suite {
+                name: "broken".into(),
+                time_s: 0.0,
+                cases: vec![case(
+                    "verdict",
+                    Outcome::Error("could not be run".into()),
+                    "",
+                )],
+                system_err: None,
+            },
+        ];
+        junit::write_verdicts(&dir.path().join(junit::VERDICTS_FILE), &suites).unwrap();
+        let html = std::fs::read_to_string(for_directory(dir.path()).unwrap()).unwrap();
+        assert!(html.contains("Verdicts: 3 runs, 1 passed"), "{html}");
+        for name in ["<h3>landing</h3>", "<h3>paper</h3>", "<h3>broken</h3>"] {
+            assert!(html.contains(name), "{name}");
+        }
+        let failed_row = html
+            .lines()
+            .find(|l| l.contains("descent deviation"))
+            .unwrap();
+        assert!(
+            failed_row.starts_with("<tr class=\"fail\">")
+                && failed_row.contains("FAILED")
+                && failed_row.contains("VIOLATED (robustness -5.9e1 at t = 52.27 s)"),
+            "{failed_row}"
+        );
+        let passed_row = html.lines().find(|l| l.contains("landed inside")).unwrap();
+        assert!(
+            passed_row.starts_with("<tr><td>verdict</td><td>passed"),
+            "{passed_row}"
+        );
+        assert!(html.contains("<td>ERROR</td>") && html.contains("could not be run"));
+        assert!(
+            html.contains("gnc: a warning &lt;b&gt;"),
+            "stderr is escaped"
+        );
     }
 
     #[test]

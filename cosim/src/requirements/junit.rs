@@ -10,7 +10,7 @@ use std::fmt::Write;
 use std::path::Path;
 
 /// How a test case ended.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Outcome {
     Passed,
     /// It ran and failed, with the message a CI system shows in its list.
@@ -20,7 +20,7 @@ pub enum Outcome {
 }
 
 /// One test case: its name, its time, how it ended and the text shown with it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Case {
     pub name: String,
     pub time_s: f64,
@@ -29,7 +29,7 @@ pub struct Case {
 }
 
 /// One suite: a scenario's run.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Suite {
     pub name: String,
     pub time_s: f64,
@@ -51,6 +51,32 @@ impl Suite {
     fn count(&self, which: impl Fn(&Outcome) -> bool) -> usize {
         self.cases.iter().filter(|c| which(&c.outcome)).count()
     }
+}
+
+/// The file beside a `harness test` folder's results that keeps its suites for
+/// `harness report`, which reads them back without parsing the JUnit XML.
+pub const VERDICTS_FILE: &str = "verdicts.toml";
+
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Verdicts {
+    suite: Vec<Suite>,
+}
+
+/// Writes `suites` as TOML to `path`.
+pub fn write_verdicts(path: &Path, suites: &[Suite]) -> anyhow::Result<()> {
+    let text = toml::to_string(&Verdicts {
+        suite: suites.to_vec(),
+    })?;
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+}
+
+/// The suites [`write_verdicts`] wrote.
+pub fn read_verdicts(path: &Path) -> anyhow::Result<Vec<Suite>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let verdicts: Verdicts =
+        toml::from_str(&text).with_context(|| format!("reading {}", path.display()))?;
+    Ok(verdicts.suite)
 }
 
 /// `text` as XML character data or a double-quoted attribute value. XML 1.0 allows no
