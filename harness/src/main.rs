@@ -23,14 +23,16 @@ mod vars;
                   failed (hard landing, touchdown when a hover was expected, ...)."
 )]
 struct Cli {
-    /// Directory holding the FMUs named by the scenario (relative `fmu` paths).
+    /// Directory holding the FMUs named by the scenario (relative `fmu` paths not found
+    /// beside the scenario file); repeat it to look in several, in order.
     #[arg(
         long,
         global = true,
         default_value = "target/fmu",
-        env = "LANDER_FMU_DIR"
+        env = "LANDER_FMU_DIR",
+        action = clap::ArgAction::Append
     )]
-    fmu_dir: PathBuf,
+    fmu_dir: Vec<PathBuf>,
     /// Run the FMUs inside this process instead of a supervised worker process (for a
     /// debugger): an FMU that crashes, exits or hangs then takes the harness with it.
     #[arg(long, global = true)]
@@ -416,10 +418,14 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     // return through `?` (exit code 1).
     let mut exit_code = lander::verdict::EXIT_OK;
     set_execution(&cli)?;
+    // The first directory is the one every command is given; the others are searched after
+    // it wherever a relative FMU path is resolved.
+    let fmu_dir = cli.fmu_dir.first().cloned().unwrap_or_default();
+    cosim::master::set_more_fmu_dirs(cli.fmu_dir.iter().skip(1).cloned().collect());
     match cli.command {
         Command::Run { request, junit } => {
             let started = std::time::Instant::now();
-            let flown = match run_scenario(&request, &cli.fmu_dir) {
+            let flown = match run_scenario(&request, &fmu_dir) {
                 Ok(flown) => flown,
                 Err(error) => {
                     // A CI job reads the report: it says why there is no run.
@@ -444,7 +450,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             dir,
             junit,
             out_dir,
-        } => exit_code = test_folder(&dir, &junit, &out_dir, &cli.fmu_dir)?,
+        } => exit_code = test_folder(&dir, &junit, &out_dir, &fmu_dir)?,
         Command::Completions { shell } => {
             use clap::CommandFactory;
             clap_complete::generate(
@@ -467,7 +473,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             let path = if fmu.exists() || fmu.is_absolute() {
                 fmu.clone()
             } else {
-                cli.fmu_dir.join(&fmu)
+                cosim::master::fmu_path(&fmu_dir, &fmu)
             };
             // The description alone: listing variables runs no FMU code.
             let (_, description) = fmi_import::read_description(&path)
@@ -495,11 +501,11 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             }
             let requirements = lander::scenarios::spec::requirements(&scenario)?;
             let name = system.name.clone();
-            let laws = Laws::of_instance(&system, "gnc", &cli.fmu_dir)?;
+            let laws = Laws::of_instance(&system, "gnc", &fmu_dir)?;
             let own = lander::paper::scenario_law(&system, &laws);
             let flights = lander::paper::fly_all(
                 system,
-                &cli.fmu_dir,
+                &fmu_dir,
                 &laws.all(),
                 &spec.envelope,
                 &requirements,
@@ -531,7 +537,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             let name = system.name.clone();
             let (command, flights) = lander::retarget::fly_all(
                 system,
-                &cli.fmu_dir,
+                &fmu_dir,
                 &lander::retarget::LAWS,
                 &spec.envelope,
             )?;
@@ -547,9 +553,9 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 println!("wrote {}", path.display());
             }
         }
-        Command::MonteCarlo(args) => exit_code = monte_carlo::monte_carlo(&args, &cli.fmu_dir)?,
+        Command::MonteCarlo(args) => exit_code = monte_carlo::monte_carlo(&args, &fmu_dir)?,
         Command::MergeMc(args) => exit_code = monte_carlo::merge_mc(&args)?,
-        Command::Replay(args) => monte_carlo::replay(&args, &cli.fmu_dir)?,
+        Command::Replay(args) => monte_carlo::replay(&args, &fmu_dir)?,
         Command::Report { dir } => {
             println!("wrote {}", report::html::for_directory(&dir)?.display())
         }

@@ -324,3 +324,47 @@ fn a_record_list_leaves_the_landing_judged_and_patterns_select_columns() {
         "{stderr}"
     );
 }
+
+/// `--fmu-dir` given twice: a relative FMU path is looked up in each, in order, also by the
+/// worker process that runs the FMUs; a file in none is named with every directory tried.
+#[test]
+fn repeated_fmu_dirs_are_searched_in_order() {
+    let (scenarios, more) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let oscillator = crate::common::fmu_dir().join("Oscillator.fmu");
+    std::fs::copy(&oscillator, more.path().join("Elsewhere.fmu")).unwrap();
+    let scenario = scenarios.path().join("elsewhere.toml");
+    std::fs::write(
+        &scenario,
+        "name = \"elsewhere\"\nstop_time = 1.0\n[[instance]]\nname = \"osc\"\nfmu = \"Elsewhere.fmu\"\n",
+    )
+    .unwrap();
+    let out = scenarios.path().join("out.csv");
+    let args = |extra: &[&str]| {
+        let mut all = vec![
+            "run",
+            scenario.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        all.extend_from_slice(extra);
+        harness(&all)
+    };
+    // The helper's own --fmu-dir (target/fmu) comes first and has no Elsewhere.fmu.
+    let output = args(&["--fmu-dir", more.path().to_str().unwrap()]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(std::fs::read_to_string(&out)
+        .unwrap()
+        .starts_with("time,osc.x"));
+
+    let output = args(&[]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("Elsewhere.fmu") && stderr.contains("--fmu-dir (repeatable)"),
+        "{stderr}"
+    );
+}

@@ -47,11 +47,15 @@ pub enum MasterError {
         source: Box<fmi_import::LoadError>,
     },
     #[error(
-        "FMU file(s) not found:\n  {}\nRelative FMU paths are looked up in the FMU directory, \
-         {}: set it with --fmu-dir or the LANDER_FMU_DIR environment variable (`cargo xtask \
-         fmus` builds ours into target/fmu).",
+        "FMU file(s) not found:\n  {}\nRelative FMU paths are looked up beside the scenario \
+         file, then in the FMU directory, {}{}: set it with --fmu-dir (repeatable) or the \
+         LANDER_FMU_DIR environment variable (`cargo xtask fmus` builds ours into target/fmu).",
         missing.join("\n  "),
-        fmu_dir.display()
+        fmu_dir.display(),
+        more_fmu_dirs()
+            .iter()
+            .map(|d| format!(", then {}", d.display()))
+            .collect::<String>()
     )]
     MissingFmus {
         fmu_dir: PathBuf,
@@ -431,13 +435,34 @@ pub struct Simulation {
     conventions: Conventions,
 }
 
-/// The FMU file of an instance: absolute, or relative to `fmu_dir`.
+/// Directories a relative FMU path is looked up in after the caller's FMU directory, in
+/// order (a command line's further `--fmu-dir`s): set once, at start-up, as the execution.
+static MORE_FMU_DIRS: std::sync::OnceLock<Vec<PathBuf>> = std::sync::OnceLock::new();
+
+/// Sets the further FMU directories; only the first call counts.
+pub fn set_more_fmu_dirs(dirs: Vec<PathBuf>) {
+    let _ = MORE_FMU_DIRS.set(dirs);
+}
+
+pub fn more_fmu_dirs() -> &'static [PathBuf] {
+    MORE_FMU_DIRS.get().map_or(&[], Vec::as_slice)
+}
+
+/// The FMU file of an instance: absolute, or relative to `fmu_dir`, else to the first of the
+/// further FMU directories that holds it (`fmu_dir`'s when none does).
 pub fn fmu_path(fmu_dir: &Path, fmu: &Path) -> PathBuf {
     if fmu.is_absolute() {
-        fmu.to_owned()
-    } else {
-        fmu_dir.join(fmu)
+        return fmu.to_owned();
     }
+    let first = fmu_dir.join(fmu);
+    if first.exists() {
+        return first;
+    }
+    more_fmu_dirs()
+        .iter()
+        .map(|dir| dir.join(fmu))
+        .find(|path| path.exists())
+        .unwrap_or(first)
 }
 
 /// Every FMU file the system names that is not there, in one error.

@@ -74,10 +74,20 @@ impl Runner {
     }
 
     pub fn with(
-        system: SystemDescription,
+        mut system: SystemDescription,
         fmu_dir: &Path,
         execution: Execution,
     ) -> Result<Self, MasterError> {
+        // An FMU found in a further FMU directory goes to a worker as its absolute path: a
+        // worker knows only `fmu_dir`.
+        for instance in &mut system.instances {
+            if !instance.fmu.is_absolute() && !fmu_dir.join(&instance.fmu).exists() {
+                let found = crate::master::fmu_path(fmu_dir, &instance.fmu);
+                if found.exists() {
+                    instance.fmu = std::path::absolute(&found).unwrap_or(found);
+                }
+            }
+        }
         match execution {
             Execution::InProcess => Ok(Runner::InProcess(Box::new(Simulation::new(
                 system, fmu_dir,
