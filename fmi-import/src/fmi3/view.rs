@@ -119,11 +119,7 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
             skipped.push(format!("{} ({})", variable.name, variable.kind.name()));
             continue;
         }
-        let shape: Vec<usize> = variable
-            .dimensions
-            .iter()
-            .map(|d| d.start.unwrap_or(1) as usize)
-            .collect();
+        let shape = shape(variable);
         let len = shape.iter().product::<usize>();
         let first = elements.len();
         for index in 0..len {
@@ -148,11 +144,7 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
         let Some(range) = by_reference.get(&variable.value_reference) else {
             continue;
         };
-        let shape: Vec<usize> = variable
-            .dimensions
-            .iter()
-            .map(|d| d.start.unwrap_or(1) as usize)
-            .collect();
+        let shape = shape(variable);
         for alias in &variable.aliases {
             for (index, element) in range.clone().enumerate() {
                 let name = element_name(&alias.name, &shape, index);
@@ -305,6 +297,15 @@ fn push_start(starts: &mut Starts, kind: Fmi3Type, start: Option<&str>) {
     } else {
         String::new()
     });
+}
+
+/// The extent of each of `variable`'s dimensions (fixed ones only reach the view).
+fn shape(variable: &Fmi3Variable) -> Vec<usize> {
+    variable
+        .dimensions
+        .iter()
+        .map(|d| d.start.unwrap_or(1) as usize)
+        .collect()
 }
 
 fn scalar(
