@@ -492,6 +492,11 @@ impl Worker {
         self.since = Instant::now();
         loop {
             let now = Instant::now();
+            // Checked before every wait, not only after a quiet one: a worker that keeps
+            // sending (rows ready, a fast run) would otherwise never meet its run limit.
+            if now >= deadline {
+                return Err(self.ended(Some(How::RunTimeout(limits.run_timeout_s())), limits));
+            }
             let wait = TICK.min(deadline.saturating_duration_since(now));
             match self.messages.recv_timeout(wait) {
                 Ok(Incoming::Message(message)) => return Ok(message),
