@@ -1,7 +1,8 @@
 //! `cargo xtask new-fmu NAME`: a new FMU crate, `fmu-<name>/`, that packages, validates and
 //! passes the conformance suite as written: its `[package.metadata.fmu]`, a tiny model with
 //! its declaration table, the two binaries `cargo xtask fmus` prints the model descriptions
-//! with, the one-line conformance suite and a README. The workspace takes it in through its
+//! with, the one-line conformance suite and a README; in the workspace, also its generated
+//! fuzz crate (`cargo xtask fuzz-crates`). The workspace takes it in through its
 //! `fmu-*` members; every list of FMUs (packaging, system tests, robustness, fuzz crates)
 //! reads the metadata, so nothing outside the new folder changes.
 use crate::workspace::Workspace;
@@ -227,6 +228,10 @@ pub fn run(ws: &Workspace, name: &str, into: Option<&Path>) -> Result<PathBuf> {
         dir.display(),
         files.len()
     );
+    if into.is_none() {
+        // Its fuzz crate is generated from the metadata just written, as every FMU's is.
+        crate::fuzz_crates::run(ws, false)?;
+    }
     Ok(dir)
 }
 
