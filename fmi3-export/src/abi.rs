@@ -1027,9 +1027,9 @@ const MAX_EVENTS_PER_STEP: usize = 64;
 /// A step as FMI 3.0 §4.2 wants it: `fmi3OK` whenever the step was carried out. At an event
 /// inside the step (touchdown, propellant exhaustion) the FMU returns early at the event
 /// (`earlyReturn`, `lastSuccessfulTime` at it, the outputs the event's) if the master
-/// allowed early return; otherwise it goes on to the step's end: a model that ends its run
-/// (touchdown) stays frozen at the event and asks to terminate (`terminateSimulation`), one
-/// that goes on is stepped on from the event. `fmi3Discard` is never the answer to an
+/// allowed early return; otherwise a model that ends its run (touchdown) stays frozen at the
+/// event and asks to terminate (`terminateSimulation`, `lastSuccessfulTime` at the event),
+/// and one that goes on is stepped on from the event to the step's end. `fmi3Discard` is never the answer to an
 /// event: it means the step did not succeed.
 fn step<M: Model>(
     inst: &mut Instance<M>,
@@ -1055,6 +1055,7 @@ fn step<M: Model>(
     let mut success = Success::Ok;
     let mut from = t;
     let mut finished = false;
+    let mut ended_at = None;
     for _ in 0..=MAX_EVENTS_PER_STEP {
         // The master's own h for the step as asked (what FMI 2.0 passes too: `(t + h) - t`
         // can differ from h in its last bit, and a model that integrates over h would then
@@ -1089,7 +1090,15 @@ fn step<M: Model>(
             report.last_successful_time = at;
             return Ok(success);
         }
-        if terminated || at >= end {
+        if terminated {
+            // lastSuccessfulTime is the FMU's internal time when the step returns, whatever
+            // earlyReturn says (FMI 3.0, fmi3DoStep): a model that ended its run stays at
+            // the event, so that is where its time stopped, not at t + h.
+            ended_at = Some(at);
+            finished = true;
+            break;
+        }
+        if at >= end {
             finished = true;
             break;
         }
@@ -1100,10 +1109,12 @@ fn step<M: Model>(
             "model error: more than {MAX_EVENTS_PER_STEP} events in the step from t = {t} s"
         ))));
     }
-    // The step is complete at the master's own t + h (the next call's t must match it).
-    inst.core.time = end;
-    inst.core.last_successful_time = end;
-    report.last_successful_time = end;
+    // The step is complete at the master's own t + h (the next call's t must match it),
+    // or at the event that ended the model's run.
+    let reached = ended_at.unwrap_or(end);
+    inst.core.time = reached;
+    inst.core.last_successful_time = reached;
+    report.last_successful_time = reached;
     Ok(success)
 }
 

@@ -8,8 +8,11 @@ time. Each run below must end without an exception, at the touchdown; the Rust t
 - `fmi2_cs`: the FMI 2.0 FMU, Co-Simulation: the touchdown step returns fmi2Discard with
   fmi2Terminated; fmpy records the row at fmi2LastSuccessfulTime (the touchdown) and stops.
 - `fmi3_cs`: the FMI 3.0 FMU, Co-Simulation, fmpy's defaults (earlyReturnAllowed = false, no
-  Event Mode): the touchdown step returns fmi3OK with terminateSimulation, completed to
-  t + h with the state frozen at touchdown; fmpy records that row and stops.
+  Event Mode): the touchdown step returns fmi3OK with terminateSimulation and
+  lastSuccessfulTime at the touchdown (earlyReturn false). fmpy 0.3.32 reads
+  lastSuccessfulTime only after an early return, so it stamps this last row at the step's
+  end, t + h, with the touchdown values; `step_over_touchdown` below reads what the FMU
+  reports through fmpy's own FMI 3.0 binding.
 - `fmi3_cs_early_return`: earlyReturnAllowed = true: the step returns early at the touchdown
   (earlyReturn, lastSuccessfulTime = touchdown), the last row is at the touchdown time.
 - `fmi3_cs_event_mode`: the same with eventModeUsed = true (fmpy's use_event_mode).
@@ -88,6 +91,25 @@ def last_row(path, **kwargs):
     return summary
 
 
+def step_over_touchdown(path):
+    """One fmi3DoStep(0, 35) through fmpy's FMU3Slave, without early return: what the FMU
+    says in doStep's out-arguments when its run ends inside the step."""
+    description = read_model_description(path)
+    unzipdir = extract(path)
+    fmu = instantiate_fmu(unzipdir, description, fmi_type="CoSimulation")
+    fmu.enterInitializationMode(startTime=0.0, stopTime=STOP_TIME)
+    fmu.exitInitializationMode()
+    _, terminate, early_return, last_successful_time = fmu.doStep(
+        currentCommunicationPoint=0.0, communicationStepSize=STOP_TIME)
+    fmu.terminate()
+    fmu.freeInstance()
+    shutil.rmtree(unzipdir, ignore_errors=True)
+    step = {"terminate_simulation": bool(terminate), "early_return": bool(early_return),
+            "last_successful_time": float(last_successful_time)}
+    print(f"  {json.dumps(step)}")
+    return step
+
+
 def main(fmi2_plant, fmi3_plant, out_path):
     runs = {}
     for name, path, kwargs in [
@@ -102,6 +124,8 @@ def main(fmi2_plant, fmi3_plant, out_path):
     ]:
         print(name)
         runs[name] = last_row(path, **kwargs)
+    print("fmi3_step_over_touchdown")
+    runs["fmi3_step_over_touchdown"] = step_over_touchdown(fmi3_plant)
     with open(out_path, "w") as f:
         json.dump(runs, f, indent=2)
     return 0

@@ -15,7 +15,6 @@ use serde_json::Value;
 use system_tests::fmi3_fmu_path;
 
 const G: f64 = 1.62;
-const OUTPUT_INTERVAL: f64 = 0.1;
 
 struct Run<'a> {
     name: &'a str,
@@ -161,9 +160,10 @@ fn fmpy_simulate_fmu_runs_the_fmi3_plant_through_touchdown_like_the_fmi2_plant()
         assert_eq!(td_time, t_td, "{name}: touchdown time");
         assert_eq!(td_v, v_td, "{name}: touchdown velocity");
         match name {
-            // without early return the touchdown step completes to t + h, frozen
+            // without early return fmpy stamps the last row at the step's end (it reads
+            // lastSuccessfulTime only after an early return), with the touchdown values
             "fmi3_cs" => assert!(
-                time > td_time && time - td_time <= OUTPUT_INTERVAL + 1e-9,
+                time > td_time && time - td_time <= 0.1 + 1e-9,
                 "{name}: last row at {time} s, touchdown at {td_time} s"
             ),
             "fmi3_cs_early_return" | "fmi3_cs_event_mode" => {
@@ -178,4 +178,14 @@ fn fmpy_simulate_fmu_runs_the_fmi3_plant_through_touchdown_like_the_fmi2_plant()
             _ => {}
         }
     }
+
+    // AND one step over the touchdown without early return, through fmpy's FMI 3.0 binding,
+    // reports the FMU's internal time as lastSuccessfulTime (FMI 3.0, fmi3DoStep: "the
+    // internal time of the FMU when fmi3DoStep returns, for any value of earlyReturn"): the
+    // touchdown (the closed form's, the one step integrating on its own grid), not 35 s
+    let step = &runs["fmi3_step_over_touchdown"];
+    assert_eq!(step["terminate_simulation"], Value::Bool(true), "{step}");
+    assert_eq!(step["early_return"], Value::Bool(false), "{step}");
+    let last = step["last_successful_time"].as_f64().unwrap();
+    assert!((last - t_exact).abs() < 1e-6, "{step}");
 }
