@@ -186,6 +186,22 @@ impl Fmu {
         self.shared.unpacked.root()
     }
 
+    /// The FMU's terminals (`terminalsAndIcons/terminalsAndIcons.xml`, FMI 3.0 §2.4.9; an
+    /// FMI 2.0 FMU may ship the file too), none when it has no such file. The error names
+    /// the file and what is wrong in it.
+    pub fn terminals(&self) -> Result<Vec<model_description::terminals::Terminal>, String> {
+        let path = self
+            .unpacked_dir()
+            .join("terminalsAndIcons")
+            .join("terminalsAndIcons.xml");
+        match std::fs::read(&path) {
+            Ok(bytes) => model_description::terminals::read_terminals(&bytes)
+                .map_err(|e| format!("{} of model '{}': {e}", path.display(), self.model_name())),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Vec::new()),
+            Err(e) => Err(format!("cannot read {}: {e}", path.display())),
+        }
+    }
+
     pub fn binary_path(&self) -> &Path {
         &self.shared.binary_path
     }

@@ -143,6 +143,9 @@ pub fn check_declarations<M: Model>() -> Result<(), Vec<String>> {
             }
         }
     }
+    if let Err(more) = crate::terminal::check_terminals::<M>() {
+        problems.extend(more);
+    }
     if problems.is_empty() {
         Ok(())
     } else {

@@ -24,6 +24,7 @@ mod enumeration;
 mod interface;
 mod model;
 pub mod parameter;
+mod terminal;
 
 pub use check::check_declarations;
 pub use continuous::{ContinuousModel, EventUpdate};
@@ -34,6 +35,7 @@ pub use declaration::{
 pub use enumeration::{EnumItem, EnumType, EnumValue, Enumeration};
 pub use interface::Interface;
 pub use model::{Experiment, Level, Log, Model, ModelError, StepEnd};
+pub use terminal::{check_terminals, same, same_names, MatchingRule, Member, Terminal};
 
 /// A real value in a log line as a user reads it: plain digits, but an exponent where plain
 /// digits would run to hundreds (1e300, `f64::MAX`) or bury the value in zeros (1e-12, the

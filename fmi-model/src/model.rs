@@ -107,6 +107,11 @@ pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static
     /// Every variable, declared once.
     fn declarations() -> &'static [Declaration<Self>];
 
+    /// The groups of variables a tool connects as one (FMI 3.0 terminals); none by default.
+    fn terminals() -> &'static [crate::Terminal] {
+        &[]
+    }
+
     /// The inputs `output` (a declaration name) depends on within one step. The default,
     /// every input, is always safe; a model whose outputs are functions of its state says
     /// `NoInputs`, which lets a master close a loop through it without an algebraic loop.

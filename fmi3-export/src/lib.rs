@@ -12,6 +12,7 @@ pub mod description;
 mod export;
 pub mod me;
 pub mod state;
+pub mod terminals;
 pub mod variables;
 pub mod version;
 
@@ -21,6 +22,7 @@ pub use fmi_abi::fmi3 as ffi;
 /// The export core, for the symbols [`export_fmi3!`] generates through it.
 pub use fmi_export;
 pub use me::no_me;
+pub use terminals::{describe, terminals_and_icons_xml};
 pub use version::Fmi3;
 
 /// Magic bytes of a serialized FMI 3.0 FMU state (see [`fmi_export::snapshot`]).

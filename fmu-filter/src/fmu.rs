@@ -15,9 +15,10 @@ use crate::model::parameters::bounds::*;
 use crate::model::{Eskf, FilterParameters, Heading, Imu};
 use fmi_model::parameter::{check_declared, ParameterError};
 use fmi_model::{
-    decl, readable, Causality, Declaration, Dependencies, Experiment, Log, Model, ModelError, Role,
-    StepEnd, Variability,
+    decl, readable, same_names, Causality, Declaration, Dependencies, Experiment, Log,
+    MatchingRule, Member, Model, ModelError, Role, StepEnd, Terminal, Variability,
 };
+use lander_math::signal_groups as groups;
 use serde::{Deserialize, Serialize};
 
 /// The measurements at the current communication point (LanderSensors' outputs).
@@ -212,6 +213,30 @@ pub fn step(
     innovations
 }
 
+/// The filter estimates no mass: its navigation terminal is a bus, and a controller's
+/// plug takes the mass from elsewhere (the plant).
+const NAVIGATION_MEMBERS: [Member; 4] = {
+    let all = same_names(groups::NAVIGATION);
+    [all[0], all[1], all[2], all[3]]
+};
+
+const TERMINALS: &[Terminal] = &[
+    Terminal {
+        name: "measurements",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::MEASUREMENTS_KIND,
+        description: "IMU, altimeter and velocimeter measurements, from the sensors",
+        members: &same_names(groups::MEASUREMENTS),
+    },
+    Terminal {
+        name: "navigation",
+        matching_rule: MatchingRule::Bus,
+        kind: groups::NAVIGATION_KIND,
+        description: "The estimated position, velocity, attitude and rate, for the controller",
+        members: &NAVIGATION_MEMBERS,
+    },
+];
+
 impl Model for LanderFilter {
     const MODEL_IDENTIFIER: &'static str = "LanderFilter";
     const MODEL_NAME: &'static str = "LanderFilter";
@@ -228,6 +253,10 @@ impl Model for LanderFilter {
 
     fn declarations() -> &'static [Declaration<Self>] {
         DECLARATIONS
+    }
+
+    fn terminals() -> &'static [Terminal] {
+        TERMINALS
     }
 
     /// 3: the IMU calibration states (2: `imu_mean_over_last_step` and its pending step).

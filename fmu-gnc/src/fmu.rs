@@ -28,7 +28,11 @@ use crate::params::{self, GncDesign, GncParameters};
 use crate::supervision::consistency::{MonitorSettings, Observation};
 use crate::supervision::{feasibility, SupervisionSettings, Supervisor};
 use fmi_model::parameter::{check_declared, ParameterError};
-use fmi_model::{decl, Declaration, Experiment, Log, Model, ModelError, StepEnd};
+use fmi_model::{
+    decl, same_names, Declaration, Experiment, Log, MatchingRule, Model, ModelError, StepEnd,
+    Terminal,
+};
+use lander_math::signal_groups as groups;
 use serde::{Deserialize, Serialize};
 
 /// The GNC FMU instance: parameters, latest inputs and outputs, guidance memory, time.
@@ -407,6 +411,24 @@ fn report_inputs(advance: &Advance, time_s: f64, log: &mut Log) {
     }
 }
 
+const TERMINALS: &[Terminal] = &[
+    Terminal {
+        name: "navigation",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::NAVIGATION_KIND,
+        description: "The vehicle state guidance and control act on (from the plant, \
+                      LanderNav or a filter)",
+        members: &same_names(groups::NAVIGATION),
+    },
+    Terminal {
+        name: "commands",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::COMMANDS_KIND,
+        description: "Thrust, torque and RCS duty commands, for the plant",
+        members: &same_names(groups::COMMANDS),
+    },
+];
+
 impl Model for LanderGnc {
     const MODEL_IDENTIFIER: &'static str = "LanderGnc";
     const MODEL_NAME: &'static str = "LanderGnc";
@@ -428,6 +450,10 @@ impl Model for LanderGnc {
 
     fn declarations() -> &'static [Declaration<Self>] {
         DECLARATIONS
+    }
+
+    fn terminals() -> &'static [Terminal] {
+        TERMINALS
     }
 
     fn calculate_values(&mut self, log: &mut Log) {

@@ -9,8 +9,10 @@
 use crate::errors::{Group, NavErrors, NavParameters, Navigation, LATENCY_CAP_STEPS};
 use fmi_model::parameter::{check_declared, ParameterError};
 use fmi_model::{
-    decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, Shape, StepEnd,
+    decl, role, same_names, Declaration, Dependencies, Experiment, Log, MatchingRule, Member,
+    Model, ModelError, Shape, StepEnd, Terminal,
 };
+use lander_math::signal_groups as groups;
 use serde::{Deserialize, Serialize};
 
 /// The LanderNav FMU instance. Everything lives here: no global state.
@@ -49,6 +51,48 @@ impl NavParameters {
     }
 }
 
+/// The truth comes in under the navigation members' names, so the plant's navigation
+/// terminal connects to it.
+const TRUTH: [Member; 5] = [
+    Member {
+        member: groups::NAVIGATION[0],
+        variable: "r_nue_true",
+    },
+    Member {
+        member: groups::NAVIGATION[1],
+        variable: "v_nue_true",
+    },
+    Member {
+        member: groups::NAVIGATION[2],
+        variable: "q_body_to_nue_true",
+    },
+    Member {
+        member: groups::NAVIGATION[3],
+        variable: "omega_body_true",
+    },
+    Member {
+        member: groups::NAVIGATION[4],
+        variable: "mass_true",
+    },
+];
+
+const TERMINALS: &[Terminal] = &[
+    Terminal {
+        name: "truth",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::NAVIGATION_KIND,
+        description: "The true vehicle state, from the plant",
+        members: &TRUTH,
+    },
+    Terminal {
+        name: "navigation",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::NAVIGATION_KIND,
+        description: "The navigated vehicle state, for the controller",
+        members: &same_names(groups::NAVIGATION),
+    },
+];
+
 impl Model for LanderNav {
     const MODEL_IDENTIFIER: &'static str = "LanderNav";
     const MODEL_NAME: &'static str = "LanderNav";
@@ -64,6 +108,10 @@ impl Model for LanderNav {
 
     fn declarations() -> &'static [Declaration<Self>] {
         DECLARATIONS
+    }
+
+    fn terminals() -> &'static [Terminal] {
+        TERMINALS
     }
 
     fn output_dependencies(output: &str) -> Dependencies {

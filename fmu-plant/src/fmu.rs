@@ -11,8 +11,10 @@ use crate::physics::plant::{Advance, Commands, Delivered, Plant, PlantRun};
 use crate::physics::thrusters::THRUSTER_COUNT;
 use fmi_model::parameter::ParameterError;
 use fmi_model::{
-    decl, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
+    decl, role, same, same_names, Declaration, Dependencies, Experiment, Log, MatchingRule, Member,
+    Model, ModelError, StepEnd, Terminal,
 };
+use lander_math::signal_groups as groups;
 use serde::{Deserialize, Serialize};
 use std::cell::OnceCell;
 
@@ -333,6 +335,46 @@ fn check_history(history: &crate::physics::plant::RcsHistory) -> Result<(), Mode
 /// with `integration_step` = 1e-12 s, would hang the master's call for minutes or forever.
 const MAX_SUB_STEPS_PER_STEP: f64 = 1e6;
 
+/// An IMU integrates rate and specific force over its sample: the sensors take the means
+/// over the step that ends at the communication point, not the values at it.
+const KINEMATICS: [Member; 5] = [
+    same(groups::KINEMATICS[0]),
+    same(groups::KINEMATICS[1]),
+    same(groups::KINEMATICS[2]),
+    Member {
+        member: groups::KINEMATICS[3],
+        variable: "omega_mean_body",
+    },
+    Member {
+        member: groups::KINEMATICS[4],
+        variable: "specific_force_mean_body",
+    },
+];
+
+const TERMINALS: &[Terminal] = &[
+    Terminal {
+        name: "navigation",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::NAVIGATION_KIND,
+        description: "The true vehicle state, as a controller takes it",
+        members: &same_names(groups::NAVIGATION),
+    },
+    Terminal {
+        name: "commands",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::COMMANDS_KIND,
+        description: "Thrust, torque and RCS duty commands, from the controller",
+        members: &same_names(groups::COMMANDS),
+    },
+    Terminal {
+        name: "kinematics",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::KINEMATICS_KIND,
+        description: "The true motion and specific force, as the sensors take them",
+        members: &KINEMATICS,
+    },
+];
+
 impl Model for LanderPlant {
     const MODEL_IDENTIFIER: &'static str = "LanderPlant";
     /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end);
@@ -353,6 +395,10 @@ impl Model for LanderPlant {
 
     fn declarations() -> &'static [Declaration<Self>] {
         DECLARATIONS
+    }
+
+    fn terminals() -> &'static [Terminal] {
+        TERMINALS
     }
 
     fn output_dependencies(output: &str) -> Dependencies {

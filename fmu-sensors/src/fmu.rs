@@ -5,9 +5,11 @@ use crate::model::truth::InputError;
 use crate::model::{Measurements, SensorParameters, Sensors, Truth};
 use fmi_model::parameter::{check_declared, ParameterError};
 use fmi_model::{
-    decl, readable, role, Declaration, Dependencies, Experiment, Log, Model, ModelError, StepEnd,
+    decl, readable, role, same_names, Declaration, Dependencies, Experiment, Log, MatchingRule,
+    Model, ModelError, StepEnd, Terminal,
 };
 use lander_math::sensor_limits::*;
+use lander_math::signal_groups as groups;
 use serde::{Deserialize, Serialize};
 
 /// The LanderSensors FMU instance. Everything lives here: no global state.
@@ -63,6 +65,23 @@ fn described(e: &ModelError) -> String {
 const NOT_FINITE: &str =
     "a measurement would not be finite (the inputs are too large for the sensor errors)";
 
+const TERMINALS: &[Terminal] = &[
+    Terminal {
+        name: "kinematics",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::KINEMATICS_KIND,
+        description: "The true motion and specific force, from the plant",
+        members: &same_names(groups::KINEMATICS),
+    },
+    Terminal {
+        name: "measurements",
+        matching_rule: MatchingRule::Plug,
+        kind: groups::MEASUREMENTS_KIND,
+        description: "IMU, altimeter and velocimeter measurements, for the filter",
+        members: &same_names(groups::MEASUREMENTS),
+    },
+];
+
 impl Model for LanderSensors {
     const MODEL_IDENTIFIER: &'static str = "LanderSensors";
     const MODEL_NAME: &'static str = "LanderSensors";
@@ -82,6 +101,10 @@ impl Model for LanderSensors {
 
     fn declarations() -> &'static [Declaration<Self>] {
         DECLARATIONS
+    }
+
+    fn terminals() -> &'static [Terminal] {
+        TERMINALS
     }
 
     fn output_dependencies(output: &str) -> Dependencies {

@@ -11,3 +11,4 @@
 pub mod frames;
 pub mod quaternion;
 pub mod sensor_limits;
+pub mod signal_groups;

@@ -27,6 +27,7 @@ mod error;
 pub mod fmi3;
 mod query;
 mod read;
+pub mod terminals;
 mod types;
 mod validate;
 mod write;

@@ -237,8 +237,14 @@ fn describer_path(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> PathBuf {
 /// The model description `fmu`'s binary (built by [`build_describers`]) prints for
 /// `version`.
 fn describe(ws: &Workspace, fmu: &FmuCrate, version: Fmi) -> Result<String> {
+    describe_with(ws, fmu, version, &[])
+}
+
+/// What `fmu`'s description binary for `version` prints when given `args`.
+fn describe_with(ws: &Workspace, fmu: &FmuCrate, version: Fmi, args: &[&str]) -> Result<String> {
     let binary = describer_path(ws, fmu, version);
     let mut command = std::process::Command::new(&binary);
+    command.args(args);
     // generationDateAndTime: the commit's time, so that a commit packages the same bytes on
     // every machine (kept when the caller set SOURCE_DATE_EPOCH itself; none outside git).
     if std::env::var_os("SOURCE_DATE_EPOCH").is_none() {
@@ -503,10 +509,34 @@ fn package_one_fmi3(
         ),
         Entry::file("modelDescription.xml", xml.clone().into_bytes()),
     ];
+    entries.extend(terminals_and_icons(ws, fmu)?);
     entries.extend(binaries(fmu, builds, out_dir, &identifier, FmiVersion::V3)?);
     let fmu_path = out_dir.join(format!("{identifier}.fmu"));
     fmu_zip::write(&fmu_path, entries)?;
     Ok(fmu_path)
+}
+
+/// `terminalsAndIcons/`: the file the crate's terminals and icon extent make, and the icon
+/// the crate keeps at `terminalsAndIcons/icon.png`, if it has one.
+fn terminals_and_icons(ws: &Workspace, fmu: &FmuCrate) -> Result<Vec<Entry>> {
+    let xml = describe_with(ws, fmu, Fmi::V3, &["terminals-and-icons"])?;
+    if !xml.contains("<fmiTerminalsAndIcons") {
+        bail!(
+            "{}'s FMI 3.0 description binary printed no terminalsAndIcons.xml",
+            fmu.package
+        );
+    }
+    let mut entries = vec![Entry::file(
+        "terminalsAndIcons/terminalsAndIcons.xml",
+        xml.into_bytes(),
+    )];
+    let icon = ws.root.join(&fmu.dir).join("terminalsAndIcons/icon.png");
+    if icon.exists() {
+        let bytes =
+            std::fs::read(&icon).with_context(|| format!("cannot read {}", icon.display()))?;
+        entries.push(Entry::file("terminalsAndIcons/icon.png", bytes));
+    }
+    Ok(entries)
 }
 
 /// The first value of attribute `name` in `xml`.

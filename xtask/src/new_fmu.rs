@@ -164,8 +164,9 @@ fmi3_export::export_fmi3!(crate::{name});
          fn main() {{\n    print!(\"{{}}\", fmi2_export::model_description_xml::<{lib}::{name}>());\n}}\n"
     );
     let bin3 = format!(
-        "//! Prints {name}'s FMI 3.0 modelDescription.xml (packaged by `cargo xtask fmus`).\n\
-         fn main() {{\n    print!(\"{{}}\", fmi3_export::model_description_xml::<{lib}::{name}>());\n}}\n"
+        "//! Prints {name}'s FMI 3.0 modelDescription.xml, or with `terminals-and-icons` its\n\
+         //! terminalsAndIcons.xml (both packaged by `cargo xtask fmus`).\n\
+         fn main() {{\n    fmi3_export::describe::<{lib}::{name}>(fmi3_export::model_description_xml::<{lib}::{name}>);\n}}\n"
     );
     let conformance = format!(
         "//! The workspace's conformance suite (fmi-testkit), derived from the declaration table and\n\

@@ -27,6 +27,7 @@ mod loops;
 mod model_exchange;
 mod resolve;
 mod table;
+mod terminals;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use model_exchange::{EventCounts, MeError, SolverSettings};

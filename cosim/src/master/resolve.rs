@@ -105,7 +105,7 @@ pub fn connections(
     problems: &mut Vec<String>,
 ) -> Vec<(Port, Port)> {
     let mut pairs = Vec::new();
-    for connection in &system.connections {
+    for connection in &super::terminals::expand(system, fmus, problems) {
         let from = ports(
             system,
             fmus,

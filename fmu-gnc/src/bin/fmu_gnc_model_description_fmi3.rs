@@ -1,8 +1,8 @@
-//! Prints LanderGnc's FMI 3.0 modelDescription.xml to stdout (packaged by `cargo xtask fmus`
+//! Prints LanderGnc's FMI 3.0 modelDescription.xml to stdout, or with
+//! `terminals-and-icons` its terminalsAndIcons.xml (packaged by `cargo xtask fmus`
 //! as target/fmu/fmi3/LanderGnc.fmu).
 fn main() {
-    print!(
-        "{}",
-        fmi3_export::model_description_xml::<fmu_gnc::LanderGnc>()
+    fmi3_export::describe::<fmu_gnc::LanderGnc>(
+        fmi3_export::model_description_xml::<fmu_gnc::LanderGnc>,
     );
 }

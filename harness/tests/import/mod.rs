@@ -9,3 +9,4 @@ mod model_exchange;
 mod non_finite;
 mod oscillator;
 mod ssp;
+mod terminals;

@@ -13,3 +13,4 @@ mod python_plant;
 mod pythonfmu3;
 mod scripts;
 mod ssp_package;
+mod terminals;
