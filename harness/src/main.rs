@@ -166,9 +166,12 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Replay(monte_carlo::ReplayArgs),
     /// Write DIR/report.html: one self-contained page with the figures, tables and verdicts
-    /// of a `paper`, `test` or `monte-carlo` output directory (merged or Dask campaigns too).
+    /// of a `paper`, `test` or `monte-carlo` output directory (merged or Dask campaigns too);
+    /// or, given the results of `harness run` (X.csv), X.report.html: its verdict,
+    /// requirements, FMUs and a figure of each requirement's signals.
     Report {
-        /// The output directory of `harness paper`, `test`, `monte-carlo` or `merge-mc`.
+        /// The output directory of `harness paper`, `test`, `monte-carlo` or `merge-mc`, or
+        /// the result file of `harness run`.
         dir: PathBuf,
     },
 }
@@ -441,6 +444,12 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 }
             };
             exit_code = flown.exit_code;
+            // Beside the results, what `harness report` makes a page of.
+            let verdict = verdict_path(&request.out);
+            cosim::requirements::junit::write_verdicts(
+                &verdict,
+                std::slice::from_ref(&flown.suite),
+            )?;
             if let Some(path) = junit {
                 cosim::requirements::junit::write(&path, &[flown.suite])?;
                 println!("wrote {}", path.display());
@@ -557,7 +566,12 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::MergeMc(args) => exit_code = monte_carlo::merge_mc(&args)?,
         Command::Replay(args) => monte_carlo::replay(&args, &fmu_dir)?,
         Command::Report { dir } => {
-            println!("wrote {}", report::html::for_directory(&dir)?.display())
+            let page = if dir.is_file() {
+                report::html::for_run(&dir)?
+            } else {
+                report::html::for_directory(&dir)?
+            };
+            println!("wrote {}", page.display())
         }
     }
     Ok(exit_code)
@@ -678,6 +692,29 @@ fn test_folder(
     } else {
         lander::verdict::EXIT_OK
     })
+}
+
+/// `DIR/x.verdict.toml` for the results `DIR/x.csv`: the run's verdict, requirements and
+/// FMUs, which `harness report DIR/x.csv` reads.
+fn verdict_path(out: &std::path::Path) -> PathBuf {
+    out.with_extension("verdict.toml")
+}
+
+/// The FMUs of a run as a report shows them.
+fn fmu_facts(simulation: &Runner) -> Vec<cosim::requirements::junit::FmuFacts> {
+    lander::provenance::Provenance::of(simulation)
+        .instance
+        .into_iter()
+        .map(|i| cosim::requirements::junit::FmuFacts {
+            instance: i.name,
+            fmu: i.fmu,
+            model_name: i.model_name,
+            fmi_version: i.fmi_version,
+            model_version: i.version,
+            generation_tool: i.generation_tool,
+            generation_date: i.generation_date,
+        })
+        .collect()
 }
 
 /// The built-in scenarios' names, comma-separated.
@@ -978,6 +1015,10 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         &judged,
     );
     suite.system_err = Some(system_err).filter(|e| !e.is_empty());
+    suite.results = out
+        .file_name()
+        .map(|name| name.to_string_lossy().into_owned());
+    suite.fmus = fmu_facts(&simulation);
     Ok(Flown { exit_code, suite })
 }
 

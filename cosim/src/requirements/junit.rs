@@ -29,7 +29,7 @@ pub struct Case {
 }
 
 /// One suite: a scenario's run.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Suite {
     pub name: String,
     pub time_s: f64,
@@ -37,6 +37,37 @@ pub struct Suite {
     /// What the run wrote to its error stream (the FMUs' warnings, say), if the caller has
     /// it.
     pub system_err: Option<String>,
+    /// The run's result file, by its name beside the verdicts file, when it wrote one: where
+    /// a report finds the requirements' signals.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub results: Option<String>,
+    /// Each requirement's formula, by the name of its case.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub formulas: Vec<NamedFormula>,
+    /// The FMUs the run loaded, as their descriptions say.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fmus: Vec<FmuFacts>,
+}
+
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct NamedFormula {
+    pub name: String,
+    pub formula: String,
+}
+
+/// What a report shows of one instance's FMU.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FmuFacts {
+    pub instance: String,
+    pub fmu: String,
+    pub model_name: String,
+    pub fmi_version: String,
+    #[serde(default)]
+    pub model_version: Option<String>,
+    #[serde(default)]
+    pub generation_tool: Option<String>,
+    #[serde(default)]
+    pub generation_date: Option<String>,
 }
 
 impl Suite {
@@ -191,6 +222,15 @@ pub fn suite(
         time_s,
         cases,
         system_err: None,
+        results: None,
+        formulas: requirements
+            .iter()
+            .map(|j| NamedFormula {
+                name: j.name.clone(),
+                formula: j.text.clone(),
+            })
+            .collect(),
+        fmus: Vec::new(),
     }
 }
 
@@ -207,6 +247,9 @@ pub fn error_suite(name: &str, time_s: f64, message: &str) -> Suite {
             detail: message.to_owned(),
         }],
         system_err: None,
+        results: None,
+        formulas: Vec::new(),
+        fmus: Vec::new(),
     }
 }
 

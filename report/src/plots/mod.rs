@@ -4,6 +4,7 @@
 //! figure one look.
 pub mod monte_carlo;
 pub mod paper;
+pub mod requirement;
 pub mod retarget;
 pub mod style;
 
