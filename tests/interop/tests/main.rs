@@ -2,6 +2,7 @@
 //! FMI 2.0 and 3.0, fmpy's SSP runner, libcosim, Ecos, pythonfmu and pythonfmu3 FMUs, the
 //! documented examples and the FMU checkers.
 mod checkers;
+mod container_fmu;
 mod docs_example;
 mod ecos;
 mod fmpy3_master;
