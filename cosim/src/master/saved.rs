@@ -1,0 +1,559 @@
+//! A saved run: everything a run needs to go on from one communication point in another
+//! process and end with the rows the uninterrupted run would have recorded, bit for bit;
+//! and its file (format in docs/saved-runs.md).
+//!
+//! What goes on from the point is the FMUs' states (serialized by each FMU through the
+//! importer) and what the master holds between two points: the clock (step counter and, for
+//! fmpy's convention, the running sum), every exchange buffer (the last values read from each
+//! instance and the inputs last set on it) and which outputs were read since the last step.
+//! Saved at the top of a communication point, before its exchange, so the continued run
+//! starts with that point's exchange and records its row first.
+//!
+//! The header names the system, each instance's model, instantiation token (FMI 2.0 GUID)
+//! and FMI version, and the run's grid (start, step, ordering, conventions), so that a file
+//! continued with other FMUs or another system is refused, naming what differs. Model
+//! Exchange instances are refused: their solver's state (step size, history, the event
+//! search) is not saved.
+use super::conventions::Clock;
+use super::{Conventions, Io, MasterError};
+use crate::system::{Ordering, SystemDescription};
+use fmi_import::FmiVersion;
+use model_description::ModelDescription;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The file's first bytes.
+pub const MAGIC: &[u8; 16] = b"cosim saved run\n";
+/// The format this build writes and reads; a file of another is refused with both numbers.
+pub const FORMAT_VERSION: u32 = 1;
+/// magic, format version (u32), payload length (u64), payload CRC-32 (u32).
+const PREAMBLE: usize = MAGIC.len() + 4 + 8 + 4;
+
+/// What to do about saved runs in the next run: continue one, save one, or both.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Checkpoints {
+    /// Continue from this saved run instead of starting at the start time.
+    pub resume: Option<SavedRun>,
+    /// Save the run here.
+    pub save: Option<SaveRequest>,
+}
+
+/// Where and when to save a run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SaveRequest {
+    pub path: PathBuf,
+    /// The communication point to save at; `None`: at the stop time, after the last step.
+    pub at: Option<f64>,
+}
+
+/// One instance as saved: who it is, and its state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SavedInstance {
+    pub name: String,
+    pub model_name: String,
+    /// FMI 2.0 `guid`, FMI 3.0 `instantiationToken`.
+    pub token: String,
+    /// "2.0" or "3.0".
+    pub fmi_version: String,
+    /// The FMU state as the importer serialized it.
+    pub fmu_state: Vec<u8>,
+    pub inputs: SavedIo,
+    pub outputs: SavedIo,
+    pub outputs_read: bool,
+}
+
+/// One side of an instance's exchange: value references (which fix the buffer's layout)
+/// and values, per exchange type.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct SavedIo {
+    pub real_vrs: Vec<u32>,
+    pub real: Vec<f64>,
+    pub integer_vrs: Vec<u32>,
+    pub integer: Vec<i32>,
+    pub boolean_vrs: Vec<u32>,
+    pub boolean: Vec<i32>,
+}
+
+/// A run saved at one communication point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SavedRun {
+    pub system: String,
+    pub start_time: f64,
+    pub step_size: f64,
+    /// The stop time of the run that saved it (the continued run may have another).
+    pub stop_time: f64,
+    pub ordering: String,
+    pub conventions: String,
+    /// The communication point saved.
+    pub time: f64,
+    /// The clock's step counter and running sum at that point.
+    pub step: u64,
+    pub accumulated: f64,
+    pub instances: Vec<SavedInstance>,
+}
+
+/// Why a saved run could not be read or does not fit the run given.
+#[derive(Debug, thiserror::Error)]
+pub enum SavedError {
+    #[error("cannot read the saved run {}: {reason}", path.display())]
+    Read { path: PathBuf, reason: String },
+    #[error("{} is not a saved run of this harness: {reason}", path.display())]
+    Corrupt { path: PathBuf, reason: String },
+    #[error("{} cannot continue this run: {reason}", path.display())]
+    Foreign { path: PathBuf, reason: String },
+}
+
+fn version_text(version: FmiVersion) -> &'static str {
+    match version {
+        FmiVersion::Fmi2 => "2.0",
+        FmiVersion::Fmi3 => "3.0",
+    }
+}
+
+fn ordering_text(ordering: Ordering) -> &'static str {
+    match ordering {
+        Ordering::GaussSeidel => "gauss-seidel",
+        Ordering::Jacobi => "jacobi",
+    }
+}
+
+impl SavedRun {
+    /// The file's bytes: preamble, then the postcard payload.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let payload = postcard::to_stdvec(self).expect("a saved run always serializes");
+        let mut bytes = Vec::with_capacity(PREAMBLE + payload.len());
+        bytes.extend_from_slice(MAGIC);
+        bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+        bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+        bytes.extend_from_slice(&payload);
+        bytes
+    }
+
+    /// Parses `bytes` read from `path` (named in the errors).
+    pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Self, SavedError> {
+        let corrupt = |reason: String| SavedError::Corrupt {
+            path: path.to_owned(),
+            reason,
+        };
+        if bytes.len() < PREAMBLE || !bytes.starts_with(MAGIC) {
+            return Err(corrupt(format!(
+                "it does not start with {:?} (written by `harness run --save-state`)",
+                std::str::from_utf8(MAGIC).unwrap_or_default()
+            )));
+        }
+        let field = |at: usize, len: usize| &bytes[MAGIC.len() + at..MAGIC.len() + at + len];
+        let version = u32::from_le_bytes(field(0, 4).try_into().expect("4 bytes"));
+        if version != FORMAT_VERSION {
+            return Err(corrupt(format!(
+                "format version {version}; this harness reads version {FORMAT_VERSION}"
+            )));
+        }
+        let length = u64::from_le_bytes(field(4, 8).try_into().expect("8 bytes"));
+        let crc = u32::from_le_bytes(field(12, 4).try_into().expect("4 bytes"));
+        let payload = &bytes[PREAMBLE..];
+        if payload.len() as u64 != length {
+            return Err(corrupt(format!(
+                "truncated or extended: {} bytes of state where its header says {length}",
+                payload.len()
+            )));
+        }
+        if crc32fast::hash(payload) != crc {
+            return Err(corrupt(
+                "its checksum does not match its contents (the file was changed or damaged)"
+                    .to_owned(),
+            ));
+        }
+        postcard::from_bytes(payload)
+            .map_err(|e| corrupt(format!("its contents do not decode: {e}")))
+    }
+
+    pub fn read(path: &Path) -> Result<Self, SavedError> {
+        let bytes = std::fs::read(path).map_err(|e| SavedError::Read {
+            path: path.to_owned(),
+            reason: e.to_string(),
+        })?;
+        Self::from_bytes(path, &bytes)
+    }
+
+    /// Writes the file whole or not at all (a temporary file renamed).
+    pub fn write(&self, path: &Path) -> std::io::Result<()> {
+        let mut temporary = path.as_os_str().to_owned();
+        temporary.push(".partial");
+        let temporary = PathBuf::from(temporary);
+        std::fs::write(&temporary, self.to_bytes())?;
+        std::fs::rename(&temporary, path)
+    }
+
+    /// `Ok` when this saved run can continue `system` as run with `conventions` and these
+    /// FMUs (`describe(i)`: instance i's FMI version and description); else what differs.
+    pub fn fits(
+        &self,
+        system: &SystemDescription,
+        conventions: &Conventions,
+        describe: &dyn Fn(usize) -> (FmiVersion, ModelDescription),
+    ) -> Result<(), String> {
+        if self.system != system.name {
+            return Err(format!(
+                "it was saved from system '{}', not '{}'",
+                self.system, system.name
+            ));
+        }
+        let names: Vec<&str> = system.instances.iter().map(|i| i.name.as_str()).collect();
+        let saved: Vec<&str> = self.instances.iter().map(|i| i.name.as_str()).collect();
+        if names != saved {
+            return Err(format!(
+                "it holds instances {saved:?}; this system has {names:?}"
+            ));
+        }
+        for (i, instance) in self.instances.iter().enumerate() {
+            let (version, description) = describe(i);
+            let here = (
+                description.model_name.as_str(),
+                description.guid.as_str(),
+                version_text(version),
+            );
+            let there = (
+                instance.model_name.as_str(),
+                instance.token.as_str(),
+                instance.fmi_version.as_str(),
+            );
+            if here != there {
+                return Err(format!(
+                    "instance '{}' was saved from model '{}' (FMI {}, instantiation token {}); \
+                     this run's FMU is model '{}' (FMI {}, instantiation token {})",
+                    instance.name, there.0, there.2, there.1, here.0, here.2, here.1
+                ));
+            }
+        }
+        let grid = |start: f64, step: f64, ordering: &str, conventions: &str| {
+            format!(
+                "start time {start} s, step {step} s, {ordering} ordering, conventions \
+                 {conventions}"
+            )
+        };
+        let saved_grid = grid(
+            self.start_time,
+            self.step_size,
+            &self.ordering,
+            &self.conventions,
+        );
+        let this_grid = grid(
+            system.start_time,
+            system.step_size,
+            ordering_text(system.ordering),
+            &format!("{conventions:?}"),
+        );
+        if saved_grid != this_grid {
+            return Err(format!(
+                "it was saved from a run with {saved_grid}; this run has {this_grid}"
+            ));
+        }
+        if conventions.stop_time_declared && system.stop_time > self.stop_time {
+            return Err(format!(
+                "its FMUs were told the stop time {} s, and this run goes on to {} s: \
+                 continue to {} s at most, or save from a run with a later stop time",
+                self.stop_time, system.stop_time, self.stop_time
+            ));
+        }
+        if self.time > system.stop_time {
+            return Err(format!(
+                "it was saved at t = {} s, after this run's stop time {} s",
+                self.time, system.stop_time
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Why the FMUs of `system` cannot be saved (`save`) or continued: an instance run as Model
+/// Exchange, or an FMU that does not declare it can serialize its state. `describe` as for
+/// [`SavedRun::fits`].
+pub fn refusal(
+    system: &SystemDescription,
+    describe: &dyn Fn(usize) -> (FmiVersion, ModelDescription),
+) -> Option<String> {
+    for (i, instance) in system.instances.iter().enumerate() {
+        if instance.model_exchange.is_some() {
+            return Some(format!(
+                "instance '{}' runs as Model Exchange, whose solver state (step size, history, \
+                 event search) is not saved; run it as co-simulation (--interface {}=co-simulation)",
+                instance.name, instance.name
+            ));
+        }
+        let (version, description) = describe(i);
+        if let Some(reason) = fmi_import::fmu_state_refusal(
+            &description,
+            version,
+            fmi_import::Interface::CoSimulation,
+            true,
+        ) {
+            return Some(format!("instance '{}': {reason}", instance.name));
+        }
+    }
+    None
+}
+
+/// What can be checked of `checkpoints` with the FMUs' descriptions alone (where the FMUs
+/// are not loaded, e.g. by the parent of a supervised worker): every instance can be saved
+/// and continued, and a saved run fits `system` and its FMUs.
+pub fn check(
+    system: &SystemDescription,
+    conventions: &Conventions,
+    checkpoints: &Checkpoints,
+    describe: &dyn Fn(usize) -> (FmiVersion, ModelDescription),
+) -> Result<(), MasterError> {
+    let problem = |message: String| MasterError::Checkpoint { message };
+    if checkpoints.resume.is_none() && checkpoints.save.is_none() {
+        return Ok(());
+    }
+    if let Some(reason) = refusal(system, describe) {
+        let what = if checkpoints.save.is_some() {
+            "--save-state"
+        } else {
+            "--from-state"
+        };
+        return Err(problem(format!("{what} refused: {reason}")));
+    }
+    if let Some(saved) = &checkpoints.resume {
+        saved.fits(system, conventions, describe).map_err(problem)?;
+    }
+    Ok(())
+}
+
+impl Io {
+    pub(super) fn saved(&self) -> SavedIo {
+        SavedIo {
+            real_vrs: self.real.vrs.clone(),
+            real: self.real.values.clone(),
+            integer_vrs: self.integer.vrs.clone(),
+            integer: self.integer.values.clone(),
+            boolean_vrs: self.boolean.vrs.clone(),
+            boolean: self.boolean.values.clone(),
+        }
+    }
+
+    /// Takes the saved values if the layout is this buffer's; else says so.
+    pub(super) fn restore(&mut self, saved: &SavedIo) -> Result<(), ()> {
+        let fits = saved.real_vrs == self.real.vrs
+            && saved.integer_vrs == self.integer.vrs
+            && saved.boolean_vrs == self.boolean.vrs
+            && saved.real.len() == self.real.values.len()
+            && saved.integer.len() == self.integer.values.len()
+            && saved.boolean.len() == self.boolean.values.len();
+        if !fits {
+            return Err(());
+        }
+        self.real.values.copy_from_slice(&saved.real);
+        self.integer.values.copy_from_slice(&saved.integer);
+        self.boolean.values.copy_from_slice(&saved.boolean);
+        Ok(())
+    }
+}
+
+/// The step counter at which to save, for `at` (`None`: the end): the first point of the
+/// clock at `at` (within 1e-9 relative); an error when `at` is none of its points.
+pub(super) fn save_point(clock: &Clock, at: Option<f64>) -> Result<u64, String> {
+    let mut ahead = clock.clone();
+    loop {
+        let (k, _) = ahead.position();
+        let time = match ahead.next_step() {
+            Some((time, _)) => time,
+            None => ahead.end_time(),
+        };
+        let Some(at) = at else {
+            if ahead.position().0 == k {
+                return Ok(k);
+            }
+            continue;
+        };
+        if (time - at).abs() <= 1e-9 * at.abs().max(1.0) {
+            return Ok(k);
+        }
+        if time > at || ahead.position().0 == k {
+            return Err(format!(
+                "--save-at {at}: not a communication point of this run (the points are \
+                 start + k * step, up to the stop time; the nearest at or after it is t = \
+                 {time})"
+            ));
+        }
+    }
+}
+
+/// The error of a failed save, naming the file.
+pub(super) fn save_failed(path: &Path, instance: &str, reason: String) -> MasterError {
+    MasterError::Checkpoint {
+        message: format!(
+            "saving the run to {} failed at instance '{instance}': {reason}",
+            path.display()
+        ),
+    }
+}
+
+impl super::Simulation {
+    /// What the next runs do about saved runs, checked now: every instance can be saved
+    /// (and continued), a saved run fits this system, and the save point is one of its
+    /// communication points.
+    pub fn set_checkpoints(&mut self, checkpoints: Checkpoints) -> Result<(), MasterError> {
+        let fmus = &self.fmus;
+        let describe = |i: usize| {
+            let fmu: &fmi_import::Fmu = &fmus[i];
+            (fmu.fmi_version(), fmu.model_description().clone())
+        };
+        check(&self.system, &self.conventions, &checkpoints, &describe)?;
+        let problem = |message: String| MasterError::Checkpoint { message };
+        let mut clock = self.clock();
+        if let Some(saved) = &checkpoints.resume {
+            self.check_layout(saved).map_err(problem)?;
+            clock.resume((saved.step, saved.accumulated));
+        }
+        if let Some(request) = &checkpoints.save {
+            save_point(&clock, request.at).map_err(problem)?;
+        }
+        self.checkpoints = checkpoints;
+        Ok(())
+    }
+
+    /// The communication point the last run saved at, if it did.
+    pub fn saved_at(&self) -> Option<f64> {
+        self.saved_at
+    }
+
+    fn clock(&self) -> Clock {
+        let system = &self.system;
+        Clock::new(
+            self.conventions.time_grid,
+            system.start_time,
+            system.stop_time,
+            system.step_size,
+        )
+    }
+
+    /// Whether every buffer of the saved run has this run's layout (the same variables
+    /// exchanged and recorded).
+    fn check_layout(&self, saved: &SavedRun) -> Result<(), String> {
+        for (u, instance) in saved.instances.iter().enumerate() {
+            let same = |io: &Io, saved: &SavedIo| {
+                io.real.vrs == saved.real_vrs
+                    && io.integer.vrs == saved.integer_vrs
+                    && io.boolean.vrs == saved.boolean_vrs
+            };
+            if !same(&self.inputs[u], &instance.inputs)
+                || !same(&self.outputs[u], &instance.outputs)
+            {
+                return Err(format!(
+                    "instance '{}' exchanged or recorded other variables when it was saved \
+                     (continue with the same connections and --record)",
+                    instance.name
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// At the start of a run, after initialization: continues the saved run, if any (the
+    /// FMUs' states, the buffers, the clock); the step counter to save at, if any.
+    pub(super) fn begin_checkpoints(
+        &mut self,
+        clock: &mut Clock,
+    ) -> Result<Option<u64>, MasterError> {
+        self.saved_at = None;
+        if let Some(saved) = self.checkpoints.resume.take() {
+            let resumed = self.resume(&saved, clock);
+            self.checkpoints.resume = Some(saved);
+            resumed?;
+        }
+        match &self.checkpoints.save {
+            None => Ok(None),
+            Some(request) => save_point(clock, request.at)
+                .map(Some)
+                .map_err(|message| MasterError::Checkpoint { message }),
+        }
+    }
+
+    fn resume(&mut self, saved: &SavedRun, clock: &mut Clock) -> Result<(), MasterError> {
+        self.check_layout(saved)
+            .map_err(|message| MasterError::Checkpoint { message })?;
+        for (u, instance) in saved.instances.iter().enumerate() {
+            let unit = &mut self.units[u];
+            let restored = (|| -> Result<(), fmi_import::CallError> {
+                let state = unit.instance.deserialize_fmu_state(&instance.fmu_state)?;
+                unit.instance.set_fmu_state(&state)?;
+                unit.instance.free_fmu_state(state)?;
+                Ok(())
+            })();
+            restored.map_err(|e| super::call(&unit.name, "restoring its saved FMU state", e))?;
+            let layout = self.inputs[u]
+                .restore(&instance.inputs)
+                .and_then(|()| self.outputs[u].restore(&instance.outputs));
+            layout.map_err(|()| MasterError::Checkpoint {
+                message: format!(
+                    "instance '{}': saved buffers of another size",
+                    instance.name
+                ),
+            })?;
+            self.outputs_read[u] = instance.outputs_read;
+            // The uninterrupted run noted these when it read them; the row they reach judges.
+            let real = &self.outputs[u].real;
+            if !super::finite::all_finite(&real.values) {
+                self.finite.note(u, &real.vrs, &real.values);
+            }
+        }
+        clock.resume((saved.step, saved.accumulated));
+        self.now = saved.time;
+        Ok(())
+    }
+
+    /// Saves the run at the clock's next communication point, before its exchange.
+    pub(super) fn save_run(&mut self, clock: &Clock) -> Result<(), MasterError> {
+        let Some(request) = self.checkpoints.save.clone() else {
+            return Ok(());
+        };
+        let (step, accumulated) = clock.position();
+        let time = clock
+            .clone()
+            .next_step()
+            .map_or_else(|| clock.end_time(), |(time, _)| time);
+        let mut instances = Vec::with_capacity(self.units.len());
+        for (u, unit) in self.units.iter_mut().enumerate() {
+            let serialized = (|| -> Result<Vec<u8>, fmi_import::CallError> {
+                let state = unit.instance.get_fmu_state()?;
+                let bytes = unit.instance.serialize_fmu_state(&state);
+                unit.instance.free_fmu_state(state)?;
+                bytes
+            })();
+            let fmu_state =
+                serialized.map_err(|e| save_failed(&request.path, &unit.name, e.to_string()))?;
+            let fmu = &self.fmus[u];
+            instances.push(SavedInstance {
+                name: unit.name.clone(),
+                model_name: fmu.model_name().to_owned(),
+                token: fmu.model_description().guid.clone(),
+                fmi_version: version_text(fmu.fmi_version()).to_owned(),
+                fmu_state,
+                inputs: self.inputs[u].saved(),
+                outputs: self.outputs[u].saved(),
+                outputs_read: self.outputs_read[u],
+            });
+        }
+        let saved = SavedRun {
+            system: self.system.name.clone(),
+            start_time: self.system.start_time,
+            step_size: self.system.step_size,
+            stop_time: self.system.stop_time,
+            ordering: ordering_text(self.system.ordering).to_owned(),
+            conventions: format!("{:?}", self.conventions),
+            time,
+            step,
+            accumulated,
+            instances,
+        };
+        saved
+            .write(&request.path)
+            .map_err(|e| MasterError::Checkpoint {
+                message: format!("writing the saved run {}: {e}", request.path.display()),
+            })?;
+        self.saved_at = Some(time);
+        Ok(())
+    }
+}
