@@ -34,7 +34,7 @@ pub use model_exchange::{EventCounts, MeError, SolverSettings};
 pub use resolve::Port;
 pub use saved::{
     check as check_checkpoints, refusal as saved_run_refusal, Checkpoints, SaveRequest, SavedError,
-    SavedInstance, SavedIo, SavedRun,
+    SavedInstance, SavedIo, SavedRows, SavedRun,
 };
 
 use crate::system::{Ordering, ParamValue, SystemDescription};

@@ -89,7 +89,24 @@ pub struct SavedRun {
     /// The clock's step counter and running sum at that point.
     pub step: u64,
     pub accumulated: f64,
+    /// What the run exchanged and recorded, which fixes the master's buffers: the
+    /// connections (`from -> to`), the inputs of the input table, the recorded columns.
+    pub exchange: Vec<String>,
+    pub columns: Vec<String>,
     pub instances: Vec<SavedInstance>,
+    /// What a caller judging the run over its whole length kept of the rows before the
+    /// saved point (the harness: its requirements' columns, see
+    /// `requirements/continued.rs`); the master writes none.
+    pub rows_before: Option<SavedRows>,
+}
+
+/// Rows of some columns, as [`super::Trajectory`] holds them.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct SavedRows {
+    pub names: Vec<String>,
+    pub times: Vec<f64>,
+    /// Row-major.
+    pub values: Vec<f64>,
 }
 
 /// Why a saved run could not be read or does not fit the run given.
@@ -99,8 +116,6 @@ pub enum SavedError {
     Read { path: PathBuf, reason: String },
     #[error("{} is not a saved run of this harness: {reason}", path.display())]
     Corrupt { path: PathBuf, reason: String },
-    #[error("{} cannot continue this run: {reason}", path.display())]
-    Foreign { path: PathBuf, reason: String },
 }
 
 fn version_text(version: FmiVersion) -> &'static str {
@@ -185,12 +200,14 @@ impl SavedRun {
         std::fs::rename(&temporary, path)
     }
 
-    /// `Ok` when this saved run can continue `system` as run with `conventions` and these
-    /// FMUs (`describe(i)`: instance i's FMI version and description); else what differs.
+    /// `Ok` when this saved run can continue `system` as run with `conventions`, recording
+    /// `columns`, with these FMUs (`describe(i)`: instance i's FMI version and
+    /// description); else what differs.
     pub fn fits(
         &self,
         system: &SystemDescription,
         conventions: &Conventions,
+        columns: &[String],
         describe: &dyn Fn(usize) -> (FmiVersion, ModelDescription),
     ) -> Result<(), String> {
         if self.system != system.name {
@@ -249,6 +266,21 @@ impl SavedRun {
                 "it was saved from a run with {saved_grid}; this run has {this_grid}"
             ));
         }
+        let exchange = exchange_of(system);
+        if self.exchange != exchange {
+            return Err(format!(
+                "it was saved from a run that exchanged {:?}; this run exchanges {:?} (continue \
+                 with the same connections and --input)",
+                self.exchange, exchange
+            ));
+        }
+        if self.columns != columns {
+            return Err(format!(
+                "it was saved from a run that recorded {:?}; this run records {:?} (continue \
+                 with the same --record)",
+                self.columns, columns
+            ));
+        }
         if conventions.stop_time_declared && system.stop_time > self.stop_time {
             return Err(format!(
                 "its FMUs were told the stop time {} s, and this run goes on to {} s: \
@@ -264,6 +296,21 @@ impl SavedRun {
         }
         Ok(())
     }
+}
+
+/// What a run of `system` exchanges besides its FMUs' outputs, as [`SavedRun::exchange`].
+fn exchange_of(system: &SystemDescription) -> Vec<String> {
+    let connections = system
+        .connections
+        .iter()
+        .map(|c| format!("{} -> {}", c.from, c.to));
+    let table = system.inputs.iter().flat_map(|table| {
+        table
+            .names
+            .iter()
+            .map(|name| format!("input table -> {name}"))
+    });
+    connections.chain(table).collect()
 }
 
 /// Why the FMUs of `system` cannot be saved (`save`) or continued: an instance run as Model
@@ -300,6 +347,7 @@ pub fn refusal(
 pub fn check(
     system: &SystemDescription,
     conventions: &Conventions,
+    columns: &[String],
     checkpoints: &Checkpoints,
     describe: &dyn Fn(usize) -> (FmiVersion, ModelDescription),
 ) -> Result<(), MasterError> {
@@ -308,15 +356,22 @@ pub fn check(
         return Ok(());
     }
     if let Some(reason) = refusal(system, describe) {
-        let what = if checkpoints.save.is_some() {
-            "--save-state"
-        } else {
-            "--from-state"
-        };
-        return Err(problem(format!("{what} refused: {reason}")));
+        return Err(problem(reason));
     }
+    let mut clock = Clock::new(
+        conventions.time_grid,
+        system.start_time,
+        system.stop_time,
+        system.step_size,
+    );
     if let Some(saved) = &checkpoints.resume {
-        saved.fits(system, conventions, describe).map_err(problem)?;
+        saved
+            .fits(system, conventions, columns, describe)
+            .map_err(problem)?;
+        clock.resume((saved.step, saved.accumulated));
+    }
+    if let Some(request) = &checkpoints.save {
+        save_point(&clock, request.at).map_err(problem)?;
     }
     Ok(())
 }
@@ -400,15 +455,16 @@ impl super::Simulation {
             let fmu: &fmi_import::Fmu = &fmus[i];
             (fmu.fmi_version(), fmu.model_description().clone())
         };
-        check(&self.system, &self.conventions, &checkpoints, &describe)?;
-        let problem = |message: String| MasterError::Checkpoint { message };
-        let mut clock = self.clock();
+        check(
+            &self.system,
+            &self.conventions,
+            &self.column_names,
+            &checkpoints,
+            &describe,
+        )?;
         if let Some(saved) = &checkpoints.resume {
-            self.check_layout(saved).map_err(problem)?;
-            clock.resume((saved.step, saved.accumulated));
-        }
-        if let Some(request) = &checkpoints.save {
-            save_point(&clock, request.at).map_err(problem)?;
+            self.check_layout(saved)
+                .map_err(|message| MasterError::Checkpoint { message })?;
         }
         self.checkpoints = checkpoints;
         Ok(())
@@ -417,16 +473,6 @@ impl super::Simulation {
     /// The communication point the last run saved at, if it did.
     pub fn saved_at(&self) -> Option<f64> {
         self.saved_at
-    }
-
-    fn clock(&self) -> Clock {
-        let system = &self.system;
-        Clock::new(
-            self.conventions.time_grid,
-            system.start_time,
-            system.stop_time,
-            system.step_size,
-        )
     }
 
     /// Whether every buffer of the saved run has this run's layout (the same variables
@@ -443,7 +489,7 @@ impl super::Simulation {
             {
                 return Err(format!(
                     "instance '{}' exchanged or recorded other variables when it was saved \
-                     (continue with the same connections and --record)",
+                     (continue with the same connections, --input and --record)",
                     instance.name
                 ));
             }
@@ -546,7 +592,10 @@ impl super::Simulation {
             time,
             step,
             accumulated,
+            exchange: exchange_of(&self.system),
+            columns: self.column_names.clone(),
             instances,
+            rows_before: None,
         };
         saved
             .write(&request.path)

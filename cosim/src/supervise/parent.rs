@@ -171,7 +171,13 @@ impl Supervised {
     /// save point, the exchange's layout) before the run's first step.
     pub fn set_checkpoints(&mut self, checkpoints: Checkpoints) -> Result<(), MasterError> {
         let describe = |i: usize| self.descriptions[i].clone();
-        crate::master::check_checkpoints(&self.system, &self.conventions, &checkpoints, &describe)?;
+        crate::master::check_checkpoints(
+            &self.system,
+            &self.conventions,
+            &self.column_names,
+            &checkpoints,
+            &describe,
+        )?;
         self.checkpoints = checkpoints;
         Ok(())
     }
