@@ -21,6 +21,7 @@
 //!   requires (see `loader::InstanceOptions` and harness/README.md).
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
+mod checkpoint;
 mod conventions;
 mod finite;
 mod loops;

@@ -1,6 +1,7 @@
 //! A saved run: everything a run needs to go on from one communication point in another
 //! process and end with the rows the uninterrupted run would have recorded, bit for bit;
-//! and its file (format in docs/saved-runs.md).
+//! its file (format in docs/saved-runs.md) and the checks of a continuation that need no
+//! loaded FMU. How a [`super::Simulation`] saves and continues one: `checkpoint.rs`.
 //!
 //! What goes on from the point is the FMUs' states (serialized by each FMU through the
 //! importer) and what the master holds between two points: the clock (step counter and, for
@@ -14,8 +15,7 @@
 //! continued with other FMUs or another system is refused, naming what differs. Model
 //! Exchange instances are refused: their solver's state (step size, history, the event
 //! search) is not saved.
-use super::conventions::Clock;
-use super::{Conventions, Io, MasterError};
+use super::conventions::{Clock, Conventions};
 use crate::system::{Ordering, SystemDescription};
 use fmi_import::FmiVersion;
 use model_description::ModelDescription;
@@ -118,14 +118,14 @@ pub enum SavedError {
     Corrupt { path: PathBuf, reason: String },
 }
 
-fn version_text(version: FmiVersion) -> &'static str {
+pub(super) fn version_text(version: FmiVersion) -> &'static str {
     match version {
         FmiVersion::Fmi2 => "2.0",
         FmiVersion::Fmi3 => "3.0",
     }
 }
 
-fn ordering_text(ordering: Ordering) -> &'static str {
+pub(super) fn ordering_text(ordering: Ordering) -> &'static str {
     match ordering {
         Ordering::GaussSeidel => "gauss-seidel",
         Ordering::Jacobi => "jacobi",
@@ -299,7 +299,7 @@ impl SavedRun {
 }
 
 /// What a run of `system` exchanges besides its FMUs' outputs, as [`SavedRun::exchange`].
-fn exchange_of(system: &SystemDescription) -> Vec<String> {
+pub(super) fn exchange_of(system: &SystemDescription) -> Vec<String> {
     let connections = system
         .connections
         .iter()
@@ -350,13 +350,12 @@ pub fn check(
     columns: &[String],
     checkpoints: &Checkpoints,
     describe: &dyn Fn(usize) -> (FmiVersion, ModelDescription),
-) -> Result<(), MasterError> {
-    let problem = |message: String| MasterError::Checkpoint { message };
+) -> Result<(), String> {
     if checkpoints.resume.is_none() && checkpoints.save.is_none() {
         return Ok(());
     }
     if let Some(reason) = refusal(system, describe) {
-        return Err(problem(reason));
+        return Err(reason);
     }
     let mut clock = Clock::new(
         conventions.time_grid,
@@ -365,45 +364,13 @@ pub fn check(
         system.step_size,
     );
     if let Some(saved) = &checkpoints.resume {
-        saved
-            .fits(system, conventions, columns, describe)
-            .map_err(problem)?;
+        saved.fits(system, conventions, columns, describe)?;
         clock.resume((saved.step, saved.accumulated));
     }
     if let Some(request) = &checkpoints.save {
-        save_point(&clock, request.at).map_err(problem)?;
+        save_point(&clock, request.at)?;
     }
     Ok(())
-}
-
-impl Io {
-    pub(super) fn saved(&self) -> SavedIo {
-        SavedIo {
-            real_vrs: self.real.vrs.clone(),
-            real: self.real.values.clone(),
-            integer_vrs: self.integer.vrs.clone(),
-            integer: self.integer.values.clone(),
-            boolean_vrs: self.boolean.vrs.clone(),
-            boolean: self.boolean.values.clone(),
-        }
-    }
-
-    /// Takes the saved values if the layout is this buffer's; else says so.
-    pub(super) fn restore(&mut self, saved: &SavedIo) -> Result<(), ()> {
-        let fits = saved.real_vrs == self.real.vrs
-            && saved.integer_vrs == self.integer.vrs
-            && saved.boolean_vrs == self.boolean.vrs
-            && saved.real.len() == self.real.values.len()
-            && saved.integer.len() == self.integer.values.len()
-            && saved.boolean.len() == self.boolean.values.len();
-        if !fits {
-            return Err(());
-        }
-        self.real.values.copy_from_slice(&saved.real);
-        self.integer.values.copy_from_slice(&saved.integer);
-        self.boolean.values.copy_from_slice(&saved.boolean);
-        Ok(())
-    }
 }
 
 /// The step counter at which to save, for `at` (`None`: the end): the first point of the
@@ -432,177 +399,5 @@ pub(super) fn save_point(clock: &Clock, at: Option<f64>) -> Result<u64, String> 
                  {time})"
             ));
         }
-    }
-}
-
-/// The error of a failed save, naming the file.
-pub(super) fn save_failed(path: &Path, instance: &str, reason: String) -> MasterError {
-    MasterError::Checkpoint {
-        message: format!(
-            "saving the run to {} failed at instance '{instance}': {reason}",
-            path.display()
-        ),
-    }
-}
-
-impl super::Simulation {
-    /// What the next runs do about saved runs, checked now: every instance can be saved
-    /// (and continued), a saved run fits this system, and the save point is one of its
-    /// communication points.
-    pub fn set_checkpoints(&mut self, checkpoints: Checkpoints) -> Result<(), MasterError> {
-        let fmus = &self.fmus;
-        let describe = |i: usize| {
-            let fmu: &fmi_import::Fmu = &fmus[i];
-            (fmu.fmi_version(), fmu.model_description().clone())
-        };
-        check(
-            &self.system,
-            &self.conventions,
-            &self.column_names,
-            &checkpoints,
-            &describe,
-        )?;
-        if let Some(saved) = &checkpoints.resume {
-            self.check_layout(saved)
-                .map_err(|message| MasterError::Checkpoint { message })?;
-        }
-        self.checkpoints = checkpoints;
-        Ok(())
-    }
-
-    /// The communication point the last run saved at, if it did.
-    pub fn saved_at(&self) -> Option<f64> {
-        self.saved_at
-    }
-
-    /// Whether every buffer of the saved run has this run's layout (the same variables
-    /// exchanged and recorded).
-    fn check_layout(&self, saved: &SavedRun) -> Result<(), String> {
-        for (u, instance) in saved.instances.iter().enumerate() {
-            let same = |io: &Io, saved: &SavedIo| {
-                io.real.vrs == saved.real_vrs
-                    && io.integer.vrs == saved.integer_vrs
-                    && io.boolean.vrs == saved.boolean_vrs
-            };
-            if !same(&self.inputs[u], &instance.inputs)
-                || !same(&self.outputs[u], &instance.outputs)
-            {
-                return Err(format!(
-                    "instance '{}' exchanged or recorded other variables when it was saved \
-                     (continue with the same connections, --input and --record)",
-                    instance.name
-                ));
-            }
-        }
-        Ok(())
-    }
-
-    /// At the start of a run, after initialization: continues the saved run, if any (the
-    /// FMUs' states, the buffers, the clock); the step counter to save at, if any.
-    pub(super) fn begin_checkpoints(
-        &mut self,
-        clock: &mut Clock,
-    ) -> Result<Option<u64>, MasterError> {
-        self.saved_at = None;
-        if let Some(saved) = self.checkpoints.resume.take() {
-            let resumed = self.resume(&saved, clock);
-            self.checkpoints.resume = Some(saved);
-            resumed?;
-        }
-        match &self.checkpoints.save {
-            None => Ok(None),
-            Some(request) => save_point(clock, request.at)
-                .map(Some)
-                .map_err(|message| MasterError::Checkpoint { message }),
-        }
-    }
-
-    fn resume(&mut self, saved: &SavedRun, clock: &mut Clock) -> Result<(), MasterError> {
-        self.check_layout(saved)
-            .map_err(|message| MasterError::Checkpoint { message })?;
-        for (u, instance) in saved.instances.iter().enumerate() {
-            let unit = &mut self.units[u];
-            let restored = (|| -> Result<(), fmi_import::CallError> {
-                let state = unit.instance.deserialize_fmu_state(&instance.fmu_state)?;
-                unit.instance.set_fmu_state(&state)?;
-                unit.instance.free_fmu_state(state)?;
-                Ok(())
-            })();
-            restored.map_err(|e| super::call(&unit.name, "restoring its saved FMU state", e))?;
-            let layout = self.inputs[u]
-                .restore(&instance.inputs)
-                .and_then(|()| self.outputs[u].restore(&instance.outputs));
-            layout.map_err(|()| MasterError::Checkpoint {
-                message: format!(
-                    "instance '{}': saved buffers of another size",
-                    instance.name
-                ),
-            })?;
-            self.outputs_read[u] = instance.outputs_read;
-            // The uninterrupted run noted these when it read them; the row they reach judges.
-            let real = &self.outputs[u].real;
-            if !super::finite::all_finite(&real.values) {
-                self.finite.note(u, &real.vrs, &real.values);
-            }
-        }
-        clock.resume((saved.step, saved.accumulated));
-        self.now = saved.time;
-        Ok(())
-    }
-
-    /// Saves the run at the clock's next communication point, before its exchange.
-    pub(super) fn save_run(&mut self, clock: &Clock) -> Result<(), MasterError> {
-        let Some(request) = self.checkpoints.save.clone() else {
-            return Ok(());
-        };
-        let (step, accumulated) = clock.position();
-        let time = clock
-            .clone()
-            .next_step()
-            .map_or_else(|| clock.end_time(), |(time, _)| time);
-        let mut instances = Vec::with_capacity(self.units.len());
-        for (u, unit) in self.units.iter_mut().enumerate() {
-            let serialized = (|| -> Result<Vec<u8>, fmi_import::CallError> {
-                let state = unit.instance.get_fmu_state()?;
-                let bytes = unit.instance.serialize_fmu_state(&state);
-                unit.instance.free_fmu_state(state)?;
-                bytes
-            })();
-            let fmu_state =
-                serialized.map_err(|e| save_failed(&request.path, &unit.name, e.to_string()))?;
-            let fmu = &self.fmus[u];
-            instances.push(SavedInstance {
-                name: unit.name.clone(),
-                model_name: fmu.model_name().to_owned(),
-                token: fmu.model_description().guid.clone(),
-                fmi_version: version_text(fmu.fmi_version()).to_owned(),
-                fmu_state,
-                inputs: self.inputs[u].saved(),
-                outputs: self.outputs[u].saved(),
-                outputs_read: self.outputs_read[u],
-            });
-        }
-        let saved = SavedRun {
-            system: self.system.name.clone(),
-            start_time: self.system.start_time,
-            step_size: self.system.step_size,
-            stop_time: self.system.stop_time,
-            ordering: ordering_text(self.system.ordering).to_owned(),
-            conventions: format!("{:?}", self.conventions),
-            time,
-            step,
-            accumulated,
-            exchange: exchange_of(&self.system),
-            columns: self.column_names.clone(),
-            instances,
-            rows_before: None,
-        };
-        saved
-            .write(&request.path)
-            .map_err(|e| MasterError::Checkpoint {
-                message: format!("writing the saved run {}: {e}", request.path.display()),
-            })?;
-        self.saved_at = Some(time);
-        Ok(())
     }
 }

@@ -177,7 +177,8 @@ impl Supervised {
             &self.column_names,
             &checkpoints,
             &describe,
-        )?;
+        )
+        .map_err(|message| MasterError::Checkpoint { message })?;
         self.checkpoints = checkpoints;
         Ok(())
     }
