@@ -214,6 +214,34 @@ fn model_exchange_instances_and_save_points_off_the_grid_are_refused_before_the_
         .set_checkpoints(save(&file, Some(25.0)))
         .unwrap_err()
         .to_string();
-    assert!(error.contains("not a communication point"), "{error}");
+    assert!(error.contains("after this run's stop time"), "{error}");
     assert!(!file.exists());
+}
+
+#[test]
+fn a_continued_run_saves_again_and_its_continuation_is_still_the_uninterrupted_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let (first, second) = (
+        dir.path().join("first.state"),
+        dir.path().join("second.state"),
+    );
+    let system = paper_loop("3.0", Ordering::GaussSeidel);
+    let (whole, _, _) = fly(system.clone(), save(&first, Some(5.0)));
+    let mut again = resume(&first);
+    again.save = save(&second, Some(12.0)).save;
+    let (_, _, saved_at) = fly(system.clone(), again);
+    assert_eq!(saved_at, Some(12.0));
+    let (last, _, _) = fly(system.clone(), resume(&second));
+    let from = whole.times.iter().position(|&t| t == 12.0).unwrap();
+    let width = whole.names.len();
+    assert_eq!(bits(&last.values), bits(&whole.values[from * width..]));
+    // A save point before the point a run continues from is none of its points.
+    let mut early = resume(&first);
+    early.save = save(&second, Some(2.0)).save;
+    let mut simulation = Simulation::new(system, &fmu_dir()).unwrap();
+    let error = simulation.set_checkpoints(early).unwrap_err().to_string();
+    assert!(
+        error.contains("before the first communication point of this run, t = 5"),
+        "{error}"
+    );
 }

@@ -376,6 +376,7 @@ pub fn check(
 /// The step counter at which to save, for `at` (`None`: the end): the first point of the
 /// clock at `at` (within 1e-9 relative); an error when `at` is none of its points.
 pub(super) fn save_point(clock: &Clock, at: Option<f64>) -> Result<u64, String> {
+    let first = clock.position().0;
     let mut ahead = clock.clone();
     loop {
         let (k, _) = ahead.position();
@@ -383,8 +384,9 @@ pub(super) fn save_point(clock: &Clock, at: Option<f64>) -> Result<u64, String> 
             Some((time, _)) => time,
             None => ahead.end_time(),
         };
+        let ended = ahead.position().0 == k;
         let Some(at) = at else {
-            if ahead.position().0 == k {
+            if ended {
                 return Ok(k);
             }
             continue;
@@ -392,11 +394,20 @@ pub(super) fn save_point(clock: &Clock, at: Option<f64>) -> Result<u64, String> 
         if (time - at).abs() <= 1e-9 * at.abs().max(1.0) {
             return Ok(k);
         }
-        if time > at || ahead.position().0 == k {
+        if time > at && k == first {
             return Err(format!(
-                "--save-at {at}: not a communication point of this run (the points are \
-                 start + k * step, up to the stop time; the nearest at or after it is t = \
-                 {time})"
+                "--save-at {at}: before the first communication point of this run, t = {time}"
+            ));
+        }
+        if time > at {
+            return Err(format!(
+                "--save-at {at}: not a communication point of this run (start + k * step); \
+                 the next one is t = {time}"
+            ));
+        }
+        if ended {
+            return Err(format!(
+                "--save-at {at}: after this run's stop time, {time}"
             ));
         }
     }
