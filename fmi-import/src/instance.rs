@@ -45,6 +45,7 @@ pub struct InstanceOptions {
 pub struct Instance {
     fmu: Arc<FmuShared>,
     backend: Backend,
+    interface: Interface,
 }
 
 impl std::fmt::Debug for Instance {
@@ -155,7 +156,11 @@ impl Instance {
                 )?))
             }
         };
-        Ok(Self { fmu, backend })
+        Ok(Self {
+            fmu,
+            backend,
+            interface: options.interface,
+        })
     }
 
     pub fn name(&self) -> &str {
@@ -454,71 +459,91 @@ impl Instance {
         Ok(values.remove(0))
     }
 
-    // ---- FMU state (FMI 2.0) ----
+    // ---- FMU state ----
 
-    fn fmi2(&mut self, function: &'static str) -> Result<&mut Fmi2Instance, CallError> {
-        match &mut self.backend {
-            Backend::Fmi2(i) => Ok(i),
-            Backend::Fmi3(i) => Err(CallError::InvalidArgument {
+    /// Why this instance's FMU states cannot be used (with `serialize`, also serialized),
+    /// from its FMU's capability flags; `None` when they can.
+    pub fn fmu_state_refusal(&self, serialize: bool) -> Option<String> {
+        super::state::refusal(
+            &self.fmu.description,
+            self.fmi_version(),
+            self.interface,
+            serialize,
+        )
+    }
+
+    /// The refusal of a state function the FMU does not declare, before calling it.
+    fn declared(&self, function: &'static str, serialize: bool) -> Result<(), FmiError> {
+        match self.fmu_state_refusal(serialize) {
+            None => Ok(()),
+            Some(reason) => Err(FmiError::from_importer(
                 function,
-                instance: i.name().to_owned(),
-                reason: "the harness saves and restores FMU states of FMI 2.0 instances only"
-                    .to_owned(),
-            }),
+                self.name(),
+                self.fmi_version(),
+                format!("not called: {reason}"),
+            )),
         }
     }
 
-    /// The FMI 2.0 backend, or an error that says FMI 3.0 states are not driven (the FMU
-    /// is not called).
-    fn fmi2_or_error(&mut self, function: &'static str) -> Result<&mut Fmi2Instance, FmiError> {
-        match &mut self.backend {
-            Backend::Fmi2(i) => Ok(i),
-            Backend::Fmi3(i) => Err(FmiError {
-                function,
-                instance: i.name().to_owned(),
-                status: super::status::Failure::Error,
-                log: super::logger::FmuLog(vec![LogMessage {
-                    instance_name: i.name().to_owned(),
-                    status: super::status::Status::Error,
-                    version: FmiVersion::Fmi3,
-                    category: "harness".to_owned(),
-                    message: "not called: the harness saves and restores FMU states of FMI 2.0 \
-                              instances only"
-                        .to_owned(),
-                }]),
-            }),
-        }
-    }
-
-    /// `fmi2GetFMUstate` into a new state.
+    /// `fmi2GetFMUstate` / `fmi3GetFMUState` into a new state.
     pub fn get_fmu_state(&mut self) -> Result<FmuState, FmiError> {
-        self.fmi2_or_error("fmi3GetFMUState")?.get_fmu_state()
+        self.declared(
+            named_by_version(self.fmi_version(), "fmi2GetFMUstate", "fmi3GetFMUState"),
+            false,
+        )?;
+        both!(self, i => i.get_fmu_state())
     }
 
-    /// `fmi2GetFMUstate` overwriting an existing state, without a new allocation.
+    /// `fmi2GetFMUstate` / `fmi3GetFMUState` overwriting an existing state, without a new
+    /// allocation.
     pub fn update_fmu_state(&mut self, state: &FmuState) -> Result<Success, CallError> {
-        self.fmi2("fmi3GetFMUState")?.update_fmu_state(state)
+        both!(self, i => i.update_fmu_state(state))
     }
 
-    /// `fmi2SetFMUstate`: continue from a saved state.
+    /// `fmi2SetFMUstate` / `fmi3SetFMUState`: continue from a saved state. FMI 3.0: in the
+    /// mode the state was saved in.
     pub fn set_fmu_state(&mut self, state: &FmuState) -> Result<Success, CallError> {
-        self.fmi2("fmi3SetFMUState")?.set_fmu_state(state)
+        noted!(self, "fmi2SetFMUstate", "fmi3SetFMUState", i => i.set_fmu_state(state))
     }
 
-    /// `fmi2FreeFMUstate`.
+    /// `fmi2FreeFMUstate` / `fmi3FreeFMUState`.
     pub fn free_fmu_state(&mut self, state: FmuState) -> Result<Success, CallError> {
-        self.fmi2("fmi3FreeFMUState")?.free_fmu_state(state)
+        both!(self, i => i.free_fmu_state(state))
     }
 
-    /// `fmi2SerializedFMUstateSize` + `fmi2SerializeFMUstate`.
+    /// `fmi2SerializedFMUstateSize` + `fmi2SerializeFMUstate` (the FMU's bytes); FMI 3.0:
+    /// the importer's record of the instance's mode, then the FMU's bytes
+    /// (`fmi3/instance/fmu_state.rs`), which only [`Instance::deserialize_fmu_state`] of an
+    /// FMI 3.0 instance reads.
     pub fn serialize_fmu_state(&mut self, state: &FmuState) -> Result<Vec<u8>, CallError> {
-        self.fmi2("fmi3SerializeFMUState")?
-            .serialize_fmu_state(state)
+        self.declared(
+            named_by_version(
+                self.fmi_version(),
+                "fmi2SerializeFMUstate",
+                "fmi3SerializeFMUState",
+            ),
+            true,
+        )?;
+        both!(self, i => i.serialize_fmu_state(state))
     }
 
-    /// `fmi2DeSerializeFMUstate` into a new state.
+    /// `fmi2DeSerializeFMUstate` / `fmi3DeserializeFMUState` into a new state.
     pub fn deserialize_fmu_state(&mut self, bytes: &[u8]) -> Result<FmuState, FmiError> {
-        self.fmi2_or_error("fmi3DeserializeFMUState")?
-            .deserialize_fmu_state(bytes)
+        self.declared(
+            named_by_version(
+                self.fmi_version(),
+                "fmi2DeSerializeFMUstate",
+                "fmi3DeserializeFMUState",
+            ),
+            true,
+        )?;
+        noted!(self, "fmi2DeSerializeFMUstate", "fmi3DeserializeFMUState", i => i.deserialize_fmu_state(bytes))
+    }
+}
+
+fn named_by_version(version: FmiVersion, fmi2: &'static str, fmi3: &'static str) -> &'static str {
+    match version {
+        FmiVersion::Fmi2 => fmi2,
+        FmiVersion::Fmi3 => fmi3,
     }
 }

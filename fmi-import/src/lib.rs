@@ -50,7 +50,7 @@ pub use instance::{Instance, InstanceOptions};
 pub use logger::{FmuLog, LogMessage, LOG_CAPACITY};
 pub use model_description::VariableKind;
 pub use model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
-pub use state::FmuState;
+pub use state::{refusal as fmu_state_refusal, FmuState};
 pub use status::{Failure, Status, StepStatus, Success};
 pub use tables::fmi2::{Fmi2CoSimulation, Fmi2Common, Fmi2ModelExchange};
 pub use tables::fmi3::{Fmi3CoSimulation, Fmi3Common, Fmi3ModelExchange};

@@ -9,6 +9,7 @@ use lander::laws::Laws;
 use std::path::PathBuf;
 
 mod monte_carlo;
+mod saved_runs;
 mod vars;
 
 #[derive(Parser)]
@@ -651,6 +652,7 @@ fn test_folder(
             start_time: None,
             interface: Vec::new(),
             input: None,
+            state: Default::default(),
         };
         let started = std::time::Instant::now();
         match run_scenario(&request, fmu_dir) {
@@ -785,6 +787,8 @@ struct RunRequest {
     /// FMU declares when it has one only, else co-simulation.
     #[arg(long, value_name = "[INSTANCE=]KIND")]
     interface: Vec<String>,
+    #[command(flatten)]
+    state: saved_runs::StateArgs,
 }
 
 /// A scenario's JUnit suite name: its file stem (a built-in's name), the same whether it
@@ -817,8 +821,11 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         start_time,
         interface,
         input,
+        state,
     } = request;
     let started = std::time::Instant::now();
+    // A saved run to continue is read whole before anything is loaded.
+    let checkpoints = state.checkpoints()?;
     let (mut system, spec) = lander::scenarios::spec::load(scenario)?;
     let requirements = lander::scenarios::spec::requirements(scenario)?;
     let (mut problems, seen) = lander::overrides::apply_sets(&mut system, sets, &[]);
@@ -899,6 +906,8 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     check_run_size(&simulation, &kept, format, *force)?;
     let mut simulation = simulation;
     set_verdict_columns(&mut simulation)?;
+    state.set_checkpoints(&mut simulation, &checkpoints)?;
+    let kept = state.continue_requirements(kept, &checkpoints)?;
     // Rows go to the file as they are recorded, under a temporary name until the run has
     // ended: a failed or interrupted run never leaves a truncated file under `out`.
     let partial = partial_path(out);
@@ -999,12 +1008,23 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
         );
     }
     let mut exit_code = verdict.exit_code(spec.expect);
+    if let Some(note) = state.continued_note(&checkpoints) {
+        println!("{note}");
+    }
     let judged = kept.judge(&requirements);
     for j in &judged {
         println!("{}", j.describe());
         if !j.holds() {
             exit_code = exit_code.max(lander::verdict::EXIT_FAILED_VERDICT);
         }
+    }
+    match state.saved_note(simulation.saved_at(), &end, &kept) {
+        Some(Ok(note)) => println!("{note}"),
+        Some(Err(problem)) => {
+            eprintln!("harness: {problem}");
+            exit_code = exit_code.max(lander::verdict::EXIT_ERROR);
+        }
+        None => {}
     }
     let system_err = simulation.take_stderr();
     let mut suite = cosim::requirements::junit::suite(

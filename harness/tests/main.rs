@@ -39,6 +39,7 @@ mod report_browser;
 mod requirements;
 mod retarget_scenario;
 mod run_options;
+mod saved_state;
 mod single_fmu;
 mod ssp_scenario;
 mod supervision;

@@ -167,6 +167,17 @@ impl Clock {
         usize::try_from(self.steps.saturating_add(2)).unwrap_or(usize::MAX)
     }
 
+    /// The step counter and running sum: all that moves, so all a saved run keeps.
+    pub(super) fn position(&self) -> (u64, f64) {
+        (self.k, self.accumulated)
+    }
+
+    /// Goes on from a [`Clock::position`] of a clock of the same grid.
+    pub(super) fn resume(&mut self, (k, accumulated): (u64, f64)) {
+        self.k = k;
+        self.accumulated = accumulated;
+    }
+
     /// The time of the row recorded after the last step.
     pub(super) fn end_time(&self) -> f64 {
         match self.grid {

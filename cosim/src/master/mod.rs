@@ -21,17 +21,23 @@
 //!   requires (see `loader::InstanceOptions` and harness/README.md).
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
+mod checkpoint;
 mod conventions;
 mod finite;
 mod loops;
 mod model_exchange;
 mod resolve;
+mod saved;
 mod table;
 mod terminals;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use model_exchange::{EventCounts, MeError, SolverSettings};
 pub use resolve::Port;
+pub use saved::{
+    check as check_checkpoints, refusal as saved_run_refusal, Checkpoints, SaveRequest, SavedError,
+    SavedInstance, SavedIo, SavedRows, SavedRun,
+};
 
 use crate::system::{Ordering, ParamValue, SystemDescription};
 use fmi_import::{CallError, FmiError, Fmu, InstanceOptions, StepStatus, VariableKind};
@@ -106,6 +112,9 @@ pub enum MasterError {
     /// rather than simulate on for nothing.
     #[error("recording the row at t = {time} failed, so the run stopped there: {reason}")]
     Record { time: f64, reason: String },
+    /// A saved run could not be continued or saved (see `saved.rs`).
+    #[error("{message}")]
+    Checkpoint { message: String },
     /// An error the supervised worker process met, as it told it (see [`crate::supervise`]).
     #[error("{message}")]
     Worker { message: String },
@@ -434,6 +443,9 @@ pub struct Simulation {
     finite: finite::Check,
     fresh: bool,
     conventions: Conventions,
+    /// Saved runs to continue or save (`saved.rs`), and where the last run saved.
+    checkpoints: saved::Checkpoints,
+    saved_at: Option<f64>,
 }
 
 /// Directories a relative FMU path is looked up in after the caller's FMU directory, in
@@ -643,6 +655,8 @@ impl Simulation {
             finite,
             fresh: true,
             conventions: Conventions::default(),
+            checkpoints: saved::Checkpoints::default(),
+            saved_at: None,
         })
     }
 
@@ -796,8 +810,15 @@ impl Simulation {
         } = self.system;
         let mut clock =
             conventions::Clock::new(self.conventions.time_grid, start_time, stop_time, step_size);
+        let save_at = self.begin_checkpoints(&mut clock)?;
         recorder.reserve(clock.rows_hint(), self.columns.len());
-        while let Some((time, h)) = clock.next_step() {
+        loop {
+            if save_at == Some(clock.position().0) {
+                self.save_run(&clock)?;
+            }
+            let Some((time, h)) = clock.next_step() else {
+                break;
+            };
             self.now = time;
             if ordering == Ordering::GaussSeidel {
                 for u in 0..self.units.len() {

@@ -1,6 +1,7 @@
 //! Requirements for integration testing: `[[requirement]]` entries of a scenario, temporal
 //! formulas over recorded signals (see [`formula`]), judged with their quantitative
 //! robustness (see [`robustness`]) and reported in the summary, the exit code and JUnit XML.
+mod continued;
 pub mod formula;
 pub mod junit;
 pub mod robustness;
@@ -370,6 +371,12 @@ impl Kept {
         self.sources.len() + 1
     }
 
+    /// The last time kept of a run whose first row is at `first`: a margin past the
+    /// horizon, as rows beyond it change nothing and rows short of it would.
+    fn until_after(&self, first: f64) -> f64 {
+        first + self.horizon_s * (1.0 + 1e-9) + 1e-9 * (1.0 + first.abs())
+    }
+
     /// Each requirement's robustness at the start of the run, with the span it recorded.
     pub fn judge(&self, requirements: &[Requirement]) -> Vec<Judged> {
         judge_span(
@@ -385,9 +392,7 @@ impl crate::master::Recorder for Kept {
         let span = self.recorded_s.get_or_insert((time, time));
         span.1 = time;
         if self.rows.is_empty() {
-            // A margin past the horizon: rows beyond it change nothing, rows short of it
-            // would.
-            self.until_s = time + self.horizon_s * (1.0 + 1e-9) + 1e-9 * (1.0 + time.abs());
+            self.until_s = self.until_after(time);
         }
         if time <= self.until_s {
             self.rows.times.push(time);

@@ -16,7 +16,9 @@ pub use crate::abnormal::{signal_name, Abnormal, How};
 pub use crate::limits::Limits;
 pub use parent::Supervised;
 
-use crate::master::{Conventions, EventCounts, MasterError, Recorder, RunEnd, Simulation};
+use crate::master::{
+    Checkpoints, Conventions, EventCounts, MasterError, Recorder, RunEnd, Simulation,
+};
 use crate::system::{ParamValue, SystemDescription};
 use fmi_import::FmiVersion;
 use model_description::ModelDescription;
@@ -177,6 +179,23 @@ impl Runner {
         match self {
             Runner::InProcess(s) => s.set_conventions(conventions),
             Runner::Supervised(s) => s.set_conventions(conventions),
+        }
+    }
+
+    /// Continue a saved run, or save this one, in the next runs (`master/saved.rs`);
+    /// refused now when an FMU cannot or the saved run does not fit.
+    pub fn set_checkpoints(&mut self, checkpoints: Checkpoints) -> Result<(), MasterError> {
+        match self {
+            Runner::InProcess(s) => s.set_checkpoints(checkpoints),
+            Runner::Supervised(s) => s.set_checkpoints(checkpoints),
+        }
+    }
+
+    /// The communication point the last run saved at, if it did.
+    pub fn saved_at(&self) -> Option<f64> {
+        match self {
+            Runner::InProcess(s) => s.saved_at(),
+            Runner::Supervised(s) => s.saved_at(),
         }
     }
 

@@ -9,7 +9,7 @@ use super::shared::{BlackBox, Ring};
 use super::{BLACK_BOX, RING, WORKER_FLAG};
 use crate::abnormal::{Abnormal, How};
 use crate::limits::Limits;
-use crate::master::{Conventions, EventCounts, MasterError, Recorder, RunEnd};
+use crate::master::{Checkpoints, Conventions, EventCounts, MasterError, Recorder, RunEnd};
 use crate::system::{ParamValue, SystemDescription};
 use fmi_import::FmiVersion;
 use model_description::ModelDescription;
@@ -64,6 +64,9 @@ pub struct Supervised {
     /// Parameters set since the worker last ran; a new worker gets them in its system.
     pending: Vec<(String, String, ParamValue)>,
     events: Vec<(String, EventCounts)>,
+    /// Sent with every run; where the last one saved.
+    checkpoints: Checkpoints,
+    saved_at: Option<f64>,
     worker: Option<Worker>,
     stderr: Arc<Mutex<Vec<u8>>>,
 }
@@ -98,6 +101,8 @@ impl Supervised {
             final_values: Vec::new(),
             pending: Vec::new(),
             events: Vec::new(),
+            checkpoints: Checkpoints::default(),
+            saved_at: None,
             worker: None,
             stderr: Arc::new(Mutex::new(Vec::new())),
         };
@@ -162,6 +167,26 @@ impl Supervised {
         self.conventions = conventions;
     }
 
+    /// Checked here against the FMUs' descriptions, and by the worker with its FMUs (the
+    /// save point, the exchange's layout) before the run's first step.
+    pub fn set_checkpoints(&mut self, checkpoints: Checkpoints) -> Result<(), MasterError> {
+        let describe = |i: usize| self.descriptions[i].clone();
+        crate::master::check_checkpoints(
+            &self.system,
+            &self.conventions,
+            &self.column_names,
+            &checkpoints,
+            &describe,
+        )
+        .map_err(|message| MasterError::Checkpoint { message })?;
+        self.checkpoints = checkpoints;
+        Ok(())
+    }
+
+    pub fn saved_at(&self) -> Option<f64> {
+        self.saved_at
+    }
+
     /// Recorded here and sent with the next run; the worker checks the name and type then.
     pub fn set_parameter(
         &mut self,
@@ -211,6 +236,7 @@ impl Supervised {
     pub fn run(&mut self, recorder: &mut dyn Recorder) -> Result<RunEnd, MasterError> {
         self.final_values.fill(f64::NAN);
         self.events.clear();
+        self.saved_at = None;
         let parameters = std::mem::take(&mut self.pending);
         let limits = self.limits;
         let (conventions, width) = (self.conventions, self.column_names.len());
@@ -218,6 +244,7 @@ impl Supervised {
             let s = &self.system;
             ((s.stop_time - s.start_time) / s.step_size).ceil().max(0.0) as usize + 1
         };
+        let checkpoints = Box::new(self.checkpoints.clone());
         let worker = self.worker()?;
         let deadline = Instant::now() + limits.run_timeout();
         recorder.reserve(rows_hint, width);
@@ -227,6 +254,7 @@ impl Supervised {
         let mut answer = worker.send(&ToWorker::Run {
             parameters,
             conventions,
+            checkpoints,
         });
         let error = loop {
             if let Err(error) = answer {
@@ -245,6 +273,7 @@ impl Supervised {
                     end,
                     final_values,
                     events,
+                    saved_at,
                 }) => {
                     worker.hand_on(&mut hand, rows, recorder);
                     if let Some(error) = hand.record_error() {
@@ -252,6 +281,7 @@ impl Supervised {
                     }
                     self.final_values = final_values;
                     self.events = events;
+                    self.saved_at = saved_at;
                     return Ok(end);
                 }
                 Ok(FromWorker::Failed { rows, error }) => {

@@ -1,7 +1,7 @@
 //! What the parent and its worker say to each other over the worker's stdin and stdout:
 //! length-prefixed postcard messages. Rows do not travel here but through the shared ring
 //! (`shared.rs`); a message only says how far they go.
-use crate::master::{Conventions, EventCounts, MasterError, RunEnd};
+use crate::master::{Checkpoints, Conventions, EventCounts, MasterError, RunEnd};
 use crate::system::{ParamValue, SystemDescription};
 use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
@@ -27,6 +27,7 @@ pub(super) enum ToWorker {
     Run {
         parameters: Vec<(String, String, ParamValue)>,
         conventions: Conventions,
+        checkpoints: Box<Checkpoints>,
     },
     /// The parent has taken the rows before `upto`; with `stop`, it can keep no more and the
     /// run should end there.
@@ -52,6 +53,8 @@ pub(super) enum FromWorker {
         end: RunEnd,
         final_values: Vec<f64>,
         events: Vec<(String, EventCounts)>,
+        /// The communication point the run was saved at, if it was.
+        saved_at: Option<f64>,
     },
     Failed {
         rows: u64,

@@ -146,6 +146,7 @@ impl Worker {
             ToWorker::Run {
                 parameters,
                 conventions,
+                checkpoints,
             } => {
                 let (Some(simulation), Some(ring)) = (self.simulation.as_mut(), self.ring.as_ref())
                 else {
@@ -157,6 +158,9 @@ impl Worker {
                     }
                 }
                 simulation.set_conventions(conventions);
+                if let Err(error) = simulation.set_checkpoints(*checkpoints) {
+                    return send(output, &failed(&error, 0));
+                }
                 ring.set_written(0);
                 let mut recorder = RingRecorder {
                     ring,
@@ -182,6 +186,7 @@ impl Worker {
                             .into_iter()
                             .map(|(name, events)| (name.to_owned(), events))
                             .collect(),
+                        saved_at: simulation.saved_at(),
                     },
                     Err(error) => failed(&error, rows),
                 };

@@ -20,6 +20,8 @@
 //!   is kept.
 #![allow(unsafe_code)]
 
+mod fmu_state;
+
 use super::view::{Element, Starts};
 use crate::binary::Fmi3Functions;
 use crate::error::{CallError, FmiError};
@@ -130,6 +132,8 @@ pub(crate) struct Fmi3Instance {
     int64: Vec<i64>,
     booleans: Vec<bool>,
     strings: Vec<fmi3String>,
+    /// Live FMU states by slot; a freed slot is `None` and reused.
+    states: Vec<Option<fmu_state::Slot>>,
 }
 
 // SAFETY: as for the FMI 2.0 backend: the instance pointer is used only through `&mut self`
@@ -265,6 +269,7 @@ impl Fmi3Instance {
             int64: Vec::new(),
             booleans: Vec::new(),
             strings: Vec::new(),
+            states: Vec::new(),
         })
     }
 
@@ -1259,6 +1264,7 @@ impl Fmi3Instance {
 
 impl Drop for Fmi3Instance {
     fn drop(&mut self) {
+        self.free_all_states();
         let _call = crate::blackbox::enter(
             self.black_box,
             const { crate::blackbox::function("fmi3FreeInstance") },
