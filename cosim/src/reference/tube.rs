@@ -95,18 +95,35 @@ impl SignalCheck {
         let (deviation, at) = self.largest_deviation;
         match &self.worst_outside {
             None => format!(
-                "{}: pass: largest deviation {deviation:.3e} at t = {at} s, inside the tube \
+                "{}: pass: largest deviation {deviation:.3e} at t = {} s, inside the tube \
                  of half-width {:.3e} ({} samples)",
-                self.name, self.half_width, self.samples
+                self.name,
+                seconds(at),
+                self.half_width,
+                self.samples
             ),
             Some(o) => format!(
                 "{}: FAIL: {} of {} samples outside the tube; the worst at t = {} s, {:.6} \
                  against a tube of [{:.6}, {:.6}], {:.3e} beyond it; largest deviation \
-                 {deviation:.3e} at t = {at} s",
-                self.name, self.outside, self.samples, o.time, o.value, o.tube.0, o.tube.1, o.by
+                 {deviation:.3e} at t = {} s",
+                self.name,
+                self.outside,
+                self.samples,
+                seconds(o.time),
+                o.value,
+                o.tube.0,
+                o.tube.1,
+                o.by,
+                seconds(at)
             ),
         }
     }
+}
+
+/// A time as people read it: 4.02, not the 4.0200000000000005 a sum of steps gives.
+fn seconds(t: f64) -> String {
+    let text = format!("{t:.9}");
+    text.trim_end_matches('0').trim_end_matches('.').to_owned()
 }
 
 /// `xp`, `fp` linearly interpolated at `x`, held beyond the ends (numpy's `interp`).
