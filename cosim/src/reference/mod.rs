@@ -1,9 +1,10 @@
 //! The reference results an FMU carries (FMI-LS-REF, `extra/org.fmi-standard.fmi-ls-ref/`):
-//! reading them ([`archive`]), and judging a run of the FMU against them, each signal in a
-//! tube around its reference ([`tube`]), with a verdict per signal that the JUnit report
-//! carries as a test case.
+//! reading them ([`archive`]), judging a run of the FMU against them, each signal in a tube
+//! around its reference ([`tube`]), with a verdict per signal that the JUnit report carries
+//! as a test case, and writing them from runs of the FMU ([`generate`]).
 pub mod archive;
 mod elements;
+pub mod generate;
 pub mod table;
 pub mod tube;
 

@@ -249,7 +249,7 @@ fn a_run_is_judged_per_signal_by_its_instance_qualified_columns() {
 
 #[test]
 fn the_command_lines_tolerances_win_over_the_references_which_win_over_the_defaults() {
-    let csv = "time,x\n0,0\n1,1\n";
+    let csv = "time,x\n0,0\n0.5,0.5\n1,1\n";
     let mut experiment = experiment_of(csv);
     experiment.references[0].tolerances.relative = Some(0.5);
     let run = trajectory(&["x"], &[0.0, 0.5, 1.0], &[vec![0.0, 0.8, 1.0]]);

@@ -1,9 +1,16 @@
 //! The tube a result signal must stay in around its reference, built as fmpy's
 //! `validate_signal` (`fmpy.cross_check`) builds its band, so that a verdict here and one in
 //! fmpy can be compared: the reference resampled on [`POINTS`] evenly spaced times over the
-//! window; at each, the least and the greatest resampled value within the time tolerance on
-//! either side; those widened by the half-width; the result's samples inside the window
-//! compared with that band, interpolated linearly at their times.
+//! window (and, unlike fmpy, at its own times too); at each, the least and the greatest
+//! resampled value within the time tolerance on either side; those widened by the
+//! half-width; the result's samples inside the window compared with that band,
+//! interpolated linearly at their times.
+//!
+//! A reference thinned to every k-th communication point (as ours are, to keep FMUs small)
+//! vouches for those points only: between two of its rows a noisy or fast signal does what
+//! the reference cannot show. So the result is judged at the samples whose times the
+//! reference has; only when it shares no time with the reference (a reference written on
+//! another tool's grid) at all of its samples, as fmpy judges them.
 //!
 //! fmpy's half-width is `dy` times the reference's range over the window (times its value
 //! when it is constant, and 0.5 when it is zero throughout); here it is the relative
@@ -126,6 +133,14 @@ fn seconds(t: f64) -> String {
     text.trim_end_matches('0').trim_end_matches('.').to_owned()
 }
 
+/// Whether `t` is one of the sorted `xp`, to a billionth of its size: times written as the
+/// shortest decimal read back to the same bits, a sum of steps to within a few ulps.
+fn is_among(t: f64, xp: &[f64]) -> bool {
+    let near = 1e-9 * t.abs().max(1.0);
+    let after = xp.partition_point(|&x| x < t - near);
+    xp.get(after).is_some_and(|&x| (x - t).abs() <= near)
+}
+
 /// `xp`, `fp` linearly interpolated at `x`, held beyond the ends (numpy's `interp`).
 fn interp(x: f64, xp: &[f64], fp: &[f64]) -> f64 {
     let after = xp.partition_point(|&t| t <= x);
@@ -165,9 +180,14 @@ pub fn check(
             fp.push(y);
         }
     }
-    let band_t: Vec<f64> = (0..POINTS)
+    // fmpy's points, and the reference's own times in the window: on the points alone a
+    // spike narrower than their spacing would leave the reference outside its own tube.
+    let mut band_t: Vec<f64> = (0..POINTS)
         .map(|i| start + (stop - start) * i as f64 / (POINTS - 1) as f64)
+        .chain(xp.iter().copied().filter(|&t| t > start && t < stop))
         .collect();
+    band_t.sort_by(f64::total_cmp);
+    band_t.dedup();
     let band: Vec<f64> = band_t.iter().map(|&t| interp(t, &xp, &fp)).collect();
     let (low, high) = band
         .iter()
@@ -176,19 +196,27 @@ pub fn check(
         });
     let scale = if high > low { high - low } else { low.abs() };
     let half_width = (tolerances.relative * scale).max(tolerances.absolute);
-    let reach = (tolerances.time * (POINTS - 1) as f64).round() as usize;
-    let lower: Vec<f64> = (0..POINTS)
-        .map(|i| {
-            let window = &band[i.saturating_sub(reach)..(i + reach + 1).min(POINTS)];
-            window.iter().copied().fold(f64::INFINITY, f64::min) - half_width
-        })
-        .collect();
-    let upper: Vec<f64> = (0..POINTS)
-        .map(|i| {
-            let window = &band[i.saturating_sub(reach)..(i + reach + 1).min(POINTS)];
-            window.iter().copied().fold(f64::NEG_INFINITY, f64::max) + half_width
-        })
-        .collect();
+    // fmpy's reach: a whole number of its points' intervals either side.
+    let interval = (stop - start) / (POINTS - 1) as f64;
+    let reach = (tolerances.time * (POINTS - 1) as f64).round() * interval + 1e-9 * interval;
+    let mut lower = Vec::with_capacity(band_t.len());
+    let mut upper = Vec::with_capacity(band_t.len());
+    let mut first = 0;
+    for &t in &band_t {
+        while band_t[first] < t - reach {
+            first += 1;
+        }
+        let (mut least, mut most) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (&u, &y) in band_t[first..].iter().zip(&band[first..]) {
+            if u > t + reach {
+                break;
+            }
+            least = least.min(y);
+            most = most.max(y);
+        }
+        lower.push(least - half_width);
+        upper.push(most + half_width);
+    }
     let mut result = SignalCheck {
         name: name.to_owned(),
         samples: 0,
@@ -197,8 +225,10 @@ pub fn check(
         largest_deviation: (0.0, start),
         worst_outside: None,
     };
+    let inside_window = |t: f64| t >= start && t <= stop;
+    let shared = times.iter().any(|&t| inside_window(t) && is_among(t, &xp));
     for (&t, &y) in times.iter().zip(values) {
-        if t < start || t > stop {
+        if !inside_window(t) || (shared && !is_among(t, &xp)) {
             continue;
         }
         result.samples += 1;
@@ -288,6 +318,26 @@ mod tests {
         let nan = check("z", &t, &off, &t, &zero, 0.0, 1.0, &tol);
         assert_eq!(nan.outside, 1);
         assert_eq!(nan.worst_outside.unwrap().time, 0.5);
+    }
+
+    #[test]
+    fn a_thinned_reference_judges_the_result_at_its_own_times_only() {
+        let fine = grid(100, 1.0);
+        // Noise between the reference's rows, which it cannot vouch for.
+        let noisy: Vec<f64> = (0..=100)
+            .map(|k| if k % 10 == 0 { 0.0 } else { 5.0 })
+            .collect();
+        let coarse = grid(10, 1.0);
+        let zero = vec![0.0; 11];
+        let tol = Tolerances::default();
+        let c = check("n", &fine, &noisy, &coarse, &zero, 0.0, 1.0, &tol);
+        assert!(c.passes(), "{}", c.describe());
+        assert_eq!(c.samples, 11);
+        // A reference on another grid shares no time: every sample is judged.
+        let shifted: Vec<f64> = coarse.iter().map(|t| t + 0.005).collect();
+        let c = check("n", &fine, &noisy, &shifted, &zero, 0.0, 1.0, &tol);
+        assert_eq!(c.samples, 101);
+        assert!(!c.passes());
     }
 
     #[test]
