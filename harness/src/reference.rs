@@ -5,6 +5,7 @@
 use super::{Flown, RunRequest};
 use anyhow::Context;
 use cosim::reference::{Checked, References, ToleranceOverrides, Tolerances};
+use cosim::requirements::junit::{Case, Outcome};
 use std::path::{Path, PathBuf};
 
 /// The tolerances of the reference check, over the ones an FMU's references carry.
@@ -111,10 +112,46 @@ pub fn run_checked(
                 &given,
             );
             print!("{}", report(&checked));
-            if !checked.passes() {
-                flown.exit_code = flown.exit_code.max(lander::verdict::EXIT_FAILED_VERDICT);
-            }
             flown.suite.cases.extend(checked.cases());
+            let step = run.step_size.unwrap_or(system.step_size);
+            match cosim::reference::early_end(experiment, &result, window.1, step) {
+                None => {}
+                // The FMU stopped the run where its references say it does: the verdict's
+                // expected completion is not this experiment's.
+                Some(Ok(end)) => {
+                    for case in flown.suite.cases.iter_mut().filter(|c| c.name == "verdict") {
+                        case.outcome = Outcome::Passed;
+                        case.detail = format!(
+                            "{} (stopped at t = {end} s, where its references end)",
+                            case.detail
+                        );
+                    }
+                    println!(
+                        "reference {}: the run stopped at t = {end} s, where its references end",
+                        experiment.name
+                    );
+                }
+                Some(Err(why)) => {
+                    println!("reference {}: FAIL: {why}", experiment.name);
+                    flown.suite.cases.push(Case {
+                        name: format!("reference {}: end", experiment.name),
+                        time_s: 0.0,
+                        outcome: Outcome::Failed(why.clone()),
+                        detail: why,
+                    });
+                }
+            }
+            // A run of one FMU has no requirements: its cases are the whole verdict.
+            let failed = flown
+                .suite
+                .cases
+                .iter()
+                .any(|c| !matches!(c.outcome, Outcome::Passed));
+            flown.exit_code = if failed {
+                lander::verdict::EXIT_FAILED_VERDICT
+            } else {
+                lander::verdict::EXIT_OK
+            };
         }
         flown_all = Some(match flown_all {
             None => flown,

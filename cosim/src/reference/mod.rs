@@ -139,5 +139,34 @@ pub fn compare(
     checked
 }
 
+/// How a run's end compares with its references': `None` when they run to the
+/// experiment's `stop` (within half a `step`); a reference that ends before records an FMU
+/// that stopped the run there, and then `Some(Ok(t))` when this run stopped there too (to
+/// a step), `Some(Err(why))` when it did not.
+pub fn early_end(
+    experiment: &Experiment,
+    result: &Trajectory,
+    stop: f64,
+    step: f64,
+) -> Option<Result<f64, String>> {
+    let reference_end = experiment
+        .references
+        .iter()
+        .filter_map(|r| r.table.times.last().copied())
+        .fold(f64::NEG_INFINITY, f64::max);
+    if reference_end >= stop - step / 2.0 {
+        return None;
+    }
+    let run_end = result.times.last().copied().unwrap_or(f64::NEG_INFINITY);
+    Some(if (run_end - reference_end).abs() <= step {
+        Ok(run_end)
+    } else {
+        Err(format!(
+            "the references end at t = {reference_end} s, where the FMU stopped their run \
+             before the experiment's stop at {stop} s; this run ended at t = {run_end} s"
+        ))
+    })
+}
+
 #[cfg(test)]
 mod tests;

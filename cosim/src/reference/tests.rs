@@ -271,3 +271,21 @@ fn the_command_lines_tolerances_win_over_the_references_which_win_over_the_defau
         ..Default::default()
     }));
 }
+
+#[test]
+fn a_reference_that_ends_early_expects_the_run_to_stop_there_too() {
+    let experiment = experiment_of("time,x\n0,0\n0.5,1\n0.72,2\n");
+    let run = |end: f64| trajectory(&["x"], &[0.0, 0.5, end], &[vec![0.0, 1.0, 2.0]]);
+    assert_eq!(
+        early_end(&experiment, &run(0.72), 1.0, 0.01),
+        Some(Ok(0.72))
+    );
+    let on = early_end(&experiment, &run(1.0), 1.0, 0.01)
+        .unwrap()
+        .unwrap_err();
+    assert!(on.contains("the references end at t = 0.72 s"), "{on}");
+    assert!(on.contains("this run ended at t = 1 s"), "{on}");
+    // A reference to the stop says nothing of the end.
+    let whole = experiment_of("time,x\n0,0\n1,1\n");
+    assert_eq!(early_end(&whole, &run(0.72), 1.0, 0.01), None);
+}
