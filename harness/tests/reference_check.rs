@@ -37,13 +37,17 @@ fn packaged(version: &str) -> PathBuf {
     }
 }
 
-/// `source` copied to `dest` with `files` added under the LS-REF folder.
+/// `source` copied to `dest` with `files` under the LS-REF folder in place of the ones it
+/// carries.
 fn with_extra(source: &Path, dest: &Path, files: &[(&str, &str)]) {
     let mut archive = zip::ZipArchive::new(std::fs::File::open(source).unwrap()).unwrap();
     let mut out = zip::ZipWriter::new(std::fs::File::create(dest).unwrap());
     let options = zip::write::SimpleFileOptions::default();
     for i in 0..archive.len() {
         let mut entry = archive.by_index(i).unwrap();
+        if entry.name().starts_with(LS) {
+            continue;
+        }
         let mut bytes = Vec::new();
         entry.read_to_end(&mut bytes).unwrap();
         out.start_file(entry.name(), options).unwrap();
@@ -272,11 +276,9 @@ fn a_manifest_naming_a_missing_csv_is_refused_clearly() {
     assert!(!stdout.contains("rows"), "{stdout}");
 
     // An FMU without references cannot be checked against them either.
-    let (code, _, stderr) = run(&[
-        "run",
-        packaged("2.0").to_str().unwrap(),
-        "--check-reference",
-    ]);
+    let plain = dir.path().join("Plain.fmu");
+    with_extra(&packaged("2.0"), &plain, &[]);
+    let (code, _, stderr) = run(&["run", plain.to_str().unwrap(), "--check-reference"]);
     assert_eq!(code, 1);
     assert!(
         stderr.contains("carries no FMI-LS-REF references"),
@@ -315,7 +317,7 @@ fn a_test_folder_checks_the_fmus_that_carry_references() {
         ],
     );
     // Without references: flown, no reference case.
-    std::fs::copy(packaged("2.0"), folder.join("Plain.fmu")).unwrap();
+    with_extra(&packaged("2.0"), &folder.join("Plain.fmu"), &[]);
     let out_dir = dir.path().join("out");
     let junit = dir.path().join("junit.xml");
     let (code, stdout, _) = run(&[
@@ -343,4 +345,67 @@ fn a_test_folder_checks_the_fmus_that_carry_references() {
         "{verdicts}"
     );
     assert!(verdicts.contains("x: FAIL"), "{verdicts}");
+}
+
+/// Every FMU `cargo xtask fmus` packages, in both FMI versions, carries references written
+/// from its own runs, and the harness finds its runs inside them: a test folder of the
+/// shipped FMUs passes, a test case per reference signal.
+#[test]
+fn every_packaged_fmu_carries_references_its_runs_match() {
+    let fmus = fmu_metadata::workspace_fmus(&common::workspace_root()).unwrap();
+    for (version, fmi, dir) in [
+        ("2.0", fmu_metadata::Fmi::V2, common::fmu_dir()),
+        ("3.0", fmu_metadata::Fmi::V3, common::fmu_dir().join("fmi3")),
+    ] {
+        let scratch = tempfile::tempdir().unwrap();
+        let folder = scratch.path().join("fmus");
+        std::fs::create_dir(&folder).unwrap();
+        let shipped: Vec<&str> = fmus
+            .iter()
+            .filter(|f| f.ships(fmi))
+            .map(|f| f.model_identifier.as_str())
+            .collect();
+        assert!(shipped.len() >= 6, "FMI {version}: {shipped:?}");
+        for id in &shipped {
+            let fmu = dir.join(format!("{id}.fmu"));
+            let mut archive = zip::ZipArchive::new(std::fs::File::open(&fmu).unwrap()).unwrap();
+            for file in [
+                "fmi-ls-manifest.xml",
+                "experiments.xml",
+                &format!("{id}_out.csv"),
+            ] {
+                assert!(
+                    archive.by_name(&format!("{LS}/{file}")).is_ok(),
+                    "FMI {version}: {} lacks {LS}/{file}: run `cargo xtask fmus`",
+                    fmu.display()
+                );
+            }
+            std::fs::copy(&fmu, folder.join(format!("{id}.fmu"))).unwrap();
+        }
+        let junit = scratch.path().join("junit.xml");
+        let (code, stdout, stderr) = run(&[
+            "test",
+            folder.to_str().unwrap(),
+            "--junit",
+            junit.to_str().unwrap(),
+            "--out-dir",
+            scratch.path().join("out").to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "FMI {version}: {stdout}{stderr}");
+        let passes = stdout
+            .lines()
+            .filter(|l| l.starts_with("reference DefaultExperiment: pass"))
+            .count();
+        assert_eq!(passes, shipped.len(), "FMI {version}: {stdout}");
+        let report = std::fs::read_to_string(&junit).unwrap();
+        assert!(report.contains("failures=\"0\" errors=\"0\""), "{report}");
+        for id in &shipped {
+            assert!(
+                report.contains(&format!(
+                    "classname=\"{id}\" name=\"reference DefaultExperiment:"
+                )),
+                "FMI {version}: no reference case of {id}"
+            );
+        }
+    }
 }
