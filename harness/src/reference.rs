@@ -32,9 +32,11 @@ impl ToleranceArgs {
             absolute: self.reference_abs_tol,
             time: self.reference_time_tol,
         };
-        let problems = given
-            .over(Tolerances::default())
-            .problems("--reference-rel-tol/--reference-abs-tol/--reference-time-tol");
+        let problems = given.problems([
+            "--reference-rel-tol",
+            "--reference-abs-tol",
+            "--reference-time-tol",
+        ]);
         if !problems.is_empty() {
             anyhow::bail!("{}", problems.join("\n"));
         }
@@ -75,8 +77,19 @@ pub fn run_checked(
         );
         return fly(request);
     }
-    let given = tolerances.overrides()?;
-    let Some(references) = references(request)? else {
+    // Every problem of the command line and of the FMU's files at once.
+    let (given, found) = match (tolerances.overrides(), references(request)) {
+        (Ok(given), Ok(found)) => (given, found),
+        (given, found) => {
+            let errors: Vec<String> = [given.err(), found.err()]
+                .into_iter()
+                .flatten()
+                .map(|e| format!("{e:#}"))
+                .collect();
+            anyhow::bail!("{}", errors.join("\n"));
+        }
+    };
+    let Some(references) = found else {
         anyhow::ensure!(
             !required,
             "--check-reference: {} carries no FMI-LS-REF references (no {}/{} or {})",

@@ -255,8 +255,19 @@ fn a_manifest_naming_a_missing_csv_is_refused_clearly() {
     let dir = tempfile::tempdir().unwrap();
     let fmu = dir.path().join("Osc.fmu");
     with_extra(&packaged("3.0"), &fmu, &[("fmi-ls-manifest.xml", MANIFEST)]);
-    let (code, stdout, stderr) = run(&["run", fmu.to_str().unwrap(), "--check-reference"]);
+    let (code, stdout, stderr) = run(&[
+        "run",
+        fmu.to_str().unwrap(),
+        "--check-reference",
+        "--reference-time-tol",
+        "2",
+    ]);
     assert_eq!(code, 1, "{stdout}{stderr}");
+    // The command line's problem and the FMU's, at once.
+    assert!(
+        stderr.contains("--reference-time-tol: 2 is not a number from 0 to 1"),
+        "{stderr}"
+    );
     assert!(
         stderr.contains(&format!(
             "{LS}/fmi-ls-manifest.xml: <Related source=\"Osc_out.csv\"> (line 6): no such file \

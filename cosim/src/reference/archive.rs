@@ -27,6 +27,22 @@ pub struct ToleranceOverrides {
 }
 
 impl ToleranceOverrides {
+    /// Each tolerance given that cannot be one, named as `names` (relative, absolute, time)
+    /// say it was given.
+    pub fn problems(&self, names: [&str; 3]) -> Vec<String> {
+        [
+            ("relative", self.relative, names[0]),
+            ("absolute", self.absolute, names[1]),
+            ("time", self.time, names[2]),
+        ]
+        .into_iter()
+        .filter_map(|(which, value, name)| {
+            let why = super::tube::problem(which, value?)?;
+            Some(format!("{name}: {why}"))
+        })
+        .collect()
+    }
+
     pub fn over(&self, base: Tolerances) -> Tolerances {
         Tolerances {
             relative: self.relative.unwrap_or(base.relative),
@@ -323,8 +339,12 @@ fn experiments(archive: &mut Archive, path: &str, problems: &mut Vec<String>) ->
                         }
                     }
                 }
-                let given = Tolerances::default();
-                problems.extend(tolerances.over(given).problems(&where_));
+                problems.extend(
+                    tolerances
+                        .problems(["relativeTolerance", "absoluteTolerance", "timeTolerance"])
+                        .into_iter()
+                        .map(|p| format!("{where_}: {p}")),
+                );
                 if let Some(table) = reference(archive, source, &where_, problems) {
                     experiment.references.push(Reference {
                         source: source.to_owned(),

@@ -162,7 +162,7 @@ fn every_problem_of_an_experiments_file_is_named_at_once() {
     for expected in [
         "<Experiment name=\"a\"> (line 2): stopTime=\"soon\" is not a finite number",
         "<Stimuli source=\"missing_in.csv\"> (line 3): no such file in the FMU",
-        "<References source=\"bad.csv\"> (line 4): the time tolerance 3 is not a number from 0 to 1",
+        "<References source=\"bad.csv\"> (line 4): timeTolerance: 3 is not a number from 0 to 1",
         "<References source=\"bad.csv\"> (line 4): bad.csv: the first column is 't', not 'time'",
         "<Experiment name=\"b\">: no <References>",
     ] {

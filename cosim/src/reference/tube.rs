@@ -45,23 +45,16 @@ impl Default for Tolerances {
     }
 }
 
-impl Tolerances {
-    /// Each tolerance that is not a finite number at least 0 (the time one at most 1),
-    /// named as `origin` gave it.
-    pub fn problems(&self, origin: &str) -> Vec<String> {
-        let mut problems = Vec::new();
-        for (name, value, most) in [
-            ("relative", self.relative, f64::INFINITY),
-            ("absolute", self.absolute, f64::INFINITY),
-            ("time", self.time, 1.0),
-        ] {
-            if !(value.is_finite() && value >= 0.0 && value <= most) {
-                problems.push(format!(
-                    "{origin}: the {name} tolerance {value} is not a number from 0 to {most}"
-                ));
-            }
-        }
-        problems
+/// Why `value` cannot be the `which` tolerance ("relative", "absolute", "time"), if it
+/// cannot: each is a finite number at least 0, the time one at most 1.
+pub fn problem(which: &str, value: f64) -> Option<String> {
+    let most = if which == "time" { 1.0 } else { f64::INFINITY };
+    if value.is_finite() && value >= 0.0 && value <= most {
+        None
+    } else if most.is_finite() {
+        Some(format!("{value} is not a number from 0 to {most}"))
+    } else {
+        Some(format!("{value} is not a finite number at least 0"))
     }
 }
 
@@ -353,13 +346,16 @@ mod tests {
 
     #[test]
     fn tolerances_out_of_range_are_named() {
-        let bad = Tolerances {
-            relative: -1.0,
-            absolute: f64::NAN,
-            time: 2.0,
-        };
-        let problems = bad.problems("--reference-tolerance");
-        assert_eq!(problems.len(), 3, "{problems:?}");
-        assert!(problems[0].contains("the relative tolerance -1"));
+        assert_eq!(
+            problem("relative", -1.0).as_deref(),
+            Some("-1 is not a finite number at least 0")
+        );
+        assert!(problem("absolute", f64::NAN).is_some());
+        assert_eq!(
+            problem("time", 2.0).as_deref(),
+            Some("2 is not a number from 0 to 1")
+        );
+        assert_eq!(problem("time", 0.5), None);
+        assert_eq!(problem("absolute", 1e9), None);
     }
 }
