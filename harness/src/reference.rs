@@ -102,6 +102,8 @@ pub fn run_checked(
     };
     let system = cosim::system::single::of_fmu(Path::new(&request.scenario))?;
     let instance = system.instances[0].name.clone();
+    let (_, description) = fmi_import::read_description(Path::new(&request.scenario))?;
+    let is_variable = |name: &str| description.variable(name).is_some();
     let several = references.experiments.len() > 1;
     let mut flown_all: Option<Flown> = None;
     for experiment in &references.experiments {
@@ -123,6 +125,7 @@ pub fn run_checked(
                 window,
                 &Tolerances::default(),
                 &given,
+                &is_variable,
             );
             print!("{}", report(&checked));
             flown.suite.cases.extend(checked.cases());

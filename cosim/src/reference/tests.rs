@@ -202,9 +202,9 @@ fn experiment_of(csv: &str) -> Experiment {
 fn a_run_is_judged_per_signal_by_its_instance_qualified_columns() {
     let times: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
     let x: Vec<f64> = times.iter().map(|t| t * t).collect();
-    let mut csv = String::from("time,x,y,s\n");
+    let mut csv = String::from("time,x,y,s,gone\n");
     for (t, x) in times.iter().zip(&x) {
-        csv.push_str(&format!("{t},{x},1,text\n"));
+        csv.push_str(&format!("{t},{x},1,text,0\n"));
     }
     let experiment = experiment_of(&csv);
     let run = trajectory(&["M.x"], &times, std::slice::from_ref(&x));
@@ -215,6 +215,7 @@ fn a_run_is_judged_per_signal_by_its_instance_qualified_columns() {
         (0.0, 1.0),
         &Tolerances::default(),
         &ToleranceOverrides::default(),
+        &|name| name != "gone",
     );
     assert!(
         checked.signals[0].passes(),
@@ -226,7 +227,13 @@ fn a_run_is_judged_per_signal_by_its_instance_qualified_columns() {
         "y: FAIL: not among the run's columns"
     );
     assert!(!checked.passes());
-    assert_eq!(checked.notes, ["s (M_out.csv): text, not compared"]);
+    assert_eq!(
+        checked.notes,
+        [
+            "s (M_out.csv): text, not compared",
+            "gone (M_out.csv): no variable of this FMU the harness reads, not compared"
+        ]
+    );
     let cases = checked.cases();
     assert_eq!(cases[0].name, "reference DefaultExperiment: x");
     assert_eq!(cases[0].outcome, Outcome::Passed);
@@ -241,6 +248,7 @@ fn a_run_is_judged_per_signal_by_its_instance_qualified_columns() {
         (0.0, 1.0),
         &Tolerances::default(),
         &ToleranceOverrides::default(),
+        &|name| name != "gone",
     );
     assert!(checked.signals[0]
         .describe()
@@ -261,6 +269,7 @@ fn the_command_lines_tolerances_win_over_the_references_which_win_over_the_defau
             (0.0, 1.0),
             &Tolerances::default(),
             &given,
+            &|_| true,
         )
         .passes()
     };
@@ -288,4 +297,23 @@ fn a_reference_that_ends_early_expects_the_run_to_stop_there_too() {
     // A reference to the stop says nothing of the end.
     let whole = experiment_of("time,x\n0,0\n1,1\n");
     assert_eq!(early_end(&whole, &run(0.72), 1.0, 0.01), None);
+}
+
+#[test]
+fn a_reference_that_names_no_variable_of_the_fmu_fails() {
+    let experiment = experiment_of("time,a,b\n0,0,0\n1,1,1\n");
+    let run = trajectory(&["x"], &[0.0, 1.0], &[vec![0.0, 1.0]]);
+    let checked = compare(
+        &run,
+        None,
+        &experiment,
+        (0.0, 1.0),
+        &Tolerances::default(),
+        &ToleranceOverrides::default(),
+        &|_| false,
+    );
+    assert!(!checked.passes());
+    assert!(checked.signals[0]
+        .describe()
+        .contains("no reference column names a variable of this FMU"));
 }
