@@ -101,16 +101,21 @@ def fmi3_run(path: str, start: float, stop: float, step: float, stimuli):
                    values if variable.type == "Float64" else [type_of(variable)(x) for x in values])
 
     outputs = [v for v in description.modelVariables if v.causality == "output"]
-    recorded = {f"{v.name}[{i + 1}]" if v.dimensions else v.name: [] for v in outputs for i in range(size[v.name])}
-    record_times = []
+    # One get per type and step: (getter, value references, number of values, column names).
+    by_type = {}
+    for v in outputs:
+        kind = "Int64" if v.type == "Enumeration" else v.type
+        getter, vrs, count, names = by_type.setdefault(kind, (getattr(fmu, "get" + kind), [], [0], []))
+        vrs.append(v.valueReference)
+        count[0] += size[v.name]
+        names += [f"{v.name}[{i + 1}]" if v.dimensions else v.name for i in range(size[v.name])]
+    rows = []
 
     def record(t):
-        record_times.append(t)
-        for v in outputs:
-            getter = getattr(fmu, "get" + ("Int64" if v.type == "Enumeration" else v.type))
-            values = getter([v.valueReference], size[v.name])
-            for i, x in enumerate(values):
-                recorded[f"{v.name}[{i + 1}]" if v.dimensions else v.name].append(float(x))
+        row = [t]
+        for getter, vrs, count, _ in by_type.values():
+            row += [float(x) for x in getter(vrs, count[0])]
+        rows.append(row)
 
     # Early return, so that a step the FMU ends early (LanderPlant's touchdown) is recorded
     # where it ended, as fmpy records an FMI 2.0 step ended by fmi2Discard.
@@ -132,7 +137,9 @@ def fmi3_run(path: str, start: float, stop: float, step: float, stimuli):
     fmu.terminate()
     fmu.freeInstance()
     shutil.rmtree(unzipped, ignore_errors=True)
-    return np.array(record_times), {n: np.array(v) for n, v in recorded.items()}
+    data = np.array(rows)
+    names = [n for _, _, _, group in by_type.values() for n in group]
+    return data[:, 0], {n: data[:, j + 1] for j, n in enumerate(names)}
 
 
 def type_of(variable):
