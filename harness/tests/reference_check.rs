@@ -420,3 +420,61 @@ fn every_packaged_fmu_carries_references_its_runs_match() {
         }
     }
 }
+
+#[test]
+fn each_experiment_of_an_fmu_is_flown_into_a_results_file_of_its_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let pushed = pushed_reference(&packaged("2.0"), dir.path());
+    let own = dir.path().join("rest.csv");
+    let (code, _, stderr) = run(&[
+        "run",
+        packaged("2.0").to_str().unwrap(),
+        "--stop-time",
+        "1",
+        "-o",
+        own.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let experiments = r#"<Experiments>
+  <Experiment name="push" startTime="0" stopTime="2" stepSize="0.01">
+    <Stimuli source="Osc_in.csv"/>
+    <References source="Osc_out.csv"/>
+  </Experiment>
+  <Experiment name="at rest" stopTime="1">
+    <References source="rest_out.csv"/>
+  </Experiment>
+</Experiments>
+"#;
+    let fmu = dir.path().join("Osc.fmu");
+    with_extra(
+        &packaged("2.0"),
+        &fmu,
+        &[
+            ("experiments.xml", experiments),
+            ("Osc_in.csv", STIMULI),
+            ("Osc_out.csv", &pushed),
+            ("rest_out.csv", &as_reference(&own)),
+        ],
+    );
+    let out = dir.path().join("run.csv");
+    let junit = dir.path().join("junit.xml");
+    let (code, stdout, stderr) = run(&[
+        "run",
+        fmu.to_str().unwrap(),
+        "--check-reference",
+        "-o",
+        out.to_str().unwrap(),
+        "--junit",
+        junit.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(stdout.contains("reference push: pass"), "{stdout}");
+    assert!(stdout.contains("reference at rest: pass"), "{stdout}");
+    // The second experiment's stop time and no stimuli; its step the DefaultExperiment's.
+    assert!(dir.path().join("run-push.csv").is_file());
+    let rest = std::fs::read_to_string(dir.path().join("run-at_rest.csv")).unwrap();
+    assert_eq!(rest.lines().count(), 102, "{}", &rest[..200]);
+    let report = std::fs::read_to_string(&junit).unwrap();
+    assert!(report.contains("tests=\"8\" failures=\"0\""), "{report}");
+    assert!(report.contains("name=\"verdict (at rest)\""), "{report}");
+}
