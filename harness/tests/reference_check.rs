@@ -391,6 +391,20 @@ fn every_packaged_fmu_carries_references_its_runs_match() {
                     fmu.display()
                 );
             }
+            // The experiment is the FMU's DefaultExperiment.
+            let references = cosim::reference::read(&fmu).unwrap().unwrap();
+            let (_, description) = fmi_import::read_description(&fmu).unwrap();
+            let default = description.default_experiment.unwrap();
+            let experiment = &references.experiments[0];
+            assert_eq!(
+                (
+                    experiment.start_time,
+                    experiment.stop_time,
+                    experiment.step_size
+                ),
+                (default.start_time, default.stop_time, default.step_size),
+                "FMI {version}: {id}"
+            );
             std::fs::copy(&fmu, folder.join(format!("{id}.fmu"))).unwrap();
         }
         let junit = scratch.path().join("junit.xml");
