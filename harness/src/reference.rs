@@ -130,44 +130,7 @@ pub fn run_checked(
             print!("{}", report(&checked));
             flown.suite.cases.extend(checked.cases());
             let step = run.step_size.unwrap_or(system.step_size);
-            match cosim::reference::early_end(experiment, &result, window.1, step) {
-                None => {}
-                // The FMU stopped the run where its references say it does: the verdict's
-                // expected completion is not this experiment's.
-                Some(Ok(end)) => {
-                    for case in flown.suite.cases.iter_mut().filter(|c| c.name == "verdict") {
-                        case.outcome = Outcome::Passed;
-                        case.detail = format!(
-                            "{} (stopped at t = {end} s, where its references end)",
-                            case.detail
-                        );
-                    }
-                    println!(
-                        "reference {}: the run stopped at t = {end} s, where its references end",
-                        experiment.name
-                    );
-                }
-                Some(Err(why)) => {
-                    println!("reference {}: FAIL: {why}", experiment.name);
-                    flown.suite.cases.push(Case {
-                        name: format!("reference {}: end", experiment.name),
-                        time_s: 0.0,
-                        outcome: Outcome::Failed(why.clone()),
-                        detail: why,
-                    });
-                }
-            }
-            // A run of one FMU has no requirements: its cases are the whole verdict.
-            let failed = flown
-                .suite
-                .cases
-                .iter()
-                .any(|c| !matches!(c.outcome, Outcome::Passed));
-            flown.exit_code = if failed {
-                lander::verdict::EXIT_FAILED_VERDICT
-            } else {
-                lander::verdict::EXIT_OK
-            };
+            judge_end(&mut flown, experiment, &result, window.1, step);
         }
         flown_all = Some(match flown_all {
             None => flown,
@@ -185,6 +148,55 @@ pub fn run_checked(
         });
     }
     Ok(flown_all.expect("an FMU's references hold an experiment"))
+}
+
+/// Whether the run ended where its references do, in `flown`'s verdict case or a case of
+/// its own; then its exit code from all its cases (a run of one FMU has no requirements:
+/// its cases are the whole verdict).
+fn judge_end(
+    flown: &mut Flown,
+    experiment: &cosim::reference::Experiment,
+    result: &cosim::master::Trajectory,
+    stop: f64,
+    step: f64,
+) {
+    match cosim::reference::early_end(experiment, result, stop, step) {
+        None => {}
+        // The FMU stopped the run where its references say it does: the verdict's
+        // expected completion is not this experiment's.
+        Some(Ok(end)) => {
+            for case in flown.suite.cases.iter_mut().filter(|c| c.name == "verdict") {
+                case.outcome = Outcome::Passed;
+                case.detail = format!(
+                    "{} (stopped at t = {end} s, where its references end)",
+                    case.detail
+                );
+            }
+            println!(
+                "reference {}: the run stopped at t = {end} s, where its references end",
+                experiment.name
+            );
+        }
+        Some(Err(why)) => {
+            println!("reference {}: FAIL: {why}", experiment.name);
+            flown.suite.cases.push(Case {
+                name: format!("reference {}: end", experiment.name),
+                time_s: 0.0,
+                outcome: Outcome::Failed(why.clone()),
+                detail: why,
+            });
+        }
+    }
+    let failed = flown
+        .suite
+        .cases
+        .iter()
+        .any(|c| !matches!(c.outcome, Outcome::Passed));
+    flown.exit_code = if failed {
+        lander::verdict::EXIT_FAILED_VERDICT
+    } else {
+        lander::verdict::EXIT_OK
+    };
 }
 
 /// The run of one experiment: its times and stimuli where the command line set none; its
