@@ -58,6 +58,8 @@ pub struct Reference {
     pub source: String,
     pub table: ReferenceTable,
     pub tolerances: ToleranceOverrides,
+    /// The columns its `<Signal name>` children select; empty: every column.
+    pub signals: Vec<String>,
 }
 
 /// The input signals of an experiment: where they are, their text (what `--input` reads)
@@ -250,6 +252,7 @@ fn manifest(archive: &mut Archive, path: &str, problems: &mut Vec<String>) -> Op
                         source: source.to_owned(),
                         table,
                         tolerances: ToleranceOverrides::default(),
+                        signals: Vec::new(),
                     });
                 }
             }
@@ -275,7 +278,12 @@ fn experiments(archive: &mut Archive, path: &str, problems: &mut Vec<String>) ->
     let at = |e: &Element, attribute: Option<&str>| format!("{fmu}: {path}: {}", e.at(attribute));
     let mut experiments: Vec<Experiment> = Vec::new();
     let mut experiment_depth = 0;
+    // The depth of the `<References>` being read, and whether its table was.
+    let mut selecting: Option<(usize, bool)> = None;
     for element in &elements {
+        if selecting.is_some_and(|(depth, _)| element.depth <= depth) {
+            selecting = None;
+        }
         if element.name == "Experiment" {
             experiment_depth = element.depth;
             let mut time = |name: &str| -> Option<f64> {
@@ -312,6 +320,14 @@ fn experiments(archive: &mut Archive, path: &str, problems: &mut Vec<String>) ->
         if element.depth <= experiment_depth {
             continue;
         }
+        if let (Some((_, read)), "Signal") = (selecting, element.name.as_str()) {
+            match (element.attribute("name"), experiment.references.last_mut()) {
+                (None, _) => problems.push(format!("{}: no name attribute", at(element, None))),
+                (Some(name), Some(reference)) if read => reference.signals.push(name.to_owned()),
+                _ => {}
+            }
+            continue;
+        }
         let Some(source) = element.attribute("source") else {
             if matches!(
                 element.name.as_str(),
@@ -345,11 +361,14 @@ fn experiments(archive: &mut Archive, path: &str, problems: &mut Vec<String>) ->
                         .into_iter()
                         .map(|p| format!("{where_}: {p}")),
                 );
-                if let Some(table) = reference(archive, source, &where_, problems) {
+                let table = reference(archive, source, &where_, problems);
+                selecting = Some((element.depth, table.is_some()));
+                if let Some(table) = table {
                     experiment.references.push(Reference {
                         source: source.to_owned(),
                         table,
                         tolerances,
+                        signals: Vec::new(),
                     });
                 }
             }

@@ -110,7 +110,26 @@ pub fn compare(
                 .notes
                 .push(format!("{name} ({}): text, not compared", reference.source));
         }
-        for (name, ref_values) in table.names.iter().zip(&table.columns) {
+        for name in &reference.signals {
+            if !table.names.contains(name) && !table.text_columns.contains(name) {
+                checked.signals.push(SignalOutcome {
+                    name: name.clone(),
+                    source: reference.source.clone(),
+                    check: Err(format!(
+                        "a <Signal> names it, {} has no such column",
+                        reference.source
+                    )),
+                });
+            }
+        }
+        let selected =
+            |name: &String| reference.signals.is_empty() || reference.signals.contains(name);
+        for (name, ref_values) in table
+            .names
+            .iter()
+            .zip(&table.columns)
+            .filter(|(n, _)| selected(n))
+        {
             let column = result_column(result, instance, name);
             if column.is_none() && !is_variable(name) {
                 checked.notes.push(format!(

@@ -193,6 +193,7 @@ fn experiment_of(csv: &str) -> Experiment {
             source: "M_out.csv".into(),
             table: table::ReferenceTable::parse_csv(csv).unwrap(),
             tolerances: ToleranceOverrides::default(),
+            signals: Vec::new(),
         }],
         notes: Vec::new(),
     }
@@ -316,4 +317,51 @@ fn a_reference_that_names_no_variable_of_the_fmu_fails() {
     assert!(checked.signals[0]
         .describe()
         .contains("no reference column names a variable of this FMU"));
+}
+
+#[test]
+fn signal_elements_select_the_columns_compared() {
+    let dir = tempfile::tempdir().unwrap();
+    let experiments = r#"<Experiments>
+  <Experiment name="some" stopTime="0.02">
+    <References source="out.csv">
+      <Signal name="v"/>
+      <Signal name="w"/>
+    </References>
+  </Experiment>
+</Experiments>"#;
+    let path = fmu(
+        dir.path(),
+        "M.fmu",
+        &[
+            (&ls("experiments.xml"), experiments),
+            (&ls("out.csv"), BALL_OUT),
+        ],
+    );
+    let references = read(&path).unwrap().unwrap();
+    let experiment = &references.experiments[0];
+    assert_eq!(experiment.references[0].signals, ["v", "w"]);
+    let run = trajectory(
+        &["M.h", "M.v"],
+        &[0.0, 0.01, 0.02],
+        &[
+            vec![1.0, 0.99955855, 0.9981361],
+            vec![0.0, -0.0981, -0.1962],
+        ],
+    );
+    let checked = compare(
+        &run,
+        Some("M"),
+        experiment,
+        (0.0, 0.02),
+        &Tolerances::default(),
+        &ToleranceOverrides::default(),
+        &|_| true,
+    );
+    let names: Vec<&str> = checked.signals.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["w", "v"]);
+    assert!(checked.signals[0]
+        .describe()
+        .contains("a <Signal> names it, out.csv has no such column"));
+    assert!(checked.signals[1].passes());
 }
