@@ -1,7 +1,8 @@
 //! A co-simulation master for FMUs loaded by `fmi-import`: systems described in TOML or in
 //! an SSP package ([`system`]), the master that connects and steps them with a chosen ordering
 //! and exchange convention ([`master`]), requirements written as temporal formulas over the
-//! recorded signals ([`requirements`]), and result files ([`results`]). Nothing here knows
+//! recorded signals ([`requirements`]), result files ([`results`]) and the reference results an
+//! FMU carries (FMI-LS-REF, [`reference`]). Nothing here knows
 //! what the FMUs model.
 #![deny(unsafe_code)]
 
@@ -9,6 +10,7 @@ mod abnormal;
 mod limits;
 pub mod master;
 pub mod memory;
+pub mod reference;
 pub mod requirements;
 pub mod results;
 pub mod suggest;

@@ -9,6 +9,7 @@ use lander::laws::Laws;
 use std::path::PathBuf;
 
 mod monte_carlo;
+mod reference;
 mod saved_runs;
 mod vars;
 
@@ -73,10 +74,19 @@ enum Command {
         /// Also write the verdict and every requirement as a JUnit XML report here.
         #[arg(long, value_name = "FILE")]
         junit: Option<PathBuf>,
+        /// Fly the FMU over the experiment of its FMI-LS-REF references (their times, their
+        /// input signals as --input) and judge each reference signal within its tolerance
+        /// tube: a failed signal fails the run (exit code 3).
+        #[arg(long)]
+        check_reference: bool,
+        #[command(flatten)]
+        tolerances: reference::ToleranceArgs,
     },
     /// Run every scenario of a folder (.toml, .ssd, .ssp, and each .fmu alone; in name order)
     /// as `run` does and write one JUnit XML report: a test suite per scenario, a test case
-    /// for its verdict and one per requirement. Exit code 0 when all pass, 3 when one failed, 1 when one could
+    /// for its verdict and one per requirement. An FMU that carries FMI-LS-REF references is
+    /// flown over their experiment and judged against them, a test case per signal, as `run
+    /// --check-reference` does. Exit code 0 when all pass, 3 when one failed, 1 when one could
     /// not be run.
     Test {
         /// The folder of scenarios.
@@ -87,6 +97,8 @@ enum Command {
         /// Where each scenario's results go (<scenario file stem>.csv).
         #[arg(long, default_value = "target/harness/test")]
         out_dir: PathBuf,
+        #[command(flatten)]
+        tolerances: reference::ToleranceArgs,
     },
     /// Print a shell completion script, e.g. `harness completions bash >
     /// ~/.local/share/bash-completion/completions/harness`.
@@ -427,9 +439,19 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     let fmu_dir = cli.fmu_dir.first().cloned().unwrap_or_default();
     cosim::master::set_more_fmu_dirs(cli.fmu_dir.iter().skip(1).cloned().collect());
     match cli.command {
-        Command::Run { request, junit } => {
+        Command::Run {
+            request,
+            junit,
+            check_reference,
+            tolerances,
+        } => {
             let started = std::time::Instant::now();
-            let flown = match run_scenario(&request, &fmu_dir) {
+            let flown = if check_reference {
+                reference::run_checked(&request, &tolerances, true, |r| run_scenario(r, &fmu_dir))
+            } else {
+                run_scenario(&request, &fmu_dir)
+            };
+            let flown = match flown {
                 Ok(flown) => flown,
                 Err(error) => {
                     // A CI job reads the report: it says why there is no run.
@@ -460,7 +482,8 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             dir,
             junit,
             out_dir,
-        } => exit_code = test_folder(&dir, &junit, &out_dir, &fmu_dir)?,
+            tolerances,
+        } => exit_code = test_folder(&dir, &junit, &out_dir, &fmu_dir, &tolerances)?,
         Command::Completions { shell } => {
             use clap::CommandFactory;
             clap_complete::generate(
@@ -609,6 +632,7 @@ fn test_folder(
     junit: &std::path::Path,
     out_dir: &std::path::Path,
     fmu_dir: &std::path::Path,
+    tolerances: &reference::ToleranceArgs,
 ) -> anyhow::Result<i32> {
     let entries =
         std::fs::read_dir(dir).with_context(|| format!("reading the folder {}", dir.display()))?;
@@ -655,7 +679,8 @@ fn test_folder(
             state: Default::default(),
         };
         let started = std::time::Instant::now();
-        match run_scenario(&request, fmu_dir) {
+        // An FMU without references is flown as any scenario is.
+        match reference::run_checked(&request, tolerances, false, |r| run_scenario(r, fmu_dir)) {
             Ok(flown) => {
                 match flown.exit_code {
                     lander::verdict::EXIT_OK => {}
@@ -738,7 +763,7 @@ fn long_about() -> String {
 }
 
 /// What `harness run` flies.
-#[derive(clap::Args)]
+#[derive(clap::Args, Clone)]
 struct RunRequest {
     #[arg(help = format!(
         "{} (the files of harness/scenarios/), or a path to a .toml/.ssd scenario, an .ssp \

@@ -6,7 +6,7 @@ use cosim::requirements::Kept;
 use cosim::supervise::Runner;
 use std::path::PathBuf;
 
-#[derive(clap::Args, Default)]
+#[derive(clap::Args, Clone, Default)]
 pub struct StateArgs {
     /// Save the run to FILE at its end (the stop time), or at --save-at: every FMU's state
     /// and the master's, to continue it with --from-state. Refused before the run when an

@@ -35,6 +35,7 @@ mod nav_scenario;
 mod paper_acceptance;
 mod paper_requirements;
 mod readme_examples;
+mod reference_check;
 mod report_browser;
 mod requirements;
 mod retarget_scenario;

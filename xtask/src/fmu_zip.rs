@@ -56,6 +56,54 @@ pub fn write(path: &Path, entries: Vec<Entry>) -> Result<()> {
     Ok(())
 }
 
+/// Rewrites the archive at `path` with `entries` added, replacing those of the same paths,
+/// all in path order as [`archive`] writes them. The other entries are copied as they are
+/// compressed: deflating the libraries again would cost seconds per FMU.
+pub fn add(path: &Path, entries: Vec<Entry>) -> Result<()> {
+    let file =
+        std::fs::File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+    let mut old =
+        zip::ZipArchive::new(file).with_context(|| format!("cannot read {}", path.display()))?;
+    // (path, the old entry's index or the new entry's)
+    let mut order: Vec<(String, Result<usize, usize>)> = Vec::new();
+    for i in 0..old.len() {
+        let name = old.name_for_index(i).unwrap_or_default().to_owned();
+        if !entries.iter().any(|e| e.path == name) {
+            order.push((name, Ok(i)));
+        }
+    }
+    order.extend(
+        entries
+            .iter()
+            .enumerate()
+            .map(|(j, e)| (e.path.clone(), Err(j))),
+    );
+    order.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut zip = ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    for (name, source) in order {
+        match source {
+            Ok(i) => zip
+                .raw_copy_file(old.by_index_raw(i)?)
+                .with_context(|| format!("cannot copy {name} of {}", path.display()))?,
+            Err(j) => {
+                let entry = &entries[j];
+                let options = SimpleFileOptions::default()
+                    .compression_method(CompressionMethod::Deflated)
+                    .last_modified_time(DateTime::default())
+                    .unix_permissions(entry.unix_mode);
+                zip.start_file(entry.path.as_str(), options)
+                    .with_context(|| format!("cannot add {}", entry.path))?;
+                zip.write_all(&entry.bytes)?;
+            }
+        }
+    }
+    let bytes = zip.finish()?.into_inner();
+    let partial = path.with_extension("fmu.partial");
+    std::fs::write(&partial, bytes)
+        .with_context(|| format!("cannot write {}", partial.display()))?;
+    std::fs::rename(&partial, path).with_context(|| format!("cannot write {}", path.display()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -67,6 +115,27 @@ mod tests {
             Entry::executable("binaries/linux64/M.so", vec![0x7f, b'E', b'L', b'F']),
             Entry::file("documentation/index.html", b"<html/>".to_vec()),
         ]
+    }
+
+    #[test]
+    fn added_entries_join_the_archive_and_replace_those_of_their_path() {
+        let dir = std::env::temp_dir().join(format!("fmu_zip_add_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("M.fmu");
+        write(&path, sample()).unwrap();
+        add(
+            &path,
+            vec![
+                Entry::file("extra/a/x.csv", b"time\n".to_vec()),
+                Entry::file("modelDescription.xml", b"<new/>".to_vec()),
+            ],
+        )
+        .unwrap();
+        let mut expected = sample();
+        expected[0].bytes = b"<new/>".to_vec();
+        expected.push(Entry::file("extra/a/x.csv", b"time\n".to_vec()));
+        assert_eq!(std::fs::read(&path).unwrap(), archive(expected).unwrap());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -160,7 +160,7 @@ fn build_host(ws: &Workspace, fmus: &[FmuCrate], describers: Describers) -> Resu
                 })
                 .cloned()
                 .collect();
-            if missing.is_empty() {
+            if missing.is_empty() && crate::references::generator_path(ws).is_file() {
                 Ok(())
             } else {
                 build_describers(ws, &missing, &[])
@@ -212,7 +212,8 @@ pub fn package_all_platforms(ws: &Workspace, describers: Describers) -> Result<V
 /// The description binaries in the dev profile: they only print XML, so optimising and
 /// LTO-linking ten of them would cost as much as the libraries themselves, and unoptimised
 /// they share their artifacts with `cargo test`. `also_dev` packages are built in the same
-/// invocation, so that the features of shared dependencies are resolved once.
+/// invocation, so that the features of shared dependencies are resolved once. cosim's
+/// `fmu_reference`, which writes the FMUs' references, is built with them.
 fn build_describers(ws: &Workspace, fmus: &[FmuCrate], also_dev: &[&str]) -> Result<()> {
     let mut build = ws.cargo();
     build.args(["build", "--bins"]);
@@ -223,6 +224,7 @@ fn build_describers(ws: &Workspace, fmus: &[FmuCrate], also_dev: &[&str]) -> Res
     {
         build.args(["-p", package]);
     }
+    build.args(["-p", "cosim"]);
     build.env("CARGO_TERM_PROGRESS_WHEN", "never");
     workspace::run(&mut build)
 }
@@ -339,7 +341,9 @@ fn package(
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
 
     let mut written = Vec::new();
+    let mut packaged: Vec<(String, Vec<PathBuf>)> = Vec::new();
     for fmu in fmus {
+        let mut files = Vec::new();
         for version in Fmi::ALL {
             match fmu.offer(version) {
                 None => continue,
@@ -359,8 +363,22 @@ fn package(
                 Fmi::V3 => package_one_fmi3(ws, fmu, builds, &out_dir.join("fmi3"))?,
             };
             println!("xtask fmus: wrote {}", path.display());
+            files.push(path.clone());
             written.push(path);
         }
+        if !files.is_empty() {
+            packaged.push((fmu.model_identifier.clone(), files));
+        }
+    }
+    // The references are runs of the FMUs: only where they have a binary for this machine.
+    let host = Platform::host()?;
+    if builds.iter().any(|b| b.platform == host) {
+        crate::references::add(ws, &packaged)?;
+    } else {
+        println!(
+            "xtask fmus: no binary for this machine ({}): the FMUs carry no references",
+            host.triple
+        );
     }
     let package = ssp::package(ws, &out_dir)?;
     println!("xtask fmus: wrote {}", package.display());

@@ -15,6 +15,7 @@ mod fuzz_crates;
 mod new_fmu;
 mod platform;
 mod python_env;
+mod references;
 mod ssp;
 mod system_packages;
 mod test;

@@ -1,6 +1,6 @@
 //! The closed loop in other masters, one binary (each test binary is linked on its own): fmpy in
 //! FMI 2.0 and 3.0, fmpy's SSP runner, libcosim, Ecos, pythonfmu and pythonfmu3 FMUs, the
-//! documented examples and the FMU checkers.
+//! documented examples, the FMU checkers and the FMUs' shipped references in fmpy.
 mod checkers;
 mod container_fmu;
 mod docs_example;
@@ -8,6 +8,7 @@ mod ecos;
 mod fmpy3_master;
 mod fmpy3_touchdown;
 mod fmpy_master;
+mod fmpy_references;
 mod fmpy_ssp;
 mod libcosim;
 mod python_plant;
