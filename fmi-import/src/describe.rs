@@ -10,6 +10,8 @@ use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
 /// A model description as read, by FMI version.
+// One per load, moved once: its size costs nothing worth a box.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Described {
     Fmi2(ModelDescription),
     /// The file as read, and its scalar view (`r_nue` as `r_nue[1..3]`).
@@ -43,7 +45,7 @@ pub(crate) fn parse(unpacked: &Unpacked) -> Result<Described, LoadError> {
                 source,
             }
         })?;
-        let view = fmi3::scalar_view(&description3)?;
+        let view = fmi3::scalar_view(&description3, &[])?;
         return Ok(Described::Fmi3(Box::new(description3), view));
     }
     let description = ModelDescription::from_file(&description_path).map_err(|source| {

@@ -5,6 +5,7 @@ mod archives;
 mod common;
 mod files;
 mod fmi3_import;
+mod fmi3_types;
 mod fmu_archive;
 mod oscillator;
 mod stub_fmu;
