@@ -2,6 +2,7 @@
 //! before the run with every problem named, algebraic loops, Model Exchange instances on the
 //! solver, and outputs that stop being numbers.
 mod common;
+mod fmi3_types;
 mod general_master;
 mod master_errors;
 mod model_exchange_import;

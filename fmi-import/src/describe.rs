@@ -71,6 +71,31 @@ pub fn read_description(
     described(Unpacked::open(path.as_ref())?)
 }
 
+/// [`read_description`] with the type of each variable of the description as the file
+/// names it (`UInt64`, `Binary` for FMI 3.0; `Real`, `Integer` for FMI 2.0), in order.
+pub fn read_description_typed(
+    path: impl AsRef<Path>,
+) -> Result<(FmiVersion, ModelDescription, Vec<String>), LoadError> {
+    Ok(match parse(&Unpacked::open(path.as_ref())?)? {
+        Described::Fmi2(description) => {
+            let types = description
+                .model_variables
+                .variables
+                .iter()
+                .map(|v| {
+                    v.kind()
+                        .map_or_else(|| "?".to_owned(), |k| format!("{k:?}"))
+                })
+                .collect();
+            (FmiVersion::Fmi2, description, types)
+        }
+        Described::Fmi3(_, view) => {
+            let types = view.types.iter().map(|t| t.name().to_owned()).collect();
+            (FmiVersion::Fmi3, view.description, types)
+        }
+    })
+}
+
 /// [`read_description`] writing only the description: the archive's directory is checked
 /// (names, links, duplicates, declared sizes) but no other entry is inflated. For a master
 /// whose worker process loads (and checks whole) the same FMU.

@@ -476,9 +476,9 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 cosim::master::fmu_path(&fmu_dir, &fmu)
             };
             // The description alone: listing variables runs no FMU code.
-            let (_, description) = fmi_import::read_description(&path)
+            let (_, description, types) = fmi_import::read_description_typed(&path)
                 .with_context(|| format!("loading {}", fmu.display()))?;
-            print!("{}", vars::table(&description, only));
+            print!("{}", vars::table(&description, &types, only));
         }
         Command::Paper {
             scenario,
@@ -866,10 +866,11 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     // ended: a failed or interrupted run never leaves a truncated file under `out`.
     let partial = partial_path(out);
     let mut recorder = RunRecorder {
-        out: cosim::results::Stream::create_with_units(
+        out: cosim::results::Stream::create_typed(
             &partial,
             simulation.column_names(),
             simulation.column_units(),
+            &simulation.column_types(),
             format,
         )
         .with_context(|| format!("writing {}", out.display()))?,

@@ -33,7 +33,8 @@ pub use model_exchange::{EventCounts, MeError, SolverSettings};
 pub use resolve::Port;
 
 use crate::system::{Ordering, ParamValue, SystemDescription};
-use fmi_import::{CallError, FmiError, Fmu, InstanceOptions, StepStatus, VariableKind};
+use fmi_import::VariableKind;
+use fmi_import::{CallError, Fmi3Type, FmiError, Fmu, InstanceOptions, StepStatus};
 use std::path::{Path, PathBuf};
 
 /// Why a run could not start or did not finish.
@@ -230,28 +231,65 @@ impl<T: Copy + Default> Block<T> {
 
 /// The exchange buffers of one side (inputs or outputs) of one instance. Booleans are kept
 /// as `fmi2Boolean` (0 or 1), the FMI representation, so they pass through without conversion.
+/// The FMI 3.0 types that travel as words (`fmi_import::word`) have a buffer of their own,
+/// so the Real path carries nothing more than before.
 #[derive(Debug, Default)]
 struct Io {
     real: Block<f64>,
     integer: Block<i32>,
     boolean: Block<i32>,
+    word: Block<u64>,
 }
 
 impl Io {
-    /// Where the feedthrough slots of the buffer of `kind` start.
-    fn feedthrough_start(&self, kind: VariableKind) -> usize {
-        match block_index(kind) {
-            0 => self.real.feedthrough_start,
-            1 => self.integer.feedthrough_start,
-            _ => self.boolean.feedthrough_start,
+    /// Where the feedthrough slots of the buffer of `buffer` start.
+    fn feedthrough_start(&self, buffer: Buffer) -> usize {
+        match buffer {
+            Buffer::Real => self.real.feedthrough_start,
+            Buffer::Integer => self.integer.feedthrough_start,
+            Buffer::Boolean => self.boolean.feedthrough_start,
+            Buffer::Word(_) => self.word.feedthrough_start,
         }
     }
 
     fn slot(&mut self, port: &Port) -> usize {
-        match port.kind {
-            VariableKind::Real => self.real.slot(port.value_reference),
-            VariableKind::Boolean => self.boolean.slot(port.value_reference),
-            _ => self.integer.slot(port.value_reference),
+        match Buffer::of(port) {
+            Buffer::Real => self.real.slot(port.value_reference),
+            Buffer::Boolean => self.boolean.slot(port.value_reference),
+            Buffer::Integer => self.integer.slot(port.value_reference),
+            Buffer::Word(_) => self.word.slot(port.value_reference),
+        }
+    }
+}
+
+/// The exchange buffer of a port, with the word type of a word's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Buffer {
+    Real,
+    /// Integers and enumerations.
+    Integer,
+    Boolean,
+    Word(Fmi3Type),
+}
+
+impl Buffer {
+    fn of(port: &Port) -> Buffer {
+        match (port.word, port.kind) {
+            (Some(kind), _) => Buffer::Word(kind),
+            (None, VariableKind::Real) => Buffer::Real,
+            (None, VariableKind::Boolean) => Buffer::Boolean,
+            (None, _) => Buffer::Integer,
+        }
+    }
+
+    /// The type of a recorded column of this buffer.
+    fn column_type(self) -> crate::results::ColumnType {
+        use crate::results::ColumnType;
+        match self {
+            Buffer::Real => ColumnType::Float64,
+            Buffer::Integer => ColumnType::Int32,
+            Buffer::Boolean => ColumnType::Boolean,
+            Buffer::Word(kind) => ColumnType::of_fmi3(kind),
         }
     }
 }
@@ -292,7 +330,7 @@ impl AfterStep {
     fn of(links: &[Link], outputs: &[Io]) -> Vec<AfterStep> {
         let mut after = vec![AfterStep::Nothing; outputs.len()];
         for link in links.iter().filter(|l| l.to_unit < l.from_unit) {
-            let feedthrough_start = outputs[link.from_unit].feedthrough_start(link.kind);
+            let feedthrough_start = outputs[link.from_unit].feedthrough_start(link.buffer);
             let needed = if link.from_slot < feedthrough_start {
                 AfterStep::Stable
             } else {
@@ -308,7 +346,7 @@ impl AfterStep {
 /// A scalar connection after resolution: output slot of one unit to input slot of another.
 #[derive(Debug, Clone, Copy)]
 struct Link {
-    kind: VariableKind,
+    buffer: Buffer,
     from_unit: usize,
     from_slot: usize,
     to_unit: usize,
@@ -324,6 +362,7 @@ struct Copies {
     real: Vec<SlotRun>,
     integer: Vec<SlotRun>,
     boolean: Vec<SlotRun>,
+    word: Vec<SlotRun>,
 }
 
 /// Output slots `from..from + len` to input slots `to..to + len`.
@@ -359,10 +398,11 @@ impl Copies {
                     groups.last_mut().expect("just pushed")
                 }
             };
-            let runs = match block_index(link.kind) {
-                0 => &mut group.real,
-                1 => &mut group.integer,
-                _ => &mut group.boolean,
+            let runs = match link.buffer {
+                Buffer::Real => &mut group.real,
+                Buffer::Integer => &mut group.integer,
+                Buffer::Boolean => &mut group.boolean,
+                Buffer::Word(_) => &mut group.word,
             };
             SlotRun::push(runs, link.from_slot, link.to_slot);
         }
@@ -373,6 +413,9 @@ impl Copies {
         copy_slots(&self.real, &from.real.values, &mut to.real.values);
         copy_slots(&self.integer, &from.integer.values, &mut to.integer.values);
         copy_slots(&self.boolean, &from.boolean.values, &mut to.boolean.values);
+        if !self.word.is_empty() {
+            copy_slots(&self.word, &from.word.values, &mut to.word.values);
+        }
     }
 }
 
@@ -407,8 +450,8 @@ pub struct Simulation {
     table_inputs: Vec<table::TableInput>,
     /// The communication point inputs are set for.
     now: f64,
-    /// (unit, kind, output slot) per recorded column.
-    columns: Vec<(usize, VariableKind, usize)>,
+    /// (unit, buffer, output slot) per recorded column.
+    columns: Vec<(usize, Buffer, usize)>,
     /// The same columns as runs of consecutive slots of one unit and type, copied together.
     column_runs: Vec<ColumnRun>,
     column_names: Vec<String>,
@@ -505,6 +548,7 @@ impl Simulation {
     pub fn from_fmus(mut system: SystemDescription, fmus: Vec<Fmu>) -> Result<Self, MasterError> {
         choose_interfaces(&mut system, &fmus);
         let mut problems = Vec::new();
+        let fmus = configure(&system, fmus, &mut problems);
         resolve::declared_connectors(&system, &fmus, &mut problems);
         let pairs = resolve::connections(&system, &fmus, &mut problems);
         let recorded = resolve::columns(&system, &fmus, &mut problems);
@@ -551,7 +595,7 @@ impl Simulation {
         let mut column_units = Vec::with_capacity(recorded.len());
         for port in &recorded {
             let slot = outputs[port.instance].slot(port);
-            columns.push((port.instance, port.kind, slot));
+            columns.push((port.instance, Buffer::of(port), slot));
             let description = fmus[port.instance].model_description();
             column_units.push(
                 description
@@ -570,7 +614,7 @@ impl Simulation {
             let from_slot = outputs[source.instance].slot(source);
             let to_slot = inputs[destination.instance].slot(destination);
             links.push(Link {
-                kind: source.kind,
+                buffer: Buffer::of(source),
                 from_unit: source.instance,
                 from_slot,
                 to_unit: destination.instance,
@@ -586,10 +630,11 @@ impl Simulation {
                 instance: system.instances[port.instance].name.clone(),
                 name: port.name.clone(),
                 kind,
-                type_name: match port.kind {
-                    VariableKind::Real => "Real",
-                    VariableKind::Boolean => "Boolean",
-                    _ => "Integer",
+                type_name: match Buffer::of(port) {
+                    Buffer::Real => "Real",
+                    Buffer::Boolean => "Boolean",
+                    Buffer::Integer => "Integer",
+                    Buffer::Word(kind) => kind.name(),
                 },
             };
             if !connectors.contains(&decl) {
@@ -673,6 +718,13 @@ impl Simulation {
                     crate::suggest::hint(instance, names)
                 ))
             })?;
+        if self.fmus[index].structural_parameters().contains(&variable) {
+            return Err(resolve(format!(
+                "instance '{instance}': '{variable}' is a structural parameter, which sizes \
+                 the FMU's arrays: give it in the scenario or with --set, before the system is \
+                 loaded, not once it is"
+            )));
+        }
         if let Some(problem) = resolve::parameter_problem(
             &self.system,
             &self.fmus,
@@ -705,6 +757,15 @@ impl Simulation {
     /// The unit of each recorded column as its FMU declares it ("" where it declares none).
     pub fn column_units(&self) -> &[String] {
         &self.column_units
+    }
+
+    /// The type of each recorded column, which says how its values sit in a row (see
+    /// [`crate::results::ColumnType`]).
+    pub fn column_types(&self) -> Vec<crate::results::ColumnType> {
+        self.columns
+            .iter()
+            .map(|&(_, buffer, _)| buffer.column_type())
+            .collect()
     }
 
     /// Outputs to read once, at the last communication point of each run (after its row is
@@ -959,7 +1020,12 @@ impl Simulation {
                         e.into(),
                     )
                 })?;
+            let structural = self.fmus[u].structural_parameters();
             for (variable, value) in &desc.parameters {
+                // Set in Configuration Mode when the instance was made (see `configure`).
+                if structural.contains(&variable.as_str()) {
+                    continue;
+                }
                 set_parameter(&mut unit.instance, variable, value)
                     .map_err(|e| call(&name, &format!("setting parameter {variable}"), e))?;
             }
@@ -1032,6 +1098,7 @@ impl Simulation {
             io.real.values.fill(0.0);
             io.integer.values.fill(0);
             io.boolean.values.fill(0);
+            io.word.values.fill(0);
         }
         self.exit_initialization_modes()?;
         Ok(())
@@ -1069,6 +1136,10 @@ impl Simulation {
             if !inputs.boolean.vrs.is_empty() {
                 unit.instance
                     .set_boolean_raw(&inputs.boolean.vrs, &inputs.boolean.values)?;
+            }
+            if !inputs.word.vrs.is_empty() {
+                unit.instance
+                    .set_words(&inputs.word.vrs, &inputs.word.values)?;
             }
             Ok(())
         })();
@@ -1122,6 +1193,13 @@ impl Simulation {
                     &mut outputs.boolean.values[boolean],
                 )?;
             }
+            let words = part.of(&outputs.word);
+            if !words.is_empty() {
+                unit.instance.get_words(
+                    &outputs.word.vrs[words.clone()],
+                    &mut outputs.word.values[words],
+                )?;
+            }
             Ok(())
         })();
         result.map_err(|e| call(&unit.name, "getting outputs", e))?;
@@ -1141,16 +1219,21 @@ impl Simulation {
             let outputs = &self.outputs[run.unit];
             let row = &mut self.row[run.column..run.column + run.len];
             let slots = run.slot..run.slot + run.len;
-            match run.kind {
-                VariableKind::Real => row.copy_from_slice(&outputs.real.values[slots]),
-                VariableKind::Boolean => {
+            match run.buffer {
+                Buffer::Real => row.copy_from_slice(&outputs.real.values[slots]),
+                Buffer::Boolean => {
                     for (value, &b) in row.iter_mut().zip(&outputs.boolean.values[slots]) {
                         *value = f64::from(b);
                     }
                 }
-                _ => {
+                Buffer::Integer => {
                     for (value, &i) in row.iter_mut().zip(&outputs.integer.values[slots]) {
                         *value = f64::from(i);
+                    }
+                }
+                Buffer::Word(kind) => {
+                    for (value, &w) in row.iter_mut().zip(&outputs.word.values[slots]) {
+                        *value = crate::results::ColumnType::of_fmi3(kind).slot_of_word(w);
                     }
                 }
             }
@@ -1183,18 +1266,24 @@ impl Simulation {
         for (value, port) in self.final_row.iter_mut().zip(&self.final_ports) {
             let unit = &mut self.units[port.instance];
             let vr = [port.value_reference];
-            let read = match port.kind {
-                VariableKind::Real => {
+            let read = match Buffer::of(port) {
+                Buffer::Word(kind) => {
+                    let mut w = [0];
+                    unit.instance
+                        .get_words(&vr, &mut w)
+                        .map(|_| crate::results::ColumnType::of_fmi3(kind).slot_of_word(w[0]))
+                }
+                Buffer::Real => {
                     let mut x = [0.0];
                     unit.instance.get_real(&vr, &mut x).map(|_| x[0])
                 }
-                VariableKind::Boolean => {
+                Buffer::Boolean => {
                     let mut b = [0];
                     unit.instance
                         .get_boolean_raw(&vr, &mut b)
                         .map(|_| f64::from(b[0]))
                 }
-                _ => {
+                Buffer::Integer => {
                     let mut i = [0];
                     unit.instance
                         .get_integer(&vr, &mut i)
@@ -1202,7 +1291,7 @@ impl Simulation {
                 }
             };
             *value = read.map_err(|e| call(&unit.name, "getting final outputs", e))?;
-            if !value.is_finite() {
+            if port.word.is_none() && !value.is_finite() {
                 self.finite
                     .note(port.instance, &[port.value_reference], &[*value]);
             }
@@ -1219,42 +1308,41 @@ impl Simulation {
     }
 }
 
-/// Which exchange buffer of an [`Io`] holds a variable of `kind`: 0 real, 1 integer
-/// (enumerations too), 2 boolean.
-fn block_index(kind: VariableKind) -> usize {
-    match kind {
-        VariableKind::Real => 0,
-        VariableKind::Boolean => 2,
-        _ => 1,
+/// Which exchange buffer of an [`Io`] holds a variable: 0 real, 1 integer (enumerations
+/// too), 2 boolean, 3 word.
+fn block_index(buffer: Buffer) -> usize {
+    match buffer {
+        Buffer::Real => 0,
+        Buffer::Integer => 1,
+        Buffer::Boolean => 2,
+        Buffer::Word(_) => 3,
     }
 }
 
 /// Recorded columns `column..column + len` are output slots `slot..slot + len` of one unit
-/// and exchange type.
+/// and exchange buffer (and, for words, one type).
 #[derive(Debug, Clone, Copy)]
 struct ColumnRun {
     unit: usize,
-    kind: VariableKind,
+    buffer: Buffer,
     slot: usize,
     column: usize,
     len: usize,
 }
 
 impl ColumnRun {
-    fn of(columns: &[(usize, VariableKind, usize)]) -> Vec<ColumnRun> {
+    fn of(columns: &[(usize, Buffer, usize)]) -> Vec<ColumnRun> {
         let mut runs: Vec<ColumnRun> = Vec::new();
-        for (column, &(unit, kind, slot)) in columns.iter().enumerate() {
+        for (column, &(unit, buffer, slot)) in columns.iter().enumerate() {
             match runs.last_mut() {
                 Some(run)
-                    if run.unit == unit
-                        && block_index(run.kind) == block_index(kind)
-                        && run.slot + run.len == slot =>
+                    if run.unit == unit && run.buffer == buffer && run.slot + run.len == slot =>
                 {
                     run.len += 1
                 }
                 _ => runs.push(ColumnRun {
                     unit,
-                    kind,
+                    buffer,
                     slot,
                     column,
                     len: 1,
@@ -1275,17 +1363,18 @@ fn feedthrough_last(
     recorded: &[Port],
     outputs: &mut [Io],
     links: &mut [Link],
-    columns: &mut [(usize, VariableKind, usize)],
+    columns: &mut [(usize, Buffer, usize)],
 ) {
     let ports = pairs.iter().map(|(source, _)| source).chain(recorded);
     // Per unit, per exchange type (real, integer, boolean): the feedthrough flag of each slot.
-    let mut flags: Vec<[Vec<bool>; 3]> = outputs
+    let mut flags: Vec<[Vec<bool>; 4]> = outputs
         .iter()
         .map(|io| {
             [
                 vec![false; io.real.vrs.len()],
                 vec![false; io.integer.vrs.len()],
                 vec![false; io.boolean.vrs.len()],
+                vec![false; io.word.vrs.len()],
             ]
         })
         .collect();
@@ -1302,21 +1391,62 @@ fn feedthrough_last(
             .filter(|input| input.instance == u)
             .any(|input| feedthrough[u].depends(&port.name, &input.name, false));
         let slot = outputs[u].slot(port);
-        flags[u][block_index(port.kind)][slot] |= depends;
+        flags[u][block_index(Buffer::of(port))][slot] |= depends;
     }
     for (u, io) in outputs.iter_mut().enumerate() {
         let moved = [
             io.real.partition(&flags[u][0]),
             io.integer.partition(&flags[u][1]),
             io.boolean.partition(&flags[u][2]),
+            io.word.partition(&flags[u][3]),
         ];
         for link in links.iter_mut().filter(|l| l.from_unit == u) {
-            link.from_slot = moved[block_index(link.kind)][link.from_slot];
+            link.from_slot = moved[block_index(link.buffer)][link.from_slot];
         }
-        for (unit_of, kind, slot) in columns.iter_mut().filter(|c| c.0 == u) {
+        for (unit_of, buffer, slot) in columns.iter_mut().filter(|c| c.0 == u) {
             debug_assert_eq!(*unit_of, u);
-            *slot = moved[block_index(*kind)][*slot];
+            *slot = moved[block_index(*buffer)][*slot];
         }
+    }
+}
+
+/// Each FMU whose instance gives values to its structural parameters (FMI 3.0) as the FMU
+/// configured with them: its scalar view built for them, so that names resolve against the
+/// arrays' extents they set, and its instances set them in Configuration Mode (see
+/// `fmi_import`'s `Fmu::configured`). Every FMU is loaded once per instance, so the
+/// configured one is that instance's own.
+fn configure(system: &SystemDescription, fmus: Vec<Fmu>, problems: &mut Vec<String>) -> Vec<Fmu> {
+    fmus.into_iter()
+        .zip(&system.instances)
+        .map(|(fmu, instance)| {
+            let structural = fmu.structural_parameters();
+            let values: Vec<(String, String)> = instance
+                .parameters
+                .iter()
+                .filter(|(name, _)| structural.contains(&name.as_str()))
+                .map(|(name, value)| (name.clone(), parameter_text(value)))
+                .collect();
+            if values.is_empty() {
+                return fmu;
+            }
+            match fmu.configured(&values) {
+                Ok(configured) => configured,
+                Err(error) => {
+                    problems.push(format!("instance '{}': {error}", instance.name));
+                    fmu
+                }
+            }
+        })
+        .collect()
+}
+
+/// A scenario value as the text a model description would give it.
+fn parameter_text(value: &ParamValue) -> String {
+    match value {
+        ParamValue::Real(x) => format!("{x:?}"),
+        ParamValue::Integer(i) => i.to_string(),
+        ParamValue::Boolean(b) => b.to_string(),
+        ParamValue::String(s) => s.clone(),
     }
 }
 
@@ -1352,7 +1482,8 @@ fn instantiate(
     for ((fmu, desc), io) in fmus.iter().zip(&system.instances).zip(outputs) {
         let feedthrough = io.real.feedthrough_start < io.real.vrs.len()
             || io.integer.feedthrough_start < io.integer.vrs.len()
-            || io.boolean.feedthrough_start < io.boolean.vrs.len();
+            || io.boolean.feedthrough_start < io.boolean.vrs.len()
+            || io.word.feedthrough_start < io.word.vrs.len();
         let same_instant = system.ordering == Ordering::GaussSeidel && feedthrough;
         if same_instant && desc.model_exchange.is_none() && !fmu.supports_same_instant_feedthrough()
         {
@@ -1426,12 +1557,29 @@ pub fn set_parameter(
     variable: &str,
     value: &ParamValue,
 ) -> Result<(), CallError> {
-    let kind = instance.variable(variable)?.kind;
+    let info = *instance.variable(variable)?;
+    let kind = info.kind;
     let mismatch = |what: &str| CallError::InvalidArgument {
         function: "set parameter",
         instance: instance.name().to_owned(),
-        reason: format!("variable '{variable}' is {kind:?}; the scenario gives {what}"),
+        reason: format!(
+            "variable '{variable}' is {}; the scenario gives {what}",
+            info.type_name()
+        ),
     };
+    if let Some(fmi3) = info.fmi3_type.filter(|&t| fmi_import::word::is_word(t)) {
+        let word = resolve::parameter_word(fmi3, value).map_err(|reason| mismatch(&reason))?;
+        instance.set_words(&[info.value_reference], &[word])?;
+        return Ok(());
+    }
+    if info.fmi3_type == Some(Fmi3Type::Binary) {
+        let ParamValue::String(text) = value else {
+            return Err(mismatch(&format!("{value:?}, not hex text")));
+        };
+        let bytes = fmi_import::word::from_hex(text).map_err(|reason| mismatch(&reason))?;
+        instance.set_binary(&[info.value_reference], &[&bytes])?;
+        return Ok(());
+    }
     match (kind.accessed_as(), value) {
         (VariableKind::Real, ParamValue::Real(x)) => instance.set_real_by_name(variable, *x)?,
         (VariableKind::Real, ParamValue::Integer(i)) => {
@@ -1488,9 +1636,9 @@ mod tests {
 
     #[test]
     fn copies_group_links_by_source_and_buffer_and_copy_only_their_slots() {
-        use VariableKind::{Boolean, Enumeration, Real};
-        let link = |kind, from_unit, from_slot, to_unit, to_slot| Link {
-            kind,
+        use Buffer::{Boolean, Integer as Enumeration, Real};
+        let link = |buffer, from_unit, from_slot, to_unit, to_slot| Link {
+            buffer,
             from_unit,
             from_slot,
             to_unit,
@@ -1543,9 +1691,9 @@ mod tests {
 
     #[test]
     fn after_the_step_only_what_an_earlier_unit_consumes_is_read() {
-        use VariableKind::{Boolean, Real};
-        let link = |kind, from_unit, from_slot, to_unit| Link {
-            kind,
+        use Buffer::{Boolean, Real};
+        let link = |buffer, from_unit, from_slot, to_unit| Link {
+            buffer,
             from_unit,
             from_slot,
             to_unit,
@@ -1596,7 +1744,8 @@ mod tests {
 
     #[test]
     fn column_runs_join_consecutive_slots_of_one_unit_and_buffer_only() {
-        use VariableKind::{Boolean, Enumeration, Integer, Real};
+        use Buffer::{Boolean, Integer, Real};
+        let enumeration = Integer;
         let columns = [
             (0, Real, 0),
             (0, Real, 1),
@@ -1604,11 +1753,14 @@ mod tests {
             (1, Real, 4), // another unit
             (1, Boolean, 5),
             (1, Integer, 0),
-            (1, Enumeration, 1), // enumerations share the integer buffer
+            (1, enumeration, 1), // enumerations share the integer buffer
+            (1, Buffer::Word(Fmi3Type::UInt8), 2),
+            (1, Buffer::Word(Fmi3Type::UInt8), 3),
+            (1, Buffer::Word(Fmi3Type::Int8), 4), // another word type: a run of its own
         ];
         let runs: Vec<_> = ColumnRun::of(&columns)
             .iter()
-            .map(|r| (r.unit, block_index(r.kind), r.slot, r.column, r.len))
+            .map(|r| (r.unit, block_index(r.buffer), r.slot, r.column, r.len))
             .collect();
         assert_eq!(
             runs,
@@ -1618,6 +1770,8 @@ mod tests {
                 (1, 0, 4, 3, 1),
                 (1, 2, 5, 4, 1),
                 (1, 1, 0, 5, 2),
+                (1, 3, 2, 7, 2),
+                (1, 3, 4, 9, 1),
             ]
         );
     }

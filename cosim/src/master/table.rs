@@ -48,6 +48,14 @@ pub fn resolve(
                     ));
                     return;
                 }
+                if let Some(kind) = port.word {
+                    problems.push(format!(
+                        "input table column '{name}': the input is {}; an input table drives \
+                         Real, Integer and Boolean inputs",
+                        kind.name()
+                    ));
+                    return;
+                }
                 let info = fmus[port.instance]
                     .variable(&port.name)
                     .expect("resolved ports exist");

@@ -58,6 +58,7 @@ pub struct Supervised {
     descriptions: Vec<(FmiVersion, ModelDescription)>,
     column_names: Vec<String>,
     column_units: Vec<String>,
+    column_types: Vec<crate::results::ColumnType>,
     final_requested: Vec<String>,
     final_names: Vec<String>,
     final_values: Vec<f64>,
@@ -93,6 +94,7 @@ impl Supervised {
             descriptions: Vec::new(),
             column_names: Vec::new(),
             column_units: Vec::new(),
+            column_types: Vec::new(),
             final_requested: Vec::new(),
             final_names: Vec::new(),
             final_values: Vec::new(),
@@ -133,6 +135,10 @@ impl Supervised {
 
     pub fn column_units(&self) -> &[String] {
         &self.column_units
+    }
+
+    pub fn column_types(&self) -> Vec<crate::results::ColumnType> {
+        self.column_types.clone()
     }
 
     pub fn final_column_names(&self) -> &[String] {
@@ -301,6 +307,7 @@ impl Supervised {
             FromWorker::Ready {
                 column_names,
                 column_units,
+                column_types,
                 final_names,
                 ring_capacity,
             } => {
@@ -313,6 +320,7 @@ impl Supervised {
                 worker.ring = Some(ring);
                 self.column_names = column_names;
                 self.column_units = column_units;
+                self.column_types = column_types;
                 self.final_values = vec![f64::NAN; final_names.len()];
                 self.final_names = final_names;
                 self.pending.clear();

@@ -38,6 +38,7 @@ pub(super) enum FromWorker {
     Ready {
         column_names: Vec<String>,
         column_units: Vec<String>,
+        column_types: Vec<crate::results::ColumnType>,
         final_names: Vec<String>,
         ring_capacity: u64,
     },

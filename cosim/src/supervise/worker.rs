@@ -122,6 +122,7 @@ impl Worker {
                 let ready = FromWorker::Ready {
                     column_names: simulation.column_names().to_vec(),
                     column_units: simulation.column_units().to_vec(),
+                    column_types: simulation.column_types(),
                     final_names: simulation.final_column_names().to_vec(),
                     ring_capacity: ring.capacity as u64,
                 };

@@ -1,0 +1,223 @@
+//! Every FMI 3.0 numeric type through the master: set from a scenario (refused before the
+//! run when its type cannot hold the value), connected between equal types, recorded
+//! exactly in CSV and Arrow; and a structural parameter that sizes the arrays recorded. The
+//! FMU is the importer's C stub (fmi-import/tests/fixtures/stub_fmu3.c).
+#[path = "../../fmi-import/tests/fixtures/stub_fmu3.rs"]
+mod stub_fmu3;
+
+use cosim::master::{MasterError, Simulation, Trajectory};
+use cosim::results::{self, ColumnType, Format};
+use cosim::system::{Connection, InstanceDesc, Ordering, ParamValue, SystemDescription};
+use std::path::{Path, PathBuf};
+
+/// The word types the stub echoes (Int32, Float64 and Boolean keep their own buffers).
+const WORDS: [&str; 8] = [
+    "float32", "int8", "uint8", "int16", "uint16", "uint32", "int64", "uint64",
+];
+
+fn instance(name: &str, fmu: &Path, parameters: Vec<(&str, ParamValue)>) -> InstanceDesc {
+    InstanceDesc {
+        name: name.into(),
+        fmu: fmu.to_path_buf(),
+        parameters: parameters
+            .into_iter()
+            .map(|(n, v)| (n.to_owned(), v))
+            .collect(),
+        connectors: None,
+        model_exchange: None,
+        interface_named: false,
+    }
+}
+
+fn system(
+    instances: Vec<InstanceDesc>,
+    connections: Vec<Connection>,
+    record: &[&str],
+) -> SystemDescription {
+    SystemDescription {
+        name: "fmi3-types".into(),
+        start_time: 0.0,
+        stop_time: 0.3,
+        step_size: 0.1,
+        ordering: Ordering::GaussSeidel,
+        instances,
+        connections,
+        record: Some(record.iter().map(|r| r.to_string()).collect()),
+        limits: Default::default(),
+        allow_non_finite: Vec::new(),
+        inputs: None,
+        package: None,
+    }
+}
+
+fn stub() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let root = stub_fmu3::build(dir.path());
+    (dir, root)
+}
+
+/// The extremes of each type, as a scenario gives them (a UInt64 above i64::MAX as text).
+fn extremes() -> Vec<(&'static str, ParamValue)> {
+    vec![
+        ("float32_in", ParamValue::Real(0.1)),
+        ("int8_in", ParamValue::Integer(-128)),
+        ("uint8_in", ParamValue::Integer(255)),
+        ("int16_in", ParamValue::Integer(-32768)),
+        ("uint16_in", ParamValue::Integer(65535)),
+        ("uint32_in", ParamValue::Integer(4_294_967_295)),
+        ("int64_in", ParamValue::Integer(i64::MIN)),
+        (
+            "uint64_in",
+            ParamValue::String("18446744073709551614".into()),
+        ),
+        ("int32_in", ParamValue::Integer(1000)),
+        ("boolean_in", ParamValue::Boolean(true)),
+    ]
+}
+
+#[test]
+fn every_word_type_is_set_connected_and_recorded_exactly() {
+    let (_dir, fmu) = stub();
+    let connections = WORDS
+        .iter()
+        .chain(&["int32", "boolean", "float64"])
+        .map(|t| Connection {
+            from: format!("a.{t}_out"),
+            to: format!("b.{t}_in"),
+        })
+        .collect();
+    let system = system(
+        vec![instance("a", &fmu, extremes()), instance("b", &fmu, vec![])],
+        connections,
+        &["b.*_out", "a.big", "a.steps"],
+    );
+    let mut simulation = Simulation::new(system, Path::new(".")).unwrap();
+    let names = simulation.column_names().to_vec();
+    let types = simulation.column_types();
+    let mut trajectory = Trajectory {
+        names: names.clone(),
+        ..Default::default()
+    };
+    simulation.run(&mut trajectory).unwrap();
+    let column = |name: &str| names.iter().position(|n| n == name).unwrap();
+    let last = trajectory.row(trajectory.len() - 1);
+    let uint64 = column("b.uint64_out");
+    assert_eq!(types[uint64], ColumnType::UInt64);
+    assert_eq!(
+        ColumnType::UInt64.integer(last[uint64]),
+        i128::from(u64::MAX - 1)
+    );
+    assert_eq!(
+        ColumnType::Int64.integer(last[column("b.int64_out")]),
+        i128::from(i64::MIN)
+    );
+    assert_eq!(last[column("b.int8_out")], -128.0);
+    assert_eq!(last[column("b.uint32_out")], 4_294_967_295.0);
+    assert_eq!(types[column("b.float32_out")], ColumnType::Float32);
+    assert_eq!(last[column("b.float32_out")], f64::from(0.1f32));
+    // 2^64 - 1 - steps after three steps.
+    assert_eq!(
+        ColumnType::UInt64.integer(last[column("a.big")]),
+        i128::from(u64::MAX - 3)
+    );
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.contains("string") || n.contains("binary")),
+        "{names:?}"
+    );
+
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("r.csv");
+    results::write_typed(&csv, &trajectory, &[], &types, Format::Csv).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = text.lines().last().unwrap().split(',').collect();
+    let field = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+    assert_eq!(field("b.uint64_out"), "18446744073709551614");
+    assert_eq!(field("b.int64_out"), i64::MIN.to_string());
+    assert_eq!(field("b.int32_out"), "1000");
+    assert_eq!(field("b.int8_out"), "-128");
+    assert_eq!(field("b.boolean_out"), "1");
+    let back = results::read_csv_typed(&csv, &types).unwrap();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&back.values), bits(&trajectory.values));
+
+    let arrow = dir.path().join("r.arrow");
+    results::write_typed(&arrow, &trajectory, &[], &types, Format::Arrow).unwrap();
+    let (back, read_types) = results::read_arrow_typed(&arrow).unwrap();
+    assert_eq!(read_types, types);
+    assert_eq!(bits(&back.values), bits(&trajectory.values));
+}
+
+#[test]
+fn values_a_type_cannot_hold_are_refused_before_the_run_naming_all() {
+    let (_dir, fmu) = stub();
+    let system = system(
+        vec![instance(
+            "a",
+            &fmu,
+            vec![
+                ("uint8_in", ParamValue::Integer(300)),
+                ("p16", ParamValue::Real(1.5)),
+                ("uint64_in", ParamValue::Integer(-1)),
+            ],
+        )],
+        vec![],
+        &["a.steps"],
+    );
+    let Err(MasterError::Resolve { problems, .. }) = Simulation::new(system, Path::new(".")) else {
+        panic!("out-of-range values were not refused");
+    };
+    let text = problems.join("\n");
+    for expected in [
+        "instance 'a': parameter 'uint8_in' is UInt8",
+        "300 is outside the range of UInt8 [0, 255]",
+        "parameter 'p16' is Int16",
+        "1.5",
+        "parameter 'uint64_in' is UInt64",
+        "-1 is outside the range of UInt64",
+    ] {
+        assert!(text.contains(expected), "{expected:?} not in:\n{text}");
+    }
+}
+
+#[test]
+fn a_structural_parameter_given_in_the_scenario_sizes_the_arrays_recorded() {
+    let (_dir, fmu) = stub();
+    let parameters = vec![
+        ("n", ParamValue::Integer(3)),
+        ("x[1]", ParamValue::Real(1.0)),
+        ("x[2]", ParamValue::Real(2.0)),
+        ("x[3]", ParamValue::Real(3.0)),
+        ("p16", ParamValue::Integer(-100)),
+    ];
+    let three = system(vec![instance("a", &fmu, parameters)], vec![], &["a.y"]);
+    let mut simulation = Simulation::new(three, Path::new(".")).unwrap();
+    assert_eq!(simulation.column_names(), ["a.y[1]", "a.y[2]", "a.y[3]"]);
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    simulation.run(&mut trajectory).unwrap();
+    assert_eq!(trajectory.row(trajectory.len() - 1), [2.0, 4.0, 6.0]);
+    // Run again (the instances are reset and configured again).
+    simulation.run(&mut trajectory).unwrap();
+    assert_eq!(trajectory.row(trajectory.len() - 1), [2.0, 4.0, 6.0]);
+    let error = simulation
+        .set_parameter("a", "n", ParamValue::Integer(4))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("structural parameter"), "{error}");
+
+    // Without n the start value (2) holds: x[3] does not exist.
+    let two = system(
+        vec![instance("a", &fmu, vec![("x[3]", ParamValue::Real(3.0))])],
+        vec![],
+        &["a.y"],
+    );
+    let Err(MasterError::Resolve { problems, .. }) = Simulation::new(two, Path::new(".")) else {
+        panic!("x[3] resolved with n = 2");
+    };
+    assert!(problems.join("\n").contains("x[3]"), "{problems:?}");
+}
