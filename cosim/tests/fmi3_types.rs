@@ -221,3 +221,71 @@ fn a_structural_parameter_given_in_the_scenario_sizes_the_arrays_recorded() {
     };
     assert!(problems.join("\n").contains("x[3]"), "{problems:?}");
 }
+
+#[test]
+fn strings_and_binaries_are_connected_and_streamed_to_result_files_as_text_and_hex() {
+    let (_dir, fmu) = stub();
+    let connections = ["string", "binary"]
+        .iter()
+        .map(|t| Connection {
+            from: format!("a.{t}_out"),
+            to: format!("b.{t}_in"),
+        })
+        .collect();
+    let text = "a, \"quoted\" text";
+    let parameters = vec![
+        ("string_in", ParamValue::String(text.into())),
+        ("binary_in", ParamValue::String("00FF10".into())),
+    ];
+    let texts = system(
+        vec![instance("a", &fmu, parameters), instance("b", &fmu, vec![])],
+        connections,
+        &["b.string_out", "b.binary_out", "a.steps"],
+    );
+    let mut simulation = Simulation::new(texts, Path::new(".")).unwrap();
+    let types = simulation.column_types();
+    assert_eq!(&types[..2], [ColumnType::String, ColumnType::Binary]);
+    let dir = tempfile::tempdir().unwrap();
+    for format in [Format::Csv, Format::Arrow] {
+        let path = dir.path().join(format!("r.{}", format.extension()));
+        let mut stream =
+            results::Stream::create_typed(&path, simulation.column_names(), &[], &types, format)
+                .unwrap();
+        simulation.run(&mut stream).unwrap();
+        assert_eq!(stream.finish().unwrap(), 4);
+        if format == Format::Csv {
+            let csv = std::fs::read_to_string(&path).unwrap();
+            let last = csv.lines().last().unwrap();
+            assert_eq!(last, "0.3,\"a, \"\"quoted\"\" text\",00ff10,3", "{csv}");
+        } else {
+            let reader =
+                arrow_ipc::reader::FileReader::try_new(std::fs::File::open(&path).unwrap(), None)
+                    .unwrap();
+            let batch = reader.into_iter().next().unwrap().unwrap();
+            use arrow_array::cast::AsArray;
+            let strings = batch.column(1).as_string::<i32>();
+            assert_eq!(strings.value(3), text);
+            let bytes = batch.column(2).as_binary::<i32>();
+            assert_eq!(bytes.value(3), [0x00, 0xff, 0x10]);
+        }
+    }
+    // A String and a Binary are not connected to each other.
+    let crossed = system(
+        vec![instance("a", &fmu, vec![]), instance("b", &fmu, vec![])],
+        vec![Connection {
+            from: "a.string_out".into(),
+            to: "b.binary_in".into(),
+        }],
+        &["a.steps"],
+    );
+    let Err(MasterError::Resolve { problems, .. }) = Simulation::new(crossed, Path::new("."))
+    else {
+        panic!("a String was connected to a Binary");
+    };
+    assert!(
+        problems
+            .join("\n")
+            .contains("type mismatch (String -> Binary)"),
+        "{problems:?}"
+    );
+}

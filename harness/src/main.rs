@@ -292,6 +292,10 @@ impl cosim::master::Recorder for RunRecorder {
     fn failure(&self) -> Option<String> {
         self.out.failure()
     }
+
+    fn record_text(&mut self, column: usize, text: &str) {
+        self.out.record_text(column, text);
+    }
 }
 
 /// A progress bar of simulated time for a run on a terminal.

@@ -27,6 +27,7 @@ mod loops;
 mod model_exchange;
 mod resolve;
 mod table;
+mod text;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use model_exchange::{EventCounts, MeError, SolverSettings};
@@ -135,6 +136,10 @@ pub trait Recorder {
     fn failure(&self) -> Option<String> {
         None
     }
+    /// The value of the String or Binary column `column` (a Binary in hex), given before the
+    /// `record` of the first row that has it, and again whenever it changes; the slot of
+    /// such a column in `values` is 0. A recorder that keeps numbers only ignores it.
+    fn record_text(&mut self, _column: usize, _text: &str) {}
 }
 
 /// The most values [`Trajectory::reserve`] sets aside ahead of a run (256 MiB of f64): a
@@ -239,6 +244,7 @@ struct Io {
     integer: Block<i32>,
     boolean: Block<i32>,
     word: Block<u64>,
+    text: text::Texts,
 }
 
 impl Io {
@@ -249,6 +255,8 @@ impl Io {
             Buffer::Integer => self.integer.feedthrough_start,
             Buffer::Boolean => self.boolean.feedthrough_start,
             Buffer::Word(_) => self.word.feedthrough_start,
+            // Every text output counts as depending on every input.
+            Buffer::String | Buffer::Binary => 0,
         }
     }
 
@@ -258,6 +266,8 @@ impl Io {
             Buffer::Boolean => self.boolean.slot(port.value_reference),
             Buffer::Integer => self.integer.slot(port.value_reference),
             Buffer::Word(_) => self.word.slot(port.value_reference),
+            Buffer::String => self.text.slot(false, port.value_reference),
+            Buffer::Binary => self.text.slot(true, port.value_reference),
         }
     }
 }
@@ -270,16 +280,24 @@ enum Buffer {
     Integer,
     Boolean,
     Word(Fmi3Type),
+    String,
+    Binary,
 }
 
 impl Buffer {
     fn of(port: &Port) -> Buffer {
         match (port.word, port.kind) {
+            (Some(Fmi3Type::Binary), _) => Buffer::Binary,
             (Some(kind), _) => Buffer::Word(kind),
             (None, VariableKind::Real) => Buffer::Real,
             (None, VariableKind::Boolean) => Buffer::Boolean,
+            (None, VariableKind::String) => Buffer::String,
             (None, _) => Buffer::Integer,
         }
+    }
+
+    fn is_text(self) -> bool {
+        matches!(self, Buffer::String | Buffer::Binary)
     }
 
     /// The type of a recorded column of this buffer.
@@ -290,6 +308,8 @@ impl Buffer {
             Buffer::Integer => ColumnType::Int32,
             Buffer::Boolean => ColumnType::Boolean,
             Buffer::Word(kind) => ColumnType::of_fmi3(kind),
+            Buffer::String => ColumnType::String,
+            Buffer::Binary => ColumnType::Binary,
         }
     }
 }
@@ -363,6 +383,8 @@ struct Copies {
     integer: Vec<SlotRun>,
     boolean: Vec<SlotRun>,
     word: Vec<SlotRun>,
+    /// (binary, from, to): texts copied one by one.
+    text: Vec<(bool, usize, usize)>,
 }
 
 /// Output slots `from..from + len` to input slots `to..to + len`.
@@ -403,6 +425,11 @@ impl Copies {
                 Buffer::Integer => &mut group.integer,
                 Buffer::Boolean => &mut group.boolean,
                 Buffer::Word(_) => &mut group.word,
+                Buffer::String | Buffer::Binary => {
+                    let binary = link.buffer == Buffer::Binary;
+                    group.text.push((binary, link.from_slot, link.to_slot));
+                    continue;
+                }
             };
             SlotRun::push(runs, link.from_slot, link.to_slot);
         }
@@ -415,6 +442,9 @@ impl Copies {
         copy_slots(&self.boolean, &from.boolean.values, &mut to.boolean.values);
         if !self.word.is_empty() {
             copy_slots(&self.word, &from.word.values, &mut to.word.values);
+        }
+        for &(binary, from_slot, to_slot) in &self.text {
+            to.text.copy(&from.text, binary, from_slot, to_slot);
         }
     }
 }
@@ -454,6 +484,9 @@ pub struct Simulation {
     columns: Vec<(usize, Buffer, usize)>,
     /// The same columns as runs of consecutive slots of one unit and type, copied together.
     column_runs: Vec<ColumnRun>,
+    /// Per column: the text last given to the recorder (String and Binary columns), `None`
+    /// before a run's first row.
+    last_texts: Vec<Option<String>>,
     column_names: Vec<String>,
     column_units: Vec<String>,
     connection_names: Vec<(String, String)>,
@@ -635,6 +668,8 @@ impl Simulation {
                     Buffer::Boolean => "Boolean",
                     Buffer::Integer => "Integer",
                     Buffer::Word(kind) => kind.name(),
+                    Buffer::String => "String",
+                    Buffer::Binary => "Binary",
                 },
             };
             if !connectors.contains(&decl) {
@@ -661,6 +696,7 @@ impl Simulation {
             .map(|u| Copies::into_unit(&links, u))
             .collect();
         let row = vec![0.0; columns.len()];
+        let last_texts = vec![None; columns.len()];
         let read_after_step = AfterStep::of(&links, &outputs);
         Ok(Self {
             system,
@@ -672,6 +708,7 @@ impl Simulation {
             table_inputs,
             now: 0.0,
             columns,
+            last_texts,
             column_runs,
             column_names,
             column_units,
@@ -845,6 +882,7 @@ impl Simulation {
         }
         self.fresh = false;
         self.final_row.fill(f64::NAN);
+        self.last_texts.fill(None);
         self.finite.reset();
         self.initialize()?;
         let SystemDescription {
@@ -1099,6 +1137,7 @@ impl Simulation {
             io.integer.values.fill(0);
             io.boolean.values.fill(0);
             io.word.values.fill(0);
+            io.text.clear();
         }
         self.exit_initialization_modes()?;
         Ok(())
@@ -1140,6 +1179,9 @@ impl Simulation {
             if !inputs.word.vrs.is_empty() {
                 unit.instance
                     .set_words(&inputs.word.vrs, &inputs.word.values)?;
+            }
+            if !inputs.text.is_empty() {
+                inputs.text.set(&mut unit.instance)?;
             }
             Ok(())
         })();
@@ -1200,6 +1242,9 @@ impl Simulation {
                     &mut outputs.word.values[words],
                 )?;
             }
+            if !outputs.text.is_empty() && !matches!(part, Part::Stable) {
+                outputs.text.get(&mut unit.instance)?;
+            }
             Ok(())
         })();
         result.map_err(|e| call(&unit.name, "getting outputs", e))?;
@@ -1236,6 +1281,22 @@ impl Simulation {
                         *value = crate::results::ColumnType::of_fmi3(kind).slot_of_word(w);
                     }
                 }
+                Buffer::String | Buffer::Binary => {
+                    let binary = run.buffer == Buffer::Binary;
+                    row.fill(0.0);
+                    for (j, slot) in slots.enumerate() {
+                        let column = run.column + j;
+                        let last = &mut self.last_texts[column];
+                        if last
+                            .as_deref()
+                            .is_none_or(|text| outputs.text.differs(binary, slot, text))
+                        {
+                            let text = outputs.text.text(binary, slot);
+                            recorder.record_text(column, &text);
+                            *last = Some(text);
+                        }
+                    }
+                }
             }
         }
         recorder.record(time, &self.row);
@@ -1267,6 +1328,8 @@ impl Simulation {
             let unit = &mut self.units[port.instance];
             let vr = [port.value_reference];
             let read = match Buffer::of(port) {
+                // A final value is a number: a text has none.
+                Buffer::String | Buffer::Binary => Ok(0.0),
                 Buffer::Word(kind) => {
                     let mut w = [0];
                     unit.instance
@@ -1309,13 +1372,15 @@ impl Simulation {
 }
 
 /// Which exchange buffer of an [`Io`] holds a variable: 0 real, 1 integer (enumerations
-/// too), 2 boolean, 3 word.
+/// too), 2 boolean, 3 word, 4 string, 5 binary.
 fn block_index(buffer: Buffer) -> usize {
     match buffer {
         Buffer::Real => 0,
         Buffer::Integer => 1,
         Buffer::Boolean => 2,
         Buffer::Word(_) => 3,
+        Buffer::String => 4,
+        Buffer::Binary => 5,
     }
 }
 
@@ -1391,6 +1456,10 @@ fn feedthrough_last(
             .filter(|input| input.instance == u)
             .any(|input| feedthrough[u].depends(&port.name, &input.name, false));
         let slot = outputs[u].slot(port);
+        if Buffer::of(port).is_text() {
+            // Not partitioned: every text output is read with the feedthrough outputs.
+            continue;
+        }
         flags[u][block_index(Buffer::of(port))][slot] |= depends;
     }
     for (u, io) in outputs.iter_mut().enumerate() {
@@ -1400,10 +1469,13 @@ fn feedthrough_last(
             io.boolean.partition(&flags[u][2]),
             io.word.partition(&flags[u][3]),
         ];
-        for link in links.iter_mut().filter(|l| l.from_unit == u) {
+        for link in links
+            .iter_mut()
+            .filter(|l| l.from_unit == u && !l.buffer.is_text())
+        {
             link.from_slot = moved[block_index(link.buffer)][link.from_slot];
         }
-        for (unit_of, buffer, slot) in columns.iter_mut().filter(|c| c.0 == u) {
+        for (unit_of, buffer, slot) in columns.iter_mut().filter(|c| c.0 == u && !c.1.is_text()) {
             debug_assert_eq!(*unit_of, u);
             *slot = moved[block_index(*buffer)][*slot];
         }

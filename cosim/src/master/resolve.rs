@@ -13,11 +13,11 @@ pub struct Port {
     pub instance: usize,
     pub name: String,
     pub value_reference: u32,
-    /// Real, Integer (enumerations included) or Boolean; strings are not exchanged.
+    /// Real, Integer (enumerations included), Boolean or String (a Binary too).
     pub kind: VariableKind,
     /// The FMI 3.0 type of a variable that travels as a word (`fmi_import::word`: Float32,
-    /// the 8-, 16- and 64-bit and unsigned integers), exchanged through its own buffer and
-    /// connected only to its own type; `None` for every other.
+    /// the 8-, 16- and 64-bit and unsigned integers) or is a Binary, each exchanged through
+    /// its own buffer and connected only to its own type; `None` for every other.
     pub word: Option<Fmi3Type>,
 }
 
@@ -43,28 +43,29 @@ pub fn expand(fmu: &Fmu, variable: &str) -> Vec<String> {
         .collect()
 }
 
-fn exchange_kind(kind: VariableKind) -> Option<VariableKind> {
-    match kind.accessed_as() {
-        VariableKind::String => None,
-        other => Some(other),
-    }
-}
-
-/// The word type of `info`, if it travels as a word.
+/// The word type of `info` if it travels as a word, or Binary.
 fn word_of(info: &VariableInfo) -> Option<Fmi3Type> {
-    info.fmi3_type.filter(|&kind| word::is_word(kind))
+    info.fmi3_type
+        .filter(|&kind| word::is_word(kind) || kind == Fmi3Type::Binary)
 }
 
-/// The port of an exchanged variable, `None` for a String or Binary.
+/// The port of a variable.
 fn port_of(fmu: &Fmu, instance: usize, name: &str) -> Option<Port> {
     let info = fmu.variable(name).ok()?;
     Some(Port {
         instance,
         name: name.to_owned(),
         value_reference: info.value_reference,
-        kind: exchange_kind(info.kind)?,
+        kind: info.kind.accessed_as(),
         word: word_of(info),
     })
+}
+
+impl Port {
+    /// A String or a Binary.
+    pub fn is_text(&self) -> bool {
+        self.kind == VariableKind::String
+    }
 }
 
 /// Resolves `instance.variable` (vectors allowed) to ports, checking causality with `want`.
@@ -113,15 +114,7 @@ pub fn ports(
             ));
             continue;
         }
-        let Some(port) = port_of(fmu, instance, &name) else {
-            problems.push(format!(
-                "'{instance_name}.{name}' is a {}; strings and binaries are set as parameters, \
-                 not exchanged or recorded",
-                info.type_name()
-            ));
-            continue;
-        };
-        out.push(port);
+        out.extend(port_of(fmu, instance, &name));
     }
     out
 }
@@ -255,7 +248,8 @@ fn pattern_ports(
             if !glob_matches(variable_pattern, &variable.name) {
                 continue;
             }
-            if let Some(port) = port_of(fmu, instance, &variable.name) {
+            // A pattern records numbers: a String or Binary is recorded by its name.
+            if let Some(port) = port_of(fmu, instance, &variable.name).filter(|p| !p.is_text()) {
                 out.push(port);
             }
         }

@@ -13,8 +13,9 @@ use arrow_array::types::{
     UInt64Type, UInt8Type,
 };
 use arrow_array::{
-    Array, ArrayRef, BooleanArray, Float32Array, Float64Array, Int16Array, Int32Array, Int64Array,
-    Int8Array, RecordBatch, UInt16Array, UInt32Array, UInt64Array, UInt8Array,
+    Array, ArrayRef, BinaryArray, BooleanArray, Float32Array, Float64Array, Int16Array, Int32Array,
+    Int64Array, Int8Array, RecordBatch, StringArray, UInt16Array, UInt32Array, UInt64Array,
+    UInt8Array,
 };
 use arrow_schema::{DataType, Field, Schema};
 use std::fs::File;
@@ -85,6 +86,21 @@ fn data_type(kind: ColumnType) -> DataType {
         ColumnType::Int64 => DataType::Int64,
         ColumnType::UInt64 => DataType::UInt64,
         ColumnType::Boolean => DataType::Boolean,
+        ColumnType::String => DataType::Utf8,
+        ColumnType::Binary => DataType::Binary,
+    }
+}
+
+/// A text column of `texts` (a Binary's in hex, as `Recorder::record_text` gives them).
+fn text_array(kind: ColumnType, texts: Vec<String>) -> ArrayRef {
+    if kind == ColumnType::Binary {
+        let bytes: Vec<Vec<u8>> = texts
+            .iter()
+            .map(|t| fmi_import::word::from_hex(t).unwrap_or_default())
+            .collect();
+        Arc::new(BinaryArray::from_iter_values(bytes))
+    } else {
+        Arc::new(StringArray::from(texts))
     }
 }
 
@@ -107,6 +123,10 @@ fn array(kind: ColumnType, slots: Vec<f64>) -> ArrayRef {
         ColumnType::Boolean => Arc::new(BooleanArray::from(
             slots.iter().map(|&b| b != 0.0).collect::<Vec<_>>(),
         )),
+        // A trajectory in memory keeps no text: the column is empty texts.
+        ColumnType::String | ColumnType::Binary => {
+            text_array(kind, vec![String::new(); slots.len()])
+        }
     }
 }
 
@@ -137,6 +157,8 @@ fn slots(path: &Path, name: &str, column: &dyn Array) -> anyhow::Result<Vec<f64>
                 .map(|k| f64::from(u8::from(booleans.value(k))))
                 .collect()
         }
+        // Text has no slot (see `columns.rs`).
+        DataType::Utf8 | DataType::Binary => vec![0.0; n],
         other => anyhow::bail!(
             "{}: column '{name}' is {other}, not one of the types a result file holds",
             path.display()
@@ -161,6 +183,8 @@ fn column_type(data_type: &DataType) -> ColumnType {
         ColumnType::Int64,
         ColumnType::UInt64,
         ColumnType::Boolean,
+        ColumnType::String,
+        ColumnType::Binary,
     ]
     .into_iter()
     .find(|&kind| self::data_type(kind) == *data_type)
@@ -199,6 +223,9 @@ pub(super) struct ArrowStream {
     writer: arrow_ipc::writer::FileWriter<BufWriter<File>>,
     schema: Arc<Schema>,
     types: Vec<ColumnType>,
+    /// The current value of each text column, and each text column's values in the batch.
+    texts: Vec<String>,
+    text_columns: Vec<Vec<String>>,
     times: Vec<f64>,
     /// Column-major: one vector per recorded column.
     columns: Vec<Vec<f64>>,
@@ -222,6 +249,8 @@ impl ArrowStream {
             writer,
             schema,
             types: types.to_vec(),
+            texts: vec![String::new(); names.len()],
+            text_columns: vec![Vec::new(); names.len()],
             times: Vec::new(),
             columns: vec![Vec::new(); names.len()],
             batches: 0,
@@ -239,6 +268,11 @@ impl ArrowStream {
         for (column, &value) in self.columns.iter_mut().zip(values) {
             column.push(value);
         }
+        for (j, texts) in self.text_columns.iter_mut().enumerate() {
+            if type_of(&self.types, j).is_text() {
+                texts.push(self.texts[j].clone());
+            }
+        }
         if self.times.len() == BATCH_ROWS {
             self.flush_batch()?;
         }
@@ -251,12 +285,25 @@ impl ArrowStream {
             &mut self.times,
         ))));
         for (j, column) in self.columns.iter_mut().enumerate() {
-            columns.push(array(type_of(&self.types, j), std::mem::take(column)));
+            let kind = type_of(&self.types, j);
+            let slots = std::mem::take(column);
+            columns.push(if kind.is_text() {
+                text_array(kind, std::mem::take(&mut self.text_columns[j]))
+            } else {
+                array(kind, slots)
+            });
         }
         self.writer
             .write(&RecordBatch::try_new(self.schema.clone(), columns)?)?;
         self.batches += 1;
         Ok(())
+    }
+
+    /// The value of text column `column` from the next row on.
+    pub(super) fn text(&mut self, column: usize, text: &str) {
+        if let Some(slot) = self.texts.get_mut(column) {
+            text.clone_into(slot);
+        }
     }
 
     pub(super) fn finish(mut self) -> anyhow::Result<()> {

@@ -10,8 +10,13 @@
 //!   (`f64::from_bits`): [`ColumnType::number`] gives the value as the nearest f64, and the
 //!   result files write the integer itself.
 //!
+//! - String and Binary columns have the slot 0: their values reach a recorder as text
+//!   (`Recorder::record_text`, a Binary in lower-case hex, two digits a byte, as fmusim
+//!   writes it), which the result streams write; a trajectory in memory keeps no text.
+//!
 //! A file written with types writes integers as integers (`1000`, not `1000.0`) in CSV and
-//! as typed columns in Arrow; Float32 is written as its exact f64 value.
+//! as typed columns in Arrow; Float32 is written as its exact f64 value; a String as text
+//! (quoted where CSV needs it), a Binary as hex in CSV and as bytes in Arrow.
 use fmi_import::{word, Fmi3Type};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -28,6 +33,8 @@ pub enum ColumnType {
     Int64,
     UInt64,
     Boolean,
+    String,
+    Binary,
 }
 
 impl ColumnType {
@@ -44,6 +51,8 @@ impl ColumnType {
             Fmi3Type::Int64 => ColumnType::Int64,
             Fmi3Type::UInt64 => ColumnType::UInt64,
             Fmi3Type::Boolean => ColumnType::Boolean,
+            Fmi3Type::String => ColumnType::String,
+            Fmi3Type::Binary => ColumnType::Binary,
             _ => ColumnType::Float64,
         }
     }
@@ -62,7 +71,14 @@ impl ColumnType {
             ColumnType::Int64 => "Int64",
             ColumnType::UInt64 => "UInt64",
             ColumnType::Boolean => "Boolean",
+            ColumnType::String => "String",
+            ColumnType::Binary => "Binary",
         }
+    }
+
+    /// A String or Binary column: its values come as text, not in the row.
+    pub fn is_text(self) -> bool {
+        matches!(self, ColumnType::String | ColumnType::Binary)
     }
 
     /// Whether the slot holds the value's bits rather than its f64.
@@ -73,7 +89,11 @@ impl ColumnType {
     pub fn is_integer(self) -> bool {
         !matches!(
             self,
-            ColumnType::Float64 | ColumnType::Float32 | ColumnType::Boolean
+            ColumnType::Float64
+                | ColumnType::Float32
+                | ColumnType::Boolean
+                | ColumnType::String
+                | ColumnType::Binary
         )
     }
 

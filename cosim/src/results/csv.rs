@@ -46,7 +46,10 @@ fn write_csv_typed_to(
         out.write_all(number(&mut buffer, trajectory.times[k]).as_bytes())?;
         for (j, &value) in trajectory.row(k).iter().enumerate() {
             out.write_all(b",")?;
-            write_value(out, &mut buffer, type_of(types, j), value)?;
+            // A trajectory in memory keeps no text: its text columns are empty.
+            if !type_of(types, j).is_text() {
+                write_value(out, &mut buffer, type_of(types, j), value)?;
+            }
         }
         writeln!(out)?;
     }
@@ -59,6 +62,8 @@ pub(super) struct CsvStream {
     out: std::io::BufWriter<std::fs::File>,
     buffer: ryu::Buffer,
     types: Vec<ColumnType>,
+    /// The current value of each text column, as written.
+    texts: Vec<String>,
 }
 
 impl CsvStream {
@@ -81,7 +86,15 @@ impl CsvStream {
             out,
             buffer: ryu::Buffer::new(),
             types: types.to_vec(),
+            texts: vec![String::new(); names.len()],
         })
+    }
+
+    /// The value of text column `column` from the next row on.
+    pub(super) fn text(&mut self, column: usize, text: &str) {
+        if let Some(slot) = self.texts.get_mut(column) {
+            *slot = quote(text);
+        }
     }
 
     pub(super) fn row(&mut self, time: f64, values: &[f64]) -> std::io::Result<()> {
@@ -89,12 +102,12 @@ impl CsvStream {
             .write_all(number(&mut self.buffer, time).as_bytes())?;
         for (j, &value) in values.iter().enumerate() {
             self.out.write_all(b",")?;
-            write_value(
-                &mut self.out,
-                &mut self.buffer,
-                type_of(&self.types, j),
-                value,
-            )?;
+            let kind = type_of(&self.types, j);
+            if kind.is_text() {
+                self.out.write_all(self.texts[j].as_bytes())?;
+            } else {
+                write_value(&mut self.out, &mut self.buffer, kind, value)?;
+            }
         }
         writeln!(self.out)
     }
@@ -131,9 +144,10 @@ fn number(buffer: &mut ryu::Buffer, value: f64) -> &str {
     }
 }
 
-/// Names with a comma or quote are quoted (ours never have one, but a third-party FMU's may).
+/// Names with a comma or quote are quoted (ours never have one, but a third-party FMU's may),
+/// and so are String values with one or a line break.
 pub(super) fn quote(name: &str) -> String {
-    if name.contains([',', '"']) {
+    if name.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", name.replace('"', "\"\""))
     } else {
         name.to_owned()
@@ -170,6 +184,10 @@ pub fn read_csv_typed(path: &Path, types: &[ColumnType]) -> anyhow::Result<Traje
             .parse::<f64>()?;
         trajectory.times.push(time);
         for (j, field) in fields.enumerate() {
+            if type_of(types, j).is_text() {
+                trajectory.values.push(0.0);
+                continue;
+            }
             trajectory.values.push(
                 type_of(types, j)
                     .parse_slot(field)

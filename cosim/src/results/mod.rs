@@ -209,6 +209,13 @@ impl Recorder for Stream {
     fn failure(&self) -> Option<String> {
         self.error.as_ref().map(|e| format!("{e:#}"))
     }
+
+    fn record_text(&mut self, column: usize, text: &str) {
+        match &mut self.sink {
+            Sink::Csv(csv) => csv.text(column, text),
+            Sink::Arrow(arrow) => arrow.text(column, text),
+        }
+    }
 }
 
 /// The units file beside a CSV result `path`: `run.csv` -> `run.units.csv`.

@@ -239,6 +239,10 @@ impl Supervised {
                 break error;
             }
             match worker.next(deadline, &limits) {
+                Ok(FromWorker::Text { row, column, text }) => {
+                    hand.texts.push_back((row, column as usize, text));
+                    answer = Ok(());
+                }
                 Ok(FromWorker::Rows { upto }) => {
                     worker.hand_on(&mut hand, upto, recorder);
                     let stop = hand.failed.as_ref().map(|(_, reason)| reason.clone());
@@ -347,6 +351,8 @@ impl Supervised {
 struct Hand {
     taken: u64,
     failed: Option<(f64, String)>,
+    /// Text values (row, column, text) not yet handed on, in the order sent.
+    texts: std::collections::VecDeque<(u64, usize, String)>,
 }
 
 impl Hand {
@@ -485,6 +491,10 @@ impl Worker {
         for row in first..upto {
             if hand.failed.is_some() {
                 break;
+            }
+            while let Some((_, column, text)) = hand.texts.front().filter(|t| t.0 <= row) {
+                recorder.record_text(*column, text);
+                hand.texts.pop_front();
             }
             let (time, values) = ring.read(row);
             recorder.record(time, values);

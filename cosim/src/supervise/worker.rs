@@ -243,6 +243,20 @@ impl Recorder for RingRecorder<'_> {
         }
     }
 
+    fn record_text(&mut self, column: usize, text: &str) {
+        if self.broken.is_some() {
+            return;
+        }
+        let message = FromWorker::Text {
+            row: self.rows,
+            column: column as u64,
+            text: text.to_owned(),
+        };
+        if let Err(error) = send(self.output, &message) {
+            self.broken = Some(error);
+        }
+    }
+
     fn failure(&self) -> Option<String> {
         match (&self.broken, &self.stop) {
             (Some(error), _) => Some(format!("the parent process is gone: {error}")),
