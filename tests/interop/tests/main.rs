@@ -11,5 +11,6 @@ mod fmpy_ssp;
 mod libcosim;
 mod python_plant;
 mod pythonfmu3;
+mod pythonfmu3_types;
 mod scripts;
 mod ssp_package;
