@@ -245,6 +245,8 @@ struct Io {
     boolean: Block<i32>,
     word: Block<u64>,
     text: text::Texts,
+    /// It has words or texts, which take paths of their own (set once its slots are).
+    others: bool,
 }
 
 impl Io {
@@ -258,6 +260,11 @@ impl Io {
             // Every text output counts as depending on every input.
             Buffer::String | Buffer::Binary => 0,
         }
+    }
+
+    /// Notes whether it has words or texts, once its slots are all taken.
+    fn note_others(&mut self) {
+        self.others = !self.word.vrs.is_empty() || !self.text.is_empty();
     }
 
     fn slot(&mut self, port: &Port) -> usize {
@@ -385,6 +392,8 @@ struct Copies {
     word: Vec<SlotRun>,
     /// (binary, from, to): texts copied one by one.
     text: Vec<(bool, usize, usize)>,
+    /// Words or texts to copy, on a path of their own.
+    others: bool,
 }
 
 /// Output slots `from..from + len` to input slots `to..to + len`.
@@ -433,6 +442,9 @@ impl Copies {
             };
             SlotRun::push(runs, link.from_slot, link.to_slot);
         }
+        for group in &mut groups {
+            group.others = !group.word.is_empty() || !group.text.is_empty();
+        }
         groups
     }
 
@@ -440,9 +452,14 @@ impl Copies {
         copy_slots(&self.real, &from.real.values, &mut to.real.values);
         copy_slots(&self.integer, &from.integer.values, &mut to.integer.values);
         copy_slots(&self.boolean, &from.boolean.values, &mut to.boolean.values);
-        if !self.word.is_empty() {
-            copy_slots(&self.word, &from.word.values, &mut to.word.values);
+        if self.others {
+            self.apply_others(from, to);
         }
+    }
+
+    #[inline(never)]
+    fn apply_others(&self, from: &Io, to: &mut Io) {
+        copy_slots(&self.word, &from.word.values, &mut to.word.values);
         for &(binary, from_slot, to_slot) in &self.text {
             to.text.copy(&from.text, binary, from_slot, to_slot);
         }
@@ -482,8 +499,10 @@ pub struct Simulation {
     now: f64,
     /// (unit, buffer, output slot) per recorded column.
     columns: Vec<(usize, Buffer, usize)>,
-    /// The same columns as runs of consecutive slots of one unit and type, copied together.
+    /// The same columns as runs of consecutive slots of one unit and type, copied together;
+    /// the String and Binary ones apart, in `text_runs`.
     column_runs: Vec<ColumnRun>,
+    text_runs: Vec<ColumnRun>,
     /// Per column: the text last given to the recorder (String and Binary columns), `None`
     /// before a run's first row.
     last_texts: Vec<Option<String>>,
@@ -686,12 +705,17 @@ impl Simulation {
             &mut links,
             &mut columns,
         );
+        for io in inputs.iter_mut().chain(&mut outputs) {
+            io.note_others();
+        }
         let units = instantiate(&system, &fmus, &outputs)?;
         let get_before_set = units
             .iter()
             .map(|unit| !unit.instance.can_get_after_set())
             .collect();
-        let column_runs = ColumnRun::of(&columns);
+        let (text_runs, column_runs): (Vec<_>, Vec<_>) = ColumnRun::of(&columns)
+            .into_iter()
+            .partition(|run| run.buffer.is_text());
         let copies_into = (0..units.len())
             .map(|u| Copies::into_unit(&links, u))
             .collect();
@@ -710,6 +734,7 @@ impl Simulation {
             columns,
             last_texts,
             column_runs,
+            text_runs,
             column_names,
             column_units,
             connection_names,
@@ -1176,12 +1201,8 @@ impl Simulation {
                 unit.instance
                     .set_boolean_raw(&inputs.boolean.vrs, &inputs.boolean.values)?;
             }
-            if !inputs.word.vrs.is_empty() {
-                unit.instance
-                    .set_words(&inputs.word.vrs, &inputs.word.values)?;
-            }
-            if !inputs.text.is_empty() {
-                inputs.text.set(&mut unit.instance)?;
+            if inputs.others {
+                set_others(&mut unit.instance, inputs)?;
             }
             Ok(())
         })();
@@ -1235,15 +1256,8 @@ impl Simulation {
                     &mut outputs.boolean.values[boolean],
                 )?;
             }
-            let words = part.of(&outputs.word);
-            if !words.is_empty() {
-                unit.instance.get_words(
-                    &outputs.word.vrs[words.clone()],
-                    &mut outputs.word.values[words],
-                )?;
-            }
-            if !outputs.text.is_empty() && !matches!(part, Part::Stable) {
-                outputs.text.get(&mut unit.instance)?;
+            if outputs.others {
+                get_others(&mut unit.instance, outputs, part)?;
             }
             Ok(())
         })();
@@ -1264,40 +1278,28 @@ impl Simulation {
             let outputs = &self.outputs[run.unit];
             let row = &mut self.row[run.column..run.column + run.len];
             let slots = run.slot..run.slot + run.len;
-            match run.buffer {
-                Buffer::Real => row.copy_from_slice(&outputs.real.values[slots]),
-                Buffer::Boolean => {
+            match run.block {
+                REAL => row.copy_from_slice(&outputs.real.values[slots]),
+                BOOLEAN => {
                     for (value, &b) in row.iter_mut().zip(&outputs.boolean.values[slots]) {
                         *value = f64::from(b);
                     }
                 }
-                Buffer::Integer => {
+                INTEGER => {
                     for (value, &i) in row.iter_mut().zip(&outputs.integer.values[slots]) {
                         *value = f64::from(i);
                     }
                 }
-                Buffer::Word(kind) => {
-                    for (value, &w) in row.iter_mut().zip(&outputs.word.values[slots]) {
-                        *value = crate::results::ColumnType::of_fmi3(kind).slot_of_word(w);
-                    }
-                }
-                Buffer::String | Buffer::Binary => {
-                    let binary = run.buffer == Buffer::Binary;
-                    row.fill(0.0);
-                    for (j, slot) in slots.enumerate() {
-                        let column = run.column + j;
-                        let last = &mut self.last_texts[column];
-                        if last
-                            .as_deref()
-                            .is_none_or(|text| outputs.text.differs(binary, slot, text))
-                        {
-                            let text = outputs.text.text(binary, slot);
-                            recorder.record_text(column, &text);
-                            *last = Some(text);
-                        }
+                // Texts are in `text_runs` instead: their slots stay 0.
+                _ => {
+                    if let Buffer::Word(kind) = run.buffer {
+                        word_slots(kind, row, &outputs.word.values[slots]);
                     }
                 }
             }
+        }
+        if !self.text_runs.is_empty() {
+            self.record_texts(recorder);
         }
         recorder.record(time, &self.row);
         if let Some(reason) = recorder.failure() {
@@ -1305,6 +1307,28 @@ impl Simulation {
             return Err(MasterError::Record { time, reason });
         }
         self.settle_non_finite(time)
+    }
+
+    /// Hands the recorder each text column whose value changed since the last row (every one
+    /// at a run's first row).
+    #[inline(never)]
+    fn record_texts(&mut self, recorder: &mut dyn Recorder) {
+        for run in &self.text_runs {
+            let texts = &self.outputs[run.unit].text;
+            let binary = run.buffer == Buffer::Binary;
+            for j in 0..run.len {
+                let (column, slot) = (run.column + j, run.slot + j);
+                let last = &mut self.last_texts[column];
+                if last
+                    .as_deref()
+                    .is_none_or(|text| texts.differs(binary, slot, text))
+                {
+                    let text = texts.text(binary, slot);
+                    recorder.record_text(column, &text);
+                    *last = Some(text);
+                }
+            }
+        }
     }
 
     /// Ends the run with the first value read for the row of `time` that was not a finite
@@ -1371,17 +1395,68 @@ impl Simulation {
     }
 }
 
-/// Which exchange buffer of an [`Io`] holds a variable: 0 real, 1 integer (enumerations
-/// too), 2 boolean, 3 word, 4 string, 5 binary.
-fn block_index(buffer: Buffer) -> usize {
-    match buffer {
-        Buffer::Real => 0,
-        Buffer::Integer => 1,
-        Buffer::Boolean => 2,
-        Buffer::Word(_) => 3,
-        Buffer::String => 4,
-        Buffer::Binary => 5,
+/// Sets the words and texts of `inputs`; out of line, as [`word_slots`].
+#[inline(never)]
+fn set_others(instance: &mut fmi_import::Instance, inputs: &Io) -> Result<(), CallError> {
+    if !inputs.word.vrs.is_empty() {
+        instance.set_words(&inputs.word.vrs, &inputs.word.values)?;
     }
+    if !inputs.text.is_empty() {
+        inputs.text.set(instance)?;
+    }
+    Ok(())
+}
+
+/// Gets the words (of `part`) and texts (every text output counts as feedthrough) of
+/// `outputs`; out of line, as [`word_slots`].
+#[inline(never)]
+fn get_others(
+    instance: &mut fmi_import::Instance,
+    outputs: &mut Io,
+    part: Part,
+) -> Result<(), CallError> {
+    let words = part.of(&outputs.word);
+    if !words.is_empty() {
+        instance.get_words(
+            &outputs.word.vrs[words.clone()],
+            &mut outputs.word.values[words],
+        )?;
+    }
+    if !outputs.text.is_empty() && !matches!(part, Part::Stable) {
+        outputs.text.get(instance)?;
+    }
+    Ok(())
+}
+
+/// The row slots of words of type `kind` (see `results::ColumnType`); out of line, so that
+/// the loop over the other columns stays as it is without them.
+#[inline(never)]
+fn word_slots(kind: Fmi3Type, row: &mut [f64], words: &[u64]) {
+    let column = crate::results::ColumnType::of_fmi3(kind);
+    for (value, &w) in row.iter_mut().zip(words) {
+        *value = column.slot_of_word(w);
+    }
+}
+
+/// Which exchange buffer of an [`Io`] holds a variable (enumerations in the integer one);
+/// also the tag `record` dispatches on, a plain number being cheaper to match than a
+/// [`Buffer`] with its word type.
+const REAL: u8 = 0;
+const INTEGER: u8 = 1;
+const BOOLEAN: u8 = 2;
+const WORD: u8 = 3;
+const STRING: u8 = 4;
+const BINARY: u8 = 5;
+
+fn block_index(buffer: Buffer) -> usize {
+    usize::from(match buffer {
+        Buffer::Real => REAL,
+        Buffer::Integer => INTEGER,
+        Buffer::Boolean => BOOLEAN,
+        Buffer::Word(_) => WORD,
+        Buffer::String => STRING,
+        Buffer::Binary => BINARY,
+    })
 }
 
 /// Recorded columns `column..column + len` are output slots `slot..slot + len` of one unit
@@ -1389,6 +1464,8 @@ fn block_index(buffer: Buffer) -> usize {
 #[derive(Debug, Clone, Copy)]
 struct ColumnRun {
     unit: usize,
+    /// What `record` dispatches on: a plain tag, cheaper to match than `buffer`.
+    block: u8,
     buffer: Buffer,
     slot: usize,
     column: usize,
@@ -1407,6 +1484,7 @@ impl ColumnRun {
                 }
                 _ => runs.push(ColumnRun {
                     unit,
+                    block: block_index(buffer) as u8,
                     buffer,
                     slot,
                     column,
