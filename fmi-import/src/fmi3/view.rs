@@ -16,6 +16,11 @@
 //! for other values, over the same binary, and each instance made from it applies those
 //! values in Configuration Mode right after instantiation (and after a reset), so the arrays
 //! the FMU holds have the extents the view shows, and `x[1]..x[n]` follow the `n` set.
+//!
+//! An array's start values in the file are for the structural parameters' start values.
+//! For another extent they say nothing the view could use, so its elements have no start
+//! value there; and since a set writes an array whole (`instance.rs`), a set of some of its
+//! elements writes the others as 0 until they are set too: such an array is best set whole.
 use crate::error::LoadError;
 use crate::word;
 use model_description::fmi3::{Fmi3ModelDescription, Fmi3Type, Fmi3Variable};
@@ -362,11 +367,14 @@ fn element_name(name: &str, shape: &[usize], index: usize) -> String {
     format!("{name}[{}]", list.join(","))
 }
 
-/// The start token of element `index`: its own, or the one token given for all.
+/// The start token of element `index`: its own, or the one token given for all; none when
+/// the tokens are for another extent (an array sized by a structural parameter set to
+/// another value: which token belongs to which element is then the FMU's to say).
 fn start_token(variable: &Fmi3Variable, index: usize, len: usize) -> Option<&str> {
     match variable.start.len() {
         0 => None,
         1 if len > 1 => Some(variable.start[0].as_str()),
+        n if n != len => None,
         _ => variable.start.get(index).map(String::as_str),
     }
 }
@@ -531,6 +539,16 @@ mod tests {
         assert_eq!(set.starts.words[set.configured[0] as usize], 6);
         let zero = scalar_view(&md, &[("n".into(), "0".into())]).unwrap();
         assert_eq!(count(&zero), 0);
+        // u's three start values are not y's: with y of 6 they are no start of its elements.
+        let xml = xml.replace(
+            r#"<Dimension start="3"/></Float64>"#,
+            r#"<Dimension valueReference="40"/></Float64>"#,
+        );
+        let md = Fmi3ModelDescription::from_xml(&xml).unwrap();
+        let start = scalar_view(&md, &[]).unwrap();
+        assert!(start.description.model_variables.variables[..3]
+            .iter()
+            .all(|v| v.real.as_ref().unwrap().start.is_none()));
     }
 
     #[test]
