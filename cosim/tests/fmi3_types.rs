@@ -289,3 +289,26 @@ fn strings_and_binaries_are_connected_and_streamed_to_result_files_as_text_and_h
         "{problems:?}"
     );
 }
+
+#[test]
+fn an_input_table_drives_no_word_string_or_binary_input() {
+    let (_dir, fmu) = stub();
+    let mut table_system = system(vec![instance("a", &fmu, vec![])], vec![], &["a.steps"]);
+    table_system.inputs = Some(
+        cosim::system::input_table::InputTable::parse_csv(
+            "time,a.uint8_in,a.string_in,a.x[1]\n0,1,2,3\n1,1,2,3\n",
+        )
+        .unwrap(),
+    );
+    let Err(MasterError::Resolve { problems, .. }) = Simulation::new(table_system, Path::new("."))
+    else {
+        panic!("a table drove a UInt8 and a String");
+    };
+    let text = problems.join("\n");
+    assert!(text.contains("'a.uint8_in': the input is UInt8"), "{text}");
+    assert!(
+        text.contains("'a.string_in': the input is String"),
+        "{text}"
+    );
+    assert!(!text.contains("x[1]"), "a Float64 input is driven: {text}");
+}

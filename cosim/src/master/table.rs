@@ -48,11 +48,11 @@ pub fn resolve(
                     ));
                     return;
                 }
-                if let Some(kind) = port.word {
+                if port.word.is_some() || port.is_text() {
                     problems.push(format!(
                         "input table column '{name}': the input is {}; an input table drives \
                          Real, Integer and Boolean inputs",
-                        kind.name()
+                        port.type_name()
                     ));
                     return;
                 }
