@@ -21,6 +21,7 @@
 //!   requires (see `loader::InstanceOptions` and harness/README.md).
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
+mod buffer;
 mod conventions;
 mod finite;
 mod loops;
@@ -34,6 +35,7 @@ pub use model_exchange::{EventCounts, MeError, SolverSettings};
 pub use resolve::Port;
 
 use crate::system::{Ordering, ParamValue, SystemDescription};
+use buffer::{block_index, get_others, set_others, word_slots, Buffer, BOOLEAN, INTEGER, REAL};
 use fmi_import::VariableKind;
 use fmi_import::{CallError, Fmi3Type, FmiError, Fmu, InstanceOptions, StepStatus};
 use std::path::{Path, PathBuf};
@@ -275,48 +277,6 @@ impl Io {
             Buffer::Word(_) => self.word.slot(port.value_reference),
             Buffer::String => self.text.slot(false, port.value_reference),
             Buffer::Binary => self.text.slot(true, port.value_reference),
-        }
-    }
-}
-
-/// The exchange buffer of a port, with the word type of a word's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Buffer {
-    Real,
-    /// Integers and enumerations.
-    Integer,
-    Boolean,
-    Word(Fmi3Type),
-    String,
-    Binary,
-}
-
-impl Buffer {
-    fn of(port: &Port) -> Buffer {
-        match (port.word, port.kind) {
-            (Some(Fmi3Type::Binary), _) => Buffer::Binary,
-            (Some(kind), _) => Buffer::Word(kind),
-            (None, VariableKind::Real) => Buffer::Real,
-            (None, VariableKind::Boolean) => Buffer::Boolean,
-            (None, VariableKind::String) => Buffer::String,
-            (None, _) => Buffer::Integer,
-        }
-    }
-
-    fn is_text(self) -> bool {
-        matches!(self, Buffer::String | Buffer::Binary)
-    }
-
-    /// The type of a recorded column of this buffer.
-    fn column_type(self) -> crate::results::ColumnType {
-        use crate::results::ColumnType;
-        match self {
-            Buffer::Real => ColumnType::Float64,
-            Buffer::Integer => ColumnType::Int32,
-            Buffer::Boolean => ColumnType::Boolean,
-            Buffer::Word(kind) => ColumnType::of_fmi3(kind),
-            Buffer::String => ColumnType::String,
-            Buffer::Binary => ColumnType::Binary,
         }
     }
 }
@@ -1393,70 +1353,6 @@ impl Simulation {
             let _ = unit.instance.terminate();
         }
     }
-}
-
-/// Sets the words and texts of `inputs`; out of line, as [`word_slots`].
-#[inline(never)]
-fn set_others(instance: &mut fmi_import::Instance, inputs: &Io) -> Result<(), CallError> {
-    if !inputs.word.vrs.is_empty() {
-        instance.set_words(&inputs.word.vrs, &inputs.word.values)?;
-    }
-    if !inputs.text.is_empty() {
-        inputs.text.set(instance)?;
-    }
-    Ok(())
-}
-
-/// Gets the words (of `part`) and texts (every text output counts as feedthrough) of
-/// `outputs`; out of line, as [`word_slots`].
-#[inline(never)]
-fn get_others(
-    instance: &mut fmi_import::Instance,
-    outputs: &mut Io,
-    part: Part,
-) -> Result<(), CallError> {
-    let words = part.of(&outputs.word);
-    if !words.is_empty() {
-        instance.get_words(
-            &outputs.word.vrs[words.clone()],
-            &mut outputs.word.values[words],
-        )?;
-    }
-    if !outputs.text.is_empty() && !matches!(part, Part::Stable) {
-        outputs.text.get(instance)?;
-    }
-    Ok(())
-}
-
-/// The row slots of words of type `kind` (see `results::ColumnType`); out of line, so that
-/// the loop over the other columns stays as it is without them.
-#[inline(never)]
-fn word_slots(kind: Fmi3Type, row: &mut [f64], words: &[u64]) {
-    let column = crate::results::ColumnType::of_fmi3(kind);
-    for (value, &w) in row.iter_mut().zip(words) {
-        *value = column.slot_of_word(w);
-    }
-}
-
-/// Which exchange buffer of an [`Io`] holds a variable (enumerations in the integer one);
-/// also the tag `record` dispatches on, a plain number being cheaper to match than a
-/// [`Buffer`] with its word type.
-const REAL: u8 = 0;
-const INTEGER: u8 = 1;
-const BOOLEAN: u8 = 2;
-const WORD: u8 = 3;
-const STRING: u8 = 4;
-const BINARY: u8 = 5;
-
-fn block_index(buffer: Buffer) -> usize {
-    usize::from(match buffer {
-        Buffer::Real => REAL,
-        Buffer::Integer => INTEGER,
-        Buffer::Boolean => BOOLEAN,
-        Buffer::Word(_) => WORD,
-        Buffer::String => STRING,
-        Buffer::Binary => BINARY,
-    })
 }
 
 /// Recorded columns `column..column + len` are output slots `slot..slot + len` of one unit
