@@ -257,7 +257,7 @@ fn pattern_ports(
     if out.is_empty() {
         problems.push(format!(
             "'{path}' matches no variable of any instance (in a record pattern `*` stands for \
-             any characters and `?` for one; strings are not recorded)"
+             any characters and `?` for one; a String or Binary is recorded by its name)"
         ));
     }
     out
