@@ -312,3 +312,30 @@ fn an_input_table_drives_no_word_string_or_binary_input() {
     );
     assert!(!text.contains("x[1]"), "a Float64 input is driven: {text}");
 }
+
+#[test]
+fn an_ssd_connector_may_declare_an_fmi3_variable_by_its_type_or_its_fmi2_counterpart() {
+    let (_dir, fmu) = stub();
+    let declared = |name: &str, type_name: &str| cosim::system::DeclaredConnector {
+        name: name.into(),
+        kind: "output".into(),
+        type_name: Some(type_name.into()),
+    };
+    let mut ssd = system(vec![instance("a", &fmu, vec![])], vec![], &["a.steps"]);
+    ssd.instances[0].connectors = Some(vec![
+        declared("binary_out", "Binary"),
+        declared("uint64_out", "Integer"),
+        declared("steps", "Int64"),
+        declared("int8_out", "Boolean"),
+    ]);
+    let Err(MasterError::Resolve { problems, .. }) = Simulation::new(ssd, Path::new(".")) else {
+        panic!("an Int8 declared Boolean was accepted");
+    };
+    assert_eq!(
+        problems,
+        [
+            "component 'a': connector 'int8_out' is declared Boolean but the FMU's variable is \
+          Int8"
+        ]
+    );
+}

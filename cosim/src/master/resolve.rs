@@ -563,11 +563,15 @@ pub fn declared_connectors(system: &SystemDescription, fmus: &[Fmu], problems: &
                 ));
             }
             if let Some(type_name) = &connector.type_name {
-                if *type_name != format!("{:?}", info.kind) {
+                // An FMI 3.0 variable may be declared by its own type or its FMI 2.0
+                // counterpart (an SSP 1.0 connector knows Real, Integer, ... only).
+                if *type_name != format!("{:?}", info.kind) && *type_name != info.type_name() {
                     problems.push(format!(
                         "component '{}': connector '{}' is declared {type_name} but the FMU's \
-                         variable is {:?}",
-                        instance.name, connector.name, info.kind
+                         variable is {}",
+                        instance.name,
+                        connector.name,
+                        info.type_name()
                     ));
                 }
             }
