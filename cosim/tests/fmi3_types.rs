@@ -339,3 +339,35 @@ fn an_ssd_connector_may_declare_an_fmi3_variable_by_its_type_or_its_fmi2_counter
         ]
     );
 }
+
+#[test]
+fn a_float32_output_that_is_not_a_number_ends_the_run_as_a_float64_one_does() {
+    let (_dir, fmu) = stub();
+    let nan = system(
+        vec![instance(
+            "a",
+            &fmu,
+            vec![("float32_in", ParamValue::Real(f64::INFINITY))],
+        )],
+        vec![],
+        &["a.float32_out", "a.steps"],
+    );
+    let mut simulation = Simulation::new(nan, Path::new(".")).unwrap();
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    let error = simulation.run(&mut trajectory).unwrap_err();
+    let MasterError::NonFinite {
+        instance,
+        variable,
+        value,
+        ..
+    } = &error
+    else {
+        panic!("{error}");
+    };
+    assert_eq!((instance.as_str(), variable.as_str()), ("a", "float32_out"));
+    assert_eq!(*value, f64::INFINITY);
+    assert_eq!(trajectory.len(), 1, "the row of the value is the last");
+}

@@ -1,7 +1,7 @@
 //! Which exchange buffer of an instance's inputs or outputs holds a variable, and the paths
 //! of the FMI 3.0 words and of texts, kept out of line so that the Float64, Integer and
 //! Boolean exchange does no more work than without them.
-use super::{Io, Part, Port};
+use super::{finite, Io, Part, Port};
 use fmi_import::{CallError, Fmi3Type, VariableKind};
 
 /// The exchange buffer of a port, with the word type of a word's.
@@ -111,4 +111,15 @@ pub(super) fn block_index(buffer: Buffer) -> usize {
         Buffer::String => STRING,
         Buffer::Binary => BINARY,
     })
+}
+
+/// Notes the Float32 outputs of unit `u` that are not numbers, as the Real ones are noted.
+#[inline(never)]
+pub(super) fn check_float32(outputs: &Io, u: usize, finite: &mut finite::Check) {
+    for &slot in &outputs.float32 {
+        let value = f64::from_bits(outputs.word.values[slot]);
+        if !value.is_finite() {
+            finite.note(u, &[outputs.word.vrs[slot]], &[value]);
+        }
+    }
 }

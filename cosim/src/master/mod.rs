@@ -249,6 +249,9 @@ struct Io {
     text: text::Texts,
     /// It has words or texts, which take paths of their own (set once its slots are).
     others: bool,
+    /// The word slots of Float32 outputs, checked for values that are not numbers as the
+    /// Real ones are.
+    float32: Vec<usize>,
 }
 
 impl Io {
@@ -665,6 +668,18 @@ impl Simulation {
             &mut links,
             &mut columns,
         );
+        for port in recorded
+            .iter()
+            .chain(pairs.iter().map(|(source, _)| source))
+        {
+            if port.word == Some(Fmi3Type::Float32) {
+                let io = &mut outputs[port.instance];
+                let slot = io.slot(port);
+                if !io.float32.contains(&slot) {
+                    io.float32.push(slot);
+                }
+            }
+        }
         for io in inputs.iter_mut().chain(&mut outputs) {
             io.note_others();
         }
@@ -1222,6 +1237,9 @@ impl Simulation {
             Ok(())
         })();
         result.map_err(|e| call(&unit.name, "getting outputs", e))?;
+        if outputs.others && self.finite.armed {
+            buffer::check_float32(outputs, u, &mut self.finite);
+        }
         let real = part.of(&outputs.real);
         if self.finite.armed && !finite::all_finite(&outputs.real.values[real.clone()]) {
             self.finite.note(
@@ -1338,7 +1356,8 @@ impl Simulation {
                 }
             };
             *value = read.map_err(|e| call(&unit.name, "getting final outputs", e))?;
-            if port.word.is_none() && !value.is_finite() {
+            let number = matches!(port.word, None | Some(Fmi3Type::Float32));
+            if number && !value.is_finite() {
                 self.finite
                     .note(port.instance, &[port.value_reference], &[*value]);
             }
