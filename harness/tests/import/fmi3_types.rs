@@ -92,6 +92,39 @@ fn set_values_of_every_type_are_recorded_exactly_and_n_sizes_the_arrays() {
     assert_eq!(types[uint64], cosim::results::ColumnType::UInt64);
     let last = trajectory.row(trajectory.len() - 1);
     assert_eq!(last[uint64].to_bits(), u64::MAX);
+
+    // pyarrow and pandas read each column in its type, the UInt64 exactly.
+    let python = crate::common::workspace_root().join(".venv/bin/python");
+    assert!(
+        python.is_file(),
+        "{} is missing: run `cargo xtask python-env`",
+        python.display()
+    );
+    let check = r#"
+import sys, pyarrow.feather as feather
+table = feather.read_table(sys.argv[1])
+types = {f.name: str(f.type) for f in table.schema}
+print(types["Stub3.y[3]"], types["Stub3.uint64_out"], types["Stub3.int8_out"],
+      types["Stub3.int32_out"], types["Stub3.boolean_out"], types["Stub3.float32_out"],
+      types["Stub3.string_out"], types["Stub3.binary_out"])
+frame = table.to_pandas()
+print(frame["Stub3.uint64_out"].iloc[-1], frame["Stub3.binary_out"].iloc[-1].hex(),
+      frame["Stub3.string_out"].iloc[-1])
+"#;
+    let output = std::process::Command::new(python)
+        .args(["-c", check])
+        .arg(&arrow)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = text(&output);
+    assert!(output.status.success(), "{stderr}");
+    assert_eq!(
+        stdout,
+        format!(
+            "double uint64 int8 int32 bool float string binary\n{} 00ff hello\n",
+            u64::MAX
+        )
+    );
 }
 
 #[test]
