@@ -71,27 +71,47 @@ pub fn read_description(
     described(Unpacked::open(path.as_ref())?)
 }
 
-/// [`read_description`] with the type of each variable of the description as the file
-/// names it (`UInt64`, `Binary` for FMI 3.0; `Real`, `Integer` for FMI 2.0), in order.
+/// A variable as its file declares it, beside the description's FMI 2.0-like view of it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Declared {
+    /// `UInt64`, `Binary` for FMI 3.0; `Real`, `Integer` for FMI 2.0.
+    pub type_name: String,
+    /// The start value as the file writes it (FMI 3.0; `None` for FMI 2.0, whose
+    /// description holds it exactly).
+    pub start: Option<String>,
+}
+
+/// [`read_description`] with each variable of the description as its file declares it, in
+/// order.
 pub fn read_description_typed(
     path: impl AsRef<Path>,
-) -> Result<(FmiVersion, ModelDescription, Vec<String>), LoadError> {
+) -> Result<(FmiVersion, ModelDescription, Vec<Declared>), LoadError> {
     Ok(match parse(&Unpacked::open(path.as_ref())?)? {
         Described::Fmi2(description) => {
-            let types = description
+            let declared = description
                 .model_variables
                 .variables
                 .iter()
-                .map(|v| {
-                    v.kind()
-                        .map_or_else(|| "?".to_owned(), |k| format!("{k:?}"))
+                .map(|v| Declared {
+                    type_name: v
+                        .kind()
+                        .map_or_else(|| "?".to_owned(), |k| format!("{k:?}")),
+                    start: None,
                 })
                 .collect();
-            (FmiVersion::Fmi2, description, types)
+            (FmiVersion::Fmi2, description, declared)
         }
         Described::Fmi3(_, view) => {
-            let types = view.types.iter().map(|t| t.name().to_owned()).collect();
-            (FmiVersion::Fmi3, view.description, types)
+            let declared = view
+                .types
+                .iter()
+                .zip(view.start_texts)
+                .map(|(kind, start)| Declared {
+                    type_name: kind.name().to_owned(),
+                    start,
+                })
+                .collect();
+            (FmiVersion::Fmi3, view.description, declared)
         }
     })
 }

@@ -44,7 +44,7 @@ mod variables;
 mod version;
 pub mod word;
 
-pub use describe::{peek_description, read_description, read_description_typed};
+pub use describe::{peek_description, read_description, read_description_typed, Declared};
 pub use error::{CallError, FmiError, LoadError, VariableError};
 pub use fmu::Fmu;
 pub use instance::{Instance, InstanceOptions};

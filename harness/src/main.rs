@@ -480,9 +480,9 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 cosim::master::fmu_path(&fmu_dir, &fmu)
             };
             // The description alone: listing variables runs no FMU code.
-            let (_, description, types) = fmi_import::read_description_typed(&path)
+            let (_, description, declared) = fmi_import::read_description_typed(&path)
                 .with_context(|| format!("loading {}", fmu.display()))?;
-            print!("{}", vars::table(&description, &types, only));
+            print!("{}", vars::table(&description, &declared, only));
         }
         Command::Paper {
             scenario,

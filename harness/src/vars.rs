@@ -11,16 +11,27 @@ pub fn parse_causality(text: &str) -> Option<Causality> {
 }
 
 /// One line per variable (of `only` causality if given), columns separated by tabs, with
-/// a header line; `types[i]` is the type of variable `i` as its file declares it (the FMI
-/// 2.0 type element where absent).
-pub fn table(md: &ModelDescription, types: &[String], only: Option<Causality>) -> String {
+/// a header line; `declared[i]` is variable `i` as its file declares it (type, and a start
+/// value the FMI 2.0 view cannot hold exactly), the view's own where absent.
+pub fn table(
+    md: &ModelDescription,
+    declared: &[fmi_import::Declared],
+    only: Option<Causality>,
+) -> String {
     let mut out = String::from("name\tcausality\tvariability\ttype\tstart\tunit\tdescription\n");
     for (i, v) in md.model_variables.variables.iter().enumerate() {
         let causality = v.causality_or_default();
         if only.is_some_and(|c| c != causality) {
             continue;
         }
+        let own = declared
+            .get(i)
+            .filter(|d| v.start().is_none() || d.type_name == "Float32")
+            .and_then(|d| d.start.clone());
         let start = match v.start() {
+            // The file's own text where the view has none (an Int64 beyond 32 bits) or
+            // holds the f64 of the Float32 it stands for.
+            _ if own.is_some() => own.unwrap_or_default(),
             Some(StartValue::Real(x)) => x.to_string(),
             Some(StartValue::Integer(x) | StartValue::Enumeration(x)) => x.to_string(),
             Some(StartValue::Boolean(x)) => x.to_string(),
@@ -32,10 +43,13 @@ pub fn table(md: &ModelDescription, types: &[String], only: Option<Causality>) -
             .as_ref()
             .and_then(|r| r.unit.clone())
             .unwrap_or_default();
-        let kind = types.get(i).cloned().unwrap_or_else(|| {
-            v.kind()
-                .map_or_else(|| "?".to_owned(), |k| format!("{k:?}"))
-        });
+        let kind = declared
+            .get(i)
+            .map(|d| d.type_name.clone())
+            .unwrap_or_else(|| {
+                v.kind()
+                    .map_or_else(|| "?".to_owned(), |k| format!("{k:?}"))
+            });
         let _ = writeln!(
             out,
             "{}\t{}\t{}\t{kind}\t{start}\t{unit}\t{}",

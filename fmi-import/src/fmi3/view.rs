@@ -63,6 +63,9 @@ pub(crate) struct View {
     pub(crate) starts: Starts,
     /// The FMI 3.0 type of each of `description`'s variables, in order (aliases included).
     pub(crate) types: Vec<Fmi3Type>,
+    /// The start value of each, as the file (or the configuration) writes it: exact where
+    /// the FMI 2.0 element cannot hold it (an Int64 beyond 32 bits, a Binary).
+    pub(crate) start_texts: Vec<Option<String>>,
     /// Element references of the structural parameters the configuration gives a value,
     /// which an instance sets in Configuration Mode; empty for the start values.
     pub(crate) configured: Vec<u32>,
@@ -113,6 +116,7 @@ pub(crate) fn scalar_view(
     let mut elements = Vec::new();
     let mut scalars = Vec::new();
     let mut types = Vec::new();
+    let mut start_texts = Vec::new();
     let mut configured = Vec::new();
     let mut starts = Starts::default();
     // FMI 3.0 value reference -> the view's scalars of that variable.
@@ -133,6 +137,7 @@ pub(crate) fn scalar_view(
             }
             push_start(&mut starts, variable.kind, start);
             types.push(variable.kind);
+            start_texts.push(start.map(str::to_owned));
             scalars.push(scalar(md, variable, name, elements.len() as u32, start));
             elements.push(Element {
                 value_reference: variable.value_reference,
@@ -162,6 +167,7 @@ pub(crate) fn scalar_view(
                 }
                 scalars.push(aliased);
                 types.push(variable.kind);
+                start_texts.push(start_texts[element].clone());
             }
         }
     }
@@ -265,6 +271,7 @@ pub(crate) fn scalar_view(
         elements,
         starts,
         types,
+        start_texts,
         configured,
     })
 }

@@ -172,6 +172,8 @@ fn vars_names_each_fmi3_type() {
         "float32_in\tinput\tcontinuous\tFloat32\t0\t",
         "binary_in\tinput\tdiscrete\tBinary\t",
         "x[2]\tinput\tcontinuous\tFloat64\t0\t",
+        // Beyond 32 bits: the file's own start value.
+        "offset64\tparameter\tfixed\tInt64\t-4611686018427387904\t",
     ] {
         assert!(stdout.contains(line), "{line:?} not in:\n{stdout}");
     }
