@@ -371,3 +371,37 @@ fn a_float32_output_that_is_not_a_number_ends_the_run_as_a_float64_one_does() {
     assert_eq!(*value, f64::INFINITY);
     assert_eq!(trajectory.len(), 1, "the row of the value is the last");
 }
+
+#[test]
+fn connectors_written_for_an_ssd_use_the_ssp_1_0_types() {
+    let (_dir, fmu) = stub();
+    let connections = ["float32", "uint64", "binary"]
+        .iter()
+        .map(|t| Connection {
+            from: format!("a.{t}_out"),
+            to: format!("b.{t}_in"),
+        })
+        .collect();
+    let wired = system(
+        vec![instance("a", &fmu, vec![]), instance("b", &fmu, vec![])],
+        connections,
+        &["a.steps"],
+    );
+    let simulation = Simulation::new(wired, Path::new(".")).unwrap();
+    let types: Vec<(&str, &str)> = simulation
+        .connectors()
+        .iter()
+        .map(|c| (c.name.as_str(), c.type_name))
+        .collect();
+    assert_eq!(
+        types,
+        [
+            ("float32_out", "Real"),
+            ("float32_in", "Real"),
+            ("uint64_out", "Integer"),
+            ("uint64_in", "Integer"),
+            ("binary_out", "Binary"),
+            ("binary_in", "Binary"),
+        ]
+    );
+}

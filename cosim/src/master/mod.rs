@@ -649,7 +649,9 @@ impl Simulation {
                     Buffer::Real => "Real",
                     Buffer::Boolean => "Boolean",
                     Buffer::Integer => "Integer",
-                    Buffer::Word(kind) => kind.name(),
+                    // SSP 1.0 connector types: a Float32 is a Real, every integer an Integer.
+                    Buffer::Word(Fmi3Type::Float32) => "Real",
+                    Buffer::Word(_) => "Integer",
                     Buffer::String => "String",
                     Buffer::Binary => "Binary",
                 },
