@@ -850,6 +850,11 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             &requirements,
             simulation.column_names(),
         ));
+        problems.extend(cosim::requirements::not_numbers(
+            &requirements,
+            simulation.column_names(),
+            &simulation.column_types(),
+        ));
     }
     if !problems.is_empty() {
         match &simulation {

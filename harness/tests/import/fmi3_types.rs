@@ -178,3 +178,36 @@ fn vars_names_each_fmi3_type() {
         assert!(stdout.contains(line), "{line:?} not in:\n{stdout}");
     }
 }
+
+#[test]
+fn a_requirement_over_a_64_bit_or_text_column_is_refused_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let fmu = stub_fmu(dir.path());
+    let scenario = dir.path().join("stub.toml");
+    std::fs::write(
+        &scenario,
+        format!(
+            "name = \"stub\"\nstart_time = 0.0\nstop_time = 0.1\nstep_size = 0.05\n\n\
+             [[instance]]\nname = \"s\"\nfmu = \"{}\"\n\n\
+             [[requirement]]\nname = \"counts\"\nformula = \"always [0, 0.1] s.big >= 0\"\n\n\
+             [[requirement]]\nname = \"small\"\nformula = \"always [0, 0.1] s.int8_out >= 0\"\n",
+            fmu.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("never.csv");
+    let output = harness(&[
+        "run",
+        scenario.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("s.big is a UInt64 column, which a formula does not read"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("int8_out"), "an Int8 is read: {stderr}");
+    assert!(!out.exists());
+}
