@@ -10,6 +10,8 @@ use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
 /// A model description as read, by FMI version.
+// One per load, moved once: its size costs nothing worth a box.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Described {
     Fmi2(ModelDescription),
     /// The file as read, and its scalar view (`r_nue` as `r_nue[1..3]`).
@@ -43,7 +45,7 @@ pub(crate) fn parse(unpacked: &Unpacked) -> Result<Described, LoadError> {
                 source,
             }
         })?;
-        let view = fmi3::scalar_view(&description3)?;
+        let view = fmi3::scalar_view(&description3, &[])?;
         return Ok(Described::Fmi3(Box::new(description3), view));
     }
     let description = ModelDescription::from_file(&description_path).map_err(|source| {
@@ -67,6 +69,51 @@ pub fn read_description(
     path: impl AsRef<Path>,
 ) -> Result<(FmiVersion, ModelDescription), LoadError> {
     described(Unpacked::open(path.as_ref())?)
+}
+
+/// A variable as its file declares it, beside the description's FMI 2.0-like view of it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Declared {
+    /// `UInt64`, `Binary` for FMI 3.0; `Real`, `Integer` for FMI 2.0.
+    pub type_name: String,
+    /// The start value as the file writes it (FMI 3.0; `None` for FMI 2.0, whose
+    /// description holds it exactly).
+    pub start: Option<String>,
+}
+
+/// [`read_description`] with each variable of the description as its file declares it, in
+/// order.
+pub fn read_description_typed(
+    path: impl AsRef<Path>,
+) -> Result<(FmiVersion, ModelDescription, Vec<Declared>), LoadError> {
+    Ok(match parse(&Unpacked::open(path.as_ref())?)? {
+        Described::Fmi2(description) => {
+            let declared = description
+                .model_variables
+                .variables
+                .iter()
+                .map(|v| Declared {
+                    type_name: v
+                        .kind()
+                        .map_or_else(|| "?".to_owned(), |k| format!("{k:?}")),
+                    start: None,
+                })
+                .collect();
+            (FmiVersion::Fmi2, description, declared)
+        }
+        Described::Fmi3(_, view) => {
+            let declared = view
+                .types
+                .iter()
+                .zip(view.start_texts)
+                .map(|(kind, start)| Declared {
+                    type_name: kind.name().to_owned(),
+                    start,
+                })
+                .collect();
+            (FmiVersion::Fmi3, view.description, declared)
+        }
+    })
 }
 
 /// [`read_description`] writing only the description: the archive's directory is checked

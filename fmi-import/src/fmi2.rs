@@ -71,7 +71,7 @@ impl Fmi2Instance {
         };
         let instance_name = c_string("instance name", name)?;
         let guid = c_string("GUID", &fmu.description.guid)?;
-        let resource_uri = c_string("resource location", &fmu.resource_uri)?;
+        let resource_uri = c_string("resource location", &fmu.files.resource_uri)?;
 
         let log = Arc::new(LogEnv::new());
         let callbacks = Box::new(log.callbacks());

@@ -9,7 +9,7 @@ use super::variables::{VariableIndex, VariableInfo};
 use crate::binary::Fmi2Functions;
 use crate::binary::Fmi3Functions;
 use crate::fmi3;
-use crate::loaded::{Api, Fmi3Api, FmuShared};
+use crate::loaded::{Api, Files, Fmi3Api, FmuShared};
 use crate::version::FmiVersion;
 use libloading::Library;
 use model_description::ModelDescription;
@@ -29,7 +29,7 @@ impl std::fmt::Debug for Fmu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Fmu")
             .field("model_name", &self.shared.description.model_name)
-            .field("binary", &self.shared.binary_path)
+            .field("binary", &self.shared.files.binary_path)
             .finish_non_exhaustive()
     }
 }
@@ -61,7 +61,7 @@ impl Fmu {
             .ok_or_else(|| LoadError::NotCoSimulation {
                 model_name: description.model_name.clone(),
             })?;
-        let variables = VariableIndex::new(&description)?;
+        let variables = VariableIndex::new(&description, &[])?;
 
         let binary_path = unpacked.binary_path(&model_identifier);
         let library = open_library(&binary_path, PLATFORM)?;
@@ -78,10 +78,12 @@ impl Fmu {
                 api: Api::Fmi2(functions),
                 description,
                 variables,
-                resource_uri: unpacked.resource_uri(),
-                binary_path,
-                _library: library,
-                unpacked,
+                files: Arc::new(Files {
+                    resource_uri: unpacked.resource_uri(),
+                    binary_path,
+                    _library: library,
+                    unpacked,
+                }),
             }),
         })
     }
@@ -102,7 +104,7 @@ impl Fmu {
             .clone()
             .or_else(|| model_exchange.clone())
             .unwrap_or_default();
-        let variables = VariableIndex::new(&view.description)?;
+        let variables = VariableIndex::new(&view.description, &view.types)?;
         let (platform, extension) = fmi3::PLATFORM;
         let binary_path = unpacked
             .root()
@@ -132,14 +134,17 @@ impl Fmu {
                     functions,
                     elements: view.elements,
                     starts: view.starts,
+                    configured: view.configured,
                     description: description3,
                 })),
                 description: view.description,
                 variables,
-                resource_uri: unpacked.resource_uri(),
-                binary_path,
-                _library: library,
-                unpacked,
+                files: Arc::new(Files {
+                    resource_uri: unpacked.resource_uri(),
+                    binary_path,
+                    _library: library,
+                    unpacked,
+                }),
             }),
         })
     }
@@ -183,7 +188,7 @@ impl Fmu {
 
     /// The directory holding the unpacked FMU (a temporary one for a `.fmu`).
     pub fn unpacked_dir(&self) -> &Path {
-        self.shared.unpacked.root()
+        self.shared.files.unpacked.root()
     }
 
     /// The FMU's terminals (`terminalsAndIcons/terminalsAndIcons.xml`, FMI 3.0 §2.4.9; an
@@ -203,7 +208,51 @@ impl Fmu {
     }
 
     pub fn binary_path(&self) -> &Path {
-        &self.shared.binary_path
+        &self.shared.files.binary_path
+    }
+
+    /// The FMU for other values of its structural parameters (FMI 3.0), by name, as text
+    /// (`"3"`): its scalar view built for them over the same binary, whose instances set them
+    /// in Configuration Mode after instantiation, so that arrays sized by them have the
+    /// extents set (see `fmi3/view.rs`). Refused for a name that is not a structural
+    /// parameter, a value its type cannot hold, and an FMI 2.0 FMU.
+    pub fn configured(&self, values: &[(String, String)]) -> Result<Fmu, LoadError> {
+        let Api::Fmi3(api) = &self.shared.api else {
+            return Err(LoadError::UnsupportedFmi3 {
+                model_name: self.model_name().to_owned(),
+                reason: "an FMI 2.0 FMU has no structural parameters".to_owned(),
+            });
+        };
+        let view = fmi3::scalar_view(&api.description, values)?;
+        let variables = VariableIndex::new(&view.description, &view.types)?;
+        Ok(Self {
+            shared: Arc::new(FmuShared {
+                api: Api::Fmi3(Arc::new(Fmi3Api {
+                    functions: api.functions,
+                    elements: view.elements,
+                    starts: view.starts,
+                    configured: view.configured,
+                    description: api.description.clone(),
+                })),
+                description: view.description,
+                variables,
+                files: Arc::clone(&self.shared.files),
+            }),
+        })
+    }
+
+    /// The names of the FMI 3.0 structural parameters (none for FMI 2.0).
+    pub fn structural_parameters(&self) -> Vec<&str> {
+        match &self.shared.api {
+            Api::Fmi3(api) => api
+                .description
+                .variables
+                .iter()
+                .filter(|v| v.structural)
+                .map(|v| v.name.as_str())
+                .collect(),
+            Api::Fmi2(_) => Vec::new(),
+        }
     }
 
     pub fn variable(&self, name: &str) -> Result<&VariableInfo, VariableError> {

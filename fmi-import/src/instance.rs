@@ -404,7 +404,82 @@ impl Instance {
         noted!(self, "fmi2GetString", "fmi3GetString", i => i.get_string_into(vrs, values))
     }
 
+    /// FMI 3.0 only: a backend that is not is an error naming `function`, the FMU not called.
+    fn fmi3_values(&mut self, function: &'static str) -> Result<&mut Fmi3Instance, CallError> {
+        match &mut self.backend {
+            Backend::Fmi3(i) => Ok(i),
+            Backend::Fmi2(i) => Err(CallError::InvalidArgument {
+                function,
+                instance: i.name().to_owned(),
+                reason: "an FMI 2.0 FMU has no Float32, 8-, 16- or 64-bit integer, UInt32 or \
+                         Binary variables"
+                    .to_owned(),
+            }),
+        }
+    }
+
+    // The FMI 3.0 backend notes each of these calls in the black box under the function of
+    // the variable's type.
+
+    /// Sets variables of the FMI 3.0 types that travel as words ([`crate::word`]: Float32,
+    /// Int8, UInt8, Int16, UInt16, UInt32, Int64, UInt64), each through its own function; a
+    /// word its variable's type cannot hold is refused before the FMU is called.
+    pub fn set_words(&mut self, vrs: &[u32], words: &[u64]) -> Result<Success, CallError> {
+        const F: &str = "fmi3Set{Float32,Int8,...,UInt64}";
+        self.fmi3_values(F)?.set_words(vrs, words)
+    }
+
+    /// Gets variables of the word types ([`Instance::set_words`]).
+    pub fn get_words(&mut self, vrs: &[u32], words: &mut [u64]) -> Result<Success, CallError> {
+        const F: &str = "fmi3Get{Float32,Int8,...,UInt64}";
+        self.fmi3_values(F)?.get_words(vrs, words)
+    }
+
+    pub fn set_binary(&mut self, vrs: &[u32], values: &[&[u8]]) -> Result<Success, CallError> {
+        self.fmi3_values("fmi3SetBinary")?.set_binary(vrs, values)
+    }
+
+    /// Binary values into existing vectors (copied at once: the FMU's pointers are valid only
+    /// until its next call).
+    pub fn get_binary_into(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [Vec<u8>],
+    ) -> Result<Success, CallError> {
+        self.fmi3_values("fmi3GetBinary")?
+            .get_binary_into(vrs, values)
+    }
+
     // ---- values by name ----
+
+    /// The element reference of `name` if it is of a word type.
+    fn word_vr(&self, name: &str) -> Result<(u32, crate::Fmi3Type), CallError> {
+        let info = self.fmu.variables.get(name)?;
+        match info.fmi3_type {
+            Some(kind) if crate::word::is_word(kind) => Ok((info.value_reference, kind)),
+            _ => Err(CallError::InvalidArgument {
+                function: "fmi3Set{Float32,Int8,...,UInt64}",
+                instance: self.name().to_owned(),
+                reason: format!(
+                    "'{name}' is {}, not one of the FMI 3.0 types that travel as words",
+                    info.type_name()
+                ),
+            }),
+        }
+    }
+
+    /// Sets a variable of a word type from its word ([`crate::word`]).
+    pub fn set_word_by_name(&mut self, name: &str, word: u64) -> Result<Success, CallError> {
+        let (vr, _) = self.word_vr(name)?;
+        self.set_words(&[vr], &[word])
+    }
+
+    pub fn get_word_by_name(&mut self, name: &str) -> Result<u64, CallError> {
+        let (vr, _) = self.word_vr(name)?;
+        let mut word = [0];
+        self.get_words(&[vr], &mut word)?;
+        Ok(word[0])
+    }
 
     fn vr(&self, name: &str, kind: VariableKind) -> Result<u32, CallError> {
         Ok(self.fmu.variables.value_reference(name, kind)?)

@@ -42,12 +42,14 @@ mod status;
 pub mod tables;
 mod variables;
 mod version;
+pub mod word;
 
-pub use describe::{peek_description, read_description};
+pub use describe::{peek_description, read_description, read_description_typed, Declared};
 pub use error::{CallError, FmiError, LoadError, VariableError};
 pub use fmu::Fmu;
 pub use instance::{Instance, InstanceOptions};
 pub use logger::{FmuLog, LogMessage, LOG_CAPACITY};
+pub use model_description::fmi3::Fmi3Type;
 pub use model_description::VariableKind;
 pub use model_exchange::{EventUpdate, Interface, MeVector, StepEnd};
 pub use state::{refusal as fmu_state_refusal, FmuState};

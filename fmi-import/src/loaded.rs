@@ -26,6 +26,9 @@ pub(crate) struct Fmi3Api {
     /// Per element reference of the scalar view (the harness's value reference for it).
     pub(crate) elements: Vec<Element>,
     pub(crate) starts: Starts,
+    /// Element references of the structural parameters an instance sets in Configuration
+    /// Mode (`fmi3/view.rs`); empty when the view is that of their start values.
+    pub(crate) configured: Vec<u32>,
     pub(crate) description: model_description::fmi3::Fmi3ModelDescription,
 }
 
@@ -34,6 +37,12 @@ pub(crate) struct FmuShared {
     /// FMI 2.0: the file's description; FMI 3.0: its scalar view (`fmi3/view.rs`).
     pub(crate) description: ModelDescription,
     pub(crate) variables: VariableIndex,
+    /// Shared by the views of one binary (`Fmu::configured`).
+    pub(crate) files: Arc<Files>,
+}
+
+/// The binary and the unpacked files of a loaded FMU.
+pub(crate) struct Files {
     pub(crate) resource_uri: String,
     pub(crate) binary_path: PathBuf,
     // Declared last and in this order: fields drop in declaration order, so the library is
@@ -42,7 +51,7 @@ pub(crate) struct FmuShared {
     pub(crate) unpacked: Unpacked,
 }
 
-impl FmuShared {
+impl Files {
     /// The unpacked `resources` folder, if the FMU has one.
     pub(crate) fn resources_dir(&self) -> Option<PathBuf> {
         Some(self.unpacked.root().join("resources")).filter(|dir| dir.is_dir())

@@ -1,5 +1,6 @@
 //! Name lookup: variable name -> value reference and type, built once from the model description.
 use super::error::{LoadError, VariableError};
+use model_description::fmi3::Fmi3Type;
 use model_description::{Causality, ModelDescription, Variability, VariableKind};
 use std::collections::HashMap;
 
@@ -11,6 +12,26 @@ pub struct VariableInfo {
     /// With the FMI 2.0 defaults applied (`local`, `continuous`) when the XML omits them.
     pub causality: Causality,
     pub variability: Variability,
+    /// The FMI 3.0 type element (`None` for FMI 2.0). `kind` is its FMI 2.0 counterpart:
+    /// Real for Float32, Integer for every integer width, String for Binary; the types that
+    /// travel as words ([`crate::word`]) and Binary are exchanged by their own functions.
+    pub fmi3_type: Option<Fmi3Type>,
+}
+
+impl VariableInfo {
+    /// Whether the value travels as a word ([`crate::word`]) rather than through `kind`'s
+    /// functions.
+    pub fn is_word(&self) -> bool {
+        self.fmi3_type.is_some_and(crate::word::is_word)
+    }
+
+    /// The type's name as the model description writes it (`UInt64`, `Real`).
+    pub fn type_name(&self) -> String {
+        match self.fmi3_type {
+            Some(kind) => kind.name().to_owned(),
+            None => format!("{:?}", self.kind),
+        }
+    }
 }
 
 #[derive(Debug)]
@@ -20,10 +41,15 @@ pub(crate) struct VariableIndex {
 }
 
 impl VariableIndex {
-    pub(crate) fn new(description: &ModelDescription) -> Result<Self, LoadError> {
+    /// `fmi3_types`: the FMI 3.0 type of each variable of the description, in order (the
+    /// scalar view's), or empty for FMI 2.0.
+    pub(crate) fn new(
+        description: &ModelDescription,
+        fmi3_types: &[Fmi3Type],
+    ) -> Result<Self, LoadError> {
         let variables = &description.model_variables.variables;
         let mut by_name = HashMap::with_capacity(variables.len());
-        for variable in variables {
+        for (i, variable) in variables.iter().enumerate() {
             let kind = variable.kind().ok_or_else(|| LoadError::UntypedVariable {
                 name: variable.name.clone(),
             })?;
@@ -32,6 +58,7 @@ impl VariableIndex {
                 kind,
                 causality: variable.causality_or_default(),
                 variability: variable.variability_or_default(),
+                fmi3_type: fmi3_types.get(i).copied(),
             };
             if by_name.insert(variable.name.clone(), info).is_some() {
                 return Err(LoadError::DuplicateVariableName {
@@ -61,8 +88,9 @@ impl VariableIndex {
         requested: VariableKind,
     ) -> Result<u32, VariableError> {
         let info = self.get(name)?;
+        let own_functions = info.is_word() || info.fmi3_type == Some(Fmi3Type::Binary);
         // Enumerations travel through the Integer functions.
-        if info.kind == requested || info.kind.accessed_as() == requested {
+        if !own_functions && (info.kind == requested || info.kind.accessed_as() == requested) {
             Ok(info.value_reference)
         } else {
             Err(VariableError::TypeMismatch {
@@ -99,7 +127,7 @@ mod tests {
 
     #[test]
     fn defaults_of_the_standard_apply_when_attributes_are_absent() {
-        let index = VariableIndex::new(&description(vec![real("x", 7)])).unwrap();
+        let index = VariableIndex::new(&description(vec![real("x", 7)]), &[]).unwrap();
         let info = index.get("x").unwrap();
         assert_eq!(info.value_reference, 7);
         assert_eq!(info.causality, Causality::Local);
@@ -117,7 +145,7 @@ mod tests {
             }),
             ..Default::default()
         };
-        let index = VariableIndex::new(&description(vec![mode])).unwrap();
+        let index = VariableIndex::new(&description(vec![mode]), &[]).unwrap();
         assert_eq!(index.value_reference("mode", VariableKind::Integer), Ok(3));
         assert_eq!(
             index.value_reference("mode", VariableKind::Enumeration),
@@ -128,7 +156,7 @@ mod tests {
 
     #[test]
     fn a_type_mismatch_names_the_variable_and_both_types() {
-        let index = VariableIndex::new(&description(vec![real("x", 0)])).unwrap();
+        let index = VariableIndex::new(&description(vec![real("x", 0)]), &[]).unwrap();
         let error = index
             .value_reference("x", VariableKind::Boolean)
             .unwrap_err();
@@ -141,16 +169,16 @@ mod tests {
 
     #[test]
     fn an_unknown_name_is_an_error_naming_it() {
-        let index = VariableIndex::new(&description(vec![real("x", 0)])).unwrap();
+        let index = VariableIndex::new(&description(vec![real("x", 0)]), &[]).unwrap();
         let text = index.get("y").unwrap_err().to_string();
         assert!(text.contains("'y'"), "{text}");
     }
 
     #[test]
     fn aliases_share_a_value_reference_but_duplicate_names_are_refused() {
-        let index = VariableIndex::new(&description(vec![real("x", 1), real("x_alias", 1)]));
+        let index = VariableIndex::new(&description(vec![real("x", 1), real("x_alias", 1)]), &[]);
         assert!(index.is_ok());
-        let duplicate = VariableIndex::new(&description(vec![real("x", 1), real("x", 2)]));
+        let duplicate = VariableIndex::new(&description(vec![real("x", 1), real("x", 2)]), &[]);
         assert!(matches!(duplicate, Err(LoadError::DuplicateVariableName { name }) if name == "x"));
     }
 
@@ -160,7 +188,7 @@ mod tests {
             name: "u".into(),
             ..Default::default()
         };
-        let result = VariableIndex::new(&description(vec![untyped]));
+        let result = VariableIndex::new(&description(vec![untyped]), &[]);
         assert!(matches!(result, Err(LoadError::UntypedVariable { name }) if name == "u"));
     }
 }

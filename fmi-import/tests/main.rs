@@ -6,6 +6,7 @@ mod common;
 mod files;
 mod fmi3_import;
 mod fmi3_states;
+mod fmi3_types;
 mod fmu_archive;
 mod oscillator;
 mod stub_fmu;

@@ -308,6 +308,10 @@ impl cosim::master::Recorder for RunRecorder {
     fn failure(&self) -> Option<String> {
         self.out.failure()
     }
+
+    fn record_text(&mut self, column: usize, text: &str) {
+        self.out.record_text(column, text);
+    }
 }
 
 /// A progress bar of simulated time for a run on a terminal.
@@ -509,9 +513,9 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
                 cosim::master::fmu_path(&fmu_dir, &fmu)
             };
             // The description alone: listing variables runs no FMU code.
-            let (_, description) = fmi_import::read_description(&path)
+            let (_, description, declared) = fmi_import::read_description_typed(&path)
                 .with_context(|| format!("loading {}", fmu.display()))?;
-            print!("{}", vars::table(&description, only));
+            print!("{}", vars::table(&description, &declared, only));
         }
         Command::Paper {
             scenario,
@@ -915,6 +919,11 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             &requirements,
             simulation.column_names(),
         ));
+        problems.extend(cosim::requirements::not_numbers(
+            &requirements,
+            simulation.column_names(),
+            &simulation.column_types(),
+        ));
     }
     if !problems.is_empty() {
         match &simulation {
@@ -937,10 +946,11 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
     // ended: a failed or interrupted run never leaves a truncated file under `out`.
     let partial = partial_path(out);
     let mut recorder = RunRecorder {
-        out: cosim::results::Stream::create_with_units(
+        out: cosim::results::Stream::create_typed(
             &partial,
             simulation.column_names(),
             simulation.column_units(),
+            &simulation.column_types(),
             format,
         )
         .with_context(|| format!("writing {}", out.display()))?,

@@ -46,8 +46,14 @@ fn the_streamed_results_are_the_in_memory_trajectorys_byte_for_byte() {
     for format in [cosim::results::Format::Csv, cosim::results::Format::Arrow] {
         let ext = format.extension();
         let expected = dir.path().join(format!("memory.{ext}"));
-        cosim::results::write_with_units(&expected, &trajectory, simulation.column_units(), format)
-            .unwrap();
+        cosim::results::write_typed(
+            &expected,
+            &trajectory,
+            simulation.column_units(),
+            &simulation.column_types(),
+            format,
+        )
+        .unwrap();
         let streamed = dir.path().join(format!("run.{ext}"));
         let output = harness(&["run", "paper", "-o", streamed.to_str().unwrap()]);
         assert_eq!(output.status.code(), Some(0), "{output:?}");

@@ -13,6 +13,8 @@ mod common;
 mod archives;
 #[path = "../../cosim/tests/non_finite_fmu.rs"]
 mod non_finite_fmu;
+#[path = "../../fmi-import/tests/fixtures/stub_fmu3.rs"]
+mod stub_fmu3;
 
 mod arrow_python;
 mod bounded_memory;

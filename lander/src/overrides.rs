@@ -3,7 +3,8 @@
 use anyhow::Context;
 use cosim::system::{split_path, ParamValue, SystemDescription};
 
-/// `INSTANCE.VAR=VALUE`, the value typed as integer, real, boolean or else string.
+/// `INSTANCE.VAR=VALUE`, the value typed as integer, real, boolean or else string (an integer
+/// beyond i64 stays a string).
 pub fn parse_set(text: &str) -> anyhow::Result<(String, String, ParamValue)> {
     let (path, value) = text
         .split_once('=')
@@ -12,6 +13,10 @@ pub fn parse_set(text: &str) -> anyhow::Result<(String, String, ParamValue)> {
         split_path(path).with_context(|| format!("--set {text}: expected INSTANCE.VAR=VALUE"))?;
     let value = if let Ok(i) = value.parse::<i64>() {
         ParamValue::Integer(i)
+    } else if value.parse::<u64>().is_ok() {
+        // Beyond i64 (a UInt64 above 2^63 - 1): kept as its text, which a UInt64 variable
+        // reads exactly; as a number it would round.
+        ParamValue::String(value.to_owned())
     } else if let Ok(x) = value.parse::<f64>() {
         ParamValue::Real(x)
     } else if let Ok(b) = value.parse::<bool>() {

@@ -53,6 +53,22 @@ impl Simulation {
     /// (and continued), a saved run fits this system, and the save point is one of its
     /// communication points.
     pub fn set_checkpoints(&mut self, checkpoints: Checkpoints) -> Result<(), MasterError> {
+        let asked = checkpoints.resume.is_some() || checkpoints.save.is_some();
+        // A saved run carries the Float64, Int32 and Boolean buffers only: a run that
+        // exchanges or records FMI 3.0 words, String or Binary would continue without them.
+        let others =
+            (0..self.units.len()).find(|&u| self.inputs[u].others || self.outputs[u].others);
+        if let (true, Some(u)) = (asked, others) {
+            return Err(MasterError::Checkpoint {
+                message: format!(
+                    "instance '{}' exchanges or records values of FMI 3.0 types other than \
+                     Float64, Int32, Enumeration and Boolean (or String, Binary), which a saved \
+                     run does not carry yet; leave them out of the connections and --record to \
+                     save or continue this run",
+                    self.units[u].name
+                ),
+            });
+        }
         let fmus = &self.fmus;
         let describe = |i: usize| {
             let fmu: &fmi_import::Fmu = &fmus[i];

@@ -21,6 +21,7 @@
 //!   requires (see `loader::InstanceOptions` and harness/README.md).
 //! - [`Conventions`]: the initial inputs and the time arithmetic of other masters (fmpy's
 //!   `simulate_ssp`, libcosim), so a run can reproduce theirs exactly; the default is the above.
+mod buffer;
 mod checkpoint;
 mod conventions;
 mod finite;
@@ -30,6 +31,7 @@ mod resolve;
 mod saved;
 mod table;
 mod terminals;
+mod text;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
 pub use model_exchange::{EventCounts, MeError, SolverSettings};
@@ -40,7 +42,9 @@ pub use saved::{
 };
 
 use crate::system::{Ordering, ParamValue, SystemDescription};
-use fmi_import::{CallError, FmiError, Fmu, InstanceOptions, StepStatus, VariableKind};
+use buffer::{block_index, get_others, set_others, word_slots, Buffer, BOOLEAN, INTEGER, REAL};
+use fmi_import::VariableKind;
+use fmi_import::{CallError, Fmi3Type, FmiError, Fmu, InstanceOptions, StepStatus};
 use std::path::{Path, PathBuf};
 
 /// Why a run could not start or did not finish.
@@ -144,6 +148,10 @@ pub trait Recorder {
     fn failure(&self) -> Option<String> {
         None
     }
+    /// The value of the String or Binary column `column` (a Binary in hex), given before the
+    /// `record` of the first row that has it, and again whenever it changes; the slot of
+    /// such a column in `values` is 0. A recorder that keeps numbers only ignores it.
+    fn record_text(&mut self, _column: usize, _text: &str) {}
 }
 
 /// The most values [`Trajectory::reserve`] sets aside ahead of a run (256 MiB of f64): a
@@ -240,28 +248,48 @@ impl<T: Copy + Default> Block<T> {
 
 /// The exchange buffers of one side (inputs or outputs) of one instance. Booleans are kept
 /// as `fmi2Boolean` (0 or 1), the FMI representation, so they pass through without conversion.
+/// The FMI 3.0 types that travel as words (`fmi_import::word`) have a buffer of their own,
+/// so the Real path carries nothing more than before.
 #[derive(Debug, Default)]
 struct Io {
     real: Block<f64>,
     integer: Block<i32>,
     boolean: Block<i32>,
+    word: Block<u64>,
+    text: text::Texts,
+    /// It has words or texts, which take paths of their own (set once its slots are).
+    others: bool,
+    /// The word slots of Float32 outputs, checked for values that are not numbers as the
+    /// Real ones are.
+    float32: Vec<usize>,
 }
 
 impl Io {
-    /// Where the feedthrough slots of the buffer of `kind` start.
-    fn feedthrough_start(&self, kind: VariableKind) -> usize {
-        match block_index(kind) {
-            0 => self.real.feedthrough_start,
-            1 => self.integer.feedthrough_start,
-            _ => self.boolean.feedthrough_start,
+    /// Where the feedthrough slots of the buffer of `buffer` start.
+    fn feedthrough_start(&self, buffer: Buffer) -> usize {
+        match buffer {
+            Buffer::Real => self.real.feedthrough_start,
+            Buffer::Integer => self.integer.feedthrough_start,
+            Buffer::Boolean => self.boolean.feedthrough_start,
+            Buffer::Word(_) => self.word.feedthrough_start,
+            // Every text output counts as depending on every input.
+            Buffer::String | Buffer::Binary => 0,
         }
     }
 
+    /// Notes whether it has words or texts, once its slots are all taken.
+    fn note_others(&mut self) {
+        self.others = !self.word.vrs.is_empty() || !self.text.is_empty();
+    }
+
     fn slot(&mut self, port: &Port) -> usize {
-        match port.kind {
-            VariableKind::Real => self.real.slot(port.value_reference),
-            VariableKind::Boolean => self.boolean.slot(port.value_reference),
-            _ => self.integer.slot(port.value_reference),
+        match Buffer::of(port) {
+            Buffer::Real => self.real.slot(port.value_reference),
+            Buffer::Boolean => self.boolean.slot(port.value_reference),
+            Buffer::Integer => self.integer.slot(port.value_reference),
+            Buffer::Word(_) => self.word.slot(port.value_reference),
+            Buffer::String => self.text.slot(false, port.value_reference),
+            Buffer::Binary => self.text.slot(true, port.value_reference),
         }
     }
 }
@@ -302,7 +330,7 @@ impl AfterStep {
     fn of(links: &[Link], outputs: &[Io]) -> Vec<AfterStep> {
         let mut after = vec![AfterStep::Nothing; outputs.len()];
         for link in links.iter().filter(|l| l.to_unit < l.from_unit) {
-            let feedthrough_start = outputs[link.from_unit].feedthrough_start(link.kind);
+            let feedthrough_start = outputs[link.from_unit].feedthrough_start(link.buffer);
             let needed = if link.from_slot < feedthrough_start {
                 AfterStep::Stable
             } else {
@@ -318,7 +346,7 @@ impl AfterStep {
 /// A scalar connection after resolution: output slot of one unit to input slot of another.
 #[derive(Debug, Clone, Copy)]
 struct Link {
-    kind: VariableKind,
+    buffer: Buffer,
     from_unit: usize,
     from_slot: usize,
     to_unit: usize,
@@ -334,6 +362,11 @@ struct Copies {
     real: Vec<SlotRun>,
     integer: Vec<SlotRun>,
     boolean: Vec<SlotRun>,
+    word: Vec<SlotRun>,
+    /// (binary, from, to): texts copied one by one.
+    text: Vec<(bool, usize, usize)>,
+    /// Words or texts to copy, on a path of their own.
+    others: bool,
 }
 
 /// Output slots `from..from + len` to input slots `to..to + len`.
@@ -369,12 +402,21 @@ impl Copies {
                     groups.last_mut().expect("just pushed")
                 }
             };
-            let runs = match block_index(link.kind) {
-                0 => &mut group.real,
-                1 => &mut group.integer,
-                _ => &mut group.boolean,
+            let runs = match link.buffer {
+                Buffer::Real => &mut group.real,
+                Buffer::Integer => &mut group.integer,
+                Buffer::Boolean => &mut group.boolean,
+                Buffer::Word(_) => &mut group.word,
+                Buffer::String | Buffer::Binary => {
+                    let binary = link.buffer == Buffer::Binary;
+                    group.text.push((binary, link.from_slot, link.to_slot));
+                    continue;
+                }
             };
             SlotRun::push(runs, link.from_slot, link.to_slot);
+        }
+        for group in &mut groups {
+            group.others = !group.word.is_empty() || !group.text.is_empty();
         }
         groups
     }
@@ -383,6 +425,17 @@ impl Copies {
         copy_slots(&self.real, &from.real.values, &mut to.real.values);
         copy_slots(&self.integer, &from.integer.values, &mut to.integer.values);
         copy_slots(&self.boolean, &from.boolean.values, &mut to.boolean.values);
+        if self.others {
+            self.apply_others(from, to);
+        }
+    }
+
+    #[inline(never)]
+    fn apply_others(&self, from: &Io, to: &mut Io) {
+        copy_slots(&self.word, &from.word.values, &mut to.word.values);
+        for &(binary, from_slot, to_slot) in &self.text {
+            to.text.copy(&from.text, binary, from_slot, to_slot);
+        }
     }
 }
 
@@ -417,10 +470,15 @@ pub struct Simulation {
     table_inputs: Vec<table::TableInput>,
     /// The communication point inputs are set for.
     now: f64,
-    /// (unit, kind, output slot) per recorded column.
-    columns: Vec<(usize, VariableKind, usize)>,
-    /// The same columns as runs of consecutive slots of one unit and type, copied together.
+    /// (unit, buffer, output slot) per recorded column.
+    columns: Vec<(usize, Buffer, usize)>,
+    /// The same columns as runs of consecutive slots of one unit and type, copied together;
+    /// the String and Binary ones apart, in `text_runs`.
     column_runs: Vec<ColumnRun>,
+    text_runs: Vec<ColumnRun>,
+    /// Per column: the text last given to the recorder (String and Binary columns), `None`
+    /// before a run's first row.
+    last_texts: Vec<Option<String>>,
     column_names: Vec<String>,
     column_units: Vec<String>,
     connection_names: Vec<(String, String)>,
@@ -518,6 +576,7 @@ impl Simulation {
     pub fn from_fmus(mut system: SystemDescription, fmus: Vec<Fmu>) -> Result<Self, MasterError> {
         choose_interfaces(&mut system, &fmus);
         let mut problems = Vec::new();
+        let fmus = configure(&system, fmus, &mut problems);
         resolve::declared_connectors(&system, &fmus, &mut problems);
         let pairs = resolve::connections(&system, &fmus, &mut problems);
         let recorded = resolve::columns(&system, &fmus, &mut problems);
@@ -564,7 +623,7 @@ impl Simulation {
         let mut column_units = Vec::with_capacity(recorded.len());
         for port in &recorded {
             let slot = outputs[port.instance].slot(port);
-            columns.push((port.instance, port.kind, slot));
+            columns.push((port.instance, Buffer::of(port), slot));
             let description = fmus[port.instance].model_description();
             column_units.push(
                 description
@@ -583,7 +642,7 @@ impl Simulation {
             let from_slot = outputs[source.instance].slot(source);
             let to_slot = inputs[destination.instance].slot(destination);
             links.push(Link {
-                kind: source.kind,
+                buffer: Buffer::of(source),
                 from_unit: source.instance,
                 from_slot,
                 to_unit: destination.instance,
@@ -599,10 +658,15 @@ impl Simulation {
                 instance: system.instances[port.instance].name.clone(),
                 name: port.name.clone(),
                 kind,
-                type_name: match port.kind {
-                    VariableKind::Real => "Real",
-                    VariableKind::Boolean => "Boolean",
-                    _ => "Integer",
+                type_name: match Buffer::of(port) {
+                    Buffer::Real => "Real",
+                    Buffer::Boolean => "Boolean",
+                    Buffer::Integer => "Integer",
+                    // SSP 1.0 connector types: a Float32 is a Real, every integer an Integer.
+                    Buffer::Word(Fmi3Type::Float32) => "Real",
+                    Buffer::Word(_) => "Integer",
+                    Buffer::String => "String",
+                    Buffer::Binary => "Binary",
                 },
             };
             if !connectors.contains(&decl) {
@@ -619,16 +683,34 @@ impl Simulation {
             &mut links,
             &mut columns,
         );
+        for port in recorded
+            .iter()
+            .chain(pairs.iter().map(|(source, _)| source))
+        {
+            if port.word == Some(Fmi3Type::Float32) {
+                let io = &mut outputs[port.instance];
+                let slot = io.slot(port);
+                if !io.float32.contains(&slot) {
+                    io.float32.push(slot);
+                }
+            }
+        }
+        for io in inputs.iter_mut().chain(&mut outputs) {
+            io.note_others();
+        }
         let units = instantiate(&system, &fmus, &outputs)?;
         let get_before_set = units
             .iter()
             .map(|unit| !unit.instance.can_get_after_set())
             .collect();
-        let column_runs = ColumnRun::of(&columns);
+        let (text_runs, column_runs): (Vec<_>, Vec<_>) = ColumnRun::of(&columns)
+            .into_iter()
+            .partition(|run| run.buffer.is_text());
         let copies_into = (0..units.len())
             .map(|u| Copies::into_unit(&links, u))
             .collect();
         let row = vec![0.0; columns.len()];
+        let last_texts = vec![None; columns.len()];
         let read_after_step = AfterStep::of(&links, &outputs);
         Ok(Self {
             system,
@@ -640,7 +722,9 @@ impl Simulation {
             table_inputs,
             now: 0.0,
             columns,
+            last_texts,
             column_runs,
+            text_runs,
             column_names,
             column_units,
             connection_names,
@@ -688,6 +772,13 @@ impl Simulation {
                     crate::suggest::hint(instance, names)
                 ))
             })?;
+        if self.fmus[index].structural_parameters().contains(&variable) {
+            return Err(resolve(format!(
+                "instance '{instance}': '{variable}' is a structural parameter, which sizes \
+                 the FMU's arrays: give it in the scenario or with --set, before the system is \
+                 loaded, not once it is"
+            )));
+        }
         if let Some(problem) = resolve::parameter_problem(
             &self.system,
             &self.fmus,
@@ -720,6 +811,15 @@ impl Simulation {
     /// The unit of each recorded column as its FMU declares it ("" where it declares none).
     pub fn column_units(&self) -> &[String] {
         &self.column_units
+    }
+
+    /// The type of each recorded column, which says how its values sit in a row (see
+    /// [`crate::results::ColumnType`]).
+    pub fn column_types(&self) -> Vec<crate::results::ColumnType> {
+        self.columns
+            .iter()
+            .map(|&(_, buffer, _)| buffer.column_type())
+            .collect()
     }
 
     /// Outputs to read once, at the last communication point of each run (after its row is
@@ -799,6 +899,7 @@ impl Simulation {
         }
         self.fresh = false;
         self.final_row.fill(f64::NAN);
+        self.last_texts.fill(None);
         self.finite.reset();
         self.initialize()?;
         let SystemDescription {
@@ -981,7 +1082,12 @@ impl Simulation {
                         e.into(),
                     )
                 })?;
+            let structural = self.fmus[u].structural_parameters();
             for (variable, value) in &desc.parameters {
+                // Set in Configuration Mode when the instance was made (see `configure`).
+                if structural.contains(&variable.as_str()) {
+                    continue;
+                }
                 set_parameter(&mut unit.instance, variable, value)
                     .map_err(|e| call(&name, &format!("setting parameter {variable}"), e))?;
             }
@@ -1054,6 +1160,8 @@ impl Simulation {
             io.real.values.fill(0.0);
             io.integer.values.fill(0);
             io.boolean.values.fill(0);
+            io.word.values.fill(0);
+            io.text.clear();
         }
         self.exit_initialization_modes()?;
         Ok(())
@@ -1091,6 +1199,9 @@ impl Simulation {
             if !inputs.boolean.vrs.is_empty() {
                 unit.instance
                     .set_boolean_raw(&inputs.boolean.vrs, &inputs.boolean.values)?;
+            }
+            if inputs.others {
+                set_others(&mut unit.instance, inputs)?;
             }
             Ok(())
         })();
@@ -1144,9 +1255,15 @@ impl Simulation {
                     &mut outputs.boolean.values[boolean],
                 )?;
             }
+            if outputs.others {
+                get_others(&mut unit.instance, outputs, part)?;
+            }
             Ok(())
         })();
         result.map_err(|e| call(&unit.name, "getting outputs", e))?;
+        if outputs.others && self.finite.armed {
+            buffer::check_float32(outputs, u, &mut self.finite);
+        }
         let real = part.of(&outputs.real);
         if self.finite.armed && !finite::all_finite(&outputs.real.values[real.clone()]) {
             self.finite.note(
@@ -1163,19 +1280,28 @@ impl Simulation {
             let outputs = &self.outputs[run.unit];
             let row = &mut self.row[run.column..run.column + run.len];
             let slots = run.slot..run.slot + run.len;
-            match run.kind {
-                VariableKind::Real => row.copy_from_slice(&outputs.real.values[slots]),
-                VariableKind::Boolean => {
+            match run.block {
+                REAL => row.copy_from_slice(&outputs.real.values[slots]),
+                BOOLEAN => {
                     for (value, &b) in row.iter_mut().zip(&outputs.boolean.values[slots]) {
                         *value = f64::from(b);
                     }
                 }
-                _ => {
+                INTEGER => {
                     for (value, &i) in row.iter_mut().zip(&outputs.integer.values[slots]) {
                         *value = f64::from(i);
                     }
                 }
+                // Texts are in `text_runs` instead: their slots stay 0.
+                _ => {
+                    if let Buffer::Word(kind) = run.buffer {
+                        word_slots(kind, row, &outputs.word.values[slots]);
+                    }
+                }
             }
+        }
+        if !self.text_runs.is_empty() {
+            self.record_texts(recorder);
         }
         recorder.record(time, &self.row);
         if let Some(reason) = recorder.failure() {
@@ -1183,6 +1309,28 @@ impl Simulation {
             return Err(MasterError::Record { time, reason });
         }
         self.settle_non_finite(time)
+    }
+
+    /// Hands the recorder each text column whose value changed since the last row (every one
+    /// at a run's first row).
+    #[inline(never)]
+    fn record_texts(&mut self, recorder: &mut dyn Recorder) {
+        for run in &self.text_runs {
+            let texts = &self.outputs[run.unit].text;
+            let binary = run.buffer == Buffer::Binary;
+            for j in 0..run.len {
+                let (column, slot) = (run.column + j, run.slot + j);
+                let last = &mut self.last_texts[column];
+                if last
+                    .as_deref()
+                    .is_none_or(|text| texts.differs(binary, slot, text))
+                {
+                    let text = texts.text(binary, slot);
+                    recorder.record_text(column, &text);
+                    *last = Some(text);
+                }
+            }
+        }
     }
 
     /// Ends the run with the first value read for the row of `time` that was not a finite
@@ -1205,18 +1353,26 @@ impl Simulation {
         for (value, port) in self.final_row.iter_mut().zip(&self.final_ports) {
             let unit = &mut self.units[port.instance];
             let vr = [port.value_reference];
-            let read = match port.kind {
-                VariableKind::Real => {
+            let read = match Buffer::of(port) {
+                // A final value is a number: a text has none.
+                Buffer::String | Buffer::Binary => Ok(0.0),
+                Buffer::Word(kind) => {
+                    let mut w = [0];
+                    unit.instance
+                        .get_words(&vr, &mut w)
+                        .map(|_| crate::results::ColumnType::of_fmi3(kind).slot_of_word(w[0]))
+                }
+                Buffer::Real => {
                     let mut x = [0.0];
                     unit.instance.get_real(&vr, &mut x).map(|_| x[0])
                 }
-                VariableKind::Boolean => {
+                Buffer::Boolean => {
                     let mut b = [0];
                     unit.instance
                         .get_boolean_raw(&vr, &mut b)
                         .map(|_| f64::from(b[0]))
                 }
-                _ => {
+                Buffer::Integer => {
                     let mut i = [0];
                     unit.instance
                         .get_integer(&vr, &mut i)
@@ -1224,7 +1380,8 @@ impl Simulation {
                 }
             };
             *value = read.map_err(|e| call(&unit.name, "getting final outputs", e))?;
-            if !value.is_finite() {
+            let number = matches!(port.word, None | Some(Fmi3Type::Float32));
+            if number && !value.is_finite() {
                 self.finite
                     .note(port.instance, &[port.value_reference], &[*value]);
             }
@@ -1241,42 +1398,33 @@ impl Simulation {
     }
 }
 
-/// Which exchange buffer of an [`Io`] holds a variable of `kind`: 0 real, 1 integer
-/// (enumerations too), 2 boolean.
-fn block_index(kind: VariableKind) -> usize {
-    match kind {
-        VariableKind::Real => 0,
-        VariableKind::Boolean => 2,
-        _ => 1,
-    }
-}
-
 /// Recorded columns `column..column + len` are output slots `slot..slot + len` of one unit
-/// and exchange type.
+/// and exchange buffer (and, for words, one type).
 #[derive(Debug, Clone, Copy)]
 struct ColumnRun {
     unit: usize,
-    kind: VariableKind,
+    /// What `record` dispatches on: a plain tag, cheaper to match than `buffer`.
+    block: u8,
+    buffer: Buffer,
     slot: usize,
     column: usize,
     len: usize,
 }
 
 impl ColumnRun {
-    fn of(columns: &[(usize, VariableKind, usize)]) -> Vec<ColumnRun> {
+    fn of(columns: &[(usize, Buffer, usize)]) -> Vec<ColumnRun> {
         let mut runs: Vec<ColumnRun> = Vec::new();
-        for (column, &(unit, kind, slot)) in columns.iter().enumerate() {
+        for (column, &(unit, buffer, slot)) in columns.iter().enumerate() {
             match runs.last_mut() {
                 Some(run)
-                    if run.unit == unit
-                        && block_index(run.kind) == block_index(kind)
-                        && run.slot + run.len == slot =>
+                    if run.unit == unit && run.buffer == buffer && run.slot + run.len == slot =>
                 {
                     run.len += 1
                 }
                 _ => runs.push(ColumnRun {
                     unit,
-                    kind,
+                    block: block_index(buffer) as u8,
+                    buffer,
                     slot,
                     column,
                     len: 1,
@@ -1297,17 +1445,18 @@ fn feedthrough_last(
     recorded: &[Port],
     outputs: &mut [Io],
     links: &mut [Link],
-    columns: &mut [(usize, VariableKind, usize)],
+    columns: &mut [(usize, Buffer, usize)],
 ) {
     let ports = pairs.iter().map(|(source, _)| source).chain(recorded);
     // Per unit, per exchange type (real, integer, boolean): the feedthrough flag of each slot.
-    let mut flags: Vec<[Vec<bool>; 3]> = outputs
+    let mut flags: Vec<[Vec<bool>; 4]> = outputs
         .iter()
         .map(|io| {
             [
                 vec![false; io.real.vrs.len()],
                 vec![false; io.integer.vrs.len()],
                 vec![false; io.boolean.vrs.len()],
+                vec![false; io.word.vrs.len()],
             ]
         })
         .collect();
@@ -1324,21 +1473,69 @@ fn feedthrough_last(
             .filter(|input| input.instance == u)
             .any(|input| feedthrough[u].depends(&port.name, &input.name, false));
         let slot = outputs[u].slot(port);
-        flags[u][block_index(port.kind)][slot] |= depends;
+        if Buffer::of(port).is_text() {
+            // Not partitioned: every text output is read with the feedthrough outputs.
+            continue;
+        }
+        flags[u][block_index(Buffer::of(port))][slot] |= depends;
     }
     for (u, io) in outputs.iter_mut().enumerate() {
         let moved = [
             io.real.partition(&flags[u][0]),
             io.integer.partition(&flags[u][1]),
             io.boolean.partition(&flags[u][2]),
+            io.word.partition(&flags[u][3]),
         ];
-        for link in links.iter_mut().filter(|l| l.from_unit == u) {
-            link.from_slot = moved[block_index(link.kind)][link.from_slot];
+        for link in links
+            .iter_mut()
+            .filter(|l| l.from_unit == u && !l.buffer.is_text())
+        {
+            link.from_slot = moved[block_index(link.buffer)][link.from_slot];
         }
-        for (unit_of, kind, slot) in columns.iter_mut().filter(|c| c.0 == u) {
+        for (unit_of, buffer, slot) in columns.iter_mut().filter(|c| c.0 == u && !c.1.is_text()) {
             debug_assert_eq!(*unit_of, u);
-            *slot = moved[block_index(*kind)][*slot];
+            *slot = moved[block_index(*buffer)][*slot];
         }
+    }
+}
+
+/// Each FMU whose instance gives values to its structural parameters (FMI 3.0) as the FMU
+/// configured with them: its scalar view built for them, so that names resolve against the
+/// arrays' extents they set, and its instances set them in Configuration Mode (see
+/// `fmi_import`'s `Fmu::configured`). Every FMU is loaded once per instance, so the
+/// configured one is that instance's own.
+fn configure(system: &SystemDescription, fmus: Vec<Fmu>, problems: &mut Vec<String>) -> Vec<Fmu> {
+    fmus.into_iter()
+        .zip(&system.instances)
+        .map(|(fmu, instance)| {
+            let structural = fmu.structural_parameters();
+            let values: Vec<(String, String)> = instance
+                .parameters
+                .iter()
+                .filter(|(name, _)| structural.contains(&name.as_str()))
+                .map(|(name, value)| (name.clone(), parameter_text(value)))
+                .collect();
+            if values.is_empty() {
+                return fmu;
+            }
+            match fmu.configured(&values) {
+                Ok(configured) => configured,
+                Err(error) => {
+                    problems.push(format!("instance '{}': {error}", instance.name));
+                    fmu
+                }
+            }
+        })
+        .collect()
+}
+
+/// A scenario value as the text a model description would give it.
+fn parameter_text(value: &ParamValue) -> String {
+    match value {
+        ParamValue::Real(x) => format!("{x:?}"),
+        ParamValue::Integer(i) => i.to_string(),
+        ParamValue::Boolean(b) => b.to_string(),
+        ParamValue::String(s) => s.clone(),
     }
 }
 
@@ -1374,7 +1571,8 @@ fn instantiate(
     for ((fmu, desc), io) in fmus.iter().zip(&system.instances).zip(outputs) {
         let feedthrough = io.real.feedthrough_start < io.real.vrs.len()
             || io.integer.feedthrough_start < io.integer.vrs.len()
-            || io.boolean.feedthrough_start < io.boolean.vrs.len();
+            || io.boolean.feedthrough_start < io.boolean.vrs.len()
+            || io.word.feedthrough_start < io.word.vrs.len();
         let same_instant = system.ordering == Ordering::GaussSeidel && feedthrough;
         if same_instant && desc.model_exchange.is_none() && !fmu.supports_same_instant_feedthrough()
         {
@@ -1448,12 +1646,29 @@ pub fn set_parameter(
     variable: &str,
     value: &ParamValue,
 ) -> Result<(), CallError> {
-    let kind = instance.variable(variable)?.kind;
+    let info = *instance.variable(variable)?;
+    let kind = info.kind;
     let mismatch = |what: &str| CallError::InvalidArgument {
         function: "set parameter",
         instance: instance.name().to_owned(),
-        reason: format!("variable '{variable}' is {kind:?}; the scenario gives {what}"),
+        reason: format!(
+            "variable '{variable}' is {}; the scenario gives {what}",
+            info.type_name()
+        ),
     };
+    if let Some(fmi3) = info.fmi3_type.filter(|&t| fmi_import::word::is_word(t)) {
+        let word = resolve::parameter_word(fmi3, value).map_err(|reason| mismatch(&reason))?;
+        instance.set_words(&[info.value_reference], &[word])?;
+        return Ok(());
+    }
+    if info.fmi3_type == Some(Fmi3Type::Binary) {
+        let ParamValue::String(text) = value else {
+            return Err(mismatch(&format!("{value:?}, not hex text")));
+        };
+        let bytes = fmi_import::word::from_hex(text).map_err(|reason| mismatch(&reason))?;
+        instance.set_binary(&[info.value_reference], &[&bytes])?;
+        return Ok(());
+    }
     match (kind.accessed_as(), value) {
         (VariableKind::Real, ParamValue::Real(x)) => instance.set_real_by_name(variable, *x)?,
         (VariableKind::Real, ParamValue::Integer(i)) => {
@@ -1510,9 +1725,9 @@ mod tests {
 
     #[test]
     fn copies_group_links_by_source_and_buffer_and_copy_only_their_slots() {
-        use VariableKind::{Boolean, Enumeration, Real};
-        let link = |kind, from_unit, from_slot, to_unit, to_slot| Link {
-            kind,
+        use Buffer::{Boolean, Integer as Enumeration, Real};
+        let link = |buffer, from_unit, from_slot, to_unit, to_slot| Link {
+            buffer,
             from_unit,
             from_slot,
             to_unit,
@@ -1565,9 +1780,9 @@ mod tests {
 
     #[test]
     fn after_the_step_only_what_an_earlier_unit_consumes_is_read() {
-        use VariableKind::{Boolean, Real};
-        let link = |kind, from_unit, from_slot, to_unit| Link {
-            kind,
+        use Buffer::{Boolean, Real};
+        let link = |buffer, from_unit, from_slot, to_unit| Link {
+            buffer,
             from_unit,
             from_slot,
             to_unit,
@@ -1618,7 +1833,8 @@ mod tests {
 
     #[test]
     fn column_runs_join_consecutive_slots_of_one_unit_and_buffer_only() {
-        use VariableKind::{Boolean, Enumeration, Integer, Real};
+        use Buffer::{Boolean, Integer, Real};
+        let enumeration = Integer;
         let columns = [
             (0, Real, 0),
             (0, Real, 1),
@@ -1626,11 +1842,14 @@ mod tests {
             (1, Real, 4), // another unit
             (1, Boolean, 5),
             (1, Integer, 0),
-            (1, Enumeration, 1), // enumerations share the integer buffer
+            (1, enumeration, 1), // enumerations share the integer buffer
+            (1, Buffer::Word(Fmi3Type::UInt8), 2),
+            (1, Buffer::Word(Fmi3Type::UInt8), 3),
+            (1, Buffer::Word(Fmi3Type::Int8), 4), // another word type: a run of its own
         ];
         let runs: Vec<_> = ColumnRun::of(&columns)
             .iter()
-            .map(|r| (r.unit, block_index(r.kind), r.slot, r.column, r.len))
+            .map(|r| (r.unit, block_index(r.buffer), r.slot, r.column, r.len))
             .collect();
         assert_eq!(
             runs,
@@ -1640,6 +1859,8 @@ mod tests {
                 (1, 0, 4, 3, 1),
                 (1, 2, 5, 4, 1),
                 (1, 1, 0, 5, 2),
+                (1, 3, 2, 7, 2),
+                (1, 3, 4, 9, 1),
             ]
         );
     }

@@ -4,7 +4,7 @@
 use super::loops::{self, Edge, Feedthrough};
 use crate::suggest;
 use crate::system::{split_path, ParamValue, SystemDescription};
-use fmi_import::{Fmu, VariableKind};
+use fmi_import::{word, Fmi3Type, Fmu, VariableInfo, VariableKind};
 use model_description::{Causality, Initial, ScalarVariable, Variability};
 
 /// A scalar variable of an instance, by value reference and exchange type.
@@ -13,8 +13,22 @@ pub struct Port {
     pub instance: usize,
     pub name: String,
     pub value_reference: u32,
-    /// Real, Integer (enumerations included) or Boolean; strings are not exchanged.
+    /// Real, Integer (enumerations included), Boolean or String (a Binary too).
     pub kind: VariableKind,
+    /// The FMI 3.0 type of a variable that travels as a word (`fmi_import::word`: Float32,
+    /// the 8-, 16- and 64-bit and unsigned integers) or is a Binary, each exchanged through
+    /// its own buffer and connected only to its own type; `None` for every other.
+    pub word: Option<Fmi3Type>,
+}
+
+impl Port {
+    /// The type's name as the model description writes it.
+    pub fn type_name(&self) -> String {
+        match self.word {
+            Some(kind) => kind.name().to_owned(),
+            None => format!("{:?}", self.kind),
+        }
+    }
 }
 
 /// Expands `var` to the scalar names it stands for in `fmu`: itself if it exists, else
@@ -29,10 +43,28 @@ pub fn expand(fmu: &Fmu, variable: &str) -> Vec<String> {
         .collect()
 }
 
-fn exchange_kind(kind: VariableKind) -> Option<VariableKind> {
-    match kind.accessed_as() {
-        VariableKind::String => None,
-        other => Some(other),
+/// The word type of `info` if it travels as a word, or Binary.
+fn word_of(info: &VariableInfo) -> Option<Fmi3Type> {
+    info.fmi3_type
+        .filter(|&kind| word::is_word(kind) || kind == Fmi3Type::Binary)
+}
+
+/// The port of a variable.
+fn port_of(fmu: &Fmu, instance: usize, name: &str) -> Option<Port> {
+    let info = fmu.variable(name).ok()?;
+    Some(Port {
+        instance,
+        name: name.to_owned(),
+        value_reference: info.value_reference,
+        kind: info.kind.accessed_as(),
+        word: word_of(info),
+    })
+}
+
+impl Port {
+    /// A String or a Binary.
+    pub fn is_text(&self) -> bool {
+        self.kind == VariableKind::String
     }
 }
 
@@ -82,18 +114,7 @@ pub fn ports(
             ));
             continue;
         }
-        let Some(kind) = exchange_kind(info.kind) else {
-            problems.push(format!(
-                "'{instance_name}.{name}' is a String; strings are not exchanged or recorded"
-            ));
-            continue;
-        };
-        out.push(Port {
-            instance,
-            name,
-            value_reference: info.value_reference,
-            kind,
-        });
+        out.extend(port_of(fmu, instance, &name));
     }
     out
 }
@@ -128,15 +149,15 @@ pub fn connections(
             continue;
         }
         for (source, destination) in from.into_iter().zip(to) {
-            if source.kind != destination.kind {
+            if source.kind != destination.kind || source.word != destination.word {
                 problems.push(format!(
-                    "connection {}.{} -> {}.{}: type mismatch ({:?} -> {:?})",
+                    "connection {}.{} -> {}.{}: type mismatch ({} -> {})",
                     system.instances[source.instance].name,
                     source.name,
                     system.instances[destination.instance].name,
                     destination.name,
-                    source.kind,
-                    destination.kind
+                    source.type_name(),
+                    destination.type_name()
                 ));
                 continue;
             }
@@ -181,22 +202,19 @@ pub fn columns(system: &SystemDescription, fmus: &[Fmu], problems: &mut Vec<Stri
             for (instance, fmu) in fmus.iter().enumerate() {
                 let first = out.len();
                 for variable in fmu.model_description().outputs() {
-                    let Some(kind) = variable.kind().and_then(exchange_kind) else {
+                    let Some(port) = port_of(fmu, instance, &variable.name) else {
                         continue;
                     };
                     // An alias (the same value reference and type) is one output, recorded
                     // under its first name.
                     if out[first..].iter().any(|p: &Port| {
-                        p.value_reference == variable.value_reference && p.kind == kind
+                        p.value_reference == port.value_reference
+                            && p.kind == port.kind
+                            && p.word == port.word
                     }) {
                         continue;
                     }
-                    out.push(Port {
-                        instance,
-                        name: variable.name.clone(),
-                        value_reference: variable.value_reference,
-                        kind,
-                    });
+                    out.push(port);
                 }
             }
             out
@@ -227,23 +245,19 @@ fn pattern_ports(
             continue;
         }
         for variable in fmu.model_description().variables() {
-            let Some(kind) = variable.kind().and_then(exchange_kind) else {
+            if !glob_matches(variable_pattern, &variable.name) {
                 continue;
-            };
-            if glob_matches(variable_pattern, &variable.name) {
-                out.push(Port {
-                    instance,
-                    name: variable.name.clone(),
-                    value_reference: variable.value_reference,
-                    kind,
-                });
+            }
+            // A pattern records numbers: a String or Binary is recorded by its name.
+            if let Some(port) = port_of(fmu, instance, &variable.name).filter(|p| !p.is_text()) {
+                out.push(port);
             }
         }
     }
     if out.is_empty() {
         problems.push(format!(
             "'{path}' matches no variable of any instance (in a record pattern `*` stands for \
-             any characters and `?` for one; strings are not recorded)"
+             any characters and `?` for one; a String or Binary is recorded by its name)"
         ));
     }
     out
@@ -316,13 +330,19 @@ pub fn parameter_problem(
             ));
         }
     };
-    let fits = match (info.kind.accessed_as(), value) {
-        (VariableKind::Real, ParamValue::Real(_) | ParamValue::Integer(_)) => true,
-        (VariableKind::Integer, ParamValue::Integer(i)) => i32::try_from(*i).is_ok(),
-        (VariableKind::Boolean, ParamValue::Boolean(_)) => true,
-        (VariableKind::String, ParamValue::String(_)) => true,
-        _ => false,
-    };
+    if let Some(problem) = fmi3_value_problem(name, variable, info, value) {
+        return Some(problem);
+    }
+    let structural = fmu.structural_parameters().contains(&variable);
+    let fits = info.is_word()
+        || info.fmi3_type == Some(Fmi3Type::Binary)
+        || match (info.kind.accessed_as(), value) {
+            (VariableKind::Real, ParamValue::Real(_) | ParamValue::Integer(_)) => true,
+            (VariableKind::Integer, ParamValue::Integer(i)) => i32::try_from(*i).is_ok(),
+            (VariableKind::Boolean, ParamValue::Boolean(_)) => true,
+            (VariableKind::String, ParamValue::String(_)) => true,
+            _ => false,
+        };
     if !fits {
         let given = match value {
             ParamValue::Real(x) => format!("the Real {x}"),
@@ -341,8 +361,12 @@ pub fn parameter_problem(
         ));
     }
     if let Some(declared) = fmu.model_description().variable(variable) {
-        if let Some(problem) = settable_problem(declared).or_else(|| range_problem(declared, value))
-        {
+        let settable = if structural {
+            None
+        } else {
+            settable_problem(declared)
+        };
+        if let Some(problem) = settable.or_else(|| range_problem(declared, value)) {
             return Some(format!("instance '{name}': {problem}"));
         }
     }
@@ -354,6 +378,59 @@ pub fn parameter_problem(
         ));
     }
     None
+}
+
+/// A value given for an FMI 3.0 variable of a word type or Binary that its type cannot hold
+/// (300 for a UInt8, 1.5 for an Int16, text that is not hex for a Binary), naming the
+/// instance, the variable, its type and the value. A UInt64 above the largest TOML integer
+/// is given as a string ("18446744073709551615"), a Binary as hex text.
+fn fmi3_value_problem(
+    instance: &str,
+    variable: &str,
+    info: &VariableInfo,
+    value: &ParamValue,
+) -> Option<String> {
+    let kind = info.fmi3_type?;
+    let problem = if word::is_word(kind) {
+        parameter_word(kind, value).err()?
+    } else if kind == Fmi3Type::Binary {
+        match value {
+            ParamValue::String(text) => word::from_hex(text).err()?,
+            other => format!("{} is not hex text", given(other)),
+        }
+    } else {
+        return None;
+    };
+    Some(format!(
+        "instance '{instance}': parameter '{variable}' is {}, and the value given cannot be \
+         one: {problem}",
+        kind.name()
+    ))
+}
+
+/// The word of a scenario value for a variable of the word type `kind`.
+pub(crate) fn parameter_word(kind: Fmi3Type, value: &ParamValue) -> Result<u64, String> {
+    match (kind, value) {
+        (Fmi3Type::Float32, ParamValue::Real(x)) => {
+            word::from_float32(*x).ok_or_else(|| format!("{x} is beyond the Float32 range"))
+        }
+        (Fmi3Type::Float32, ParamValue::Integer(i)) => {
+            word::from_float32(*i as f64).ok_or_else(|| format!("{i} is beyond the Float32 range"))
+        }
+        (_, ParamValue::Integer(i)) => word::from_integer(kind, i128::from(*i))
+            .ok_or_else(|| word::out_of_range(kind, &i.to_string())),
+        (_, ParamValue::String(text)) => word::parse(kind, text),
+        (_, other) => Err(format!("{} is not a {}", given(other), kind.name())),
+    }
+}
+
+fn given(value: &ParamValue) -> String {
+    match value {
+        ParamValue::Real(x) => format!("the Real {x}"),
+        ParamValue::Integer(i) => format!("the Integer {i}"),
+        ParamValue::Boolean(b) => format!("the Boolean {b}"),
+        ParamValue::String(s) => format!("the String \"{s}\""),
+    }
 }
 
 /// Why the master may not set `variable` before initialization, if it may not: FMI 2.0
@@ -486,11 +563,15 @@ pub fn declared_connectors(system: &SystemDescription, fmus: &[Fmu], problems: &
                 ));
             }
             if let Some(type_name) = &connector.type_name {
-                if *type_name != format!("{:?}", info.kind) {
+                // An FMI 3.0 variable may be declared by its own type or its FMI 2.0
+                // counterpart (an SSP 1.0 connector knows Real, Integer, ... only).
+                if *type_name != format!("{:?}", info.kind) && *type_name != info.type_name() {
                     problems.push(format!(
                         "component '{}': connector '{}' is declared {type_name} but the FMU's \
-                         variable is {:?}",
-                        instance.name, connector.name, info.kind
+                         variable is {}",
+                        instance.name,
+                        connector.name,
+                        info.type_name()
                     ));
                 }
             }

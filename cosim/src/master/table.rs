@@ -48,6 +48,14 @@ pub fn resolve(
                     ));
                     return;
                 }
+                if port.word.is_some() || port.is_text() {
+                    problems.push(format!(
+                        "input table column '{name}': the input is {}; an input table drives \
+                         Real, Integer and Boolean inputs",
+                        port.type_name()
+                    ));
+                    return;
+                }
                 let info = fmus[port.instance]
                     .variable(&port.name)
                     .expect("resolved ports exist");

@@ -117,6 +117,35 @@ pub fn unrecorded(requirements: &[Requirement], columns: &[String]) -> Vec<Strin
         .collect()
 }
 
+/// Every signal a requirement reads whose column is not a number in a row (an Int64 or
+/// UInt64, whose slot holds its bits, a String or a Binary; see `results::ColumnType`), as
+/// problems. `types[j]` is the type of `columns[j]`.
+pub fn not_numbers(
+    requirements: &[Requirement],
+    columns: &[String],
+    types: &[crate::results::ColumnType],
+) -> Vec<String> {
+    requirements
+        .iter()
+        .flat_map(|r| {
+            r.formula.signals().into_iter().filter_map(move |s| {
+                let j = columns.iter().position(|c| c == s)?;
+                let kind = *types.get(j)?;
+                (kind.in_bits() || kind.is_text()).then(|| {
+                    format!(
+                        "requirement {:?}: formula {:?}: {s} is a {} column, which a formula \
+                         does not read (it reads Float64, Float32, Boolean and integers of up \
+                         to 32 bits)",
+                        r.name,
+                        r.text,
+                        kind.name()
+                    )
+                })
+            })
+        })
+        .collect()
+}
+
 /// Adds the signals `requirements` read to a run's `record` list, unless a recorded vector
 /// holds them already: a run that records a chosen few columns still judges its scenario's
 /// requirements.

@@ -2,10 +2,14 @@
 //! known as Feather v2) for large runs. Both hold the same table, a `time` column and one
 //! column per recorded `instance.variable`, and both read back bit-exactly.
 mod arrow;
+mod columns;
 mod csv;
 
-pub use self::arrow::{read_arrow, read_arrow_units, write_arrow};
-pub use self::csv::{read_csv, write_csv, write_csv_to};
+pub use self::arrow::{
+    read_arrow, read_arrow_typed, read_arrow_units, write_arrow, write_arrow_typed,
+};
+pub use self::columns::ColumnType;
+pub use self::csv::{read_csv, read_csv_typed, write_csv, write_csv_to, write_csv_typed};
 
 use crate::master::{Recorder, Trajectory};
 use std::path::Path;
@@ -86,9 +90,21 @@ pub fn write_with_units(
     units: &[String],
     format: Format,
 ) -> anyhow::Result<()> {
+    write_typed(path, trajectory, units, &[], format)
+}
+
+/// As [`write_with_units`], with each column's type (see [`ColumnType`]; Float64 where
+/// absent), as [`Stream::create_typed`] writes them.
+pub fn write_typed(
+    path: &Path,
+    trajectory: &Trajectory,
+    units: &[String],
+    types: &[ColumnType],
+    format: Format,
+) -> anyhow::Result<()> {
     match format {
-        Format::Csv => write_csv(path, trajectory)?,
-        Format::Arrow => write_arrow(path, trajectory, units)?,
+        Format::Csv => write_csv_typed(path, trajectory, types)?,
+        Format::Arrow => write_arrow_typed(path, trajectory, units, types)?,
     }
     Ok(())
 }
@@ -128,10 +144,23 @@ impl Stream {
         units: &[String],
         format: Format,
     ) -> anyhow::Result<Self> {
+        Self::create_typed(path, names, units, &[], format)
+    }
+
+    /// As [`Stream::create_with_units`], with each column's type (`types[j]` of `names[j]`,
+    /// Float64 where absent): integers written as integers in a CSV, typed columns in Arrow
+    /// (see [`ColumnType`]).
+    pub fn create_typed(
+        path: &Path,
+        names: &[String],
+        units: &[String],
+        types: &[ColumnType],
+        format: Format,
+    ) -> anyhow::Result<Self> {
         let sink = match format {
-            Format::Csv => Sink::Csv(self::csv::CsvStream::create(path, names)?),
+            Format::Csv => Sink::Csv(self::csv::CsvStream::create(path, names, types)?),
             Format::Arrow => Sink::Arrow(Box::new(self::arrow::ArrowStream::create(
-                path, names, units,
+                path, names, units, types,
             )?)),
         };
         Ok(Stream {
@@ -179,6 +208,13 @@ impl Recorder for Stream {
 
     fn failure(&self) -> Option<String> {
         self.error.as_ref().map(|e| format!("{e:#}"))
+    }
+
+    fn record_text(&mut self, column: usize, text: &str) {
+        match &mut self.sink {
+            Sink::Csv(csv) => csv.text(column, text),
+            Sink::Arrow(arrow) => arrow.text(column, text),
+        }
     }
 }
 

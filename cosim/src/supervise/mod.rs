@@ -142,6 +142,14 @@ impl Runner {
         }
     }
 
+    /// The type of each recorded column (see [`crate::results::ColumnType`]).
+    pub fn column_types(&self) -> Vec<crate::results::ColumnType> {
+        match self {
+            Runner::InProcess(s) => s.column_types(),
+            Runner::Supervised(s) => s.column_types(),
+        }
+    }
+
     pub fn final_column_names(&self) -> &[String] {
         match self {
             Runner::InProcess(s) => s.final_column_names(),

@@ -58,6 +58,7 @@ pub struct Supervised {
     descriptions: Vec<(FmiVersion, ModelDescription)>,
     column_names: Vec<String>,
     column_units: Vec<String>,
+    column_types: Vec<crate::results::ColumnType>,
     final_requested: Vec<String>,
     final_names: Vec<String>,
     final_values: Vec<f64>,
@@ -96,6 +97,7 @@ impl Supervised {
             descriptions: Vec::new(),
             column_names: Vec::new(),
             column_units: Vec::new(),
+            column_types: Vec::new(),
             final_requested: Vec::new(),
             final_names: Vec::new(),
             final_values: Vec::new(),
@@ -138,6 +140,10 @@ impl Supervised {
 
     pub fn column_units(&self) -> &[String] {
         &self.column_units
+    }
+
+    pub fn column_types(&self) -> Vec<crate::results::ColumnType> {
+        self.column_types.clone()
     }
 
     pub fn final_column_names(&self) -> &[String] {
@@ -261,6 +267,10 @@ impl Supervised {
                 break error;
             }
             match worker.next(deadline, &limits) {
+                Ok(FromWorker::Text { row, column, text }) => {
+                    hand.texts.push_back((row, column as usize, text));
+                    answer = Ok(());
+                }
                 Ok(FromWorker::Rows { upto }) => {
                     worker.hand_on(&mut hand, upto, recorder);
                     let stop = hand.failed.as_ref().map(|(_, reason)| reason.clone());
@@ -331,6 +341,7 @@ impl Supervised {
             FromWorker::Ready {
                 column_names,
                 column_units,
+                column_types,
                 final_names,
                 ring_capacity,
             } => {
@@ -343,6 +354,7 @@ impl Supervised {
                 worker.ring = Some(ring);
                 self.column_names = column_names;
                 self.column_units = column_units;
+                self.column_types = column_types;
                 self.final_values = vec![f64::NAN; final_names.len()];
                 self.final_names = final_names;
                 self.pending.clear();
@@ -369,6 +381,8 @@ impl Supervised {
 struct Hand {
     taken: u64,
     failed: Option<(f64, String)>,
+    /// Text values (row, column, text) not yet handed on, in the order sent.
+    texts: std::collections::VecDeque<(u64, usize, String)>,
 }
 
 impl Hand {
@@ -507,6 +521,10 @@ impl Worker {
         for row in first..upto {
             if hand.failed.is_some() {
                 break;
+            }
+            while let Some((_, column, text)) = hand.texts.front().filter(|t| t.0 <= row) {
+                recorder.record_text(*column, text);
+                hand.texts.pop_front();
             }
             let (time, values) = ring.read(row);
             recorder.record(time, values);

@@ -39,6 +39,7 @@ pub(super) enum FromWorker {
     Ready {
         column_names: Vec<String>,
         column_units: Vec<String>,
+        column_types: Vec<crate::results::ColumnType>,
         final_names: Vec<String>,
         ring_capacity: u64,
     },
@@ -47,6 +48,13 @@ pub(super) enum FromWorker {
     },
     Rows {
         upto: u64,
+    },
+    /// A text column's value from row `row` on (`Recorder::record_text`), sent before the
+    /// `Rows` that hands that row on.
+    Text {
+        row: u64,
+        column: u64,
+        text: String,
     },
     Done {
         rows: u64,

@@ -122,6 +122,7 @@ impl Worker {
                 let ready = FromWorker::Ready {
                     column_names: simulation.column_names().to_vec(),
                     column_units: simulation.column_units().to_vec(),
+                    column_types: simulation.column_types(),
                     final_names: simulation.final_column_names().to_vec(),
                     ring_capacity: ring.capacity as u64,
                 };
@@ -244,6 +245,20 @@ impl Recorder for RingRecorder<'_> {
             if let Err(error) = send(self.output, &FromWorker::Rows { upto: self.rows }) {
                 self.broken = Some(error);
             }
+        }
+    }
+
+    fn record_text(&mut self, column: usize, text: &str) {
+        if self.broken.is_some() {
+            return;
+        }
+        let message = FromWorker::Text {
+            row: self.rows,
+            column: column as u64,
+            text: text.to_owned(),
+        };
+        if let Err(error) = send(self.output, &message) {
+            self.broken = Some(error);
         }
     }
 

@@ -55,6 +55,9 @@ enum Group {
     Integer,
     Boolean,
     String,
+    /// The word types (`crate::word`), each through its own `fmi3Get{Type}`.
+    Word,
+    Binary,
 }
 
 impl Group {
@@ -64,6 +67,8 @@ impl Group {
             Group::Integer => matches!(kind, Fmi3Type::Int32 | Fmi3Type::Enumeration),
             Group::Boolean => kind == Fmi3Type::Boolean,
             Group::String => kind == Fmi3Type::String,
+            Group::Word => crate::word::is_word(kind),
+            Group::Binary => kind == Fmi3Type::Binary,
         }
     }
 
@@ -73,6 +78,20 @@ impl Group {
             Group::Integer => "Int32 or Enumeration",
             Group::Boolean => "Boolean",
             Group::String => "String",
+            Group::Word => "Float32, Int8, UInt8, Int16, UInt16, UInt32, Int64 or UInt64",
+            Group::Binary => "Binary",
+        }
+    }
+
+    /// The group of the element type `kind`.
+    fn of(kind: Fmi3Type) -> Group {
+        match kind {
+            Fmi3Type::Float64 => Group::Real,
+            Fmi3Type::Int32 | Fmi3Type::Enumeration => Group::Integer,
+            Fmi3Type::Boolean => Group::Boolean,
+            Fmi3Type::Binary => Group::Binary,
+            kind if crate::word::is_word(kind) => Group::Word,
+            _ => Group::String,
         }
     }
 }
@@ -134,6 +153,11 @@ pub(crate) struct Fmi3Instance {
     strings: Vec<fmi3String>,
     /// Live FMU states by slot; a freed slot is `None` and reused.
     states: Vec<Option<fmu_state::Slot>>,
+    /// One call's values of a word type, as words (`crate::word`).
+    words: Vec<u64>,
+    /// One call's Binary values: the FMU's pointers (valid until its next call) and sizes.
+    binaries: Vec<*const u8>,
+    binary_sizes: Vec<usize>,
 }
 
 // SAFETY: as for the FMI 2.0 backend: the instance pointer is used only through `&mut self`
@@ -191,7 +215,7 @@ impl Fmi3Instance {
         };
         let instance_name = c_string("instance name", name)?;
         let token = c_string("instantiation token", &api.description.instantiation_token)?;
-        let resources = fmu.resources_dir();
+        let resources = fmu.files.resources_dir();
         let resource_path = resources
             .filter(|dir| dir.is_dir())
             .map(|dir| {
@@ -245,7 +269,7 @@ impl Fmi3Instance {
                 log: log.since(mark),
             });
         };
-        Ok(Self {
+        Self {
             instance,
             name: name.to_owned(),
             black_box,
@@ -270,7 +294,57 @@ impl Fmi3Instance {
             booleans: Vec::new(),
             strings: Vec::new(),
             states: Vec::new(),
-        })
+            words: Vec::new(),
+            binaries: Vec::new(),
+            binary_sizes: Vec::new(),
+        }
+        .configured()
+    }
+
+    /// Sets the structural parameters the view was built for (`fmi3/view.rs`) in
+    /// Configuration Mode: `fmi3EnterConfigurationMode` from Instantiated, their values,
+    /// `fmi3ExitConfigurationMode` back to Instantiated (FMI 3.0, 3.2.2 and 4.2.2). Nothing
+    /// when the view is that of their start values.
+    fn configured(mut self) -> Result<Self, CallError> {
+        self.configure()?;
+        Ok(self)
+    }
+
+    fn configure(&mut self) -> Result<(), CallError> {
+        if self.api.configured.is_empty() {
+            return Ok(());
+        }
+        let enter = self.functions.enter_configuration_mode;
+        self.only(
+            "fmi3EnterConfigurationMode",
+            const { crate::blackbox::function("fmi3EnterConfigurationMode") },
+            enter,
+        )?;
+        let references = self.api.configured.clone();
+        for group in [
+            Group::Real,
+            Group::Integer,
+            Group::Boolean,
+            Group::String,
+            Group::Word,
+            Group::Binary,
+        ] {
+            let vrs: Vec<u32> = references
+                .iter()
+                .copied()
+                .filter(|&vr| Group::of(self.api.elements[vr as usize].kind) == group)
+                .collect();
+            if !vrs.is_empty() {
+                self.set_group(group, &vrs)?;
+            }
+        }
+        let exit = self.functions.exit_configuration_mode;
+        self.only(
+            "fmi3ExitConfigurationMode",
+            const { crate::blackbox::function("fmi3ExitConfigurationMode") },
+            exit,
+        )?;
+        Ok(())
     }
 
     pub(crate) fn name(&self) -> &str {
@@ -432,6 +506,16 @@ impl Fmi3Instance {
         self.set_since_step = false;
         self.terminated = false;
         self.shadow = self.api.starts.clone();
+        // A reset returns the structural parameters to their start values.
+        self.configure().map_err(|error| match error {
+            CallError::Fmi(error) => error,
+            other => FmiError::from_importer(
+                "fmi3ExitConfigurationMode",
+                &self.name,
+                crate::version::FmiVersion::Fmi3,
+                other.to_string(),
+            ),
+        })?;
         Ok(success)
     }
 
@@ -899,7 +983,29 @@ impl Fmi3Instance {
         let mut outcome = Ok(Success::Ok);
         for call in &calls {
             let function = get_name_of(call.kind);
+            // A word type's values into `self.words`, through a buffer of the C type.
+            macro_rules! get_words {
+                ($get:ident, $t:ty) => {{
+                    let mut buffer: Vec<$t> = vec![<$t>::default(); call.total];
+                    let raw = (self.functions.$get)(
+                        self.c(),
+                        call.vrs.as_ptr(),
+                        call.vrs.len(),
+                        buffer.as_mut_ptr(),
+                        call.total,
+                    );
+                    self.words.clear();
+                    self.words.extend(buffer.into_iter().map(Word::word));
+                    raw
+                }};
+            }
             let mark = self.log.mark();
+            let _noted = matches!(group, Group::Word | Group::Binary).then(|| {
+                crate::blackbox::enter(
+                    self.black_box,
+                    crate::blackbox::function_at_run_time(function),
+                )
+            });
             // SAFETY: `call.vrs` and the buffer hold the lengths passed; each buffer is
             // resized to the call's element count first.
             let raw = unsafe {
@@ -944,6 +1050,28 @@ impl Fmi3Instance {
                             call.total,
                         )
                     }
+                    Fmi3Type::Float32 => get_words!(get_float32, f32),
+                    Fmi3Type::Int8 => get_words!(get_int8, i8),
+                    Fmi3Type::UInt8 => get_words!(get_uint8, u8),
+                    Fmi3Type::Int16 => get_words!(get_int16, i16),
+                    Fmi3Type::UInt16 => get_words!(get_uint16, u16),
+                    Fmi3Type::UInt32 => get_words!(get_uint32, u32),
+                    Fmi3Type::Int64 => get_words!(get_int64, i64),
+                    Fmi3Type::UInt64 => get_words!(get_uint64, u64),
+                    Fmi3Type::Binary => {
+                        self.binaries.clear();
+                        self.binaries.resize(call.total, ptr::null());
+                        self.binary_sizes.clear();
+                        self.binary_sizes.resize(call.total, 0);
+                        (self.functions.get_binary)(
+                            self.c(),
+                            call.vrs.as_ptr(),
+                            call.vrs.len(),
+                            self.binary_sizes.as_mut_ptr(),
+                            self.binaries.as_mut_ptr(),
+                            call.total,
+                        )
+                    }
                     _ => {
                         self.strings.clear();
                         self.strings.resize(call.total, ptr::null());
@@ -975,8 +1103,9 @@ impl Fmi3Instance {
                 }
             }
         }
-        // The FMU's string pointers die with its next call: none is kept.
+        // The FMU's string and binary pointers die with its next call: none is kept.
         self.strings.iter_mut().for_each(|p| *p = ptr::null());
+        self.binaries.iter_mut().for_each(|p| *p = ptr::null());
         self.keep(group, vrs, calls);
         outcome
     }
@@ -1017,6 +1146,22 @@ impl Fmi3Instance {
                         self.booleans.extend_from_slice(&self.shadow.boolean[range]);
                     }
                 }
+                kind if crate::word::is_word(kind) => {
+                    self.words.clear();
+                    for range in ranges {
+                        self.words.extend_from_slice(&self.shadow.words[range]);
+                    }
+                }
+                Fmi3Type::Binary => {
+                    self.binaries.clear();
+                    self.binary_sizes.clear();
+                    for range in ranges {
+                        for bytes in &self.shadow.binary[range] {
+                            self.binaries.push(bytes.as_ptr());
+                            self.binary_sizes.push(bytes.len());
+                        }
+                    }
+                }
                 _ => {
                     owned.clear();
                     for range in ranges {
@@ -1034,8 +1179,22 @@ impl Fmi3Instance {
                 }
             }
             let mark = self.log.mark();
+            // The words of a word type as a buffer of its C type (each in range: checked
+            // when set).
+            macro_rules! set_words {
+                ($set:ident, $t:ty, $c:ident, $vrs:ident, $n:ident) => {{
+                    let buffer: Vec<$t> = self.words.iter().map(|&w| <$t>::from_word(w)).collect();
+                    (self.functions.$set)($c, $vrs, $n, buffer.as_ptr(), call.total)
+                }};
+            }
+            let _noted = matches!(group, Group::Word | Group::Binary).then(|| {
+                crate::blackbox::enter(
+                    self.black_box,
+                    crate::blackbox::function_at_run_time(function),
+                )
+            });
             // SAFETY: `call.vrs` and the buffer filled above hold the lengths passed; the
-            // strings outlive the call.
+            // strings and binaries outlive the call.
             let raw = unsafe {
                 let (c, vrs, n) = (self.c(), call.vrs.as_ptr(), call.vrs.len());
                 match call.kind {
@@ -1051,6 +1210,22 @@ impl Fmi3Instance {
                     Fmi3Type::Boolean => {
                         (self.functions.set_boolean)(c, vrs, n, self.booleans.as_ptr(), call.total)
                     }
+                    Fmi3Type::Float32 => set_words!(set_float32, f32, c, vrs, n),
+                    Fmi3Type::Int8 => set_words!(set_int8, i8, c, vrs, n),
+                    Fmi3Type::UInt8 => set_words!(set_uint8, u8, c, vrs, n),
+                    Fmi3Type::Int16 => set_words!(set_int16, i16, c, vrs, n),
+                    Fmi3Type::UInt16 => set_words!(set_uint16, u16, c, vrs, n),
+                    Fmi3Type::UInt32 => set_words!(set_uint32, u32, c, vrs, n),
+                    Fmi3Type::Int64 => set_words!(set_int64, i64, c, vrs, n),
+                    Fmi3Type::UInt64 => set_words!(set_uint64, u64, c, vrs, n),
+                    Fmi3Type::Binary => (self.functions.set_binary)(
+                        c,
+                        vrs,
+                        n,
+                        self.binary_sizes.as_ptr(),
+                        self.binaries.as_ptr(),
+                        call.total,
+                    ),
                     _ => (self.functions.set_string)(c, vrs, n, self.strings.as_ptr(), call.total),
                 }
             };
@@ -1064,6 +1239,7 @@ impl Fmi3Instance {
             }
         }
         self.strings.clear();
+        self.binaries.clear();
         self.keep(group, vrs, calls);
         outcome
     }
@@ -1262,6 +1438,98 @@ impl Fmi3Instance {
     }
 }
 
+impl Fmi3Instance {
+    /// Sets values of the word types, each refused unless its type holds it.
+    pub(crate) fn set_words(&mut self, vrs: &[u32], words: &[u64]) -> Result<Success, CallError> {
+        if !self.begin_set(Group::Word, vrs, words.len())? {
+            return Ok(Success::Ok);
+        }
+        for (&vr, &word) in vrs.iter().zip(words) {
+            let kind = self.api.elements[vr as usize].kind;
+            let back = match kind {
+                Fmi3Type::Float32 => f64::from(f32::from_word(word)).to_bits() == word,
+                Fmi3Type::UInt64 => true,
+                kind => crate::word::from_integer(kind, crate::word::to_integer(kind, word))
+                    .is_some_and(|w| w == word),
+            };
+            if !back {
+                return Err(self.invalid(
+                    set_name_of(kind),
+                    format!(
+                        "value reference {vr}: word {word:#x} is not a {} value",
+                        kind.name()
+                    ),
+                ));
+            }
+        }
+        for (&vr, &word) in vrs.iter().zip(words) {
+            self.shadow.words[vr as usize] = word;
+        }
+        self.set_group(Group::Word, vrs)
+    }
+
+    pub(crate) fn get_words(
+        &mut self,
+        vrs: &[u32],
+        words: &mut [u64],
+    ) -> Result<Success, CallError> {
+        self.get_group(Group::Word, vrs, words.len(), |this, _, _, position, at| {
+            words[position] = this.words[at];
+            Ok(())
+        })
+    }
+
+    pub(crate) fn set_binary(
+        &mut self,
+        vrs: &[u32],
+        values: &[&[u8]],
+    ) -> Result<Success, CallError> {
+        if !self.begin_set(Group::Binary, vrs, values.len())? {
+            return Ok(Success::Ok);
+        }
+        for (&vr, &value) in vrs.iter().zip(values) {
+            let slot = &mut self.shadow.binary[vr as usize];
+            slot.clear();
+            slot.extend_from_slice(value);
+        }
+        self.set_group(Group::Binary, vrs)
+    }
+
+    /// The bytes are copied at once: the FMU's pointers are valid only until its next call.
+    pub(crate) fn get_binary_into(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [Vec<u8>],
+    ) -> Result<Success, CallError> {
+        self.get_group(
+            Group::Binary,
+            vrs,
+            values.len(),
+            |this, function, _, position, at| {
+                let (pointer, size) = (this.binaries[at], this.binary_sizes[at]);
+                values[position].clear();
+                if size == 0 {
+                    return Ok(());
+                }
+                if pointer.is_null() {
+                    return Err(this.invalid(
+                        function,
+                        format!(
+                            "the FMU returned NULL with size {size} for value reference {}",
+                            vrs[position]
+                        ),
+                    ));
+                }
+                // SAFETY: a non-null fmi3Binary of `size` bytes returned by the FMU, valid
+                // until the next call into the instance.
+                values[position]
+                    .extend_from_slice(unsafe { std::slice::from_raw_parts(pointer, size) });
+                Ok(())
+            },
+        )
+    }
+}
+
 impl Drop for Fmi3Instance {
     fn drop(&mut self) {
         self.free_all_states();
@@ -1281,6 +1549,8 @@ fn get_name(group: Group) -> &'static str {
         Group::Integer => "fmi3GetInt32",
         Group::Boolean => "fmi3GetBoolean",
         Group::String => "fmi3GetString",
+        Group::Word => "fmi3Get{Float32,Int8,...,UInt64}",
+        Group::Binary => "fmi3GetBinary",
     }
 }
 
@@ -1290,15 +1560,25 @@ fn set_name(group: Group) -> &'static str {
         Group::Integer => "fmi3SetInt32",
         Group::Boolean => "fmi3SetBoolean",
         Group::String => "fmi3SetString",
+        Group::Word => "fmi3Set{Float32,Int8,...,UInt64}",
+        Group::Binary => "fmi3SetBinary",
     }
 }
 
 fn get_name_of(kind: Fmi3Type) -> &'static str {
     match kind {
         Fmi3Type::Float64 => "fmi3GetFloat64",
+        Fmi3Type::Float32 => "fmi3GetFloat32",
+        Fmi3Type::Int8 => "fmi3GetInt8",
+        Fmi3Type::UInt8 => "fmi3GetUInt8",
+        Fmi3Type::Int16 => "fmi3GetInt16",
+        Fmi3Type::UInt16 => "fmi3GetUInt16",
         Fmi3Type::Int32 => "fmi3GetInt32",
-        Fmi3Type::Enumeration => "fmi3GetInt64",
+        Fmi3Type::UInt32 => "fmi3GetUInt32",
+        Fmi3Type::Int64 | Fmi3Type::Enumeration => "fmi3GetInt64",
+        Fmi3Type::UInt64 => "fmi3GetUInt64",
         Fmi3Type::Boolean => "fmi3GetBoolean",
+        Fmi3Type::Binary => "fmi3GetBinary",
         _ => "fmi3GetString",
     }
 }
@@ -1306,9 +1586,48 @@ fn get_name_of(kind: Fmi3Type) -> &'static str {
 fn set_name_of(kind: Fmi3Type) -> &'static str {
     match kind {
         Fmi3Type::Float64 => "fmi3SetFloat64",
+        Fmi3Type::Float32 => "fmi3SetFloat32",
+        Fmi3Type::Int8 => "fmi3SetInt8",
+        Fmi3Type::UInt8 => "fmi3SetUInt8",
+        Fmi3Type::Int16 => "fmi3SetInt16",
+        Fmi3Type::UInt16 => "fmi3SetUInt16",
         Fmi3Type::Int32 => "fmi3SetInt32",
-        Fmi3Type::Enumeration => "fmi3SetInt64",
+        Fmi3Type::UInt32 => "fmi3SetUInt32",
+        Fmi3Type::Int64 | Fmi3Type::Enumeration => "fmi3SetInt64",
+        Fmi3Type::UInt64 => "fmi3SetUInt64",
         Fmi3Type::Boolean => "fmi3SetBoolean",
+        Fmi3Type::Binary => "fmi3SetBinary",
         _ => "fmi3SetString",
+    }
+}
+
+/// A C value of a word type and its word (`crate::word`).
+trait Word: Copy {
+    fn word(self) -> u64;
+    /// The value of a word known to be in range.
+    fn from_word(word: u64) -> Self;
+}
+
+macro_rules! integer_word {
+    ($($t:ty),+) => {$(
+        impl Word for $t {
+            fn word(self) -> u64 {
+                // Sign- or zero-extended, as `crate::word` says.
+                i128::from(self) as u64
+            }
+            fn from_word(word: u64) -> Self {
+                word as $t
+            }
+        }
+    )+};
+}
+integer_word!(i8, u8, i16, u16, u32, i64, u64);
+
+impl Word for f32 {
+    fn word(self) -> u64 {
+        f64::from(self).to_bits()
+    }
+    fn from_word(word: u64) -> Self {
+        f64::from_bits(word) as f32
     }
 }

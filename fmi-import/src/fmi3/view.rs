@@ -7,7 +7,22 @@
 //! both. Each scalar's `valueReference` in the view is its position in the view, an *element
 //! reference*; [`Element`] maps it back to the FMI 3.0 value reference and the element's
 //! place in its array.
+//!
+//! Structural parameters (FMI 3.0, Configuration Mode) size arrays: a `<Dimension
+//! valueReference=...>` takes its extent from the value of the variable it names. The view is
+//! therefore built for one *configuration*: the values of the structural parameters, their
+//! start values unless the caller gives others ([`scalar_view`]'s `configuration`, by name).
+//! A loaded FMU holds the view of its start values; `Fmu::configured` builds another view
+//! for other values, over the same binary, and each instance made from it applies those
+//! values in Configuration Mode right after instantiation (and after a reset), so the arrays
+//! the FMU holds have the extents the view shows, and `x[1]..x[n]` follow the `n` set.
+//!
+//! An array's start values in the file are for the structural parameters' start values.
+//! For another extent they say nothing the view could use, so its elements have no start
+//! value there; and since a set writes an array whole (`instance.rs`), a set of some of its
+//! elements writes the others as 0 until they are set too: such an array is best set whole.
 use crate::error::LoadError;
+use crate::word;
 use model_description::fmi3::{Fmi3ModelDescription, Fmi3Type, Fmi3Variable};
 use model_description::{
     BooleanVariable, CoSimulation, DefaultExperiment, EnumerationItem, EnumerationType,
@@ -36,6 +51,9 @@ pub(crate) struct Starts {
     pub(crate) int: Vec<i64>,
     pub(crate) boolean: Vec<bool>,
     pub(crate) string: Vec<String>,
+    /// The word types (see [`crate::word`]).
+    pub(crate) words: Vec<u64>,
+    pub(crate) binary: Vec<Vec<u8>>,
 }
 
 #[derive(Debug)]
@@ -43,23 +61,23 @@ pub(crate) struct View {
     pub(crate) description: ModelDescription,
     pub(crate) elements: Vec<Element>,
     pub(crate) starts: Starts,
-}
-
-/// The types the harness exchanges; the others are left out of the view (with a warning).
-fn supported(kind: Fmi3Type) -> bool {
-    matches!(
-        kind,
-        Fmi3Type::Float64
-            | Fmi3Type::Int32
-            | Fmi3Type::Enumeration
-            | Fmi3Type::Boolean
-            | Fmi3Type::String
-    )
+    /// The FMI 3.0 type of each of `description`'s variables, in order (aliases included).
+    pub(crate) types: Vec<Fmi3Type>,
+    /// The start value of each, as the file (or the configuration) writes it: exact where
+    /// the FMI 2.0 element cannot hold it (an Int64 beyond 32 bits, a Binary).
+    pub(crate) start_texts: Vec<Option<String>>,
+    /// Element references of the structural parameters the configuration gives a value,
+    /// which an instance sets in Configuration Mode; empty for the start values.
+    pub(crate) configured: Vec<u32>,
 }
 
 /// Refuses what this harness cannot drive, naming the model and the reason, then builds the
-/// view.
-pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> {
+/// view of `configuration`: values (as text, as a scenario gives them) of structural
+/// parameters by name; those not named keep their start values.
+pub(crate) fn scalar_view(
+    md: &Fmi3ModelDescription,
+    configuration: &[(String, String)],
+) -> Result<View, LoadError> {
     let refuse = |reason: String| LoadError::UnsupportedFmi3 {
         model_name: md.model_name.clone(),
         reason,
@@ -89,43 +107,37 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
                 variable.clocks.as_deref().unwrap_or_default()
             )));
         }
-        if variable.structural {
-            return Err(refuse(format!(
-                "it declares the structural parameter '{}'; the harness does not enter \
-                 Configuration Mode",
-                variable.name
-            )));
-        }
-        if let Some(dimension) = variable.dimensions.iter().find(|d| d.start.is_none()) {
-            return Err(refuse(format!(
-                "array '{}' takes a dimension from value reference {}; the harness reads \
-                 fixed dimensions (<Dimension start=...>) only",
-                variable.name,
-                dimension
-                    .value_reference
-                    .map_or_else(|| "(none)".to_owned(), |vr| vr.to_string())
-            )));
-        }
+    }
+    let sizes = extents(md, configuration)?;
+    for variable in &md.variables {
+        shape(variable, &sizes).map_err(&refuse)?;
     }
 
     let mut elements = Vec::new();
     let mut scalars = Vec::new();
+    let mut types = Vec::new();
+    let mut start_texts = Vec::new();
+    let mut configured = Vec::new();
     let mut starts = Starts::default();
     // FMI 3.0 value reference -> the view's scalars of that variable.
     let mut by_reference: HashMap<u32, std::ops::Range<usize>> = HashMap::new();
-    let mut skipped = Vec::new();
     for variable in &md.variables {
-        if !supported(variable.kind) {
-            skipped.push(format!("{} ({})", variable.name, variable.kind.name()));
-            continue;
-        }
-        let shape = shape(variable);
+        let shape = shape(variable, &sizes).expect("checked above");
         let len = shape.iter().product::<usize>();
         let first = elements.len();
+        let given = configuration
+            .iter()
+            .find(|(name, _)| *name == variable.name)
+            .map(|(_, value)| value.as_str());
         for index in 0..len {
             let name = element_name(&variable.name, &shape, index);
-            let start = start_token(variable, index, len);
+            let start = given.or_else(|| start_token(variable, index, len));
+            if given.is_some() {
+                configured.push(elements.len() as u32);
+            }
             push_start(&mut starts, variable.kind, start);
+            types.push(variable.kind);
+            start_texts.push(start.map(str::to_owned));
             scalars.push(scalar(md, variable, name, elements.len() as u32, start));
             elements.push(Element {
                 value_reference: variable.value_reference,
@@ -140,11 +152,11 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
     // An alias is another name of the same value: its scalars carry the element references
     // of the variable's own, so every get, set and connection by it reaches that variable.
     // They follow all others, so that a scalar's element reference stays its position.
-    for variable in md.variables.iter().filter(|v| supported(v.kind)) {
+    for variable in &md.variables {
         let Some(range) = by_reference.get(&variable.value_reference) else {
             continue;
         };
-        let shape = shape(variable);
+        let shape = shape(variable, &sizes).expect("checked above");
         for alias in &variable.aliases {
             for (index, element) in range.clone().enumerate() {
                 let name = element_name(&alias.name, &shape, index);
@@ -154,16 +166,18 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
                     aliased.description = alias.description.clone();
                 }
                 scalars.push(aliased);
+                types.push(variable.kind);
+                start_texts.push(start_texts[element].clone());
             }
         }
     }
-    if !skipped.is_empty() {
-        log::warn!(
-            "model '{}' (FMI 3.0): variables of types the harness does not exchange are left \
-             out: {}",
-            md.model_name,
-            skipped.join(", ")
-        );
+    if let Some((name, _)) = configuration
+        .iter()
+        .find(|(name, _)| !md.variables.iter().any(|v| v.structural && v.name == *name))
+    {
+        return Err(refuse(format!(
+            "'{name}' is given in Configuration Mode but is not a structural parameter"
+        )));
     }
 
     let indices = |range: &std::ops::Range<usize>| range.clone().map(|i| (i + 1).to_string());
@@ -256,7 +270,92 @@ pub(crate) fn scalar_view(md: &Fmi3ModelDescription) -> Result<View, LoadError> 
         description,
         elements,
         starts,
+        types,
+        start_texts,
+        configured,
     })
+}
+
+/// The value of every variable a `<Dimension valueReference>` names, by value reference:
+/// its value in `configuration` or its start value, checked to be a non-negative integer.
+fn extents(
+    md: &Fmi3ModelDescription,
+    configuration: &[(String, String)],
+) -> Result<HashMap<u32, usize>, LoadError> {
+    let refuse = |reason: String| LoadError::UnsupportedFmi3 {
+        model_name: md.model_name.clone(),
+        reason,
+    };
+    for (name, value) in configuration {
+        let variable = md
+            .variables
+            .iter()
+            .find(|v| v.name == *name)
+            .ok_or_else(|| refuse(format!("it has no structural parameter '{name}'")))?;
+        check_value(variable, value).map_err(|reason| {
+            refuse(format!(
+                "structural parameter '{name}' ({}) cannot be {value}: {reason}",
+                variable.kind.name()
+            ))
+        })?;
+    }
+    let mut sizes = HashMap::new();
+    for variable in &md.variables {
+        for vr in variable.dimensions.iter().filter_map(|d| d.value_reference) {
+            if sizes.contains_key(&vr) {
+                continue;
+            }
+            let Some(source) = md.variable_by_reference(vr) else {
+                return Err(refuse(format!(
+                    "array '{}' takes a dimension from value reference {vr}, which no \
+                     variable has",
+                    variable.name
+                )));
+            };
+            let given = configuration
+                .iter()
+                .find(|(name, _)| *name == source.name)
+                .map(|(_, value)| value.as_str());
+            let text = given.or(source.start.first().map(String::as_str));
+            let extent = text
+                .and_then(|t| t.trim().parse::<u64>().ok())
+                .and_then(|n| usize::try_from(n).ok())
+                .ok_or_else(|| {
+                    refuse(format!(
+                        "array '{}' takes a dimension from '{}', whose value {} is not a \
+                         non-negative integer",
+                        variable.name,
+                        source.name,
+                        text.unwrap_or("(no start value)")
+                    ))
+                })?;
+            sizes.insert(vr, extent);
+        }
+    }
+    Ok(sizes)
+}
+
+/// Whether `text` is a value of `variable`'s type.
+pub(crate) fn check_value(variable: &Fmi3Variable, text: &str) -> Result<(), String> {
+    match variable.kind {
+        kind if word::is_word(kind) => word::parse(kind, text).map(drop),
+        Fmi3Type::Int32 | Fmi3Type::Enumeration => text
+            .trim()
+            .parse::<i32>()
+            .map(drop)
+            .map_err(|_| format!("{text} is not a 32-bit integer")),
+        Fmi3Type::Float64 => text
+            .trim()
+            .parse::<f64>()
+            .map(drop)
+            .map_err(|_| format!("{text} is not a number")),
+        Fmi3Type::Boolean => match text.trim() {
+            "true" | "false" | "1" | "0" => Ok(()),
+            other => Err(format!("{other} is not a Boolean")),
+        },
+        Fmi3Type::Binary => word::from_hex(text).map(drop),
+        _ => Ok(()),
+    }
 }
 
 /// `r_nue` + shape [3] + 1 -> `r_nue[2]`; a scalar keeps its name; `[i,j]` beyond one
@@ -275,16 +374,31 @@ fn element_name(name: &str, shape: &[usize], index: usize) -> String {
     format!("{name}[{}]", list.join(","))
 }
 
-/// The start token of element `index`: its own, or the one token given for all.
+/// The start token of element `index`: its own, or the one token given for all; none when
+/// the tokens are for another extent (an array sized by a structural parameter set to
+/// another value: which token belongs to which element is then the FMU's to say).
 fn start_token(variable: &Fmi3Variable, index: usize, len: usize) -> Option<&str> {
     match variable.start.len() {
         0 => None,
         1 if len > 1 => Some(variable.start[0].as_str()),
+        n if n != len => None,
         _ => variable.start.get(index).map(String::as_str),
     }
 }
 
 fn push_start(starts: &mut Starts, kind: Fmi3Type, start: Option<&str>) {
+    starts.words.push(if word::is_word(kind) {
+        start.and_then(|s| word::parse(kind, s).ok()).unwrap_or(0)
+    } else {
+        0
+    });
+    starts.binary.push(if kind == Fmi3Type::Binary {
+        start
+            .and_then(|s| word::from_hex(s).ok())
+            .unwrap_or_default()
+    } else {
+        Vec::new()
+    });
     starts
         .float64
         .push(start.and_then(|s| s.parse().ok()).unwrap_or(0.0));
@@ -299,12 +413,23 @@ fn push_start(starts: &mut Starts, kind: Fmi3Type, start: Option<&str>) {
     });
 }
 
-/// The extent of each of `variable`'s dimensions (fixed ones only reach the view).
-fn shape(variable: &Fmi3Variable) -> Vec<usize> {
+/// The extent of each of `variable`'s dimensions: fixed (`start`), or the value of the
+/// variable a `valueReference` names (`sizes`, from [`extents`]).
+fn shape(variable: &Fmi3Variable, sizes: &HashMap<u32, usize>) -> Result<Vec<usize>, String> {
     variable
         .dimensions
         .iter()
-        .map(|d| d.start.unwrap_or(1) as usize)
+        .map(|d| match (d.start, d.value_reference) {
+            (Some(start), _) => usize::try_from(start).map_err(|e| e.to_string()),
+            (None, Some(vr)) => sizes
+                .get(&vr)
+                .copied()
+                .ok_or_else(|| format!("no extent for value reference {vr}")),
+            (None, None) => Err(format!(
+                "array '{}' has a <Dimension> with neither start nor valueReference",
+                variable.name
+            )),
+        })
         .collect()
 }
 
@@ -319,7 +444,12 @@ fn scalar(
         name,
         value_reference,
         description: variable.description.clone(),
-        causality: Some(variable.causality_or_default()),
+        // A structural parameter is set like a parameter (in Configuration Mode).
+        causality: Some(if variable.structural {
+            model_description::Causality::Parameter
+        } else {
+            variable.causality_or_default()
+        }),
         variability: Some(variable.variability_or_default()),
         initial: variable.initial,
         ..Default::default()
@@ -339,7 +469,24 @@ fn scalar(
                 ..Default::default()
             })
         }
-        Fmi3Type::Int32 => {
+        Fmi3Type::Float32 => {
+            scalar.real = Some(RealVariable {
+                unit,
+                start: start.and_then(|s| s.parse().ok()),
+                ..Default::default()
+            })
+        }
+        // The integers of every width: the FMI 2.0 Integer element, the type itself in
+        // `View::types`; a start beyond 32 bits is left out of the element (it stays exact
+        // in `Starts`).
+        Fmi3Type::Int8
+        | Fmi3Type::UInt8
+        | Fmi3Type::Int16
+        | Fmi3Type::UInt16
+        | Fmi3Type::Int32
+        | Fmi3Type::UInt32
+        | Fmi3Type::Int64
+        | Fmi3Type::UInt64 => {
             scalar.integer = Some(IntegerVariable {
                 start: start.and_then(|s| s.parse().ok()),
                 ..Default::default()
@@ -373,6 +520,45 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_dimension_follows_the_structural_parameter_it_names() {
+        let xml = MD
+            .replace(
+                r#"<Int32 name="n" valueReference="40" causality="parameter" variability="fixed" start="4"/>"#,
+                r#"<UInt64 name="n" valueReference="40" causality="structuralParameter" variability="fixed" start="4"/>"#,
+            )
+            .replace(r#"<Dimension start="2"/>"#, r#"<Dimension valueReference="40"/>"#);
+        let md = Fmi3ModelDescription::from_xml(&xml).unwrap();
+        let count = |view: &View| {
+            view.description
+                .model_variables
+                .variables
+                .iter()
+                .filter(|v| v.name.starts_with("y["))
+                .count()
+        };
+        let start = scalar_view(&md, &[]).unwrap();
+        assert_eq!(count(&start), 4);
+        assert!(start.configured.is_empty());
+        let set = scalar_view(&md, &[("n".into(), "6".into())]).unwrap();
+        assert_eq!(count(&set), 6);
+        // n itself is the one element set in Configuration Mode, with the value given.
+        assert_eq!(set.configured.len(), 1);
+        assert_eq!(set.starts.words[set.configured[0] as usize], 6);
+        let zero = scalar_view(&md, &[("n".into(), "0".into())]).unwrap();
+        assert_eq!(count(&zero), 0);
+        // u's three start values are not y's: with y of 6 they are no start of its elements.
+        let xml = xml.replace(
+            r#"<Dimension start="3"/></Float64>"#,
+            r#"<Dimension valueReference="40"/></Float64>"#,
+        );
+        let md = Fmi3ModelDescription::from_xml(&xml).unwrap();
+        let start = scalar_view(&md, &[]).unwrap();
+        assert!(start.description.model_variables.variables[..3]
+            .iter()
+            .all(|v| v.real.as_ref().unwrap().start.is_none()));
+    }
+
+    #[test]
     fn element_names_are_one_based_and_row_major() {
         assert_eq!(element_name("x", &[], 0), "x");
         assert_eq!(element_name("r", &[3], 1), "r[2]");
@@ -396,7 +582,7 @@ mod tests {
     #[test]
     fn arrays_become_scalars_with_element_references_and_dependencies() {
         let md = Fmi3ModelDescription::from_xml(MD).unwrap();
-        let view = scalar_view(&md).unwrap();
+        let view = scalar_view(&md, &[]).unwrap();
         let names: Vec<_> = view
             .description
             .model_variables
@@ -404,7 +590,8 @@ mod tests {
             .iter()
             .map(|v| v.name.as_str())
             .collect();
-        assert_eq!(names, ["u[1]", "u[2]", "u[3]", "y[1]", "y[2]", "n"]);
+        assert_eq!(names, ["u[1]", "u[2]", "u[3]", "y[1]", "y[2]", "f", "n"]);
+        assert_eq!(view.types[5], Fmi3Type::Float32);
         assert_eq!(view.elements[4].value_reference, 20);
         assert_eq!((view.elements[4].index, view.elements[4].first), (1, 3));
         assert_eq!(view.starts.float64[..3], [1.0, 2.0, 3.0]);
@@ -415,7 +602,7 @@ mod tests {
             .as_ref()
             .unwrap()
             .unknowns;
-        assert_eq!(outputs.len(), 2, "Float32 left out");
+        assert_eq!(outputs.len(), 3, "Float32 in");
         assert_eq!(outputs[1].index, 5);
         assert_eq!(outputs[1].dependencies.as_deref(), Some("1 2 3"));
     }
@@ -427,10 +614,10 @@ mod tests {
             r#"causality="output"><Dimension start="2"/><Alias name="y_alias" description="y again"/></Float64>"#,
         );
         let md = Fmi3ModelDescription::from_xml(&xml).unwrap();
-        let view = scalar_view(&md).unwrap();
+        let view = scalar_view(&md, &[]).unwrap();
         let variables = &view.description.model_variables.variables;
         let named = |name: &str| variables.iter().find(|v| v.name == name).unwrap();
-        assert_eq!(variables.len(), 8);
+        assert_eq!(variables.len(), 9);
         for i in 1..=2 {
             let (base, alias) = (named(&format!("y[{i}]")), named(&format!("y_alias[{i}]")));
             assert_eq!(alias.value_reference, base.value_reference);
@@ -442,11 +629,11 @@ mod tests {
             assert_eq!(variables[position].value_reference, position as u32);
             assert!(element.index < element.len);
         }
-        assert_eq!(view.elements.len(), 6);
+        assert_eq!(view.elements.len(), 7);
     }
 
     #[test]
-    fn clocks_scheduled_execution_only_and_structural_parameters_are_refused() {
+    fn clocks_scheduled_execution_only_and_unknown_dimensions_are_refused() {
         let cases = [
             (
                 MD.replace(
@@ -465,14 +652,14 @@ mod tests {
             (
                 MD.replace(
                     r#"<Dimension start="2"/>"#,
-                    r#"<Dimension valueReference="40"/>"#,
+                    r#"<Dimension valueReference="41"/>"#,
                 ),
-                "dimension from value reference 40",
+                "dimension from value reference 41, which no variable has",
             ),
         ];
         for (xml, expected) in cases {
             let md = Fmi3ModelDescription::from_xml(&xml).unwrap();
-            let text = scalar_view(&md).unwrap_err().to_string();
+            let text = scalar_view(&md, &[]).unwrap_err().to_string();
             assert!(text.contains("'M'") && text.contains(expected), "{text}");
         }
     }

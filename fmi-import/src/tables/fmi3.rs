@@ -1,7 +1,7 @@
 //! FMI 3.0: the common functions, those of Co-Simulation and those of Model Exchange, typed
-//! after `fmi3FunctionTypes.h` (the C types are `fmi-abi`'s). The scalar types the importer
-//! exchanges (Float64, Int32, Int64, Boolean, String) are listed; clocks, scheduled execution
-//! and the narrower numeric types are not, since no FMU of this workspace uses them.
+//! after `fmi3FunctionTypes.h` (the C types are `fmi-abi`'s). Every variable type but Clock
+//! is listed, and Configuration Mode (structural parameters); clocks and scheduled execution
+//! are not, since the importer refuses FMUs that need them.
 use super::function_table;
 use fmi_abi::fmi3::*;
 use std::ffi::c_char;
@@ -10,6 +10,16 @@ type Vr = fmi3ValueReference;
 type Inst = fmi3Instance;
 pub type Get<T> = unsafe extern "C" fn(Inst, *const Vr, usize, *mut T, usize) -> fmi3Status;
 pub type Set<T> = unsafe extern "C" fn(Inst, *const Vr, usize, *const T, usize) -> fmi3Status;
+pub type GetBinary =
+    unsafe extern "C" fn(Inst, *const Vr, usize, *mut usize, *mut fmi3Binary, usize) -> fmi3Status;
+pub type SetBinary = unsafe extern "C" fn(
+    Inst,
+    *const Vr,
+    usize,
+    *const usize,
+    *const fmi3Binary,
+    usize,
+) -> fmi3Status;
 pub type Only = unsafe extern "C" fn(Inst) -> fmi3Status;
 pub type Vector = unsafe extern "C" fn(Inst, *mut f64, usize) -> fmi3Status;
 pub type GetVersion = unsafe extern "C" fn() -> *const c_char;
@@ -82,6 +92,8 @@ function_table! {
         get_version: GetVersion = fmi3GetVersion,
         set_debug_logging: SetDebugLogging = fmi3SetDebugLogging,
         free_instance: FreeInstance = fmi3FreeInstance,
+        enter_configuration_mode: Only = fmi3EnterConfigurationMode,
+        exit_configuration_mode: Only = fmi3ExitConfigurationMode,
         enter_initialization_mode: EnterInitializationMode = fmi3EnterInitializationMode,
         exit_initialization_mode: Only = fmi3ExitInitializationMode,
         enter_event_mode: Only = fmi3EnterEventMode,
@@ -90,11 +102,27 @@ function_table! {
         get_float64: Get<f64> = fmi3GetFloat64,
         get_int32: Get<i32> = fmi3GetInt32,
         get_int64: Get<i64> = fmi3GetInt64,
+        get_float32: Get<f32> = fmi3GetFloat32,
+        get_int8: Get<i8> = fmi3GetInt8,
+        get_uint8: Get<u8> = fmi3GetUInt8,
+        get_int16: Get<i16> = fmi3GetInt16,
+        get_uint16: Get<u16> = fmi3GetUInt16,
+        get_uint32: Get<u32> = fmi3GetUInt32,
+        get_uint64: Get<u64> = fmi3GetUInt64,
+        get_binary: GetBinary = fmi3GetBinary,
         get_boolean: Get<fmi3Boolean> = fmi3GetBoolean,
         get_string: Get<fmi3String> = fmi3GetString,
         set_float64: Set<f64> = fmi3SetFloat64,
         set_int32: Set<i32> = fmi3SetInt32,
         set_int64: Set<i64> = fmi3SetInt64,
+        set_float32: Set<f32> = fmi3SetFloat32,
+        set_int8: Set<i8> = fmi3SetInt8,
+        set_uint8: Set<u8> = fmi3SetUInt8,
+        set_int16: Set<i16> = fmi3SetInt16,
+        set_uint16: Set<u16> = fmi3SetUInt16,
+        set_uint32: Set<u32> = fmi3SetUInt32,
+        set_uint64: Set<u64> = fmi3SetUInt64,
+        set_binary: SetBinary = fmi3SetBinary,
         set_boolean: Set<fmi3Boolean> = fmi3SetBoolean,
         set_string: Set<fmi3String> = fmi3SetString,
         get_fmu_state: GetFmuState = fmi3GetFMUState,

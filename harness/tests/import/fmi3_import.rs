@@ -223,7 +223,8 @@ fn the_oscillator_and_the_navigation_model_run_alone_in_fmi3() {
     let (verdict3, csv3) = run(temp.path(), "osc3", &oscillator("fmi3/Oscillator.fmu"), &[]);
     assert!(verdict3.contains("completed at t = 5.00 s"), "{verdict3}");
     assert_eq!(verdict3, verdict2);
-    assert!(csv3.starts_with("time,osc.x,osc.v,osc.step_count\n0.0,1.0,0.0,0.0\n"));
+    // An Integer column is written as integers.
+    assert!(csv3.starts_with("time,osc.x,osc.v,osc.step_count\n0.0,1.0,0.0,0\n"));
     // The state event inside the third step: FMI 2.0 has no early return and the FMU steps
     // on from the event within fmi2DoStep; FMI 3.0 returns early there and the importer
     // steps on with fmi3DoStep(t_event, t + h - t_event), whose end the FMU recomputes as
@@ -307,15 +308,15 @@ fn fmi3_input_the_harness_cannot_drive_is_refused_before_the_run_naming_fmu_and_
             "it declares the clock 'tick'; the harness does not drive clocks",
         ),
         (
-            "a structural parameter",
+            "an array sized by a variable that does not exist",
             |xml| {
                 xml.replace(
                     "<ModelVariables>",
-                    "<ModelVariables>\n    <UInt64 name=\"n\" valueReference=\"78\" \
-                     causality=\"structuralParameter\" variability=\"fixed\" start=\"2\"/>",
+                    "<ModelVariables>\n    <Float64 name=\"z\" valueReference=\"78\" \
+                     causality=\"local\"><Dimension valueReference=\"999\"/></Float64>",
                 )
             },
-            "structural parameter 'n'",
+            "array 'z' takes a dimension from value reference 999, which no variable has",
         ),
     ];
     for (label, edit, reason) in cases {

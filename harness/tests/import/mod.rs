@@ -4,6 +4,7 @@
 //! The importer's and the master's own behaviour is tested in fmi-import/tests and
 //! cosim/tests.
 mod fmi3_import;
+mod fmi3_types;
 mod fmu_archive;
 mod model_exchange;
 mod non_finite;

@@ -13,6 +13,7 @@ mod fmpy_ssp;
 mod libcosim;
 mod python_plant;
 mod pythonfmu3;
+mod pythonfmu3_types;
 mod scripts;
 mod ssp_package;
 mod terminals;

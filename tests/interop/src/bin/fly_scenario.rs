@@ -14,22 +14,29 @@
 //! chunks", exit status 134) on the runs whose heap layout exposes it (with some FMU paths,
 //! every time), after everything the harness did has succeeded.
 //!
+//! The CSV is streamed as `harness run` writes it, with column types: integers as integers,
+//! an Int64 or UInt64 exact, strings as text, Binary in hex.
+//!
 //! Usage: fly_scenario SCENARIO OUT.csv
 use anyhow::Result;
-use cosim::master::{Simulation, Trajectory};
+use cosim::master::Simulation;
+use cosim::results::{Format, Stream};
 use std::io::Write;
 
 fn fly(scenario: &str, out_csv: &str) -> Result<()> {
     let system = lander::scenarios::load(scenario)?;
     let mut simulation = Simulation::new(system, &interop_tests::fmu_dir())?;
-    let mut trajectory = Trajectory {
-        names: simulation.column_names().to_vec(),
-        ..Default::default()
-    };
-    let end = simulation.run(&mut trajectory)?;
+    let mut stream = Stream::create_typed(
+        out_csv.as_ref(),
+        simulation.column_names(),
+        simulation.column_units(),
+        &simulation.column_types(),
+        Format::Csv,
+    )?;
+    let end = simulation.run(&mut stream)?;
     drop(simulation);
-    cosim::results::write_csv(out_csv.as_ref(), &trajectory)?;
-    println!("fly_scenario: {} rows, {end:?}", trajectory.len());
+    let rows = stream.finish()?;
+    println!("fly_scenario: {rows} rows, {end:?}");
     Ok(())
 }
 
