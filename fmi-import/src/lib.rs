@@ -45,6 +45,7 @@ mod version;
 
 pub use describe::{peek_description, read_description};
 pub use error::{CallError, FmiError, LoadError, VariableError};
+pub use fmi3::element_name;
 pub use fmu::Fmu;
 pub use instance::{Instance, InstanceOptions};
 pub use logger::{FmuLog, LogMessage, LOG_CAPACITY};

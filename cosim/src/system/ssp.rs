@@ -37,6 +37,8 @@ const NS_SSV: &str = "http://ssp-standard.org/SSP1/SystemStructureParameterValue
 struct Ssd {
     #[serde(rename = "@name")]
     name: String,
+    #[serde(rename = "@version", default)]
+    version: Option<String>,
     #[serde(rename = "ssd:System")]
     system: System,
     #[serde(rename = "ssd:DefaultExperiment", default)]
@@ -93,22 +95,62 @@ struct SsdConnector {
     enumeration: Option<Empty>,
     #[serde(rename = "ssc:Binary", default)]
     binary: Option<Empty>,
+    #[serde(rename = "ssc:Float64", default)]
+    float64: Option<Empty>,
+    #[serde(rename = "ssc:Float32", default)]
+    float32: Option<Empty>,
+    #[serde(rename = "ssc:Int8", default)]
+    int8: Option<Empty>,
+    #[serde(rename = "ssc:UInt8", default)]
+    uint8: Option<Empty>,
+    #[serde(rename = "ssc:Int16", default)]
+    int16: Option<Empty>,
+    #[serde(rename = "ssc:UInt16", default)]
+    uint16: Option<Empty>,
+    #[serde(rename = "ssc:Int32", default)]
+    int32: Option<Empty>,
+    #[serde(rename = "ssc:UInt32", default)]
+    uint32: Option<Empty>,
+    #[serde(rename = "ssc:Int64", default)]
+    int64: Option<Empty>,
+    #[serde(rename = "ssc:UInt64", default)]
+    uint64: Option<Empty>,
+    /// SSP 2.0: an array connector, one element per dimension.
+    #[serde(rename = "ssc:Dimension", default)]
+    dimensions: Vec<Dimension>,
 }
 
 impl SsdConnector {
     fn type_name(&self) -> Option<String> {
         [
-            (self.real.is_some(), "Real"),
-            (self.integer.is_some(), "Integer"),
-            (self.boolean.is_some(), "Boolean"),
-            (self.string.is_some(), "String"),
-            (self.enumeration.is_some(), "Enumeration"),
-            (self.binary.is_some(), "Binary"),
+            (&self.real, "Real"),
+            (&self.integer, "Integer"),
+            (&self.boolean, "Boolean"),
+            (&self.string, "String"),
+            (&self.enumeration, "Enumeration"),
+            (&self.binary, "Binary"),
+            (&self.float64, "Float64"),
+            (&self.float32, "Float32"),
+            (&self.int8, "Int8"),
+            (&self.uint8, "UInt8"),
+            (&self.int16, "Int16"),
+            (&self.uint16, "UInt16"),
+            (&self.int32, "Int32"),
+            (&self.uint32, "UInt32"),
+            (&self.int64, "Int64"),
+            (&self.uint64, "UInt64"),
         ]
         .into_iter()
-        .find(|(given, _)| *given)
+        .find(|(given, _)| given.is_some())
         .map(|(_, name)| name.to_owned())
     }
+}
+
+/// `ssc:Dimension`: a fixed `size`, or a `sizeConnector` we do not read.
+#[derive(Deserialize)]
+struct Dimension {
+    #[serde(rename = "@size", default)]
+    size: Option<u64>,
 }
 
 #[derive(Deserialize)]
@@ -146,24 +188,72 @@ struct Parameters {
     parameters: Vec<Parameter>,
 }
 
+/// One `ssv:Parameter`: its value under the element of its type (SSP 1.0's four, SSP 2.0's
+/// FMI 3.0 types), a list for an array with its `ssc:Dimension`s.
 #[derive(Deserialize)]
 struct Parameter {
     #[serde(rename = "@name")]
     name: String,
     #[serde(rename = "ssv:Real", default)]
-    real: Option<Value<f64>>,
+    real: Option<Value>,
     #[serde(rename = "ssv:Integer", default)]
-    integer: Option<Value<i64>>,
+    integer: Option<Value>,
     #[serde(rename = "ssv:Boolean", default)]
-    boolean: Option<Value<bool>>,
+    boolean: Option<Value>,
     #[serde(rename = "ssv:String", default)]
-    string: Option<Value<String>>,
+    string: Option<Value>,
+    #[serde(rename = "ssv:Float64", default)]
+    float64: Option<Value>,
+    #[serde(rename = "ssv:Float32", default)]
+    float32: Option<Value>,
+    #[serde(rename = "ssv:Int8", default)]
+    int8: Option<Value>,
+    #[serde(rename = "ssv:UInt8", default)]
+    uint8: Option<Value>,
+    #[serde(rename = "ssv:Int16", default)]
+    int16: Option<Value>,
+    #[serde(rename = "ssv:UInt16", default)]
+    uint16: Option<Value>,
+    #[serde(rename = "ssv:Int32", default)]
+    int32: Option<Value>,
+    #[serde(rename = "ssv:UInt32", default)]
+    uint32: Option<Value>,
+    #[serde(rename = "ssv:Int64", default)]
+    int64: Option<Value>,
+    #[serde(rename = "ssv:UInt64", default)]
+    uint64: Option<Value>,
+    #[serde(rename = "ssc:Dimension", default)]
+    dimensions: Vec<Dimension>,
+}
+
+impl Parameter {
+    /// The type element given and its value text.
+    fn typed(&self) -> Option<(&'static str, &str)> {
+        [
+            (&self.real, "Real"),
+            (&self.integer, "Integer"),
+            (&self.boolean, "Boolean"),
+            (&self.string, "String"),
+            (&self.float64, "Float64"),
+            (&self.float32, "Float32"),
+            (&self.int8, "Int8"),
+            (&self.uint8, "UInt8"),
+            (&self.int16, "Int16"),
+            (&self.uint16, "UInt16"),
+            (&self.int32, "Int32"),
+            (&self.uint32, "UInt32"),
+            (&self.int64, "Int64"),
+            (&self.uint64, "UInt64"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.as_ref().map(|v| (name, v.value.as_str())))
+    }
 }
 
 #[derive(Deserialize)]
-struct Value<T> {
+struct Value {
     #[serde(rename = "@value")]
-    value: T,
+    value: String,
 }
 
 #[derive(Deserialize)]
@@ -225,6 +315,15 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
     // Before any parsing: an SSD's DTD could declare entities that expand without bound.
     model_description::refuse_declarations(text.as_bytes()).map_err(|e| syntax(e.to_string()))?;
     let ssd: Ssd = serde_xml_rs::from_str(text).map_err(|e| syntax(e.to_string()))?;
+    if let Some(version) = ssd
+        .version
+        .as_deref()
+        .filter(|v| !["1.0", "2.0"].contains(v))
+    {
+        return Err(syntax(format!(
+            "ssd:SystemStructureDescription version '{version}': 1.0 or 2.0 are read"
+        )));
+    }
     let mut instances = Vec::new();
     for component in ssd
         .system
@@ -247,38 +346,42 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
                 .map(|p| p.parameters)
                 .unwrap_or_default();
             for parameter in list {
-                let value = match parameter {
-                    Parameter { real: Some(v), .. } => ParamValue::Real(v.value),
-                    Parameter {
-                        integer: Some(v), ..
-                    } => ParamValue::Integer(v.value),
-                    Parameter {
-                        boolean: Some(v), ..
-                    } => ParamValue::Boolean(v.value),
-                    Parameter {
-                        string: Some(v), ..
-                    } => ParamValue::String(v.value),
-                    Parameter { name, .. } => {
-                        return Err(syntax(format!(
-                            "component '{}': parameter '{name}' has no ssv:Real, ssv:Integer, \
-                             ssv:Boolean or ssv:String value",
-                            component.name
-                        )))
-                    }
+                let at = |problem: String| {
+                    syntax(format!(
+                        "component '{}': parameter '{}': {problem}",
+                        component.name, parameter.name
+                    ))
                 };
-                parameters.push((parameter.name, value));
+                let Some((type_name, text)) = parameter.typed() else {
+                    return Err(at("no ssv:Real, ssv:Integer, ssv:Boolean, ssv:String nor \
+                         SSP 2.0 value element (ssv:Float64, ssv:Int32, ...)"
+                        .into()));
+                };
+                let sizes = sizes(&parameter.dimensions).map_err(at)?;
+                let values =
+                    super::ssp2::values(&parameter.name, type_name, text, &sizes).map_err(at)?;
+                parameters.extend(values);
             }
         }
-        let connectors = component.connectors.map(|c| {
-            c.connectors
-                .into_iter()
-                .map(|c| DeclaredConnector {
+        let mut connectors = None;
+        if let Some(list) = component.connectors.map(|c| c.connectors) {
+            let mut declared = Vec::with_capacity(list.len());
+            for c in list {
+                let dimensions = sizes(&c.dimensions).map_err(|problem| {
+                    syntax(format!(
+                        "component '{}': connector '{}': {problem}",
+                        component.name, c.name
+                    ))
+                })?;
+                declared.push(DeclaredConnector {
                     type_name: c.type_name(),
                     name: c.name,
                     kind: c.kind,
-                })
-                .collect()
-        });
+                    dimensions,
+                });
+            }
+            connectors = Some(declared);
+        }
         instances.push(InstanceDesc {
             name: component.name,
             fmu: component.source.into(),
@@ -348,6 +451,18 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
     Ok(system)
 }
 
+/// The fixed sizes of `ssc:Dimension`s; a size given by a connector is not read.
+fn sizes(dimensions: &[Dimension]) -> Result<Vec<u64>, String> {
+    dimensions
+        .iter()
+        .map(|d| {
+            d.size.ok_or_else(|| {
+                "an ssc:Dimension without a size (sizeConnector) is not supported".to_owned()
+            })
+        })
+        .collect()
+}
+
 /// Reads an SSD file.
 pub fn read(path: &Path) -> Result<SystemDescription, SystemError> {
     let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {
@@ -376,16 +491,96 @@ pub fn write(
     connectors: &[ConnectorDecl],
     connections: &[(String, String)],
 ) -> String {
+    let parameters = system
+        .instances
+        .iter()
+        .map(|instance| {
+            instance
+                .parameters
+                .iter()
+                .map(|(name, value)| {
+                    let (type_name, value) = match value {
+                        ParamValue::Real(v) => ("Real", format!("{v:?}")),
+                        ParamValue::Integer(v) => ("Integer", v.to_string()),
+                        ParamValue::Boolean(v) => ("Boolean", v.to_string()),
+                        ParamValue::String(v) => ("String", v.clone()),
+                    };
+                    Written {
+                        name: name.clone(),
+                        type_name,
+                        value,
+                        dimensions: Vec::new(),
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let body = Body {
+        version: "1.0",
+        connectors: connectors
+            .iter()
+            .map(|c| WrittenConnector {
+                instance: c.instance.clone(),
+                name: c.name.clone(),
+                kind: c.kind,
+                type_name: c.type_name,
+                dimensions: Vec::new(),
+            })
+            .collect(),
+        parameters,
+        connections: connections.to_vec(),
+    };
+    render(system, &body)
+}
+
+/// What an SSD version writes of its own; the rest of the file is the same in 1.0 and 2.0.
+pub(super) struct Body {
+    /// The SSD's and every parameter set's `version`.
+    pub version: &'static str,
+    pub connectors: Vec<WrittenConnector>,
+    /// Per instance, in instance order.
+    pub parameters: Vec<Vec<Written>>,
+    pub connections: Vec<(String, String)>,
+}
+
+pub(super) struct WrittenConnector {
+    pub instance: String,
+    pub name: String,
+    pub kind: &'static str,
+    /// The `ssc:` element.
+    pub type_name: &'static str,
+    /// `ssc:Dimension` sizes; none for a scalar.
+    pub dimensions: Vec<u64>,
+}
+
+/// A parameter value: the `ssv:` element, its `value` (unescaped; a row-major list for an
+/// array) and the array's `ssc:Dimension` sizes.
+pub(super) struct Written {
+    pub name: String,
+    pub type_name: &'static str,
+    pub value: String,
+    pub dimensions: Vec<u64>,
+}
+
+fn dimensions(sizes: &[u64]) -> String {
+    sizes
+        .iter()
+        .map(|n| format!(r#"<ssc:Dimension size="{n}"/>"#))
+        .collect()
+}
+
+pub(super) fn render(system: &SystemDescription, body: &Body) -> String {
+    let version = body.version;
     let mut x = String::new();
     let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         x,
-        r#"<ssd:SystemStructureDescription xmlns:ssc="{NS_SSC}" xmlns:ssd="{NS_SSD}" xmlns:ssv="{NS_SSV}" xmlns:oms="{NS_OMS}" version="1.0" name="{}">"#,
+        r#"<ssd:SystemStructureDescription xmlns:ssc="{NS_SSC}" xmlns:ssd="{NS_SSD}" xmlns:ssv="{NS_SSV}" xmlns:oms="{NS_OMS}" version="{version}" name="{}">"#,
         esc(&system.name)
     );
     let _ = writeln!(x, r#"  <ssd:System name="{}">"#, esc(&system.name));
     let _ = writeln!(x, "    <ssd:Elements>");
-    for instance in &system.instances {
+    for (instance, parameters) in system.instances.iter().zip(&body.parameters) {
         let file = instance
             .fmu
             .file_name()
@@ -397,7 +592,8 @@ pub fn write(
             esc(&instance.name),
             esc(&file)
         );
-        let own: Vec<_> = connectors
+        let own: Vec<_> = body
+            .connectors
             .iter()
             .filter(|c| c.instance == instance.name)
             .collect();
@@ -406,34 +602,32 @@ pub fn write(
             for c in own {
                 let _ = writeln!(
                     x,
-                    r#"          <ssd:Connector name="{}" kind="{}"><ssc:{}/></ssd:Connector>"#,
+                    r#"          <ssd:Connector name="{}" kind="{}"><ssc:{}/>{}</ssd:Connector>"#,
                     esc(&c.name),
                     c.kind,
-                    c.type_name
+                    c.type_name,
+                    dimensions(&c.dimensions)
                 );
             }
             let _ = writeln!(x, "        </ssd:Connectors>");
         }
-        if !instance.parameters.is_empty() {
+        if !parameters.is_empty() {
             let _ = writeln!(x, "        <ssd:ParameterBindings>");
             let _ = writeln!(x, "          <ssd:ParameterBinding>");
             let _ = writeln!(x, "            <ssd:ParameterValues>");
             let _ = writeln!(
                 x,
-                r#"              <ssv:ParameterSet version="1.0" name="{PARAMETER_SET}">"#
+                r#"              <ssv:ParameterSet version="{version}" name="{PARAMETER_SET}">"#
             );
             let _ = writeln!(x, "                <ssv:Parameters>");
-            for (name, value) in &instance.parameters {
-                let (tag, text) = match value {
-                    ParamValue::Real(v) => ("Real", format!("{v:?}")),
-                    ParamValue::Integer(v) => ("Integer", v.to_string()),
-                    ParamValue::Boolean(v) => ("Boolean", v.to_string()),
-                    ParamValue::String(v) => ("String", esc(v)),
-                };
+            for p in parameters {
                 let _ = writeln!(
                     x,
-                    r#"                  <ssv:Parameter name="{}"><ssv:{tag} value="{text}"/></ssv:Parameter>"#,
-                    esc(name)
+                    r#"                  <ssv:Parameter name="{}"><ssv:{} value="{}"/>{}</ssv:Parameter>"#,
+                    esc(&p.name),
+                    p.type_name,
+                    esc(&p.value),
+                    dimensions(&p.dimensions)
                 );
             }
             let _ = writeln!(x, "                </ssv:Parameters>");
@@ -445,9 +639,9 @@ pub fn write(
         let _ = writeln!(x, "      </ssd:Component>");
     }
     let _ = writeln!(x, "    </ssd:Elements>");
-    if !connections.is_empty() {
+    if !body.connections.is_empty() {
         let _ = writeln!(x, "    <ssd:Connections>");
-        for (from, to) in connections {
+        for (from, to) in &body.connections {
             let (Some((se, sc)), Some((ee, ec))) = (super::split_path(from), super::split_path(to))
             else {
                 continue;
@@ -558,6 +752,7 @@ mod tests {
             name: name.into(),
             kind: kind.into(),
             type_name: Some("Real".into()),
+            dimensions: Vec::new(),
         }])
     }
 
