@@ -53,7 +53,10 @@ fn fmpys_container_fmu_flies_the_same_in_the_harness_and_in_fmpy() {
     // the descent under way (800 m, hover until 12 s, then down)
     let column = |name: &str| unprefixed.iter().position(|n| *n == name).unwrap();
     let last = harness.row(harness.len() - 1);
-    assert!((last[column("phi_b")] - PHI_CMD_RAD).abs() < 1e-3, "{last:?}");
+    assert!(
+        (last[column("phi_b")] - PHI_CMD_RAD).abs() < 1e-3,
+        "{last:?}"
+    );
     assert!(last[column("altitude")] < 790.0, "{last:?}");
     assert!(harness.row(0)[column("thrust_cmd")] > 1000.0);
 }
