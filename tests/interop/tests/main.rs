@@ -1,6 +1,6 @@
 //! The closed loop in other masters, one binary (each test binary is linked on its own): fmpy in
 //! FMI 2.0 and 3.0, fmpy's SSP runner, libcosim, Ecos, pythonfmu and pythonfmu3 FMUs, the
-//! documented examples and the FMU checkers.
+//! documented examples, the FMU checkers and the SSP 2.0 schemas (pyssp-standard).
 mod checkers;
 mod container_fmu;
 mod docs_example;
@@ -13,5 +13,6 @@ mod libcosim;
 mod python_plant;
 mod pythonfmu3;
 mod scripts;
+mod ssp2_package;
 mod ssp_package;
 mod terminals;
