@@ -202,3 +202,19 @@ fn a_list_value_that_does_not_fit_its_dimension_is_refused_naming_file_parameter
         "{error}"
     );
 }
+
+#[test]
+fn the_ssp2_ssd_against_the_fmi2_fmus_is_refused_saying_they_are_fmi2() {
+    // The shipped SSD alone finds its FMUs by file name in the FMU directory: target/fmu holds
+    // the FMI 2.0 twins, whose variables are scalars.
+    let output = common::harness(&["run", checked_in().to_str().unwrap(), "--stop-time", "1"]);
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        error.contains(
+            "component 'plant': connector 'r_nue' (Float64 [3]) is SSP 2.0's, of an FMI 3.0 \
+             variable, but model 'LanderPlant' is an FMI 2.0 FMU"
+        ),
+        "{error}"
+    );
+}

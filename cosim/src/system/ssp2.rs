@@ -67,14 +67,42 @@ fn typed(type_name: &str, token: &str) -> Option<ParamValue> {
 }
 
 /// Checks a declared connector that names a whole variable of an FMI 3.0 FMU: kind,
-/// FMI 3.0 type and dimensions as the variable's. `None` where the scalar check applies: an
-/// FMU of FMI 2.0, an element (`r_nue[1]`), or a scalar declared with an SSP 1.0 type.
+/// FMI 3.0 type and dimensions as the variable's; an array or FMI 3.0 type declared for an
+/// FMI 2.0 FMU. `None` where the scalar check applies: an SSP 1.0 connector of an FMI 2.0
+/// FMU, an element (`r_nue[1]`), or a scalar declared with an SSP 1.0 type.
 pub fn connector_problems(
     fmu: &Fmu,
     instance: &str,
     connector: &DeclaredConnector,
 ) -> Option<Vec<String>> {
-    let variable = whole(fmu.fmi3_description()?, &connector.name)?;
+    let Some(md) = fmu.fmi3_description() else {
+        let fmi3_type = connector.type_name.as_deref().filter(|t| {
+            ![
+                "Real",
+                "Integer",
+                "Boolean",
+                "String",
+                "Enumeration",
+                "Binary",
+            ]
+            .contains(t)
+        });
+        if connector.dimensions.is_empty() && fmi3_type.is_none() {
+            return None;
+        }
+        // Said once per connector, not as "no such variable": the SSD is right, the FMU found
+        // for it is the FMI 2.0 twin.
+        return Some(vec![format!(
+            "component '{instance}': connector '{}' ({} {:?}) is SSP 2.0's, of an FMI 3.0 \
+             variable, but model '{}' is an FMI 2.0 FMU (is the FMU directory the FMI 3.0 \
+             one, e.g. target/fmu/fmi3?)",
+            connector.name,
+            connector.type_name.as_deref().unwrap_or("untyped"),
+            connector.dimensions,
+            fmu.model_name()
+        )]);
+    };
+    let variable = whole(md, &connector.name)?;
     let legacy = fmu
         .variable(&connector.name)
         .ok()
