@@ -1,4 +1,6 @@
-//! SSP 1.0 `SystemStructure.ssd`: read into a [`SystemDescription`] and written from one.
+//! SSP 1.0 `SystemStructure.ssd`: read into a [`SystemDescription`] and written from one. SSP
+//! 2.0 is read by the same reader and written by the same renderer ([`render`]); what only 2.0
+//! has (FMI 3.0 types, array connectors, list values) is in [`super::ssp2`].
 //!
 //! What we read: one `ssd:System` of FMU components (`source` relative to the SSD), their
 //! declared connectors, inline parameter bindings (`ssd:ParameterValues/ssv:ParameterSet`),
