@@ -36,11 +36,7 @@ fn fmi3_paper_toml() -> String {
 
 #[test]
 fn the_checked_in_ssp2_ssd_is_generated_from_the_toml() {
-    let mut system = scenarios::load("paper").unwrap();
-    for instance in &mut system.instances {
-        instance.fmu = Path::new("fmi3").join(&instance.fmu);
-    }
-    let generated = scenarios::ssd2_for(&system, &common::fmu_dir()).unwrap();
+    let generated = scenarios::ssd2_for(&fmi3_paper(), &common::fmu_dir()).unwrap();
     if std::env::var_os("UPDATE_SSD").is_some() {
         fs::write(checked_in(), &generated).unwrap();
     }
@@ -214,6 +210,78 @@ fn the_ssp2_ssd_against_the_fmi2_fmus_is_refused_saying_they_are_fmi2() {
         error.contains(
             "component 'plant': connector 'r_nue' (Float64 [3]) is SSP 2.0's, of an FMI 3.0 \
              variable, but model 'LanderPlant' is an FMI 2.0 FMU"
+        ),
+        "{error}"
+    );
+}
+
+/// paper.toml's system with its FMUs the FMI 3.0 twins.
+fn fmi3_paper() -> cosim::system::SystemDescription {
+    let mut system = scenarios::load("paper").unwrap();
+    for instance in &mut system.instances {
+        instance.fmu = Path::new("fmi3").join(&instance.fmu);
+    }
+    system
+}
+
+#[test]
+fn elements_the_scenario_does_not_set_are_written_from_the_fmus_start_values() {
+    // GIVEN the paper scenario setting r0_nue[2] alone, and the plant's start values of r0_nue
+    let mut system = fmi3_paper();
+    let plant = system.instance_mut("plant").unwrap();
+    plant
+        .parameters
+        .retain(|(name, _)| name != "r0_nue[1]" && name != "r0_nue[3]");
+    let fmu = fmi_import::Fmu::load(common::fmu_dir().join("fmi3/LanderPlant.fmu")).unwrap();
+    let start: Vec<f64> = fmu
+        .fmi3_description()
+        .unwrap()
+        .variables
+        .iter()
+        .find(|v| v.name == "r0_nue")
+        .unwrap()
+        .start
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    assert_eq!(start.len(), 3);
+    // WHEN its SSP 2.0 SSD is written
+    let ssd = scenarios::ssd2_for(&system, &common::fmu_dir()).unwrap();
+    // THEN r0_nue is the whole array: the FMU's first and third elements, the scenario's second
+    let list = format!("{:?} 800.0 {:?}", start[0], start[2]);
+    assert!(
+        ssd.contains(&format!(
+            r#"<ssv:Parameter name="r0_nue"><ssv:Float64 value="{list}"/><ssc:Dimension size="3"/></ssv:Parameter>"#
+        )),
+        "{ssd}"
+    );
+    // and read back, the harness sets all three.
+    let back = cosim::system::ssp::parse(&ssd, Path::new("x.ssd")).unwrap();
+    let plant = back.instance("plant").unwrap();
+    for (k, expected) in [start[0], 800.0, start[2]].into_iter().enumerate() {
+        let name = format!("r0_nue[{}]", k + 1);
+        let value = plant.parameters.iter().find(|(n, _)| *n == name).unwrap();
+        assert_eq!(value.1, cosim::system::ParamValue::Real(expected), "{name}");
+    }
+}
+
+#[test]
+fn a_connection_of_array_elements_is_refused_by_the_ssp2_writer_by_name() {
+    let mut system = fmi3_paper();
+    let connection = system
+        .connections
+        .iter_mut()
+        .find(|c| c.from == "plant.r_nue")
+        .unwrap();
+    connection.from = "plant.r_nue[1]".into();
+    connection.to = "gnc.r_nue[1]".into();
+    let error = scenarios::ssd2_for(&system, &common::fmu_dir())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains(
+            "connection plant.r_nue[1] -> gnc.r_nue[1]: 'plant.r_nue[1]' is not a whole \
+             variable of an FMI 3.0 component"
         ),
         "{error}"
     );

@@ -305,12 +305,12 @@ fn parameters(
         };
         let target = &mut wholes[at];
         match indices {
-            // A whole array named bare takes the value in every element, as the master
-            // expands it.
-            None => target
-                .values
-                .iter_mut()
-                .for_each(|v| *v = Some(text.clone())),
+            // As the master: an array's value is given element by element.
+            None if !target.shape.is_empty() => problem(format!(
+                "an array of dimensions {:?}: set its elements, e.g. '{}[1]'",
+                target.shape, variable.name
+            )),
+            None => target.values[0] = Some(text),
             Some(indices) => match flat(&indices, &target.shape) {
                 Some(k) => target.values[k] = Some(text),
                 None => problem(format!(
