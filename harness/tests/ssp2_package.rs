@@ -226,12 +226,14 @@ fn fmi3_paper() -> cosim::system::SystemDescription {
 
 #[test]
 fn elements_the_scenario_does_not_set_are_written_from_the_fmus_start_values() {
-    // GIVEN the paper scenario setting r0_nue[2] alone, and the plant's start values of r0_nue
+    // GIVEN the paper scenario setting r0_nue[2] alone (to 650 m, not the FMU's start), and
+    // the plant's start values of r0_nue
     let mut system = fmi3_paper();
     let plant = system.instance_mut("plant").unwrap();
     plant
         .parameters
         .retain(|(name, _)| name != "r0_nue[1]" && name != "r0_nue[3]");
+    system.set_parameter("plant", "r0_nue[2]", cosim::system::ParamValue::Real(650.0));
     let fmu = fmi_import::Fmu::load(common::fmu_dir().join("fmi3/LanderPlant.fmu")).unwrap();
     let start: Vec<f64> = fmu
         .fmi3_description()
@@ -245,10 +247,11 @@ fn elements_the_scenario_does_not_set_are_written_from_the_fmus_start_values() {
         .map(|s| s.parse().unwrap())
         .collect();
     assert_eq!(start.len(), 3);
+    assert_ne!(start[1], 650.0);
     // WHEN its SSP 2.0 SSD is written
     let ssd = scenarios::ssd2_for(&system, &common::fmu_dir()).unwrap();
     // THEN r0_nue is the whole array: the FMU's first and third elements, the scenario's second
-    let list = format!("{:?} 800.0 {:?}", start[0], start[2]);
+    let list = format!("{:?} 650.0 {:?}", start[0], start[2]);
     assert!(
         ssd.contains(&format!(
             r#"<ssv:Parameter name="r0_nue"><ssv:Float64 value="{list}"/><ssc:Dimension size="3"/></ssv:Parameter>"#
@@ -258,7 +261,7 @@ fn elements_the_scenario_does_not_set_are_written_from_the_fmus_start_values() {
     // and read back, the harness sets all three.
     let back = cosim::system::ssp::parse(&ssd, Path::new("x.ssd")).unwrap();
     let plant = back.instance("plant").unwrap();
-    for (k, expected) in [start[0], 800.0, start[2]].into_iter().enumerate() {
+    for (k, expected) in [start[0], 650.0, start[2]].into_iter().enumerate() {
         let name = format!("r0_nue[{}]", k + 1);
         let value = plant.parameters.iter().find(|(n, _)| *n == name).unwrap();
         assert_eq!(value.1, cosim::system::ParamValue::Real(expected), "{name}");
