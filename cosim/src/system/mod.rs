@@ -7,6 +7,7 @@ pub mod fields;
 pub mod input_table;
 pub mod single;
 mod solver;
+mod ssd_write;
 pub mod ssp;
 pub mod ssp2;
 pub mod toml_format;

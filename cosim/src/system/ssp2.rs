@@ -3,11 +3,11 @@
 //! connector per variable; parameter values of an array as one row-major list.
 //!
 //! The rest of an SSD (elements, bindings, connections, experiment, our master annotation) is
-//! SSP 1.0's, read and written in [`super::ssp`]. The system description keeps the importer's
-//! scalar view (`r0_nue[2]`): a list value read here becomes one parameter per element, and a
-//! scenario's element values are written back as the whole array, completed from the FMU's
-//! start values.
-use super::ssp::{render, Body, Written, WrittenConnector};
+//! SSP 1.0's, read in [`super::ssp`] and written by `ssd_write.rs`. The system description
+//! keeps the importer's scalar view (`r0_nue[2]`): a list value read here becomes one
+//! parameter per element, and a scenario's element values are written back as the whole
+//! array, completed from the FMU's start values.
+use super::ssd_write::{render, Body, Written, WrittenConnector};
 use super::{split_path, DeclaredConnector, ParamValue, SystemDescription, SystemError};
 use fmi_import::Fmu;
 use model_description::fmi3::{Fmi3ModelDescription, Fmi3Type, Fmi3Variable};
