@@ -115,6 +115,41 @@ mod tests {
         assert_eq!(plant, b"plant bytes");
     }
 
+    fn entry(package: &Path, name: &str) -> Vec<u8> {
+        let mut zip = zip::ZipArchive::new(std::fs::File::open(package).unwrap()).unwrap();
+        let mut bytes = Vec::new();
+        zip.by_name(name).unwrap().read_to_end(&mut bytes).unwrap();
+        bytes
+    }
+
+    #[test]
+    fn the_ssp1_package_holds_the_fmi2_pair_and_the_ssp2_package_the_fmi3_pair() {
+        // GIVEN an FMU folder whose FMI 2.0 and FMI 3.0 FMUs say which they are
+        let ws = Workspace::locate().unwrap();
+        let dir = std::env::temp_dir().join(format!("xtask-ssp-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("fmi3")).unwrap();
+        for fmu in COMPONENT_FMUS {
+            std::fs::write(dir.join(fmu), format!("fmi2 {fmu}")).unwrap();
+            std::fs::write(dir.join("fmi3").join(fmu), format!("fmi3 {fmu}")).unwrap();
+        }
+        // WHEN both packages are written
+        let written = package(&ws, &dir);
+        let (ssp1, ssp2) = (dir.join(PACKAGE), dir.join("fmi3").join(PACKAGE));
+        let read = |package: &Path| {
+            let ssd = String::from_utf8(entry(package, "SystemStructure.ssd")).unwrap();
+            (ssd, entry(package, "resources/LanderGnc.fmu"))
+        };
+        let found = written.map(|w| (w, read(&ssp1), read(&ssp2)));
+        std::fs::remove_dir_all(&dir).unwrap();
+        // THEN each sits beside its FMUs, holds them and the SSD of its SSP version
+        let (written, from1, from2) = found.unwrap();
+        assert_eq!(written, [ssp1, ssp2]);
+        for ((ssd, gnc), version, fmi) in [(from1, "1.0", "fmi2"), (from2, "2.0", "fmi3")] {
+            assert!(ssd.contains(&format!(r#" version="{version}" name="paper">"#)));
+            assert_eq!(gnc, format!("{fmi} LanderGnc.fmu").as_bytes());
+        }
+    }
+
     #[test]
     fn an_fmu_the_ssd_does_not_name_is_refused() {
         let ssd = r#"<ssd:Component name="gnc" source="resources/LanderGnc.fmu"/>"#;
