@@ -138,8 +138,8 @@ fn harness_run_of_the_ssp2_package_flies_the_fmi3_paper_trajectory_bit_for_bit()
     );
 }
 
-/// The package's SSD beside the FMI 3.0 FMUs with `edit` applied: what `harness run` says.
-fn refusal_of(edit: impl Fn(String) -> String) -> String {
+/// `harness run` of the package's SSD beside the FMI 3.0 FMUs with `edit` applied.
+fn run_edited(edit: impl Fn(String) -> String) -> std::process::Output {
     let temp = tempfile::tempdir().unwrap();
     let resources = temp.path().join("resources");
     fs::create_dir(&resources).unwrap();
@@ -155,9 +155,33 @@ fn refusal_of(edit: impl Fn(String) -> String) -> String {
     let edited = edit(text.clone());
     assert_ne!(edited, text, "the edit changed nothing");
     fs::write(&ssd, edited).unwrap();
-    let output = common::harness(&["run", ssd.to_str().unwrap(), "--stop-time", "1"]);
+    common::harness(&["run", ssd.to_str().unwrap(), "--stop-time", "1"])
+}
+
+/// What `harness run` says of the edited SSD, which it must refuse.
+fn refusal_of(edit: impl Fn(String) -> String) -> String {
+    let output = run_edited(edit);
     assert!(!output.status.success(), "the edited SSD was flown");
     String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+#[test]
+fn ssp1_type_names_real_and_integer_stand_for_float64_and_int32() {
+    let output = run_edited(|ssd| {
+        ssd.replace(
+            r#"<ssd:Connector name="r_nue" kind="input"><ssc:Float64/>"#,
+            r#"<ssd:Connector name="r_nue" kind="input"><ssc:Real/>"#,
+        )
+        .replace(
+            r#"<ssv:Parameter name="control_law"><ssv:Int32 "#,
+            r#"<ssv:Parameter name="control_law"><ssv:Integer "#,
+        )
+    });
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
 }
 
 #[test]

@@ -267,6 +267,11 @@ struct SsdConnection {
     end_element: Option<String>,
     #[serde(rename = "@endConnector")]
     end_connector: String,
+    /// SSP 2.0: the one element of an array connector a connection is restricted to.
+    #[serde(rename = "@startIndices", default)]
+    start_indices: Option<String>,
+    #[serde(rename = "@endIndices", default)]
+    end_indices: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -402,6 +407,20 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
                 c.start_connector, c.end_connector
             )));
         };
+        // Read as the whole arrays they would be a different system: refused, not ignored.
+        if let Some((attribute, indices)) = [
+            ("startIndices", &c.start_indices),
+            ("endIndices", &c.end_indices),
+        ]
+        .into_iter()
+        .find_map(|(attribute, given)| given.as_ref().map(|i| (attribute, i)))
+        {
+            return Err(syntax(format!(
+                "connection {start}.{} -> {end}.{}: {attribute}=\"{indices}\" (a connection \
+                 of array elements) is not supported; connect whole arrays",
+                c.start_connector, c.end_connector
+            )));
+        }
         connections.push(Connection {
             from: format!("{start}.{}", c.start_connector),
             to: format!("{end}.{}", c.end_connector),

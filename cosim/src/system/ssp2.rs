@@ -123,7 +123,12 @@ pub fn connector_problems(
         ));
     }
     if let Some(type_name) = &connector.type_name {
-        if type_name != variable.kind.name() {
+        // SSP 2.0 keeps SSP 1.0's Real (an IEEE 754 double) and Integer (32-bit signed).
+        let same = match (type_name.as_str(), variable.kind) {
+            ("Real", Fmi3Type::Float64) | ("Integer", Fmi3Type::Int32) => true,
+            (name, kind) => name == kind.name(),
+        };
+        if !same {
             problems.push(format!(
                 "component '{instance}': connector '{}' is declared {type_name} but the FMU's \
                  variable is {}",
@@ -542,6 +547,17 @@ mod tests {
         ));
         assert!(
             error.contains("connector 'r_nue'") && error.contains("sizeConnector"),
+            "{error}"
+        );
+        let with_connection = SSD.replace(
+            "    </ssd:Elements>\n",
+            "    </ssd:Elements>\n    <ssd:Connections><ssd:Connection startElement=\"plant\" \
+             startConnector=\"r_nue\" startIndices=\"2\" endElement=\"plant\" \
+             endConnector=\"n\"/></ssd:Connections>\n",
+        );
+        let error = parse(&with_connection);
+        assert!(
+            error.contains("connection plant.r_nue -> plant.n: startIndices=\"2\""),
             "{error}"
         );
         let error = parse(&SSD.replace(r#"version="2.0" name="s""#, r#"version="3.0" name="s""#));
