@@ -318,10 +318,11 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
     if let Some(version) = ssd
         .version
         .as_deref()
-        .filter(|v| !["1.0", "2.0"].contains(v))
+        // SSP 1.0's schema admits any 1.x ("1.0-beta"); 2.x is SSP 2.0's.
+        .filter(|v| !(v.starts_with("1.") || v.starts_with("2.")))
     {
         return Err(syntax(format!(
-            "ssd:SystemStructureDescription version '{version}': 1.0 or 2.0 are read"
+            "ssd:SystemStructureDescription version '{version}': SSP 1.x and 2.x are read"
         )));
     }
     let mut instances = Vec::new();

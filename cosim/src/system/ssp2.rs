@@ -562,5 +562,11 @@ mod tests {
         );
         let error = parse(&SSD.replace(r#"version="2.0" name="s""#, r#"version="3.0" name="s""#));
         assert!(error.contains("version '3.0'"), "{error}");
+        // while every version SSP 1.0's schema admits still reads
+        let beta = SSD.replace(
+            r#"version="2.0" name="s""#,
+            r#"version="1.0-beta" name="s""#,
+        );
+        assert!(super::super::ssp::parse(&beta, std::path::Path::new("s.ssd")).is_ok());
     }
 }
