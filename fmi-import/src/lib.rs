@@ -46,6 +46,7 @@ pub mod word;
 
 pub use describe::{peek_description, read_description, read_description_typed, Declared};
 pub use error::{CallError, FmiError, LoadError, VariableError};
+pub use fmi3::element_name;
 pub use fmu::Fmu;
 pub use instance::{Instance, InstanceOptions};
 pub use logger::{FmuLog, LogMessage, LOG_CAPACITY};

@@ -44,6 +44,7 @@ mod retarget_scenario;
 mod run_options;
 mod saved_state;
 mod single_fmu;
+mod ssp2_package;
 mod ssp_scenario;
 mod supervision;
 mod thrusters_scenario;

@@ -1,7 +1,8 @@
 //! `cargo xtask dist`: a release directory for people who never build from source.
 //!
 //! `target/dist/lander-fmi-<version>/` holds the all-platform FMUs of every FMI version
-//! (`fmi2/`, `fmi3/`), the SSP package, the user documentation and `SHA256SUMS` in the
+//! (`fmi2/`, `fmi3/`), the SSP packages (SSP 1.0 at the top, SSP 2.0 of the FMI 3.0 pair in
+//! `fmi3/`), the user documentation and `SHA256SUMS` in the
 //! format `sha256sum -c` reads. The version is the workspace's (`[workspace.package]`, which
 //! xtask and every FMU crate inherit); each FMU must say the same in its model description's
 //! `version` attribute, and must carry a binary for every platform of its FMI version, or
@@ -52,6 +53,9 @@ pub fn run(ws: &Workspace) -> Result<PathBuf> {
     }
     let ssp = ws.fmu_dir().join(ssp::PACKAGE);
     copies.push((ssp.clone(), release.join(ssp::PACKAGE)));
+    // The SSP 2.0 package holds the FMI 3.0 pair: beside the FMI 3.0 FMUs, as in target/fmu.
+    let ssp2 = ws.fmu_dir().join("fmi3").join(ssp::PACKAGE);
+    copies.push((ssp2, release.join("fmi3").join(ssp::PACKAGE)));
     for item in DOCUMENTATION.iter().chain(LICENSES.iter()) {
         let from = ws.root.join(item);
         if !from.exists() {

@@ -329,7 +329,7 @@ pub fn package_for(ws: &Workspace, triples: &[String]) -> Result<Vec<PathBuf>> {
 }
 
 /// Packages every FMU of `fmus` with the libraries of `builds` into `out_dir` (FMI 3.0 in
-/// `out_dir/fmi3`), and the SSP of the paper scenario beside them.
+/// `out_dir/fmi3`), and the SSP packages of the paper scenario beside them.
 fn package(
     ws: &Workspace,
     fmus: &[FmuCrate],
@@ -380,9 +380,10 @@ fn package(
             host.triple
         );
     }
-    let package = ssp::package(ws, &out_dir)?;
-    println!("xtask fmus: wrote {}", package.display());
-    written.push(package);
+    for package in ssp::package(ws, &out_dir)? {
+        println!("xtask fmus: wrote {}", package.display());
+        written.push(package);
+    }
     Ok(written)
 }
 

@@ -1,7 +1,9 @@
-//! `LanderDescent.ssp`: the paper scenario as an SSP 1.0 package, the one file a user hands
-//! to an SSP-capable master (fmpy's `simulate_ssp`, libcosim) to fly the closed loop.
+//! `LanderDescent.ssp`: the paper scenario as an SSP package, the one file a user hands to an
+//! SSP-capable master (fmpy's `simulate_ssp`, libcosim) to fly the closed loop. Two are
+//! written: SSP 1.0 with the FMI 2.0 pair beside the FMI 2.0 FMUs, SSP 2.0 with the FMI 3.0
+//! pair (arrays as arrays) beside the FMI 3.0 FMUs in `fmi3/`.
 //!
-//! The archive holds `SystemStructure.ssd` (the shipped `harness/scenarios/paper.ssd`, itself
+//! Each archive holds `SystemStructure.ssd` (a shipped `harness/scenarios/*.ssd`, itself
 //! generated from `paper.toml` and drift-tested by the harness) and the two FMUs it names
 //! under `resources/`. It is written with the FMU archives' writer (sorted entries, fixed
 //! timestamps), so the same FMUs give the same bytes.
@@ -10,19 +12,30 @@ use crate::workspace::Workspace;
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 
-/// File name of the package in the FMU output folder.
+/// File name of a package in its FMU output folder.
 pub const PACKAGE: &str = "LanderDescent.ssp";
 
-/// The system structure shipped in the package, relative to the workspace root.
-const SSD: &str = "harness/scenarios/paper.ssd";
+/// Each package: the folder of its FMUs under the FMU output folder, and its system structure
+/// relative to the workspace root.
+const PACKAGES: [(&str, &str); 2] = [
+    ("", "harness/scenarios/paper.ssd"),
+    ("fmi3", "harness/scenarios/paper-fmi3.ssd"),
+];
 
 /// The FMUs the SSD names as `resources/<modelIdentifier>.fmu`.
 const COMPONENT_FMUS: [&str; 2] = ["LanderGnc.fmu", "LanderPlant.fmu"];
 
-/// Writes `LanderDescent.ssp` beside the packaged FMUs in `fmu_dir`; returns its path.
-pub fn package(ws: &Workspace, fmu_dir: &Path) -> Result<PathBuf> {
-    let ssd_path = ws.root.join(SSD);
-    let ssd = std::fs::read_to_string(&ssd_path)
+/// Writes each `LanderDescent.ssp` beside the packaged FMUs it holds, under `fmu_dir`;
+/// returns their paths.
+pub fn package(ws: &Workspace, fmu_dir: &Path) -> Result<Vec<PathBuf>> {
+    PACKAGES
+        .iter()
+        .map(|(folder, ssd)| package_one(&ws.root.join(ssd), &fmu_dir.join(folder)))
+        .collect()
+}
+
+fn package_one(ssd_path: &Path, fmu_dir: &Path) -> Result<PathBuf> {
+    let ssd = std::fs::read_to_string(ssd_path)
         .with_context(|| format!("cannot read {}", ssd_path.display()))?;
     let mut fmus = Vec::with_capacity(COMPONENT_FMUS.len());
     for fmu in COMPONENT_FMUS {
@@ -100,6 +113,41 @@ mod tests {
             .read_to_end(&mut plant)
             .unwrap();
         assert_eq!(plant, b"plant bytes");
+    }
+
+    fn entry(package: &Path, name: &str) -> Vec<u8> {
+        let mut zip = zip::ZipArchive::new(std::fs::File::open(package).unwrap()).unwrap();
+        let mut bytes = Vec::new();
+        zip.by_name(name).unwrap().read_to_end(&mut bytes).unwrap();
+        bytes
+    }
+
+    #[test]
+    fn the_ssp1_package_holds_the_fmi2_pair_and_the_ssp2_package_the_fmi3_pair() {
+        // GIVEN an FMU folder whose FMI 2.0 and FMI 3.0 FMUs say which they are
+        let ws = Workspace::locate().unwrap();
+        let dir = std::env::temp_dir().join(format!("xtask-ssp-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("fmi3")).unwrap();
+        for fmu in COMPONENT_FMUS {
+            std::fs::write(dir.join(fmu), format!("fmi2 {fmu}")).unwrap();
+            std::fs::write(dir.join("fmi3").join(fmu), format!("fmi3 {fmu}")).unwrap();
+        }
+        // WHEN both packages are written
+        let written = package(&ws, &dir);
+        let (ssp1, ssp2) = (dir.join(PACKAGE), dir.join("fmi3").join(PACKAGE));
+        let read = |package: &Path| {
+            let ssd = String::from_utf8(entry(package, "SystemStructure.ssd")).unwrap();
+            (ssd, entry(package, "resources/LanderGnc.fmu"))
+        };
+        let found = written.map(|w| (w, read(&ssp1), read(&ssp2)));
+        std::fs::remove_dir_all(&dir).unwrap();
+        // THEN each sits beside its FMUs, holds them and the SSD of its SSP version
+        let (written, from1, from2) = found.unwrap();
+        assert_eq!(written, [ssp1, ssp2]);
+        for ((ssd, gnc), version, fmi) in [(from1, "1.0", "fmi2"), (from2, "2.0", "fmi3")] {
+            assert!(ssd.contains(&format!(r#" version="{version}" name="paper">"#)));
+            assert_eq!(gnc, format!("{fmi} LanderGnc.fmu").as_bytes());
+        }
     }
 
     #[test]

@@ -531,6 +531,12 @@ pub fn declared_connectors(system: &SystemDescription, fmus: &[Fmu], problems: &
         };
         let fmu = &fmus[i];
         for connector in declared {
+            if let Some(found) =
+                crate::system::ssp2::connector_problems(fmu, &instance.name, connector)
+            {
+                problems.extend(found);
+                continue;
+            }
             let info = match fmu.variable(&connector.name) {
                 Ok(info) => info,
                 Err(_) => {
@@ -548,14 +554,7 @@ pub fn declared_connectors(system: &SystemDescription, fmus: &[Fmu], problems: &
                     continue;
                 }
             };
-            let causality = match connector.kind.as_str() {
-                "input" => Some(Causality::Input),
-                "output" => Some(Causality::Output),
-                "parameter" => Some(Causality::Parameter),
-                "calculatedParameter" => Some(Causality::CalculatedParameter),
-                _ => None,
-            };
-            if causality.is_some_and(|c| c != info.causality) {
+            if connector.causality().is_some_and(|c| c != info.causality) {
                 problems.push(format!(
                     "component '{}': connector '{}' is declared {} but the FMU's variable has \
                      causality {:?}",

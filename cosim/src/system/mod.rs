@@ -1,13 +1,15 @@
 //! A system of connected FMUs: instances with parameter values, connections output -> input
 //! by variable name, the communication step and the exchange ordering. Read from a TOML
-//! scenario file ([`toml_format`]) or an SSP 1.0 `SystemStructure.ssd` ([`ssp`]), or made of
-//! one FMU alone ([`single`]); written back to SSD so the shipped `.ssd` is generated from the
-//! TOML and never drifts.
+//! scenario file ([`toml_format`]) or an SSP 1.0 or 2.0 `SystemStructure.ssd` ([`ssp`], with
+//! what only 2.0 has in [`ssp2`]), or made of one FMU alone ([`single`]); written back to SSD
+//! so the shipped `.ssd` is generated from the TOML and never drifts.
 pub mod fields;
 pub mod input_table;
 pub mod single;
 mod solver;
+mod ssd_write;
 pub mod ssp;
+pub mod ssp2;
 pub mod toml_format;
 
 pub use input_table::InputTable;
@@ -65,8 +67,26 @@ pub struct DeclaredConnector {
     pub name: String,
     /// SSP kind: `input`, `output`, `parameter`, `calculatedParameter`, `inout`.
     pub kind: String,
-    /// `Real`, `Integer`, `Boolean`, `String`, `Enumeration` or `Binary`, when given.
+    /// `Real`, `Integer`, `Boolean`, `String`, `Enumeration` or `Binary`, when given; in SSP
+    /// 2.0 also the FMI 3.0 types (`Float64`, `Int32`, ...).
     pub type_name: Option<String>,
+    /// SSP 2.0: the size of each dimension of an array connector; empty for a scalar.
+    #[serde(default)]
+    pub dimensions: Vec<u64>,
+}
+
+impl DeclaredConnector {
+    /// The FMI causality an SSP connector kind stands for (`inout` stands for none).
+    pub fn causality(&self) -> Option<model_description::Causality> {
+        use model_description::Causality;
+        match self.kind.as_str() {
+            "input" => Some(Causality::Input),
+            "output" => Some(Causality::Output),
+            "parameter" => Some(Causality::Parameter),
+            "calculatedParameter" => Some(Causality::CalculatedParameter),
+            _ => None,
+        }
+    }
 }
 
 /// `from` and `to` are `instance.variable`; a variable may name a whole vector (`r_nue` for

@@ -1,4 +1,7 @@
-//! SSP 1.0 `SystemStructure.ssd`: read into a [`SystemDescription`] and written from one.
+//! SSP 1.0 `SystemStructure.ssd`: read into a [`SystemDescription`] and written from one. SSP
+//! 2.0 is read by the same reader and written by the same renderer
+//! (`ssd_write.rs`); what only 2.0 has (FMI 3.0 types, array connectors, list values) is
+//! in [`super::ssp2`].
 //!
 //! What we read: one `ssd:System` of FMU components (`source` relative to the SSD), their
 //! declared connectors, inline parameter bindings (`ssd:ParameterValues/ssv:ParameterSet`),
@@ -20,23 +23,17 @@ use super::{
     SystemError,
 };
 use serde::Deserialize;
-use std::fmt::Write as _;
 use std::path::Path;
 
-pub const ANNOTATION_TYPE: &str = "org.lander-fmi.master";
-/// The name of every component's parameter set in the SSDs we write (Ecos's convention).
-pub const PARAMETER_SET: &str = "initialValues";
-const OMS_ANNOTATION_TYPE: &str = "org.openmodelica";
-const NS_OMS: &str =
-    "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd";
-const NS_SSC: &str = "http://ssp-standard.org/SSP1/SystemStructureCommon";
-const NS_SSD: &str = "http://ssp-standard.org/SSP1/SystemStructureDescription";
-const NS_SSV: &str = "http://ssp-standard.org/SSP1/SystemStructureParameterValues";
+use super::ssd_write::{render, Body, Written, WrittenConnector};
+pub use super::ssd_write::{ANNOTATION_TYPE, PARAMETER_SET};
 
 #[derive(Deserialize)]
 struct Ssd {
     #[serde(rename = "@name")]
     name: String,
+    #[serde(rename = "@version", default)]
+    version: Option<String>,
     #[serde(rename = "ssd:System")]
     system: System,
     #[serde(rename = "ssd:DefaultExperiment", default)]
@@ -93,22 +90,62 @@ struct SsdConnector {
     enumeration: Option<Empty>,
     #[serde(rename = "ssc:Binary", default)]
     binary: Option<Empty>,
+    #[serde(rename = "ssc:Float64", default)]
+    float64: Option<Empty>,
+    #[serde(rename = "ssc:Float32", default)]
+    float32: Option<Empty>,
+    #[serde(rename = "ssc:Int8", default)]
+    int8: Option<Empty>,
+    #[serde(rename = "ssc:UInt8", default)]
+    uint8: Option<Empty>,
+    #[serde(rename = "ssc:Int16", default)]
+    int16: Option<Empty>,
+    #[serde(rename = "ssc:UInt16", default)]
+    uint16: Option<Empty>,
+    #[serde(rename = "ssc:Int32", default)]
+    int32: Option<Empty>,
+    #[serde(rename = "ssc:UInt32", default)]
+    uint32: Option<Empty>,
+    #[serde(rename = "ssc:Int64", default)]
+    int64: Option<Empty>,
+    #[serde(rename = "ssc:UInt64", default)]
+    uint64: Option<Empty>,
+    /// SSP 2.0: an array connector, one element per dimension.
+    #[serde(rename = "ssc:Dimension", default)]
+    dimensions: Vec<Dimension>,
 }
 
 impl SsdConnector {
     fn type_name(&self) -> Option<String> {
         [
-            (self.real.is_some(), "Real"),
-            (self.integer.is_some(), "Integer"),
-            (self.boolean.is_some(), "Boolean"),
-            (self.string.is_some(), "String"),
-            (self.enumeration.is_some(), "Enumeration"),
-            (self.binary.is_some(), "Binary"),
+            (&self.real, "Real"),
+            (&self.integer, "Integer"),
+            (&self.boolean, "Boolean"),
+            (&self.string, "String"),
+            (&self.enumeration, "Enumeration"),
+            (&self.binary, "Binary"),
+            (&self.float64, "Float64"),
+            (&self.float32, "Float32"),
+            (&self.int8, "Int8"),
+            (&self.uint8, "UInt8"),
+            (&self.int16, "Int16"),
+            (&self.uint16, "UInt16"),
+            (&self.int32, "Int32"),
+            (&self.uint32, "UInt32"),
+            (&self.int64, "Int64"),
+            (&self.uint64, "UInt64"),
         ]
         .into_iter()
-        .find(|(given, _)| *given)
+        .find(|(given, _)| given.is_some())
         .map(|(_, name)| name.to_owned())
     }
+}
+
+/// `ssc:Dimension`: a fixed `size`, or a `sizeConnector` we do not read.
+#[derive(Deserialize)]
+struct Dimension {
+    #[serde(rename = "@size", default)]
+    size: Option<u64>,
 }
 
 #[derive(Deserialize)]
@@ -146,24 +183,72 @@ struct Parameters {
     parameters: Vec<Parameter>,
 }
 
+/// One `ssv:Parameter`: its value under the element of its type (SSP 1.0's four, SSP 2.0's
+/// FMI 3.0 types), a list for an array with its `ssc:Dimension`s.
 #[derive(Deserialize)]
 struct Parameter {
     #[serde(rename = "@name")]
     name: String,
     #[serde(rename = "ssv:Real", default)]
-    real: Option<Value<f64>>,
+    real: Option<Value>,
     #[serde(rename = "ssv:Integer", default)]
-    integer: Option<Value<i64>>,
+    integer: Option<Value>,
     #[serde(rename = "ssv:Boolean", default)]
-    boolean: Option<Value<bool>>,
+    boolean: Option<Value>,
     #[serde(rename = "ssv:String", default)]
-    string: Option<Value<String>>,
+    string: Option<Value>,
+    #[serde(rename = "ssv:Float64", default)]
+    float64: Option<Value>,
+    #[serde(rename = "ssv:Float32", default)]
+    float32: Option<Value>,
+    #[serde(rename = "ssv:Int8", default)]
+    int8: Option<Value>,
+    #[serde(rename = "ssv:UInt8", default)]
+    uint8: Option<Value>,
+    #[serde(rename = "ssv:Int16", default)]
+    int16: Option<Value>,
+    #[serde(rename = "ssv:UInt16", default)]
+    uint16: Option<Value>,
+    #[serde(rename = "ssv:Int32", default)]
+    int32: Option<Value>,
+    #[serde(rename = "ssv:UInt32", default)]
+    uint32: Option<Value>,
+    #[serde(rename = "ssv:Int64", default)]
+    int64: Option<Value>,
+    #[serde(rename = "ssv:UInt64", default)]
+    uint64: Option<Value>,
+    #[serde(rename = "ssc:Dimension", default)]
+    dimensions: Vec<Dimension>,
+}
+
+impl Parameter {
+    /// The type element given and its value text.
+    fn typed(&self) -> Option<(&'static str, &str)> {
+        [
+            (&self.real, "Real"),
+            (&self.integer, "Integer"),
+            (&self.boolean, "Boolean"),
+            (&self.string, "String"),
+            (&self.float64, "Float64"),
+            (&self.float32, "Float32"),
+            (&self.int8, "Int8"),
+            (&self.uint8, "UInt8"),
+            (&self.int16, "Int16"),
+            (&self.uint16, "UInt16"),
+            (&self.int32, "Int32"),
+            (&self.uint32, "UInt32"),
+            (&self.int64, "Int64"),
+            (&self.uint64, "UInt64"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.as_ref().map(|v| (name, v.value.as_str())))
+    }
 }
 
 #[derive(Deserialize)]
-struct Value<T> {
+struct Value {
     #[serde(rename = "@value")]
-    value: T,
+    value: String,
 }
 
 #[derive(Deserialize)]
@@ -182,6 +267,11 @@ struct SsdConnection {
     end_element: Option<String>,
     #[serde(rename = "@endConnector")]
     end_connector: String,
+    /// SSP 2.0: the one element of an array connector a connection is restricted to.
+    #[serde(rename = "@startIndices", default)]
+    start_indices: Option<String>,
+    #[serde(rename = "@endIndices", default)]
+    end_indices: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -225,6 +315,16 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
     // Before any parsing: an SSD's DTD could declare entities that expand without bound.
     model_description::refuse_declarations(text.as_bytes()).map_err(|e| syntax(e.to_string()))?;
     let ssd: Ssd = serde_xml_rs::from_str(text).map_err(|e| syntax(e.to_string()))?;
+    if let Some(version) = ssd
+        .version
+        .as_deref()
+        // SSP 1.0's schema admits any 1.x ("1.0-beta"); 2.x is SSP 2.0's.
+        .filter(|v| !(v.starts_with("1.") || v.starts_with("2.")))
+    {
+        return Err(syntax(format!(
+            "ssd:SystemStructureDescription version '{version}': SSP 1.x and 2.x are read"
+        )));
+    }
     let mut instances = Vec::new();
     for component in ssd
         .system
@@ -247,38 +347,42 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
                 .map(|p| p.parameters)
                 .unwrap_or_default();
             for parameter in list {
-                let value = match parameter {
-                    Parameter { real: Some(v), .. } => ParamValue::Real(v.value),
-                    Parameter {
-                        integer: Some(v), ..
-                    } => ParamValue::Integer(v.value),
-                    Parameter {
-                        boolean: Some(v), ..
-                    } => ParamValue::Boolean(v.value),
-                    Parameter {
-                        string: Some(v), ..
-                    } => ParamValue::String(v.value),
-                    Parameter { name, .. } => {
-                        return Err(syntax(format!(
-                            "component '{}': parameter '{name}' has no ssv:Real, ssv:Integer, \
-                             ssv:Boolean or ssv:String value",
-                            component.name
-                        )))
-                    }
+                let at = |problem: String| {
+                    syntax(format!(
+                        "component '{}': parameter '{}': {problem}",
+                        component.name, parameter.name
+                    ))
                 };
-                parameters.push((parameter.name, value));
+                let Some((type_name, text)) = parameter.typed() else {
+                    return Err(at("no ssv:Real, ssv:Integer, ssv:Boolean, ssv:String nor \
+                         SSP 2.0 value element (ssv:Float64, ssv:Int32, ...)"
+                        .into()));
+                };
+                let sizes = sizes(&parameter.dimensions).map_err(at)?;
+                let values =
+                    super::ssp2::values(&parameter.name, type_name, text, &sizes).map_err(at)?;
+                parameters.extend(values);
             }
         }
-        let connectors = component.connectors.map(|c| {
-            c.connectors
-                .into_iter()
-                .map(|c| DeclaredConnector {
+        let mut connectors = None;
+        if let Some(list) = component.connectors.map(|c| c.connectors) {
+            let mut declared = Vec::with_capacity(list.len());
+            for c in list {
+                let dimensions = sizes(&c.dimensions).map_err(|problem| {
+                    syntax(format!(
+                        "component '{}': connector '{}': {problem}",
+                        component.name, c.name
+                    ))
+                })?;
+                declared.push(DeclaredConnector {
                     type_name: c.type_name(),
                     name: c.name,
                     kind: c.kind,
-                })
-                .collect()
-        });
+                    dimensions,
+                });
+            }
+            connectors = Some(declared);
+        }
         instances.push(InstanceDesc {
             name: component.name,
             fmu: component.source.into(),
@@ -304,6 +408,20 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
                 c.start_connector, c.end_connector
             )));
         };
+        // Read as the whole arrays they would be a different system: refused, not ignored.
+        if let Some((attribute, indices)) = [
+            ("startIndices", &c.start_indices),
+            ("endIndices", &c.end_indices),
+        ]
+        .into_iter()
+        .find_map(|(attribute, given)| given.as_ref().map(|i| (attribute, i)))
+        {
+            return Err(syntax(format!(
+                "connection {start}.{} -> {end}.{}: {attribute}=\"{indices}\" (a connection \
+                 of array elements) is not supported; connect whole arrays",
+                c.start_connector, c.end_connector
+            )));
+        }
         connections.push(Connection {
             from: format!("{start}.{}", c.start_connector),
             to: format!("{end}.{}", c.end_connector),
@@ -348,6 +466,18 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
     Ok(system)
 }
 
+/// The fixed sizes of `ssc:Dimension`s; a size given by a connector is not read.
+fn sizes(dimensions: &[Dimension]) -> Result<Vec<u64>, String> {
+    dimensions
+        .iter()
+        .map(|d| {
+            d.size.ok_or_else(|| {
+                "an ssc:Dimension without a size (sizeConnector) is not supported".to_owned()
+            })
+        })
+        .collect()
+}
+
 /// Reads an SSD file.
 pub fn read(path: &Path) -> Result<SystemDescription, SystemError> {
     let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {
@@ -376,135 +506,46 @@ pub fn write(
     connectors: &[ConnectorDecl],
     connections: &[(String, String)],
 ) -> String {
-    let mut x = String::new();
-    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
-    let _ = writeln!(
-        x,
-        r#"<ssd:SystemStructureDescription xmlns:ssc="{NS_SSC}" xmlns:ssd="{NS_SSD}" xmlns:ssv="{NS_SSV}" xmlns:oms="{NS_OMS}" version="1.0" name="{}">"#,
-        esc(&system.name)
-    );
-    let _ = writeln!(x, r#"  <ssd:System name="{}">"#, esc(&system.name));
-    let _ = writeln!(x, "    <ssd:Elements>");
-    for instance in &system.instances {
-        let file = instance
-            .fmu
-            .file_name()
-            .map(|f| f.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let _ = writeln!(
-            x,
-            r#"      <ssd:Component name="{}" type="application/x-fmu-sharedlibrary" source="resources/{}">"#,
-            esc(&instance.name),
-            esc(&file)
-        );
-        let own: Vec<_> = connectors
+    let parameters = system
+        .instances
+        .iter()
+        .map(|instance| {
+            instance
+                .parameters
+                .iter()
+                .map(|(name, value)| {
+                    let (type_name, value) = match value {
+                        ParamValue::Real(v) => ("Real", format!("{v:?}")),
+                        ParamValue::Integer(v) => ("Integer", v.to_string()),
+                        ParamValue::Boolean(v) => ("Boolean", v.to_string()),
+                        ParamValue::String(v) => ("String", v.clone()),
+                    };
+                    Written {
+                        name: name.clone(),
+                        type_name,
+                        value,
+                        dimensions: Vec::new(),
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let body = Body {
+        version: "1.0",
+        connectors: connectors
             .iter()
-            .filter(|c| c.instance == instance.name)
-            .collect();
-        if !own.is_empty() {
-            let _ = writeln!(x, "        <ssd:Connectors>");
-            for c in own {
-                let _ = writeln!(
-                    x,
-                    r#"          <ssd:Connector name="{}" kind="{}"><ssc:{}/></ssd:Connector>"#,
-                    esc(&c.name),
-                    c.kind,
-                    c.type_name
-                );
-            }
-            let _ = writeln!(x, "        </ssd:Connectors>");
-        }
-        if !instance.parameters.is_empty() {
-            let _ = writeln!(x, "        <ssd:ParameterBindings>");
-            let _ = writeln!(x, "          <ssd:ParameterBinding>");
-            let _ = writeln!(x, "            <ssd:ParameterValues>");
-            let _ = writeln!(
-                x,
-                r#"              <ssv:ParameterSet version="1.0" name="{PARAMETER_SET}">"#
-            );
-            let _ = writeln!(x, "                <ssv:Parameters>");
-            for (name, value) in &instance.parameters {
-                let (tag, text) = match value {
-                    ParamValue::Real(v) => ("Real", format!("{v:?}")),
-                    ParamValue::Integer(v) => ("Integer", v.to_string()),
-                    ParamValue::Boolean(v) => ("Boolean", v.to_string()),
-                    ParamValue::String(v) => ("String", esc(v)),
-                };
-                let _ = writeln!(
-                    x,
-                    r#"                  <ssv:Parameter name="{}"><ssv:{tag} value="{text}"/></ssv:Parameter>"#,
-                    esc(name)
-                );
-            }
-            let _ = writeln!(x, "                </ssv:Parameters>");
-            let _ = writeln!(x, "              </ssv:ParameterSet>");
-            let _ = writeln!(x, "            </ssd:ParameterValues>");
-            let _ = writeln!(x, "          </ssd:ParameterBinding>");
-            let _ = writeln!(x, "        </ssd:ParameterBindings>");
-        }
-        let _ = writeln!(x, "      </ssd:Component>");
-    }
-    let _ = writeln!(x, "    </ssd:Elements>");
-    if !connections.is_empty() {
-        let _ = writeln!(x, "    <ssd:Connections>");
-        for (from, to) in connections {
-            let (Some((se, sc)), Some((ee, ec))) = (super::split_path(from), super::split_path(to))
-            else {
-                continue;
-            };
-            let _ = writeln!(
-                x,
-                r#"      <ssd:Connection startElement="{}" startConnector="{}" endElement="{}" endConnector="{}"/>"#,
-                esc(se),
-                esc(sc),
-                esc(ee),
-                esc(ec)
-            );
-        }
-        let _ = writeln!(x, "    </ssd:Connections>");
-    }
-    let _ = writeln!(x, "    <ssd:Annotations>");
-    let _ = writeln!(
-        x,
-        r#"      <ssc:Annotation type="{OMS_ANNOTATION_TYPE}"><oms:Annotations><oms:SimulationInformation><oms:FixedStepMaster description="oms-ma" stepSize="{:?}"/></oms:SimulationInformation></oms:Annotations></ssc:Annotation>"#,
-        system.step_size
-    );
-    let _ = writeln!(x, "    </ssd:Annotations>");
-    let _ = writeln!(x, "  </ssd:System>");
-    let ordering = match system.ordering {
-        Ordering::GaussSeidel => "gauss-seidel",
-        Ordering::Jacobi => "jacobi",
+            .map(|c| WrittenConnector {
+                instance: c.instance.clone(),
+                name: c.name.clone(),
+                kind: c.kind,
+                type_name: c.type_name,
+                dimensions: Vec::new(),
+            })
+            .collect(),
+        parameters,
+        connections: connections.to_vec(),
     };
-    let _ = writeln!(
-        x,
-        r#"  <ssd:DefaultExperiment startTime="{:?}" stopTime="{:?}">"#,
-        system.start_time, system.stop_time
-    );
-    let _ = writeln!(x, "    <ssd:Annotations>");
-    let _ = writeln!(
-        x,
-        r#"      <ssc:Annotation type="{ANNOTATION_TYPE}"><Master stepSize="{:?}" ordering="{ordering}"/></ssc:Annotation>"#,
-        system.step_size
-    );
-    let _ = writeln!(x, "    </ssd:Annotations>");
-    let _ = writeln!(x, "  </ssd:DefaultExperiment>");
-    let _ = writeln!(x, "</ssd:SystemStructureDescription>");
-    x
-}
-
-fn esc(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for ch in s.chars() {
-        match ch {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
+    render(system, &body)
 }
 
 #[cfg(test)]
@@ -558,6 +599,7 @@ mod tests {
             name: name.into(),
             kind: kind.into(),
             type_name: Some("Real".into()),
+            dimensions: Vec::new(),
         }])
     }
 

@@ -5,6 +5,7 @@ mod instance;
 pub(crate) mod view;
 
 pub(crate) use instance::Fmi3Instance;
+pub use view::element_name;
 pub(crate) use view::{scalar_view, View};
 
 /// The FMI 3.0 platform folder of this host (`binaries/<platform>/`) and the library suffix.

@@ -360,7 +360,7 @@ pub(crate) fn check_value(variable: &Fmi3Variable, text: &str) -> Result<(), Str
 
 /// `r_nue` + shape [3] + 1 -> `r_nue[2]`; a scalar keeps its name; `[i,j]` beyond one
 /// dimension, the last index fastest (FMI 3.0 stores arrays row-major).
-fn element_name(name: &str, shape: &[usize], index: usize) -> String {
+pub fn element_name(name: &str, shape: &[usize], index: usize) -> String {
     if shape.is_empty() {
         return name.to_owned();
     }

@@ -202,6 +202,20 @@ pub fn ssd_for(system: &SystemDescription, fmu_dir: &Path) -> Result<String, Mas
     ))
 }
 
+/// The SSP 2.0 `SystemStructure.ssd` of a scenario whose FMUs (in `fmu_dir`) are FMI 3.0:
+/// a connector per connected variable, arrays whole, components pointing at
+/// `resources/<file>.fmu`.
+pub fn ssd2_for(system: &SystemDescription, fmu_dir: &Path) -> Result<String, MasterError> {
+    let simulation = Simulation::new(system.clone(), fmu_dir)?;
+    cosim::system::ssp2::write(system, simulation.fmus()).map_err(|e| MasterError::Resolve {
+        system: system.name.clone(),
+        problems: vec![match e {
+            SystemError::Invalid { message, .. } => message,
+            other => other.to_string(),
+        }],
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
