@@ -8,6 +8,8 @@ use crate::physics::parameters::{
     PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
 };
 use crate::physics::plant::{Advance, Commands, Delivered, Plant, PlantRun};
+use crate::physics::slosh::{Slosh, LINEAR_RANGE_SINE};
+use crate::physics::slosh_dynamics::CHART_EDGE_FRACTION;
 use crate::physics::thrusters::THRUSTER_COUNT;
 use fmi_model::parameter::ParameterError;
 use fmi_model::{
@@ -380,8 +382,9 @@ impl Model for LanderPlant {
     /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end);
     /// 3: the delivered actuation is no longer stored (computed when read);
     /// 4: the landing gear, the optional actuator effects and the RCS command history;
-    /// 5: the specific force and the body rate integrated over the step.
-    const STATE_VERSION: u32 = 5;
+    /// 5: the specific force and the body rate integrated over the step;
+    /// 6: slosh tanks following the fill level (the plant's slosh constants).
+    const STATE_VERSION: u32 = 6;
     const MODEL_NAME: &'static str = "LanderPlant";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
@@ -541,6 +544,9 @@ impl Model for LanderPlant {
         if run.gear.tipped_over && !before.gear.tipped_over {
             log.warning(format!("the lander tipped over in the step from t = {t} s"));
         }
+        if let Some(slosh) = &plant.slosh {
+            warn_of_slosh_swing(slosh, &before, run, t, log);
+        }
         Ok(match advance {
             Advance::Reached => StepEnd::Complete,
             Advance::Touchdown(time) if plant.gear.is_some() => StepEnd::Stopped {
@@ -567,6 +573,30 @@ impl Model for LanderPlant {
                 }
             }
         })
+    }
+}
+
+/// A warning when a slosh pendulum swings out of the range its model holds in: past the
+/// linear sloshing theory's 30 deg, and to the edge of the pendulum's chart.
+fn warn_of_slosh_swing(slosh: &Slosh, before: &PlantRun, run: &PlantRun, t: f64, log: &mut Log) {
+    let was = slosh.largest_swing(&before.slosh, before.state.mass_kg);
+    let now = slosh.largest_swing(&run.slosh, run.state.mass_kg);
+    if now > LINEAR_RANGE_SINE && was <= LINEAR_RANGE_SINE {
+        log.warning(format!(
+            "slosh: a pendulum swung {:.1} deg from the thrust axis in the step from t = {t} s, \
+             beyond the 30 deg of the linear sloshing theory its length and mass come from \
+             (docs/plant-slosh.md)",
+            libm::asin(now.min(1.0)).to_degrees()
+        ));
+    }
+    let edge = libm::sqrt(1.0 - CHART_EDGE_FRACTION * CHART_EDGE_FRACTION);
+    if now > edge && was <= edge {
+        log.warning(format!(
+            "slosh: a pendulum reached {:.1} % of its length across the thrust axis in the step \
+             from t = {t} s, the edge of its chart: its axial offset is held there and the \
+             motion is no longer the pendulum's (docs/plant-slosh.md)",
+            100.0 * now
+        ));
     }
 }
 
@@ -735,16 +765,16 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(423, parameter gear_contact_step: parameters.gear.contact_step_s, "s", "Largest RK4 sub-step while a footpad is on or near the terrain (the contact is stiff)", above = 0.0),
     decl!(424, calculated_parameter gear_static_stability_angle: get |m, _| crate::physics::gear::Gear::new(&m.parameters.gear).static_stability_angle_rad, "rad", "Static stability angle of the footprint: atan(d / h), d the shortest distance from the centre of mass to a footprint edge, h the centre of mass height above the footpads"),
     // Propellant slosh (slosh_enabled; docs/plant-slosh.md).
-    decl!(90, output slosh_displacement[4]: get |m, i| m.running.as_ref().map_or(0.0, |(_, run)| run.slosh.0[4 * (i / 2) + i % 2]), "m", "Slosh: displacement of tank k's sloshing mass from its equilibrium (elements 2k+1, 2k+2: body x, body z; 0 without slosh)", components = SLOSH_XZ),
-    decl!(440, parameter slosh_enabled: parameters.slosh.enabled as bool, "Propellant slosh, one pendulum per tank (Co-Simulation only: refused in Model Exchange)"),
+    decl!(90, output slosh_displacement[4]: get |m, i| m.running.as_ref().map_or(0.0, |(_, run)| run.slosh.0[4 * (i / 2) + i % 2]), "m", "Slosh: displacement of tank k's sloshing mass across the thrust axis from its hinge (elements 2k+1, 2k+2: body x, body z; 0 without slosh)", components = SLOSH_XZ),
+    decl!(440, parameter slosh_enabled: parameters.slosh.enabled as bool, "Propellant slosh, one spherical pendulum per tank coupled both ways with the rigid body (Co-Simulation only: refused in Model Exchange)"),
     decl!(441, parameter slosh_tank_radius[2]: parameters.slosh.tank_radius_m, "m", "Radius of each upright cylindrical tank", above = 0.0, components = TANKS),
-    decl!(443, parameter slosh_fill_height[2]: parameters.slosh.fill_height_m, "m", "Liquid depth in each tank", above = 0.0, components = TANKS),
-    decl!(445, parameter slosh_liquid_mass[2]: parameters.slosh.liquid_mass_kg, "kg", "Liquid mass in each tank (0: no slosh in it); the sloshing part is slosh_mass", min = 0.0, components = TANKS),
-    decl!(447, parameter slosh_hinge_body[6]: parameters.slosh.hinge_body_m, "m", "Hinge of tank k's pendulum (elements 3k+1..3k+3) relative to the centre of mass, body axes", components = TANK_XYZ),
+    decl!(443, parameter slosh_fill_height[2]: parameters.slosh.fill_height_m, "m", "Liquid depth in each tank at the initial mass m0 (it falls with the propellant left)", above = 0.0, components = TANKS),
+    decl!(445, parameter slosh_liquid_mass[2]: parameters.slosh.liquid_mass_kg, "kg", "Liquid mass in each tank at the initial mass m0 (0: no slosh in it; it falls with the propellant left); the sloshing part is slosh_mass", min = 0.0, components = TANKS),
+    decl!(447, parameter slosh_hinge_body[6]: parameters.slosh.hinge_body_m, "m", "Hinge of tank k's pendulum (elements 3k+1..3k+3) at the initial fill, relative to the rigid part's centre of mass, body axes; the tank bottom lies below it on body -y, and the hinge moves with the fill", components = TANK_XYZ),
     decl!(453, parameter slosh_damping_ratio: parameters.slosh.damping_ratio, "1", "Damping ratio of the first sloshing mode", min = 0.0, max = 1.0),
     decl!(454, parameter slosh_delta0[4]: parameters.slosh.delta0_m, "m", "Initial displacement of tank k's sloshing mass (elements 2k+1, 2k+2: body x, body z)", components = SLOSH_XZ),
-    decl!(458, calculated_parameter slosh_pendulum_length[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh).pendulums[i].length_m, "m", "Pendulum length L = R / (1.8412 tanh(1.8412 h / R)); the tank-fixed slosh frequency is sqrt(g_eff / L), g_eff = thrust / mass", components = TANKS),
-    decl!(460, calculated_parameter slosh_mass[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh).pendulums[i].mass_kg, "kg", "Sloshing mass m_1 = m_F 2 tanh(1.8412 h / R) / (1.8412 (1.8412^2 - 1) h / R)", components = TANKS),
+    decl!(458, calculated_parameter slosh_pendulum_length[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh, m.parameters.dry_mass_kg, m.parameters.m0_kg).pendulums[i].length_m, "m", "Pendulum length at the initial fill, L = R / (1.8412 tanh(1.8412 h / R)); the tank-fixed slosh frequency is sqrt(g_eff / L), g_eff = thrust / mass", components = TANKS),
+    decl!(460, calculated_parameter slosh_mass[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh, m.parameters.dry_mass_kg, m.parameters.m0_kg).pendulums[i].mass_kg, "kg", "Sloshing mass at the initial fill, m_1 = m_F 2 tanh(1.8412 h / R) / (1.8412 (1.8412^2 - 1) h / R)", components = TANKS),
     decl!(470, parameter inertia_dry_body[3]: parameters.inertia_dry_body_kgm2, "kg.m2", "Principal inertia at dry_mass; the inertia moves linearly with the propellant from inertia_body (at m0) to it; all 0 (default): inertia_body whatever the mass", min = 0.0, components = &["about body x (Ixx)", "about body y (Iyy)", "about body z (Izz)"]),
     decl!(473, parameter com_offset_dry_body[3]: parameters.com_offset_dry_body_m, "m", "With inertia_dry_body: centre of mass at dry_mass relative to where it is at m0 (moves linearly with the propellant; shifts the engine's lever arm)", components = BODY_AXES),
     // Initial state.

@@ -393,7 +393,7 @@ impl PlantParameters {
                 "slosh is modelled over the flat Moon only (translation_model = 1)",
             ));
         }
-        let sloshing = super::slosh::Slosh::new(s).total_mass_kg;
+        let sloshing = super::slosh::Slosh::new(s, self.dry_mass_kg, self.m0_kg).total_mass_kg;
         require(
             sloshing < self.dry_mass_kg,
             ("slosh.liquid_mass_kg", None),
