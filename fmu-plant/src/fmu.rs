@@ -1144,6 +1144,39 @@ mod tests {
     }
 
     #[test]
+    fn a_slosh_swing_past_thirty_degrees_is_logged_as_beyond_the_linear_theory() {
+        // GIVEN slosh on, hovering, the RCS spinning the lander up about its thrust axis
+        // (the sloshing masses lean out as omega^2 r grows against g_eff)
+        let mut m = LanderPlant::default();
+        m.parameters.slosh.enabled = true;
+        m.commands.thrust_cmd_n = 1458.0;
+        m.commands.torque_cmd_body_nm = nalgebra::Vector3::new(0.0, 116.0, 0.0);
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        let swung = |log: &Log| {
+            log.entries
+                .iter()
+                .filter(|(_, w)| w.starts_with("slosh: a pendulum swung"))
+                .count()
+        };
+        let mut k = 0;
+        while swung(&log) == 0 && k < 1000 {
+            m.do_step(f64::from(k) * 0.01, 0.01, &mut log).unwrap();
+            k += 1;
+        }
+        // THEN the warning comes as the swing passes 30 deg, with the step's time
+        let (plant, run) = m.running.as_ref().unwrap();
+        let swing = plant
+            .slosh
+            .as_ref()
+            .unwrap()
+            .largest_swing(&run.slosh, run.state.mass_kg);
+        assert_eq!(swung(&log), 1, "{:?}", log.entries);
+        assert!(swing > LINEAR_RANGE_SINE && swing < 0.6, "{swing}");
+        assert!(log.has_warning());
+    }
+
+    #[test]
     fn with_the_gear_touchdown_is_the_first_contact_and_the_run_goes_on_in_co_simulation() {
         // GIVEN the gear on, footpads 1 m above flat ground, engines off
         let mut m = LanderPlant::default();
