@@ -8,8 +8,7 @@ use crate::physics::parameters::{
     PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
 };
 use crate::physics::plant::{Advance, Commands, Delivered, Plant, PlantRun};
-use crate::physics::slosh::{Slosh, LINEAR_RANGE_SINE};
-use crate::physics::slosh_dynamics::CHART_EDGE_FRACTION;
+use crate::physics::slosh::{Slosh, LINEAR_RANGE_RAD};
 use crate::physics::thrusters::THRUSTER_COUNT;
 use fmi_model::parameter::ParameterError;
 use fmi_model::{
@@ -266,6 +265,17 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
             "slosh_displacement",
             format!("{:?}", run.slosh.0),
             "not finite, or nonzero without slosh",
+        ));
+    }
+    // Every step leaves each pendulum's direction a unit vector.
+    if plant.slosh.is_some()
+        && (0..crate::physics::slosh::TANK_COUNT)
+            .any(|k| (run.slosh.direction(k).norm() - 1.0).abs() > 1e-9)
+    {
+        return Err(restored(
+            "slosh_displacement",
+            format!("{:?}", run.slosh.0),
+            "a pendulum's direction is not a unit vector",
         ));
     }
     if run.gear.crashed_at_s.is_some_and(|t| !t.is_finite())
@@ -577,25 +587,26 @@ impl Model for LanderPlant {
 }
 
 /// A warning when a slosh pendulum swings out of the range its model holds in: past the
-/// linear sloshing theory's 30 deg, and to the edge of the pendulum's chart.
+/// linear sloshing theory's 30 deg, and past level with its hinge (the liquid no longer at
+/// the bottom of its tank: a tumble, or thrust against the liquid).
 fn warn_of_slosh_swing(slosh: &Slosh, before: &PlantRun, run: &PlantRun, t: f64, log: &mut Log) {
     let was = slosh.largest_swing(&before.slosh, before.state.mass_kg);
     let now = slosh.largest_swing(&run.slosh, run.state.mass_kg);
-    if now > LINEAR_RANGE_SINE && was <= LINEAR_RANGE_SINE {
+    if now > LINEAR_RANGE_RAD && was <= LINEAR_RANGE_RAD {
         log.warning(format!(
             "slosh: a pendulum swung {:.1} deg from the thrust axis in the step from t = {t} s, \
              beyond the 30 deg of the linear sloshing theory its length and mass come from \
              (docs/plant-slosh.md)",
-            libm::asin(now.min(1.0)).to_degrees()
+            now.to_degrees()
         ));
     }
-    let edge = libm::sqrt(1.0 - CHART_EDGE_FRACTION * CHART_EDGE_FRACTION);
-    if now > edge && was <= edge {
+    let level = std::f64::consts::FRAC_PI_2;
+    if now > level && was <= level {
         log.warning(format!(
-            "slosh: a pendulum reached {:.1} % of its length across the thrust axis in the step \
-             from t = {t} s, the edge of its chart: its axial offset is held there and the \
-             motion is no longer the pendulum's (docs/plant-slosh.md)",
-            100.0 * now
+            "slosh: a pendulum swung {:.1} deg from the thrust axis in the step from t = {t} s, \
+             above its hinge: the liquid has left the bottom of its tank, where no \
+             equivalent pendulum describes it (docs/plant-slosh.md)",
+            now.to_degrees()
         ));
     }
 }
@@ -765,7 +776,7 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(423, parameter gear_contact_step: parameters.gear.contact_step_s, "s", "Largest RK4 sub-step while a footpad is on or near the terrain (the contact is stiff)", above = 0.0),
     decl!(424, calculated_parameter gear_static_stability_angle: get |m, _| crate::physics::gear::Gear::new(&m.parameters.gear).static_stability_angle_rad, "rad", "Static stability angle of the footprint: atan(d / h), d the shortest distance from the centre of mass to a footprint edge, h the centre of mass height above the footpads"),
     // Propellant slosh (slosh_enabled; docs/plant-slosh.md).
-    decl!(90, output slosh_displacement[4]: get |m, i| m.running.as_ref().map_or(0.0, |(_, run)| run.slosh.0[4 * (i / 2) + i % 2]), "m", "Slosh: displacement of tank k's sloshing mass across the thrust axis from its hinge (elements 2k+1, 2k+2: body x, body z; 0 without slosh)", components = SLOSH_XZ),
+    decl!(90, output slosh_displacement[4]: get |m, i| m.running.as_ref().and_then(|(plant, run)| plant.slosh.as_ref().map(|s| s.displacement_m(&run.slosh, run.state.mass_kg, i / 2)[i % 2])).unwrap_or(0.0), "m", "Slosh: displacement of tank k's sloshing mass across the thrust axis from its hinge (elements 2k+1, 2k+2: body x, body z; 0 without slosh)", components = SLOSH_XZ),
     decl!(440, parameter slosh_enabled: parameters.slosh.enabled as bool, "Propellant slosh, one spherical pendulum per tank coupled both ways with the rigid body (Co-Simulation only: refused in Model Exchange)"),
     decl!(441, parameter slosh_tank_radius[2]: parameters.slosh.tank_radius_m, "m", "Radius of each upright cylindrical tank", above = 0.0, components = TANKS),
     decl!(443, parameter slosh_fill_height[2]: parameters.slosh.fill_height_m, "m", "Liquid depth in each tank at the initial mass m0 (it falls with the propellant left)", above = 0.0, components = TANKS),
@@ -1172,7 +1183,7 @@ mod tests {
             .unwrap()
             .largest_swing(&run.slosh, run.state.mass_kg);
         assert_eq!(swung(&log), 1, "{:?}", log.entries);
-        assert!(swing > LINEAR_RANGE_SINE && swing < 0.6, "{swing}");
+        assert!(swing > LINEAR_RANGE_RAD && swing < 0.6, "{swing}");
         assert!(log.has_warning());
     }
 

@@ -360,7 +360,7 @@ impl Plant {
             rcs_firing_at_step_end: NONE_FIRING,
             gear: GearRun::default(),
             slosh: if p.slosh.enabled {
-                Slosh::initial_state(&p.slosh)
+                Slosh::new(&p.slosh, p.dry_mass_kg, p.m0_kg).initial_state(&p.slosh)
             } else {
                 SloshState::default()
             },
@@ -776,7 +776,7 @@ impl Plant {
             },
             h,
         );
-        (y.plant.renormalised(), y.slosh, integral)
+        (y.plant.renormalised(), y.slosh.renormalised(), integral)
     }
 
     /// The derivative of the plant with its slosh pendulums, body and pendulums solved

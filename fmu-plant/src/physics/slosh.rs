@@ -28,9 +28,9 @@ pub const XI_1: f64 = 1.841_183_8;
 /// it carries (the remaining liquid) vanishes.
 pub const MIN_DEPTH_FRACTION: f64 = 0.05;
 
-/// Angle from the thrust axis (as `|delta| / L`, its sine) beyond which the pendulum swings
-/// outside the range of the linear sloshing theory its length and mass come from: 30 deg.
-pub const LINEAR_RANGE_SINE: f64 = 0.5;
+/// Angle from straight down the thrust axis beyond which the pendulum swings outside the
+/// range of the linear sloshing theory its length and mass come from: 30 deg.
+pub const LINEAR_RANGE_RAD: f64 = std::f64::consts::FRAC_PI_6;
 
 /// The slosh model as the user sets it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -148,23 +148,52 @@ pub struct Slosh {
     pub propellant_kg: f64,
 }
 
-/// The pendulum states: tank k's displacement (x, z) at `4k, 4k + 1`, its rate at
-/// `4k + 2, 4k + 3`; m and m/s, body axes. The displacement is the sloshing mass's position
-/// across the thrust axis from its hinge: the spherical pendulum's two coordinates.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct SloshState(pub [f64; 4 * TANK_COUNT]);
+/// The pendulum states, tank k at `6k..6k + 6`: the direction from its hinge to its mass
+/// (a unit vector, body axes; straight down the thrust axis at rest), then that direction's
+/// rate (1/s). A direction rather than two angles: the pendulum has no chart edge, and a
+/// tumbling lander may swing the liquid anywhere.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SloshState(pub [f64; 6 * TANK_COUNT]);
+
+impl Default for SloshState {
+    fn default() -> Self {
+        Self([0.0; 6 * TANK_COUNT])
+    }
+}
 
 impl SloshState {
-    pub fn displacement(&self, k: usize) -> Vector2<f64> {
-        Vector2::new(self.0[4 * k], self.0[4 * k + 1])
+    pub fn direction(&self, k: usize) -> Vector3<f64> {
+        Vector3::from_column_slice(&self.0[6 * k..6 * k + 3])
     }
 
-    pub fn rate(&self, k: usize) -> Vector2<f64> {
-        Vector2::new(self.0[4 * k + 2], self.0[4 * k + 3])
+    pub fn direction_rate(&self, k: usize) -> Vector3<f64> {
+        Vector3::from_column_slice(&self.0[6 * k + 3..6 * k + 6])
+    }
+
+    /// Tank k's sloshing mass across the thrust axis from its hinge (body x, z), m.
+    pub fn displacement_m(&self, k: usize, length_m: f64) -> Vector2<f64> {
+        Vector2::new(self.0[6 * k], self.0[6 * k + 2]) * length_m
     }
 
     pub fn add_scaled(&self, h: f64, d: &Self) -> Self {
         Self(std::array::from_fn(|i| self.0[i] + d.0[i] * h))
+    }
+
+    /// Each direction back on the unit sphere and its rate in its tangent plane: RK4 keeps
+    /// them there only to its order (as the attitude quaternion, renormalised per sub-step).
+    pub fn renormalised(mut self) -> Self {
+        for k in 0..TANK_COUNT {
+            let e = self.direction(k);
+            let norm = e.norm();
+            if norm > 0.0 {
+                let e = e / norm;
+                let rate = self.direction_rate(k);
+                let rate = rate - e * e.dot(&rate);
+                self.0[6 * k..6 * k + 3].copy_from_slice(e.as_slice());
+                self.0[6 * k + 3..6 * k + 6].copy_from_slice(rate.as_slice());
+            }
+        }
+        self
     }
 }
 
@@ -200,11 +229,14 @@ impl Slosh {
         }
     }
 
-    pub fn initial_state(p: &SloshParameters) -> SloshState {
+    /// The pendulums at rest, each mass displaced `delta0` across the thrust axis (shorter
+    /// than its pendulum: `PlantParameters::check` refuses the rest).
+    pub fn initial_state(&self, p: &SloshParameters) -> SloshState {
         let mut s = SloshState::default();
-        for k in 0..TANK_COUNT {
-            s.0[4 * k] = p.delta0_m[2 * k];
-            s.0[4 * k + 1] = p.delta0_m[2 * k + 1];
+        for (k, pendulum) in self.pendulums.iter().enumerate() {
+            let across = Vector2::new(p.delta0_m[2 * k], p.delta0_m[2 * k + 1]) / pendulum.length_m;
+            let down = libm::sqrt((1.0 - across.norm_squared()).max(0.0));
+            s.0[6 * k..6 * k + 3].copy_from_slice(&[across.x, -down, across.y]);
         }
         s
     }
@@ -227,15 +259,24 @@ impl Slosh {
         self.tanks.map(|t| t.pendulum_at(f))
     }
 
-    /// The largest `|delta| / L` of the active tanks at `mass_kg`: the sine of the farthest
-    /// swing from the thrust axis.
+    /// The largest angle of an active tank's pendulum from straight down the thrust axis,
+    /// rad.
     pub fn largest_swing(&self, s: &SloshState, mass_kg: f64) -> f64 {
         self.pendulums_at(mass_kg)
             .iter()
             .enumerate()
             .filter(|(_, p)| p.is_active())
-            .map(|(k, p)| s.displacement(k).norm() / p.length_m)
+            .map(|(k, _)| {
+                let e = s.direction(k);
+                libm::acos((-e.y / e.norm()).clamp(-1.0, 1.0))
+            })
             .fold(0.0, f64::max)
+    }
+
+    /// Tank k's sloshing mass across the thrust axis from its hinge at `mass_kg` (body x,
+    /// z), m.
+    pub fn displacement_m(&self, s: &SloshState, mass_kg: f64, k: usize) -> Vector2<f64> {
+        s.displacement_m(k, self.pendulums_at(mass_kg)[k].length_m)
     }
 }
 

@@ -3,14 +3,15 @@
 //! symmetric mass matrix, at every evaluation (docs/plant-slosh.md derives it).
 //!
 //! Body axes, about the rigid part's centre of mass `O` (the point the plant's position,
-//! thrust line and inertia refer to). Unknowns `u = (s, alpha, q1'', q2'')`: `s` the specific
+//! thrust line and inertia refer to). Unknowns `u = (s, alpha, a_1, a_2)`: `s` the specific
 //! force of `O` (its acceleration minus gravity: what an accelerometer there reads), `alpha`
-//! the body's angular acceleration, `q_i = (x_i, z_i)` pendulum i's displacement across the
-//! thrust axis. The sloshing mass sits at `r_i = hinge_i + rho_i` with
-//! `rho_i = (x, -sqrt(L^2 - x^2 - z^2), z)` (the spherical pendulum, no small-angle
-//! approximation), and its acceleration minus gravity is `B_i u + w_i`:
-//! * `B_i = [1, -[r_i]x, J_i]`, `J_i = d rho_i / d q_i`;
-//! * `w_i = omega x (omega x r_i) + 2 omega x rho_i' + (d J_i / dt) q_i'`.
+//! the body's angular acceleration, `a_i` pendulum i's angular acceleration in its tangent
+//! plane. The sloshing mass sits at `r_i = hinge_i + L_i e_i`, `e_i` a unit vector (the
+//! spherical pendulum, no small-angle approximation, no chart edge); with `t_1, t_2` an
+//! orthonormal basis of the plane normal to `e_i`, `e_i'' = a_1 t_1 + a_2 t_2 - |e_i'|^2 e_i`,
+//! and the mass's acceleration minus gravity is `B_i u + w_i`:
+//! * `B_i = [1, -[r_i]x, J_i]`, `J_i = L_i [t_1 t_2]`;
+//! * `w_i = omega x (omega x r_i) + 2 omega x L_i e_i' - L_i |e_i'|^2 e_i`.
 //!
 //! Newton-Euler of the whole system and the pendulums' equations projected on their tangent
 //! planes (the rod force drops out) give `M u = b` with
@@ -25,11 +26,6 @@
 use super::rigid_body::PrincipalInertia;
 use super::slosh::{Pendulum, Slosh, SloshState, TANK_COUNT};
 use nalgebra::{Matrix3, Matrix3x2, SMatrix, SVector, Vector2, Vector3};
-
-/// Smallest `|rho_y| / L` of the pendulum's chart: where `|delta|` reaches `L` the mass
-/// would stand level with its hinge and `x, z` stop describing it. Beyond 99.5 % of `L` the
-/// axial offset is held at this fraction (outside the model's range; the plant warns).
-pub const CHART_EDGE_FRACTION: f64 = 0.1;
 
 const N: usize = 6 + 2 * TANK_COUNT;
 
@@ -62,26 +58,34 @@ pub struct Bob {
     pub position_body_m: Vector3<f64>,
     /// Velocity relative to the body (as seen in body axes), m/s.
     pub velocity_body_mps: Vector3<f64>,
-    /// `d rho / d q`.
+    /// `L [t_1 t_2]`: the mass's velocity per tangential angular rate.
     jacobian: Matrix3x2<f64>,
-    /// `(d J / dt) q'`, m/s^2.
+    /// `-L |e'|^2 e`, the acceleration that keeps the mass on its sphere, m/s^2.
     convective_mps2: Vector3<f64>,
 }
 
 /// Pendulum `k`'s mass at state `s`.
 pub fn bob(p: &Pendulum, s: &SloshState, k: usize) -> Bob {
-    let (q, qd) = (s.displacement(k), s.rate(k));
-    let l2 = p.length_m * p.length_m;
-    let edge = CHART_EDGE_FRACTION * p.length_m;
-    let y = -libm::sqrt((l2 - q.norm_squared()).max(edge * edge));
-    let jacobian = Matrix3x2::new(1.0, 0.0, -q.x / y, -q.y / y, 0.0, 1.0);
-    let yd = -(q.x * qd.x + q.y * qd.y) / y;
-    let rho = Vector3::new(q.x, y, q.y);
+    let e = s.direction(k).normalize();
+    let rate = s.direction_rate(k);
+    // The body axis least along `e` gives a well-conditioned tangent basis; the equations
+    // only see the plane it spans, so a switch of axis changes nothing.
+    let a = e.abs();
+    let axis = if a.x <= a.y && a.x <= a.z {
+        Vector3::x()
+    } else if a.y <= a.z {
+        Vector3::y()
+    } else {
+        Vector3::z()
+    };
+    let t1 = (axis - e * e.dot(&axis)).normalize();
+    let t2 = e.cross(&t1);
+    let l = p.length_m;
     Bob {
-        position_body_m: p.hinge_body_m + rho,
-        velocity_body_mps: Vector3::new(qd.x, yd, qd.y),
-        jacobian,
-        convective_mps2: Vector3::new(0.0, -(qd.norm_squared() + yd * yd) / y, 0.0),
+        position_body_m: p.hinge_body_m + e * l,
+        velocity_body_mps: rate * l,
+        jacobian: Matrix3x2::from_columns(&[t1 * l, t2 * l]),
+        convective_mps2: -e * (l * rate.norm_squared()),
     }
 }
 
@@ -147,12 +151,13 @@ pub fn solve(
         None => SVector::<f64, N>::repeat(f64::NAN),
     };
     let mut derivative = SloshState::default();
-    for k in 0..TANK_COUNT {
-        if pendulums[k].is_active() {
-            derivative.0[4 * k] = s.0[4 * k + 2];
-            derivative.0[4 * k + 1] = s.0[4 * k + 3];
-            derivative.0[4 * k + 2] = u[6 + 2 * k];
-            derivative.0[4 * k + 3] = u[7 + 2 * k];
+    for (k, p) in pendulums.iter().enumerate() {
+        if p.is_active() {
+            let bob = bob(p, s, k);
+            let tangential = bob.jacobian * Vector2::new(u[6 + 2 * k], u[7 + 2 * k]);
+            let acceleration = (tangential + bob.convective_mps2) / p.length_m;
+            derivative.0[6 * k..6 * k + 3].copy_from_slice(&s.0[6 * k + 3..6 * k + 6]);
+            derivative.0[6 * k + 3..6 * k + 6].copy_from_slice(acceleration.as_slice());
         }
     }
     Coupled {
@@ -194,7 +199,7 @@ mod tests {
         let c = solve(
             &slosh,
             &slosh.pendulums,
-            &SloshState::default(),
+            &slosh.initial_state(&SloshParameters::default()),
             &hover(Vector3::zeros(), Vector3::zeros()),
         );
         assert!(
@@ -215,7 +220,7 @@ mod tests {
         let c = solve(
             &slosh,
             &slosh.pendulums,
-            &SloshState::default(),
+            &slosh.initial_state(&SloshParameters::default()),
             &hover(Vector3::zeros(), Vector3::new(0.0, tau, 0.0)),
         );
         // THEN at the first instant the sloshing masses lag: the body alone turns at tau / I
@@ -223,8 +228,9 @@ mod tests {
         let alpha = c.alpha_body_radps2.y;
         assert!((alpha - tau / 300.0).abs() < 1e-12, "{alpha}");
         let d = &c.derivative.0;
+        let l = slosh.pendulums[0].length_m;
         assert!(
-            (d[3] - alpha * 0.6).abs() < 1e-12 && (d[7] + alpha * 0.6).abs() < 1e-12,
+            (d[5] * l - alpha * 0.6).abs() < 1e-12 && (d[11] * l + alpha * 0.6).abs() < 1e-12,
             "{d:?}"
         );
         // AND turning at 0.3 rad/s flings them outward: omega x (omega x r) = -w^2 r
@@ -232,10 +238,10 @@ mod tests {
         let c = solve(
             &slosh,
             &slosh.pendulums,
-            &SloshState::default(),
+            &slosh.initial_state(&SloshParameters::default()),
             &hover(Vector3::new(0.0, w, 0.0), Vector3::zeros()),
         );
         let d = &c.derivative.0;
-        assert!(d[2] > 0.0 && d[6] < 0.0, "{d:?}");
+        assert!(d[3] > 0.0 && d[9] < 0.0, "{d:?}");
     }
 }
