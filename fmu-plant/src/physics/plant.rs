@@ -749,8 +749,8 @@ impl Plant {
 
     /// [`Plant::rk4`] of the plant with its slosh pendulums: without slosh exactly `rk4`
     /// (the pendulums untouched). The third element is the integral over the step of the
-    /// specific force (body axes, m/s; with slosh the rigid part's, solved with the pendulums),
-    /// body rate (rad).
+    /// specific force (body axes, m/s; with slosh the rigid part's, solved with the
+    /// pendulums), then of the body rate (rad).
     #[allow(clippy::too_many_arguments)]
     fn rk4_pair(
         &self,
