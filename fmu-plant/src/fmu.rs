@@ -8,6 +8,7 @@ use crate::physics::parameters::{
     PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
 };
 use crate::physics::plant::{Advance, Commands, Delivered, Plant, PlantRun};
+use crate::physics::slosh::{Slosh, LINEAR_RANGE_RAD};
 use crate::physics::thrusters::THRUSTER_COUNT;
 use fmi_model::parameter::ParameterError;
 use fmi_model::{
@@ -266,6 +267,17 @@ fn check_run(run: &PlantRun, plant: &Plant, m0_kg: f64) -> Result<(), ModelError
             "not finite, or nonzero without slosh",
         ));
     }
+    // Every step leaves each pendulum's direction a unit vector.
+    if plant.slosh.is_some()
+        && (0..crate::physics::slosh::TANK_COUNT)
+            .any(|k| (run.slosh.direction(k).norm() - 1.0).abs() > 1e-9)
+    {
+        return Err(restored(
+            "slosh_displacement",
+            format!("{:?}", run.slosh.0),
+            "a pendulum's direction is not a unit vector",
+        ));
+    }
     if run.gear.crashed_at_s.is_some_and(|t| !t.is_finite())
         || (plant.gear.is_none() && run.gear != crate::physics::plant::GearRun::default())
     {
@@ -380,8 +392,9 @@ impl Model for LanderPlant {
     /// 2: the RCS thruster model's state (modulators; pulses still firing at a step end);
     /// 3: the delivered actuation is no longer stored (computed when read);
     /// 4: the landing gear, the optional actuator effects and the RCS command history;
-    /// 5: the specific force and the body rate integrated over the step.
-    const STATE_VERSION: u32 = 5;
+    /// 5: the specific force and the body rate integrated over the step;
+    /// 6: slosh tanks following the fill level (the plant's slosh constants).
+    const STATE_VERSION: u32 = 6;
     const MODEL_NAME: &'static str = "LanderPlant";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
@@ -541,6 +554,9 @@ impl Model for LanderPlant {
         if run.gear.tipped_over && !before.gear.tipped_over {
             log.warning(format!("the lander tipped over in the step from t = {t} s"));
         }
+        if let Some(slosh) = &plant.slosh {
+            warn_of_slosh_swing(slosh, &before, run, t, log);
+        }
         Ok(match advance {
             Advance::Reached => StepEnd::Complete,
             Advance::Touchdown(time) if plant.gear.is_some() => StepEnd::Stopped {
@@ -567,6 +583,31 @@ impl Model for LanderPlant {
                 }
             }
         })
+    }
+}
+
+/// A warning when a slosh pendulum swings out of the range its model holds in: past the
+/// linear sloshing theory's 30 deg, and past level with its hinge (the liquid no longer at
+/// the bottom of its tank: a tumble, or thrust against the liquid).
+fn warn_of_slosh_swing(slosh: &Slosh, before: &PlantRun, run: &PlantRun, t: f64, log: &mut Log) {
+    let was = slosh.largest_swing(&before.slosh, before.state.mass_kg);
+    let now = slosh.largest_swing(&run.slosh, run.state.mass_kg);
+    if now > LINEAR_RANGE_RAD && was <= LINEAR_RANGE_RAD {
+        log.warning(format!(
+            "slosh: a pendulum swung {:.1} deg from the thrust axis in the step from t = {t} s, \
+             beyond the 30 deg of the linear sloshing theory its length and mass come from \
+             (docs/plant-slosh.md)",
+            now.to_degrees()
+        ));
+    }
+    let level = std::f64::consts::FRAC_PI_2;
+    if now > level && was <= level {
+        log.warning(format!(
+            "slosh: a pendulum swung {:.1} deg from the thrust axis in the step from t = {t} s, \
+             above its hinge: the liquid has left the bottom of its tank, where no \
+             equivalent pendulum describes it (docs/plant-slosh.md)",
+            now.to_degrees()
+        ));
     }
 }
 
@@ -735,16 +776,16 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(423, parameter gear_contact_step: parameters.gear.contact_step_s, "s", "Largest RK4 sub-step while a footpad is on or near the terrain (the contact is stiff)", above = 0.0),
     decl!(424, calculated_parameter gear_static_stability_angle: get |m, _| crate::physics::gear::Gear::new(&m.parameters.gear).static_stability_angle_rad, "rad", "Static stability angle of the footprint: atan(d / h), d the shortest distance from the centre of mass to a footprint edge, h the centre of mass height above the footpads"),
     // Propellant slosh (slosh_enabled; docs/plant-slosh.md).
-    decl!(90, output slosh_displacement[4]: get |m, i| m.running.as_ref().map_or(0.0, |(_, run)| run.slosh.0[4 * (i / 2) + i % 2]), "m", "Slosh: displacement of tank k's sloshing mass from its equilibrium (elements 2k+1, 2k+2: body x, body z; 0 without slosh)", components = SLOSH_XZ),
-    decl!(440, parameter slosh_enabled: parameters.slosh.enabled as bool, "Propellant slosh, one pendulum per tank (Co-Simulation only: refused in Model Exchange)"),
+    decl!(90, output slosh_displacement[4]: get |m, i| m.running.as_ref().and_then(|(plant, run)| plant.slosh.as_ref().map(|s| s.displacement_m(&run.slosh, run.state.mass_kg, i / 2)[i % 2])).unwrap_or(0.0), "m", "Slosh: displacement of tank k's sloshing mass across the thrust axis from its hinge (elements 2k+1, 2k+2: body x, body z; 0 without slosh)", components = SLOSH_XZ),
+    decl!(440, parameter slosh_enabled: parameters.slosh.enabled as bool, "Propellant slosh, one spherical pendulum per tank coupled both ways with the rigid body (Co-Simulation only: refused in Model Exchange)"),
     decl!(441, parameter slosh_tank_radius[2]: parameters.slosh.tank_radius_m, "m", "Radius of each upright cylindrical tank", above = 0.0, components = TANKS),
-    decl!(443, parameter slosh_fill_height[2]: parameters.slosh.fill_height_m, "m", "Liquid depth in each tank", above = 0.0, components = TANKS),
-    decl!(445, parameter slosh_liquid_mass[2]: parameters.slosh.liquid_mass_kg, "kg", "Liquid mass in each tank (0: no slosh in it); the sloshing part is slosh_mass", min = 0.0, components = TANKS),
-    decl!(447, parameter slosh_hinge_body[6]: parameters.slosh.hinge_body_m, "m", "Hinge of tank k's pendulum (elements 3k+1..3k+3) relative to the centre of mass, body axes", components = TANK_XYZ),
+    decl!(443, parameter slosh_fill_height[2]: parameters.slosh.fill_height_m, "m", "Liquid depth in each tank at the initial mass m0 (it falls with the propellant left)", above = 0.0, components = TANKS),
+    decl!(445, parameter slosh_liquid_mass[2]: parameters.slosh.liquid_mass_kg, "kg", "Liquid mass in each tank at the initial mass m0 (0: no slosh in it; it falls with the propellant left); the sloshing part is slosh_mass", min = 0.0, components = TANKS),
+    decl!(447, parameter slosh_hinge_body[6]: parameters.slosh.hinge_body_m, "m", "Hinge of tank k's pendulum (elements 3k+1..3k+3) at the initial fill, relative to the rigid part's centre of mass, body axes; the tank bottom lies below it on body -y, and the hinge moves with the fill", components = TANK_XYZ),
     decl!(453, parameter slosh_damping_ratio: parameters.slosh.damping_ratio, "1", "Damping ratio of the first sloshing mode", min = 0.0, max = 1.0),
     decl!(454, parameter slosh_delta0[4]: parameters.slosh.delta0_m, "m", "Initial displacement of tank k's sloshing mass (elements 2k+1, 2k+2: body x, body z)", components = SLOSH_XZ),
-    decl!(458, calculated_parameter slosh_pendulum_length[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh).pendulums[i].length_m, "m", "Pendulum length L = R / (1.8412 tanh(1.8412 h / R)); the tank-fixed slosh frequency is sqrt(g_eff / L), g_eff = thrust / mass", components = TANKS),
-    decl!(460, calculated_parameter slosh_mass[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh).pendulums[i].mass_kg, "kg", "Sloshing mass m_1 = m_F 2 tanh(1.8412 h / R) / (1.8412 (1.8412^2 - 1) h / R)", components = TANKS),
+    decl!(458, calculated_parameter slosh_pendulum_length[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh, m.parameters.dry_mass_kg, m.parameters.m0_kg).pendulums[i].length_m, "m", "Pendulum length at the initial fill, L = R / (1.8412 tanh(1.8412 h / R)); the tank-fixed slosh frequency is sqrt(g_eff / L), g_eff = thrust / mass", components = TANKS),
+    decl!(460, calculated_parameter slosh_mass[2]: get |m, i| crate::physics::slosh::Slosh::new(&m.parameters.slosh, m.parameters.dry_mass_kg, m.parameters.m0_kg).pendulums[i].mass_kg, "kg", "Sloshing mass at the initial fill, m_1 = m_F 2 tanh(1.8412 h / R) / (1.8412 (1.8412^2 - 1) h / R)", components = TANKS),
     decl!(470, parameter inertia_dry_body[3]: parameters.inertia_dry_body_kgm2, "kg.m2", "Principal inertia at dry_mass; the inertia moves linearly with the propellant from inertia_body (at m0) to it; all 0 (default): inertia_body whatever the mass", min = 0.0, components = &["about body x (Ixx)", "about body y (Iyy)", "about body z (Izz)"]),
     decl!(473, parameter com_offset_dry_body[3]: parameters.com_offset_dry_body_m, "m", "With inertia_dry_body: centre of mass at dry_mass relative to where it is at m0 (moves linearly with the propellant; shifts the engine's lever arm)", components = BODY_AXES),
     // Initial state.
@@ -1111,6 +1152,39 @@ mod tests {
             let end = alpha * f64::from(k + 1) * 0.01;
             assert!((m.outputs.omega_body[2] - end).abs() < 1e-15);
         }
+    }
+
+    #[test]
+    fn a_slosh_swing_past_thirty_degrees_is_logged_as_beyond_the_linear_theory() {
+        // GIVEN slosh on, hovering, the RCS spinning the lander up about its thrust axis
+        // (the sloshing masses lean out as omega^2 r grows against g_eff)
+        let mut m = LanderPlant::default();
+        m.parameters.slosh.enabled = true;
+        m.commands.thrust_cmd_n = 1458.0;
+        m.commands.torque_cmd_body_nm = nalgebra::Vector3::new(0.0, 116.0, 0.0);
+        let mut log = Log::default();
+        m.exit_initialization(0.0, &mut log).unwrap();
+        let swung = |log: &Log| {
+            log.entries
+                .iter()
+                .filter(|(_, w)| w.starts_with("slosh: a pendulum swung"))
+                .count()
+        };
+        let mut k = 0;
+        while swung(&log) == 0 && k < 1000 {
+            m.do_step(f64::from(k) * 0.01, 0.01, &mut log).unwrap();
+            k += 1;
+        }
+        // THEN the warning comes as the swing passes 30 deg, with the step's time
+        let (plant, run) = m.running.as_ref().unwrap();
+        let swing = plant
+            .slosh
+            .as_ref()
+            .unwrap()
+            .largest_swing(&run.slosh, run.state.mass_kg);
+        assert_eq!(swung(&log), 1, "{:?}", log.entries);
+        assert!(swing > LINEAR_RANGE_RAD && swing < 0.6, "{swing}");
+        assert!(log.has_warning());
     }
 
     #[test]

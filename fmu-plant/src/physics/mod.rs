@@ -10,6 +10,7 @@ pub mod parameters;
 pub mod plant;
 pub mod rigid_body;
 pub mod slosh;
+pub mod slosh_dynamics;
 pub mod state;
 pub mod thrusters;
 pub mod translation_flat;

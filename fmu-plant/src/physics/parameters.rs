@@ -393,7 +393,22 @@ impl PlantParameters {
                 "slosh is modelled over the flat Moon only (translation_model = 1)",
             ));
         }
-        let sloshing = super::slosh::Slosh::new(s).total_mass_kg;
+        let slosh = super::slosh::Slosh::new(s, self.dry_mass_kg, self.m0_kg);
+        for (k, p) in slosh.pendulums.iter().enumerate() {
+            let delta = libm::hypot(s.delta0_m[2 * k], s.delta0_m[2 * k + 1]);
+            require(
+                delta < p.length_m,
+                ("slosh.delta0_m", Some(2 * k)),
+                delta,
+                &format!(
+                    "tank {}'s sloshing mass cannot start {delta} m across the thrust axis: its \
+                     pendulum is {} m long",
+                    k + 1,
+                    p.length_m
+                ),
+            )?;
+        }
+        let sloshing = slosh.total_mass_kg;
         require(
             sloshing < self.dry_mass_kg,
             ("slosh.liquid_mass_kg", None),

@@ -7,6 +7,7 @@ use super::integrator::{rk4_step_with_quadrature, OdeState, SubSteps};
 use super::parameters::{ParameterError, PlantParameters, RcsModelKind, TranslationModelKind};
 use super::rigid_body::{omega_dot_body, quaternion_rate, PrincipalInertia};
 use super::slosh::{Slosh, SloshState};
+use super::slosh_dynamics::{self, RigidLoads};
 use super::state::PlantState;
 use super::thrusters::{pieces, Firing, Thrusters, NONE_FIRING, THRUSTER_COUNT};
 use super::translation_flat;
@@ -325,7 +326,10 @@ impl Plant {
             rcs_valve_delay_s: p.actuators.rcs_valve_delay_s,
             rcs_mass_flow_per_newton: (p.actuators.rcs_isp_s > 0.0)
                 .then(|| 1.0 / (p.actuators.rcs_isp_s * p.g0_mps2)),
-            slosh: p.slosh.enabled.then(|| Slosh::new(&p.slosh)),
+            slosh: p
+                .slosh
+                .enabled
+                .then(|| Slosh::new(&p.slosh, p.dry_mass_kg, p.m0_kg)),
             mass_properties: super::mass_properties::MassProperties::new(p),
         };
         let translation_state = translation.from_nue(&Nue(p.r0_nue_m), &Nue(p.v0_nue_mps));
@@ -356,7 +360,7 @@ impl Plant {
             rcs_firing_at_step_end: NONE_FIRING,
             gear: GearRun::default(),
             slosh: if p.slosh.enabled {
-                Slosh::initial_state(&p.slosh)
+                Slosh::new(&p.slosh, p.dry_mass_kg, p.m0_kg).initial_state(&p.slosh)
             } else {
                 SloshState::default()
             },
@@ -438,8 +442,8 @@ impl Plant {
         d
     }
 
-    /// [`Plant::delivered_firing`] at the state of `run`, with the slosh pendulums' force
-    /// in the specific force (the rigid part's accelerometer) when slosh is on.
+    /// [`Plant::delivered_firing`] at the state of `run`; with slosh on, the specific force
+    /// is the rigid part's, solved with the pendulums (the accelerometer sits on it).
     pub fn delivered_run(
         &self,
         run: &PlantRun,
@@ -449,18 +453,15 @@ impl Plant {
     ) -> Delivered {
         let mut d = self.delivered_firing(&run.state, commands, firing, exhausted);
         if let Some(slosh) = &self.slosh {
-            let mass_kg = run.state.mass_kg.max(self.dry_mass_kg);
-            let force_body = self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n;
-            d.specific_force_body_mps2 += slosh
-                // The accelerometer term does not depend on the body's rotation.
-                .effect(
-                    &run.slosh,
-                    &force_body,
-                    mass_kg,
-                    &Vector3::zeros(),
-                    &Vector3::zeros(),
-                )
-                .extra_acceleration_body;
+            let base = self.delivered_from(
+                &run.state,
+                &self.targets(commands, exhausted),
+                firing,
+                exhausted,
+            );
+            d.specific_force_body_mps2 = self
+                .coupled_accelerations(slosh, &run.state, &run.slosh, &base)
+                .specific_force_body_mps2;
         }
         d
     }
@@ -748,8 +749,8 @@ impl Plant {
 
     /// [`Plant::rk4`] of the plant with its slosh pendulums: without slosh exactly `rk4`
     /// (the pendulums untouched). The third element is the integral over the step of the
-    /// specific force (body axes, m/s; with slosh the pendulums' force included), then of the
-    /// body rate (rad).
+    /// specific force (body axes, m/s; with slosh the rigid part's, solved with the
+    /// pendulums), then of the body rate (rad).
     #[allow(clippy::too_many_arguments)]
     fn rk4_pair(
         &self,
@@ -775,12 +776,13 @@ impl Plant {
             },
             h,
         );
-        (y.plant.renormalised(), y.slosh, integral)
+        (y.plant.renormalised(), y.slosh.renormalised(), integral)
     }
 
-    /// The derivative of the plant with its slosh pendulums (flat Moon: the translational
-    /// derivative's velocity rows are the acceleration in NUE), and the means' integrand
-    /// (the specific force with the pendulums' force in it, the body rate).
+    /// The derivative of the plant with its slosh pendulums, body and pendulums solved
+    /// together (flat Moon: the translational derivative's velocity rows are the
+    /// acceleration in NUE), and the means' integrand (the rigid part's specific force, the
+    /// body rate).
     fn coupled_derivative(
         &self,
         slosh: &Slosh,
@@ -792,28 +794,54 @@ impl Plant {
         let x = &y.plant;
         let d = self.delivered_from(x, targets, firing, exhausted);
         let mut dx = self.derivative_delivered(x, &d, targets);
-        let mass_kg = x.mass_kg.max(self.dry_mass_kg);
-        let force_body = self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n;
-        let effect = slosh.effect(
-            &y.slosh,
-            &force_body,
-            mass_kg,
-            &x.omega_body.0,
-            &dx.omega_body.0,
-        );
-        let extra_nue = body_to_nue(&x.q_body_to_nue, &Body(effect.extra_acceleration_body)).0;
-        for i in 0..3 {
-            dx.translation[3 + i] += extra_nue[i];
-        }
-        dx.omega_body.0 += effect.torque_body_nm.component_div(&self.inertia_body_kgm2);
-        let specific_force = self.specific_force_body(x, &d) + effect.extra_acceleration_body;
+        let c = self.coupled_accelerations(slosh, x, &y.slosh, &d);
+        let specific_force_nue = body_to_nue(&x.q_body_to_nue, &Body(c.specific_force_body_mps2));
+        dx.translation = self
+            .translation
+            .derivative(&x.translation, &specific_force_nue);
+        dx.omega_body = Body(c.alpha_body_radps2);
         (
             Coupled {
                 plant: dx,
-                slosh: effect.derivative,
+                slosh: c.derivative,
             },
-            mean_integrand(&specific_force, &x.omega_body.0),
+            mean_integrand(&c.specific_force_body_mps2, &x.omega_body.0),
         )
+    }
+
+    /// Body and pendulums solved together at `x` with the actuators delivering `d` (from
+    /// [`Plant::delivered_from`], the moved centre of mass's engine torque not yet in it).
+    fn coupled_accelerations(
+        &self,
+        slosh: &Slosh,
+        x: &PlantState,
+        pendulums: &SloshState,
+        d: &Delivered,
+    ) -> slosh_dynamics::Coupled {
+        let mass_kg = x.mass_kg.max(self.dry_mass_kg);
+        let thrust_body = self.thrust_direction_body * d.thrust_n;
+        let mut force_body_n = thrust_body + d.rcs_force_body_n;
+        let mut torque_body_nm = d.rcs_torque_body_nm + d.engine_torque_body_nm;
+        if let Some(c) = self.contact(x) {
+            force_body_n +=
+                UnitQuaternion::from_quaternion(x.q_body_to_nue).inverse() * c.force_nue_n;
+            torque_body_nm += c.torque_body_nm;
+        }
+        let inertia_body_kgm2 = match &self.mass_properties {
+            None => self.inertia_body_kgm2,
+            Some(mp) => {
+                torque_body_nm += mp.engine_torque_shift_body_nm(x.mass_kg, &thrust_body);
+                mp.inertia_body_kgm2(x.mass_kg)
+            }
+        };
+        let loads = RigidLoads {
+            mass_kg,
+            inertia_body_kgm2,
+            force_body_n,
+            torque_body_nm,
+            omega_body: x.omega_body.0,
+        };
+        slosh_dynamics::solve(slosh, &slosh.pendulums_at(mass_kg), pendulums, &loads)
     }
 
     fn rk4(
