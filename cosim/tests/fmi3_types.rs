@@ -320,6 +320,7 @@ fn an_ssd_connector_may_declare_an_fmi3_variable_by_its_type_or_its_fmi2_counter
         name: name.into(),
         kind: "output".into(),
         type_name: Some(type_name.into()),
+        dimensions: Vec::new(),
     };
     let mut ssd = system(vec![instance("a", &fmu, vec![])], vec![], &["a.steps"]);
     ssd.instances[0].connectors = Some(vec![
