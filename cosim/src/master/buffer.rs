@@ -1,8 +1,8 @@
 //! Which exchange buffer of an instance's inputs or outputs holds a variable, and the paths
 //! of the FMI 3.0 words and of texts, kept out of line so that the Float64, Integer and
 //! Boolean exchange does no more work than without them.
-use super::{finite, Io, Part, Port};
-use fmi_import::{CallError, Fmi3Type, VariableKind};
+use super::resolve::Port;
+use fmi_import::{Fmi3Type, VariableKind};
 
 /// The exchange buffer of a port, with the word type of a word's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,42 +46,6 @@ impl Buffer {
     }
 }
 
-/// Sets the words and texts of `inputs`; out of line, as [`word_slots`].
-#[inline(never)]
-pub(super) fn set_others(
-    instance: &mut fmi_import::Instance,
-    inputs: &Io,
-) -> Result<(), CallError> {
-    if !inputs.word.vrs.is_empty() {
-        instance.set_words(&inputs.word.vrs, &inputs.word.values)?;
-    }
-    if !inputs.text.is_empty() {
-        inputs.text.set(instance)?;
-    }
-    Ok(())
-}
-
-/// Gets the words (of `part`) and texts (every text output counts as feedthrough) of
-/// `outputs`; out of line, as [`word_slots`].
-#[inline(never)]
-pub(super) fn get_others(
-    instance: &mut fmi_import::Instance,
-    outputs: &mut Io,
-    part: Part,
-) -> Result<(), CallError> {
-    let words = part.of(&outputs.word);
-    if !words.is_empty() {
-        instance.get_words(
-            &outputs.word.vrs[words.clone()],
-            &mut outputs.word.values[words],
-        )?;
-    }
-    if !outputs.text.is_empty() && !matches!(part, Part::Stable) {
-        outputs.text.get(instance)?;
-    }
-    Ok(())
-}
-
 /// The row slots of words of type `kind` (see `results::ColumnType`); out of line, so that
 /// the loop over the other columns stays as it is without them.
 #[inline(never)]
@@ -111,15 +75,4 @@ pub(super) fn block_index(buffer: Buffer) -> usize {
         Buffer::String => STRING,
         Buffer::Binary => BINARY,
     })
-}
-
-/// Notes the Float32 outputs of unit `u` that are not numbers, as the Real ones are noted.
-#[inline(never)]
-pub(super) fn check_float32(outputs: &Io, u: usize, finite: &mut finite::Check) {
-    for &slot in &outputs.float32 {
-        let value = f64::from_bits(outputs.word.values[slot]);
-        if !value.is_finite() {
-            finite.note(u, &[outputs.word.vrs[slot]], &[value]);
-        }
-    }
 }

@@ -97,6 +97,18 @@ impl Check {
     /// At the row of `time`: warns about the allowed variables not reported yet this run and
     /// returns the error for the first value that is not allowed.
     #[cold]
+    /// Notes the Float32 outputs of unit `u` that are not numbers, as the Real ones are
+    /// noted (they travel as words, whose slots `outputs.float32` lists).
+    #[inline(never)]
+    pub(super) fn note_float32(&mut self, outputs: &super::Io, u: usize) {
+        for &slot in &outputs.float32 {
+            let value = f64::from_bits(outputs.word.values[slot]);
+            if !value.is_finite() {
+                self.note(u, &[outputs.word.vrs[slot]], &[value]);
+            }
+        }
+    }
+
     pub(super) fn settle(&mut self, time: f64, units: &[String]) -> Result<(), MasterError> {
         let mut error = None;
         for (unit, vr, value) in std::mem::take(&mut self.found) {

@@ -42,7 +42,7 @@ pub use saved::{
 };
 
 use crate::system::{Ordering, ParamValue, SystemDescription};
-use buffer::{block_index, get_others, set_others, word_slots, Buffer, BOOLEAN, INTEGER, REAL};
+use buffer::{block_index, word_slots, Buffer, BOOLEAN, INTEGER, REAL};
 use fmi_import::VariableKind;
 use fmi_import::{CallError, Fmi3Type, FmiError, Fmu, InstanceOptions, StepStatus};
 use std::path::{Path, PathBuf};
@@ -1262,7 +1262,7 @@ impl Simulation {
         })();
         result.map_err(|e| call(&unit.name, "getting outputs", e))?;
         if outputs.others && self.finite.armed {
-            buffer::check_float32(outputs, u, &mut self.finite);
+            self.finite.note_float32(outputs, u);
         }
         let real = part.of(&outputs.real);
         if self.finite.armed && !finite::all_finite(&outputs.real.values[real.clone()]) {
@@ -1687,6 +1687,42 @@ pub fn set_parameter(
         }
         (_, other) => return Err(mismatch(&format!("{other:?}"))),
     };
+    Ok(())
+}
+
+// The words' and texts' paths live here, not in buffer.rs, because they take the exchange
+// buffers (`Io`) of this module.
+
+/// Sets the words and texts of `inputs`; out of line, as [`buffer::word_slots`].
+#[inline(never)]
+fn set_others(instance: &mut fmi_import::Instance, inputs: &Io) -> Result<(), CallError> {
+    if !inputs.word.vrs.is_empty() {
+        instance.set_words(&inputs.word.vrs, &inputs.word.values)?;
+    }
+    if !inputs.text.is_empty() {
+        inputs.text.set(instance)?;
+    }
+    Ok(())
+}
+
+/// Gets the words (of `part`) and texts (every text output counts as feedthrough) of
+/// `outputs`; out of line, as [`buffer::word_slots`].
+#[inline(never)]
+fn get_others(
+    instance: &mut fmi_import::Instance,
+    outputs: &mut Io,
+    part: Part,
+) -> Result<(), CallError> {
+    let words = part.of(&outputs.word);
+    if !words.is_empty() {
+        instance.get_words(
+            &outputs.word.vrs[words.clone()],
+            &mut outputs.word.values[words],
+        )?;
+    }
+    if !outputs.text.is_empty() && !matches!(part, Part::Stable) {
+        outputs.text.get(instance)?;
+    }
     Ok(())
 }
 
