@@ -55,6 +55,19 @@ pub enum Error {
     Write(String),
 }
 
+impl Error {
+    /// The event reader's error, with its place and the innermost open element of `stack`.
+    pub(crate) fn malformed(error: &xml::reader::Error, stack: &[String]) -> Self {
+        let position = xml::common::Position::position(error);
+        Error::Malformed {
+            line: position.row + 1,
+            column: position.column + 1,
+            inside: stack.last().cloned(),
+            message: error.to_string(),
+        }
+    }
+}
+
 fn inside_clause(inside: &Option<String>) -> String {
     inside
         .as_ref()

@@ -241,15 +241,7 @@ impl Fmi3ModelDescription {
         // Names of the open elements, root first.
         let mut stack: Vec<String> = Vec::new();
         loop {
-            let event = reader.next().map_err(|e| {
-                let position = xml::common::Position::position(&e);
-                Error::Malformed {
-                    line: position.row + 1,
-                    column: position.column + 1,
-                    inside: stack.last().cloned(),
-                    message: e.to_string(),
-                }
-            })?;
+            let event = reader.next().map_err(|e| Error::malformed(&e, &stack))?;
             match event {
                 XmlEvent::StartElement {
                     name, attributes, ..

@@ -40,15 +40,7 @@ pub fn read_terminals(bytes: &[u8]) -> Result<Vec<Terminal>, Error> {
     let mut open: Vec<usize> = Vec::new();
     let mut terminals: Vec<Terminal> = Vec::new();
     loop {
-        let event = reader.next().map_err(|e| {
-            let position = xml::common::Position::position(&e);
-            Error::Malformed {
-                line: position.row + 1,
-                column: position.column + 1,
-                inside: stack.last().cloned(),
-                message: e.to_string(),
-            }
-        })?;
+        let event = reader.next().map_err(|e| Error::malformed(&e, &stack))?;
         match event {
             XmlEvent::StartElement {
                 name, attributes, ..
