@@ -20,6 +20,7 @@
 mod check;
 pub mod continuous;
 mod declaration;
+mod derivatives;
 mod enumeration;
 mod interface;
 mod model;
@@ -32,6 +33,7 @@ pub use declaration::{
     bounds_note, role, Causality, Declaration, Dependencies, Initial, Kind, Limit, Role, Shape,
     Variability,
 };
+pub use derivatives::ScalarRef;
 pub use enumeration::{EnumItem, EnumType, EnumValue, Enumeration};
 pub use interface::Interface;
 pub use model::{Experiment, Level, Log, Model, ModelError, StepEnd};

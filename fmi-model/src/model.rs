@@ -141,6 +141,31 @@ pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static
         Ok(())
     }
 
+    /// Whether [`directional_derivative`](Model::directional_derivative) is implemented:
+    /// the layers write `providesDirectionalDerivative(s)` (and FMI 3.0
+    /// `providesAdjointDerivatives`) from it and refuse the calls when it is false.
+    const PROVIDES_DIRECTIONAL_DERIVATIVES: bool = false;
+
+    /// Exact directional derivative at the instance's current values (parameters, inputs,
+    /// continuous states, time), changing none of them: `sensitivity[i] = sum_j
+    /// d unknowns[i] / d knowns[j] * seed[j]`. Knowns are Real inputs and, under Model
+    /// Exchange, continuous states; unknowns are Real outputs and, under Model Exchange,
+    /// state derivatives. Computed exactly (automatic differentiation or derived by
+    /// hand), never by differencing. The layer has checked the lengths and that every
+    /// known and unknown is one the model's `ModelStructure` allows; a model refuses
+    /// (naming the variable) a pair it cannot differentiate.
+    fn directional_derivative(
+        &mut self,
+        _unknowns: &[crate::ScalarRef],
+        _knowns: &[crate::ScalarRef],
+        _seed: &[f64],
+        _sensitivity: &mut [f64],
+    ) -> Result<(), ModelError> {
+        Err(ModelError::Refused(
+            "this model provides no directional derivatives".into(),
+        ))
+    }
+
     /// Co-Simulation: advance from `t` to `t + h` (`h > 0`, inputs finite, checked by the
     /// layer).
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError>;
