@@ -151,6 +151,33 @@ enum Command {
         #[arg(long)]
         no_plots: bool,
     },
+    /// Fly a scenario to a time and linearize it there: every FMU's Jacobians (from its
+    /// directional derivatives, or finite differences when it provides none), the closed
+    /// loop's eigenvalues, and per attitude axis the gain and phase margins with the loop
+    /// broken at the torque command, beside the controller's design values
+    /// (docs/linearize.md).
+    #[command(allow_negative_numbers = true)]
+    Linearize {
+        /// Scenario: a built-in name, .toml, .ssd or .ssp.
+        scenario: String,
+        /// The time to linearize at, s (the communication point nearest it).
+        #[arg(long, value_name = "T")]
+        at: f64,
+        /// Where the Jacobians come from: `fmu` (each FMU's directional derivatives where
+        /// its description declares them, else finite differences) or `fd` (finite
+        /// differences for every FMU).
+        #[arg(long, value_enum, default_value = "fmu")]
+        jacobian: JacobianArg,
+        /// Override a parameter, e.g. --set plant.inertia_body[2]=450 (repeatable).
+        #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
+        sets: Vec<String>,
+        /// Also write everything (every matrix) as JSON to this file.
+        #[arg(short, long, value_name = "FILE")]
+        out: Option<PathBuf>,
+        /// Print the JSON instead of the summary.
+        #[arg(long)]
+        json: bool,
+    },
     // Monte Carlo subcommands (harness/src/monte_carlo.rs).
     /// Monte Carlo campaign over phi_cmd x laws x dispersed runs: manifest.csv, campaign.toml
     /// and the paper's Monte Carlo figure.
@@ -187,6 +214,12 @@ enum Command {
         /// the result file of `harness run`.
         dir: PathBuf,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum JacobianArg {
+    Fmu,
+    Fd,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -588,6 +621,38 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             }
             for path in written {
                 println!("wrote {}", path.display());
+            }
+        }
+        Command::Linearize {
+            scenario,
+            at,
+            jacobian,
+            sets,
+            out,
+            json,
+        } => {
+            let request = lander::linearize::Request {
+                scenario: &scenario,
+                at_s: at,
+                sets: &sets,
+                jacobians: match jacobian {
+                    JacobianArg::Fmu => cosim::master::Jacobians::Fmu,
+                    JacobianArg::Fd => cosim::master::Jacobians::Differences,
+                },
+            };
+            let linearized = lander::linearize::linearize(&request, &fmu_dir)?;
+            let document = serde_json::to_string_pretty(&linearized.to_json())?;
+            if json {
+                println!("{document}");
+            } else {
+                print!("{}", linearized.summary());
+            }
+            if let Some(path) = out {
+                std::fs::write(&path, format!("{document}\n"))
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+                if !json {
+                    println!("wrote {}", path.display());
+                }
             }
         }
         Command::MonteCarlo(args) => exit_code = monte_carlo::monte_carlo(&args, &fmu_dir)?,
