@@ -142,11 +142,23 @@ impl Simulation {
                 in_vrs: &in_vrs,
                 out_vrs: &out_vrs,
             };
-            let (a, b, c, d) = match source {
-                Source::DirectionalDerivatives => probe.exact(&state_vrs, &derivative_vrs),
-                Source::FiniteDifferences { .. } => probe.differences(),
-            }
-            .map_err(|e| call(&name, "linearize", e))?;
+            let (source, matrices) = match source {
+                Source::DirectionalDerivatives => match probe.exact(&state_vrs, &derivative_vrs) {
+                    Ok(matrices) => (Source::DirectionalDerivatives, Ok(matrices)),
+                    // An FMU may refuse some partials at some points (a sample that solves
+                    // more than it differentiates): differences then, saying why.
+                    Err(refused) => (
+                        Source::FiniteDifferences {
+                            reason: format!(
+                                "the FMU refused its directional derivatives: {refused}"
+                            ),
+                        },
+                        probe.differences(),
+                    ),
+                },
+                forced => (forced, probe.differences()),
+            };
+            let (a, b, c, d) = matrices.map_err(|e| call(&name, "linearize", e))?;
             units.push(UnitModel {
                 instance: name,
                 model_exchange,
