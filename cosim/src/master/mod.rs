@@ -876,6 +876,15 @@ impl Simulation {
     }
 
     /// Every connected variable with its direction, for writing an SSD.
+    /// Each Model Exchange instance's solver counters over the last run (steps, derivative
+    /// calls, Jacobians and how many the FMU gave), in instance order.
+    pub fn model_exchange_statistics(&self) -> Vec<(&str, ode_solver::Statistics)> {
+        self.units
+            .iter()
+            .filter_map(|unit| Some((unit.name.as_str(), unit.model_exchange.as_ref()?.statistics)))
+            .collect()
+    }
+
     /// Each Model Exchange instance's events in the last run, in instance order.
     pub fn model_exchange_events(&self) -> Vec<(&str, EventCounts)> {
         self.units
