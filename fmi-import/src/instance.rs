@@ -621,16 +621,19 @@ impl Instance {
         seed: &[f64],
         sensitivity: &mut [f64],
     ) -> Result<Success, CallError> {
-        let what = format!(
-            "the partials of ({}) with respect to ({})",
-            self.real_names(unknowns),
-            self.real_names(knowns)
-        );
+        // Named only for a message: a Jacobian of many columns asks often.
+        let what = |instance: &Self| {
+            format!(
+                "the partials of ({}) with respect to ({})",
+                instance.real_names(unknowns),
+                instance.real_names(knowns)
+            )
+        };
         if let Some(reason) = self.derivative_refusal(adjoint) {
             return Err(CallError::InvalidArgument {
                 function,
                 instance: self.name().to_owned(),
-                reason: format!("not called for {what}: {reason}"),
+                reason: format!("not called for {}: {reason}", what(self)),
             });
         }
         let called = match &mut self.backend {
@@ -643,30 +646,33 @@ impl Instance {
             }
             Backend::Fmi3(i) => i.derivative(adjoint, unknowns, knowns, seed, sensitivity),
         };
-        called.map_err(|error| match error {
-            CallError::Fmi(mut fmi) => {
-                fmi.log.0.push(crate::LogMessage {
-                    instance_name: fmi.instance.clone(),
-                    status: crate::Status::Error,
-                    version: self.fmi_version(),
-                    category: "importer".into(),
-                    message: format!(
-                        "model '{}' failed to give {what}",
-                        self.fmu.description.model_name
-                    ),
-                });
-                CallError::Fmi(fmi)
+        called.map_err(|error| {
+            let what = what(self);
+            match error {
+                CallError::Fmi(mut fmi) => {
+                    fmi.log.0.push(crate::LogMessage {
+                        instance_name: fmi.instance.clone(),
+                        status: crate::Status::Error,
+                        version: self.fmi_version(),
+                        category: "importer".into(),
+                        message: format!(
+                            "model '{}' failed to give {what}",
+                            self.fmu.description.model_name
+                        ),
+                    });
+                    CallError::Fmi(fmi)
+                }
+                CallError::InvalidArgument {
+                    function,
+                    instance,
+                    reason,
+                } => CallError::InvalidArgument {
+                    function,
+                    instance,
+                    reason: format!("{reason} (asked for {what})"),
+                },
+                other => other,
             }
-            CallError::InvalidArgument {
-                function,
-                instance,
-                reason,
-            } => CallError::InvalidArgument {
-                function,
-                instance,
-                reason: format!("{reason} (asked for {what})"),
-            },
-            other => other,
         })
     }
 
