@@ -255,6 +255,19 @@ pub enum Input {
     Mass,
 }
 
+impl Input {
+    /// The input's name as the model description has it (`r_nue[1]`).
+    fn name(self) -> String {
+        match self {
+            Input::R(i) => format!("r_nue[{}]", i + 1),
+            Input::V(i) => format!("v_nue[{}]", i + 1),
+            Input::Q(i) => format!("q_body_to_nue[{}]", i + 1),
+            Input::Omega(i) => format!("omega_body[{}]", i + 1),
+            Input::Mass => "mass".to_owned(),
+        }
+    }
+}
+
 /// An output whose partials are computed; every other output is held over the sample.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Output {
@@ -306,9 +319,10 @@ pub fn directional(
         {
             return Err(format!(
                 "t = {} s: the sample opens a guidance cycle and solves the guidance from \
-                 r_nue, v_nue and mass; its partials with respect to {known:?} are not given \
-                 (ask between guidance cycles, or for the attitude and rates)",
-                at.time_s
+                 r_nue, v_nue and mass; its partials with respect to {} are not given (ask \
+                 between guidance cycles, or for the attitude and rates)",
+                at.time_s,
+                known.name()
             ));
         }
     }
@@ -735,7 +749,7 @@ mod tests {
         )
         .unwrap_err();
         assert!(
-            error.contains("opens a guidance cycle") && error.contains("R(1)"),
+            error.contains("opens a guidance cycle") && error.contains("r_nue[2]"),
             "{error}"
         );
         directional(
