@@ -1,5 +1,6 @@
 //! The FMI face of the plant: the variable table (each variable declared once) and the
 //! [`Model`] implementation. Names follow `docs/interface.md` to the letter.
+mod derivatives;
 mod model_exchange;
 
 use crate::physics::continuous::unit_attitude;
@@ -430,6 +431,20 @@ impl Model for LanderPlant {
 
     fn calculate_values(&mut self, _log: &mut Log) {
         self.refresh_outputs();
+    }
+
+    /// Exact, by forward-mode automatic differentiation of the equations
+    /// (`physics::sensitivity`, `fmu::derivatives`).
+    const PROVIDES_DIRECTIONAL_DERIVATIVES: bool = true;
+
+    fn directional_derivative(
+        &mut self,
+        unknowns: &[fmi_model::ScalarRef],
+        knowns: &[fmi_model::ScalarRef],
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> Result<(), ModelError> {
+        self.directional(unknowns, knowns, seed, sensitivity)
     }
 
     fn exit_initialization(&mut self, _start_time: f64, log: &mut Log) -> Result<(), ModelError> {
