@@ -61,6 +61,21 @@ pub trait ContinuousModel: Model {
         Dependencies::AllInputs
     }
 
+    /// Element-level refinement of the declared dependencies, for a layer that writes
+    /// scalars (FMI 2.0; FMI 3.0 lists whole arrays): whether element `unknown_element` of
+    /// `unknown` (an output or a state derivative) depends on element `known_element` of
+    /// `known` (a continuous state or an input), where the declarations say it may (read when
+    /// [`DECLARES_STATE_DEPENDENCIES`](Self::DECLARES_STATE_DEPENDENCIES)). Default: every
+    /// element.
+    fn depends_on_element(
+        _unknown: &str,
+        _unknown_element: usize,
+        _known: &str,
+        _known_element: usize,
+    ) -> bool {
+        true
+    }
+
     /// Number of continuous states.
     fn state_count(&self) -> usize;
     /// Number of event indicators.

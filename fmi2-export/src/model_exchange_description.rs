@@ -34,7 +34,8 @@ fn element_count<M: Model>(name: &str) -> usize {
 /// ([`ContinuousModel::state_dependencies`]).
 fn state_indices<M: ContinuousModel>(index: u32) -> Vec<u32> {
     let table = variables::<M>();
-    let name = M::declarations()[table[index as usize - 1].declaration].name;
+    let unknown = &table[index as usize - 1];
+    let name = M::declarations()[unknown.declaration].name;
     let states: Vec<&str> = match M::state_dependencies(name) {
         Some(states) => states.to_vec(),
         None => M::STATE_DERIVATIVES.iter().map(|(s, _)| *s).collect(),
@@ -46,17 +47,36 @@ fn state_indices<M: ContinuousModel>(index: u32) -> Vec<u32> {
             "{}: state_dependencies({name}) names {state}, which is no continuous state",
             M::MODEL_IDENTIFIER
         );
-        indices
-            .extend((0..element_count::<M>(state)).map(|e| scalar_index::<M>(state, e) as u32 + 1));
+        indices.extend(
+            (0..element_count::<M>(state))
+                .filter(|&e| M::depends_on_element(name, unknown.element(), state, e))
+                .map(|e| scalar_index::<M>(state, e) as u32 + 1),
+        );
     }
     indices
 }
 
-/// `listed` (the output's input indices) with the states the output depends on, sorted.
+/// Whether the scalar at `index` (1-based) depends on the scalar at `known` by
+/// [`ContinuousModel::depends_on_element`].
+fn element_dependency<M: ContinuousModel>(index: u32, known: u32) -> bool {
+    let table = variables::<M>();
+    let declarations = M::declarations();
+    let (unknown, known) = (&table[index as usize - 1], &table[known as usize - 1]);
+    M::depends_on_element(
+        declarations[unknown.declaration].name,
+        unknown.element(),
+        declarations[known.declaration].name,
+        known.element(),
+    )
+}
+
+/// `listed` (the output's input indices, those its elements depend on) with the states the
+/// output depends on, sorted.
 fn with_states<M: ContinuousModel>(index: u32, listed: &str) -> String {
     let mut indices: Vec<u32> = listed
         .split_whitespace()
         .filter_map(|i| i.parse().ok())
+        .filter(|&input| element_dependency::<M>(index, input))
         .chain(state_indices::<M>(index))
         .collect();
     joined(&mut indices)
@@ -82,7 +102,8 @@ fn derivative_dependencies<M: ContinuousModel>(index: u32) -> String {
                 }
             }
         })
-        .map(|(i, _)| i as u32 + 1);
+        .map(|(i, _)| i as u32 + 1)
+        .filter(|&input| element_dependency::<M>(index, input));
     let mut indices: Vec<u32> = inputs.chain(state_indices::<M>(index)).collect();
     joined(&mut indices)
 }

@@ -422,9 +422,9 @@ impl Model for LanderPlant {
         match output {
             "thrust_actual" | "engine_torque_body" => Dependencies::Inputs(&["thrust_cmd"]),
             "specific_force_body" => Dependencies::Inputs(&["thrust_cmd", "rcs_duty"]),
-            "torque_actual_body" | "rcs_force_body" => {
-                Dependencies::Inputs(&["torque_cmd_body", "rcs_duty"])
-            }
+            "torque_actual_body" => Dependencies::Inputs(&["torque_cmd_body", "rcs_duty"]),
+            // The thrusters' force: on or off by rcs_duty; the torque model has none.
+            "rcs_force_body" => Dependencies::Inputs(&["rcs_duty"]),
             _ => Dependencies::NoInputs,
         }
     }

@@ -126,14 +126,18 @@ const CONFIGURATIONS: [(&str, Configuration); 4] = [
             ("thrust_misalignment_azimuth", 0, 0.7),
             ("thrust_point_body", 0, 0.03),
             ("thrust_point_body", 2, -0.02),
+            ("rcs_isp", 0, 220.0),
         ],
     ),
     (
-        "spherical Moon, thruster RCS, engine lag",
+        "spherical Moon, thruster RCS, engine lag, misaligned thrust",
         &[
             ("translation_model", 0, 2.0),
             ("rcs_model", 0, 2.0),
             ("engine_time_constant", 0, 0.3),
+            ("thrust_misalignment", 0, 0.02),
+            ("thrust_misalignment_azimuth", 0, -0.4),
+            ("thrust_point_body", 2, 0.04),
         ],
     ),
 ];
@@ -494,4 +498,47 @@ fn the_equations_on_dual_numbers_are_the_trajectorys_equations() {
             }
         }
     }
+}
+
+#[test]
+fn every_declared_dependency_on_a_state_or_a_continuous_command_is_a_nonzero_somewhere() {
+    // The other direction: what the description declares is no loose superset. Each pair of
+    // an unknown and a state (or thrust or torque command) it declares is nonzero at one of
+    // the random states of the four configurations. (rcs_duty switches thrusters on or off:
+    // the outputs it is declared for change in steps, never with a slope.)
+    let declared = declared();
+    let mut random = Random(0x0e4a_c700_0000_0005);
+    let unknowns: Vec<ScalarRef> = elements(&DERIVATIVES)
+        .into_iter()
+        .chain(elements(&OUTPUTS))
+        .collect();
+    let knowns: Vec<ScalarRef> = elements(&STATES)
+        .into_iter()
+        .chain(elements(&INPUTS[..2]))
+        .collect();
+    let mut seen: BTreeSet<(String, String)> = BTreeSet::new();
+    for (_, configuration) in CONFIGURATIONS {
+        for _ in 0..12 {
+            let mut m = sample(configuration, &mut random);
+            let jacobian = exact(&mut m, &unknowns, &knowns);
+            for (j, &known) in knowns.iter().enumerate() {
+                for (i, &unknown) in unknowns.iter().enumerate() {
+                    if jacobian[j][i] != 0.0 {
+                        seen.insert((scalar_name(unknown), scalar_name(known)));
+                    }
+                }
+            }
+        }
+    }
+    let known_names: BTreeSet<String> = knowns.iter().map(|&k| scalar_name(k)).collect();
+    let mut never = Vec::new();
+    for &unknown in &unknowns {
+        let name = scalar_name(unknown);
+        for known in &declared[&name] {
+            if known_names.contains(known) && !seen.contains(&(name.clone(), known.clone())) {
+                never.push(format!("{name} <- {known}"));
+            }
+        }
+    }
+    assert!(never.is_empty(), "declared but never nonzero: {never:?}");
 }

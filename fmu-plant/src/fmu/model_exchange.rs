@@ -223,6 +223,39 @@ impl ContinuousModel for LanderPlant {
         })
     }
 
+    /// Within the declarations: what each element reads, over both translation models
+    /// (flat: `r' = v`, `v' = a - g`; spherical: `r' = w`, `lon' = u / (r cos lat)`,
+    /// `lat' = v / r`, and `w'` free of `w`), Euler's equations about principal axes (`w_i'`
+    /// free of `w_i`) and per-axis torques and lags.
+    fn depends_on_element(
+        unknown: &str,
+        element: usize,
+        known: &str,
+        known_element: usize,
+    ) -> bool {
+        let same = element == known_element;
+        match (unknown, known) {
+            ("r_nue", "translation_state") => known_element < 3,
+            ("altitude", "translation_state") => known_element < 2,
+            ("v_nue", "translation_state") => known_element > 0,
+            ("omega_body" | "omega_mean_body", "omega_body") => same,
+            ("torque_actual_body", "torque_lag_state_body" | "torque_cmd_body") => same,
+            ("der_translation_state", "translation_state") => match element {
+                0 => matches!(known_element, 3 | 5),
+                1 => matches!(known_element, 0 | 2 | 3 | 4),
+                2 => matches!(known_element, 0 | 4 | 5),
+                5 => known_element != 5,
+                _ => true,
+            },
+            // Position rates are velocities: no thrust, attitude or mass in them.
+            ("der_translation_state", _) => element >= 3,
+            ("der_omega_body", "omega_body") => !same,
+            ("der_omega_body", "torque_lag_state_body" | "torque_cmd_body") => same,
+            ("der_torque_lag_state_body", "torque_lag_state_body") => same,
+            _ => true,
+        }
+    }
+
     fn derivative_input_dependencies(derivative: &str) -> Dependencies {
         match derivative {
             "der_translation_state" | "der_thrust_lag_state" => {
