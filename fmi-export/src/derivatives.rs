@@ -210,9 +210,12 @@ pub fn evaluate<M: Model, A: Abi>(
             sensitivity,
         ),
     };
+    // A derivative changes nothing in the model: whatever it could not compute (a
+    // configuration it does not differentiate, a pair it refuses), the instance stays as it
+    // was, in its state.
     if let Err(e) = computed {
         sensitivity.fill(0.0);
-        return Err(inst.model_failure(e));
+        return Err(CallError::Model(crate::describe_model_error::<M>(&e)));
     }
     if let Some(i) = sensitivity.iter().position(|v| !v.is_finite()) {
         let value = sensitivity[i];

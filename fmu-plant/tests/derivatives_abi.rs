@@ -396,6 +396,33 @@ fn bad_arguments_are_refused_with_a_log_line_and_the_instance_stays_usable() {
         .last_message()
         .contains("illegal call in state Instantiated"));
 
+    // AND a configuration Model Exchange does not model (the gear) is refused naming it,
+    // leaving the instance in its state: initialization still ends
+    let guid = fmi2_export::guid::<fmu_plant::LanderPlant>();
+    let geared = MeSolver::instantiate(
+        &common::FUNCTIONS,
+        fmi2_me_functions!(fmu_plant),
+        &guid,
+        NX,
+        2,
+    );
+    assert_eq!(
+        geared.instance.set_boolean(vr("gear_enabled"), true),
+        fmi2OK
+    );
+    let (status, _) = geared.instance.directional_derivative(
+        &[vr("der_mass")],
+        &[vr("thrust_lag_state")],
+        &[1.0],
+    );
+    assert_eq!(status, fmi2Error);
+    let message = geared.instance.last_message();
+    assert!(
+        message.contains("parameter gear_enabled = true"),
+        "{message}"
+    );
+    assert_eq!(geared.instance.exit_initialization_mode(), fmi2OK);
+
     // FMI 3.0, Model Exchange: wrong lengths, NULL, wrong state
     let fmu3 = me3();
     let refused = |unknowns: &[u32], knowns: &[u32], seed: &[f64], n: usize, says: &str| {
