@@ -139,28 +139,85 @@ fn the_paper_hover_has_the_margins_of_its_design_from_the_fmus_and_from_differen
     for (a, b) in axes(&from_fmus).into_iter().zip(axes(&from_differences)) {
         assert!((a.0 - b.0).abs() < 1e-3, "{a:?} vs {b:?}");
     }
-    // AND each instance says where its Jacobians came from: an FMU that provides none is
-    // named as differenced, with the flag it does not declare
+    // AND each instance says where its Jacobians came from: LanderGnc and LanderPlant from
+    // their directional derivatives, every one from differences when asked
     for (document, forced) in [(&from_fmus, false), (&from_differences, true)] {
         for instance in document["instances"].as_array().unwrap() {
             let source = &instance["source"];
-            match source["kind"].as_str().unwrap() {
-                "directional-derivatives" => assert!(!forced),
-                "finite-differences" => {
-                    let reason = source["reason"].as_str().unwrap();
-                    assert!(
-                        reason.contains(if forced {
-                            "differences asked for"
-                        } else {
-                            "does not declare"
-                        }),
-                        "{reason}"
-                    );
-                }
-                other => panic!("source {other}"),
+            if forced {
+                assert_eq!(source["kind"], "finite-differences");
+                assert_eq!(source["reason"], "differences asked for");
+            } else {
+                assert_eq!(source["kind"], "directional-derivatives", "{instance}");
             }
         }
     }
+    // AND the FMUs' Jacobians are the differences' to the differences' own error
+    let entries = |instance: &serde_json::Value, matrix: &str| -> Vec<f64> {
+        instance[matrix]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|row| row.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()))
+            .collect()
+    };
+    for (exact, differenced) in from_fmus["instances"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(from_differences["instances"].as_array().unwrap())
+    {
+        for matrix in ["A", "B", "C", "D"] {
+            for (a, b) in entries(exact, matrix)
+                .into_iter()
+                .zip(entries(differenced, matrix))
+            {
+                assert!(
+                    (a - b).abs() < 1e-6 * (1.0 + b.abs()),
+                    "{} {matrix}: {a} vs {b}",
+                    exact["instance"]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn at_a_guidance_cycle_the_controller_is_differenced_naming_its_refusal() {
+    // GIVEN the hover at a sample that opens a guidance cycle (every 0.1 s)
+    let out = tempfile::tempdir().unwrap();
+    let file = out.path().join("linear.json");
+    let output = common::harness(&[
+        "linearize",
+        "paper",
+        "--at",
+        "160",
+        "-o",
+        file.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let document: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    // THEN LanderGnc, which gives no partials of its guidance solve, is differenced, the
+    // refusal naming the input; the plant keeps its own Jacobians
+    let gnc = &document["instances"][0];
+    assert_eq!(gnc["instance"], "gnc");
+    assert_eq!(gnc["source"]["kind"], "finite-differences");
+    let reason = gnc["source"]["reason"].as_str().unwrap();
+    assert!(
+        reason.contains("refused")
+            && reason.contains("opens a guidance cycle")
+            && reason.contains("r_nue[1]"),
+        "{reason}"
+    );
+    assert_eq!(
+        document["instances"][1]["source"]["kind"],
+        "directional-derivatives"
+    );
 }
 
 #[test]
