@@ -2,12 +2,20 @@
 //! (`--fmu-dir`, `LANDER_FMU_DIR`): a source checkout's `target/fmu` (the working
 //! directory's), else the release the harness was unpacked with. A release holds the harness
 //! at `bin/<platform>/harness` and the FMUs in `fmi2/` and `fmi3/`; the shipped scenarios
-//! name the FMI 2.0 FMUs bare (`LanderGnc.fmu`) and the FMI 3.0 ones as `fmi3/...`, so the
-//! release's `fmi2/` is searched first and its root after.
+//! name the FMUs bare (`LanderGnc.fmu`) or as `fmi3/...`, so a release's version folder
+//! is searched first and its root after.
 use std::path::{Path, PathBuf};
 
 /// A source checkout's FMU directory, relative to the working directory.
 pub const CHECKOUT: &str = "target/fmu";
+
+/// The release folder searched first: FMI 2.0 where it has a binaries folder for this
+/// platform; FMI 2.0 defines none for Linux on ARM, so there the FMI 3.0 FMUs fly.
+const FIRST_VERSION_FOLDER: &str = if cfg!(target_arch = "aarch64") {
+    "fmi3"
+} else {
+    "fmi2"
+};
 
 /// The directories to search, first one first.
 pub fn default_fmu_dirs() -> Vec<PathBuf> {
@@ -19,7 +27,7 @@ pub fn default_fmu_dirs() -> Vec<PathBuf> {
         .ok()
         .and_then(|exe| release_of(&exe));
     match release {
-        Some(root) => vec![root.join("fmi2"), root],
+        Some(root) => vec![root.join(FIRST_VERSION_FOLDER), root],
         // Neither: errors name target/fmu, where a source checkout builds them.
         None => vec![checkout],
     }
