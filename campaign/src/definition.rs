@@ -12,6 +12,11 @@ use crate::dispersion::DispersionRanges;
 use crate::seed::run_seed;
 use lander::laws::Law;
 
+/// The scenario a campaign flies unless told otherwise: the paper's scenario in the flight
+/// configuration (`harness/scenarios/flight.toml`), whose dispersed flights measure the laws
+/// rather than the paper configuration's hover-to-descent handover (docs/results.md).
+pub const DEFAULT_SCENARIO: &str = "flight";
+
 /// The definition of a campaign: everything a flight's result depends on (with the FMUs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CampaignSpec {

@@ -33,5 +33,5 @@ pub mod stats;
 pub mod summary;
 pub mod summary_csv;
 
-pub use definition::{CampaignSpec, Flight, Shard};
+pub use definition::{CampaignSpec, Flight, Shard, DEFAULT_SCENARIO};
 pub use dispersion::{Dispersion, DispersionRanges};

@@ -2,8 +2,9 @@
 //! reads: runs, errors and failed verdicts, the order-statistics confidence statement for the
 //! scenario's requirement, the 3-sigma dispersion ellipse of the touchdown points (or, without
 //! touchdowns, of the end-of-descent points), and of every metric the median, the maximum and
-//! the 90 %-confidence upper bounds of its 95th and 99.73rd percentiles where the cell's runs
-//! support them (empty where they do not: 45 and 852 runs are needed); of every metric too,
+//! the 90 %-confidence upper bounds of its 95th, 99th and 99.73rd percentiles where the cell's
+//! runs support them (empty where they do not: 45, 230 and 852 runs are needed); of every
+//! metric too,
 //! the inputs that drive it (significant partial rank correlations, strongest first) and the
 //! cell's law against the reference law on the same runs (median difference and its
 //! distribution-free 90 % interval; the reference is the coupled law when the campaign flies
@@ -22,8 +23,12 @@ pub const FILE_NAME: &str = "summary.csv";
 pub const CONFIDENCE: f64 = 0.90;
 
 /// The tail percentiles given as upper confidence bounds (order statistics), at
-/// [`CONFIDENCE`]: `<metric>_p95_ub90`, `<metric>_p99_73_ub90`.
-const BOUNDED_PERCENTILES: [(&str, f64); 2] = [("p95_ub90", 0.95), ("p99_73_ub90", THREE_SIGMA)];
+/// [`CONFIDENCE`]: `<metric>_p95_ub90`, `<metric>_p99_ub90`, `<metric>_p99_73_ub90`.
+const BOUNDED_PERCENTILES: [(&str, f64); 3] = [
+    ("p95_ub90", 0.95),
+    ("p99_ub90", 0.99),
+    ("p99_73_ub90", THREE_SIGMA),
+];
 
 /// The requirement the confidence statement is about: the scenario's expected end, and its
 /// `requirements` `[[requirement]]` entries when it has any.
@@ -329,16 +334,18 @@ mod tests {
             "points along North = -East: {azimuth}"
         );
         // vertical speeds 0.0 .. 1.0: median 0.5, max 1; 11 runs support no tail percentile
-        // (45 for p95 at 90 %, 852 for p99.73): those cells are empty, not estimates.
+        // (45 for p95 at 90 %, 230 for p99, 852 for p99.73): those cells are empty, not
+        // estimates.
         assert_eq!(get("touchdown_vertical_speed_mps_p50"), "0.5");
         assert_eq!(get("touchdown_vertical_speed_mps_max"), "1.0");
         assert_eq!(get("touchdown_vertical_speed_mps_p95_ub90"), "");
+        assert_eq!(get("touchdown_vertical_speed_mps_p99_ub90"), "");
         assert_eq!(get("touchdown_vertical_speed_mps_p99_73_ub90"), "");
         assert!(!header
             .iter()
-            .any(|h| h.ends_with("_p95") || h.ends_with("_p99_73")));
+            .any(|h| h.ends_with("_p95") || h.ends_with("_p99") || h.ends_with("_p99_73")));
         // 100 runs bound p95 at 90 % by the 99th of them (P(Bin(100, 0.95) <= 98) = 0.963,
-        // <= 97: 0.882); still nothing for p99.73.
+        // <= 97: 0.882); still nothing for p99 or p99.73.
         let rows: Vec<Row> = (0..100).map(|j| row(j, Law::DECOUPLED)).collect();
         let hundred = super::records(&rows, Expect::Landed, 0);
         let get = |name: &str| {
@@ -353,7 +360,17 @@ mod tests {
             number(expected)
         );
         assert_eq!(expected, speeds[98], "the 99th of 100 runs");
+        assert_eq!(get("touchdown_vertical_speed_mps_p99_ub90"), "");
         assert_eq!(get("touchdown_vertical_speed_mps_p99_73_ub90"), "");
+        // 230 runs bound p99 at 90 % by the largest (1 - 0.99^230 = 0.901; 229 runs: 0.899)
+        let rows: Vec<Row> = (0..230).map(|j| row(j, Law::DECOUPLED)).collect();
+        let records = super::records(&rows, Expect::Landed, 0);
+        let k = header
+            .iter()
+            .position(|h| h == "touchdown_vertical_speed_mps_p99_ub90")
+            .unwrap();
+        assert_eq!(records[0][k], number(22.9));
+        assert_eq!(stats::runs_for_quantile_bound(0.99, 0.9), 230);
         // a metric no run has is NaN, not zero
         assert_eq!(get("descent_end_position_error_m_p50"), "NaN");
     }

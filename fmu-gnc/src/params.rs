@@ -8,7 +8,7 @@ use crate::attitude::gains::AttitudeGains;
 use crate::attitude::profile::ProfileLimits;
 use crate::attitude::{AttitudeSettings, ControlLaw, ThrustAxisRotation};
 use crate::guidance::pv::PvGains;
-use crate::guidance::sequencer::{Retarget, Scenario};
+use crate::guidance::sequencer::{Handover, Retarget, Scenario};
 use crate::guidance::terminal::TerminalDescent;
 use lander_math::frames::Nue;
 use nalgebra::Vector3;
@@ -38,6 +38,9 @@ pub struct GncParameters {
     pub descent_time_to_go_s: f64,
     pub descent_freeze_time_to_go_s: f64,
     pub target_hover_duration_s: f64,
+    /// The descent's cubic starts from the hover's last command (the paper), else from zero
+    /// net acceleration ([`Handover`]).
+    pub descent_from_hover_command: bool,
     pub reduced_yaw_weight: f64,
     pub rate_shaping_margin: f64,
     /// Terminal-descent sink rate after the target hover; 0 = none (the paper).
@@ -121,6 +124,7 @@ impl Default for GncParameters {
             descent_time_to_go_s: 130.0,
             descent_freeze_time_to_go_s: 5.0,
             target_hover_duration_s: 30.0,
+            descent_from_hover_command: true,
             reduced_yaw_weight: 0.4,
             rate_shaping_margin: 0.0,
             terminal_descent_speed_mps: 0.0,
@@ -350,6 +354,11 @@ impl GncParameters {
                 max_tilt_rad: self.retarget_max_tilt_rad,
                 replan: self.retarget_replan,
             }),
+            handover: if self.descent_from_hover_command {
+                Handover::HoverCommand
+            } else {
+                Handover::ZeroNet
+            },
         }
     }
 
@@ -389,6 +398,17 @@ mod tests {
     #[test]
     fn defaults_are_valid() {
         assert_eq!(GncParameters::default().check(), Ok(()));
+    }
+
+    #[test]
+    fn the_descent_starts_from_the_hover_command_unless_told_otherwise() {
+        let paper = GncParameters::default();
+        assert_eq!(paper.scenario().handover, Handover::HoverCommand);
+        let flight = GncParameters {
+            descent_from_hover_command: false,
+            ..paper
+        };
+        assert_eq!(flight.scenario().handover, Handover::ZeroNet);
     }
 
     #[test]

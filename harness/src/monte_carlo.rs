@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// flights bit for bit, on any machine, with any number of workers or shards.
 #[derive(Debug, Clone, clap::Args)]
 pub struct CampaignArgs {
-    #[arg(long, default_value = "paper", help = lander::scenarios::campaign_scenario_help())]
+    #[arg(long, default_value = campaign::DEFAULT_SCENARIO, help = lander::scenarios::campaign_scenario_help())]
     pub scenario: String,
     /// Campaign seed (0 ..= 2^63 - 1). Run j draws its dispersions from ChaCha8 seeded
     /// with output j of SplitMix64 seeded with this.
@@ -149,7 +149,7 @@ pub struct ReplayArgs {
     )]
     pub phi_cmd_deg: f64,
     /// The scenario without --manifest: as for monte-carlo.
-    #[arg(long, default_value = "paper")]
+    #[arg(long, default_value = campaign::DEFAULT_SCENARIO)]
     pub scenario: String,
     #[command(flatten)]
     pub dispersions: DispersionRanges,

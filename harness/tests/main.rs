@@ -26,6 +26,7 @@ mod campaign_lean;
 mod campaign_requirements;
 mod doc_commands;
 mod figures;
+mod flight_configuration;
 mod full_fidelity;
 mod gnc_supervision;
 mod golden_trajectory;

@@ -147,7 +147,8 @@ pub fn column_title(name: &str) -> String {
     }
     for (suffix, what) in [
         ("_p95_ub90", "p95 upper bound (90 %)"),
-        ("_p9973_ub90", "p99.73 upper bound (90 %)"),
+        ("_p99_73_ub90", "p99.73 upper bound (90 %)"),
+        ("_p99_ub90", "p99 upper bound (90 %)"),
         ("_p50", "median"),
         ("_max", "maximum"),
         ("_influential_inputs", "drivers"),
@@ -1011,6 +1012,15 @@ mod tests {
         assert_eq!(
             column_title("max_horizontal_deviation_descent_m_p95_ub90"),
             "Max horizontal deviation, descent (m): p95 upper bound (90 %)"
+        );
+        // Longest suffix first: `_p99_73_ub90` also ends in `_ub90`, never in `_p99_ub90`.
+        assert_eq!(
+            column_title("max_tilt_error_rad_p99_73_ub90"),
+            "Max tilt error (rad): p99.73 upper bound (90 %)"
+        );
+        assert_eq!(
+            column_title("max_tilt_error_rad_p99_ub90"),
+            "Max tilt error (rad): p99 upper bound (90 %)"
         );
         assert_eq!(
             column_title("final_altitude_m_p50"),

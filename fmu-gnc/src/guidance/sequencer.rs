@@ -73,6 +73,22 @@ pub struct Scenario {
     pub terminal: TerminalDescent,
     /// A new site commanded in flight; `None`: never (the paper).
     pub retarget: Option<Retarget>,
+    /// What the descent's first solve, after a hover, starts from ([`Handover`]).
+    pub handover: Handover,
+}
+
+/// The acceleration the descent's cubic starts from at its first solve after a hover; the
+/// later solves always start from the held command (continuity within the descent).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Handover {
+    /// The hover's last command (the paper). A hover still correcting an error hands the
+    /// cubic its command, and the open-loop cubic from rest with start acceleration `a0`
+    /// strays `a0 tgo^2 u^2 (1 - u)^3 / 2` (`u` the elapsed fraction), at most
+    /// `0.01728 a0 tgo^2` at `u = 0.4`: 292 m per m/s^2 with the paper's 130 s.
+    HoverCommand,
+    /// Zero net acceleration (the thrust balancing gravity): the cubic answers the state
+    /// only, not the hover's transient.
+    ZeroNet,
 }
 
 /// A retarget command: at `time_s` the site becomes `site_nue`.
@@ -303,18 +319,24 @@ pub fn guidance_sample(
     next
 }
 
-/// The descent's boundary conditions from the current state: start at the held command (net),
-/// end at `site_nue` at rest with zero acceleration.
+/// The descent's boundary conditions from the current state: start at the held command (net;
+/// at the first solve after a hover, as [`Scenario::handover`] says), end at `site_nue` at
+/// rest with zero acceleration.
 fn descent_boundary_conditions(
     scenario: &Scenario,
     state: &GuidanceState,
     nav: &GuidanceInputs,
     site_nue: &Nue,
 ) -> BoundaryConditions {
+    let after_hover = state.phase != Phase::Descent;
+    let a0_net_nue = match scenario.handover {
+        Handover::ZeroNet if after_hover => Nue::zeros(),
+        _ => net_acceleration_nue(&state.a_thrust_cmd_nue, scenario.gravity_mps2),
+    };
     BoundaryConditions {
         r0_nue: nav.r_nue,
         v0_nue: nav.v_nue,
-        a0_net_nue: net_acceleration_nue(&state.a_thrust_cmd_nue, scenario.gravity_mps2),
+        a0_net_nue,
         rf_nue: *site_nue,
         vf_nue: Nue::zeros(),
         af_net_nue: Nue::zeros(),
@@ -427,6 +449,7 @@ mod tests {
             thrust_max_n: 1600.0,
             terminal: TerminalDescent::NONE,
             retarget: None,
+            handover: Handover::HoverCommand,
         }
     }
 
@@ -565,6 +588,92 @@ mod tests {
         );
         assert_eq!(at_4_9.descent.unwrap(), solved);
         assert!(at_4_9.a_thrust_cmd_nue.0.iter().all(|a| a.is_finite()));
+    }
+
+    /// The end of the initial hover (12 s) at rest on the vertical through the site, the
+    /// hover's last command leaning `a0_north_mps2` North: what the descent's first solve sees.
+    fn handing_over(a0_north_mps2: f64) -> GuidanceState {
+        GuidanceState {
+            phase: Phase::InitialHover,
+            last_cycle: Some(119),
+            a_thrust_cmd_nue: Nue::new(a0_north_mps2, 1.62, 0.0),
+            ..GuidanceState::initial(1.62)
+        }
+    }
+
+    /// Flies the descent open loop from [`handing_over`] (exact integration between samples,
+    /// re-solved every cycle until the freeze); returns the largest distance North of the
+    /// vertical and when it was reached.
+    fn descent_excursion(s: &Scenario, a0_north_mps2: f64) -> (f64, f64) {
+        // Light enough that the 0.3 m/s^2 lean and the braking stay inside the engine range.
+        let mass_kg = 700.0;
+        let mut state = handing_over(a0_north_mps2);
+        let (mut r, mut v) = (s.hover_target_nue.0, Vector3::zeros());
+        let dt = s.guidance_cycle_s;
+        let mut peak = (0.0, 0.0);
+        for k in 0..1300 {
+            let elapsed = 12.0 + k as f64 * dt;
+            let nav = GuidanceInputs {
+                r_nue: Nue(r),
+                v_nue: Nue(v),
+                mass_kg,
+            };
+            state = guidance_sample(s, &state, elapsed, &nav);
+            assert_eq!(state.phase, Phase::Descent);
+            let a_net = net_acceleration_nue(&state.a_thrust_cmd_nue, s.gravity_mps2).0;
+            r += v * dt + a_net * (0.5 * dt * dt);
+            v += a_net * dt;
+            if r.x.abs() > peak.0 {
+                peak = (r.x.abs(), elapsed + dt);
+            }
+        }
+        peak
+    }
+
+    #[test]
+    fn the_papers_handover_carries_the_hover_command_through_the_descent() {
+        // GIVEN the paper's handover and a hover that ends leaning 0.3 m/s^2 North, at rest on
+        // the vertical
+        let s = paper_scenario();
+        let (a0, tgo) = (0.3, s.descent_time_to_go_s);
+        // WHEN the descent flies it
+        let (peak_m, at_s) = descent_excursion(&s, a0);
+        // THEN it strays as the open-loop cubic from rest with a(0) = a0 and a, v, r back to 0
+        // at tgo: a(u) = a0 (1 - 9u + 18u^2 - 10u^3), r(u) = a0 tgo^2 u^2 (1 - u)^3 / 2, at
+        // most 0.01728 a0 tgo^2 at u = 0.4 (87.6 m here): re-solving every cycle from the held
+        // command gives back the same cubic, so the closed loop cannot reject it. The sampled
+        // command (the cubic one cycle ahead, held over the cycle) lowers the peak by 0.5 %.
+        let expected_m = 0.01728 * a0 * tgo * tgo;
+        assert!(
+            (peak_m - expected_m).abs() < 1e-2 * expected_m,
+            "{peak_m} m vs {expected_m} m"
+        );
+        assert!((at_s - (12.0 + 0.4 * tgo)).abs() < 0.5, "{at_s} s");
+    }
+
+    #[test]
+    fn a_zero_net_handover_does_not_inherit_the_hover_command() {
+        // GIVEN the same hover's end with the descent starting from zero net acceleration
+        let s = Scenario {
+            handover: Handover::ZeroNet,
+            ..paper_scenario()
+        };
+        // WHEN the descent flies it
+        let (peak_m, _) = descent_excursion(&s, 0.3);
+        // THEN nothing moves it off the vertical: on target, at rest, no acceleration
+        assert!(peak_m < 1e-12, "{peak_m} m");
+        // AND only the first solve starts from zero: the next ones start from the held command
+        let nav = GuidanceInputs {
+            r_nue: Nue::new(3.0, 800.0, 0.0),
+            v_nue: Nue::new(0.2, 0.0, 0.0),
+            mass_kg: 700.0,
+        };
+        let first = guidance_sample(&s, &handing_over(0.3), 12.0, &nav);
+        assert_eq!(first.descent.unwrap().cubic.coeffs[0], Nue::zeros());
+        let second = guidance_sample(&s, &first, 12.1, &nav);
+        let held_net = net_acceleration_nue(&first.a_thrust_cmd_nue, s.gravity_mps2);
+        assert_eq!(second.descent.unwrap().cubic.coeffs[0], held_net);
+        assert_ne!(held_net, Nue::zeros());
     }
 
     #[test]

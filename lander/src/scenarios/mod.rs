@@ -27,6 +27,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         include_str!("../../../harness/scenarios/paper.toml"),
     ),
     (
+        "flight",
+        include_str!("../../../harness/scenarios/flight.toml"),
+    ),
+    (
         "upright",
         include_str!("../../../harness/scenarios/upright.toml"),
     ),
