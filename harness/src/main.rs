@@ -8,6 +8,8 @@ use cosim::supervise::Runner;
 use lander::laws::Laws;
 use std::path::PathBuf;
 
+mod broken_pipe;
+mod fmu_dirs;
 mod monte_carlo;
 mod reference;
 mod saved_runs;
@@ -26,11 +28,11 @@ mod vars;
 )]
 struct Cli {
     /// Directory holding the FMUs named by the scenario (relative `fmu` paths not found
-    /// beside the scenario file); repeat it to look in several, in order.
+    /// beside the scenario file); repeat it to look in several, in order. Default:
+    /// `target/fmu` in a source checkout, else the FMUs of the release the harness came in.
     #[arg(
         long,
         global = true,
-        default_value = "target/fmu",
         env = "LANDER_FMU_DIR",
         action = clap::ArgAction::Append
     )]
@@ -434,13 +436,7 @@ fn init_logging() {
 }
 
 fn main() {
-    // Rust ignores SIGPIPE, so a print to a closed pipe panics; a reader that stops early
-    // (`| head`) should end us as it ends any other tool.
-    #[cfg(unix)]
-    // SAFETY: called first, before any other thread exists; SIG_DFL is a valid handler.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
+    broken_pipe::end_quietly_when_stdout_closes();
     // Warnings (an allowed non-finite value, say) go to stderr, which a worker's parent
     // passes on.
     init_logging();
@@ -473,8 +469,13 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     set_execution(&cli)?;
     // The first directory is the one every command is given; the others are searched after
     // it wherever a relative FMU path is resolved.
-    let fmu_dir = cli.fmu_dir.first().cloned().unwrap_or_default();
-    cosim::master::set_more_fmu_dirs(cli.fmu_dir.iter().skip(1).cloned().collect());
+    let fmu_dirs = if cli.fmu_dir.is_empty() {
+        fmu_dirs::default_fmu_dirs()
+    } else {
+        cli.fmu_dir.clone()
+    };
+    let fmu_dir = fmu_dirs.first().cloned().unwrap_or_default();
+    cosim::master::set_more_fmu_dirs(fmu_dirs.iter().skip(1).cloned().collect());
     match cli.command {
         Command::Run {
             request,
