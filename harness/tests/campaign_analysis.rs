@@ -37,8 +37,12 @@ fn dispersing_only(
     n: &str,
     dir: &std::path::Path,
 ) -> (csv::StringRecord, Vec<csv::StringRecord>) {
+    // The paper's configuration, where the laws' difference is tens of metres (in the
+    // flight configuration, the campaigns' default, it is about one).
     let mut args = vec![
         "monte-carlo",
+        "--scenario",
+        "paper",
         "--phi-cmd-deg",
         "150",
         "--law",
