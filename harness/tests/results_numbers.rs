@@ -24,7 +24,8 @@
 //!   `every_campaign_block_names_its_command_and_existing_columns` checks the rest.
 //!
 //! `cargo xtask results` rewrites every block from its command (it runs these tests with
-//! `UPDATE_RESULTS=1`, the ignored ones included).
+//! `UPDATE_RESULTS=1`, with `--campaigns` the ignored one too); `RESULTS_ONLY=TEXT` (`--only`)
+//! limits both to the blocks whose marker contains TEXT.
 use crate::common;
 
 use std::collections::BTreeMap;
@@ -324,7 +325,13 @@ fn render(block: &Block) -> Result<Vec<String>, String> {
                             })
                         })
                         .collect();
-                    new_row.push(values?.join(" / "));
+                    let values = values?;
+                    // A column the cell leaves empty (no paired law, too few runs): "-".
+                    new_row.push(if values.iter().all(String::is_empty) {
+                        "-".to_owned()
+                    } else {
+                        values.join(" / ")
+                    });
                 }
                 body.push(format!("| {} |", new_row.join(" | ")));
             }
@@ -411,6 +418,8 @@ fn changed_lines(was: &[String], now: &[String]) -> String {
 /// Checks (or with UPDATE_RESULTS=1 rewrites) the blocks `which` selects; the problems found.
 fn check_documents(which: impl Fn(&Kind) -> bool) -> Vec<String> {
     let update = std::env::var_os("UPDATE_RESULTS").is_some();
+    // RESULTS_ONLY=TEXT: only the blocks whose marker contains TEXT (one campaign, say).
+    let only = std::env::var("RESULTS_ONLY").ok();
     let root = common::workspace_root();
     let mut problems = Vec::new();
     for document in documents() {
@@ -425,7 +434,10 @@ fn check_documents(which: impl Fn(&Kind) -> bool) -> Vec<String> {
         };
         let mut bodies = Vec::new();
         for block in &found {
-            let chosen = kind(&block.marker).map(|k| which(&k)).unwrap_or(true);
+            let chosen = kind(&block.marker).map(|k| which(&k)).unwrap_or(true)
+                && only
+                    .as_deref()
+                    .is_none_or(|only| block.marker.contains(only));
             let rendered = if chosen {
                 render(block).map(Some)
             } else {

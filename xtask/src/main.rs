@@ -96,6 +96,9 @@ enum Command {
         /// Also fly the campaigns the campaign blocks name.
         #[arg(long)]
         campaigns: bool,
+        /// Only the blocks whose marker contains this text (e.g. `--scenario retarget`).
+        #[arg(long, value_name = "TEXT", allow_hyphen_values = true)]
+        only: Option<String>,
     },
     /// Write a new FMU crate fmu-<name>/ (a tiny model, its metadata, the conformance
     /// suite) that `cargo xtask fmus` packages as it is.
@@ -124,7 +127,7 @@ fn main() -> ExitCode {
         Command::Bench { args } => bench::run(&ws, &args),
         Command::CampaignDask(args) => campaign_dask::run(&ws, &args),
         Command::FuzzCrates { check } => fuzz_crates::run(&ws, check),
-        Command::Results { campaigns } => results::run(&ws, campaigns),
+        Command::Results { campaigns, only } => results::run(&ws, campaigns, only.as_deref()),
         Command::NewFmu { name, into } => new_fmu::run(&ws, &name, into.as_deref()).map(|_| ()),
     });
     match result {

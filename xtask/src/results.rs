@@ -6,8 +6,9 @@ use crate::fmus;
 use crate::workspace::{self, Workspace};
 use anyhow::Result;
 
-/// `campaigns`: also the campaign blocks (the test's ignored part, minutes of flights).
-pub fn run(ws: &Workspace, campaigns: bool) -> Result<()> {
+/// `campaigns`: also the campaign blocks (the test's ignored part, minutes of flights);
+/// `only`: just the blocks whose marker contains this text.
+pub fn run(ws: &Workspace, campaigns: bool, only: Option<&str>) -> Result<()> {
     fmus::package_all(ws)?;
     let mut test = ws.cargo();
     test.args([
@@ -24,6 +25,9 @@ pub fn run(ws: &Workspace, campaigns: bool) -> Result<()> {
     .env("UPDATE_RESULTS", "1");
     if campaigns {
         test.arg("--include-ignored");
+    }
+    if let Some(only) = only {
+        test.env("RESULTS_ONLY", only);
     }
     workspace::run(&mut test)
 }
