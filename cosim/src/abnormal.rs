@@ -43,6 +43,7 @@ impl Abnormal {
 }
 
 /// The signal's name and what it usually means for FMU code.
+#[cfg(unix)]
 pub fn signal_name(signal: i32) -> String {
     let known = [
         (libc::SIGSEGV, "SIGSEGV, invalid memory access"),
@@ -62,6 +63,12 @@ pub fn signal_name(signal: i32) -> String {
         Some((_, name)) => format!("signal {signal} ({name})"),
         None => format!("signal {signal}"),
     }
+}
+
+/// No signals end a process outside Unix.
+#[cfg(not(unix))]
+pub fn signal_name(signal: i32) -> String {
+    format!("signal {signal}")
 }
 
 impl std::fmt::Display for How {

@@ -8,6 +8,7 @@
 
 mod abnormal;
 mod limits;
+pub mod linear;
 pub mod master;
 pub mod memory;
 pub mod reference;

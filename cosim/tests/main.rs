@@ -9,3 +9,4 @@ mod model_exchange_import;
 mod non_finite;
 mod non_finite_fmu;
 mod saved_runs;
+mod stiff_jacobian;

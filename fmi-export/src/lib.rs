@@ -24,6 +24,7 @@
 #![deny(unsafe_code)]
 
 pub mod call;
+pub mod derivatives;
 mod describe;
 pub mod fmu_state;
 #[doc(hidden)]

@@ -501,6 +501,36 @@ impl Fmi2Instance {
         Ok(self.check(function, mark, raw)?)
     }
 
+    /// `fmi2GetDirectionalDerivative`: `sensitivity = J seed`, `J` the partials of
+    /// `unknowns` with respect to `knowns`.
+    pub(crate) fn directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> Result<Success, CallError> {
+        const F: &str = "fmi2GetDirectionalDerivative";
+        self.check_lengths(F, knowns.len(), seed.len())?;
+        self.check_lengths(F, unknowns.len(), sensitivity.len())?;
+        let get = self.functions().get_directional_derivative;
+        let mark = self.log.mark();
+        // SAFETY: `unknowns` and `sensitivity`, `knowns` and `seed` hold as many elements as
+        // passed; `sensitivity` is writable.
+        let raw = unsafe {
+            get(
+                self.c(),
+                array_or_null(unknowns),
+                unknowns.len(),
+                array_or_null(knowns),
+                knowns.len(),
+                array_or_null(seed),
+                mut_array_or_null(sensitivity),
+            )
+        };
+        Ok(self.check(F, mark, raw)?)
+    }
+
     pub(crate) fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<Success, CallError> {
         let set = self.functions().set_real;
         self.set_values("fmi2SetReal", set, vrs, values)

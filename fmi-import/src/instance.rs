@@ -534,6 +534,148 @@ impl Instance {
         Ok(values.remove(0))
     }
 
+    // ---- partial derivatives ----
+
+    /// The continuous states and the dependencies the model description declares (for
+    /// sparsity); the error names the entry that does not resolve.
+    pub fn derivative_structure(&self) -> Result<crate::derivatives::Structure, String> {
+        crate::derivatives::structure(&self.fmu.description)
+    }
+
+    /// Why this instance's directional (with `adjoint`, adjoint) derivatives cannot be asked
+    /// for, from its FMU's capability flags; `None` when they can.
+    pub fn derivative_refusal(&self, adjoint: bool) -> Option<String> {
+        let fmi3 = match &self.backend {
+            Backend::Fmi2(_) => None,
+            Backend::Fmi3(_) => match &self.fmu.api {
+                crate::loaded::Api::Fmi3(api) => Some(&api.description),
+                crate::loaded::Api::Fmi2(_) => None,
+            },
+        };
+        crate::derivatives::refusal(&self.fmu.description, fmi3, self.interface, adjoint)
+    }
+
+    /// The names of `vrs` (Real variables; a number where none has it), for messages.
+    fn real_names(&self, vrs: &[u32]) -> String {
+        let names: Vec<String> = vrs
+            .iter()
+            .map(|&vr| {
+                self.fmu
+                    .description
+                    .model_variables
+                    .variables
+                    .iter()
+                    .find(|v| v.value_reference == vr && v.real.is_some())
+                    .map_or_else(|| format!("#{vr}"), |v| v.name.clone())
+            })
+            .collect();
+        names.join(", ")
+    }
+
+    /// `fmi2GetDirectionalDerivative` / `fmi3GetDirectionalDerivative`: `sensitivity = J
+    /// seed`, `J` the partial derivatives of `unknowns` with respect to `knowns` (value
+    /// references as for gets and sets; FMI 3.0 array elements may be asked for alone).
+    /// Refused, the FMU not called, unless its description declares the capability; the
+    /// error names the FMU, the instance and the variables.
+    pub fn get_directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> Result<Success, CallError> {
+        let function = named_by_version(
+            self.fmi_version(),
+            "fmi2GetDirectionalDerivative",
+            "fmi3GetDirectionalDerivative",
+        );
+        self.derivative_call(function, false, unknowns, knowns, seed, sensitivity)
+    }
+
+    /// `fmi3GetAdjointDerivative`: `sensitivity = seed^T J` (`seed` over `unknowns`,
+    /// `sensitivity` over `knowns`). FMI 3.0 only; refused as
+    /// [`Instance::get_directional_derivative`] is.
+    pub fn get_adjoint_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> Result<Success, CallError> {
+        self.derivative_call(
+            "fmi3GetAdjointDerivative",
+            true,
+            unknowns,
+            knowns,
+            seed,
+            sensitivity,
+        )
+    }
+
+    fn derivative_call(
+        &mut self,
+        function: &'static str,
+        adjoint: bool,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> Result<Success, CallError> {
+        // Named only for a message: a Jacobian of many columns asks often.
+        let what = |instance: &Self| {
+            format!(
+                "the partials of ({}) with respect to ({})",
+                instance.real_names(unknowns),
+                instance.real_names(knowns)
+            )
+        };
+        if let Some(reason) = self.derivative_refusal(adjoint) {
+            return Err(CallError::InvalidArgument {
+                function,
+                instance: self.name().to_owned(),
+                reason: format!("not called for {}: {reason}", what(self)),
+            });
+        }
+        let called = match &mut self.backend {
+            Backend::Fmi2(i) => {
+                let _call = crate::blackbox::enter(
+                    i.black_box,
+                    const { crate::blackbox::function("fmi2GetDirectionalDerivative") },
+                );
+                i.directional_derivative(unknowns, knowns, seed, sensitivity)
+            }
+            Backend::Fmi3(i) => i.derivative(adjoint, unknowns, knowns, seed, sensitivity),
+        };
+        called.map_err(|error| {
+            let what = what(self);
+            match error {
+                CallError::Fmi(mut fmi) => {
+                    fmi.log.0.push(crate::LogMessage {
+                        instance_name: fmi.instance.clone(),
+                        status: crate::Status::Error,
+                        version: self.fmi_version(),
+                        category: "importer".into(),
+                        message: format!(
+                            "model '{}' failed to give {what}",
+                            self.fmu.description.model_name
+                        ),
+                    });
+                    CallError::Fmi(fmi)
+                }
+                CallError::InvalidArgument {
+                    function,
+                    instance,
+                    reason,
+                } => CallError::InvalidArgument {
+                    function,
+                    instance,
+                    reason: format!("{reason} (asked for {what})"),
+                },
+                other => other,
+            }
+        })
+    }
+
     // ---- FMU state ----
 
     /// Why this instance's FMU states cannot be used (with `serialize`, also serialized),

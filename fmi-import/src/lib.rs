@@ -27,6 +27,7 @@
 mod archive;
 mod binary;
 pub mod blackbox;
+pub mod derivatives;
 mod describe;
 mod error;
 mod ffi;

@@ -3,6 +3,7 @@
 //! archives, and FMI 3.0 FMUs beside their FMI 2.0 twins, their FMU states included.
 mod archives;
 mod common;
+mod derivatives;
 mod files;
 mod fmi3_import;
 mod fmi3_states;

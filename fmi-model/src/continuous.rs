@@ -5,6 +5,7 @@
 //! integrator of its own) program against one interface; the plant implements it. A model
 //! without it is exported for Co-Simulation only, and the layers answer the Model Exchange
 //! functions with an error status and a log line.
+use crate::declaration::Dependencies;
 use crate::model::{Log, Model, ModelError};
 
 /// What an event update found.
@@ -33,6 +34,47 @@ pub trait ContinuousModel: Model {
     /// The scalar declarations that publish the event indicators (FMI 3.0 declares each
     /// indicator as a variable), in indicator order.
     const EVENT_INDICATOR_VARIABLES: &'static [&'static str];
+
+    /// Whether the model declares the dependencies of its outputs and state derivatives on
+    /// the continuous states ([`state_dependencies`](Self::state_dependencies),
+    /// [`derivative_input_dependencies`](Self::derivative_input_dependencies)). A master
+    /// builds the sparsity of its Jacobians from the model description's `dependencies`, so
+    /// a model that provides derivatives declares them. Without (the default) the
+    /// description says nothing of the states: an output lists its inputs only, a state
+    /// derivative no list (it depends on every known).
+    const DECLARES_STATE_DEPENDENCIES: bool = false;
+
+    /// Under Model Exchange, the continuous states (names of [`STATE_DERIVATIVES`]' states,
+    /// every element) that `unknown` (an output or a state derivative, by declaration name)
+    /// depends on (read when [`DECLARES_STATE_DEPENDENCIES`](Self::DECLARES_STATE_DEPENDENCIES)).
+    /// The default, every state, is always safe.
+    ///
+    /// [`STATE_DERIVATIVES`]: ContinuousModel::STATE_DERIVATIVES
+    fn state_dependencies(_unknown: &str) -> Option<&'static [&'static str]> {
+        None
+    }
+
+    /// The inputs the state derivative `derivative` (a declaration name) depends on (read
+    /// when [`DECLARES_STATE_DEPENDENCIES`](Self::DECLARES_STATE_DEPENDENCIES)); the default,
+    /// every input, is always safe. (An output's inputs are [`Model::output_dependencies`].)
+    fn derivative_input_dependencies(_derivative: &str) -> Dependencies {
+        Dependencies::AllInputs
+    }
+
+    /// Element-level refinement of the declared dependencies, for a layer that writes
+    /// scalars (FMI 2.0; FMI 3.0 lists whole arrays): whether element `unknown_element` of
+    /// `unknown` (an output or a state derivative) depends on element `known_element` of
+    /// `known` (a continuous state or an input), where the declarations say it may (read when
+    /// [`DECLARES_STATE_DEPENDENCIES`](Self::DECLARES_STATE_DEPENDENCIES)). Default: every
+    /// element.
+    fn depends_on_element(
+        _unknown: &str,
+        _unknown_element: usize,
+        _known: &str,
+        _known_element: usize,
+    ) -> bool {
+        true
+    }
 
     /// Number of continuous states.
     fn state_count(&self) -> usize;

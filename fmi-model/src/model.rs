@@ -151,9 +151,10 @@ pub trait Model: Default + Clone + Send + Serialize + DeserializeOwned + 'static
     /// d unknowns[i] / d knowns[j] * seed[j]`. Knowns are Real inputs and, under Model
     /// Exchange, continuous states; unknowns are Real outputs and, under Model Exchange,
     /// state derivatives. Computed exactly (automatic differentiation or derived by
-    /// hand), never by differencing. The layer has checked the lengths and that every
-    /// known and unknown is one the model's `ModelStructure` allows; a model refuses
-    /// (naming the variable) a pair it cannot differentiate.
+    /// hand), never by differencing. The layer has checked the lengths, a finite seed, and
+    /// that every known and unknown is of those kinds (under Co-Simulation no state and no
+    /// state derivative); a model refuses (naming the variable) what it cannot
+    /// differentiate, and its refusal leaves the instance as it was.
     fn directional_derivative(
         &mut self,
         _unknowns: &[crate::ScalarRef],

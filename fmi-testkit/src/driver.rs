@@ -212,6 +212,17 @@ pub trait Driver: Sized {
         values[0]
     }
 
+    /// `J seed` through the version's directional derivative (FMI 2.0: one scalar per
+    /// reference; FMI 3.0: every element of each array, serialized); `n_sensitivity`
+    /// elements out.
+    fn directional_derivative(
+        &self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        n_sensitivity: usize,
+    ) -> (Status, Vec<f64>);
+
     /// A new FMU state (null when refused) with the status.
     fn get_state(&self) -> (Status, Self::FmuState);
     fn set_state(&self, state: Self::FmuState) -> Status;
@@ -413,6 +424,22 @@ impl Driver for Instance {
         (status.into(), text)
     }
 
+    fn directional_derivative(
+        &self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        n_sensitivity: usize,
+    ) -> (Status, Vec<f64>) {
+        assert_eq!(
+            n_sensitivity,
+            unknowns.len(),
+            "FMI 2.0: one value per unknown"
+        );
+        let (status, values) = Instance::directional_derivative(self, unknowns, knowns, seed);
+        (status.into(), values)
+    }
+
     fn get_state(&self) -> (Status, fmi2FMUstate) {
         let mut state: fmi2FMUstate = std::ptr::null_mut();
         // SAFETY: an out-pointer to a NULL state: the FMU allocates one.
@@ -595,6 +622,18 @@ impl Driver for Fmi3Instance {
     fn get_string(&self, vr: u32) -> (Status, Option<String>) {
         let (s, v) = Fmi3Instance::get_string(self, vr);
         (s.into(), v)
+    }
+
+    fn directional_derivative(
+        &self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        n_sensitivity: usize,
+    ) -> (Status, Vec<f64>) {
+        let (status, values) =
+            Fmi3Instance::derivative(self, false, unknowns, knowns, seed, n_sensitivity);
+        (status.into(), values)
     }
 
     fn get_state(&self) -> (Status, fmi3FMUState) {

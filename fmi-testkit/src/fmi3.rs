@@ -19,6 +19,27 @@ pub struct Fmi3Functions {
     pub common: Fmi3Common,
     pub co_simulation: Fmi3CoSimulation,
     pub model_exchange: Fmi3ModelExchange,
+    pub derivatives: Fmi3Derivatives,
+}
+
+/// `fmi3GetDirectionalDerivative` and `fmi3GetAdjointDerivative` (same signature).
+pub type DerivativeFunction = unsafe extern "C" fn(
+    Inst,
+    *const fmi3ValueReference,
+    usize,
+    *const fmi3ValueReference,
+    usize,
+    *const f64,
+    usize,
+    *mut f64,
+    usize,
+) -> fmi3Status;
+
+/// The two partial-derivative functions of FMI 3.0.
+#[derive(Debug, Clone, Copy)]
+pub struct Fmi3Derivatives {
+    pub directional: DerivativeFunction,
+    pub adjoint: DerivativeFunction,
 }
 
 impl std::ops::Deref for Fmi3Functions {
@@ -37,6 +58,13 @@ macro_rules! fmi3_functions {
             common: $crate::fmi_import::fmi3_common!($fmu),
             co_simulation: $crate::fmi_import::fmi3_co_simulation!($fmu),
             model_exchange: $crate::fmi_import::fmi3_model_exchange!($fmu),
+            derivatives: {
+                use $fmu as fmu;
+                $crate::Fmi3Derivatives {
+                    directional: fmu::fmi3GetDirectionalDerivative,
+                    adjoint: fmu::fmi3GetAdjointDerivative,
+                }
+            },
         }
     };
 }
@@ -54,6 +82,15 @@ impl Fmi3Functions {
                 common: Fmi3Common::load(library).map_err(|e| e.source)?,
                 co_simulation: Fmi3CoSimulation::load(library).map_err(|e| e.source)?,
                 model_exchange: Fmi3ModelExchange::load(library).map_err(|e| e.source)?,
+                derivatives: Fmi3Derivatives {
+                    directional: fmi_import::tables::symbol(
+                        library,
+                        "fmi3GetDirectionalDerivative",
+                    )
+                    .map_err(|e| e.source)?,
+                    adjoint: fmi_import::tables::symbol(library, "fmi3GetAdjointDerivative")
+                        .map_err(|e| e.source)?,
+                },
             })
         }
     }
@@ -395,6 +432,39 @@ impl Fmi3Instance {
     // ---- get and set ----
 
     /// `fmi3GetFloat64` of `vrs`, `n` values in all (arrays take one per element).
+    /// `fmi3GetDirectionalDerivative` (`adjoint` false) or `fmi3GetAdjointDerivative`, with
+    /// `n_sensitivity` elements out (the serialized count the call should ask for).
+    pub fn derivative(
+        &self,
+        adjoint: bool,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        n_sensitivity: usize,
+    ) -> (fmi3Status, Vec<f64>) {
+        let mut sensitivity = vec![f64::NAN; n_sensitivity];
+        let function = if adjoint {
+            self.functions.derivatives.adjoint
+        } else {
+            self.functions.derivatives.directional
+        };
+        // SAFETY: a live instance; every array of its stated length.
+        let status = unsafe {
+            function(
+                self.c,
+                unknowns.as_ptr(),
+                unknowns.len(),
+                knowns.as_ptr(),
+                knowns.len(),
+                seed.as_ptr(),
+                seed.len(),
+                sensitivity.as_mut_ptr(),
+                sensitivity.len(),
+            )
+        };
+        (status, sensitivity)
+    }
+
     pub fn get_float64(&self, vrs: &[u32], n: usize) -> (fmi3Status, Vec<f64>) {
         let mut values = vec![f64::NAN; n];
         // SAFETY: arrays of the lengths passed.

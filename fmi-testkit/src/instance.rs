@@ -178,6 +178,30 @@ impl Instance {
 
     /// `fmi2GetReal` into `values` (one per reference), allocating nothing: for loops whose
     /// instructions are counted.
+    /// `fmi2GetDirectionalDerivative`: `dvUnknown` for the seed `dv_known`.
+    pub fn directional_derivative(
+        &self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        dv_known: &[f64],
+    ) -> (fmi2Status, Vec<f64>) {
+        assert_eq!(knowns.len(), dv_known.len(), "one seed per known");
+        let mut dv_unknown = vec![f64::NAN; unknowns.len()];
+        // SAFETY: a live instance; every array of its stated length.
+        let status = unsafe {
+            (self.functions().get_directional_derivative)(
+                self.component(),
+                unknowns.as_ptr(),
+                unknowns.len(),
+                knowns.as_ptr(),
+                knowns.len(),
+                dv_known.as_ptr(),
+                dv_unknown.as_mut_ptr(),
+            )
+        };
+        (status, dv_unknown)
+    }
+
     pub fn get_reals_into(&self, vrs: &[u32], values: &mut [f64]) -> fmi2Status {
         assert_eq!(vrs.len(), values.len());
         // SAFETY: arrays of the length passed.

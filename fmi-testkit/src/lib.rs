@@ -37,7 +37,9 @@ mod test_model;
 pub use alloc::{CountingAllocator, HeapUse};
 pub use drift::assert_file_matches;
 pub use driver::{Driver, Fmi2, Fmi3, Interface, Status, StepOutcome, Version};
-pub use fmi3::{CoSimulationOptions, Fmi3EventUpdate, Fmi3Functions, Fmi3Instance, Fmi3Step};
+pub use fmi3::{
+    CoSimulationOptions, Fmi3Derivatives, Fmi3EventUpdate, Fmi3Functions, Fmi3Instance, Fmi3Step,
+};
 pub use fmi_abi::fmi2;
 pub use fmi_abi::fmi3 as fmi3_ffi;
 pub use fmi_abi::unpack;

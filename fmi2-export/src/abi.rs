@@ -694,30 +694,93 @@ pub unsafe fn set_string<M: Model>(
 }
 
 // ---------------------------------------------------------------------------------------
-// Unsupported optional functions
+// Partial derivatives
 // ---------------------------------------------------------------------------------------
 
+/// The scalars of `vrs` as the core's [`Element`](fmi_export::derivatives::Element)s;
+/// `role` names the argument in messages.
+fn derivative_elements<M: Model>(
+    inst: &Instance<M>,
+    vrs: &[fmi2ValueReference],
+    role: &str,
+) -> Result<Vec<fmi_export::derivatives::Element>, CallError> {
+    vrs.iter()
+        .map(|&vr| {
+            let row = inst
+                .view
+                .index
+                .real(vr)
+                .map(|slot| slot.row)
+                .ok_or_else(|| {
+                    CallError::InvalidArgument(format!("{role} vr {vr}: no Real variable has it"))
+                })?;
+            let var = &inst.view.table[row];
+            Ok(fmi_export::derivatives::Element {
+                scalar: fmi_model::ScalarRef::new(var.declaration, var.element()),
+                vr,
+            })
+        })
+        .collect()
+}
+
+/// `fmi2GetDirectionalDerivative` (FMI 2.0.4 §2.1.9): `dvUnknown = J dvKnown`. `states` are
+/// the model's `(state, derivative)` names (empty without Model Exchange).
+///
 /// # Safety
 /// See the module documentation.
+#[allow(clippy::too_many_arguments)]
 pub unsafe fn get_directional_derivative<M: Model>(
     c: fmi2Component,
-    _unknowns: *const fmi2ValueReference,
+    unknowns: *const fmi2ValueReference,
     n_unknown: usize,
-    _knowns: *const fmi2ValueReference,
+    knowns: *const fmi2ValueReference,
     n_known: usize,
-    _dv_known: *const fmi2Real,
-    _dv_unknown: *mut fmi2Real,
+    dv_known: *const fmi2Real,
+    dv_unknown: *mut fmi2Real,
+    states: &'static [(&'static str, &'static str)],
 ) -> fmi2Status {
+    use fmi_export::derivatives::{evaluate, Direction};
     let f = Function::GetDirectionalDerivative;
-    let trace = || format!("{}(nUnknown={n_unknown}, nKnown={n_known})", f.name());
+    let trace = || unsafe {
+        format!(
+            "{}(nUnknown={n_unknown}, vUnknown_ref={}, nKnown={n_known}, vKnown_ref={}, \
+             dvKnown={})",
+            f.name(),
+            show(unknowns, n_unknown),
+            show(knowns, n_known),
+            show(dv_known, n_known)
+        )
+    };
     unsafe {
-        call::<M, Fmi2>(c, f, trace, |_| {
-            Err(CallError::Unsupported(
-                "not provided (providesDirectionalDerivative = false)",
-            ))
+        call::<M, Fmi2>(c, f, trace, |inst| {
+            if !M::PROVIDES_DIRECTIONAL_DERIVATIVES {
+                return Err(CallError::Unsupported(
+                    "not provided (providesDirectionalDerivative = false)",
+                ));
+            }
+            let unknown_vrs = slice(unknowns, n_unknown, "vUnknown_ref")?;
+            let known_vrs = slice(knowns, n_known, "vKnown_ref")?;
+            let seed = slice(dv_known, n_known, "dvKnown")?;
+            let sensitivity = slice_mut(dv_unknown, n_unknown, "dvUnknown")?;
+            let unknown_elements = derivative_elements(inst, unknown_vrs, "unknown")?;
+            let known_elements = derivative_elements(inst, known_vrs, "known")?;
+            evaluate(
+                inst,
+                f,
+                Direction::Forward,
+                states,
+                &unknown_elements,
+                &known_elements,
+                seed,
+                sensitivity,
+            )
         })
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Unsupported optional functions
+// ---------------------------------------------------------------------------------------
 
 /// # Safety
 /// See the module documentation.

@@ -85,7 +85,7 @@ pub fn model_description<M: Model>() -> md::ModelDescription {
             can_not_use_memory_management_functions: Some(true),
             can_get_and_set_fmu_state: Some(true),
             can_serialize_fmu_state: Some(true),
-            provides_directional_derivative: Some(false),
+            provides_directional_derivative: Some(M::PROVIDES_DIRECTIONAL_DERIVATIVES),
         }),
         unit_definitions: unit_definitions(&table),
         type_definitions: type_definitions::<M>(),

@@ -17,11 +17,12 @@
 #[macro_export]
 macro_rules! export_fmi2 {
     ($model:ty) => {
-        $crate::export_fmi2! { @co_simulation $model, false }
+        $crate::export_fmi2! { @co_simulation $model, false, &[] }
     };
     // A model that implements `fmi_model::ContinuousModel`: Co-Simulation and Model Exchange.
     ($model:ty, model_exchange) => {
-        $crate::export_fmi2! { @co_simulation $model, true }
+        $crate::export_fmi2! { @co_simulation $model, true,
+        <$model as $crate::model::ContinuousModel>::STATE_DERIVATIVES }
         $crate::fmi_export::export_shared! { $model, $crate::Fmi2,
             status = $crate::ffi::fmi2Status, model_exchange = [
             fmi2SetTime, fmi2SetContinuousStates, fmi2GetDerivatives, fmi2GetEventIndicators,
@@ -46,7 +47,7 @@ macro_rules! export_fmi2 {
                 );
         }
     };
-    (@co_simulation $model:ty, $model_exchange:literal) => {
+    (@co_simulation $model:ty, $model_exchange:literal, $states:expr) => {
         $crate::fmi_export::export_shared! { $model, $crate::Fmi2,
             status = $crate::ffi::fmi2Status, byte = $crate::ffi::fmi2Byte,
             fmu_state = [fmi2GetFMUstate, fmi2SetFMUstate, fmi2FreeFMUstate,
@@ -159,7 +160,7 @@ macro_rules! export_fmi2 {
                 dvUnknown: *mut $crate::ffi::fmi2Real
             ) -> $crate::ffi::fmi2Status
                 => $crate::abi::get_directional_derivative::<$model>(
-                    c, vUnknown_ref, nUnknown, vKnown_ref, nKnown, dvKnown, dvUnknown,
+                    c, vUnknown_ref, nUnknown, vKnown_ref, nKnown, dvKnown, dvUnknown, $states,
                 );
             fmi2SetRealInputDerivatives(
                 c: $crate::ffi::fmi2Component,

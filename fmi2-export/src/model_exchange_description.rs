@@ -1,11 +1,12 @@
 //! The model description of a model that also offers Model Exchange: the Co-Simulation one
 //! plus `<ModelExchange>`, `numberOfEventIndicators`, the `derivative` attribute of each
 //! state derivative, `ModelStructure/Derivatives` (in state-vector order) and the states
-//! and derivatives among the InitialUnknowns (FMI 2.0 §2.2.8).
+//! and derivatives among the InitialUnknowns (FMI 2.0 §2.2.8), and the states among the
+//! dependencies of outputs and derivatives (`ContinuousModel::state_dependencies`).
 use crate::check::check_table;
 use crate::description::model_description;
 use crate::variable::variables;
-use fmi_model::{ContinuousModel, Model};
+use fmi_model::{ContinuousModel, Dependencies, Model};
 use model_description as md;
 
 /// The 0-based scalar index of element `element` of the declaration `name`.
@@ -27,6 +28,112 @@ fn element_count<M: Model>(name: &str) -> usize {
         .iter()
         .find(|d| d.name == name)
         .map_or(0, |d| d.shape().len())
+}
+
+/// The 1-based indices of the continuous states the unknown at `index` (1-based) depends on
+/// ([`ContinuousModel::state_dependencies`]).
+fn state_indices<M: ContinuousModel>(index: u32) -> Vec<u32> {
+    let table = variables::<M>();
+    let unknown = &table[index as usize - 1];
+    let name = M::declarations()[unknown.declaration].name;
+    let states: Vec<&str> = match M::state_dependencies(name) {
+        Some(states) => states.to_vec(),
+        None => M::STATE_DERIVATIVES.iter().map(|(s, _)| *s).collect(),
+    };
+    let mut indices = Vec::new();
+    for state in states {
+        assert!(
+            M::STATE_DERIVATIVES.iter().any(|(s, _)| *s == state),
+            "{}: state_dependencies({name}) names {state}, which is no continuous state",
+            M::MODEL_IDENTIFIER
+        );
+        indices.extend(
+            (0..element_count::<M>(state))
+                .filter(|&e| M::depends_on_element(name, unknown.element(), state, e))
+                .map(|e| scalar_index::<M>(state, e) as u32 + 1),
+        );
+    }
+    indices
+}
+
+/// Whether the scalar at `index` (1-based) depends on the scalar at `known` by
+/// [`ContinuousModel::depends_on_element`].
+fn element_dependency<M: ContinuousModel>(index: u32, known: u32) -> bool {
+    let table = variables::<M>();
+    let declarations = M::declarations();
+    let (unknown, known) = (&table[index as usize - 1], &table[known as usize - 1]);
+    M::depends_on_element(
+        declarations[unknown.declaration].name,
+        unknown.element(),
+        declarations[known.declaration].name,
+        known.element(),
+    )
+}
+
+/// `listed` (the output's input indices, those its elements depend on) with the states the
+/// output depends on, sorted.
+fn with_states<M: ContinuousModel>(index: u32, listed: &str) -> String {
+    let mut indices: Vec<u32> = listed
+        .split_whitespace()
+        .filter_map(|i| i.parse().ok())
+        .filter(|&input| element_dependency::<M>(index, input))
+        .chain(state_indices::<M>(index))
+        .collect();
+    joined(&mut indices)
+}
+
+/// The states and inputs the state derivative at `index` (1-based) depends on, sorted.
+fn derivative_dependencies<M: ContinuousModel>(index: u32) -> String {
+    let table = variables::<M>();
+    let name = M::declarations()[table[index as usize - 1].declaration].name;
+    let declarations = M::declarations();
+    let inputs = table
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == fmi_model::Causality::Input)
+        .filter(|(_, input)| {
+            let input_name = declarations[input.declaration].name;
+            match M::derivative_input_dependencies(name) {
+                Dependencies::AllInputs => true,
+                Dependencies::NoInputs => false,
+                Dependencies::Inputs(names) => names.contains(&input_name),
+                Dependencies::SameElementOf(of) => {
+                    of == input_name && input.element() == table[index as usize - 1].element()
+                }
+            }
+        })
+        .map(|(i, _)| i as u32 + 1)
+        .filter(|&input| element_dependency::<M>(index, input));
+    let mut indices: Vec<u32> = inputs.chain(state_indices::<M>(index)).collect();
+    joined(&mut indices)
+}
+
+fn joined(indices: &mut Vec<u32>) -> String {
+    indices.sort_unstable();
+    indices.dedup();
+    indices
+        .iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The states among the dependencies of the outputs, and the derivatives' lists.
+fn declare_state_dependencies<M: ContinuousModel>(
+    description: &mut md::ModelDescription,
+    derivatives: &mut [md::Unknown],
+) {
+    for derivative in derivatives.iter_mut() {
+        derivative.dependencies = Some(derivative_dependencies::<M>(derivative.index));
+    }
+    if let Some(outputs) = description.model_structure.outputs.as_mut() {
+        for output in &mut outputs.unknowns {
+            output.dependencies = Some(with_states::<M>(
+                output.index,
+                output.dependencies.as_deref().unwrap_or_default(),
+            ));
+        }
+    }
 }
 
 /// The model description with Model Exchange.
@@ -67,6 +174,9 @@ pub fn model_description_me<M: ContinuousModel>() -> md::ModelDescription {
     }
     unknowns.sort_unstable();
     unknowns.dedup();
+    if M::DECLARES_STATE_DEPENDENCIES {
+        declare_state_dependencies::<M>(&mut description, &mut derivatives);
+    }
     description.model_structure.derivatives = Some(md::UnknownList {
         unknowns: derivatives,
     });
@@ -88,7 +198,7 @@ pub fn model_description_me<M: ContinuousModel>() -> md::ModelDescription {
         can_not_use_memory_management_functions: Some(true),
         can_get_and_set_fmu_state: Some(true),
         can_serialize_fmu_state: Some(true),
-        provides_directional_derivative: Some(false),
+        provides_directional_derivative: Some(M::PROVIDES_DIRECTIONAL_DERIVATIVES),
     });
     description
 }

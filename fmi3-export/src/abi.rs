@@ -1199,3 +1199,104 @@ pub unsafe fn evaluate_discrete_states<M: Model>(c: fmi3Instance) -> fmi3Status 
         )
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Partial derivatives
+// ---------------------------------------------------------------------------------------
+
+/// The serialized elements of `vrs` (every element of an array, in order) as the core's
+/// [`Element`](fmi_export::derivatives::Element)s; `role` names the argument in messages.
+fn derivative_elements<M: Model>(
+    inst: &Instance<M>,
+    vrs: &[fmi3ValueReference],
+    role: &str,
+) -> Result<Vec<fmi_export::derivatives::Element>, CallError> {
+    let mut elements = Vec::with_capacity(vrs.len());
+    for &vr in vrs {
+        if vr == crate::variables::TIME_VR {
+            return Err(CallError::InvalidArgument(format!(
+                "{role} time (vr {vr}): derivatives with respect to or of the independent \
+                 variable are not provided"
+            )));
+        }
+        let declaration = inst.view.index.row(vr).ok_or_else(|| {
+            CallError::InvalidArgument(format!("{role} vr {vr}: no variable has it"))
+        })?;
+        let len = M::declarations()[declaration].shape().len();
+        elements.extend((0..len).map(|element| fmi_export::derivatives::Element {
+            scalar: fmi_model::ScalarRef::new(declaration, element),
+            vr,
+        }));
+    }
+    Ok(elements)
+}
+
+/// `fmi3GetDirectionalDerivative` and `fmi3GetAdjointDerivative` (FMI 3.0 §2.2.11): seed and
+/// sensitivity hold the serialized elements of the arrays named. `states` are the model's
+/// `(state, derivative)` names (empty without Model Exchange).
+///
+/// # Safety
+/// See the module documentation.
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn derivative<M: Model>(
+    c: fmi3Instance,
+    f: Function,
+    states: &'static [(&'static str, &'static str)],
+    unknowns: *const fmi3ValueReference,
+    n_unknowns: usize,
+    knowns: *const fmi3ValueReference,
+    n_knowns: usize,
+    seed: *const fmi3Float64,
+    n_seed: usize,
+    sensitivity: *mut fmi3Float64,
+    n_sensitivity: usize,
+) -> fmi3Status {
+    use fmi_export::derivatives::{check_lengths, evaluate, Direction};
+    let direction = if f == Function::GetAdjointDerivative {
+        Direction::Adjoint
+    } else {
+        Direction::Forward
+    };
+    let trace = || unsafe {
+        format!(
+            "{}(unknowns={}, knowns={}, seed={}, nSensitivity={n_sensitivity})",
+            f.name(),
+            show(unknowns, n_unknowns),
+            show(knowns, n_knowns),
+            show(seed, n_seed)
+        )
+    };
+    unsafe {
+        call::<M, Fmi3>(c, f, trace, |inst| {
+            if !M::PROVIDES_DIRECTIONAL_DERIVATIVES {
+                return Err(CallError::Refused(Refusal::Unsupported(match direction {
+                    Direction::Forward => "directional derivatives",
+                    Direction::Adjoint => "adjoint derivatives",
+                })));
+            }
+            let unknown_vrs = slice(unknowns, n_unknowns, "unknowns")?;
+            let known_vrs = slice(knowns, n_knowns, "knowns")?;
+            let seed = slice(seed, n_seed, "seed")?;
+            let sensitivity = slice_mut(sensitivity, n_sensitivity, "sensitivity")?;
+            let unknown_elements = derivative_elements(inst, unknown_vrs, "unknown")?;
+            let known_elements = derivative_elements(inst, known_vrs, "known")?;
+            check_lengths(
+                direction,
+                known_elements.len(),
+                unknown_elements.len(),
+                seed.len(),
+                sensitivity.len(),
+            )?;
+            evaluate(
+                inst,
+                f,
+                direction,
+                states,
+                &unknown_elements,
+                &known_elements,
+                seed,
+                sensitivity,
+            )
+        })
+    }
+}

@@ -45,6 +45,40 @@ pub fn instantiation_token<M: Model>() -> String {
 struct ModelExchange {
     state_derivatives: &'static [(&'static str, &'static str)],
     event_indicators: &'static [&'static str],
+    /// [`ContinuousModel::DECLARES_STATE_DEPENDENCIES`].
+    declared: bool,
+    /// [`ContinuousModel::state_dependencies`].
+    state_dependencies: fn(&str) -> Option<&'static [&'static str]>,
+    /// [`ContinuousModel::derivative_input_dependencies`].
+    derivative_inputs: fn(&str) -> Dependencies,
+}
+
+impl ModelExchange {
+    /// The value references of the states `unknown` depends on.
+    fn states<M: Model>(&self, unknown: &str) -> Vec<String> {
+        let all: Vec<&str> = self.state_derivatives.iter().map(|(s, _)| *s).collect();
+        let states = (self.state_dependencies)(unknown).map_or(all, <[&str]>::to_vec);
+        states
+            .iter()
+            .map(|state| {
+                assert!(
+                    self.state_derivatives.iter().any(|(s, _)| s == state),
+                    "{}: state_dependencies({unknown}) names {state}, which is no continuous \
+                     state",
+                    M::MODEL_IDENTIFIER
+                );
+                find::<M>(state).value_reference.to_string()
+            })
+            .collect()
+    }
+}
+
+/// A dependency list: value references in ascending order, each once.
+fn listed(vrs: impl IntoIterator<Item = String>) -> String {
+    let mut vrs: Vec<u32> = vrs.into_iter().filter_map(|v| v.parse().ok()).collect();
+    vrs.sort_unstable();
+    vrs.dedup();
+    vrs.iter().map(u32::to_string).collect::<Vec<_>>().join(" ")
 }
 
 /// The description of a Co-Simulation-only model.
@@ -65,6 +99,9 @@ pub fn model_description_xml_me<M: ContinuousModel>() -> String {
     write_description::<M>(Some(ModelExchange {
         state_derivatives: M::STATE_DERIVATIVES,
         event_indicators: M::EVENT_INDICATOR_VARIABLES,
+        declared: M::DECLARES_STATE_DEPENDENCIES,
+        state_dependencies: M::state_dependencies,
+        derivative_inputs: M::derivative_input_dependencies,
     }))
 }
 
@@ -176,15 +213,21 @@ fn write_description<M: Model>(me: Option<ModelExchange>) -> String {
             .map(|t| format!(r#" generationDateAndTime="{t}""#))
             .unwrap_or_default()
     );
+    // Absent, the attributes mean false: a model without derivatives keeps its description.
+    let provides = if M::PROVIDES_DIRECTIONAL_DERIVATIVES {
+        r#" providesDirectionalDerivatives="true" providesAdjointDerivatives="true""#
+    } else {
+        ""
+    };
     if me.is_some() {
         let _ = writeln!(
             x,
-            r#"  <ModelExchange modelIdentifier="{id}" needsCompletedIntegratorStep="false" canGetAndSetFMUState="true" canSerializeFMUState="true"/>"#
+            r#"  <ModelExchange modelIdentifier="{id}" needsCompletedIntegratorStep="false" canGetAndSetFMUState="true" canSerializeFMUState="true"{provides}/>"#
         );
     }
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" canSerializeFMUState="true" hasEventMode="true" mightReturnEarlyFromDoStep="true" canReturnEarlyAfterIntermediateUpdate="false" providesIntermediateUpdate="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" canSerializeFMUState="true"{provides} hasEventMode="true" mightReturnEarlyFromDoStep="true" canReturnEarlyAfterIntermediateUpdate="false" providesIntermediateUpdate="false"/>"#
     );
     write_units::<M>(&mut x);
     write_types::<M>(&mut x);
@@ -429,6 +472,22 @@ fn write_structure<M: Model>(x: &mut String, me: Option<&ModelExchange>) {
             // array is the (coarser, still correct) statement.
             Dependencies::SameElementOf(name) => Some(vr_of(name)),
         };
+        // Under Model Exchange the states are knowns too (FMI 3.0 §2.4.8): an output lists
+        // the ones it depends on, its inputs kept as declared.
+        let dependencies = match (me.filter(|me| me.declared), dependencies) {
+            (Some(me), Some(list)) => Some(listed(
+                list.split_whitespace()
+                    .map(str::to_string)
+                    .chain(me.states::<M>(d.name)),
+            )),
+            (Some(me), None) => Some(listed(
+                inputs
+                    .iter()
+                    .map(|i| i.value_reference.to_string())
+                    .chain(me.states::<M>(d.name)),
+            )),
+            (None, dependencies) => dependencies,
+        };
         match dependencies {
             Some(list) => {
                 let _ = writeln!(
@@ -460,11 +519,32 @@ fn write_structure<M: Model>(x: &mut String, me: Option<&ModelExchange>) {
         .collect();
     if let Some(me) = me {
         for (state, derivative) in me.state_derivatives {
-            let _ = writeln!(
-                x,
-                r#"    <ContinuousStateDerivative valueReference="{}"/>"#,
-                vr_of(derivative)
+            let inputs_of = inputs
+                .iter()
+                .filter(|i| match (me.derivative_inputs)(derivative) {
+                    Dependencies::AllInputs => true,
+                    Dependencies::NoInputs => false,
+                    Dependencies::Inputs(names) => names.contains(&i.name),
+                    Dependencies::SameElementOf(name) => name == i.name,
+                });
+            let list = listed(
+                inputs_of
+                    .map(|i| i.value_reference.to_string())
+                    .chain(me.states::<M>(derivative)),
             );
+            if me.declared {
+                let _ = writeln!(
+                    x,
+                    r#"    <ContinuousStateDerivative valueReference="{}" dependencies="{list}"/>"#,
+                    vr_of(derivative)
+                );
+            } else {
+                let _ = writeln!(
+                    x,
+                    r#"    <ContinuousStateDerivative valueReference="{}"/>"#,
+                    vr_of(derivative)
+                );
+            }
             initial_unknowns.insert(find::<M>(state).value_reference);
             initial_unknowns.insert(find::<M>(derivative).value_reference);
         }

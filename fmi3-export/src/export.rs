@@ -5,7 +5,7 @@
 /// Model Exchange functions refuse, from [`crate::no_me`]); `export_fmi3!(crate::M,
 /// model_exchange)` adds Model Exchange for a model that implements
 /// `fmi_model::ContinuousModel`. The functions of features none of our FMUs has (clocks,
-/// configuration mode, derivatives, Scheduled Execution) answer `fmi3Error` with a log line.
+/// configuration mode, Scheduled Execution) answer `fmi3Error` with a log line.
 /// The symbols are named `fmi3*`, so they live beside the FMI 2.0 layer's `fmi2*` ones in
 /// one library.
 #[macro_export]
@@ -389,7 +389,7 @@ macro_rules! export_fmi3 {
                 sensitivity: *mut $crate::ffi::fmi3Float64,
                 nSensitivity: usize
             ) -> $crate::ffi::fmi3Status
-                => $crate::abi::unsupported::<$model>(instance, $crate::state::Function::GetDirectionalDerivative);
+                => $crate::$me::derivative::<$model>(instance, $crate::state::Function::GetDirectionalDerivative, unknowns, nUnknowns, knowns, nKnowns, seed, nSeed, sensitivity, nSensitivity);
             fmi3GetAdjointDerivative(
                 instance: $crate::ffi::fmi3Instance,
                 unknowns: *const $crate::ffi::fmi3ValueReference,
@@ -401,7 +401,7 @@ macro_rules! export_fmi3 {
                 sensitivity: *mut $crate::ffi::fmi3Float64,
                 nSensitivity: usize
             ) -> $crate::ffi::fmi3Status
-                => $crate::abi::unsupported::<$model>(instance, $crate::state::Function::GetAdjointDerivative);
+                => $crate::$me::derivative::<$model>(instance, $crate::state::Function::GetAdjointDerivative, unknowns, nUnknowns, knowns, nKnowns, seed, nSeed, sensitivity, nSensitivity);
             fmi3EnterConfigurationMode(
                 instance: $crate::ffi::fmi3Instance
             ) -> $crate::ffi::fmi3Status

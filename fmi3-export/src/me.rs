@@ -145,6 +145,41 @@ pub unsafe fn get_number_of_continuous_states<M: ContinuousModel>(
     }
 }
 
+/// `fmi3GetDirectionalDerivative` / `fmi3GetAdjointDerivative` (`f`) of a model with Model
+/// Exchange: its states may be knowns and its state derivatives unknowns.
+///
+/// # Safety
+/// See [`crate::abi`].
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn derivative<M: ContinuousModel>(
+    c: fmi3Instance,
+    f: Function,
+    unknowns: *const fmi3ValueReference,
+    n_unknowns: usize,
+    knowns: *const fmi3ValueReference,
+    n_knowns: usize,
+    seed: *const fmi3Float64,
+    n_seed: usize,
+    sensitivity: *mut fmi3Float64,
+    n_sensitivity: usize,
+) -> fmi3Status {
+    unsafe {
+        abi::derivative::<M>(
+            c,
+            f,
+            M::STATE_DERIVATIVES,
+            unknowns,
+            n_unknowns,
+            knowns,
+            n_knowns,
+            seed,
+            n_seed,
+            sensitivity,
+            n_sensitivity,
+        )
+    }
+}
+
 /// The same functions for a model without Model Exchange: instantiation is refused (NULL,
 /// logged), the rest refused by the state table of a Co-Simulation instance, and the
 /// counts are 0. Event Mode of Co-Simulation is served as for any model.
@@ -171,6 +206,36 @@ pub mod no_me {
                             .unwrap_or(Refusal::WrongInterface(Interface::CoSimulation)),
                     ))
                 },
+            )
+        }
+    }
+
+    /// The derivative functions of a model without Model Exchange: inputs and outputs only.
+    pub unsafe fn derivative<M: Model>(
+        c: fmi3Instance,
+        f: Function,
+        unknowns: *const fmi3ValueReference,
+        n_unknowns: usize,
+        knowns: *const fmi3ValueReference,
+        n_knowns: usize,
+        seed: *const fmi3Float64,
+        n_seed: usize,
+        sensitivity: *mut fmi3Float64,
+        n_sensitivity: usize,
+    ) -> fmi3Status {
+        unsafe {
+            abi::derivative::<M>(
+                c,
+                f,
+                &[],
+                unknowns,
+                n_unknowns,
+                knowns,
+                n_knowns,
+                seed,
+                n_seed,
+                sensitivity,
+                n_sensitivity,
             )
         }
     }

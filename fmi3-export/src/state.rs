@@ -22,7 +22,7 @@ pub enum Scope {
         model_exchange: StateMask,
         co_simulation: StateMask,
     },
-    /// A feature none of our FMUs has (clocks, configuration mode, derivatives, ...).
+    /// A feature none of our FMUs has (clocks, configuration mode, ...).
     Unsupported(&'static str),
 }
 
@@ -161,8 +161,9 @@ fmi_export::function_table! {
     SerializedFMUStateSize => Scope::Both(ANY_BUT_FATAL),
     SerializeFMUState => Scope::Both(ANY_BUT_FATAL),
     DeserializeFMUState => Scope::Both(ANY_BUT_FATAL),
-    GetDirectionalDerivative => Scope::Unsupported("directional derivatives"),
-    GetAdjointDerivative => Scope::Unsupported("adjoint derivatives"),
+    // Whether the model provides them is the function's own check.
+    GetDirectionalDerivative => Scope::Both(GETTERS),
+    GetAdjointDerivative => Scope::Both(GETTERS),
     EnterConfigurationMode => Scope::Unsupported("structural parameters"),
     ExitConfigurationMode => Scope::Unsupported("structural parameters"),
     GetIntervalDecimal => CLOCKS,

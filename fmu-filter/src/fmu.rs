@@ -144,12 +144,20 @@ impl FilterParameters {
 }
 
 /// One communication point's measurements into the filter: the altimeter, then each
-/// velocimeter beam, each only when valid; the statistics of what was used.
-pub fn update(eskf: &mut Eskf, params: &FilterParameters, meas: &Measurements) -> Innovations {
+/// velocimeter beam, each only when valid; the statistics of what was used. `interval_s`:
+/// the time between updates (the communication step), which sets how often the models'
+/// linearisation error repeats.
+pub fn update(
+    eskf: &mut Eskf,
+    params: &FilterParameters,
+    meas: &Measurements,
+    interval_s: f64,
+) -> Innovations {
     let mut out = Innovations::default();
     let mut dx = [0.0; N];
     if meas.altimeter_valid {
-        if let Some(u) = eskf.update_altimeter(&mut dx, params, meas.altimeter_range_m) {
+        if let Some(u) = eskf.update_altimeter(&mut dx, params, meas.altimeter_range_m, interval_s)
+        {
             out.nis_altimeter = u.nis;
             out.altimeter_dof = 1;
             out.rejected += i32::from(!u.applied);
@@ -157,8 +165,8 @@ pub fn update(eskf: &mut Eskf, params: &FilterParameters, meas: &Measurements) -
     }
     for i in 0..3 {
         if meas.velocimeter_valid[i] {
-            let u =
-                eskf.update_velocimeter(&mut dx, params, i, meas.velocimeter_los_velocity_mps[i]);
+            let y = meas.velocimeter_los_velocity_mps[i];
+            let u = eskf.update_velocimeter(&mut dx, params, i, y, interval_s);
             out.nis_velocimeter += u.nis;
             out.velocimeter_dof += 1;
             out.rejected += i32::from(!u.applied);
@@ -194,7 +202,7 @@ pub fn step_with_mean_imu(
 ) -> Innovations {
     propagated_over_last_step(eskf, params, pending.as_ref(), &meas.imu);
     let linearised_at = eskf.heading();
-    let innovations = update(eskf, params, meas);
+    let innovations = update(eskf, params, meas, h);
     *pending = Some(Pending { h, linearised_at });
     innovations
 }
@@ -208,7 +216,7 @@ pub fn step(
     h: f64,
 ) -> Innovations {
     let linearised_at = eskf.heading();
-    let innovations = update(eskf, params, meas);
+    let innovations = update(eskf, params, meas, h);
     eskf.propagate(params, &meas.imu, h, Some(&linearised_at));
     innovations
 }

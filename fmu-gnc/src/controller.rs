@@ -208,9 +208,9 @@ pub struct Advance {
     /// The norm of a quaternion input used normalised because it was far from 1.
     pub non_unit_quaternion_norm: Option<f64>,
     /// The reference rotation about the thrust axis at this sample.
-    roll: RollReference,
+    pub(crate) roll: RollReference,
     /// The input attitude, when the inputs are usable.
-    attitude: Option<Attitude>,
+    pub(crate) attitude: Option<Attitude>,
 }
 
 impl Default for Advance {

@@ -502,6 +502,44 @@ impl Model for LanderGnc {
         })
     }
 
+    const PROVIDES_DIRECTIONAL_DERIVATIVES: bool = true;
+
+    /// The partials of the sample at the current time (`derivatives.rs`: which, and why).
+    fn directional_derivative(
+        &mut self,
+        unknowns: &[fmi_model::ScalarRef],
+        knowns: &[fmi_model::ScalarRef],
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> Result<(), ModelError> {
+        self.keep_design();
+        let unchecked;
+        let design = match &self.design {
+            Some(design) => design,
+            None => {
+                unchecked = self.params.design_unchecked();
+                &unchecked
+            }
+        };
+        let at = crate::derivatives::At {
+            design,
+            start_time_s: self.start_time_s,
+            guidance: &self.guidance,
+            profile: &self.profile,
+            inputs: &self.inputs,
+            time_s: self.time_s,
+        };
+        let name = |r: &fmi_model::ScalarRef| (DECLARATIONS[r.declaration].name, r.element);
+        crate::derivatives::by_name(
+            &at,
+            unknowns.iter().map(name),
+            knowns.iter().map(name),
+            seed,
+            sensitivity,
+        )
+        .map_err(ModelError::Refused)
+    }
+
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError> {
         // The master's t is authoritative: it may differ from ours by rounding (and then the
         // sample kept from the get is not used).

@@ -17,6 +17,7 @@ pub mod actuation;
 pub mod attitude;
 pub mod controller;
 pub mod conventions;
+pub mod derivatives;
 pub mod fmu;
 pub mod guidance;
 pub mod params;

@@ -1,5 +1,6 @@
 //! The FMI face of the plant: the variable table (each variable declared once) and the
 //! [`Model`] implementation. Names follow `docs/interface.md` to the letter.
+mod derivatives;
 mod model_exchange;
 
 use crate::physics::continuous::unit_attitude;
@@ -421,15 +422,29 @@ impl Model for LanderPlant {
         match output {
             "thrust_actual" | "engine_torque_body" => Dependencies::Inputs(&["thrust_cmd"]),
             "specific_force_body" => Dependencies::Inputs(&["thrust_cmd", "rcs_duty"]),
-            "torque_actual_body" | "rcs_force_body" => {
-                Dependencies::Inputs(&["torque_cmd_body", "rcs_duty"])
-            }
+            "torque_actual_body" => Dependencies::Inputs(&["torque_cmd_body", "rcs_duty"]),
+            // The thrusters' force: on or off by rcs_duty; the torque model has none.
+            "rcs_force_body" => Dependencies::Inputs(&["rcs_duty"]),
             _ => Dependencies::NoInputs,
         }
     }
 
     fn calculate_values(&mut self, _log: &mut Log) {
         self.refresh_outputs();
+    }
+
+    /// Exact, by forward-mode automatic differentiation of the equations
+    /// (`physics::sensitivity`, `fmu::derivatives`).
+    const PROVIDES_DIRECTIONAL_DERIVATIVES: bool = true;
+
+    fn directional_derivative(
+        &mut self,
+        unknowns: &[fmi_model::ScalarRef],
+        knowns: &[fmi_model::ScalarRef],
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> Result<(), ModelError> {
+        self.directional(unknowns, knowns, seed, sensitivity)
     }
 
     fn exit_initialization(&mut self, _start_time: f64, log: &mut Log) -> Result<(), ModelError> {

@@ -8,6 +8,8 @@ use cosim::supervise::Runner;
 use lander::laws::Laws;
 use std::path::PathBuf;
 
+mod broken_pipe;
+mod fmu_dirs;
 mod monte_carlo;
 mod reference;
 mod saved_runs;
@@ -26,11 +28,11 @@ mod vars;
 )]
 struct Cli {
     /// Directory holding the FMUs named by the scenario (relative `fmu` paths not found
-    /// beside the scenario file); repeat it to look in several, in order.
+    /// beside the scenario file); repeat it to look in several, in order. Default:
+    /// `target/fmu` in a source checkout, else the FMUs of the release the harness came in.
     #[arg(
         long,
         global = true,
-        default_value = "target/fmu",
         env = "LANDER_FMU_DIR",
         action = clap::ArgAction::Append
     )]
@@ -151,6 +153,33 @@ enum Command {
         #[arg(long)]
         no_plots: bool,
     },
+    /// Fly a scenario to a time and linearize it there: every FMU's Jacobians (from its
+    /// directional derivatives, or finite differences when it provides none), the closed
+    /// loop's eigenvalues, and per attitude axis the gain and phase margins with the loop
+    /// broken at the torque command, beside the controller's design values
+    /// (docs/linearize.md).
+    #[command(allow_negative_numbers = true)]
+    Linearize {
+        /// Scenario: a built-in name, .toml, .ssd or .ssp.
+        scenario: String,
+        /// The time to linearize at, s (the communication point nearest it).
+        #[arg(long, value_name = "T")]
+        at: f64,
+        /// Where the Jacobians come from: `fmu` (each FMU's directional derivatives where
+        /// its description declares them, else finite differences) or `fd` (finite
+        /// differences for every FMU).
+        #[arg(long, value_enum, default_value = "fmu")]
+        jacobian: JacobianArg,
+        /// Override a parameter, e.g. --set plant.inertia_body[2]=450 (repeatable).
+        #[arg(long = "set", value_name = "INSTANCE.VAR=VALUE")]
+        sets: Vec<String>,
+        /// Also write everything (every matrix) as JSON to this file.
+        #[arg(short, long, value_name = "FILE")]
+        out: Option<PathBuf>,
+        /// Print the JSON instead of the summary.
+        #[arg(long)]
+        json: bool,
+    },
     // Monte Carlo subcommands (harness/src/monte_carlo.rs).
     /// Monte Carlo campaign over phi_cmd x laws x dispersed runs: manifest.csv, campaign.toml
     /// and the paper's Monte Carlo figure.
@@ -187,6 +216,12 @@ enum Command {
         /// the result file of `harness run`.
         dir: PathBuf,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum JacobianArg {
+    Fmu,
+    Fd,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -401,13 +436,7 @@ fn init_logging() {
 }
 
 fn main() {
-    // Rust ignores SIGPIPE, so a print to a closed pipe panics; a reader that stops early
-    // (`| head`) should end us as it ends any other tool.
-    #[cfg(unix)]
-    // SAFETY: called first, before any other thread exists; SIG_DFL is a valid handler.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
+    broken_pipe::end_quietly_when_stdout_closes();
     // Warnings (an allowed non-finite value, say) go to stderr, which a worker's parent
     // passes on.
     init_logging();
@@ -440,8 +469,13 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
     set_execution(&cli)?;
     // The first directory is the one every command is given; the others are searched after
     // it wherever a relative FMU path is resolved.
-    let fmu_dir = cli.fmu_dir.first().cloned().unwrap_or_default();
-    cosim::master::set_more_fmu_dirs(cli.fmu_dir.iter().skip(1).cloned().collect());
+    let fmu_dirs = if cli.fmu_dir.is_empty() {
+        fmu_dirs::default_fmu_dirs()
+    } else {
+        cli.fmu_dir.clone()
+    };
+    let fmu_dir = fmu_dirs.first().cloned().unwrap_or_default();
+    cosim::master::set_more_fmu_dirs(fmu_dirs.iter().skip(1).cloned().collect());
     match cli.command {
         Command::Run {
             request,
@@ -588,6 +622,38 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             }
             for path in written {
                 println!("wrote {}", path.display());
+            }
+        }
+        Command::Linearize {
+            scenario,
+            at,
+            jacobian,
+            sets,
+            out,
+            json,
+        } => {
+            let request = lander::linearize::Request {
+                scenario: &scenario,
+                at_s: at,
+                sets: &sets,
+                jacobians: match jacobian {
+                    JacobianArg::Fmu => cosim::master::Jacobians::Fmu,
+                    JacobianArg::Fd => cosim::master::Jacobians::Differences,
+                },
+            };
+            let linearized = lander::linearize::linearize(&request, &fmu_dir)?;
+            let document = serde_json::to_string_pretty(&linearized.to_json())?;
+            if json {
+                println!("{document}");
+            } else {
+                print!("{}", linearized.summary());
+            }
+            if let Some(path) = out {
+                std::fs::write(&path, format!("{document}\n"))
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+                if !json {
+                    println!("wrote {}", path.display());
+                }
             }
         }
         Command::MonteCarlo(args) => exit_code = monte_carlo::monte_carlo(&args, &fmu_dir)?,

@@ -31,6 +31,7 @@ mod full_fidelity;
 mod gnc_supervision;
 mod golden_trajectory;
 mod import;
+mod linearize;
 mod montecarlo;
 mod montecarlo_cli;
 mod montecarlo_resume;

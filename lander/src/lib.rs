@@ -5,13 +5,15 @@
 //! the `report` and `harness` crates', above this one.
 //!
 //! Modules from the bottom up: `laws`, `verdict`, `retarget::command`, `scenarios`, `metrics`,
-//! `provenance`, `overrides`; then `paper`, and `retarget`'s comparison on top of it.
+//! `provenance`, `overrides`; then `paper`, and `retarget`'s comparison on top of it;
+//! `linearize` beside them.
 #![forbid(unsafe_code)]
 // std's transcendental functions compute the flight metrics and the attitude geometry of a
 // scenario here, outside any FMU (the workspace clippy.toml forbids them for the FMUs' sake).
 #![allow(clippy::disallowed_methods)]
 
 pub mod laws;
+pub mod linearize;
 pub mod metrics;
 pub mod overrides;
 pub mod paper;

@@ -92,6 +92,16 @@ pub struct Fmi3CoSimulation {
     pub can_return_early_after_intermediate_update: bool,
     pub has_event_mode: bool,
     pub provides_intermediate_update: bool,
+    pub provides_directional_derivatives: bool,
+    pub provides_adjoint_derivatives: bool,
+}
+
+/// `<ModelExchange>`: the flags a master reads beyond its identifier, false when absent.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Fmi3ModelExchange {
+    pub model_identifier: String,
+    pub provides_directional_derivatives: bool,
+    pub provides_adjoint_derivatives: bool,
 }
 
 /// `<Dimension start="3"/>` or `<Dimension valueReference="7"/>` (a structural parameter).
@@ -123,6 +133,8 @@ pub struct Fmi3Variable {
     pub clocks: Option<String>,
     /// `<Alias>` children: other names of this variable.
     pub aliases: Vec<Fmi3Alias>,
+    /// `derivative`: the value reference of the state this variable is the derivative of.
+    pub derivative: Option<u32>,
 }
 
 /// `<Alias name="h_ft" description="..." displayUnit="ft"/>`: another name of a variable,
@@ -185,6 +197,8 @@ pub struct Fmi3ModelDescription {
     pub co_simulation: Option<Fmi3CoSimulation>,
     /// The `modelIdentifier` of `<ModelExchange>` and `<ScheduledExecution>`, if declared.
     pub model_exchange: Option<String>,
+    /// The flags of `<ModelExchange>`, if declared.
+    pub model_exchange_flags: Option<Fmi3ModelExchange>,
     pub scheduled_execution: Option<String>,
     pub default_start_time: Option<f64>,
     pub default_stop_time: Option<f64>,
@@ -193,6 +207,8 @@ pub struct Fmi3ModelDescription {
     pub type_definitions: Vec<Fmi3TypeDefinition>,
     pub variables: Vec<Fmi3Variable>,
     pub outputs: Vec<Fmi3Unknown>,
+    /// `<ContinuousStateDerivative>`s, in the order of the continuous state vector.
+    pub continuous_state_derivatives: Vec<Fmi3Unknown>,
     pub initial_unknowns: Vec<Fmi3Unknown>,
 }
 
@@ -317,10 +333,18 @@ impl Fmi3ModelDescription {
                         .flag("canReturnEarlyAfterIntermediateUpdate")?,
                     has_event_mode: at.flag("hasEventMode")?,
                     provides_intermediate_update: at.flag("providesIntermediateUpdate")?,
+                    provides_directional_derivatives: at.flag("providesDirectionalDerivatives")?,
+                    provides_adjoint_derivatives: at.flag("providesAdjointDerivatives")?,
                 });
             }
             ([_], "ModelExchange") => {
-                self.model_exchange = Some(at.required("modelIdentifier")?.to_owned());
+                let model_identifier = at.required("modelIdentifier")?.to_owned();
+                self.model_exchange_flags = Some(Fmi3ModelExchange {
+                    model_identifier: model_identifier.clone(),
+                    provides_directional_derivatives: at.flag("providesDirectionalDerivatives")?,
+                    provides_adjoint_derivatives: at.flag("providesAdjointDerivatives")?,
+                });
+                self.model_exchange = Some(model_identifier);
             }
             ([_], "ScheduledExecution") => {
                 self.scheduled_execution = Some(at.required("modelIdentifier")?.to_owned());
@@ -391,6 +415,7 @@ impl Fmi3ModelDescription {
                     dimensions: Vec::new(),
                     clocks: at.get("clocks").map(str::to_owned),
                     aliases: Vec::new(),
+                    derivative: at.parse::<u32>("derivative", "an unsigned integer")?,
                 });
             }
             ([_, "ModelVariables", _], "Dimension") => {
@@ -419,7 +444,10 @@ impl Fmi3ModelDescription {
                         .push(at.get("value").unwrap_or_default().to_owned());
                 }
             }
-            ([_, "ModelStructure"], unknown @ ("Output" | "InitialUnknown")) => {
+            (
+                [_, "ModelStructure"],
+                unknown @ ("Output" | "ContinuousStateDerivative" | "InitialUnknown"),
+            ) => {
                 let value_reference = at
                     .parse::<u32>("valueReference", "an unsigned integer")?
                     .ok_or_else(|| {
@@ -444,10 +472,10 @@ impl Fmi3ModelDescription {
                     value_reference,
                     dependencies,
                 };
-                if unknown == "Output" {
-                    self.outputs.push(entry);
-                } else {
-                    self.initial_unknowns.push(entry);
+                match unknown {
+                    "Output" => self.outputs.push(entry),
+                    "ContinuousStateDerivative" => self.continuous_state_derivatives.push(entry),
+                    _ => self.initial_unknowns.push(entry),
                 }
             }
             _ => {}
@@ -603,6 +631,44 @@ mod tests {
         assert_eq!(md.initial_unknowns[0].dependencies, None);
         assert_eq!(md.type_definition("E").unwrap().items.len(), 2);
         assert_eq!(fmi_version_of(SAMPLE.as_bytes()).as_deref(), Some("3.0"));
+    }
+
+    #[test]
+    fn derivative_capabilities_and_state_derivatives_are_read() {
+        // GIVEN the Reference-FMUs VanDerPol's declarations in short
+        let xml = r#"<fmiModelDescription fmiVersion="3.0" modelName="V" instantiationToken="t">
+  <ModelExchange modelIdentifier="V" providesDirectionalDerivatives="true" providesAdjointDerivatives="true"/>
+  <CoSimulation modelIdentifier="V" providesDirectionalDerivatives="true"/>
+  <ModelVariables>
+    <Float64 name="x0" valueReference="1" causality="output"/>
+    <Float64 name="der(x0)" valueReference="2" derivative="1"/>
+  </ModelVariables>
+  <ModelStructure>
+    <Output valueReference="1" dependencies=""/>
+    <ContinuousStateDerivative valueReference="2" dependencies="1"/>
+  </ModelStructure>
+</fmiModelDescription>"#;
+        let md = Fmi3ModelDescription::from_xml(xml).unwrap();
+        let me = md.model_exchange_flags.as_ref().unwrap();
+        assert!(me.provides_directional_derivatives && me.provides_adjoint_derivatives);
+        let cs = md.co_simulation.as_ref().unwrap();
+        assert!(cs.provides_directional_derivatives && !cs.provides_adjoint_derivatives);
+        assert_eq!(md.variables[1].derivative, Some(1));
+        assert_eq!(md.variables[0].derivative, None);
+        assert_eq!(md.continuous_state_derivatives.len(), 1);
+        assert_eq!(
+            md.continuous_state_derivatives[0].dependencies.as_deref(),
+            Some(&[1][..])
+        );
+        assert_eq!(md.outputs[0].dependencies.as_deref(), Some(&[][..]));
+        // AND the sample without the flags reads them as false
+        let sample = Fmi3ModelDescription::from_xml(SAMPLE).unwrap();
+        assert!(
+            !sample
+                .co_simulation
+                .unwrap()
+                .provides_directional_derivatives
+        );
     }
 
     #[test]

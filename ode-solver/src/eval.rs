@@ -10,6 +10,8 @@ use crate::{OdeSystem, SolverError};
 pub(crate) struct Counts {
     pub rhs: u64,
     pub jacobians: u64,
+    /// Of `jacobians`, the system's own.
+    pub system_jacobians: u64,
     pub indicators: u64,
 }
 
@@ -49,12 +51,36 @@ impl<'a> Eval<'a> {
         }
     }
 
-    /// df/dx at (t, x) by forward differences, one column per state: n + 1 derivative
-    /// calls, since an FMU is a black box with no Jacobian of its own.
+    /// df/dx at (t, x): the system's own when it has one, else by forward differences, one
+    /// column per state (n + 1 derivative calls).
     pub fn jacobian(&mut self, t: f64, x: &[f64], jac: &mut Matrix) -> Result<(), SolverError> {
         let n = x.len();
         debug_assert_eq!(jac.size(), n);
         self.counts.jacobians += 1;
+        let mut own = vec![0.0; n * n];
+        if self
+            .system
+            .jacobian(t, x, &mut own)
+            .map_err(|message| SolverError::System { t, message })?
+        {
+            if let Some(index) = own.iter().position(|v| !v.is_finite()) {
+                return Err(SolverError::System {
+                    t,
+                    message: format!(
+                        "the system's Jacobian has a non-finite entry (row {}, column {})",
+                        index % n,
+                        index / n
+                    ),
+                });
+            }
+            self.counts.system_jacobians += 1;
+            for j in 0..n {
+                for i in 0..n {
+                    jac.set(i, j, own[i + j * n]);
+                }
+            }
+            return Ok(());
+        }
         let mut f0 = vec![0.0; n];
         self.rhs(t, x, &mut f0)?;
         let mut xp = x.to_vec();

@@ -260,6 +260,7 @@ impl Integrator {
             steps: self.retired.steps + steps,
             rhs_evaluations: self.counts.rhs,
             jacobian_evaluations: self.counts.jacobians,
+            system_jacobians: self.counts.system_jacobians,
             rejected_steps: self.retired.rejected_steps + rejected,
             indicator_evaluations: self.counts.indicators,
             restarts: self.retired.restarts,

@@ -29,11 +29,18 @@ pub trait OdeSystem {
     fn derivatives(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), String>;
     /// Event indicators z(t, x). An event is `events::crossed(before, after)`.
     fn indicators(&mut self, t: f64, x: &[f64], z: &mut [f64]) -> Result<(), String>;
+    /// The Jacobian df/dx at (t, x), when the system has one of its own (an FMU's directional
+    /// derivatives): `jac[i + j n]` = d f_i / d x_j (column-major), and `Ok(true)`. The
+    /// default, `Ok(false)`, leaves BDF to finite differences.
+    fn jacobian(&mut self, _t: f64, _x: &[f64], _jac: &mut [f64]) -> Result<bool, String> {
+        Ok(false)
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Method {
-    /// Variable-order (1..5) BDF with Newton iterations on a finite-difference Jacobian: stiff.
+    /// Variable-order (1..5) BDF with Newton iterations on the system's Jacobian or a
+    /// finite-difference one: stiff.
     Bdf,
     /// Tsitouras 5(4) explicit Runge-Kutta with 4th-order dense output: non-stiff.
     Tsit45,
@@ -75,8 +82,11 @@ pub struct Statistics {
     pub steps: u64,
     /// Calls of `OdeSystem::derivatives`, including those for finite differences.
     pub rhs_evaluations: u64,
-    /// Finite-difference Jacobians formed (each costs n extra derivative calls).
+    /// Jacobians formed: finite-difference ones (each costs n + 1 derivative calls) and the
+    /// system's own.
     pub jacobian_evaluations: u64,
+    /// Of those, the system's own ([`OdeSystem::jacobian`]).
+    pub system_jacobians: u64,
     /// Steps rejected by the error test or by a failed Newton iteration.
     pub rejected_steps: u64,
     /// Calls of `OdeSystem::indicators`.

@@ -4,4 +4,5 @@
 mod accuracy;
 mod common;
 mod edge_cases;
+mod jacobian;
 mod methods;

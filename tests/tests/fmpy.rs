@@ -8,10 +8,11 @@ use system_tests::{
 };
 
 /// Every script in tests/python, each run by one test below.
-const SCRIPTS: [&str; 3] = [
+const SCRIPTS: [&str; 4] = [
     "fmpy_validate.py",
     "fmpy_simulate.py",
     "fmpy_model_exchange.py",
+    "fmpy_derivatives.py",
 ];
 
 fn venv_python() -> PathBuf {
@@ -79,6 +80,18 @@ fn fmpy_cvode_integrates_the_model_exchange_plant_like_the_analytic_and_cs_solut
     }
     run_script_on_paths(
         "fmpy_model_exchange.py",
+        vec![fmu_path(plant), fmi3_fmu_path(plant)],
+    );
+}
+
+/// FMI 2.0 and FMI 3.0 Model Exchange: fmpy's getDirectionalDerivative of the plant equals
+/// central differences of its derivatives over every state and input (1e-6), FMI 3.0's
+/// adjoint is the transpose, and fmpy's CVode makes no derivative call.
+#[test]
+fn fmpy_directional_derivatives_of_the_plant_equal_central_differences() {
+    let plant = "LanderPlant";
+    run_script_on_paths(
+        "fmpy_derivatives.py",
         vec![fmu_path(plant), fmi3_fmu_path(plant)],
     );
 }

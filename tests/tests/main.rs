@@ -15,5 +15,6 @@ mod fmpy;
 mod fmu_metadata;
 mod module_layers;
 mod readme_fmus;
+mod release_directory;
 mod same_bits;
 mod windows_users;

@@ -99,8 +99,15 @@ fn check_tools(target: &CrossTarget) -> Result<()> {
     Ok(())
 }
 
-/// The `cargo build` of `packages`' release cdylibs for `target` with Debian's toolchain.
-pub fn build_command(ws: &Workspace, target: &CrossTarget, packages: &[&str]) -> Command {
+/// What a cross build makes: the FMU crates' libraries, or one program of one package.
+#[derive(Debug, Clone, Copy)]
+pub enum Artifact<'a> {
+    Libraries(&'a [&'a str]),
+    Program { package: &'a str, bin: &'a str },
+}
+
+/// The release `cargo build` of `artifact` for `target` with Debian's toolchain.
+pub fn artifact_command(ws: &Workspace, target: &CrossTarget, artifact: Artifact) -> Command {
     let mut cmd = Command::new(DEBIAN_CARGO);
     cmd.current_dir(&ws.root)
         .env("RUSTC", DEBIAN_RUSTC)
@@ -111,21 +118,34 @@ pub fn build_command(ws: &Workspace, target: &CrossTarget, packages: &[&str]) ->
         .env_remove("RUSTUP_TOOLCHAIN")
         .env_remove("RUSTC_WRAPPER")
         .env_remove("RUSTC_WORKSPACE_WRAPPER")
-        .args(["build", "--release", "--lib", "--target", target.triple]);
+        .args(["build", "--release", "--target", target.triple]);
     if target.build_std {
         cmd.env("RUSTC_BOOTSTRAP", "1")
             .args(["-Z", "build-std=std,panic_unwind"]);
     }
-    for package in packages {
-        cmd.args(["-p", package]);
+    match artifact {
+        Artifact::Libraries(packages) => {
+            cmd.arg("--lib");
+            for package in packages {
+                cmd.args(["-p", package]);
+            }
+        }
+        Artifact::Program { package, bin } => {
+            cmd.args(["-p", package, "--bin", bin]);
+        }
     }
     cmd
 }
 
 /// Builds `packages` for `target`; returns where the libraries are.
 pub fn build(ws: &Workspace, target: &CrossTarget, packages: &[&str]) -> Result<PathBuf> {
+    build_artifact(ws, target, Artifact::Libraries(packages))
+}
+
+/// Builds `artifact` for `target`; returns the directory it is in.
+pub fn build_artifact(ws: &Workspace, target: &CrossTarget, artifact: Artifact) -> Result<PathBuf> {
     check_tools(target).with_context(|| format!("cannot build for {}", target.triple))?;
-    workspace::run(&mut build_command(ws, target, packages))
+    workspace::run(&mut artifact_command(ws, target, artifact))
         .with_context(|| format!("building for {} with Debian's Rust", target.triple))?;
     Ok(release_dir(ws, target))
 }
@@ -174,13 +194,30 @@ mod tests {
             root: "/ws".into(),
             target_dir: "/ws/target".into(),
         };
-        let windows = workspace::describe(&build_command(&ws, &TARGETS[1], &["fmu-plant"]));
+        let windows = workspace::describe(&artifact_command(
+            &ws,
+            &TARGETS[1],
+            Artifact::Libraries(&["fmu-plant"]),
+        ));
         assert_eq!(
             windows,
-            "/usr/bin/cargo build --release --lib --target x86_64-pc-windows-gnu \
-             -Z build-std=std,panic_unwind -p fmu-plant"
+            "/usr/bin/cargo build --release --target x86_64-pc-windows-gnu \
+             -Z build-std=std,panic_unwind --lib -p fmu-plant"
         );
-        let arm = workspace::describe(&build_command(&ws, &TARGETS[0], &["fmu-plant"]));
+        let harness = Artifact::Program {
+            package: "harness",
+            bin: "harness",
+        };
+        assert_eq!(
+            workspace::describe(&artifact_command(&ws, &TARGETS[0], harness)),
+            "/usr/bin/cargo build --release --target aarch64-unknown-linux-gnu -p harness \
+             --bin harness"
+        );
+        let arm = workspace::describe(&artifact_command(
+            &ws,
+            &TARGETS[0],
+            Artifact::Libraries(&["fmu-plant"]),
+        ));
         assert!(!arm.contains("build-std"), "{arm}");
         assert_eq!(
             release_dir(&ws, &TARGETS[0]),

@@ -2,11 +2,13 @@
 //!
 //! `target/dist/lander-fmi-<version>/` holds the all-platform FMUs of every FMI version
 //! (`fmi2/`, `fmi3/`), the SSP packages (SSP 1.0 at the top, SSP 2.0 of the FMI 3.0 pair in
-//! `fmi3/`), the user documentation and `SHA256SUMS` in the
+//! `fmi3/`), the harness for every platform (`bin/<platform>/`) with the shipped scenarios
+//! (`scenarios/`), the user documentation and `SHA256SUMS` in the
 //! format `sha256sum -c` reads. The version is the workspace's (`[workspace.package]`, which
 //! xtask and every FMU crate inherit); each FMU must say the same in its model description's
 //! `version` attribute, and must carry a binary for every platform of its FMI version, or
 //! nothing is written.
+use crate::dist_harness;
 use crate::fmus;
 use crate::ssp;
 use crate::workspace::{self, Workspace};
@@ -56,6 +58,11 @@ pub fn run(ws: &Workspace) -> Result<PathBuf> {
     // The SSP 2.0 package holds the FMI 3.0 pair: beside the FMI 3.0 FMUs, as in target/fmu.
     let ssp2 = ws.fmu_dir().join("fmi3").join(ssp::PACKAGE);
     copies.push((ssp2, release.join("fmi3").join(ssp::PACKAGE)));
+    let harnesses = dist_harness::build(ws)?;
+    for built in &harnesses {
+        copies.push((built.from.clone(), release.join(&built.to)));
+    }
+    copies.push((ws.root.join("harness/scenarios"), release.join("scenarios")));
     for item in DOCUMENTATION.iter().chain(LICENSES.iter()) {
         let from = ws.root.join(item);
         if !from.exists() {
@@ -75,6 +82,9 @@ pub fn run(ws: &Workspace) -> Result<PathBuf> {
     }
     for (from, to) in &copies {
         copy(from, to)?;
+    }
+    for built in &harnesses {
+        dist_harness::strip(built, &release)?;
     }
     write_checksums(&release)?;
     println!("xtask dist: wrote {}", release.display());

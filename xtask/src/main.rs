@@ -8,6 +8,7 @@ mod campaign_dask;
 mod cross;
 mod demo;
 mod dist;
+mod dist_harness;
 mod doc_page;
 mod fmu_zip;
 mod fmus;

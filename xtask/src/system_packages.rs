@@ -14,21 +14,9 @@ pub struct Package {
     pub why: &'static str,
 }
 
-/// What `cargo xtask demo` needs: the harness draws PNG plots through fontconfig/FreeType.
-const DEMO: &[Package] = &[
-    Package {
-        name: "pkg-config",
-        why: "finds fontconfig for the plotting crate",
-    },
-    Package {
-        name: "libfontconfig1-dev",
-        why: "the harness's PNG plots render text through fontconfig",
-    },
-    Package {
-        name: "fonts-dejavu-core",
-        why: "a font for the plot labels",
-    },
-];
+/// What `cargo xtask demo` needs beyond cargo: nothing, since the figures carry their own
+/// font (`report/fonts/`) and no crate of the demo binds a system library.
+const DEMO: &[Package] = &[];
 
 /// What `cargo xtask test` needs on top of [`DEMO`].
 const TEST: &[Package] = &[

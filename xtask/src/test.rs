@@ -9,7 +9,7 @@ struct Stage {
     run: fn(&Workspace) -> Result<()>,
 }
 
-const STAGES: [Stage; 8] = [
+const STAGES: [Stage; 9] = [
     // First: a missing C library otherwise fails deep inside a build script.
     Stage {
         name: "system packages",
@@ -78,6 +78,23 @@ const STAGES: [Stage; 8] = [
             ]))?;
             // Kept to repeat a failed run by hand; a passed stage needs none of them.
             remove_trajectories(&ws.target_dir.join("cross-runs").join("runs"))
+        },
+    },
+    // The release as a user unpacks it: its harness for every platform, run from a copy
+    // of the release directory alone (natively, under qemu-aarch64, under Wine).
+    Stage {
+        name: "release",
+        run: |ws| {
+            crate::dist::run(ws)?;
+            workspace::run(ws.cargo().args([
+                "test",
+                "--workspace",
+                "--test",
+                "main",
+                "--",
+                "--ignored",
+                "release_directory::",
+            ]))
         },
     },
 ];

@@ -25,6 +25,7 @@ mod buffer;
 mod checkpoint;
 mod conventions;
 mod finite;
+mod linearize;
 mod loops;
 mod model_exchange;
 mod resolve;
@@ -34,6 +35,7 @@ mod terminals;
 mod text;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
+pub use linearize::Jacobians;
 pub use model_exchange::{EventCounts, MeError, SolverSettings};
 pub use resolve::Port;
 pub use saved::{
@@ -504,6 +506,9 @@ pub struct Simulation {
     /// Saved runs to continue or save (`saved.rs`), and where the last run saved.
     checkpoints: saved::Checkpoints,
     saved_at: Option<f64>,
+    /// Where a run stops with its instances kept (`linearize.rs`), and where the last one did.
+    hold_at: Option<f64>,
+    held_at: Option<f64>,
 }
 
 /// Directories a relative FMU path is looked up in after the caller's FMU directory, in
@@ -741,6 +746,8 @@ impl Simulation {
             conventions: Conventions::default(),
             checkpoints: saved::Checkpoints::default(),
             saved_at: None,
+            hold_at: None,
+            held_at: None,
         })
     }
 
@@ -869,6 +876,15 @@ impl Simulation {
     }
 
     /// Every connected variable with its direction, for writing an SSD.
+    /// Each Model Exchange instance's solver counters over the last run (steps, derivative
+    /// calls, Jacobians and how many the FMU gave), in instance order.
+    pub fn model_exchange_statistics(&self) -> Vec<(&str, ode_solver::Statistics)> {
+        self.units
+            .iter()
+            .filter_map(|unit| Some((unit.name.as_str(), unit.model_exchange.as_ref()?.statistics)))
+            .collect()
+    }
+
     /// Each Model Exchange instance's events in the last run, in instance order.
     pub fn model_exchange_events(&self) -> Vec<(&str, EventCounts)> {
         self.units
@@ -898,6 +914,7 @@ impl Simulation {
             }
         }
         self.fresh = false;
+        self.held_at = None;
         self.final_row.fill(f64::NAN);
         self.last_texts.fill(None);
         self.finite.reset();
@@ -942,6 +959,11 @@ impl Simulation {
                 for u in 0..self.units.len() {
                     self.set_inputs(u)?;
                 }
+            }
+            // A hold: every input set for this point, nothing stepped, nothing terminated.
+            if self.hold_at.is_some_and(|hold| time >= hold - 0.5 * h) {
+                self.held_at = Some(time);
+                return Ok(RunEnd::Completed);
             }
             for u in 0..self.units.len() {
                 self.outputs_read[u] = false;
@@ -1060,6 +1082,13 @@ impl Simulation {
             }
         }
         self.record(clock.end_time(), recorder)?;
+        if self
+            .hold_at
+            .is_some_and(|hold| clock.end_time() >= hold - 0.5 * step_size)
+        {
+            self.held_at = Some(clock.end_time());
+            return Ok(RunEnd::Completed);
+        }
         self.read_final(clock.end_time())?;
         self.terminate_all();
         Ok(RunEnd::Completed)

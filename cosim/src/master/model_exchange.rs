@@ -7,9 +7,10 @@
 //! Each communication step starts the solver afresh from the FMU's states: the inputs the
 //! master has just set are constant over the step and may have jumped at its start, which a
 //! multistep method must not integrate across.
+use crate::system::JacobianSource;
 pub use crate::system::SolverSettings;
 use fmi_import::{FmiError, Instance, MeVector, StepStatus, Success};
-use ode_solver::{Advance, Integrator, Method, OdeSystem, SolverError};
+use ode_solver::{Advance, Integrator, Method, OdeSystem, SolverError, Statistics};
 
 /// Event iterations (`fmi2NewDiscreteStates` or `fmi3UpdateDiscreteStates` calls at one instant) before the master gives up:
 /// an FMU that keeps asking for new discrete states would otherwise hang the run.
@@ -40,6 +41,47 @@ pub(super) struct ModelExchangeUnit {
     next_time_event: Option<f64>,
     x: Vec<f64>,
     pub(super) events: EventCounts,
+    /// The FMU's Jacobian, when BDF takes it from its directional derivatives.
+    jacobian: Option<JacobianPlan>,
+    /// The solver's counters over the run, every communication step's added.
+    pub(super) statistics: Statistics,
+}
+
+/// How BDF's Jacobian is read from an FMU: per state (column), the derivatives (rows) its
+/// `ModelStructure` declares dependent on it, asked for together with a unit seed.
+struct JacobianPlan {
+    states: Vec<u32>,
+    derivatives: Vec<u32>,
+    /// Per column: the rows asked for.
+    rows: Vec<Vec<usize>>,
+}
+
+impl JacobianPlan {
+    /// The plan of `instance`, if its description declares directional derivatives and
+    /// states that match its state vector.
+    fn of(instance: &Instance, states: usize) -> Option<Self> {
+        if instance.derivative_refusal(false).is_some() {
+            return None;
+        }
+        let structure = instance.derivative_structure().ok()?;
+        if structure.states.len() != states || structure.derivatives.len() != states {
+            return None;
+        }
+        let rows = structure
+            .states
+            .iter()
+            .map(|&state| {
+                (0..states)
+                    .filter(|&i| structure.derivatives[i].depends_on(state))
+                    .collect()
+            })
+            .collect();
+        Some(Self {
+            states: structure.states,
+            derivatives: structure.derivatives.iter().map(|d| d.unknown).collect(),
+            rows,
+        })
+    }
 }
 
 /// The events a Model Exchange instance had in a run, by their cause.
@@ -53,11 +95,13 @@ pub struct EventCounts {
     pub step: u64,
 }
 
-/// The FMU as the solver sees it: set time and states, read derivatives or indicators.
+/// The FMU as the solver sees it: set time and states, read derivatives, indicators or its
+/// Jacobian.
 struct Fmu<'a> {
     instance: &'a mut Instance,
     states: usize,
     indicators: usize,
+    jacobian: Option<&'a JacobianPlan>,
 }
 
 impl Fmu<'_> {
@@ -93,11 +137,41 @@ impl OdeSystem for Fmu<'_> {
             .map(|_| ())
             .map_err(|e| e.to_string())
     }
+    fn jacobian(&mut self, t: f64, x: &[f64], jac: &mut [f64]) -> Result<bool, String> {
+        let Some(plan) = self.jacobian else {
+            return Ok(false);
+        };
+        self.at(t, x)?;
+        let n = self.states;
+        jac.fill(0.0);
+        let mut unknowns = Vec::with_capacity(n);
+        let mut column = Vec::with_capacity(n);
+        for (j, rows) in plan.rows.iter().enumerate() {
+            if rows.is_empty() {
+                continue;
+            }
+            unknowns.clear();
+            unknowns.extend(rows.iter().map(|&i| plan.derivatives[i]));
+            column.clear();
+            column.resize(rows.len(), 0.0);
+            self.instance
+                .get_directional_derivative(&unknowns, &[plan.states[j]], &[1.0], &mut column)
+                .map_err(|e| e.to_string())?;
+            for (&i, value) in rows.iter().zip(&column) {
+                jac[i + j * n] = *value;
+            }
+        }
+        Ok(true)
+    }
 }
 
 impl ModelExchangeUnit {
     pub(super) fn new(settings: SolverSettings, instance: &mut Instance) -> Result<Self, FmiError> {
         let (states, indicators) = instance.model_exchange_sizes()?;
+        let jacobian = match (settings.method, settings.jacobian) {
+            (Method::Bdf, JacobianSource::Fmu) => JacobianPlan::of(instance, states),
+            _ => None,
+        };
         Ok(Self {
             settings,
             states,
@@ -105,6 +179,8 @@ impl ModelExchangeUnit {
             next_time_event: None,
             x: vec![0.0; states],
             events: EventCounts::default(),
+            jacobian,
+            statistics: Statistics::default(),
         })
     }
 
@@ -141,20 +217,40 @@ impl ModelExchangeUnit {
         if self.states > 0 {
             instance.get_vector(MeVector::States, &mut self.x)?;
         }
+        let plan = self.jacobian.take();
         let mut fmu = Fmu {
             instance,
             states: self.states,
             indicators: self.indicators,
+            jacobian: plan.as_ref(),
         };
-        let mut integrator = Integrator::new(
+        let stepped = match Integrator::new(
             settings.method,
             settings.tolerances,
             &mut fmu,
             time,
             &self.x,
-        )
-        .map_err(|e| solver(e, time))?;
-        self.integrate(&mut integrator, &mut fmu, end)
+        ) {
+            Ok(mut integrator) => {
+                let stepped = self.integrate(&mut integrator, &mut fmu, end);
+                self.add_statistics(integrator.statistics());
+                stepped
+            }
+            Err(e) => Err(solver(e, time)),
+        };
+        self.jacobian = plan;
+        stepped
+    }
+
+    fn add_statistics(&mut self, step: Statistics) {
+        let s = &mut self.statistics;
+        s.steps += step.steps;
+        s.rhs_evaluations += step.rhs_evaluations;
+        s.jacobian_evaluations += step.jacobian_evaluations;
+        s.system_jacobians += step.system_jacobians;
+        s.rejected_steps += step.rejected_steps;
+        s.indicator_evaluations += step.indicator_evaluations;
+        s.restarts += step.restarts;
     }
 
     fn integrate(

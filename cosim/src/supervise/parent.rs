@@ -424,6 +424,7 @@ impl Worker {
             command.env(fmi_abi::unpack::MAX_UNPACKED_BYTES_ENV, bytes.to_string());
         }
         let memory = limits.memory_bytes();
+        #[cfg(unix)]
         {
             use std::os::unix::process::CommandExt;
             // SAFETY: only async-signal-safe calls between fork and exec.
@@ -443,6 +444,10 @@ impl Worker {
                 });
             }
         }
+        // Windows has no address-space limit to set before the worker starts (a job object
+        // would be one); there the memory limit is not enforced, as docs/robustness.md says.
+        #[cfg(not(unix))]
+        let _ = memory;
         let mut child = command.spawn().map_err(|e| {
             broken(format!(
                 "cannot start {} as a worker: {e}",
@@ -597,7 +602,6 @@ impl Worker {
 
     /// How the worker ended, waiting a little for it (and killing it if it does not).
     fn exit_status(&mut self) -> How {
-        use std::os::unix::process::ExitStatusExt;
         let started = Instant::now();
         let status = loop {
             match self.child.try_wait() {
@@ -611,8 +615,16 @@ impl Worker {
                 }
             }
         };
+        #[cfg(unix)]
+        let signal = |status: std::process::ExitStatus| {
+            use std::os::unix::process::ExitStatusExt;
+            status.signal()
+        };
+        // Windows ends a crashed process with an exit code (an NTSTATUS), never a signal.
+        #[cfg(not(unix))]
+        let signal = |_: std::process::ExitStatus| None::<i32>;
         match status {
-            Some(status) => match (status.code(), status.signal()) {
+            Some(status) => match (status.code(), signal(status)) {
                 (Some(code), _) => How::Exited(code),
                 (None, Some(signal)) => How::Signal(signal),
                 (None, None) => How::Broken("ended in an unknown way".into()),

@@ -7,10 +7,12 @@ use std::fs::{File, OpenOptions};
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// A file mapped shared and writable; unmapped on drop.
+/// A file mapped shared and writable; unmapped on drop. memmap2 maps it the platform's
+/// way (mmap, or a Windows file mapping), so both processes see one memory on either.
 pub(super) struct Mapping {
+    // Kept for its drop, which unmaps; every access goes through `pointer`.
+    _map: memmap2::MmapMut,
     pointer: *mut u8,
-    len: usize,
 }
 
 // The mapping is plain memory; its users synchronise through atomics and the pipe.
@@ -25,7 +27,7 @@ impl Mapping {
             .create(true)
             .truncate(true)
             .open(path)?;
-        file.set_len(len as u64)?;
+        file.set_len(len.max(1) as u64)?;
         Self::map(&file, len)
     }
 
@@ -42,37 +44,16 @@ impl Mapping {
     }
 
     fn map(file: &File, len: usize) -> std::io::Result<Self> {
-        use std::os::fd::AsRawFd;
-        // SAFETY: a fresh shared mapping of an open file; the pointer is checked below and
-        // owned by the returned value until it unmaps it.
-        let pointer = unsafe {
-            libc::mmap(
-                std::ptr::null_mut(),
-                len.max(1),
-                libc::PROT_READ | libc::PROT_WRITE,
-                libc::MAP_SHARED,
-                file.as_raw_fd(),
-                0,
-            )
-        };
-        if pointer == libc::MAP_FAILED {
-            return Err(std::io::Error::last_os_error());
-        }
-        Ok(Self {
-            pointer: pointer.cast(),
-            len,
-        })
+        // SAFETY: the file is the supervisor's own, in a directory only it and its worker
+        // use; the two processes coordinate every access through atomics and the pipe, so
+        // no one truncates it while it is mapped.
+        let mut map = unsafe { memmap2::MmapOptions::new().len(len.max(1)).map_mut(file)? };
+        let pointer = map.as_mut_ptr();
+        Ok(Self { _map: map, pointer })
     }
 
     pub(super) fn as_ptr(&self) -> *mut u8 {
         self.pointer
-    }
-}
-
-impl Drop for Mapping {
-    fn drop(&mut self) {
-        // SAFETY: mapped by `map` with this length; nothing refers to it after drop.
-        unsafe { libc::munmap(self.pointer.cast(), self.len.max(1)) };
     }
 }
 

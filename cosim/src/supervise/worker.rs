@@ -8,7 +8,6 @@ use super::shared::{BlackBox, Ring};
 use crate::master::{MasterError, Recorder, Simulation};
 use std::fs::File;
 use std::io::{BufReader, BufWriter};
-use std::os::fd::FromRawFd;
 use std::path::Path;
 
 type Input = BufReader<File>;
@@ -17,7 +16,9 @@ type Output = BufWriter<File>;
 /// Takes stdin and stdout for the protocol and points fd 1 at stderr, so that whatever FMU
 /// code prints cannot corrupt the parent's stream (and still reaches the user), and fd 0 at
 /// /dev/null.
+#[cfg(unix)]
 fn protocol_streams() -> std::io::Result<(Input, Output)> {
+    use std::os::fd::FromRawFd;
     // SAFETY: plain descriptor calls on this process's own standard descriptors; each result
     // is checked before use and owned by exactly one File.
     unsafe {
@@ -36,6 +37,30 @@ fn protocol_streams() -> std::io::Result<(Input, Output)> {
             BufWriter::new(File::from_raw_fd(output)),
         ))
     }
+}
+
+/// As on Unix: the protocol gets copies of the standard input and output handles, and
+/// standard output (the C runtime's fd 1 and the process's handle, which Rust's `print!`
+/// reads) is pointed at standard error.
+#[cfg(windows)]
+fn protocol_streams() -> std::io::Result<(Input, Output)> {
+    use std::os::windows::io::AsHandle;
+    use windows_sys::Win32::System::Console::{
+        GetStdHandle, SetStdHandle, STD_ERROR_HANDLE, STD_OUTPUT_HANDLE,
+    };
+    let input = std::io::stdin().as_handle().try_clone_to_owned()?;
+    let output = std::io::stdout().as_handle().try_clone_to_owned()?;
+    // SAFETY: plain calls on this process's own standard handles and descriptors.
+    unsafe {
+        if SetStdHandle(STD_OUTPUT_HANDLE, GetStdHandle(STD_ERROR_HANDLE)) == 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+        libc::dup2(2, 1);
+    }
+    Ok((
+        BufReader::new(File::from(input)),
+        BufWriter::new(File::from(output)),
+    ))
 }
 
 /// Runs the worker until the parent closes its stdin; the process's exit code.

@@ -13,7 +13,7 @@ pub mod ssp2;
 pub mod toml_format;
 
 pub use input_table::InputTable;
-pub use solver::SolverSettings;
+pub use solver::{JacobianSource, SolverSettings};
 
 use std::path::PathBuf;
 

@@ -46,6 +46,9 @@ struct Instance {
     absolute_tolerance: Option<f64>,
     /// Width of the time bracket a state event is located to, in seconds.
     event_tolerance: Option<f64>,
+    /// BDF's Jacobian: "fmu" (directional derivatives when declared, default) or
+    /// "differences".
+    jacobian: Option<String>,
 }
 
 /// The instance's interface and solver, every problem named at once.
@@ -68,6 +71,7 @@ fn solver_settings(instance: &Instance) -> Result<Option<super::SolverSettings>,
         ("relative_tolerance", instance.relative_tolerance.is_some()),
         ("absolute_tolerance", instance.absolute_tolerance.is_some()),
         ("event_tolerance", instance.event_tolerance.is_some()),
+        ("jacobian", instance.jacobian.is_some()),
     ];
     if !model_exchange {
         for (key, given) in solver_keys {
@@ -91,6 +95,14 @@ fn solver_settings(instance: &Instance) -> Result<Option<super::SolverSettings>,
         Some(other) => problems.push(format!(
             "instance '{name}': solver = \"{other}\" is neither \"tsit45\" (non-stiff) nor \
              \"bdf\" (stiff)"
+        )),
+    }
+    match instance.jacobian.as_deref() {
+        None | Some("fmu") => settings.jacobian = super::JacobianSource::Fmu,
+        Some("differences") => settings.jacobian = super::JacobianSource::Differences,
+        Some(other) => problems.push(format!(
+            "instance '{name}': jacobian = \"{other}\" is neither \"fmu\" (the FMU's \
+             directional derivatives) nor \"differences\""
         )),
     }
     for (key, value, slot) in [

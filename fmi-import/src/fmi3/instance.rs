@@ -20,6 +20,7 @@
 //!   is kept.
 #![allow(unsafe_code)]
 
+mod derivatives;
 mod fmu_state;
 
 use super::view::{Element, Starts};

@@ -149,6 +149,23 @@ pub(crate) fn scalar_view(
         }
         by_reference.insert(variable.value_reference, first..first + len);
     }
+    // A derivative's elements name their state's elements (1-based positions, as FMI 2.0's
+    // `derivative` attribute), so the state vector reads the same in both versions.
+    for variable in &md.variables {
+        let (Some(state), Some(range)) = (
+            variable
+                .derivative
+                .and_then(|vr| by_reference.get(&vr).cloned()),
+            by_reference.get(&variable.value_reference),
+        ) else {
+            continue;
+        };
+        for (element, state_element) in range.clone().zip(state) {
+            if let Some(real) = scalars[element].real.as_mut() {
+                real.derivative = Some(state_element as u32 + 1);
+            }
+        }
+    }
     // An alias is another name of the same value: its scalars carry the element references
     // of the variable's own, so every get, set and connection by it reaches that variable.
     // They follow all others, so that a scalar's element reference stays its position.
@@ -181,25 +198,27 @@ pub(crate) fn scalar_view(
     }
 
     let indices = |range: &std::ops::Range<usize>| range.clone().map(|i| (i + 1).to_string());
-    let outputs: Vec<Unknown> = md
-        .outputs
-        .iter()
-        .filter_map(|output| Some((output, by_reference.get(&output.value_reference)?)))
-        .flat_map(|(output, range)| {
-            let dependencies = output.dependencies.as_ref().map(|vrs| {
-                vrs.iter()
-                    .filter_map(|vr| by_reference.get(vr))
-                    .flat_map(indices)
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            });
-            range.clone().map(move |i| Unknown {
-                index: i as u32 + 1,
-                dependencies: dependencies.clone(),
-                dependencies_kind: None,
+    let unknowns = |list: &[model_description::fmi3::Fmi3Unknown]| -> Vec<Unknown> {
+        list.iter()
+            .filter_map(|unknown| Some((unknown, by_reference.get(&unknown.value_reference)?)))
+            .flat_map(|(unknown, range)| {
+                let dependencies = unknown.dependencies.as_ref().map(|vrs| {
+                    vrs.iter()
+                        .filter_map(|vr| by_reference.get(vr))
+                        .flat_map(indices)
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                });
+                range.clone().map(move |i| Unknown {
+                    index: i as u32 + 1,
+                    dependencies: dependencies.clone(),
+                    dependencies_kind: None,
+                })
             })
-        })
-        .collect();
+            .collect()
+    };
+    let outputs = unknowns(&md.outputs);
+    let derivatives = unknowns(&md.continuous_state_derivatives);
 
     let enumerations: Vec<SimpleType> = md
         .type_definitions
@@ -239,6 +258,10 @@ pub(crate) fn scalar_view(
         variable_naming_convention: md.variable_naming_convention.clone(),
         model_exchange: md.model_exchange.as_ref().map(|id| ModelExchange {
             model_identifier: id.clone(),
+            provides_directional_derivative: md
+                .model_exchange_flags
+                .as_ref()
+                .map(|me| me.provides_directional_derivatives),
             ..Default::default()
         }),
         co_simulation: md.co_simulation.as_ref().map(|co_simulation| CoSimulation {
@@ -248,6 +271,7 @@ pub(crate) fn scalar_view(
             ),
             can_get_and_set_fmu_state: Some(co_simulation.can_get_and_set_fmu_state),
             can_serialize_fmu_state: Some(co_simulation.can_serialize_fmu_state),
+            provides_directional_derivative: Some(co_simulation.provides_directional_derivatives),
             ..Default::default()
         }),
         type_definitions: (!enumerations.is_empty()).then_some(TypeDefinitions {
@@ -262,6 +286,9 @@ pub(crate) fn scalar_view(
         model_variables: ModelVariables { variables: scalars },
         model_structure: ModelStructure {
             outputs: Some(UnknownList { unknowns: outputs }),
+            derivatives: (!derivatives.is_empty()).then_some(UnknownList {
+                unknowns: derivatives,
+            }),
             ..Default::default()
         },
         ..Default::default()

@@ -83,11 +83,23 @@ pub type CompletedIntegratorStep =
 pub type SetTime = unsafe extern "C" fn(Inst, f64) -> fmi3Status;
 pub type SetContinuousStates = unsafe extern "C" fn(Inst, *const f64, usize) -> fmi3Status;
 pub type GetCount = unsafe extern "C" fn(Inst, *mut usize) -> fmi3Status;
+/// `fmi3GetDirectionalDerivative` and `fmi3GetAdjointDerivative` (the same signature).
+pub type Derivative = unsafe extern "C" fn(
+    Inst,
+    *const Vr,
+    usize,
+    *const Vr,
+    usize,
+    *const f64,
+    usize,
+    *mut f64,
+    usize,
+) -> fmi3Status;
 
 function_table! {
     $
     /// The functions both interfaces export (FMI 3.0, 2.3): version, logging, lifecycle,
-    /// values, FMU states and the event update.
+    /// values, FMU states, the event update and partial derivatives.
     Fmi3Common, linked as fmi3_common {
         get_version: GetVersion = fmi3GetVersion,
         set_debug_logging: SetDebugLogging = fmi3SetDebugLogging,
@@ -132,6 +144,8 @@ function_table! {
         serialize_fmu_state: SerializeFmuState = fmi3SerializeFMUState,
         deserialize_fmu_state: DeserializeFmuState = fmi3DeserializeFMUState,
         update_discrete_states: UpdateDiscreteStates = fmi3UpdateDiscreteStates,
+        get_directional_derivative: Derivative = fmi3GetDirectionalDerivative,
+        get_adjoint_derivative: Derivative = fmi3GetAdjointDerivative,
     }
 }
 

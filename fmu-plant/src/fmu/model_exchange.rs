@@ -6,7 +6,7 @@ use crate::physics::continuous::{
     LengthMismatch, StateElement, StateLayout, Unevaluable, EVENT_INDICATOR_COUNT,
 };
 use crate::physics::plant::{Plant, PlantRun};
-use fmi_model::{ContinuousModel, EventUpdate, Log, ModelError};
+use fmi_model::{ContinuousModel, Dependencies, EventUpdate, Log, ModelError};
 use std::borrow::Cow;
 
 const LAYOUT: StateLayout = StateLayout::ALL;
@@ -138,7 +138,7 @@ pub(super) fn co_simulation_only(plant: &Plant) -> Result<(), ModelError> {
 impl LanderPlant {
     /// The plant and its run: the running one, or in initialization the one the current
     /// parameters give (`None` while they are invalid).
-    fn continuous_view(&self) -> Option<Cow<'_, (Plant, PlantRun)>> {
+    pub(super) fn continuous_view(&self) -> Option<Cow<'_, (Plant, PlantRun)>> {
         match &self.running {
             Some(running) => Some(Cow::Borrowed(running)),
             None => Plant::new(&self.parameters)
@@ -185,6 +185,89 @@ impl ContinuousModel for LanderPlant {
     const EVENT_INDICATORS: usize = EVENT_INDICATOR_COUNT;
     const EVENT_INDICATOR_VARIABLES: &'static [&'static str] =
         &["touchdown_indicator", "exhaustion_indicator"];
+    const DECLARES_STATE_DEPENDENCIES: bool = true;
+
+    /// Which states each output and state derivative depends on under Model Exchange, for
+    /// every configuration it admits (a lag or mass properties on or off, either translation
+    /// model): exactly what `physics::sensitivity` reads.
+    fn state_dependencies(unknown: &str) -> Option<&'static [&'static str]> {
+        Some(match unknown {
+            "r_nue" | "v_nue" | "altitude" => &["translation_state"],
+            "q_body_to_nue" => &["attitude_state"],
+            "omega_body" | "omega_mean_body" => &["omega_body"],
+            "mass" | "propellant_used" => &["mass"],
+            "thrust_actual" => &["thrust_lag_state"],
+            "engine_torque_body" | "specific_force_body" | "specific_force_mean_body" => {
+                &["mass", "thrust_lag_state"]
+            }
+            "torque_actual_body" => &["torque_lag_state_body"],
+            "der_translation_state" => &[
+                "translation_state",
+                "attitude_state",
+                "mass",
+                "thrust_lag_state",
+            ],
+            "der_attitude_state" => &["attitude_state", "omega_body"],
+            "der_omega_body" => &[
+                "omega_body",
+                "mass",
+                "thrust_lag_state",
+                "torque_lag_state_body",
+            ],
+            "der_mass" => &["thrust_lag_state", "torque_lag_state_body"],
+            "der_thrust_lag_state" => &["thrust_lag_state"],
+            "der_torque_lag_state_body" => &["torque_lag_state_body"],
+            // The gear's, the pendulums' and the thrusters' force: Co-Simulation only, or
+            // constant.
+            _ => &[],
+        })
+    }
+
+    /// Within the declarations: what each element reads, over both translation models
+    /// (flat: `r' = v`, `v' = a - g`; spherical: `r' = w`, `lon' = u / (r cos lat)`,
+    /// `lat' = v / r`, and `w'` free of `w`), Euler's equations about principal axes (`w_i'`
+    /// free of `w_i`) and per-axis torques and lags.
+    fn depends_on_element(
+        unknown: &str,
+        element: usize,
+        known: &str,
+        known_element: usize,
+    ) -> bool {
+        let same = element == known_element;
+        match (unknown, known) {
+            ("r_nue", "translation_state") => known_element < 3,
+            ("altitude", "translation_state") => known_element < 2,
+            ("v_nue", "translation_state") => known_element > 0,
+            ("omega_body" | "omega_mean_body", "omega_body") => same,
+            ("torque_actual_body", "torque_lag_state_body" | "torque_cmd_body") => same,
+            ("der_translation_state", "translation_state") => match element {
+                0 => matches!(known_element, 3 | 5),
+                1 => matches!(known_element, 0 | 2 | 3 | 4),
+                2 => matches!(known_element, 0 | 4 | 5),
+                5 => known_element != 5,
+                _ => true,
+            },
+            // Position rates are velocities: no thrust, attitude or mass in them.
+            ("der_translation_state", _) => element >= 3,
+            ("der_omega_body", "omega_body") => !same,
+            ("der_omega_body", "torque_lag_state_body" | "torque_cmd_body") => same,
+            ("der_torque_lag_state_body", "torque_lag_state_body") => same,
+            _ => true,
+        }
+    }
+
+    fn derivative_input_dependencies(derivative: &str) -> Dependencies {
+        match derivative {
+            "der_translation_state" | "der_thrust_lag_state" => {
+                Dependencies::Inputs(&["thrust_cmd"])
+            }
+            "der_omega_body" | "der_mass" => {
+                Dependencies::Inputs(&["thrust_cmd", "torque_cmd_body"])
+            }
+            "der_torque_lag_state_body" => Dependencies::SameElementOf("torque_cmd_body"),
+            _ => Dependencies::NoInputs,
+        }
+    }
 
     fn state_count(&self) -> usize {
         STATE_COUNT

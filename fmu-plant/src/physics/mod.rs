@@ -1,6 +1,7 @@
 //! The lander physics, free of FMI: usable on its own and tested on its own.
 pub mod actuators;
 pub mod continuous;
+pub mod dual;
 pub mod events;
 pub mod frames;
 pub mod gear;
@@ -9,6 +10,7 @@ pub mod mass_properties;
 pub mod parameters;
 pub mod plant;
 pub mod rigid_body;
+pub mod sensitivity;
 pub mod slosh;
 pub mod slosh_dynamics;
 pub mod state;

@@ -371,6 +371,16 @@ impl Plant {
         Ok((plant, run, warning))
     }
 
+    /// The unit thrust direction, body axes.
+    pub fn thrust_direction_body(&self) -> Vector3<f64> {
+        self.thrust_direction_body
+    }
+
+    /// Mass flow per newton of engine thrust, `1 / (Isp g0)`, s/m.
+    pub fn mass_flow_per_newton(&self) -> f64 {
+        self.mass_flow_per_newton
+    }
+
     /// The steady-state actuator targets: each command saturated once per evaluation.
     fn targets(&self, commands: &Commands, exhausted: bool) -> Targets {
         Targets {

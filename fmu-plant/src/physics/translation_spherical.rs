@@ -18,6 +18,7 @@
 //! fixed to the Moon; the velocity is relative to the Moon's surface in both models.
 //! Limitation: `lon' = u / (r cos lat)` is singular at the poles; the site latitude is
 //! restricted to |lat| <= 85 deg by the parameter check.
+use super::dual::Scalar;
 use super::frames::Nue;
 use nalgebra::{Matrix3, Vector3, Vector6};
 
@@ -131,6 +132,63 @@ impl SphericalMoon {
             + (-v * w - u * u * tan_lat) / r
             + (-2.0 * om * u * slat - r * om * om * slat * clat);
         Vector6::new(w, u / (r * clat), v / r, u_dot, v_dot, w_dot)
+    }
+}
+
+/// [`SphericalMoon::derivative`] and [`SphericalMoon::to_nue`] on any [`Scalar`] (dual
+/// numbers for their derivatives): the same equations, term for term.
+impl SphericalMoon {
+    /// Local horizon `(east, north, up)` at `(lon, lat)`, Moon-fixed.
+    fn horizon_of<S: Scalar>(lon: S, lat: S) -> [[S; 3]; 3] {
+        let (slon, clon) = lon.sin_cos();
+        let (slat, clat) = lat.sin_cos();
+        let zero = S::from(0.0);
+        [
+            [-slon, clon, zero],
+            [-slat * clon, -slat * slon, clat],
+            [clat * clon, clat * slon, slat],
+        ]
+    }
+
+    /// `mf_to_site_nue^T a`: a site NUE vector in Moon-fixed axes.
+    fn site_nue_to_mf<S: Scalar>(&self, a: &[S; 3]) -> [S; 3] {
+        let m = &self.mf_to_site_nue;
+        std::array::from_fn(|j| a[0] * m[(0, j)] + a[1] * m[(1, j)] + a[2] * m[(2, j)])
+    }
+
+    /// `mf_to_site_nue v`.
+    fn mf_to_site<S: Scalar>(&self, v: &[S; 3]) -> [S; 3] {
+        let m = &self.mf_to_site_nue;
+        std::array::from_fn(|i| v[0] * m[(i, 0)] + v[1] * m[(i, 1)] + v[2] * m[(i, 2)])
+    }
+
+    /// [`SphericalMoon::derivative`] on [`Scalar`]s.
+    pub fn derivative_of<S: Scalar>(&self, x: &[S; 6], a_thrust_nue: &[S; 3]) -> [S; 6] {
+        let [r, lon, lat, u, v, w] = *x;
+        let [east, north, up] = Self::horizon_of(lon, lat);
+        let a_mf = self.site_nue_to_mf(a_thrust_nue);
+        let dot = |a: &[S; 3], b: &[S; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (a_east, a_north, a_up) = (dot(&east, &a_mf), dot(&north, &a_mf), dot(&up, &a_mf));
+        let (slat, clat) = lat.sin_cos();
+        let tan_lat = slat / clat;
+        let om = self.rotation_rate_radps;
+        let w_dot = a_up - S::from(self.mu_m3ps2) / (r * r)
+            + (u * u + v * v) / r
+            + (u * clat * (2.0 * om) + r * clat * clat * (om * om));
+        let u_dot = a_east
+            + (-u * w + u * v * tan_lat) / r
+            + (-(w * clat * (2.0 * om)) + v * slat * (2.0 * om));
+        let v_dot = a_north + (-v * w - u * u * tan_lat) / r
+            - (u * slat * (2.0 * om) + r * slat * clat * (om * om));
+        [w, u / (r * clat), v / r, u_dot, v_dot, w_dot]
+    }
+
+    /// [`SphericalMoon::to_nue`] on [`Scalar`]s: position and velocity in site NUE.
+    pub fn to_nue_of<S: Scalar>(&self, x: &[S; 6]) -> ([S; 3], [S; 3]) {
+        let [east, north, up] = Self::horizon_of(x[1], x[2]);
+        let p_mf: [S; 3] = std::array::from_fn(|i| up[i] * x[0] - self.site_mf[i]);
+        let v_mf: [S; 3] = std::array::from_fn(|i| east[i] * x[3] + north[i] * x[4] + up[i] * x[5]);
+        (self.mf_to_site(&p_mf), self.mf_to_site(&v_mf))
     }
 }
 

@@ -2,6 +2,7 @@
 //! position components against time, Fig. 5 the body rates ([`paper`]); the Monte Carlo
 //! Fig. 6 ([`monte_carlo`]); the retarget comparison ([`retarget`]). [`style`] gives every
 //! figure one look.
+mod canvas;
 pub mod monte_carlo;
 pub mod paper;
 pub mod requirement;

@@ -141,7 +141,7 @@ pub fn figure(rows: &[Row], dir: &Path, title: &str) -> anyhow::Result<PathBuf> 
 }
 
 fn draw(rows: &[Row], path: &Path, title: &str) -> anyhow::Result<()> {
-    let root = BitMapBackend::new(path, (1500, 1100)).into_drawing_area();
+    let root = super::canvas::bitmap(path, (1500, 1100));
     root.fill(&WHITE)?;
     let laws = laws(rows);
     let bound = laws.iter().any(|&l| has_p95_bound(rows, l));

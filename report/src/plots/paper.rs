@@ -113,7 +113,7 @@ fn figure_area<'a>(
     title: &str,
     legend: &Legend,
 ) -> anyhow::Result<Area<'a>> {
-    let root = BitMapBackend::new(path, size).into_drawing_area();
+    let root = super::canvas::bitmap(path, size);
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 26))?;
     style::legend_strip(&root, legend)

@@ -32,7 +32,7 @@ pub fn figure(
         })
         .collect::<anyhow::Result<_>>()?;
     let height = 50 + PANEL_HEIGHT * signals.len().max(1) as u32;
-    let root = BitMapBackend::new(path, (WIDTH, height)).into_drawing_area();
+    let root = super::canvas::bitmap(path, (WIDTH, height));
     root.fill(&WHITE)?;
     let colour = if failed {
         RGBColor(214, 39, 40)

@@ -114,7 +114,7 @@ pub fn figure(
             reference: None,
         },
     ];
-    let root = BitMapBackend::new(path, (1500, 1440)).into_drawing_area();
+    let root = super::canvas::bitmap(path, (1500, 1440));
     root.fill(&WHITE)?;
     let [n, u, e] = command.site_nue;
     let root = root.titled(

@@ -131,6 +131,9 @@ pub struct Session<'a> {
     guid: CString,
     /// The FMU declares Model Exchange: `fmi2Instantiate` must accept `fmi2ModelExchange`.
     model_exchange: bool,
+    /// The FMU declares `providesDirectionalDerivative`: its calls may succeed (else every
+    /// one must be refused).
+    derivatives: bool,
     serial: u32,
     pub stats: Stats,
 }
@@ -157,6 +160,13 @@ impl<'a> Session<'a> {
             foreign: Box::new([0; 32]),
             guid: fmu.guid(),
             model_exchange: fmu.package.description.model_exchange.is_some(),
+            derivatives: fmu
+                .package
+                .description
+                .co_simulation
+                .as_ref()
+                .and_then(|cs| cs.provides_directional_derivative)
+                == Some(true),
             serial: 0,
             stats: Stats::default(),
         };
@@ -712,12 +722,9 @@ impl<'a> Session<'a> {
                         unknown.as_mut_ptr(),
                     )
                 });
-                self.finish(
-                    "fmi2GetDirectionalDerivative",
-                    index,
-                    status,
-                    Some("directional derivatives are not provided"),
-                )
+                let must_fail =
+                    (!self.derivatives).then_some("directional derivatives are not provided");
+                self.finish("fmi2GetDirectionalDerivative", index, status, must_fail)
             }
             Op::SetRealInputDerivatives {
                 target,
