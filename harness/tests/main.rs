@@ -42,6 +42,7 @@ mod readme_examples;
 mod reference_check;
 mod report_browser;
 mod requirements;
+mod results_numbers;
 mod retarget_scenario;
 mod run_options;
 mod saved_state;
