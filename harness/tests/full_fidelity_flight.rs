@@ -62,13 +62,13 @@ fn the_full_fidelity_descent_deviation_is_the_handover_and_then_the_unobservable
 
     // WHEN the hover lasts 20 s, long enough to settle its correction before the handover
     let settled = run_1("full-fidelity-flight", &["gnc.hover_duration=20"], 151.0);
-    // THEN the deviation is within 8 m of the filter's unobservable horizontal error (27.6 m
-    // against 20.1 m): what no re-plan from the filtered state can remove
+    // THEN the deviation is within 10 m of the filter's unobservable horizontal error (27.6 m
+    // against 20.2 m): what no re-plan from the filtered state can remove
     let deviation = settled.max_horizontal_deviation_descent_m;
     let end = settled.descent_end_position_error_m;
     assert!((end - 20.1).abs() < 1.0, "settled: end {end} m");
     assert!(
-        deviation >= end && deviation < end + 8.0,
+        deviation >= end && deviation < end + 10.0,
         "settled: {deviation} m, end {end} m"
     );
 }
