@@ -28,6 +28,7 @@ mod doc_commands;
 mod figures;
 mod flight_configuration;
 mod full_fidelity;
+mod full_fidelity_flight;
 mod gnc_supervision;
 mod golden_trajectory;
 mod import;

@@ -59,6 +59,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         include_str!("../../../harness/scenarios/full-fidelity.toml"),
     ),
     (
+        "full-fidelity-flight",
+        include_str!("../../../harness/scenarios/full-fidelity-flight.toml"),
+    ),
+    (
         "landing-model-exchange",
         include_str!("../../../harness/scenarios/landing-model-exchange.toml"),
     ),
