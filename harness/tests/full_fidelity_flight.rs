@@ -1,7 +1,7 @@
 //! The full-fidelity flight configuration (`harness/scenarios/full-fidelity-flight.toml`)
 //! against the paper's on one dispersed run whose navigation filter starts 20 m off in
 //! horizontal position, an error nothing on board measures: what the descent's deviation
-//! is made of in each configuration (docs/results-full-fidelity-claim.md).
+//! is made of in each configuration (docs/results.md, "The paper's claim with every model effect on").
 use crate::common;
 
 use campaign::dispersion::DispersionRanges;
