@@ -24,11 +24,13 @@ fn check(lander: Lander) -> long_run::Report {
     assert_eq!(report.steps, STEPS);
     assert!(report.max_quaternion_norm_error <= 1e-12, "{report:?}");
     assert_eq!(report.restores, 9, "{report:?}");
-    let (min, max) = (
-        report.rss_kib.iter().min().unwrap(),
-        report.rss_kib.iter().max().unwrap(),
-    );
-    assert!(max - min <= 64, "VmRSS not flat: {report:?}");
+    // From the third sample on: the first restores size the serialized-state buffers and
+    // the allocator's arenas once (up to 128 KiB). Resident pages still move by a page
+    // table's worth (72 KiB seen on a loaded machine); the smallest leak, one 16-byte
+    // allocation per step, adds 3.3 MiB over the 210,000 steps these seven samples span.
+    let settled = &report.rss_kib[2..];
+    let (min, max) = (settled.iter().min().unwrap(), settled.iter().max().unwrap());
+    assert!(max - min <= 256, "VmRSS not flat: {report:?}");
     report
 }
 
