@@ -230,8 +230,20 @@ static void check_refusals(const Fmi2Api *api, fmi2Component c, fmi2Real t, fmi2
     check(api->GetReal(c, NULL, 1, &real) == fmi2Error,
           "fmi2GetReal with a NULL array and nvr > 0 is refused");
     check(api->CancelStep(c) == fmi2Error, "fmi2CancelStep without an asynchronous step");
-    check(api->GetDirectionalDerivative(c, NULL, 0, NULL, 0, NULL, NULL) == fmi2Error,
-          "fmi2GetDirectionalDerivative is not provided");
+    {
+        /* Set by the test from the description's providesDirectionalDerivative. */
+        const char *provides = getenv("ABI_CHECK_PROVIDES_DIRECTIONAL_DERIVATIVE");
+        if (provides != NULL && provides[0] == '1') {
+            check(api->GetDirectionalDerivative(c, NULL, 0, NULL, 0, NULL, NULL) == fmi2OK,
+                  "fmi2GetDirectionalDerivative of nothing is answered (it is provided)");
+            check(api->GetDirectionalDerivative(c, &unknown_vr, 1, &unknown_vr, 1, &real,
+                                                &real) == fmi2Error,
+                  "fmi2GetDirectionalDerivative of an unknown value reference is refused");
+        } else {
+            check(api->GetDirectionalDerivative(c, NULL, 0, NULL, 0, NULL, NULL) == fmi2Error,
+                  "fmi2GetDirectionalDerivative is not provided");
+        }
+    }
     check(api->SetRealInputDerivatives(c, NULL, 0, NULL, NULL) == fmi2Error,
           "fmi2SetRealInputDerivatives is not supported");
     check(api->GetRealOutputDerivatives(c, NULL, 0, NULL, NULL) == fmi2Error,

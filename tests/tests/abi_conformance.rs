@@ -89,7 +89,18 @@ fn c_master_binds_every_function_through_the_official_typedefs_and_simulates() {
             .filter(|v| v.real.is_some())
             .map(|v| v.value_reference.to_string())
             .collect();
+        // An FMU that declares directional derivatives answers an empty request with OK;
+        // one that does not refuses every request.
+        let provides_derivatives = description
+            .co_simulation
+            .as_ref()
+            .and_then(|cs| cs.provides_directional_derivative)
+            .unwrap_or(false);
         let output = Command::new(&program)
+            .env(
+                "ABI_CHECK_PROVIDES_DIRECTIONAL_DERIVATIVE",
+                if provides_derivatives { "1" } else { "0" },
+            )
             .arg(unpacked.library())
             .arg(&description.guid)
             .arg(unpacked.resource_uri())
