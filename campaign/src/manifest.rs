@@ -114,7 +114,7 @@ pub fn header() -> Vec<&'static str> {
         .collect()
 }
 
-fn number(value: f64) -> String {
+pub(crate) fn number(value: f64) -> String {
     if value.is_finite() {
         ryu::Buffer::new().format_finite(value).to_owned()
     } else {
@@ -138,19 +138,25 @@ impl Writer<std::fs::File> {
     /// Appends rows to a manifest whose first `keep` bytes (header and whole rows) stay; the
     /// rest (a row cut off by a kill) is cut away.
     pub fn append(path: &Path, keep: u64) -> anyhow::Result<Self> {
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .open(path)
-            .with_context(|| format!("opening {}", path.display()))?;
-        file.set_len(keep)?;
-        let mut file = file;
-        std::io::Seek::seek(&mut file, std::io::SeekFrom::End(0))?;
         Ok(Self {
-            csv: csv::WriterBuilder::new()
-                .has_headers(false)
-                .from_writer(file),
+            csv: append_at(path, keep)?,
         })
     }
+}
+
+/// A CSV writer appending to `path` after its first `keep` bytes (header and whole rows);
+/// the rest (a row cut off by a kill) is cut away.
+pub(crate) fn append_at(path: &Path, keep: u64) -> anyhow::Result<csv::Writer<std::fs::File>> {
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .with_context(|| format!("opening {}", path.display()))?;
+    file.set_len(keep)?;
+    let mut file = file;
+    std::io::Seek::seek(&mut file, std::io::SeekFrom::End(0))?;
+    Ok(csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(file))
 }
 
 /// Rewrites a manifest with `rows` sorted by flight index (through a temporary file, so a
@@ -209,7 +215,15 @@ pub fn read(path: &Path) -> anyhow::Result<Vec<Row>> {
 /// holding them: a last record not ended by a newline (cut off mid-write) is not counted.
 pub fn read_complete(path: &Path) -> anyhow::Result<(Vec<Row>, u64)> {
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut reader = csv::Reader::from_reader(bytes.as_slice());
+    let complete = complete_length(&bytes)?;
+    let whole = csv::Reader::from_reader(&bytes[..complete as usize]);
+    Ok((read_from(whole, path)?, complete))
+}
+
+/// The length of the part of a CSV file holding its header and whole records: a last record
+/// not ended by a newline (cut off mid-write) is not counted.
+fn complete_length(bytes: &[u8]) -> anyhow::Result<u64> {
+    let mut reader = csv::Reader::from_reader(bytes);
     reader.headers()?;
     let mut complete = reader.position().byte();
     let mut record = csv::StringRecord::new();
@@ -220,8 +234,23 @@ pub fn read_complete(path: &Path) -> anyhow::Result<(Vec<Row>, u64)> {
         }
         complete = end;
     }
-    let whole = csv::Reader::from_reader(&bytes[..complete as usize]);
-    Ok((read_from(whole, path)?, complete))
+    Ok(complete)
+}
+
+/// The header and whole records of a CSV file, and the bytes holding them
+/// ([`read_complete`] for any manifest layout).
+pub(crate) fn complete_records(
+    path: &Path,
+) -> anyhow::Result<(Vec<String>, Vec<csv::StringRecord>, u64)> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let complete = complete_length(&bytes)?;
+    let mut reader = csv::Reader::from_reader(&bytes[..complete as usize]);
+    let header = reader.headers()?.iter().map(str::to_owned).collect();
+    let records = reader
+        .records()
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("reading {}", path.display()))?;
+    Ok((header, records, complete))
 }
 
 fn read_from<R: std::io::Read>(

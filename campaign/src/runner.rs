@@ -1,12 +1,7 @@
-//! Running a campaign (or one shard of it) in parallel.
-//!
-//! A rayon pool of `workers` threads runs one worker loop per thread
-//! ([`rayon::ThreadPool::broadcast`]), so each thread loads exactly one FMU instance pair
-//! and reuses it (reset) for every flight it takes. Flights are handed out through an atomic
-//! counter; each finished row goes through a bounded channel to one writer thread, which
-//! appends it to `manifest.csv` and advances the progress bar. Nothing accumulates per
-//! flight: peak memory depends on the number of workers, not of flights. Rows are appended in
-//! completion order (a killed campaign keeps every finished row); at the end the manifest is
+//! Running a campaign (or one shard of it) in parallel ([`crate::parallel`]: one FMU
+//! instance pair per worker thread, reused (reset) for every flight it takes; each finished
+//! row appended to `manifest.csv` by one writer, which advances the progress bar). Rows are
+//! appended in completion order (a killed campaign keeps every finished row); at the end the manifest is
 //! rewritten sorted by flight index. Every result is a function of its flight alone, so the
 //! finished manifest does not depend on the worker count, the scheduling, sharding (after
 //! `merge-mc`) or interruptions (`resume`).
@@ -17,8 +12,6 @@ use crate::manifest::{self, Row};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{mpsc, Mutex};
 use std::time::{Duration, Instant};
 
 /// How to run a campaign; none of this changes its results.
@@ -133,75 +126,37 @@ pub fn run_resumed(
     let positions = shard.len(total);
     let count = positions.saturating_sub(kept);
     let progress = progress_bar(count, options.progress);
-    let next = AtomicU64::new(0);
-    let stop = AtomicBool::new(false);
-    let spare = Mutex::new(Some(first));
-    let (sender, receiver) = mpsc::sync_channel::<Row>(2 * options.workers);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.workers)
-        .thread_name(|i| format!("mc-worker-{i}"))
-        .build()?;
-
-    let (worker_results, written) = std::thread::scope(|scope| {
-        let writer_thread = scope.spawn(|| -> anyhow::Result<(u64, u64)> {
-            let (mut written, mut failed) = (0, 0);
-            for row in receiver {
-                failed += u64::from(row.end.is_error());
-                if let Err(error) = writer.write(&row) {
-                    // Dropping the receiver (by returning) makes the workers stop.
-                    return Err(error.context(format!("writing {}", manifest_path.display())));
-                }
-                written += 1;
-                progress.inc(1);
-            }
-            Ok((written, failed))
-        });
-        let worker_results = pool.broadcast(|_| -> anyhow::Result<()> {
-            let sender = sender.clone();
-            let mut flyer = match spare.lock().map(|mut s| s.take()) {
-                Ok(Some(flyer)) => flyer,
-                _ => Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?
-                    .with_requirements(requirements.clone())?,
-            };
-            loop {
-                if stop.load(Ordering::Relaxed) {
-                    return Ok(());
-                }
-                let j = next.fetch_add(1, Ordering::Relaxed);
-                if j >= positions {
-                    return Ok(());
-                }
-                let index = (shard.k - 1) + j * shard.n;
-                if done.contains(&index) {
-                    continue;
-                }
-                let flight = spec.flight(index);
-                let row = flyer.fly(&flight, &spec.dispersions);
-                let failed = row.end.is_error();
-                if sender.send(row).is_err() {
-                    return Ok(()); // The writer has failed; its error is reported.
-                }
-                if failed {
-                    // After fmi2Error/fmi2Fatal the instances may not be reusable.
-                    flyer = Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)
-                        .and_then(|f| f.with_requirements(requirements.clone()))
-                        .inspect_err(|_| {
-                            stop.store(true, Ordering::Relaxed);
-                        })?;
-                }
-            }
-        });
-        drop(sender);
-        let written = writer_thread
-            .join()
-            .unwrap_or_else(|_| Err(anyhow::anyhow!("the manifest writer panicked")));
-        (worker_results, written)
-    });
+    let load = || -> anyhow::Result<Flyer> {
+        Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?
+            .with_requirements(requirements.clone())
+    };
+    let mut failed = 0;
+    let work = crate::parallel::Work {
+        workers: options.workers,
+        shard,
+        total,
+        done: &done,
+    };
+    let written = crate::parallel::run(
+        work,
+        first,
+        &load,
+        &|flyer, index| {
+            let row = flyer.fly(&spec.flight(index), &spec.dispersions);
+            let failed = row.end.is_error();
+            (row, failed)
+        },
+        |row| {
+            failed += u64::from(row.end.is_error());
+            writer
+                .write(&row)
+                .with_context(|| format!("writing {}", manifest_path.display()))?;
+            progress.inc(1);
+            Ok(())
+        },
+    );
     progress.finish_and_clear();
-    for result in worker_results {
-        result?;
-    }
-    let (flights, failed) = written?;
+    let flights = written?;
     anyhow::ensure!(
         flights == count,
         "wrote {flights} of {count} flights to {}",

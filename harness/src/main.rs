@@ -13,6 +13,7 @@ mod fmu_dirs;
 mod monte_carlo;
 mod reference;
 mod saved_runs;
+mod scenario_campaign;
 mod vars;
 
 #[derive(Parser)]
@@ -200,7 +201,12 @@ enum Command {
                       with `harness replay`."
     )]
     MonteCarlo(monte_carlo::MonteCarloArgs),
-    /// Merge `monte-carlo --shard k/N` directories, checking for duplicate and missing flights.
+    /// The campaign a scenario's [campaign] table declares: its parameters swept and
+    /// dispersed, each run judged by its requirements (docs/campaigns.md).
+    #[command(allow_negative_numbers = true)]
+    Campaign(scenario_campaign::CampaignArgs),
+    /// Merge `monte-carlo --shard k/N` (or `campaign --shard k/N`) directories, checking for
+    /// duplicate and missing flights.
     #[command(name = "merge-mc", allow_negative_numbers = true)]
     MergeMc(monte_carlo::MergeArgs),
     /// Re-fly one Monte Carlo flight from its seed (or a manifest row) and write its full
@@ -657,6 +663,10 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
             }
         }
         Command::MonteCarlo(args) => exit_code = monte_carlo::monte_carlo(&args, &fmu_dir)?,
+        Command::Campaign(args) => exit_code = scenario_campaign::campaign(&args, &fmu_dir)?,
+        Command::MergeMc(args) if scenario_campaign::is_scenario_campaign(&args.inputs) => {
+            exit_code = scenario_campaign::merge(&args.inputs, &args.out_dir)?
+        }
         Command::MergeMc(args) => exit_code = monte_carlo::merge_mc(&args)?,
         Command::Replay(args) => monte_carlo::replay(&args, &fmu_dir)?,
         Command::Report { dir } => {

@@ -47,6 +47,7 @@ mod results_numbers;
 mod retarget_scenario;
 mod run_options;
 mod saved_state;
+mod scenario_campaign;
 mod single_fmu;
 mod ssp2_package;
 mod ssp_scenario;

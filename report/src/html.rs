@@ -473,7 +473,9 @@ pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathB
         );
     }
     let summary = dir.join(campaign::summary_csv::FILE_NAME);
-    if summary.is_file() {
+    if campaign::generic::config::is_scenario_campaign(dir) {
+        scenario_campaign_section(dir, &mut html)?;
+    } else if summary.is_file() {
         summary_table(&summary, &mut html)?;
         analysis_table(&summary, &mut html)?;
         let _ = writeln!(
@@ -525,6 +527,45 @@ pub fn write(dir: &Path, title: &str, failed: &[String]) -> anyhow::Result<PathB
     let out = dir.join(FILE_NAME);
     std::fs::write(&out, html).with_context(|| format!("writing {}", out.display()))?;
     Ok(out)
+}
+
+/// A scenario campaign (`harness campaign`): its printed summary (pass rate, robustness,
+/// sweep points, sensitivities) and the runs that did not pass.
+fn scenario_campaign_section(dir: &Path, html: &mut String) -> anyhow::Result<()> {
+    use campaign::generic::{manifest::Layout, summary};
+    let (plan, summary) = summary::of_directory(dir)?;
+    let _ = writeln!(
+        html,
+        "<h2>Campaign summary</h2>\n<pre>{}</pre>",
+        escape(&summary.text(&plan))
+    );
+    let manifest = dir.join(campaign::manifest::FILE_NAME);
+    let layout = Layout::of_manifest(&manifest)?;
+    let (rows, _) = layout.read_complete(&manifest)?;
+    let failed: Vec<String> = rows
+        .iter()
+        .filter(|r| !r.passed())
+        .map(|r| {
+            let inputs: Vec<String> = layout
+                .inputs
+                .iter()
+                .zip(&r.inputs)
+                .map(|(n, v)| format!("{n} = {v}"))
+                .collect();
+            format!(
+                "run {}: {} ({}) {}",
+                r.id.index,
+                r.verdict,
+                inputs.join(", "),
+                r.error
+            )
+        })
+        .collect();
+    let _ = writeln!(html, "<h2>Runs that did not pass: {}</h2>", failed.len());
+    if !failed.is_empty() {
+        let _ = writeln!(html, "<pre>{}</pre>", escape(&failed.join("\n")));
+    }
+    Ok(())
 }
 
 /// The runs of a `harness test` folder (or the one run of `harness run`): per run its
@@ -723,7 +764,9 @@ fn utc_now() -> String {
 /// manifest; any other directory the files it holds.
 pub fn for_directory(dir: &Path) -> anyhow::Result<PathBuf> {
     let manifest = dir.join(campaign::manifest::FILE_NAME);
-    let failed = if manifest.is_file() {
+    let failed = if campaign::generic::config::is_scenario_campaign(dir) {
+        Vec::new()
+    } else if manifest.is_file() {
         let rows = campaign::manifest::read(&manifest)?;
         campaign::summary_csv::failed_lines(&rows)
     } else {

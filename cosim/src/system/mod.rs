@@ -3,6 +3,7 @@
 //! scenario file ([`toml_format`]) or an SSP 1.0 or 2.0 `SystemStructure.ssd` ([`ssp`], with
 //! what only 2.0 has in [`ssp2`]), or made of one FMU alone ([`single`]); written back to SSD
 //! so the shipped `.ssd` is generated from the TOML and never drifts.
+pub mod campaign_table;
 pub mod fields;
 pub mod input_table;
 pub mod single;

@@ -25,6 +25,10 @@ struct File {
     limits: crate::limits::Limits,
     #[serde(default)]
     allow_non_finite: Vec<String>,
+    /// `[campaign]`: read by `harness campaign`, checked here for its keys only.
+    #[serde(default)]
+    #[allow(dead_code)]
+    campaign: Option<super::campaign_table::Declaration>,
 }
 
 fn default_step() -> f64 {
@@ -239,6 +243,9 @@ pub fn keys() -> Vec<(&'static str, &'static [&'static str])> {
         ("connection", super::fields::of::<ConnectionEntry>()),
         ("limits", super::fields::of::<crate::limits::Limits>()),
     ]
+    .into_iter()
+    .chain(super::campaign_table::keys())
+    .collect()
 }
 
 /// Reads a TOML scenario file.

@@ -64,6 +64,19 @@ fn every_key_the_reader_accepts_is_documented_and_every_documented_key_is_accept
             "Top-level keys",
             set(&[reader(""), &["verdict", "requirement"]]),
         ),
+        ("`[campaign]`", set(&[reader("campaign")])),
+        (
+            "`[[campaign.sweep]]`",
+            set(&[reader("campaign.sweep"), reader("campaign.sweep.grid")]),
+        ),
+        (
+            "`[[campaign.dispersion]]`",
+            set(&[reader("campaign.dispersion")]),
+        ),
+        (
+            "`[[campaign.correlation]]`",
+            set(&[reader("campaign.correlation")]),
+        ),
         ("`[[instance]]`", set(&[reader("instance")])),
         ("`[[connection]]`", set(&[reader("connection")])),
         ("`[limits]`", set(&[reader("limits")])),

@@ -1,0 +1,156 @@
+//! A scenario campaign loaded and checked: the scenario, its requirements, the plan of its
+//! runs and the manifest's columns; and one run flown on a loaded simulation.
+use crate::generic::manifest::{Layout, Row, ERROR, FAIL, PASS};
+use crate::generic::plan::{Plan, RunId};
+use crate::generic::target::Target;
+use cosim::master::{RunEnd, Trajectory};
+use cosim::requirements::Requirement;
+use cosim::supervise::Runner;
+use cosim::system::campaign_table::{self as declaration, Declaration};
+use cosim::system::{ParamValue, SystemDescription};
+use std::path::Path;
+
+/// The command line's changes to the scenario's `[campaign]` table.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Overrides {
+    pub seed: Option<u64>,
+    pub runs: Option<u64>,
+}
+
+#[derive(Debug, Clone)]
+pub struct Campaign {
+    /// The scenario file, absolute.
+    pub scenario: String,
+    pub declaration: Declaration,
+    pub plan: Plan,
+    pub requirements: Vec<Requirement>,
+    pub layout: Layout,
+    /// The system as each run records it: the requirements' signals only.
+    pub system: SystemDescription,
+}
+
+impl Campaign {
+    /// Reads the campaign of the scenario file `scenario` and checks it whole, the FMUs'
+    /// declarations included (loaded from `fmu_dir`): every problem in one error. Returns the
+    /// loaded simulation too, which the first worker takes over.
+    pub fn load(
+        scenario: &str,
+        overrides: Overrides,
+        fmu_dir: &Path,
+    ) -> anyhow::Result<(Self, Runner)> {
+        let path = Path::new(scenario);
+        anyhow::ensure!(
+            path.extension().and_then(|e| e.to_str()) == Some("toml"),
+            "{scenario}: a scenario campaign is declared in a TOML scenario's [campaign] table"
+        );
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| anyhow::anyhow!("{scenario}: cannot read it: {e}"))?;
+        let mut declaration = declaration::from_toml(&text)
+            .map_err(|e| anyhow::anyhow!("{scenario}: {e}"))?
+            .ok_or_else(|| {
+                anyhow::anyhow!(
+                    "{scenario} has no [campaign] table (docs/campaigns.md says how to declare \
+                     one)"
+                )
+            })?;
+        declaration.seed = overrides.seed.unwrap_or(declaration.seed);
+        declaration.runs = overrides.runs.unwrap_or(declaration.runs);
+        let mut problems = Vec::new();
+        let plan = Plan::new(&declaration).map_err(|p| problems.extend(p)).ok();
+        let (mut system, _) = lander::scenarios::spec::load(scenario)?;
+        let requirements = lander::scenarios::spec::requirements(scenario)?;
+        let mut record = Vec::new();
+        cosim::requirements::record_signals(&mut record, &requirements);
+        system.record = Some(record);
+        // The targets are checked against the FMUs even when the table has other problems,
+        // so that every problem is named at once.
+        let targets: Vec<Target> = declaration
+            .sweep
+            .iter()
+            .map(|s| &s.parameter)
+            .chain(declaration.dispersion.iter().map(|d| &d.parameter))
+            .filter_map(|text| Target::parse(text).ok())
+            .collect();
+        let runner = match Runner::new(system.clone(), fmu_dir) {
+            Ok(runner) => {
+                problems.extend(
+                    targets
+                        .iter()
+                        .filter_map(|t| t.problem(runner.system(), |i| runner.description(i).1)),
+                );
+                Some(runner)
+            }
+            Err(error) => {
+                problems.push(error.to_string());
+                None
+            }
+        };
+        let (Some(runner), Some(plan), true) = (runner, plan, problems.is_empty()) else {
+            anyhow::bail!(
+                "{scenario}: {} problem{} in its campaign:\n  {}",
+                problems.len(),
+                if problems.len() == 1 { "" } else { "s" },
+                problems.join("\n  ")
+            );
+        };
+        let layout = Layout {
+            inputs: plan.input_names(),
+            requirements: requirements.iter().map(|r| r.name.clone()).collect(),
+        };
+        let scenario = std::path::absolute(path)?.display().to_string();
+        Ok((
+            Self {
+                scenario,
+                declaration,
+                plan,
+                requirements,
+                layout,
+                system,
+            },
+            runner,
+        ))
+    }
+
+    /// Flies run `id` on `runner` (this campaign's system, loaded), recording into
+    /// `trajectory`. A failure is the run's result ("error"), not an error here.
+    pub fn fly(&self, runner: &mut Runner, id: RunId, trajectory: &mut Trajectory) -> Row {
+        let inputs: Vec<(&Target, f64)> = self.plan.inputs(&id);
+        let values = inputs.iter().map(|(_, v)| *v).collect();
+        let mut row = Row {
+            id,
+            inputs: values,
+            end: ERROR.into(),
+            verdict: ERROR.into(),
+            robustness: vec![f64::NAN; self.requirements.len()],
+            error: String::new(),
+        };
+        trajectory.names = runner.column_names().to_vec();
+        trajectory.times.clear();
+        trajectory.values.clear();
+        let mut attempt = || -> anyhow::Result<RunEnd> {
+            for (target, value) in &inputs {
+                let Target::Parameter { instance, variable } = target;
+                runner.set_parameter(instance, variable, ParamValue::Real(*value))?;
+            }
+            Ok(runner.run(trajectory)?)
+        };
+        match attempt() {
+            Err(error) => row.error = format!("{error:#}"),
+            Ok(end) => {
+                row.end = match end {
+                    RunEnd::Completed => "completed".into(),
+                    RunEnd::Terminated { instance, .. } => format!("terminated:{instance}"),
+                };
+                let judged = cosim::requirements::judge(&self.requirements, trajectory);
+                row.robustness = judged.iter().map(|j| j.robustness.value).collect();
+                row.verdict = if judged.iter().all(|j| j.holds()) {
+                    PASS
+                } else {
+                    FAIL
+                }
+                .into();
+            }
+        }
+        row
+    }
+}

@@ -1,0 +1,249 @@
+//! `harness campaign`: the campaign a scenario's `[campaign]` table declares, over the
+//! Oscillator test FMU (docs/examples/oscillator-campaign.toml): it runs and judges every run
+//! by the requirements; shards merged equal the whole byte for byte; `--resume` runs only the
+//! missing runs; `--replay` reproduces a run's row bit for bit; bad tables are refused with
+//! every problem at once.
+use crate::common;
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+fn example() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/examples/oscillator-campaign.toml")
+}
+
+fn campaign(out_dir: &Path, extra: &[&str]) -> Output {
+    let scenario = example();
+    let mut args = vec![
+        "campaign",
+        scenario.to_str().unwrap(),
+        "-n",
+        "6",
+        "--out-dir",
+    ];
+    args.push(out_dir.to_str().unwrap());
+    args.extend(extra);
+    common::harness(&args)
+}
+
+/// The run finished (0: every run passed; 3: some did not, which is a result too).
+fn finished(output: &Output) -> String {
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        matches!(output.status.code(), Some(0 | 3)),
+        "{:?}\n{stdout}\n{}",
+        output.status,
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
+}
+
+fn manifest(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join("manifest.csv")).unwrap()
+}
+
+#[test]
+fn a_campaign_runs_every_point_and_judges_each_run_by_the_requirements() {
+    let dir = tempfile::tempdir().unwrap();
+    let stdout = finished(&campaign(dir.path(), &["--workers", "2"]));
+    let text = manifest(dir.path());
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "index,run,run_seed,point,osc.c,osc.k,osc.x0,end,verdict,robustness:settles,\
+         robustness:bounded,error"
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 18, "3 sweep points x 6 runs");
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row[0], i.to_string());
+        // Run j meets every point with the same draw; point p sets c to its value.
+        let (run, point) = (i / 3, i % 3);
+        assert_eq!(
+            (row[1], row[3]),
+            (run.to_string().as_str(), point.to_string().as_str())
+        );
+        assert_eq!(row[4], ["0.2", "0.4", "0.8"][point]);
+        assert_eq!(row[5..7], rows[run * 3][5..7]);
+        let k: f64 = row[5].parse().unwrap();
+        let x0: f64 = row[6].parse().unwrap();
+        assert!(
+            (0.5..=1.5).contains(&k) && (0.5..=1.5).contains(&x0),
+            "{row:?}"
+        );
+        // The verdict is the requirements' conjunction.
+        let robustness: Vec<f64> = row[9..11].iter().map(|r| r.parse().unwrap()).collect();
+        let pass = robustness.iter().all(|r| *r > 0.0);
+        assert_eq!(row[8], if pass { "pass" } else { "fail" }, "{row:?}");
+        // "bounded": |x| stays below 1.6 from a start at most 1.5: robustness 1.6 - x0.
+        assert!((robustness[1] - (1.6 - x0)).abs() < 1e-12, "{row:?}");
+    }
+    // More damping settles more: the strongest damping passes every run, the weakest not.
+    let passes = |p: usize| {
+        rows.iter()
+            .filter(|r| r[3] == p.to_string() && r[8] == "pass")
+            .count()
+    };
+    assert_eq!(passes(2), 6);
+    assert!(passes(0) < 6, "{stdout}");
+    assert!(stdout.contains("95 % Clopper-Pearson"), "{stdout}");
+    assert!(
+        stdout.contains("point 2 (osc.c = 0.8): pass 6/6"),
+        "{stdout}"
+    );
+    let summary = std::fs::read_to_string(dir.path().join("summary.csv")).unwrap();
+    assert!(
+        summary.starts_with("point,osc.c,requirement,runs,passed,pass_rate"),
+        "{summary}"
+    );
+    assert!(dir.path().join("sensitivity.csv").is_file());
+    let report = common::harness(&["report", dir.path().to_str().unwrap()]);
+    assert!(report.status.success(), "{report:?}");
+    let page = std::fs::read_to_string(dir.path().join("report.html")).unwrap();
+    assert!(page.contains("Campaign summary") && page.contains("Clopper-Pearson"));
+}
+
+#[test]
+fn shards_merged_equal_the_whole_campaign_byte_for_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let whole = dir.path().join("whole");
+    finished(&campaign(&whole, &["--workers", "2", "--quiet"]));
+    let shards: Vec<PathBuf> = (1..=2)
+        .map(|k| dir.path().join(format!("shard{k}")))
+        .collect();
+    for (k, shard) in shards.iter().enumerate() {
+        let spec = format!("{}/2", k + 1);
+        finished(&campaign(
+            shard,
+            &["--shard", &spec, "--workers", "1", "--quiet", "--no-plots"],
+        ));
+        assert_eq!(manifest(shard).lines().count(), 1 + 9);
+    }
+    let merged = dir.path().join("merged");
+    let output = common::harness(&[
+        "merge-mc",
+        shards[0].to_str().unwrap(),
+        shards[1].to_str().unwrap(),
+        "--out-dir",
+        merged.to_str().unwrap(),
+    ]);
+    finished(&output);
+    assert_eq!(manifest(&merged), manifest(&whole));
+    // A shard merged twice is refused.
+    let output = common::harness(&[
+        "merge-mc",
+        shards[0].to_str().unwrap(),
+        shards[0].to_str().unwrap(),
+        "--out-dir",
+        dir.path().join("twice").to_str().unwrap(),
+    ]);
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("appear in two shards"));
+}
+
+#[test]
+fn resume_runs_only_the_missing_runs_to_the_same_manifest() {
+    let dir = tempfile::tempdir().unwrap();
+    finished(&campaign(dir.path(), &["--quiet"]));
+    let full = manifest(dir.path());
+    // Keep the header and 7 rows, and half of the 8th as a kill mid-write leaves it.
+    let lines: Vec<&str> = full.lines().collect();
+    let mut cut = lines[..8].join("\n");
+    cut.push('\n');
+    cut.push_str(&lines[8][..lines[8].len() / 2]);
+    std::fs::write(dir.path().join("manifest.csv"), cut).unwrap();
+    let stdout = finished(&campaign(dir.path(), &["--resume", "--quiet"]));
+    assert!(
+        stdout.contains("ran 11 runs (7 kept from before)"),
+        "{stdout}"
+    );
+    assert_eq!(manifest(dir.path()), full);
+    // Another definition is not resumed.
+    let output = campaign(dir.path(), &["--resume", "--seed", "8"]);
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("holds another campaign"));
+}
+
+#[test]
+fn a_replayed_run_reproduces_its_manifest_row_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    finished(&campaign(dir.path(), &["--quiet", "--workers", "2"]));
+    let out = dir.path().join("run13.csv");
+    let output = campaign(
+        dir.path(),
+        &["--replay", "13", "--out", out.to_str().unwrap()],
+    );
+    let stdout = finished(&output);
+    assert!(
+        stdout.contains("identical to") && stdout.contains("row 13, bit for bit"),
+        "{stdout}"
+    );
+    // The trajectory holds every output; its x starts at the run's dispersed x0.
+    let row: Vec<String> = manifest(dir.path())
+        .lines()
+        .nth(14)
+        .unwrap()
+        .split(',')
+        .map(String::from)
+        .collect();
+    let trajectory = std::fs::read_to_string(&out).unwrap();
+    let mut lines = trajectory.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let x = header.iter().position(|h| *h == "osc.x").unwrap();
+    let first: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(
+        first[x].parse::<f64>().unwrap(),
+        row[6].parse::<f64>().unwrap()
+    );
+    assert!(header.contains(&"osc.v"));
+    // A manifest whose row differs is reported as not reproduced.
+    let tampered = manifest(dir.path()).replacen(&row[9], "0.123", 1);
+    std::fs::write(dir.path().join("manifest.csv"), tampered).unwrap();
+    let output = campaign(
+        dir.path(),
+        &["--replay", "13", "--out", out.to_str().unwrap()],
+    );
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("does not reproduce"));
+}
+
+#[test]
+fn every_problem_of_a_campaign_table_is_named_at_once_without_a_backtrace() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(example()).unwrap();
+    let bad = text
+        .replace("parameter = \"osc.c\"", "parameter = \"spring.c\"")
+        .replace("sd = 0.2", "sd = 0.0")
+        .replace("min = 0.5\nmax = 1.5\n\n[[campaign.correlation]]", "min = 1.5\nmax = 0.5\n\n[[campaign.correlation]]")
+        .replace("rho = 0.3", "rho = 1.0")
+        + "\n[[campaign.dispersion]]\nparameter = \"osc.x\"\ndistribution = \"normal\"\nmean = 0.0\nsd = 1.0\n\
+           \n[[campaign.dispersion]]\nparameter = \"osc.nope\"\ndistribution = \"normal\"\nmean = 0.0\nsd = 1.0\n";
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, bad).unwrap();
+    let output = common::harness(&[
+        "campaign",
+        path.to_str().unwrap(),
+        "--out-dir",
+        dir.path().to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    for expected in [
+        "6 problems",
+        "the scenario has no instance 'spring'",
+        "osc.k: sd = 0 must be greater than 0",
+        "osc.x0: min = 1.5 must be less than max = 0.5",
+        "rho = 1 is not inside (-1, 1)",
+        "'x' has causality Output",
+        "declares no variable 'nope'",
+    ] {
+        assert!(
+            stderr.contains(expected),
+            "missing '{expected}' in:\n{stderr}"
+        );
+    }
+    assert!(
+        !stderr.contains("panicked") && !stderr.contains("backtrace"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("manifest.csv").exists());
+}
