@@ -665,7 +665,7 @@ fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::MonteCarlo(args) => exit_code = monte_carlo::monte_carlo(&args, &fmu_dir)?,
         Command::Campaign(args) => exit_code = scenario_campaign::campaign(&args, &fmu_dir)?,
         Command::MergeMc(args) if scenario_campaign::is_scenario_campaign(&args.inputs) => {
-            exit_code = scenario_campaign::merge(&args.inputs, &args.out_dir)?
+            exit_code = scenario_campaign::merge(&args.inputs, &args.out_dir, args.allow_missing)?
         }
         Command::MergeMc(args) => exit_code = monte_carlo::merge_mc(&args)?,
         Command::Replay(args) => monte_carlo::replay(&args, &fmu_dir)?,

@@ -159,8 +159,8 @@ fn replay(
 }
 
 /// `merge-mc` of scenario campaign shards.
-pub fn merge(inputs: &[PathBuf], out_dir: &Path) -> anyhow::Result<i32> {
-    let merged = merge::merge(inputs)?;
+pub fn merge(inputs: &[PathBuf], out_dir: &Path, allow_missing: bool) -> anyhow::Result<i32> {
+    let merged = merge::merge(inputs, allow_missing)?;
     let path = merge::write(&merged, out_dir)?;
     println!(
         "{} runs from {} inputs -> {}",
@@ -168,6 +168,9 @@ pub fn merge(inputs: &[PathBuf], out_dir: &Path) -> anyhow::Result<i32> {
         inputs.len(),
         path.display()
     );
+    if !merged.missing.is_empty() {
+        println!("missing: {} runs", merged.missing.len());
+    }
     summarise(out_dir, false)
 }
 

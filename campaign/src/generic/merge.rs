@@ -13,10 +13,12 @@ pub struct Merged {
     pub file: CampaignFile,
     pub layout: Layout,
     pub rows: Vec<Row>,
+    pub missing: Vec<u64>,
 }
 
-/// Reads and checks the shard directories (or their manifests) `inputs`.
-pub fn merge(inputs: &[PathBuf]) -> anyhow::Result<Merged> {
+/// Reads and checks the shard directories (or their manifests) `inputs`. Missing runs are
+/// an error unless `allow_missing` (they are listed in [`Merged::missing`]).
+pub fn merge(inputs: &[PathBuf], allow_missing: bool) -> anyhow::Result<Merged> {
     let mut first: Option<(CampaignFile, Layout, Plan)> = None;
     let mut rows: BTreeMap<u64, Row> = BTreeMap::new();
     let mut duplicates = Vec::new();
@@ -71,7 +73,7 @@ pub fn merge(inputs: &[PathBuf]) -> anyhow::Result<Merged> {
         .filter(|i| !rows.contains_key(i))
         .collect();
     anyhow::ensure!(
-        missing.is_empty(),
+        allow_missing || missing.is_empty(),
         "{} of {} runs are missing (a shard not merged, or not finished): {:?}",
         missing.len(),
         plan.total(),
@@ -86,6 +88,7 @@ pub fn merge(inputs: &[PathBuf]) -> anyhow::Result<Merged> {
         file,
         layout,
         rows: rows.into_values().collect(),
+        missing,
     })
 }
 
