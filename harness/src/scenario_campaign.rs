@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct CampaignArgs {
-    /// A TOML scenario with a [campaign] table (docs/campaigns.md).
+    /// A TOML scenario with a [campaign] table, or an SSP scenario or FMU whose sidecar
+    /// NAME.campaign.toml holds it (docs/campaigns.md).
     pub scenario: String,
     /// Campaign seed, instead of the table's `seed`.
     #[arg(long)]

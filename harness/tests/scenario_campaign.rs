@@ -249,3 +249,49 @@ fn every_problem_of_a_campaign_table_is_named_at_once_without_a_backtrace() {
     );
     assert!(!dir.path().join("manifest.csv").exists());
 }
+
+#[test]
+fn an_ssp_scenario_takes_its_campaign_from_a_sidecar_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(example()).unwrap();
+    // The same system as an SSD (its step: 0.01 s) and as TOML with that step.
+    let toml = dir.path().join("osc.toml");
+    std::fs::write(&toml, text.replace("step_size = 0.05", "step_size = 0.01")).unwrap();
+    let ssd = dir.path().join("osc.ssd");
+    std::fs::write(
+        &ssd,
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0" name="osc">
+  <ssd:System name="osc">
+    <ssd:Elements>
+      <ssd:Component name="osc" type="application/x-fmu-sharedlibrary" source="Oscillator.fmu"/>
+    </ssd:Elements>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="20"/>
+</ssd:SystemStructureDescription>
+"#,
+    )
+    .unwrap();
+    let sidecar = &text[text.find("[campaign]").unwrap()..];
+    std::fs::write(dir.path().join("osc.campaign.toml"), sidecar).unwrap();
+    let run = |scenario: &Path, out: &str| {
+        let out = dir.path().join(out);
+        finished(&common::harness(&[
+            "campaign",
+            scenario.to_str().unwrap(),
+            "-n",
+            "4",
+            "--quiet",
+            "--out-dir",
+            out.to_str().unwrap(),
+        ]));
+        manifest(&out)
+    };
+    let from_ssd = run(&ssd, "ssd");
+    assert_eq!(from_ssd.lines().count(), 1 + 12);
+    assert_eq!(from_ssd, run(&toml, "toml"));
+    // Without its sidecar an SSD has no campaign.
+    std::fs::remove_file(dir.path().join("osc.campaign.toml")).unwrap();
+    let output = common::harness(&["campaign", ssd.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&output.stderr).contains("osc.campaign.toml: cannot read it"));
+}

@@ -29,8 +29,22 @@ pub struct Campaign {
     pub system: SystemDescription,
 }
 
+/// The TOML file that declares the campaign of `scenario`: the scenario itself, or for an
+/// SSP scenario (`.ssd`, `.ssp`) or one FMU alone its sidecar `NAME.campaign.toml` beside it,
+/// which holds the
+/// `[campaign]` table and the `[[requirement]]`s an SSD has no place for.
+pub fn declared_in(scenario: &Path) -> std::path::PathBuf {
+    match scenario.extension().and_then(|e| e.to_str()) {
+        Some("ssd" | "ssp" | "fmu") => {
+            let stem = scenario.file_stem().unwrap_or_default().to_string_lossy();
+            scenario.with_file_name(format!("{stem}.campaign.toml"))
+        }
+        _ => scenario.to_owned(),
+    }
+}
+
 impl Campaign {
-    /// Reads the campaign of the scenario file `scenario` and checks it whole, the FMUs'
+    /// Reads the campaign of the scenario file `scenario` ([`declared_in`]) and checks it whole, the FMUs'
     /// declarations included (loaded from `fmu_dir`): every problem in one error. Returns the
     /// loaded simulation too, which the first worker takes over.
     pub fn load(
@@ -39,18 +53,15 @@ impl Campaign {
         fmu_dir: &Path,
     ) -> anyhow::Result<(Self, Runner)> {
         let path = Path::new(scenario);
-        anyhow::ensure!(
-            path.extension().and_then(|e| e.to_str()) == Some("toml"),
-            "{scenario}: a scenario campaign is declared in a TOML scenario's [campaign] table"
-        );
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| anyhow::anyhow!("{scenario}: cannot read it: {e}"))?;
+        let declared = declared_in(path);
+        let text = std::fs::read_to_string(&declared)
+            .map_err(|e| anyhow::anyhow!("{}: cannot read it: {e}", declared.display()))?;
+        let at = declared.display();
         let mut declaration = declaration::from_toml(&text)
-            .map_err(|e| anyhow::anyhow!("{scenario}: {e}"))?
+            .map_err(|e| anyhow::anyhow!("{at}: {e}"))?
             .ok_or_else(|| {
                 anyhow::anyhow!(
-                    "{scenario} has no [campaign] table (docs/campaigns.md says how to declare \
-                     one)"
+                    "{at} has no [campaign] table (docs/campaigns.md says how to declare one)"
                 )
             })?;
         declaration.seed = overrides.seed.unwrap_or(declaration.seed);
@@ -58,7 +69,8 @@ impl Campaign {
         let mut problems = Vec::new();
         let plan = Plan::new(&declaration).map_err(|p| problems.extend(p)).ok();
         let (mut system, _) = lander::scenarios::spec::load(scenario)?;
-        let requirements = lander::scenarios::spec::requirements(scenario)?;
+        let requirements =
+            cosim::requirements::from_toml(&text).map_err(|e| anyhow::anyhow!("{at}: {e}"))?;
         let mut record = Vec::new();
         cosim::requirements::record_signals(&mut record, &requirements);
         system.record = Some(record);
