@@ -125,7 +125,7 @@ pub fn run_resumed(
     let kept = done.len() as u64;
     let positions = shard.len(total);
     let count = positions.saturating_sub(kept);
-    let progress = progress_bar(count, options.progress);
+    let progress = progress_bar(count, options.progress, "flights");
     let load = || -> anyhow::Result<Flyer> {
         Flyer::new(system.clone(), verdict_spec, &options.fmu_dir)?
             .with_requirements(requirements.clone())
@@ -258,15 +258,16 @@ fn finished_rows(
     }))
 }
 
-fn progress_bar(len: u64, show: bool) -> ProgressBar {
+/// A progress bar of `len` runs, counted in `unit` ("flights", "runs"); hidden unless `show`.
+pub(crate) fn progress_bar(len: u64, show: bool, unit: &str) -> ProgressBar {
     if !show {
         return ProgressBar::hidden();
     }
     // `stderr()` draws only when stderr is a terminal.
     let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template(
-        "{elapsed_precise} {wide_bar} {pos}/{len} flights, {per_sec}, ETA {eta}",
-    ) {
+    if let Ok(style) = ProgressStyle::with_template(&format!(
+        "{{elapsed_precise}} {{wide_bar}} {{pos}}/{{len}} {unit}, {{per_sec}}, ETA {{eta}}"
+    )) {
         bar.set_style(style);
     }
     bar

@@ -30,7 +30,7 @@ pub struct CampaignArgs {
     /// finished runs, run the others. Without a campaign there, start one.
     #[arg(long)]
     pub resume: bool,
-    /// No summary printed.
+    /// No progress bar and no summary printed.
     #[arg(long, short)]
     pub quiet: bool,
     /// Accepted for `monte-carlo`'s callers (a scenario campaign draws no figure).
@@ -83,6 +83,7 @@ pub fn campaign(args: &CampaignArgs, fmu_dir: &Path) -> anyhow::Result<i32> {
             .unwrap_or_else(campaign::runner::default_workers),
         shard: args.shard.unwrap_or(Shard::WHOLE),
         resume: args.resume,
+        progress: !args.quiet,
     };
     let (_, outcome) = runner::run(&args.scenario, overrides, &options)?;
     println!(

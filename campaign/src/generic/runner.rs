@@ -22,6 +22,8 @@ pub struct RunOptions {
     pub shard: Shard,
     /// Keep the finished rows of the campaign in `out_dir` and run only the others.
     pub resume: bool,
+    /// Show a progress bar (it still hides itself when stderr is not a terminal).
+    pub progress: bool,
 }
 
 /// What a campaign invocation did.
@@ -83,6 +85,11 @@ pub fn run(
         }
     };
     let positions = shard.len(total);
+    let progress = crate::runner::progress_bar(
+        positions.saturating_sub(done.len() as u64),
+        options.progress,
+        "runs",
+    );
     let load = || -> anyhow::Result<Runner> {
         Ok(Runner::new(campaign.system.clone(), &options.fmu_dir)?)
     };
@@ -101,8 +108,13 @@ pub fn run(
             let failed = row.verdict == manifest::ERROR;
             (row, failed)
         },
-        |row| writer.write(&row),
+        |row| {
+            writer.write(&row)?;
+            progress.inc(1);
+            Ok(())
+        },
     );
+    progress.finish_and_clear();
     let ran = written?;
     drop(writer);
     let (rows, _) = layout.read_complete(&manifest_path)?;
