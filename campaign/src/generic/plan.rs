@@ -12,6 +12,10 @@ use crate::generic::target::Target;
 use crate::seed::run_seed;
 use cosim::system::campaign_table::Declaration;
 
+/// The most runs a Latin hypercube campaign may have: its strata are a permutation of the
+/// runs per dispersed parameter, held in memory (80 MB per parameter at this count).
+pub const MAX_LATIN_HYPERCUBE_RUNS: u64 = 10_000_000;
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
     pub seed: u64,
@@ -45,6 +49,14 @@ impl Plan {
         }
         let sampling = match d.sampling.as_str() {
             "random" => Sampling::Random,
+            "latin-hypercube" if d.runs > MAX_LATIN_HYPERCUBE_RUNS => {
+                problems.push(format!(
+                    "[campaign] runs = {} with sampling = \"latin-hypercube\": at most {} (the \
+                     strata of every run are held in memory, 8 bytes per run and parameter)",
+                    d.runs, MAX_LATIN_HYPERCUBE_RUNS
+                ));
+                Sampling::LatinHypercube
+            }
             "latin-hypercube" => Sampling::LatinHypercube,
             other => {
                 problems.push(format!(

@@ -188,6 +188,8 @@ fn every_problem_of_a_campaign_table_is_listed_at_once() {
         );
     }
     assert_eq!(e.len(), expected.len(), "{e:#?}");
+    let e = plan("runs = 10000001\nsampling = 'latin-hypercube'\n").unwrap_err();
+    assert!(e[0].contains("at most 10000000"), "{e:?}");
 }
 
 #[test]
