@@ -214,7 +214,8 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Replay(monte_carlo::ReplayArgs),
     /// Write DIR/report.html: one self-contained page with the figures, tables and verdicts
-    /// of a `paper`, `test` or `monte-carlo` output directory (merged or Dask campaigns too);
+    /// of a `paper`, `test`, `monte-carlo` or `campaign` output directory (merged or Dask
+    /// campaigns too);
     /// or, given the results of `harness run` (X.csv), X.report.html: its verdict,
     /// requirements, FMUs and a figure of each requirement's signals.
     Report {
