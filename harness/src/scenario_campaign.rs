@@ -121,19 +121,12 @@ fn replay(
     } else {
         None
     };
-    let inputs: Vec<String> = campaign
-        .layout
-        .inputs
-        .iter()
-        .zip(&row.inputs)
-        .map(|(n, v)| format!("{n} = {v}"))
-        .collect();
     println!(
         "run {index} (run {}, point {}, seed {}): {}; {}",
         row.id.run,
         row.id.point,
         row.id.run_seed,
-        inputs.join(", "),
+        campaign.layout.describe_inputs(&row),
         row.verdict
     );
     match recorded {

@@ -546,17 +546,11 @@ fn scenario_campaign_section(dir: &Path, html: &mut String) -> anyhow::Result<()
         .iter()
         .filter(|r| !r.passed())
         .map(|r| {
-            let inputs: Vec<String> = layout
-                .inputs
-                .iter()
-                .zip(&r.inputs)
-                .map(|(n, v)| format!("{n} = {v}"))
-                .collect();
             format!(
                 "run {}: {} ({}) {}",
                 r.id.index,
                 r.verdict,
-                inputs.join(", "),
+                layout.describe_inputs(r),
                 r.error
             )
         })

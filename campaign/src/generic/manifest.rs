@@ -71,6 +71,15 @@ impl Layout {
             .collect()
     }
 
+    /// A row's inputs as a reader wants them: `osc.c = 0.2, osc.k = 0.93`.
+    pub fn describe_inputs(&self, row: &Row) -> String {
+        let named = self.inputs.iter().zip(&row.inputs);
+        named
+            .map(|(n, v)| format!("{n} = {v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
     /// The layout a manifest's header shows.
     pub fn of_manifest(path: &Path) -> anyhow::Result<Self> {
         let (header, _, _) = crate::manifest::complete_records(path)?;
