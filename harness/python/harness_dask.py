@@ -195,7 +195,7 @@ def run(job, client):
         print(
             f"dask: {shards} shards of {flights} flights on {job['scheduler']}, "
             f"{len(platforms)} workers ({', '.join(sorted(set(platforms.values())))}); "
-            f"{len(done)} shards done before; each worker receives once "
+            f"shards done before: {len(done)}; each worker receives once "
             f"{(files_bytes + harness_bytes) / 1e6:.1f} MB (harness {harness_bytes / 1e6:.1f} MB, "
             f"FMUs and scenario {files_bytes / 1e6:.1f} MB)",
             flush=True,
@@ -225,6 +225,8 @@ def run(job, client):
             client.cancel(futures)
             return fail(f"{type(error).__name__}: {error}")
         write_shard(job["store"], shards, result)
+        # Stored: the cluster may forget it (a lost worker's copy is not computed again).
+        future.release()
         k = result["k"]
         flown += flights_of(k, shards, flights)
         shipped_back = sum(map(len, result["files"].values()))

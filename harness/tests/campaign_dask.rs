@@ -236,6 +236,27 @@ fn check_flown_on(cluster: &Cluster, stdout: &str, shards: usize) -> Vec<usize> 
     per_worker
 }
 
+/// The task directories (`harness-dask-*`) under a worker's local directory.
+fn task_dirs(local: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    let mut look = vec![(local.to_owned(), 0)];
+    while let Some((dir, depth)) = look.pop() {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            if entry
+                .file_name()
+                .to_string_lossy()
+                .starts_with("harness-dask-")
+            {
+                found.push(path);
+            } else if depth < 2 && path.is_dir() {
+                look.push((path, depth + 1));
+            }
+        }
+    }
+    found
+}
+
 #[test]
 fn a_dask_campaign_on_two_workers_without_shared_paths_equals_the_local_campaign() {
     let started = Instant::now();
@@ -322,7 +343,7 @@ fn a_dask_campaign_on_two_workers_without_shared_paths_equals_the_local_campaign
     assert_eq!(resumed.status.code(), local_code, "{}", text(&resumed));
     assert!(
         resumed_stdout.contains("4 shards of 32 flights")
-            && resumed_stdout.contains("1 shards done before"),
+            && resumed_stdout.contains("shards done before: 1"),
         "{resumed_stdout}"
     );
     check_flown_on(&cluster, &resumed_stdout, 3);
@@ -350,7 +371,7 @@ fn a_worker_killed_mid_campaign_loses_no_shard() {
         "--scenario",
         &scenario,
         "-n",
-        "16",
+        "8",
         "--phi-cmd-deg",
         "0,150",
         "--law",
@@ -391,6 +412,16 @@ fn a_worker_killed_mid_campaign_loses_no_shard() {
         .iter()
         .position(|(_, at, _)| *at == first)
         .unwrap();
+    // Killed while it flies its next shard: a task's directory is there (the finished one's
+    // was removed before its result came back).
+    let waiting = Instant::now();
+    while task_dirs(&cluster.workers[killed].2).is_empty() {
+        assert!(
+            waiting.elapsed() < Duration::from_secs(30),
+            "{first} took no second shard"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
     cluster.workers[killed].0.kill();
     for line in lines {
         stdout += &line.unwrap();
@@ -404,8 +435,8 @@ fn a_worker_killed_mid_campaign_loses_no_shard() {
     let killed_address = cluster.workers[killed].1.clone();
     let removed = cluster
         .scheduler
-        .wait_for(&format!("Remove worker {killed_address}"));
-    println!("scheduler: Remove worker {killed_address} {removed}");
+        .wait_for(&format!("Remove worker addr: {killed_address}"));
+    println!("scheduler: Remove worker addr: {killed_address} {removed}");
     let per_worker = check_flown_on(&cluster, &stdout, 6);
     let survivor = 1 - killed;
     assert!(
