@@ -260,6 +260,8 @@ def main():
         return fail(f"cannot reach the Dask scheduler at {job['scheduler']}: {error}")
     try:
         return run(job, client)
+    except Exception as error:  # no worker in time, a lost connection: said in one line
+        return fail(f"{type(error).__name__}: {error}")
     finally:
         client.close()
         if cluster is not None:

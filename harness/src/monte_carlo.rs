@@ -7,6 +7,8 @@ use campaign::{CampaignSpec, Flight, Shard};
 use lander::laws::{Law, Laws};
 use std::path::{Path, PathBuf};
 
+mod dask;
+
 /// The definition of a campaign: with the same options, `monte-carlo` flies the same
 /// flights bit for bit, on any machine, with any number of workers or shards.
 #[derive(Debug, Clone, clap::Args)]
@@ -345,7 +347,7 @@ pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32>
         args.force,
     )?;
     if args.dask.dask.is_some() {
-        return dask_campaign(args, &spec, fmu_dir);
+        return dask::campaign(args, &spec, fmu_dir);
     }
     let options = runner::RunOptions {
         fmu_dir: fmu_dir.to_owned(),
@@ -388,66 +390,6 @@ pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32>
     );
     report(
         &rows,
-        &spec.scenario,
-        &args.out_dir,
-        &title,
-        args.quiet,
-        !args.no_plots,
-    )
-}
-
-/// `monte-carlo --dask`: the shards flown on the cluster, merged into --out-dir as `merge-mc`
-/// merges them, the scenario named as the user named it.
-fn dask_campaign(
-    args: &MonteCarloArgs,
-    spec: &CampaignSpec,
-    fmu_dir: &Path,
-) -> anyhow::Result<i32> {
-    let mut on_workers = spec.clone();
-    on_workers.scenario = crate::dask::worker_scenario(&spec.scenario);
-    let same_campaign = |dir: &Path| -> anyhow::Result<()> {
-        let stored = merge::merge(&[dir.to_owned()], true)?.spec;
-        anyhow::ensure!(
-            stored == on_workers,
-            "--resume: {} holds shards of another campaign than these options: without \
-             --resume the campaign starts again",
-            dir.parent().unwrap_or(dir).display()
-        );
-        Ok(())
-    };
-    let job = crate::dask::Job {
-        subcommand: "monte-carlo",
-        scenario_id: "scenario",
-        scenario: &spec.scenario,
-        fmu_dir,
-        out_dir: &args.out_dir,
-        flights: spec.flight_count(),
-        resume: args.resume,
-        quiet: args.quiet,
-    };
-    let shards = crate::dask::fly(&args.dask, &job, &same_campaign)?;
-    let mut merged = merge::merge(&shards.dirs, false)?;
-    anyhow::ensure!(
-        merged.spec == on_workers,
-        "the Dask workers flew another campaign than these options define"
-    );
-    merged.spec.scenario = spec.scenario.clone();
-    merged.file.campaign.scenario = spec.scenario.clone();
-    merged.file.execution.merged_from = shards.provenance.clone();
-    let path = merge::write(&merged, &args.out_dir)?;
-    shards.remove()?;
-    println!(
-        "{} flights from {} Dask shards -> {}",
-        merged.rows.len(),
-        merged.file.execution.merged_from.len(),
-        path.display()
-    );
-    let title = format!(
-        "Monte Carlo, scenario '{}', seed {}, {} runs per point",
-        spec.scenario, spec.seed, spec.runs_per_point
-    );
-    report(
-        &merged.rows,
         &spec.scenario,
         &args.out_dir,
         &title,
