@@ -567,6 +567,51 @@ mod tests {
         assert!(!error.contains("--rerun"), "{error}");
     }
 
+    /// The paper scenario in a folder of its own, with `LanderGnc.fmu` beside it and
+    /// `LanderPlant.fmu` in an FMU directory (empty files: only their paths matter here).
+    fn scenario_with_fmus(plant_fmu: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        let scenarios = dir.path().join("scenarios");
+        let fmus = dir.path().join("fmus");
+        std::fs::create_dir_all(&scenarios).unwrap();
+        std::fs::create_dir_all(&fmus).unwrap();
+        let paper = lander::scenarios::BUILT_IN[0]
+            .1
+            .replace("LanderPlant.fmu", plant_fmu);
+        std::fs::write(scenarios.join("mine.toml"), paper).unwrap();
+        std::fs::write(scenarios.join("LanderGnc.fmu"), b"").unwrap();
+        std::fs::write(fmus.join("LanderPlant.fmu"), b"").unwrap();
+        (dir, scenarios.join("mine.toml"), fmus)
+    }
+
+    #[test]
+    fn the_scenario_file_and_its_fmus_travel_beside_it_or_from_the_fmu_directory() {
+        let (_dir, scenario, fmus) = scenario_with_fmus("LanderPlant.fmu");
+        let files = shipped_files(scenario.to_str().unwrap(), &fmus).unwrap();
+        let names: Vec<&str> = files.keys().map(String::as_str).collect();
+        assert_eq!(
+            names,
+            [
+                "fmu/LanderPlant.fmu",
+                "scenario/LanderGnc.fmu",
+                "scenario/mine.toml"
+            ]
+        );
+        assert_eq!(files["fmu/LanderPlant.fmu"], fmus.join("LanderPlant.fmu"));
+    }
+
+    #[test]
+    fn an_fmu_named_by_a_path_no_worker_has_is_refused_by_instance() {
+        let (_dir, scenario, fmus) = scenario_with_fmus("/opt/elsewhere/LanderPlant.fmu");
+        let error = shipped_files(scenario.to_str().unwrap(), &fmus)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("instance 'plant'") && error.contains("/opt/elsewhere"),
+            "{error}"
+        );
+    }
+
     #[test]
     fn the_store_is_beside_the_output_directory() {
         assert_eq!(
