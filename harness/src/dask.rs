@@ -177,8 +177,12 @@ pub fn fly(
             "shard {k}/{shards} is missing from {}",
             store.display()
         );
+        // A shard stored by other means (copied in for --resume) names no worker.
         let worker = std::fs::read_to_string(dir.join("dask.txt")).unwrap_or_default();
-        provenance.push(format!("shard {k}/{shards}: dask worker {}", worker.trim()));
+        provenance.push(match worker.trim() {
+            "" => format!("shard {k}/{shards}"),
+            worker => format!("shard {k}/{shards}: dask worker {worker}"),
+        });
         dirs.push(dir);
     }
     Ok(Shards {
