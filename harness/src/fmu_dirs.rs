@@ -35,7 +35,7 @@ pub fn default_fmu_dirs() -> Vec<PathBuf> {
 
 /// The release directory of a harness at `exe` (`<release>/bin/<platform>/harness`), if it
 /// is one: a directory with the FMUs' `fmi2/` and `fmi3/` beside `bin/`.
-fn release_of(exe: &Path) -> Option<PathBuf> {
+pub fn release_of(exe: &Path) -> Option<PathBuf> {
     let root = exe.parent()?.parent()?.parent()?;
     let is_release = exe.parent()?.parent()?.file_name()? == "bin"
         && root.join("fmi2").is_dir()

@@ -9,6 +9,7 @@ use lander::laws::Laws;
 use std::path::PathBuf;
 
 mod broken_pipe;
+mod dask;
 mod fmu_dirs;
 mod monte_carlo;
 mod reference;

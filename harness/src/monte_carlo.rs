@@ -7,6 +7,8 @@ use campaign::{CampaignSpec, Flight, Shard};
 use lander::laws::{Law, Laws};
 use std::path::{Path, PathBuf};
 
+mod dask;
+
 /// The definition of a campaign: with the same options, `monte-carlo` flies the same
 /// flights bit for bit, on any machine, with any number of workers or shards.
 #[derive(Debug, Clone, clap::Args)]
@@ -100,6 +102,8 @@ pub struct MonteCarloArgs {
     /// default with the estimate of its time, manifest size and memory.
     #[arg(long)]
     pub force: bool,
+    #[command(flatten)]
+    pub dask: crate::dask::DaskArgs,
 }
 
 #[derive(Debug, Clone, clap::Args)]
@@ -342,6 +346,9 @@ pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32>
         workers,
         args.force,
     )?;
+    if args.dask.dask.is_some() {
+        return dask::campaign(args, &spec, fmu_dir);
+    }
     let options = runner::RunOptions {
         fmu_dir: fmu_dir.to_owned(),
         out_dir: args.out_dir.clone(),

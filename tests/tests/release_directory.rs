@@ -128,3 +128,47 @@ fn an_unpacked_release_flies_the_paper_and_tests_its_fmus_on_every_platform() {
         );
     }
 }
+
+/// The release ships the Python driver of `--dask` beside its harness, which finds it there:
+/// a campaign flown from a copy of the release directory alone on a local Dask cluster (the
+/// venv's dask), whose tasks carry the release's harness and FMUs.
+#[test]
+#[ignore = "needs `cargo xtask dist` and the venv of `cargo xtask python-env`"]
+fn an_unpacked_release_flies_a_campaign_on_dask_with_its_own_driver() {
+    let scratch = tempfile::tempdir().unwrap();
+    let release = scratch.path().join("release");
+    copy_tree(&built_release(), &release);
+    assert!(
+        release.join("python/harness_dask.py").is_file(),
+        "the release has no python/harness_dask.py"
+    );
+    let python = system_tests::workspace_root().join(".venv/bin/python");
+    let dir = scratch.path().join("run");
+    std::fs::create_dir_all(&dir).unwrap();
+    let program = harness_of(&release, Platform::LinuxX86_64);
+    let output = std::process::Command::new(&program)
+        .current_dir(&dir)
+        .env_remove("LANDER_FMU_DIR")
+        .env("HARNESS_PYTHON", &python)
+        .args(["monte-carlo", "-n", "2", "--phi-cmd-deg", "150"])
+        .args([
+            "--law",
+            "decoupled,coupled",
+            "--no-plots",
+            "--out-dir",
+            "mc",
+        ])
+        .args(["--dask", "local:1"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        matches!(output.status.code(), Some(0 | 3)),
+        "{}\n{stdout}{}",
+        output.status,
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(stdout.contains("4/4 flights"), "{stdout}");
+    let manifest = std::fs::read_to_string(dir.join("mc/manifest.csv")).unwrap();
+    assert_eq!(manifest.lines().count(), 5, "a header and four flights");
+}

@@ -3,8 +3,8 @@
 //! `target/dist/lander-fmi-<version>/` holds the all-platform FMUs of every FMI version
 //! (`fmi2/`, `fmi3/`), the SSP packages (SSP 1.0 at the top, SSP 2.0 of the FMI 3.0 pair in
 //! `fmi3/`), the harness for every platform (`bin/<platform>/`) with the shipped scenarios
-//! (`scenarios/`), the user documentation and `SHA256SUMS` in the
-//! format `sha256sum -c` reads. The version is the workspace's (`[workspace.package]`, which
+//! (`scenarios/`), the Python driver of `harness monte-carlo --dask` (`python/`), the user
+//! documentation and `SHA256SUMS` in the format `sha256sum -c` reads. The version is the workspace's (`[workspace.package]`, which
 //! xtask and every FMU crate inherit); each FMU must say the same in its model description's
 //! `version` attribute, and must carry a binary for every platform of its FMI version, or
 //! nothing is written.
@@ -27,6 +27,8 @@ const FMI3_FOLDERS: [&str; 3] = ["x86_64-linux", "aarch64-linux", "x86_64-window
 /// Files and folders of the workspace copied as the release's documentation.
 const DOCUMENTATION: [&str; 3] = ["README.md", "CHANGELOG.md", "docs"];
 const LICENSES: [&str; 2] = ["LICENSE-MIT", "LICENSE-APACHE"];
+/// The plain-Python driver of `harness monte-carlo --dask`, in `harness/python/`.
+const DASK_DRIVER: &str = "harness_dask.py";
 
 pub fn run(ws: &Workspace) -> Result<PathBuf> {
     let written = fmus::package_all_platforms(ws, fmus::Describers::Build(&[]))?;
@@ -63,6 +65,11 @@ pub fn run(ws: &Workspace) -> Result<PathBuf> {
         copies.push((built.from.clone(), release.join(&built.to)));
     }
     copies.push((ws.root.join("harness/scenarios"), release.join("scenarios")));
+    // Found beside the harness by `--dask` (harness/src/dask.rs): `<release>/python/`.
+    copies.push((
+        ws.root.join("harness/python").join(DASK_DRIVER),
+        release.join("python").join(DASK_DRIVER),
+    ));
     for item in DOCUMENTATION.iter().chain(LICENSES.iter()) {
         let from = ws.root.join(item);
         if !from.exists() {

@@ -4,7 +4,6 @@
 #![deny(unsafe_code)]
 
 mod bench;
-mod campaign_dask;
 mod cross;
 mod demo;
 mod dist;
@@ -79,10 +78,6 @@ enum Command {
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
     },
-    /// A Monte Carlo campaign with its shards as Dask tasks (a LocalCluster of --workers
-    /// processes, or --scheduler's cluster), merged into the files `harness monte-carlo`
-    /// writes: `cargo xtask campaign-dask --workers 4 -- -n 100 --out-dir target/mc`.
-    CampaignDask(campaign_dask::Args),
     /// Write fuzz/<name>/ (a cargo-fuzz crate with the FMI 2.0 and 3.0 targets) for every
     /// FMU crate, from its [package.metadata.fmu].
     FuzzCrates {
@@ -126,7 +121,6 @@ fn main() -> ExitCode {
         Command::Demo => demo::run(&ws),
         Command::PythonEnv => python_env::ensure(&ws),
         Command::Bench { args } => bench::run(&ws, &args),
-        Command::CampaignDask(args) => campaign_dask::run(&ws, &args),
         Command::FuzzCrates { check } => fuzz_crates::run(&ws, check),
         Command::Results { campaigns, only } => results::run(&ws, campaigns, only.as_deref()),
         Command::NewFmu { name, into } => new_fmu::run(&ws, &name, into.as_deref()).map(|_| ()),
