@@ -1,9 +1,9 @@
 """Flies the shards of a harness campaign as Dask tasks on workers that share no file system
-with this machine. `harness monte-carlo ... --dask ADDRESS` writes a job file (JSON) and runs
-this script on it with `python3` (or $HARNESS_PYTHON); docs/dask.md says how to use it.
+with this machine. `harness monte-carlo ... --dask ADDRESS` (or `harness campaign ...`) writes
+a job file (JSON) and runs this script on it with `python3` (or $HARNESS_PYTHON); docs/dask.md says how to use it.
 
-Each task carries what it needs: the harness binary for its worker's platform, the FMUs and
-the scenario file (their bytes), and the subcommand's arguments. On its worker it writes them
+Each task carries what it needs: the harness binary for its worker's platform, the FMUs, the
+scenario file and the file declaring its campaign (their bytes), and the subcommand's arguments. On its worker it writes them
 into a temporary directory of its own (under the worker's --local-directory), runs
 
     harness --fmu-dir fmu SUBCOMMAND ARGS --shard k/S --out-dir out --quiet --no-plots --workers 1
@@ -17,7 +17,8 @@ store are not flown again.
 The job file: {"scheduler": "tcp://HOST:PORT" or "local:N", "subcommand": "monte-carlo",
 "args": [...], "files": {"fmu/X.fmu": "/path", "scenario/s.toml": "/path"},
 "harnesses": {"x86_64-linux": "/path/harness", ...}, "store": "/path", "flights": F,
-"shards": S or null, "done": [k, ...], "quiet": false}.
+"unit": "flights" or "runs" (what the progress lines call them), "shards": S or null,
+"done": [k, ...], "quiet": false}.
 """
 import json
 import os
@@ -164,6 +165,7 @@ def run(job, client):
     from distributed import as_completed
 
     flights = job["flights"]
+    unit = job.get("unit", "flights")
     client.wait_for_workers(1, timeout=120)
     platforms = client.run(platform_tag)
     shipped = job["harnesses"]
@@ -193,7 +195,7 @@ def run(job, client):
     quiet = job["quiet"]
     if not quiet:
         print(
-            f"dask: {shards} shards of {flights} flights on {job['scheduler']}, "
+            f"dask: {shards} shards of {flights} {unit} on {job['scheduler']}, "
             f"{len(platforms)} workers ({', '.join(sorted(set(platforms.values())))}); "
             f"shards done before: {len(done)}; each worker receives once "
             f"{(files_bytes + harness_bytes) / 1e6:.1f} MB (harness {harness_bytes / 1e6:.1f} MB, "
@@ -234,7 +236,7 @@ def run(job, client):
             print(
                 f"dask: shard {k}/{shards} flown by {result['worker']} in {result['dir']} "
                 f"({result['seconds']:.1f} s, {shipped_back} bytes back): "
-                f"{flown}/{flights} flights",
+                f"{flown}/{flights} {unit}",
                 flush=True,
             )
     return 0

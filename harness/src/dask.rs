@@ -4,7 +4,8 @@
 //! or `$HARNESS_PYTHON`; each task carries the harness for its worker's platform, the FMUs
 //! and the scenario file, flies `SUBCOMMAND ARGS --shard k/S` in a temporary directory of its
 //! worker and returns the shard's files, which the driver writes into a store beside the
-//! output directory. The caller merges the stored shards as `merge-mc` does.
+//! output directory. [`campaign`] merges the stored shards as `merge-mc` does, through the
+//! subcommand's [`Format`].
 //!
 //! Generic over the subcommand: the arguments the tasks get are those given on this command
 //! line (re-read from it), less the options this side sets or honours itself.
@@ -14,6 +15,9 @@ use std::collections::BTreeMap;
 use std::ffi::OsString;
 use std::path::{Component, Path, PathBuf};
 use std::process::{Command, Stdio};
+
+mod merge;
+pub use merge::{campaign, Format};
 
 /// The options a subcommand that can fly on Dask adds (`#[command(flatten)]`).
 #[derive(Debug, Clone, clap::Args)]
@@ -68,9 +72,14 @@ pub struct Job<'a> {
     pub scenario_id: &'a str,
     /// The scenario as given: a built-in name or a file.
     pub scenario: &'a str,
+    /// The file beside the scenario that declares its campaign when the scenario cannot (an
+    /// SSP's or FMU's `NAME.campaign.toml`); it travels beside the scenario.
+    pub declaration: Option<&'a Path>,
     pub fmu_dir: &'a Path,
     pub out_dir: &'a Path,
     pub flights: u64,
+    /// What the progress lines call the campaign's rows: `flights`, `runs`.
+    pub unit: &'a str,
     pub resume: bool,
     pub quiet: bool,
 }
@@ -129,7 +138,7 @@ pub fn fly(
     };
     let argv: Vec<OsString> = std::env::args_os().collect();
     let args = forwarded_args(&argv, job.subcommand, job.scenario_id, job.scenario)?;
-    let files = shipped_files(job.scenario, job.fmu_dir)?;
+    let files = shipped_files(job.scenario, job.declaration, job.fmu_dir)?;
     let harnesses = harnesses()?;
     let driver = driver()?;
 
@@ -154,6 +163,7 @@ pub fn fly(
         "harnesses": harnesses,
         "store": store,
         "flights": job.flights,
+        "unit": job.unit,
         "shards": shards,
         "done": done,
         "quiet": job.quiet,
@@ -267,9 +277,10 @@ fn forwarded_args(
     ) else {
         bail!("--dask: not a `{subcommand}` command line");
     };
+    let has = |id: &str| sub.get_arguments().any(|arg| arg.get_id() == id);
     let refused: Vec<&str> = REFUSED
         .iter()
-        .filter(|(id, _)| sub_matches.value_source(id) == Some(ValueSource::CommandLine))
+        .filter(|(id, _)| has(id) && sub_matches.value_source(id) == Some(ValueSource::CommandLine))
         .map(|(_, why)| *why)
         .collect();
     if !refused.is_empty() {
@@ -316,10 +327,14 @@ fn forwarded_args(
 }
 
 /// The files a task writes into its directory, by the path relative to it, from where they
-/// are here: the scenario file (`scenario/NAME`), the FMUs found beside it (under
-/// `scenario/`) and those of the FMU directory (under `fmu/`, the task's `--fmu-dir`). An
-/// `.ssp` package carries its FMUs.
-fn shipped_files(scenario: &str, fmu_dir: &Path) -> anyhow::Result<BTreeMap<String, PathBuf>> {
+/// are here: the scenario file (`scenario/NAME`) and the file declaring its campaign, the
+/// FMUs found beside it (under `scenario/`) and those of the FMU directory (under `fmu/`, the
+/// task's `--fmu-dir`). An `.ssp` package carries its FMUs.
+fn shipped_files(
+    scenario: &str,
+    declaration: Option<&Path>,
+    fmu_dir: &Path,
+) -> anyhow::Result<BTreeMap<String, PathBuf>> {
     let mut files = BTreeMap::new();
     let system = lander::scenarios::load(scenario)?;
     let beside = if is_built_in(scenario) {
@@ -329,6 +344,15 @@ fn shipped_files(scenario: &str, fmu_dir: &Path) -> anyhow::Result<BTreeMap<Stri
         files.insert(worker_scenario(scenario), path.clone());
         path.parent().map(Path::to_owned)
     };
+    if let Some(declaration) = declaration {
+        let path = std::path::absolute(declaration)?;
+        anyhow::ensure!(
+            beside.is_some() && path.parent() == beside.as_deref() && path.is_file(),
+            "--dask: the campaign's declaration {} is not a file beside the scenario {scenario}",
+            declaration.display()
+        );
+        files.insert(worker_scenario(&path.to_string_lossy()), path);
+    }
     if system.package.is_some() {
         return Ok(files);
     }
@@ -546,6 +570,30 @@ mod tests {
     }
 
     #[test]
+    fn a_scenario_campaign_gets_its_scenario_as_a_positional_after_the_options() {
+        let args = forwarded_args(
+            &argv(&[
+                "harness",
+                "campaign",
+                "../my/osc.toml",
+                "-n",
+                "6",
+                "--seed",
+                "3",
+                "--dask",
+                "local:2",
+                "--out-dir",
+                "x",
+            ]),
+            "campaign",
+            "scenario",
+            "../my/osc.toml",
+        )
+        .unwrap();
+        assert_eq!(args, ["--seed=3", "--runs=6", "scenario/osc.toml"]);
+    }
+
+    #[test]
     fn options_a_dask_campaign_cannot_honour_are_refused_by_name() {
         let error = forwarded_args(
             &argv(&[
@@ -591,7 +639,7 @@ mod tests {
     #[test]
     fn the_scenario_file_and_its_fmus_travel_beside_it_or_from_the_fmu_directory() {
         let (_dir, scenario, fmus) = scenario_with_fmus("LanderPlant.fmu");
-        let files = shipped_files(scenario.to_str().unwrap(), &fmus).unwrap();
+        let files = shipped_files(scenario.to_str().unwrap(), None, &fmus).unwrap();
         let names: Vec<&str> = files.keys().map(String::as_str).collect();
         assert_eq!(
             names,
@@ -605,9 +653,46 @@ mod tests {
     }
 
     #[test]
+    fn an_ssd_travels_with_the_sidecar_declaring_its_campaign() {
+        let dir = tempfile::tempdir().unwrap();
+        let ssd = dir.path().join("osc.ssd");
+        std::fs::write(
+            &ssd,
+            r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0" name="osc">
+  <ssd:System name="osc"><ssd:Elements>
+    <ssd:Component name="osc" type="application/x-fmu-sharedlibrary" source="Oscillator.fmu"/>
+  </ssd:Elements></ssd:System>
+</ssd:SystemStructureDescription>
+"#,
+        )
+        .unwrap();
+        let sidecar = dir.path().join("osc.campaign.toml");
+        std::fs::write(&sidecar, "[campaign]\n").unwrap();
+        std::fs::write(dir.path().join("Oscillator.fmu"), b"").unwrap();
+        let files = shipped_files(ssd.to_str().unwrap(), Some(&sidecar), dir.path()).unwrap();
+        let names: Vec<&str> = files.keys().map(String::as_str).collect();
+        assert_eq!(
+            names,
+            [
+                "scenario/Oscillator.fmu",
+                "scenario/osc.campaign.toml",
+                "scenario/osc.ssd"
+            ]
+        );
+        let elsewhere = tempfile::tempdir().unwrap();
+        let apart = elsewhere.path().join("osc.campaign.toml");
+        std::fs::write(&apart, "").unwrap();
+        let error = shipped_files(ssd.to_str().unwrap(), Some(&apart), dir.path())
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("not a file beside the scenario"), "{error}");
+    }
+
+    #[test]
     fn an_fmu_named_by_a_path_no_worker_has_is_refused_by_instance() {
         let (_dir, scenario, fmus) = scenario_with_fmus("/opt/elsewhere/LanderPlant.fmu");
-        let error = shipped_files(scenario.to_str().unwrap(), &fmus)
+        let error = shipped_files(scenario.to_str().unwrap(), None, &fmus)
             .unwrap_err()
             .to_string();
         assert!(

@@ -1,9 +1,12 @@
 //! `harness campaign SCENARIO`: the campaign a scenario's `[campaign]` table declares (any
-//! FMUs), its shards merged by `merge-mc`, one run replayed with `--replay`.
+//! FMUs), its shards merged by `merge-mc` or flown on a Dask cluster (`--dask`), one run
+//! replayed with `--replay`.
 use campaign::generic::campaign::Overrides;
 use campaign::generic::{config, merge, runner, summary};
 use campaign::Shard;
 use std::path::{Path, PathBuf};
+
+mod dask;
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct CampaignArgs {
@@ -39,12 +42,18 @@ pub struct CampaignArgs {
     /// Run this index again (the manifest's `index` column), write its trajectory (every
     /// output) to --out, and compare its row with --out-dir's manifest bit for bit when it
     /// holds that run.
-    #[arg(long, value_name = "INDEX", conflicts_with_all = ["shard", "resume", "workers"])]
+    #[arg(
+        long,
+        value_name = "INDEX",
+        conflicts_with_all = ["shard", "resume", "workers", "dask"]
+    )]
     pub replay: Option<u64>,
     /// With --replay: the trajectory's file (CSV, or Arrow IPC for .arrow, .feather, .ipc)
     /// [default: OUT_DIR/replay-INDEX.csv].
     #[arg(long, requires = "replay")]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub dask: crate::dask::DaskArgs,
 }
 
 /// Prints and writes the summary of the campaign in `dir`; the exit code: an error when a
@@ -74,6 +83,9 @@ pub fn campaign(args: &CampaignArgs, fmu_dir: &Path) -> anyhow::Result<i32> {
     };
     if let Some(index) = args.replay {
         return replay(args, overrides, index, fmu_dir);
+    }
+    if args.dask.dask.is_some() {
+        return dask::campaign(args, overrides, fmu_dir);
     }
     let options = runner::RunOptions {
         fmu_dir: fmu_dir.to_owned(),
