@@ -663,6 +663,7 @@ mod tests {
   <ssd:System name="osc"><ssd:Elements>
     <ssd:Component name="osc" type="application/x-fmu-sharedlibrary" source="Oscillator.fmu"/>
   </ssd:Elements></ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="1"/>
 </ssd:SystemStructureDescription>
 "#,
         )

@@ -4,8 +4,9 @@
 //! file only through their tasks, and each task runs in a directory under its worker's
 //! local directory. The merged campaign equals the one flown locally, manifest.csv byte for
 //! byte; with a worker killed mid-campaign, its lost shard is flown again by the other and
-//! the manifest is the same. Without dask and distributed, `--dask` says which module is
-//! missing and how to install it.
+//! the manifest is the same. `harness campaign --dask` flies a scenario campaign (the
+//! Oscillator example, as TOML and as an SSD with its sidecar) the same way. Without dask and
+//! distributed, `--dask` says which module is missing and how to install it.
 use crate::common;
 
 use std::io::{BufRead, BufReader};
@@ -165,12 +166,17 @@ fn scenario_in(client: &Path) -> String {
 
 /// `harness monte-carlo` in `cwd` with the campaign and `extra` options.
 fn monte_carlo(cwd: &Path, campaign: &[&str], extra: &[&str]) -> Command {
+    harness_in(cwd, "monte-carlo", campaign, extra)
+}
+
+/// `harness SUBCOMMAND` in `cwd` with the campaign and `extra` options.
+fn harness_in(cwd: &Path, subcommand: &str, campaign: &[&str], extra: &[&str]) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_harness"));
     command
         .current_dir(cwd)
         .arg("--fmu-dir")
         .arg(common::fmu_dir())
-        .arg("monte-carlo")
+        .arg(subcommand)
         .args(campaign)
         .args(extra)
         .env("HARNESS_PYTHON", venv_python())
@@ -257,6 +263,96 @@ fn task_dirs(local: &Path) -> Vec<PathBuf> {
     found
 }
 
+/// `SUBCOMMAND CAMPAIGN --out-dir OUT --dask ADDRESS --dask-shards=S` in `client`, ended with
+/// `code`, every shard flown on the cluster: its stdout and the shards per worker.
+fn on_cluster(
+    cluster: &Cluster,
+    client: &Path,
+    (subcommand, campaign, out): (&str, &[&str], &str),
+    shards: usize,
+    code: Option<i32>,
+) -> (String, Vec<usize>) {
+    let output = harness_in(
+        client,
+        subcommand,
+        campaign,
+        &["--out-dir", out, "--dask", &cluster.address],
+    )
+    .arg(format!("--dask-shards={shards}"))
+    .output()
+    .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert_eq!(output.status.code(), code, "{}", text(&output));
+    let per_worker = check_flown_on(cluster, &stdout, shards);
+    (stdout, per_worker)
+}
+
+/// The merged campaign in `client/out` names `scenario` and every worker of the cluster in
+/// its campaign.toml, and its store of shards is removed.
+fn check_merged(cluster: &Cluster, client: &Path, out: &str, scenario: &str) {
+    let toml = std::fs::read_to_string(client.join(out).join("campaign.toml")).unwrap();
+    assert!(
+        toml.contains(&format!("scenario = \"{scenario}\"")),
+        "the scenario as the user named it:\n{toml}"
+    );
+    for (_, address, _) in &cluster.workers {
+        assert!(toml.contains(address.as_str()), "{address} in:\n{toml}");
+    }
+    assert!(
+        !client.join(format!("{out}.dask-shards")).exists(),
+        "the shards are removed once merged"
+    );
+}
+
+/// `--resume` into `again` with a shard already in its store, which is not flown again: shard 2
+/// of 4 flown here as a task flies it, its scenario (`campaign[at]`, a file in `client`)
+/// named as the workers name it. The resumed run's stdout.
+fn resume_with_a_stored_shard(
+    cluster: &Cluster,
+    client: &Path,
+    (subcommand, campaign, at): (&str, &[&str], usize),
+    code: Option<i32>,
+) -> String {
+    let name = Path::new(campaign[at]).file_name().unwrap();
+    std::fs::create_dir_all(client.join("scenario")).unwrap();
+    std::fs::copy(
+        client.join(campaign[at]),
+        client.join("scenario").join(name),
+    )
+    .unwrap();
+    let on_workers = format!("scenario/{}", name.to_str().unwrap());
+    let mut as_on_workers = campaign.to_vec();
+    as_on_workers[at] = &on_workers;
+    let shard = harness_in(
+        client,
+        subcommand,
+        &as_on_workers,
+        &["--shard", "2/4", "--workers", "1", "--quiet"],
+    )
+    .args(["--out-dir", "again.dask-shards/shard-2-of-4"])
+    .output()
+    .unwrap();
+    assert!(
+        matches!(shard.status.code(), Some(0 | 3)),
+        "{}",
+        text(&shard)
+    );
+    let resumed = harness_in(
+        client,
+        subcommand,
+        campaign,
+        &["--out-dir", "again", "--dask", &cluster.address, "--resume"],
+    )
+    .output()
+    .unwrap();
+    let stdout = String::from_utf8_lossy(&resumed.stdout).into_owned();
+    assert_eq!(resumed.status.code(), code, "{}", text(&resumed));
+    assert!(stdout.contains("shards done before: 1"), "{stdout}");
+    check_flown_on(cluster, &stdout, 3);
+    assert!(!stdout.contains("shard 2/4 flown"), "{stdout}");
+    stdout
+}
+
 #[test]
 fn a_dask_campaign_on_two_workers_without_shared_paths_equals_the_local_campaign() {
     let started = Instant::now();
@@ -278,77 +374,32 @@ fn a_dask_campaign_on_two_workers_without_shared_paths_equals_the_local_campaign
     ];
     let (local, local_code) = local_manifest(client.path(), &campaign);
 
-    let output = monte_carlo(
+    let (stdout, per_worker) = on_cluster(
+        &cluster,
         client.path(),
-        &campaign,
-        &["--out-dir", "dask", "--dask", &cluster.address],
-    )
-    .arg("--dask-shards=4")
-    .output()
-    .unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    assert_eq!(output.status.code(), local_code, "{}", text(&output));
-    let per_worker = check_flown_on(&cluster, &stdout, 4);
+        ("monte-carlo", &campaign, "dask"),
+        4,
+        local_code,
+    );
     assert!(
         per_worker.iter().all(|&n| n > 0),
         "both workers flew shards: {per_worker:?}\n{stdout}"
     );
     assert!(stdout.contains("32/32 flights"), "{stdout}");
-    let dask = client.path().join("dask");
     assert!(
-        std::fs::read(dask.join("manifest.csv")).unwrap() == local,
+        std::fs::read(client.path().join("dask/manifest.csv")).unwrap() == local,
         "manifest.csv differs from the local campaign's"
     );
-    let toml = std::fs::read_to_string(dask.join("campaign.toml")).unwrap();
-    assert!(
-        toml.contains(&format!("scenario = \"{scenario}\"")),
-        "the scenario as the user named it:\n{toml}"
-    );
-    for (_, address, _) in &cluster.workers {
-        assert!(toml.contains(address.as_str()), "{address} in:\n{toml}");
-    }
-    assert!(
-        !client.path().join("dask.dask-shards").exists(),
-        "the shards are removed once merged"
-    );
+    check_merged(&cluster, client.path(), "dask", &scenario);
 
-    // --resume: a shard already in the store is not flown again. Shard 2 of 4 flown here as
-    // a task flies it, its scenario named as the workers name it.
-    let copy = client.path().join("scenario");
-    std::fs::create_dir(&copy).unwrap();
-    std::fs::copy(client.path().join(&scenario), copy.join("paper-copy.toml")).unwrap();
-    let mut as_on_workers = campaign;
-    as_on_workers[1] = "scenario/paper-copy.toml";
-    let shard = monte_carlo(
+    let resumed_stdout = resume_with_a_stored_shard(
+        &cluster,
         client.path(),
-        &as_on_workers,
-        &["--shard", "2/4", "--workers", "1", "--quiet"],
-    )
-    .args(["--out-dir", "again.dask-shards/shard-2-of-4"])
-    .output()
-    .unwrap();
-    assert!(
-        matches!(shard.status.code(), Some(0 | 3)),
-        "{}",
-        text(&shard)
+        ("monte-carlo", &campaign, 1),
+        local_code,
     );
-    let resumed = monte_carlo(
-        client.path(),
-        &campaign,
-        &["--out-dir", "again", "--dask", &cluster.address, "--resume"],
-    )
-    .output()
-    .unwrap();
-    let resumed_stdout = String::from_utf8_lossy(&resumed.stdout).into_owned();
-    assert_eq!(resumed.status.code(), local_code, "{}", text(&resumed));
     assert!(
-        resumed_stdout.contains("4 shards of 32 flights")
-            && resumed_stdout.contains("shards done before: 1"),
-        "{resumed_stdout}"
-    );
-    check_flown_on(&cluster, &resumed_stdout, 3);
-    assert!(
-        !resumed_stdout.contains("shard 2/4 flown"),
+        resumed_stdout.contains("4 shards of 32 flights"),
         "{resumed_stdout}"
     );
     assert!(
@@ -495,4 +546,122 @@ fn options_a_dask_campaign_cannot_honour_are_refused() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(1), "{}", text(&output));
     assert!(stderr.contains("--dask cannot honour --shard"), "{stderr}");
+}
+
+/// The Oscillator example in the client's directory, as TOML (`osc.toml`) and as an SSD
+/// (`osc.ssd`) whose sidecar `osc.campaign.toml` declares the same campaign; the SSD names
+/// its FMU by the file name alone, found in the FMU directory.
+fn oscillator_in(client: &Path) -> (String, String) {
+    let dir = client.join("my-scenarios");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(
+        common::workspace_root().join("docs/examples/oscillator-campaign.toml"),
+        dir.join("osc.toml"),
+    )
+    .unwrap();
+    common::oscillator_campaign_ssd(&dir);
+    (
+        "my-scenarios/osc.toml".to_owned(),
+        "my-scenarios/osc.ssd".to_owned(),
+    )
+}
+
+/// `harness campaign` run locally into `out`: its exit code (0, or 3 when a run failed its
+/// requirements).
+fn local_campaign(client: &Path, campaign: &[&str], out: &str) -> Option<i32> {
+    let output = harness_in(client, "campaign", campaign, &["--out-dir", out, "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        matches!(output.status.code(), Some(0 | 3)),
+        "{}",
+        text(&output)
+    );
+    output.status.code()
+}
+
+#[test]
+fn a_dask_scenario_campaign_on_two_workers_equals_the_local_campaign() {
+    let started = Instant::now();
+    let cluster = Cluster::start();
+    let client = tempfile::tempdir().unwrap();
+    let (toml, ssd) = oscillator_in(client.path());
+    let campaign = [toml.as_str(), "-n", "6", "--seed", "3"];
+    let local_code = local_campaign(client.path(), &campaign, "local");
+    let read = |dir: &str, file: &str| std::fs::read(client.path().join(dir).join(file)).unwrap();
+
+    let (stdout, per_worker) = on_cluster(
+        &cluster,
+        client.path(),
+        ("campaign", &campaign, "dask"),
+        4,
+        local_code,
+    );
+    assert!(
+        per_worker.iter().all(|&n| n > 0),
+        "both workers ran shards: {per_worker:?}\n{stdout}"
+    );
+    assert!(
+        stdout.contains("4 shards of 18 runs") && stdout.contains("18/18 runs"),
+        "{stdout}"
+    );
+    for file in ["manifest.csv", "summary.csv", "sensitivity.csv"] {
+        assert!(
+            read("dask", file) == read("local", file),
+            "{file} differs from the local campaign's"
+        );
+    }
+    // The scenario by its absolute path here, as a local campaign names it.
+    let here = std::path::absolute(client.path().join(&toml)).unwrap();
+    check_merged(&cluster, client.path(), "dask", &here.display().to_string());
+
+    let resumed_stdout = resume_with_a_stored_shard(
+        &cluster,
+        client.path(),
+        ("campaign", &campaign, 0),
+        local_code,
+    );
+    assert!(
+        read("again", "manifest.csv") == read("local", "manifest.csv"),
+        "the resumed campaign's manifest.csv differs from the local campaign's"
+    );
+
+    // An SSD: its sidecar travels beside it, its FMU from the FMU directory.
+    let ssd_campaign = [ssd.as_str(), "-n", "4"];
+    let ssd_code = local_campaign(client.path(), &ssd_campaign, "ssd-local");
+    let (ssd_stdout, _) = on_cluster(
+        &cluster,
+        client.path(),
+        ("campaign", &ssd_campaign, "ssd-dask"),
+        2,
+        ssd_code,
+    );
+    assert!(
+        read("ssd-dask", "manifest.csv") == read("ssd-local", "manifest.csv"),
+        "the SSD campaign's manifest.csv differs from the local campaign's"
+    );
+    println!(
+        "dask scenario campaign test: {:.1} s\n{stdout}{resumed_stdout}{ssd_stdout}",
+        started.elapsed().as_secs_f64()
+    );
+}
+
+#[test]
+fn a_dask_scenario_campaign_refuses_what_it_cannot_honour() {
+    let client = tempfile::tempdir().unwrap();
+    let (toml, _) = oscillator_in(client.path());
+    let output = harness_in(
+        client.path(),
+        "campaign",
+        &[&toml, "--workers", "2"],
+        &["--dask", "local:1"],
+    )
+    .output()
+    .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output));
+    assert!(
+        stderr.contains("--dask cannot honour --workers"),
+        "{stderr}"
+    );
 }

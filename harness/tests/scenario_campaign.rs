@@ -257,23 +257,7 @@ fn an_ssp_scenario_takes_its_campaign_from_a_sidecar_file() {
     // The same system as an SSD (its step: 0.01 s) and as TOML with that step.
     let toml = dir.path().join("osc.toml");
     std::fs::write(&toml, text.replace("step_size = 0.05", "step_size = 0.01")).unwrap();
-    let ssd = dir.path().join("osc.ssd");
-    std::fs::write(
-        &ssd,
-        r#"<?xml version="1.0" encoding="UTF-8"?>
-<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0" name="osc">
-  <ssd:System name="osc">
-    <ssd:Elements>
-      <ssd:Component name="osc" type="application/x-fmu-sharedlibrary" source="Oscillator.fmu"/>
-    </ssd:Elements>
-  </ssd:System>
-  <ssd:DefaultExperiment startTime="0" stopTime="20"/>
-</ssd:SystemStructureDescription>
-"#,
-    )
-    .unwrap();
-    let sidecar = &text[text.find("[campaign]").unwrap()..];
-    std::fs::write(dir.path().join("osc.campaign.toml"), sidecar).unwrap();
+    let ssd = common::oscillator_campaign_ssd(dir.path());
     let run = |scenario: &Path, out: &str| {
         let out = dir.path().join(out);
         finished(&common::harness(&[

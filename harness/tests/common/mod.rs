@@ -6,6 +6,7 @@
 mod files;
 pub use files::*;
 
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The harness binary run with these arguments on the FMU directory, with no backtrace.
@@ -17,4 +18,34 @@ pub fn harness(args: &[&str]) -> std::process::Output {
         .env("RUST_BACKTRACE", "0")
         .output()
         .unwrap()
+}
+
+/// The Oscillator campaign example (docs/examples/oscillator-campaign.toml) as an SSD in
+/// `dir`: `osc.ssd`, its FMU named by file name alone, and the sidecar `osc.campaign.toml`
+/// with the example's `[campaign]` table and requirements. The SSD's path.
+pub fn oscillator_campaign_ssd(dir: &Path) -> PathBuf {
+    let text =
+        std::fs::read_to_string(workspace_root().join("docs/examples/oscillator-campaign.toml"))
+            .unwrap();
+    let ssd = dir.join("osc.ssd");
+    std::fs::write(
+        &ssd,
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0" name="osc">
+  <ssd:System name="osc">
+    <ssd:Elements>
+      <ssd:Component name="osc" type="application/x-fmu-sharedlibrary" source="Oscillator.fmu"/>
+    </ssd:Elements>
+  </ssd:System>
+  <ssd:DefaultExperiment startTime="0" stopTime="20"/>
+</ssd:SystemStructureDescription>
+"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("osc.campaign.toml"),
+        &text[text.find("[campaign]").unwrap()..],
+    )
+    .unwrap();
+    ssd
 }
