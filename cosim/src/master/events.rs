@@ -186,3 +186,36 @@ fn apply(event: &Event, unit: &mut Unit, t: f64) -> Result<bool, MasterError> {
         }),
     }
 }
+
+/// What became of each of the system's events in a run that ended with `end`, one line
+/// each (see [`outcome`]).
+pub fn outcomes(system: &SystemDescription, end: &super::RunEnd) -> Vec<String> {
+    system
+        .events
+        .iter()
+        .map(|event| {
+            let point = crate::system::event::application_time(system, event.time_s);
+            outcome(&event.name, &event.describe(), event.time_s, point, end)
+        })
+        .collect()
+}
+
+/// One event's line: the point `applied_at_s` it was applied at (as
+/// [`crate::system::event::application_time`] computes it, on the master's own time grid),
+/// or that the run ended before it.
+pub fn outcome(
+    name: &str,
+    set: &str,
+    time_s: f64,
+    applied_at_s: Option<f64>,
+    end: &super::RunEnd,
+) -> String {
+    let label = format!("event '{name}' ({set}) due at {time_s} s");
+    match (applied_at_s, end) {
+        (Some(t_k), super::RunEnd::Terminated { time, .. }) if t_k >= *time => {
+            format!("{label}: not reached, the run ended at {time} s")
+        }
+        (Some(t_k), _) => format!("{label}: applied at {t_k} s"),
+        (None, _) => format!("{label}: after the last step, not applied"),
+    }
+}

@@ -36,6 +36,7 @@ mod terminals;
 mod text;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
+pub use events::{outcome as event_outcome, outcomes as event_outcomes};
 pub use linearize::Jacobians;
 pub use model_exchange::{EventCounts, MeError, SolverSettings};
 pub use resolve::Port;
