@@ -247,3 +247,106 @@ value = "x"
         "{error}"
     );
 }
+
+/// LanderPlant falling from 800 m, measured by LanderSensors, estimated by LanderFilter;
+/// `events` thrown on the sensors.
+fn navigation(events: &str) -> SystemDescription {
+    let mut connections = String::new();
+    for (from, to) in [
+        ("plant.r_nue", "sensors.r_nue"),
+        ("plant.v_nue", "sensors.v_nue"),
+        ("plant.q_body_to_nue", "sensors.q_body_to_nue"),
+        ("plant.omega_body", "sensors.omega_body"),
+        ("plant.specific_force_body", "sensors.specific_force_body"),
+        ("sensors.accel_body_meas", "filter.accel_body_meas"),
+        ("sensors.gyro_body_meas", "filter.gyro_body_meas"),
+        ("sensors.altimeter_range", "filter.altimeter_range"),
+        ("sensors.altimeter_valid", "filter.altimeter_valid"),
+        (
+            "sensors.velocimeter_los_velocity",
+            "filter.velocimeter_los_velocity",
+        ),
+        ("sensors.velocimeter_valid_1", "filter.velocimeter_valid_1"),
+        ("sensors.velocimeter_valid_2", "filter.velocimeter_valid_2"),
+        ("sensors.velocimeter_valid_3", "filter.velocimeter_valid_3"),
+    ] {
+        connections += &format!("[[connection]]\nfrom = \"{from}\"\nto = \"{to}\"\n");
+    }
+    let text = format!(
+        r#"
+name = "navigation"
+stop_time = 20.0
+step_size = 0.01
+record = ["filter.covariance_diag", "filter.altimeter_dof", "filter.velocimeter_dof"]
+[[instance]]
+name = "plant"
+fmu = "LanderPlant.fmu"
+[[instance]]
+name = "sensors"
+fmu = "LanderSensors.fmu"
+parameters = {{ seed = 3 }}
+[[instance]]
+name = "filter"
+fmu = "LanderFilter.fmu"
+parameters = {{ "r0_nue[2]" = 800.0 }}
+{connections}
+{events}
+"#
+    );
+    toml_format::parse(&text, Path::new("navigation.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn fly_navigation(events: &str) -> Trajectory {
+    let mut simulation = Simulation::new(navigation(events), &fmu_dir()).unwrap();
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    simulation.run(&mut trajectory).unwrap();
+    trajectory
+}
+
+#[test]
+fn a_sensor_failure_thrown_by_an_event_makes_the_filter_coast_and_say_so() {
+    // GIVEN both sensors failing at 5 s (the altimeter alone would leave the velocimeter's
+    // updates, which bound the velocity but not the position)
+    let failed = fly_navigation(
+        r#"
+[[event]]
+name = "altimeter-out"
+time = 5.0
+set = "sensors.altimeter_available"
+value = false
+[[event]]
+name = "velocimeter-out"
+time = 5.0
+set = "sensors.velocimeter_available"
+value = false
+"#,
+    );
+    let nominal = fly_navigation("");
+    let at = |t: &Trajectory, column: &str, time: f64| {
+        let k = t.times.iter().position(|&s| s >= time - 1e-9).unwrap();
+        t.column(column).unwrap()[k]
+    };
+    // THEN from the step after the event on, the filter reports no update
+    assert_eq!(at(&failed, "filter.altimeter_dof", 4.0), 1.0);
+    assert_eq!(at(&failed, "filter.altimeter_dof", 6.0), 0.0);
+    assert_eq!(at(&failed, "filter.velocimeter_dof", 6.0), 0.0);
+    assert_eq!(at(&nominal, "filter.altimeter_dof", 6.0), 1.0);
+    // AND its position and velocity variances grow while it coasts on the IMU, well past
+    // those the nominal run keeps
+    for element in [2, 5] {
+        let column = format!("filter.covariance_diag[{element}]");
+        let (before, after) = (at(&failed, &column, 5.0), at(&failed, &column, 19.0));
+        let kept = at(&nominal, &column, 19.0);
+        assert!(after > 2.0 * before, "{column}: {before} -> {after}");
+        assert!(after > 2.0 * kept, "{column}: {after} vs nominal {kept}");
+        let coasting = failed.column(&column).unwrap();
+        let from = failed.times.iter().position(|&t| t >= 5.02).unwrap();
+        assert!(
+            coasting[from..].windows(2).all(|w| w[1] >= w[0]),
+            "{column} must not shrink without measurements"
+        );
+    }
+}
