@@ -66,6 +66,14 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         "landing-model-exchange",
         include_str!("../../../harness/scenarios/landing-model-exchange.toml"),
     ),
+    (
+        "fault-engine",
+        include_str!("../../../harness/scenarios/fault-engine.toml"),
+    ),
+    (
+        "fault-thruster",
+        include_str!("../../../harness/scenarios/fault-thruster.toml"),
+    ),
 ];
 
 /// The error for a scenario argument that is neither a file nor a built-in name: it lists
