@@ -74,6 +74,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         "fault-thruster",
         include_str!("../../../harness/scenarios/fault-thruster.toml"),
     ),
+    (
+        "fault-sensors",
+        include_str!("../../../harness/scenarios/fault-sensors.toml"),
+    ),
 ];
 
 /// The error for a scenario argument that is neither a file nor a built-in name: it lists
