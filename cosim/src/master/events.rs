@@ -11,6 +11,9 @@
 //! solver started afresh, as after any event (FMI 2.0 and 3.0 allow tunable parameters to
 //! change only in Event Mode there).
 //!
+//! A run held at `t_k` (`linearize.rs`) stops before the events due at `t_k`; a continued
+//! saved run finds those due before its first point in the FMU states it restored.
+//!
 //! Only tunable parameters and inputs that nothing else drives may be set: a connected
 //! input, or one driven by an input table, is refused rather than overridden, since the
 //! master would set it again at the next point and silently win.
