@@ -45,6 +45,7 @@ fn system(
         record: Some(record.iter().map(|r| r.to_string()).collect()),
         limits: Default::default(),
         allow_non_finite: Vec::new(),
+        events: Vec::new(),
         inputs: None,
         package: None,
     }

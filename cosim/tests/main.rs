@@ -2,6 +2,7 @@
 //! before the run with every problem named, algebraic loops, Model Exchange instances on the
 //! solver, outputs that stop being numbers, and runs saved and continued.
 mod common;
+mod events;
 mod fmi3_types;
 mod general_master;
 mod master_errors;

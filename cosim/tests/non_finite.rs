@@ -33,6 +33,7 @@ fn single(name: &str, fmu: &NonFiniteFmu) -> SystemDescription {
         record: None,
         limits: Default::default(),
         allow_non_finite: Vec::new(),
+        events: Vec::new(),
         inputs: None,
         package: None,
     }

@@ -4,6 +4,7 @@ mod derivatives;
 mod model_exchange;
 
 use crate::physics::continuous::unit_attitude;
+use crate::physics::faults::RcsStuckMode;
 use crate::physics::frames::{quaternion_to_scalar_first, Body};
 use crate::physics::parameters::{
     PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
@@ -59,7 +60,31 @@ pub struct LanderPlant {
 }
 
 impl LanderPlant {
+    /// Brings the running plant up to the fault parameters, which are tunable: a master may
+    /// have set them since the last step or event (`physics::faults`). Refuses a stuck
+    /// thruster the RCS model has none of.
+    fn apply_faults(&mut self) -> Result<(), ModelError> {
+        let Some((plant, _)) = self.running.as_mut() else {
+            return Ok(());
+        };
+        plant.engines.health = self.parameters.engines.health;
+        match (self.parameters.rcs_stuck.fault(), &plant.thrusters) {
+            (Some((k, _)), None) => Err(ModelError::Refused(format!(
+                "rcs_stuck_thruster = {}: the torque model (rcs_model = 1) has no thrusters \
+                 to stick; fly rcs_model = 2 (thrusters)",
+                k + 1
+            ))),
+            _ => Ok(()),
+        }
+    }
+
+    /// The RCS duties the valves act on: the commanded ones with a stuck thruster's forced.
+    fn valve_duty(&self) -> [f64; THRUSTER_COUNT] {
+        self.parameters.rcs_stuck.duty(&self.rcs_duty)
+    }
+
     fn refresh_outputs(&mut self) {
+        let _ = self.apply_faults();
         let p = &self.parameters;
         let provisional;
         let (plant, run) = match &self.running {
@@ -116,7 +141,7 @@ impl LanderPlant {
                 },
             };
             // Thruster model: the thrusters commanded on at the start of the coming step.
-            let firing = self.rcs_duty.map(|d| d > 0.0);
+            let firing = self.valve_duty().map(|d| d > 0.0);
             plant.delivered_run(
                 run,
                 &self.commands,
@@ -394,8 +419,9 @@ impl Model for LanderPlant {
     /// 3: the delivered actuation is no longer stored (computed when read);
     /// 4: the landing gear, the optional actuator effects and the RCS command history;
     /// 5: the specific force and the body rate integrated over the step;
-    /// 6: slosh tanks following the fill level (the plant's slosh constants).
-    const STATE_VERSION: u32 = 6;
+    /// 6: slosh tanks following the fill level (the plant's slosh constants);
+    /// 7: the faults (engine health, a stuck RCS thruster).
+    const STATE_VERSION: u32 = 7;
     const MODEL_NAME: &'static str = "LanderPlant";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
     const DESCRIPTION: &'static str = "6-DOF lunar lander: rigid-body attitude, flat (paper eq. 2) or spherical rotating \
@@ -470,7 +496,10 @@ impl Model for LanderPlant {
             };
         };
         let (fresh, _, _) = Plant::new(&self.parameters).map_err(ModelError::from)?;
-        if *plant != fresh {
+        // A fault set since the last step reaches the plant at the next one.
+        let mut synced = plant.clone();
+        synced.engines.health = self.parameters.engines.health;
+        if synced != fresh {
             return Err(restored(
                 "plant constants",
                 "",
@@ -482,6 +511,8 @@ impl Model for LanderPlant {
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut Log) -> Result<StepEnd, ModelError> {
+        self.apply_faults()?;
+        let duty = self.valve_duty();
         let Some((plant, run)) = self.running.as_mut() else {
             return Err(ModelError::Other(
                 "do_step before exit_initialization".into(),
@@ -519,14 +550,8 @@ impl Model for LanderPlant {
         let before = *run;
         run.start_means();
         let history_before = (plant.rcs_valve_delay_s > 0.0).then_some(self.rcs_history);
-        let advance = plant.advance_with_history(
-            run,
-            &mut self.rcs_history,
-            &self.commands,
-            &self.rcs_duty,
-            t,
-            h,
-        );
+        let advance =
+            plant.advance_with_history(run, &mut self.rcs_history, &self.commands, &duty, t, h);
         if !run.state.is_finite() {
             *run = before;
             if let Some(history) = history_before {
@@ -637,6 +662,13 @@ fmi_model::enumeration! {
     RcsModelKind = "RcsModel", "How the reaction control system is modelled" {
         Torque: "torque", "Continuous torque per axis from torque_cmd_body, saturated at rcs_torque_limit (the paper's model)";
         Thrusters: "thrusters", "Eight on/off thrusters fired from the start of each step for rcs_duty of it";
+    }
+}
+
+fmi_model::enumeration! {
+    RcsStuckMode = "RcsStuckMode", "How a stuck RCS thruster's valve failed" {
+        Off: "off", "Stuck closed: no force, whatever its command";
+        On: "on", "Stuck open: full force over every step, commanded or not";
     }
 }
 
@@ -821,6 +853,7 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(133, parameter engine_off_threshold: parameters.engines.off_threshold_n, "N", "A thrust command at or below this value switches the engines off", min = 0.0),
     decl!(134, parameter engine_time_constant: parameters.engines.time_constant_s, "s", "First-order lag of the delivered thrust (0 = none)", min = 0.0),
     decl!(146, parameter engine_thrust_scale: parameters.engines.thrust_scale, "1", "Delivered over commanded thrust once the throttle limits apply: a thrust-level error the GNC does not know (1 nominal), at most 2", above = 0.0, max = 2.0),
+    decl!(147, tunable engine_health: parameters.engines.health, "1", "Fault, tunable during the run: the fraction of the thrust the engines still deliver, after engine_thrust_scale (1 healthy; 0.5 one of two engines lost); the GNC is not told", min = 0.0, max = 1.0),
     decl!(135, parameter thrust_misalignment: parameters.thrust_line.misalignment_rad, "rad", "Angle between the thrust direction and body +y", above = -HALF_PI, below = HALF_PI),
     decl!(136, parameter thrust_misalignment_azimuth: parameters.thrust_line.misalignment_azimuth_rad, "rad", "Direction of the misalignment in the body x-z plane, from +x towards +z"),
     decl!(137, parameter thrust_point_body[3]: parameters.thrust_line.point_body_m, "m", "Thrust application point relative to the centre of mass", components = &["body x (lateral offset)", "body y (nozzle below the centre of mass)", "body z (lateral offset)"]),
@@ -832,6 +865,8 @@ static DECLARATIONS: &[Declaration<LanderPlant>] = &[
     decl!(142, parameter rcs_time_constant: parameters.rcs.time_constant_s, "s", "First-order lag of the delivered RCS torque (0 = none)", min = 0.0),
     decl!(144, parameter rcs_model: parameters.rcs_model as enum RcsModelKind, "RCS model: 1 torque per axis (default, the paper), 2 eight thrusters driven by rcs_duty", as_integer = true),
     decl!(145, parameter rcs_min_impulse_bit: parameters.thrusters.min_impulse_bit_ns, "N.s", "Thruster model: a pulse of smaller impulse (rcs_thruster_force x on-time) is not fired, unless it continues a pulse that lasted to the end of the previous step", min = 0.0),
+    decl!(148, tunable rcs_stuck_thruster: parameters.rcs_stuck.thruster as i32, "Fault, tunable during the run (thruster model only): the RCS thruster 1..8 (docs/rcs-layout.md) whose valve is stuck as rcs_stuck_mode says; 0 none", int_min = 0, int_max = 8),
+    decl!(149, tunable rcs_stuck_mode: parameters.rcs_stuck.mode as enum RcsStuckMode, "Fault: how rcs_stuck_thruster's valve is stuck: 1 off (no force, whatever rcs_duty), 2 on (full force over every step, commanded or not)", as_integer = true),
     decl!(300, parameter rcs_position_body[24]: parameters.thrusters.position_body_m, "m", "Thruster model: nozzle position of thruster k (elements 3k+1..3k+3) relative to the centre of mass; default: docs/rcs-layout.md", components = THRUSTER_XYZ),
     decl!(324, parameter rcs_direction_body[24]: parameters.thrusters.direction_body, "1", "Thruster model: unit direction of the force thruster k (elements 3k+1..3k+3) applies to the lander", components = THRUSTER_XYZ),
     decl!(143, calculated_parameter rcs_torque_limit: get |m, _| m.parameters.rcs.torque_limit_nm(), "N.m", "Per-axis RCS torque limit: one couple, 2 x rcs_thruster_force x rcs_moment_arm"),

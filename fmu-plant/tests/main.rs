@@ -6,6 +6,7 @@ mod conformance;
 mod continuous;
 mod derivatives_abi;
 mod description_metadata;
+mod faults;
 mod fmi3_abi;
 mod fmi3_common;
 mod fmi3_gear;

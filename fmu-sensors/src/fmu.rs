@@ -96,8 +96,9 @@ impl Model for LanderSensors {
         tolerance: None,
     };
 
-    /// 2: the run's drawn calibration errors.
-    const STATE_VERSION: u32 = 2;
+    /// 2: the run's drawn calibration errors; 3: the altimeter's and velocimeter's
+    /// availability (faults).
+    const STATE_VERSION: u32 = 3;
 
     fn declarations() -> &'static [Declaration<Self>] {
         DECLARATIONS
@@ -252,6 +253,7 @@ static DECLARATIONS: &[Declaration<LanderSensors>] = &[
     decl!(234, parameter altimeter_noise_proportional: params.altimeter.noise_proportional, "1", "1-sigma of the range noise per metre of slant range, added in quadrature to altimeter_noise_sigma", min = 0.0, max = RANGE_NOISE_PROPORTIONAL_MAX),
     decl!(235, parameter altimeter_max_range: params.altimeter.max_range_m, "m", "Slant range beyond which the altimeter is invalid", above = 0.0, max = MAX_RANGE_MAX_M),
     decl!(236, parameter altimeter_dropout_probability: params.altimeter.dropout_probability, "1", "Probability that an altimeter sample is lost (invalid)", min = 0.0, max = 1.0),
+    decl!(237, tunable altimeter_available: params.altimeter.available as bool, "Fault, tunable during the run: false is an altimeter failure, every sample invalid (altimeter_valid false, altimeter_range 0) until it is true again"),
     // Doppler velocimeter.
     decl!(240, parameter velocimeter_beam_1_body[3]: params.velocimeter_beam_1_body, "1", "Direction of velocimeter beam 1 in body axes (normalised; default 20 deg from -y at azimuth 0 from +x towards +z)", components = BODY),
     decl!(243, parameter velocimeter_beam_2_body[3]: params.velocimeter_beam_2_body, "1", "Direction of velocimeter beam 2 in body axes (default azimuth 120 deg)", components = BODY),
@@ -259,6 +261,7 @@ static DECLARATIONS: &[Declaration<LanderSensors>] = &[
     decl!(249, parameter velocimeter_noise_sigma: params.velocimeter.noise_sigma, "m/s", "1-sigma of the line-of-sight velocity noise of each beam", min = 0.0, max = LOS_NOISE_SIGMA_MAX_MPS),
     decl!(250, parameter velocimeter_max_range: params.velocimeter.max_range_m, "m", "Slant range along a beam beyond which that beam is invalid", above = 0.0, max = MAX_RANGE_MAX_M),
     decl!(251, parameter velocimeter_dropout_probability: params.velocimeter.dropout_probability, "1", "Probability that a beam's sample is lost (invalid), each beam drawn on its own", min = 0.0, max = 1.0),
+    decl!(252, tunable velocimeter_available: params.velocimeter.available as bool, "Fault, tunable during the run: false is a velocimeter failure, every beam invalid (velocimeter_valid false, velocimeter_los_velocity 0) until it is true again"),
     // Terrain plane.
     decl!(260, parameter terrain_height: params.terrain_height_m, "m", "Up of the terrain plane at the origin (the landing site)", min = -TERRAIN_HEIGHT_MAX_M, max = TERRAIN_HEIGHT_MAX_M),
     decl!(261, parameter terrain_slope_normal_nue[3]: params.terrain_slope_normal_nue, "1", "Normal of the terrain plane in NUE, pointing up (normalised; a zero or downward normal is refused)", components = NUE),

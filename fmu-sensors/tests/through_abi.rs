@@ -235,3 +235,42 @@ fn a_non_unit_quaternion_warns_on_read_and_fails_the_step_never_showing_nan() {
     // A NaN input is refused at the set.
     assert_eq!(fmu.set_real(vr("v_nue[2]"), f64::NAN), fmi2Error);
 }
+
+#[test]
+fn an_altimeter_or_velocimeter_failure_thrown_mid_run_invalidates_its_samples_until_mended() {
+    // GIVEN the defaults (no dropouts) and a twin flown without any failure
+    let fmu = instance();
+    let twin = instance();
+    for f in [&fmu, &twin] {
+        f.enter_init();
+        assert_eq!(f.exit_initialization_mode(), fmi2OK);
+    }
+    let nominal = fly(&twin, 0, 40);
+    assert!(nominal.iter().all(|(_, valid)| valid.iter().all(|&v| v)));
+    let mut got = fly(&fmu, 0, 10);
+    // WHEN the altimeter fails at step 10, the velocimeter at step 20, both mended at 30
+    assert_eq!(fmu.set_boolean(vr("altimeter_available"), false), fmi2OK);
+    got.extend(fly(&fmu, 10, 20));
+    assert_eq!(fmu.set_boolean(vr("velocimeter_available"), false), fmi2OK);
+    got.extend(fly(&fmu, 20, 30));
+    assert_eq!(fmu.set_boolean(vr("altimeter_available"), true), fmi2OK);
+    assert_eq!(fmu.set_boolean(vr("velocimeter_available"), true), fmi2OK);
+    got.extend(fly(&fmu, 30, 40));
+    for (k, ((values, valid), (nominal_values, _))) in got.iter().zip(&nominal).enumerate() {
+        let altimeter_out = (10..30).contains(&k);
+        let velocimeter_out = (20..30).contains(&k);
+        // THEN a failed sensor's samples are invalid and read 0
+        assert_eq!(valid[0], !altimeter_out, "step {k}");
+        assert!(valid[1..].iter().all(|&v| v != velocimeter_out), "step {k}");
+        if altimeter_out {
+            assert_eq!(values[6], 0);
+        }
+        if velocimeter_out {
+            assert!(values[7..].iter().all(|&v| v == 0), "step {k}");
+        }
+        // AND every other measurement is the twin's to the bit: a failure draws nothing
+        for i in (0..10).filter(|&i| !(altimeter_out && i == 6 || velocimeter_out && i >= 7)) {
+            assert_eq!(values[i], nominal_values[i], "step {k}, {}", OUTPUTS[i]);
+        }
+    }
+}

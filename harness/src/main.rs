@@ -1120,6 +1120,9 @@ fn run_scenario(request: &RunRequest, fmu_dir: &std::path::Path) -> anyhow::Resu
             events.state, events.time, events.step
         );
     }
+    for line in cosim::master::event_outcomes(simulation.system(), &end) {
+        println!("{line}");
+    }
     let mut exit_code = verdict.exit_code(spec.expect);
     if let Some(note) = state.continued_note(&checkpoints) {
         println!("{note}");

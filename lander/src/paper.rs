@@ -121,6 +121,9 @@ pub fn summary(
             flight.law.name(),
             flight.verdict.describe(expect)
         );
+        for event in &flight.provenance.event {
+            text += &format!("  {}\n", event.outcome(&flight.end));
+        }
         let comparison = own.is_some_and(|own| own != flight.law);
         for judged in &flight.requirements {
             let note = if comparison && !judged.holds() {

@@ -22,6 +22,28 @@ pub struct Provenance {
     pub laws: Vec<String>,
     #[serde(default)]
     pub instance: Vec<InstanceProvenance>,
+    /// The scenario's events (`[[event]]`), in its order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub event: Vec<EventProvenance>,
+}
+
+/// A scenario event: what it sets, when it is due and the communication point it applies at.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EventProvenance {
+    pub name: String,
+    pub time_s: f64,
+    /// `instance.variable = value`.
+    pub set: String,
+    /// The communication point the master applies it at (`cosim::system::event`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub applied_at_s: Option<f64>,
+}
+
+impl EventProvenance {
+    /// What became of the event in a flight that ended with `end`.
+    pub fn outcome(&self, end: &cosim::master::RunEnd) -> String {
+        cosim::master::event_outcome(&self.name, &self.set, self.time_s, self.applied_at_s, end)
+    }
 }
 
 /// One FMU instance: what it is and the values the scenario gives it.
@@ -96,6 +118,16 @@ impl Provenance {
                             })
                             .collect(),
                     }
+                })
+                .collect(),
+            event: system
+                .events
+                .iter()
+                .map(|event| EventProvenance {
+                    name: event.name.clone(),
+                    time_s: event.time_s,
+                    set: event.describe(),
+                    applied_at_s: cosim::system::event::application_time(system, event.time_s),
                 })
                 .collect(),
         }

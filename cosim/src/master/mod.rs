@@ -24,6 +24,7 @@
 mod buffer;
 mod checkpoint;
 mod conventions;
+mod events;
 mod finite;
 mod linearize;
 mod loops;
@@ -35,6 +36,7 @@ mod terminals;
 mod text;
 
 pub use conventions::{Conventions, InitialInputs, TimeGrid};
+pub use events::{outcome as event_outcome, outcomes as event_outcomes};
 pub use linearize::Jacobians;
 pub use model_exchange::{EventCounts, MeError, SolverSettings};
 pub use resolve::Port;
@@ -509,6 +511,8 @@ pub struct Simulation {
     /// Where a run stops with its instances kept (`linearize.rs`), and where the last one did.
     hold_at: Option<f64>,
     held_at: Option<f64>,
+    /// The scenario's events, in the order they fall due (`events.rs`).
+    events: events::Schedule,
 }
 
 /// Directories a relative FMU path is looked up in after the caller's FMU directory, in
@@ -602,6 +606,12 @@ impl Simulation {
         }
         resolve::algebraic_loop(&system, &fmus, &pairs, &mut problems);
         let table_inputs = table::resolve(&system, &fmus, &pairs, &mut problems);
+        problems.extend(events::problems(
+            &system,
+            &fmus,
+            &connection_names,
+            &table_inputs,
+        ));
         let mut finite = finite::Check::new(&system, &fmus, &mut problems);
         for port in recorded
             .iter()
@@ -717,6 +727,7 @@ impl Simulation {
         let row = vec![0.0; columns.len()];
         let last_texts = vec![None; columns.len()];
         let read_after_step = AfterStep::of(&links, &outputs);
+        let events = events::Schedule::new(&system);
         Ok(Self {
             system,
             fmus,
@@ -748,6 +759,7 @@ impl Simulation {
             saved_at: None,
             hold_at: None,
             held_at: None,
+            events,
         })
     }
 
@@ -930,6 +942,8 @@ impl Simulation {
             conventions::Clock::new(self.conventions.time_grid, start_time, stop_time, step_size);
         let save_at = self.begin_checkpoints(&mut clock)?;
         recorder.reserve(clock.rows_hint(), self.columns.len());
+        self.events.restart();
+        let mut first_point = true;
         loop {
             if save_at == Some(clock.position().0) {
                 self.save_run(&clock)?;
@@ -937,6 +951,11 @@ impl Simulation {
             let Some((time, h)) = clock.next_step() else {
                 break;
             };
+            if first_point {
+                // A continued run's FMU states hold the events due before it.
+                self.events.skip_before(&self.system, time, h);
+                first_point = false;
+            }
             self.now = time;
             if ordering == Ordering::GaussSeidel {
                 for u in 0..self.units.len() {
@@ -964,6 +983,17 @@ impl Simulation {
             if self.hold_at.is_some_and(|hold| time >= hold - 0.5 * h) {
                 self.held_at = Some(time);
                 return Ok(RunEnd::Completed);
+            }
+            // Events due here change the step from this point, not its row (`events.rs`).
+            let applied = self
+                .events
+                .apply_due(&self.system, &mut self.units, time, h);
+            let ended = applied.inspect_err(|_| self.terminate_all())?;
+            if let Some(u) = ended {
+                let instance = self.units[u].name.clone();
+                self.read_final(time)?;
+                self.terminate_all();
+                return Ok(RunEnd::Terminated { instance, time });
             }
             for u in 0..self.units.len() {
                 self.outputs_read[u] = false;

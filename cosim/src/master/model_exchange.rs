@@ -27,6 +27,9 @@ pub enum MeError {
         time: f64,
         source: SolverError,
     },
+    /// A value a scenario event set was refused (see `events.rs`).
+    #[error("setting a scenario event's value: {0}")]
+    Set(#[source] fmi_import::CallError),
     #[error(
         "the event iteration at t = {time} s did not end after {MAX_EVENT_ITERATIONS} \
              calls of fmi2NewDiscreteStates (newDiscreteStatesNeeded stayed true)"
@@ -240,6 +243,25 @@ impl ModelExchangeUnit {
         };
         self.jacobian = plan;
         stepped
+    }
+
+    /// A scenario event at the communication point `time`, between two steps: Event Mode,
+    /// `set`, the event iteration, Continuous-Time Mode; the next step starts its solver
+    /// afresh from the states the iteration left. True if the FMU asked to end the run.
+    pub(super) fn event(
+        &mut self,
+        instance: &mut Instance,
+        time: f64,
+        set: impl FnOnce(&mut Instance) -> Result<(), fmi_import::CallError>,
+    ) -> Result<bool, MeError> {
+        instance.set_time(time)?;
+        instance.enter_event_mode_me()?;
+        set(instance).map_err(MeError::Set)?;
+        if self.event_iteration(instance, time)? {
+            return Ok(true);
+        }
+        instance.enter_continuous_time_mode()?;
+        Ok(false)
     }
 
     fn add_statistics(&mut self, step: Statistics) {

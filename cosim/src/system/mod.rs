@@ -4,6 +4,7 @@
 //! what only 2.0 has in [`ssp2`]), or made of one FMU alone ([`single`]); written back to SSD
 //! so the shipped `.ssd` is generated from the TOML and never drifts.
 pub mod campaign_table;
+pub mod event;
 pub mod fields;
 pub mod input_table;
 pub mod single;
@@ -13,6 +14,7 @@ pub mod ssp;
 pub mod ssp2;
 pub mod toml_format;
 
+pub use event::Event;
 pub use input_table::InputTable;
 pub use solver::{JacobianSource, SolverSettings};
 
@@ -123,6 +125,11 @@ pub struct SystemDescription {
     /// connections. Defaulted so that a description from before the option reads.
     #[serde(default)]
     pub inputs: Option<InputTable>,
+    /// Values set during the run (`[[event]]`), in the order they are applied when several
+    /// fall on one communication point. Defaulted so that a description from before the
+    /// option reads.
+    #[serde(default)]
+    pub events: Vec<Event>,
     /// Keeps an unpacked `.ssp` on disk as long as the description refers to its FMUs. Not
     /// sent to a worker process: the parent keeps the directory while the worker reads it.
     #[serde(skip)]
@@ -280,6 +287,7 @@ mod partial_step_tests {
             limits: Default::default(),
             allow_non_finite: Vec::new(),
             inputs: None,
+            events: Vec::new(),
             package: None,
         };
         assert_eq!(system.partial_last_step(), None);

@@ -41,6 +41,7 @@ pub fn of_fmu(path: &Path) -> Result<SystemDescription, SystemError> {
         record: None,
         limits: Default::default(),
         allow_non_finite: Vec::new(),
+        events: Vec::new(),
         inputs: None,
         package: None,
     };

@@ -459,6 +459,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         record: None,
         limits: Default::default(),
         allow_non_finite: Vec::new(),
+        events: Vec::new(),
         inputs: None,
         package: None,
     };
@@ -589,6 +590,7 @@ mod tests {
             record: None,
             limits: Default::default(),
             allow_non_finite: Vec::new(),
+            events: Vec::new(),
             inputs: None,
             package: None,
         }

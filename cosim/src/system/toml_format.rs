@@ -29,6 +29,20 @@ struct File {
     #[serde(default)]
     #[allow(dead_code)]
     campaign: Option<super::campaign_table::Declaration>,
+    #[serde(default, rename = "event")]
+    events: Vec<EventEntry>,
+}
+
+/// `[[event]]`: `set = value` at `time` (see `system/event.rs`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EventEntry {
+    name: String,
+    /// s.
+    time: f64,
+    /// `instance.variable`.
+    set: String,
+    value: toml::Value,
 }
 
 fn default_step() -> f64 {
@@ -189,10 +203,36 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
             interface_named,
         });
     }
-    problems.extend(file.limits.problems("[limits]"));
-    if !problems.is_empty() {
-        return Err(syntax(problems.join("; ")));
+    let mut events = Vec::with_capacity(file.events.len());
+    for event in file.events {
+        let value = match event.value {
+            toml::Value::Float(x) => ParamValue::Real(x),
+            toml::Value::Integer(i) => ParamValue::Integer(i),
+            toml::Value::Boolean(b) => ParamValue::Boolean(b),
+            other => {
+                problems.push(format!(
+                    "event '{}': value {other} is not a number, an integer or a boolean",
+                    event.name
+                ));
+                continue;
+            }
+        };
+        let Some((instance, variable)) = super::event::target(&event.set) else {
+            problems.push(format!(
+                "event '{}': set = \"{}\" is not of the form instance.variable",
+                event.name, event.set
+            ));
+            continue;
+        };
+        events.push(super::Event {
+            name: event.name,
+            time_s: event.time,
+            instance,
+            variable,
+            value,
+        });
     }
+    problems.extend(file.limits.problems("[limits]"));
     let system = SystemDescription {
         name: file.name,
         start_time: file.start_time,
@@ -212,8 +252,16 @@ pub fn parse(text: &str, origin: &Path) -> Result<SystemDescription, SystemError
         limits: file.limits,
         allow_non_finite: file.allow_non_finite,
         inputs: None,
+        events,
         package: None,
     };
+    if !problems.is_empty() {
+        // With the checks of the whole system, so that every problem is named at once.
+        if let Err(SystemError::Invalid { message, .. }) = system.validate() {
+            problems.push(message);
+        }
+        return Err(syntax(problems.join("; ")));
+    }
     system.validate()?;
     Ok(system)
 }
@@ -242,6 +290,7 @@ pub fn keys() -> Vec<(&'static str, &'static [&'static str])> {
         ("instance", super::fields::of::<Instance>()),
         ("connection", super::fields::of::<ConnectionEntry>()),
         ("limits", super::fields::of::<crate::limits::Limits>()),
+        ("event", super::fields::of::<EventEntry>()),
     ]
     .into_iter()
     .chain(super::campaign_table::keys())

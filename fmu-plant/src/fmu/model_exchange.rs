@@ -343,6 +343,8 @@ impl ContinuousModel for LanderPlant {
     /// Touchdown freezes the touchdown outputs and ends the run; exhaustion cuts the
     /// engines; both as the Co-Simulation step does at its located events.
     fn update_discrete_states(&mut self, log: &mut Log) -> Result<EventUpdate, ModelError> {
+        // A fault set in this Event Mode acts from here on.
+        self.apply_faults()?;
         let t = self.time_s;
         let Some((plant, run)) = self.running.as_mut() else {
             // The initial event update at the end of initialization has nothing to do.

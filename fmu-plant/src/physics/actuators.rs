@@ -19,6 +19,9 @@ pub struct Engines {
     /// Delivered over commanded thrust once the throttle limits apply: a thrust-level error
     /// (engine performance, a miscalibrated throttle) the GNC does not know. 1 = nominal.
     pub thrust_scale: f64,
+    /// The fraction of the thrust the engines still deliver, in [0, 1]: a fault thrown during
+    /// the run (0.5: one of two engines lost, as SLIM's). 1 = healthy.
+    pub health: f64,
 }
 
 impl Engines {
@@ -35,6 +38,7 @@ impl Engines {
             .max(n * self.min_thrust_per_engine_n)
             .min(n * self.max_thrust_per_engine_n)
             * self.thrust_scale
+            * self.health
     }
 }
 
@@ -117,6 +121,7 @@ mod tests {
             min_thrust_per_engine_n: 360.0,
             max_thrust_per_engine_n: 800.0,
             thrust_scale: 1.0,
+            health: 1.0,
             off_threshold_n: 1.0,
             time_constant_s: 0.0,
         }
@@ -127,6 +132,7 @@ mod tests {
         let nominal = engines();
         let high = Engines {
             thrust_scale: 1.05,
+            health: 1.0,
             ..nominal
         };
         // Within the range, at the limits, and off.

@@ -3,6 +3,7 @@ pub mod actuators;
 pub mod continuous;
 pub mod dual;
 pub mod events;
+pub mod faults;
 pub mod frames;
 pub mod gear;
 pub mod integrator;

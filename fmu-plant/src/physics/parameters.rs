@@ -90,6 +90,9 @@ pub struct PlantParameters {
     /// `inertia_dry_body_kgm2`).
     #[serde(default)]
     pub com_offset_dry_body_m: Vector3<f64>,
+    /// An RCS thruster stuck off or on (`physics::faults`; thruster model only).
+    #[serde(default)]
+    pub rcs_stuck: super::faults::RcsStuck,
 }
 
 /// Optional actuator effects (`docs/plant-actuators.md`); 0 switches each off.
@@ -127,6 +130,7 @@ impl Default for PlantParameters {
                 off_threshold_n: 1.0,
                 time_constant_s: 0.0,
                 thrust_scale: 1.0,
+                health: 1.0,
             },
             rcs: Rcs {
                 thruster_force_n: 58.0,
@@ -153,6 +157,7 @@ impl Default for PlantParameters {
             slosh: SloshParameters::default(),
             inertia_dry_body_kgm2: Vector3::zeros(),
             com_offset_dry_body_m: Vector3::zeros(),
+            rcs_stuck: Default::default(),
         }
     }
 }
@@ -292,6 +297,15 @@ impl PlantParameters {
             e.thrust_scale,
             "times the maximum total thrust overflows",
         )?;
+        require(
+            (0.0..=1.0).contains(&e.health),
+            ("engines.health", None),
+            e.health,
+            "must be within [0, 1]",
+        )?;
+        if let Err((field, reason)) = self.rcs_stuck.check() {
+            return Err(refuse((field, None), "", reason));
+        }
         self.validate_thrusters()?;
         let kind = self.translation_model_kind()?;
         self.validated_q0()?;

@@ -122,6 +122,7 @@ impl Plant {
             .max_const(n * e.min_thrust_per_engine_n)
             .min_const(n * e.max_thrust_per_engine_n)
             * e.thrust_scale
+            * e.health
     }
 
     /// The delivered thrust (`delivered_from`).

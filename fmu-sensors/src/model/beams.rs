@@ -1,8 +1,8 @@
 //! The beam sensors: a laser altimeter (slant range) and the Doppler velocimeter beams
 //! (line-of-sight velocity `v . d`, the lander's velocity relative to the terrain along the
-//! beam, positive away from the lander, i.e. towards the terrain). A beam is valid when it
-//! meets the terrain within its maximum range and its sample is not dropped; an invalid
-//! measurement reads 0.
+//! beam, positive away from the lander, i.e. towards the terrain). A beam is valid when its
+//! sensor is available, it meets the terrain within its maximum range and its sample is not
+//! dropped; an invalid measurement reads 0.
 use super::parameters::BeamErrors;
 
 /// One beam's sample: the measured value, or `None` when invalid.
@@ -13,6 +13,9 @@ pub fn sample(
     noise: f64,
     dropout: f64,
 ) -> Option<f64> {
+    if !errors.available {
+        return None;
+    }
     let rho = slant_range_m.filter(|rho| *rho <= errors.max_range_m)?;
     if dropout < errors.dropout_probability {
         return None;

@@ -41,6 +41,9 @@ pub struct BeamErrors {
     pub max_range_m: f64,
     /// Probability that a sample is lost (reported invalid).
     pub dropout_probability: f64,
+    /// Whether the sensor works at all: false is a failure (tunable, thrown during a run),
+    /// every sample invalid until it is true again.
+    pub available: bool,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -103,6 +106,7 @@ impl Default for SensorParameters {
                 noise_proportional: 1e-3,
                 max_range_m: 2000.0,
                 dropout_probability: 0.0,
+                available: true,
             },
             velocimeter_beam_1_body: default_velocimeter_beam(0),
             velocimeter_beam_2_body: default_velocimeter_beam(1),
@@ -112,6 +116,7 @@ impl Default for SensorParameters {
                 noise_proportional: 0.0,
                 max_range_m: 1000.0,
                 dropout_probability: 0.0,
+                available: true,
             },
             terrain_height_m: 0.0,
             terrain_slope_normal_nue: [0.0, 1.0, 0.0],

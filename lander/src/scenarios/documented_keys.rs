@@ -80,6 +80,7 @@ fn every_key_the_reader_accepts_is_documented_and_every_documented_key_is_accept
         ("`[[instance]]`", set(&[reader("instance")])),
         ("`[[connection]]`", set(&[reader("connection")])),
         ("`[limits]`", set(&[reader("limits")])),
+        ("`[[event]]`", set(&[reader("event")])),
         (
             "`[verdict]`",
             set(&[

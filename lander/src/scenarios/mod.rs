@@ -66,6 +66,18 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         "landing-model-exchange",
         include_str!("../../../harness/scenarios/landing-model-exchange.toml"),
     ),
+    (
+        "fault-engine",
+        include_str!("../../../harness/scenarios/fault-engine.toml"),
+    ),
+    (
+        "fault-thruster",
+        include_str!("../../../harness/scenarios/fault-thruster.toml"),
+    ),
+    (
+        "fault-sensors",
+        include_str!("../../../harness/scenarios/fault-sensors.toml"),
+    ),
 ];
 
 /// The error for a scenario argument that is neither a file nor a built-in name: it lists
@@ -199,9 +211,31 @@ fn read_package(path: &Path) -> Result<SystemDescription, SystemError> {
     Ok(system)
 }
 
+/// An SSD has no place for a scenario event: refused rather than dropped from the package.
+fn no_events(system: &SystemDescription) -> Result<(), MasterError> {
+    if system.events.is_empty() {
+        return Ok(());
+    }
+    Err(MasterError::Resolve {
+        system: system.name.clone(),
+        problems: system
+            .events
+            .iter()
+            .map(|e| {
+                format!(
+                    "event '{}' ({}): an SSP system structure cannot carry scenario events",
+                    e.name,
+                    e.describe()
+                )
+            })
+            .collect(),
+    })
+}
+
 /// The SSP `SystemStructure.ssd` of a scenario: its connections expanded to scalars and
 /// typed from the FMUs in `fmu_dir`, components pointing at `resources/<file>.fmu`.
 pub fn ssd_for(system: &SystemDescription, fmu_dir: &Path) -> Result<String, MasterError> {
+    no_events(system)?;
     let simulation = Simulation::new(system.clone(), fmu_dir)?;
     Ok(ssp::write(
         system,
@@ -214,6 +248,7 @@ pub fn ssd_for(system: &SystemDescription, fmu_dir: &Path) -> Result<String, Mas
 /// a connector per connected variable, arrays whole, components pointing at
 /// `resources/<file>.fmu`.
 pub fn ssd2_for(system: &SystemDescription, fmu_dir: &Path) -> Result<String, MasterError> {
+    no_events(system)?;
     let simulation = Simulation::new(system.clone(), fmu_dir)?;
     cosim::system::ssp2::write(system, simulation.fmus()).map_err(|e| MasterError::Resolve {
         system: system.name.clone(),

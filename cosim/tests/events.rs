@@ -1,0 +1,352 @@
+//! Scenario events: a tunable parameter of the Oscillator changed mid-run, in FMI 2.0 and
+//! 3.0 Co-Simulation and FMI 3.0 Model Exchange, against the analytic trajectory; every
+//! problem of a scenario's events refused at load at once, each naming event and value.
+use crate::common::{fmu_dir, oscillator_fmu};
+use cosim::master::{RunEnd, Simulation, Trajectory};
+use cosim::system::{toml_format, SystemDescription};
+use std::path::Path;
+
+/// The event (`STIFFEN`) is due at 0.503 s: on the 0.01 s grid it applies at 0.51 s, the
+/// first point at or after it, not at the nearest one.
+const APPLIED_S: f64 = 0.51;
+
+/// A free mass at x = 1 (k = 0, c = 0) until the event sets k = 4 N/m: from the point it is
+/// applied on, x(t) = cos(2 (t - t_e)) exactly.
+fn scenario(fmu: &Path, extra_instance: &str, events: &str) -> SystemDescription {
+    let text = format!(
+        r#"
+name = "events"
+stop_time = 2.0
+step_size = 0.01
+record = ["osc.x"]
+
+[[instance]]
+name = "osc"
+fmu = "{}"
+{extra_instance}
+parameters = {{ x0 = 1.0, k = 0.0, c = 0.0, substeps = 1000 }}
+
+{events}
+"#,
+        fmu.display()
+    );
+    toml_format::parse(&text, Path::new("events.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+const STIFFEN: &str = r#"
+[[event]]
+name = "stiffen"
+time = 0.503
+set = "osc.k"
+value = 4.0
+"#;
+
+fn fly(system: SystemDescription) -> Trajectory {
+    let mut simulation = Simulation::new(system, Path::new("/")).unwrap();
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    assert_eq!(simulation.run(&mut trajectory).unwrap(), RunEnd::Completed);
+    trajectory
+}
+
+/// x stays 1 up to and including the row of the point the event applies at (that row shows
+/// the values before it), then follows the cosine from that point.
+fn assert_stiffened_at_the_point(trajectory: &Trajectory, tolerance: f64) {
+    let x = trajectory.column("osc.x").unwrap();
+    let mut checked_after = 0;
+    for (&t, &x) in trajectory.times.iter().zip(&x) {
+        if t <= APPLIED_S + 1e-12 {
+            assert_eq!(x, 1.0, "t = {t}: before the event x must stay 1");
+        } else {
+            let expected = libm::cos(2.0 * (t - APPLIED_S));
+            assert!(
+                (x - expected).abs() < tolerance,
+                "t = {t}: x = {x}, cos(2 (t - {APPLIED_S})) = {expected}"
+            );
+            checked_after += 1;
+        }
+    }
+    assert!(checked_after > 100, "{checked_after} rows after the event");
+}
+
+#[test]
+fn an_event_changes_a_tunable_parameter_from_its_communication_point_in_fmi2() {
+    let fmu = oscillator_fmu();
+    assert_stiffened_at_the_point(&fly(scenario(&fmu.path, "", STIFFEN)), 1e-9);
+}
+
+#[test]
+fn an_event_changes_a_tunable_parameter_from_its_communication_point_in_fmi3() {
+    let fmu = fmu_dir().join("fmi3/Oscillator.fmu");
+    assert_stiffened_at_the_point(&fly(scenario(&fmu, "", STIFFEN)), 1e-9);
+}
+
+#[test]
+fn an_event_on_a_model_exchange_instance_is_set_in_event_mode_between_solver_steps() {
+    let fmu = fmu_dir().join("fmi3/Oscillator.fmu");
+    let system = scenario(&fmu, "interface = \"model-exchange\"", STIFFEN);
+    // The parameters table must follow the interface key, not precede it: same instance.
+    assert!(system.instances[0].model_exchange.is_some());
+    assert_stiffened_at_the_point(&fly(system), 1e-6);
+}
+
+#[test]
+fn without_the_event_the_mass_stays_put() {
+    // What the tests above tell apart: the event ignored leaves x = 1 throughout.
+    let fmu = oscillator_fmu();
+    let x = fly(scenario(&fmu.path, "", "")).column("osc.x").unwrap();
+    assert!(x.iter().all(|&x| x == 1.0));
+}
+
+#[test]
+fn every_problem_of_the_events_is_refused_at_load_at_once_naming_event_and_value() {
+    let fmu = oscillator_fmu();
+    let events = r#"
+[[event]]
+name = "ghost"
+time = 0.5
+set = "other.k"
+value = 1.0
+
+[[event]]
+name = "typo"
+time = 0.5
+set = "osc.kk"
+value = 1.0
+
+[[event]]
+name = "fixed"
+time = 0.5
+set = "osc.x0"
+value = 2.0
+
+[[event]]
+name = "output"
+time = 0.5
+set = "osc.x"
+value = 2.0
+
+[[event]]
+name = "boolean"
+time = 0.5
+set = "osc.k"
+value = true
+
+[[event]]
+name = "late"
+time = 5.0
+set = "osc.k"
+value = 1.0
+
+[[event]]
+name = "nan"
+time = 0.5
+set = "osc.c"
+value = nan
+
+[[event]]
+name = "negative"
+time = 0.5
+set = "osc.k"
+value = -1.0
+"#;
+    let system = scenario(&fmu.path, "", events);
+    let error = match Simulation::new(system, Path::new("/")) {
+        Ok(_) => panic!("events with problems were accepted"),
+        Err(e) => e.to_string(),
+    };
+    for expected in [
+        "event 'ghost' (other.k = 1): unknown instance 'other'",
+        "event 'typo' (osc.kk = 1)",
+        "event 'fixed' (osc.x0 = 2): 'x0' is neither a tunable parameter nor an input",
+        "event 'output' (osc.x = 2)",
+        "event 'boolean' (osc.k = true)",
+        "event 'late' (osc.k = 1): time 5 s is outside [start_time, stop_time] = [0, 2] s",
+        "event 'nan' (osc.c = NaN): value NaN is not a finite number",
+        "event 'negative' (osc.k = -1)",
+    ] {
+        assert!(
+            error.contains(expected),
+            "missing «{expected}» in:\n{error}"
+        );
+    }
+}
+
+#[test]
+fn an_event_on_a_connected_input_is_refused_rather_than_overridden() {
+    let fmu = oscillator_fmu();
+    let text = format!(
+        r#"
+name = "connected"
+stop_time = 1.0
+[[instance]]
+name = "a"
+fmu = "{0}"
+[[instance]]
+name = "b"
+fmu = "{0}"
+[[connection]]
+from = "a.x"
+to = "b.u"
+[[event]]
+name = "push"
+time = 0.5
+set = "b.u"
+value = 3.0
+"#,
+        fmu.path.display()
+    );
+    let system = toml_format::parse(&text, Path::new("connected.toml")).unwrap();
+    let error = match Simulation::new(system, Path::new("/")) {
+        Ok(_) => panic!("an event on a connected input was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        error.contains("event 'push' (b.u = 3)") && error.contains("connected from 'a.x'"),
+        "{error}"
+    );
+}
+
+#[test]
+fn an_event_in_the_last_step_or_with_a_text_value_is_refused() {
+    let fmu = oscillator_fmu();
+    let text = r#"
+[[event]]
+name = "at-stop"
+time = 2.0
+set = "osc.k"
+value = 1.0
+"#;
+    let error = match Simulation::new(scenario(&fmu.path, "", text), Path::new("/")) {
+        Ok(_) => panic!("an event at the stop time was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(error.contains("would change nothing"), "{error}");
+    let text = format!(
+        r#"
+name = "text"
+stop_time = 1.0
+[[instance]]
+name = "osc"
+fmu = "{}"
+[[event]]
+name = "label"
+time = 0.5
+set = "osc.label"
+value = "x"
+"#,
+        fmu.path.display()
+    );
+    let error = toml_format::parse(&text, Path::new("text.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("event 'label': value \"x\" is not a number"),
+        "{error}"
+    );
+}
+
+/// LanderPlant falling from 800 m, measured by LanderSensors, estimated by LanderFilter;
+/// `events` thrown on the sensors.
+fn navigation(events: &str) -> SystemDescription {
+    let mut connections = String::new();
+    for (from, to) in [
+        ("plant.r_nue", "sensors.r_nue"),
+        ("plant.v_nue", "sensors.v_nue"),
+        ("plant.q_body_to_nue", "sensors.q_body_to_nue"),
+        ("plant.omega_body", "sensors.omega_body"),
+        ("plant.specific_force_body", "sensors.specific_force_body"),
+        ("sensors.accel_body_meas", "filter.accel_body_meas"),
+        ("sensors.gyro_body_meas", "filter.gyro_body_meas"),
+        ("sensors.altimeter_range", "filter.altimeter_range"),
+        ("sensors.altimeter_valid", "filter.altimeter_valid"),
+        (
+            "sensors.velocimeter_los_velocity",
+            "filter.velocimeter_los_velocity",
+        ),
+        ("sensors.velocimeter_valid_1", "filter.velocimeter_valid_1"),
+        ("sensors.velocimeter_valid_2", "filter.velocimeter_valid_2"),
+        ("sensors.velocimeter_valid_3", "filter.velocimeter_valid_3"),
+    ] {
+        connections += &format!("[[connection]]\nfrom = \"{from}\"\nto = \"{to}\"\n");
+    }
+    let text = format!(
+        r#"
+name = "navigation"
+stop_time = 20.0
+step_size = 0.01
+record = ["filter.covariance_diag", "filter.altimeter_dof", "filter.velocimeter_dof"]
+[[instance]]
+name = "plant"
+fmu = "LanderPlant.fmu"
+[[instance]]
+name = "sensors"
+fmu = "LanderSensors.fmu"
+parameters = {{ seed = 3 }}
+[[instance]]
+name = "filter"
+fmu = "LanderFilter.fmu"
+parameters = {{ "r0_nue[2]" = 800.0 }}
+{connections}
+{events}
+"#
+    );
+    toml_format::parse(&text, Path::new("navigation.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn fly_navigation(events: &str) -> Trajectory {
+    let mut simulation = Simulation::new(navigation(events), &fmu_dir()).unwrap();
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    simulation.run(&mut trajectory).unwrap();
+    trajectory
+}
+
+#[test]
+fn a_sensor_failure_thrown_by_an_event_makes_the_filter_coast_and_say_so() {
+    // GIVEN both sensors failing at 5 s (the altimeter alone would leave the velocimeter's
+    // updates, which bound the velocity but not the position)
+    let failed = fly_navigation(
+        r#"
+[[event]]
+name = "altimeter-out"
+time = 5.0
+set = "sensors.altimeter_available"
+value = false
+[[event]]
+name = "velocimeter-out"
+time = 5.0
+set = "sensors.velocimeter_available"
+value = false
+"#,
+    );
+    let nominal = fly_navigation("");
+    let at = |t: &Trajectory, column: &str, time: f64| {
+        let k = t.times.iter().position(|&s| s >= time - 1e-9).unwrap();
+        t.column(column).unwrap()[k]
+    };
+    // THEN from the step after the event on, the filter reports no update
+    assert_eq!(at(&failed, "filter.altimeter_dof", 4.0), 1.0);
+    assert_eq!(at(&failed, "filter.altimeter_dof", 6.0), 0.0);
+    assert_eq!(at(&failed, "filter.velocimeter_dof", 6.0), 0.0);
+    assert_eq!(at(&nominal, "filter.altimeter_dof", 6.0), 1.0);
+    // AND its position and velocity variances grow while it coasts on the IMU, well past
+    // those the nominal run keeps
+    for element in [2, 5] {
+        let column = format!("filter.covariance_diag[{element}]");
+        let (before, after) = (at(&failed, &column, 5.0), at(&failed, &column, 19.0));
+        let kept = at(&nominal, &column, 19.0);
+        assert!(after > 2.0 * before, "{column}: {before} -> {after}");
+        assert!(after > 2.0 * kept, "{column}: {after} vs nominal {kept}");
+        let coasting = failed.column(&column).unwrap();
+        let from = failed.times.iter().position(|&t| t >= 5.02).unwrap();
+        assert!(
+            coasting[from..].windows(2).all(|w| w[1] >= w[0]),
+            "{column} must not shrink without measurements"
+        );
+    }
+}
