@@ -505,7 +505,8 @@ fn changed_lines(was: &[String], now: &[String]) -> String {
 /// Checks (or with UPDATE_RESULTS=1 rewrites) the blocks `which` selects; the problems found.
 fn check_documents(which: impl Fn(&Kind) -> bool) -> Vec<String> {
     let update = std::env::var_os("UPDATE_RESULTS").is_some();
-    // RESULTS_ONLY=TEXT: only the blocks whose marker contains TEXT (one campaign, say).
+    // RESULTS_ONLY=TEXT: only the blocks whose marker (the numbers whose comment) contains
+    // TEXT, or one of the texts `A || B` separates.
     let only = std::env::var("RESULTS_ONLY").ok();
     let root = common::workspace_root();
     let mut problems = Vec::new();
@@ -524,7 +525,7 @@ fn check_documents(which: impl Fn(&Kind) -> bool) -> Vec<String> {
             let chosen = kind(&block.marker).map(|k| which(&k)).unwrap_or(true)
                 && only
                     .as_deref()
-                    .is_none_or(|only| block.marker.contains(only));
+                    .is_none_or(|only| only.split(" || ").any(|o| block.marker.contains(o)));
             let rendered = if chosen {
                 render(block).map(Some)
             } else {
@@ -566,7 +567,7 @@ fn check_documents(which: impl Fn(&Kind) -> bool) -> Vec<String> {
             let chosen = which(&as_kind)
                 && only
                     .as_deref()
-                    .is_none_or(|only| value.comment.contains(only));
+                    .is_none_or(|only| only.split(" || ").any(|o| value.comment.contains(o)));
             let now = if chosen {
                 inline::render(value)
             } else {

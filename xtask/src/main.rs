@@ -97,7 +97,8 @@ enum Command {
         /// Also fly the campaigns the campaign blocks name.
         #[arg(long)]
         campaigns: bool,
-        /// Only the blocks whose marker contains this text (e.g. `--scenario retarget`).
+        /// Only the blocks whose marker (the prose numbers whose comment) contains this text
+        /// (e.g. `--scenario retarget`), or one of the texts `A || B` separates.
         #[arg(long, value_name = "TEXT", allow_hyphen_values = true)]
         only: Option<String>,
         /// The campaigns' worker threads (default: one per core); no number depends on it.
