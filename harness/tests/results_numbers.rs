@@ -523,9 +523,12 @@ fn check_documents(which: impl Fn(&Kind) -> bool) -> Vec<String> {
         let mut bodies = Vec::new();
         for block in &found {
             let chosen = kind(&block.marker).map(|k| which(&k)).unwrap_or(true)
-                && only
-                    .as_deref()
-                    .is_none_or(|only| only.split(" || ").any(|o| block.marker.contains(o)));
+                && only.as_deref().is_none_or(|only| {
+                    // A block that names a command per row or column: those commands too.
+                    only.split(" || ").any(|o| {
+                        block.marker.contains(o) || block.body.iter().any(|l| l.contains(o))
+                    })
+                });
             let rendered = if chosen {
                 render(block).map(Some)
             } else {
