@@ -142,6 +142,7 @@ fn declared<M: Model>(names: &[&str]) -> Result<Vec<u32>> {
 /// Both FMUs unpacked, with the master's arguments for one FMI version (everything but
 /// the order, the variant and the steps).
 pub struct Plan {
+    fmi: u8,
     args: Vec<String>,
     _unpacked: [Unpacked; 2],
 }
@@ -162,6 +163,9 @@ impl Plan {
         let (gnc, plant) = (open("LanderGnc")?, open("LanderPlant")?);
         let binary = |unpacked: &Unpacked, id: &str, lib: &str| match binaries {
             Some(dir) => dir.join(lib),
+            None if fmi == 3 => unpacked
+                .root()
+                .join(format!("binaries/x86_64-linux/{id}.so")),
             None => unpacked.binary_path(id),
         };
         let resources = |u: &Unpacked| format!("file://{}/resources/", u.root().display());
@@ -249,6 +253,7 @@ impl Plan {
             ]);
         }
         Ok(Plan {
+            fmi,
             args,
             _unpacked: [gnc, plant],
         })
@@ -278,9 +283,10 @@ impl Plan {
             .with_context(|| format!("running {}", exe.display()))?;
         ensure!(
             output.status.success(),
-            "the C master ({} {}) failed: {}",
+            "the C master ({} {}, FMI {}) failed: {}",
             order.name(),
             variant.name(),
+            self.fmi,
             String::from_utf8_lossy(&output.stderr)
         );
         c_floor::parse_bits(&String::from_utf8_lossy(&output.stdout))
