@@ -60,8 +60,16 @@ impl Event {
 
 /// The problems of the system's events that need no FMU: names, times, values, instances.
 pub fn problems(system: &SystemDescription) -> Vec<String> {
+    (0..system.events.len())
+        .flat_map(|i| problems_of(system, i))
+        .collect()
+}
+
+/// The problems of the system's event `i` that need no FMU.
+fn problems_of(system: &SystemDescription, i: usize) -> Vec<String> {
     let mut problems = Vec::new();
-    for (i, event) in system.events.iter().enumerate() {
+    {
+        let event = &system.events[i];
         let label = format!("event '{}' ({})", event.name, event.describe());
         if event.name.is_empty() {
             problems.push(format!("{label}: the name must not be empty"));
@@ -102,6 +110,52 @@ pub fn problems(system: &SystemDescription) -> Vec<String> {
         }
     }
     problems
+}
+
+/// A change to one event for the following runs: a campaign's drawn or swept fault time or
+/// value.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Change {
+    Time(f64),
+    Value(ParamValue),
+}
+
+impl SystemDescription {
+    /// Changes event `name` as `change` says, checked as the scenario's own events are (a
+    /// time on a communication point a step starts from, a finite value); a new value keeps
+    /// the event's type, which the FMU was checked against when the system was loaded.
+    /// Refused with the reason, the event unchanged.
+    pub fn change_event(&mut self, name: &str, change: &Change) -> Result<(), String> {
+        let Some(i) = self.events.iter().position(|e| e.name == name) else {
+            let known: Vec<&str> = self.events.iter().map(|e| e.name.as_str()).collect();
+            return Err(format!(
+                "no event named '{name}' (the scenario has {})",
+                match known.is_empty() {
+                    true => "none".to_owned(),
+                    false => known.join(", "),
+                }
+            ));
+        };
+        let before = self.events[i].clone();
+        match change {
+            Change::Time(time_s) => self.events[i].time_s = *time_s,
+            Change::Value(value) => {
+                if std::mem::discriminant(value) != std::mem::discriminant(&before.value) {
+                    return Err(format!(
+                        "event '{name}' ({}): the new value {value:?} is not of the event's type",
+                        before.describe()
+                    ));
+                }
+                self.events[i].value = value.clone();
+            }
+        }
+        let problems = problems_of(self, i);
+        if problems.is_empty() {
+            return Ok(());
+        }
+        self.events[i] = before;
+        Err(problems.join("; "))
+    }
 }
 
 /// Reads `set = "instance.variable"` into its two parts.
