@@ -390,9 +390,13 @@ fn a_drawn_event_time_is_flown_as_a_harness_run_with_that_event_time() {
         x_column(&csv)
     };
     let campaign_x = x_column(&replayed);
-    assert_eq!(campaign_x, run_with(rows[2][5], "drawn"));
+    assert!(
+        campaign_x == run_with(rows[2][5], "drawn"),
+        "run 2 is not `harness run` with event time {}",
+        rows[2][5]
+    );
     // Not the declared time's run: the drawn time is what moved the event.
-    assert_ne!(campaign_x, run_with("5.0", "declared"));
+    assert!(campaign_x != run_with("5.0", "declared"));
 }
 
 #[test]
