@@ -162,3 +162,64 @@ impl SystemDescription {
 pub(super) fn target(set: &str) -> Option<(String, String)> {
     split_path(set).map(|(i, v)| (i.to_owned(), v.to_owned()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Change;
+    use crate::system::ParamValue;
+
+    fn system() -> crate::system::SystemDescription {
+        let text = "name = \"s\"\nstop_time = 10.0\nstep_size = 0.5\n\
+            [[instance]]\nname = \"osc\"\nfmu = \"Oscillator.fmu\"\n\
+            [[event]]\nname = \"stiffen\"\ntime = 2.0\nset = \"osc.k\"\nvalue = 4.0\n\
+            [[event]]\nname = \"damp\"\ntime = 3.0\nset = \"osc.c\"\nvalue = 1.0\n";
+        crate::system::toml_format::parse(text, std::path::Path::new(".")).unwrap()
+    }
+
+    #[test]
+    fn a_changed_event_takes_its_new_time_or_value_and_a_refused_one_stays() {
+        let mut s = system();
+        s.change_event("stiffen", &Change::Time(7.25)).unwrap();
+        s.change_event("damp", &Change::Value(ParamValue::Real(0.5)))
+            .unwrap();
+        assert_eq!(s.events[0].time_s, 7.25);
+        assert_eq!(s.events[1].value, ParamValue::Real(0.5));
+        let before = s.events.clone();
+        for (name, change, expected) in [
+            (
+                "nope",
+                Change::Time(1.0),
+                "no event named 'nope' (the scenario has stiffen, damp)",
+            ),
+            (
+                "stiffen",
+                Change::Time(10.5),
+                "time 10.5 s is outside [start_time, stop_time]",
+            ),
+            (
+                "stiffen",
+                Change::Time(9.75),
+                "after the last communication point a step starts",
+            ),
+            (
+                "stiffen",
+                Change::Time(f64::NAN),
+                "time NaN is not a number",
+            ),
+            (
+                "damp",
+                Change::Value(ParamValue::Integer(2)),
+                "is not of the event's type",
+            ),
+            (
+                "damp",
+                Change::Value(ParamValue::Real(f64::INFINITY)),
+                "value inf is not a finite",
+            ),
+        ] {
+            let refused = s.change_event(name, &change).unwrap_err();
+            assert!(refused.contains(expected), "{change:?}: {refused}");
+        }
+        assert_eq!(s.events, before);
+    }
+}
