@@ -436,3 +436,35 @@ fn every_bad_event_or_integer_target_is_named_at_once() {
     }
     assert!(!dir.path().join("manifest.csv").exists());
 }
+
+#[test]
+fn a_drawn_event_time_the_event_rules_refuse_ends_that_run_in_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("late.toml");
+    let text = EVENT_CAMPAIGN.replace("min = 2.0\nmax = 15.0", "min = 10.0\nmax = 30.0");
+    std::fs::write(&path, text.replace("runs = 3", "runs = 8")).unwrap();
+    let output = common::harness(&[
+        "campaign",
+        path.to_str().unwrap(),
+        "--out-dir",
+        dir.path().to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(output.status.code(), Some(1), "{output:?}");
+    let mut reader = csv::Reader::from_path(dir.path().join("manifest.csv")).unwrap();
+    let mut errors = 0;
+    for record in reader.records() {
+        let row = record.unwrap();
+        let time: f64 = row[5].parse().unwrap();
+        // The last step starts at 19.95 s; a later time changes nothing and is refused.
+        assert_eq!(time > 19.95, &row[7] == "error", "{row:?}");
+        if time > 20.0 {
+            assert!(
+                row[9].contains("is outside [start_time, stop_time]"),
+                "{row:?}"
+            );
+        }
+        errors += usize::from(&row[7] == "error");
+    }
+    assert!(errors > 0 && errors < 16, "{errors} of 16 runs in error");
+}
