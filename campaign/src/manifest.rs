@@ -12,6 +12,17 @@ use std::path::Path;
 
 pub const FILE_NAME: &str = "manifest.csv";
 
+thread_local! {
+    /// Manifests parsed on this thread ([`reads_on_this_thread`]).
+    static READS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// How many manifests this thread has parsed ([`read`], [`read_complete`]): a campaign
+/// parses its own at most once (to resume it), which its tests check with this count.
+pub fn reads_on_this_thread() -> u64 {
+    READS.with(std::cell::Cell::get)
+}
+
 /// How a flight ended.
 #[derive(Debug, Clone, PartialEq)]
 pub enum End {
@@ -162,11 +173,11 @@ pub(crate) fn append_at(path: &Path, keep: u64) -> anyhow::Result<csv::Writer<st
 /// Rewrites a manifest with `rows` sorted by flight index (through a temporary file, so a
 /// kill leaves either the old or the new file), so it does not depend on the order in which
 /// workers, shards or resumed runs finished.
-pub fn write_sorted(path: &Path, mut rows: Vec<Row>) -> anyhow::Result<()> {
+pub fn write_sorted(path: &Path, rows: &mut [Row]) -> anyhow::Result<()> {
     rows.sort_by_key(|r| r.flight.index);
     let tmp = path.with_extension("csv.tmp");
     let mut writer = Writer::create(&tmp)?;
-    for row in &rows {
+    for row in rows.iter() {
         writer.write(row)?;
     }
     drop(writer);
@@ -257,6 +268,7 @@ fn read_from<R: std::io::Read>(
     mut reader: csv::Reader<R>,
     path: &Path,
 ) -> anyhow::Result<Vec<Row>> {
+    READS.with(|reads| reads.set(reads.get() + 1));
     let expected = header();
     let found: Vec<&str> = reader.headers()?.iter().collect();
     anyhow::ensure!(

@@ -43,6 +43,9 @@ pub struct Outcome {
     /// Flights already in the manifest of a resumed campaign, kept.
     pub kept: u64,
     pub elapsed: Duration,
+    /// Every row of the campaign (or shard), kept and flown, sorted by flight index: what the
+    /// manifest holds, for a summary that does not read it back.
+    pub rows: Vec<Row>,
 }
 
 impl Outcome {
@@ -104,19 +107,24 @@ pub fn run_resumed(
         versions: config::versions(first.simulation()),
     };
     file.write(&options.out_dir.join(config::FILE_NAME))?;
-    let (mut writer, done) = match previous {
+    let (mut writer, done, mut rows) = match previous {
         None => (
             manifest::Writer::create(&manifest_path)?,
             std::collections::BTreeSet::new(),
+            Vec::new(),
         ),
-        Some(kept) => {
+        Some(mut kept) => {
             if kept.rewrite {
-                manifest::write_sorted(&manifest_path, kept.rows.clone())?;
+                manifest::write_sorted(&manifest_path, &mut kept.rows)?;
             }
             let length = std::fs::metadata(&manifest_path)?.len();
             let keep = if kept.rewrite { length } else { kept.bytes };
             let done = kept.rows.iter().map(|r| r.flight.index).collect();
-            (manifest::Writer::append(&manifest_path, keep)?, done)
+            (
+                manifest::Writer::append(&manifest_path, keep)?,
+                done,
+                kept.rows,
+            )
         }
     };
     // The shard's flights are its stride, computed as they are handed out (a list of them
@@ -151,6 +159,7 @@ pub fn run_resumed(
             writer
                 .write(&row)
                 .with_context(|| format!("writing {}", manifest_path.display()))?;
+            rows.push(row);
             progress.inc(1);
             Ok(())
         },
@@ -163,7 +172,6 @@ pub fn run_resumed(
         manifest_path.display()
     );
     drop(writer);
-    let rows = manifest::read(&manifest_path)?;
     anyhow::ensure!(
         rows.len() as u64 == shard.len(total),
         "{} holds {} rows, the campaign (shard {shard}) {}",
@@ -171,13 +179,14 @@ pub fn run_resumed(
         rows.len(),
         shard.len(total)
     );
-    manifest::write_sorted(&manifest_path, rows)?;
+    manifest::write_sorted(&manifest_path, &mut rows)?;
     Ok(Outcome {
         manifest: manifest_path,
         flights,
         failed,
         kept,
         elapsed: started.elapsed(),
+        rows,
     })
 }
 

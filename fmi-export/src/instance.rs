@@ -1,8 +1,8 @@
 //! What an instance handle leads to: the model, its bookkeeping, and what the instance
-//! keeps for the master (logger, prepared lists, returned strings, FMU states).
+//! keeps for the master (logger, the Real exchange table, returned strings, FMU states).
 use crate::fmu_state::FmuStates;
 use crate::logging::{Category, Logger};
-use crate::prepared::{PreparedGet, PreparedSet};
+use crate::prepared::RealTable;
 use crate::state::{Interface, State};
 use crate::status::{CallError, Status, Success};
 use crate::version::{Abi, Function};
@@ -100,9 +100,8 @@ pub struct Instance<M: Model, A: Abi> {
     pub resource_location: Option<CString>,
     /// The version's view of the variables.
     pub view: A::View<M>,
-    /// The last lists of references set and read as reals, looked up.
-    pub prepared_set: PreparedSet<M>,
-    pub prepared_get: PreparedGet<M>,
+    /// Every Real element by value reference, for the gets and sets.
+    pub reals: RealTable<M>,
     /// Keeps the strings returned by a string get alive until the next one.
     pub returned_strings: Vec<CString>,
     /// The FMU states handed out by this instance and not yet freed.
@@ -128,8 +127,7 @@ impl<M: Model, A: Abi> Instance<M, A> {
             uuid: A::interface_uuid::<M>(),
             resource_location,
             view: A::view::<M>(),
-            prepared_set: PreparedSet::default(),
-            prepared_get: PreparedGet::default(),
+            reals: RealTable::default(),
             returned_strings: Vec::new(),
             fmu_states: FmuStates::default(),
             warnings: WarningTally::default(),

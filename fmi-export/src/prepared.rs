@@ -1,23 +1,23 @@
-//! The Real value references a master exchanges, looked up once.
+//! The Real exchange of an instance: every Real element found by its value reference in
+//! one array access, whatever order, grouping or repetition the master lists them in.
 //!
-//! A co-simulation master sets and gets the same lists of value references at every step.
-//! Each instance keeps the last few lists of its Real sets and of its Real gets (a master
-//! may read the feedthrough outputs and then all outputs, say) with what the lookup found
-//! for them, so a repeated call compares the list with the kept ones (a memcmp each)
-//! and goes straight to the values: no per-reference lookup, and the settable check done
-//! once for the whole list. Anything unusual (an unknown reference, a value out of range, a
-//! variable not settable in this state, a wrong value count) leaves the decision, and its
-//! message, to the layer's generic path, which looks at each reference again.
+//! A co-simulation master sets and gets Reals at every step, and each master lists them its
+//! own way: in its connection table's order, sorted, one per call, rebuilt every step. So
+//! nothing here depends on the list: each instance keeps one table indexed by value
+//! reference (built once, at its first Real get or set, from the model's static
+//! declarations), whose entry for a reference gives its elements (one per FMI 2.0 scalar,
+//! one per element of an FMI 3.0 array) with everything a value needs on its way: where the
+//! element is stored in the model (an offset in its bytes, so a value is one load or store;
+//! an element that is no field of the model goes through its accessor), the closed range of
+//! values its bounds admit, and the states in which it is settable.
 //!
-//! When every element of a list is a field of the model (`Kind::Real::place`), the list
-//! also keeps each element's offset in the model's bytes, and a call reads or writes the
-//! values there: a load and a store per value instead of a call of its accessor. An element
-//! found anywhere else (a computed output, a field behind a pointer) leaves the whole list
-//! to the accessors.
+//! Anything unusual (an unknown reference, a value out of range or not finite, a variable
+//! not settable in this state, a wrong value count) leaves the decision, and its message, to
+//! the layer's generic path, which looks at each reference again: the table only says yes.
 //!
-//! The lists depend only on the model's static declarations, so nothing makes them stale.
-//! The layer supplies the lookup (one entry per FMI 2.0 scalar, one per element of an FMI
-//! 3.0 array) and its states as bits (`settable_in`, `state_bit`).
+//! The table depends only on the model's declarations and the layout of its type, so
+//! nothing makes it stale. References far apart (a model numbering its variables by hash,
+//! say) get no table: every call then takes the generic path.
 #![allow(unsafe_code)]
 
 use std::mem::{align_of, size_of};
@@ -26,32 +26,25 @@ use std::mem::{align_of, size_of};
 /// so that safe code can only point at an `f64` that exists.
 pub type Place<M> = Option<fn(&M, usize) -> &f64>;
 
-/// One element a set writes: its setter, the bounds it admits, the states (as the layer's
-/// bits) in which it is settable.
-pub struct Setter<M> {
-    pub set: fn(&mut M, usize, f64),
+/// One Real variable as the layer declares it: an FMI 2.0 scalar (`len` 1, `element` its
+/// element of the declaration), or an FMI 3.0 array (`len` elements from `element` 0). Its
+/// accessors, where it is, the bounds every element admits, the states (as the layer's
+/// bits) in which it is settable (none for a variable without a setter).
+pub struct Element<M> {
+    pub get: fn(&M, usize) -> f64,
+    pub set: Option<fn(&mut M, usize, f64)>,
     pub element: usize,
+    pub len: usize,
     pub place: Place<M>,
-    /// Where the element is in the model, filled in when the list is kept (the lookup
-    /// leaves it 0).
-    pub offset: usize,
     /// The closed range of finite values the bounds admit (`Limit::lowest_admitted`).
     pub lowest: f64,
     pub highest: f64,
     pub settable_in: u16,
 }
 
-/// One element a get reads.
-pub struct Getter<M> {
-    pub get: fn(&M, usize) -> f64,
-    pub element: usize,
-    pub place: Place<M>,
-    /// As [`Setter::offset`].
-    pub offset: usize,
-}
-
-/// The most elements a kept list may have (a co-simulation exchanges tens per call).
-pub const MAX_ELEMENTS: usize = 1024;
+/// Marks, in [`Entry::offset`], a variable whose elements are not stored one after the
+/// other in the model's own bytes; the other bits then index its accessors.
+const NOT_IN_PLACE: u32 = 1 << 31;
 
 /// The byte offset of `element` in `model` if it is stored inside the model's own bytes,
 /// aligned as an `f64` there.
@@ -65,266 +58,358 @@ fn offset_in<M>(model: &M, place: Place<M>, element: usize) -> Option<usize> {
     (inside && at.is_multiple_of(align_of::<f64>())).then_some(offset)
 }
 
-/// Where the elements of a kept list are in the model. Kept in the entries themselves
-/// (`offset`), so that keeping a list allocates nothing beyond the list.
-#[derive(Default, Clone, Copy)]
-enum Layout {
-    /// One after the other from this offset (a list of whole vectors and neighbouring
-    /// fields, the usual case): copied as one block.
-    Contiguous(usize),
-    /// At the entries' offsets.
-    Scattered,
-    /// Not all inside the model: through the accessors.
+/// Where the `len` elements of a variable lie in the model: from one offset, one after the
+/// other, or `NOT_IN_PLACE`.
+fn run_in<M>(model: &M, e: &Element<M>) -> u32 {
+    let Some(first) = offset_in(model, e.place, e.element) else {
+        return NOT_IN_PLACE;
+    };
+    let contiguous = (1..e.len)
+        .all(|i| offset_in(model, e.place, e.element + i) == Some(first + i * size_of::<f64>()));
+    match u32::try_from(first) {
+        Ok(offset) if contiguous && offset < NOT_IN_PLACE => offset,
+        _ => NOT_IN_PLACE,
+    }
+}
+
+/// What a value of one reference needs on its way, in 12 bytes (the table has a slot per
+/// reference up to the largest): a set checks it against its bounds and writes at
+/// `offset`, a get reads there.
+#[derive(Clone, Copy)]
+struct Entry {
+    /// Where the first element is in the model's bytes, or [`NOT_IN_PLACE`] with the
+    /// index of its accessors.
+    offset: u32,
+    /// Its bounds in [`RealTable::bounds`] (few distinct: most variables have none).
+    bounds: u32,
+    /// Elements; 0: no Real at this reference.
+    len: u16,
+    settable_in: u16,
+}
+
+const NO_ENTRY: Entry = Entry {
+    offset: NOT_IN_PLACE,
+    bounds: 0,
+    len: 0,
+    settable_in: 0,
+};
+
+/// The accessors of a reference whose elements are not in place (few: a table of its own,
+/// so that the instance's heap stays small).
+struct Accessors<M> {
+    get: fn(&M, usize) -> f64,
+    set: Option<fn(&mut M, usize, f64)>,
+    element: usize,
+}
+
+/// The table is built while it has at most this many slots per Real reference (plus a fixed
+/// allowance for small models), as the layers' own value-reference indexes are.
+const SLOTS_PER_REFERENCE: usize = 8;
+const SLOTS_ALLOWANCE: usize = 256;
+
+/// Whether the table was built, and whether it could be.
+#[derive(Default, Clone, Copy, PartialEq, Eq)]
+enum Built {
     #[default]
-    Accessors,
+    Not,
+    Yes,
+    /// References too sparse for a table: the generic path serves every call.
+    Never,
 }
 
-impl Layout {
-    /// Fills in each entry's offset and says how the list is laid out.
-    fn of<M, E>(
-        model: &M,
-        entries: &mut [E],
-        place: impl Fn(&E) -> (Place<M>, usize),
-        offset: impl Fn(&mut E) -> &mut usize,
-    ) -> Layout {
-        for e in entries.iter_mut() {
-            let (at, element) = place(e);
-            match offset_in(model, at, element) {
-                Some(o) => *offset(e) = o,
-                None => return Layout::Accessors,
-            }
-        }
-        let mut offsets = entries.iter_mut().map(|e| *offset(e));
-        let Some(first) = offsets.next() else {
-            return Layout::Scattered;
-        };
-        let contiguous = offsets
-            .enumerate()
-            .all(|(k, o)| o == first + (k + 1) * size_of::<f64>());
-        if contiguous {
-            Layout::Contiguous(first)
-        } else {
-            Layout::Scattered
-        }
-    }
+/// Every Real variable of an instance by value reference; see the module documentation.
+pub struct RealTable<M> {
+    entries: Box<[Entry]>,
+    /// The closed ranges the entries admit, `(lowest, highest)`; the first admits nothing
+    /// (NaN), for the empty entries.
+    bounds: Box<[(f64, f64)]>,
+    accessors: Box<[Accessors<M>]>,
+    /// Every reference has at most one element (FMI 2.0): the tight loops serve a call
+    /// with one value per reference.
+    scalars: bool,
+    built: Built,
 }
 
-/// One kept list of references, with the entries the lookup gave and what the direction
-/// derives from them (`X`).
-struct List<E, X> {
-    vrs: Vec<u32>,
-    entries: Vec<E>,
-    derived: X,
-}
-
-/// How many lists each direction keeps.
-const KEPT: usize = 4;
-
-/// The kept lists of one direction, replaced in turn.
-struct Lists<E, X> {
-    lists: [List<E, X>; KEPT],
-    next: usize,
-}
-
-impl<E, X: Default> Default for Lists<E, X> {
+impl<M> Default for RealTable<M> {
     fn default() -> Self {
-        Lists {
-            lists: std::array::from_fn(|_| List {
-                vrs: Vec::new(),
-                entries: Vec::new(),
-                derived: X::default(),
-            }),
-            next: 0,
+        RealTable {
+            entries: Box::default(),
+            bounds: Box::default(),
+            accessors: Box::default(),
+            scalars: false,
+            built: Built::Not,
         }
     }
 }
 
-impl<E, X> Lists<E, X> {
-    /// The kept list `vrs`, looked up (and `derive`d) now if it was not kept; `None` (and
-    /// nothing kept) when a reference is not found.
+impl<M> RealTable<M> {
+    /// Builds the table once, from `declared` (each Real value reference with its
+    /// variable; called twice), unless it is built already. `model` is any instance of
+    /// `M`: only the layout of its type is read.
     #[inline]
-    fn ready(
-        &mut self,
-        vrs: &[u32],
-        lookup: impl FnMut(u32, &mut Vec<E>) -> bool,
-        derive: impl FnOnce(&mut [E]) -> X,
-    ) -> Option<&List<E, X>> {
-        match self.lists.iter().position(|list| list.vrs == vrs) {
-            Some(i) => Some(&self.lists[i]),
-            None => self.prepare(vrs, lookup, derive),
+    pub fn ensure<I>(&mut self, model: &M, declared: impl Fn() -> I)
+    where
+        I: IntoIterator<Item = (u32, Element<M>)>,
+    {
+        if self.built == Built::Not {
+            self.build(model, declared);
         }
     }
 
     #[cold]
-    fn prepare(
-        &mut self,
-        vrs: &[u32],
-        mut lookup: impl FnMut(u32, &mut Vec<E>) -> bool,
-        derive: impl FnOnce(&mut [E]) -> X,
-    ) -> Option<&List<E, X>> {
-        let list = &mut self.lists[self.next];
-        list.vrs.clear();
-        list.entries.clear();
-        // A longer list is served by the generic path: an instance keeps no more than this
-        // for a master that once passed a million references.
-        let found = vrs.len() <= MAX_ELEMENTS
-            && vrs
-                .iter()
-                .all(|&vr| lookup(vr, &mut list.entries) && list.entries.len() <= MAX_ELEMENTS);
-        if !found {
-            list.entries.clear();
-            list.entries.shrink_to(MAX_ELEMENTS);
-            return None;
+    #[inline(never)]
+    fn build<I>(&mut self, model: &M, declared: impl Fn() -> I)
+    where
+        I: IntoIterator<Item = (u32, Element<M>)>,
+    {
+        // Counted first, so that each table is allocated once at its size: the instance's
+        // heap at its peak is what it holds.
+        let (mut slots, mut count, mut outside) = (0, 0, 0);
+        for (vr, e) in declared() {
+            slots = slots.max(vr as usize + 1);
+            count += 1;
+            outside += usize::from(run_in(model, &e) == NOT_IN_PLACE);
+            if u16::try_from(e.len).is_err() {
+                count = 0;
+                break;
+            }
         }
-        list.vrs.extend_from_slice(vrs);
-        list.derived = derive(&mut list.entries);
-        self.next = (self.next + 1) % KEPT;
-        Some(list)
+        if count == 0 || slots > SLOTS_PER_REFERENCE * count + SLOTS_ALLOWANCE {
+            self.built = Built::Never;
+            return;
+        }
+        let mut entries = vec![NO_ENTRY; slots];
+        let mut bounds = vec![(f64::NAN, f64::NAN)];
+        let mut accessors = Vec::with_capacity(outside);
+        for (vr, e) in declared() {
+            let slot = vr as usize;
+            // A reference declared twice is refused by the layers' table checks; should
+            // one get here, the first declared wins, as in their lookups.
+            if entries[slot].len != 0 || e.len == 0 {
+                continue;
+            }
+            let mut offset = run_in(model, &e);
+            if offset == NOT_IN_PLACE {
+                let Ok(index) = u32::try_from(accessors.len()) else {
+                    self.built = Built::Never;
+                    return;
+                };
+                offset |= index & !NOT_IN_PLACE;
+                accessors.push(Accessors {
+                    get: e.get,
+                    set: e.set,
+                    element: e.element,
+                });
+            }
+            let range = (e.lowest, e.highest);
+            let same = |b: &(f64, f64)| {
+                b.0.to_bits() == range.0.to_bits() && b.1.to_bits() == range.1.to_bits()
+            };
+            let at = match bounds.iter().position(same) {
+                Some(at) => at,
+                None => {
+                    bounds.push(range);
+                    bounds.len() - 1
+                }
+            };
+            entries[slot] = Entry {
+                bounds: at as u32,
+                offset,
+                len: e.len as u16,
+                settable_in: if e.set.is_some() { e.settable_in } else { 0 },
+            };
+        }
+        self.scalars = entries.iter().all(|e| e.len <= 1);
+        self.entries = entries.into_boxed_slice();
+        self.bounds = bounds.into_boxed_slice();
+        self.accessors = accessors.into_boxed_slice();
+        self.built = Built::Yes;
     }
-}
 
-/// What a kept set list derives: the states in which every element of it is settable,
-/// and where the elements are.
-#[derive(Default)]
-struct SetPlan {
-    settable_in: u16,
-    /// Whether an element has a bound narrower than the doubles' own range (else the
-    /// check is one of finiteness).
-    bounded: bool,
-    layout: Layout,
-}
+    /// The accessors of an entry not in place.
+    #[inline(always)]
+    fn accessors(&self, e: &Entry) -> Option<&Accessors<M>> {
+        self.accessors.get((e.offset & !NOT_IN_PLACE) as usize)
+    }
 
-/// The last lists of a Real set.
-pub struct PreparedSet<M> {
-    lists: Lists<Setter<M>, SetPlan>,
-}
-
-impl<M> Default for PreparedSet<M> {
-    fn default() -> Self {
-        PreparedSet {
-            lists: Lists::default(),
+    #[inline(always)]
+    fn entry(&self, vr: u32) -> Entry {
+        match self.entries.get(vr as usize) {
+            Some(e) => *e,
+            None => NO_ENTRY,
         }
     }
-}
 
-impl<M> PreparedSet<M> {
-    /// Writes `values` to the references `vrs` if each is found by `lookup` (which appends
-    /// its elements, or says false), the count matches, every element is settable in the
-    /// state `state_bit` and admits its value; says whether it wrote. False leaves `model`
-    /// as it was, for the generic path to refuse with a reason.
-    #[inline]
-    pub fn write(
-        &mut self,
-        vrs: &[u32],
-        values: &[f64],
-        model: &mut M,
-        state_bit: u16,
-        lookup: impl FnMut(u32, &mut Vec<Setter<M>>) -> bool,
-    ) -> bool {
-        let shown: &M = model;
-        let plan = |entries: &mut [Setter<M>]| SetPlan {
-            settable_in: entries.iter().fold(u16::MAX, |all, e| all & e.settable_in),
-            bounded: entries
-                .iter()
-                .any(|e| e.lowest > -f64::MAX || e.highest < f64::MAX),
-            layout: Layout::of(shown, entries, |e| (e.place, e.element), |e| &mut e.offset),
-        };
-        let Some(list) = self.lists.ready(vrs, lookup, plan) else {
-            return false;
-        };
-        let (plan, entries) = (&list.derived, &list.entries);
-        if plan.settable_in & state_bit == 0 || entries.len() != values.len() {
-            return false;
+    /// Writes `values` to the references `vrs` if each is a Real of this table, the count
+    /// matches, every element is settable in the state `state_bit` and admits its value;
+    /// says whether it wrote. False leaves `model` as it was, for the generic path to
+    /// refuse with a reason.
+    #[inline(always)]
+    pub fn write(&self, vrs: &[u32], values: &[f64], model: &mut M, state_bit: u16) -> bool {
+        if self.scalars && vrs.len() == values.len() {
+            self.write_scalars(vrs, values, model, state_bit)
+        } else {
+            self.write_elements(vrs, values, model, state_bit)
         }
+    }
+
+    /// [`write`](Self::write) of references with any number of elements (FMI 3.0 arrays).
+    #[inline(always)]
+    fn write_elements(&self, vrs: &[u32], values: &[f64], model: &mut M, state_bit: u16) -> bool {
         // Checked before anything is written, so a refused call changes nothing. The
         // comparisons are combined without branching: a refusal is the rare case.
-        let admitted = if plan.bounded {
-            entries
-                .iter()
-                .zip(values)
-                .fold(true, |ok, (e, &v)| ok & (v >= e.lowest) & (v <= e.highest))
+        let mut admitted = true;
+        let mut k = 0;
+        for &vr in vrs {
+            let e = self.entry(vr);
+            let len = usize::from(e.len);
+            // No elements: an unknown reference or one of another type. Too few values:
+            // a wrong count.
+            let Some(given) = values.get(k..k + len).filter(|_| len != 0) else {
+                return false;
+            };
+            admitted &= e.settable_in & state_bit != 0;
+            let (lowest, highest) = self.bounds[e.bounds as usize];
+            if let [v] = given {
+                admitted &= (*v >= lowest) & (*v <= highest);
+            } else {
+                for v in given {
+                    admitted &= (*v >= lowest) & (*v <= highest);
+                }
+            }
+            k += len;
+        }
+        if !admitted || k != values.len() {
+            return false;
+        }
+        let base = (model as *mut M).cast::<u8>();
+        let mut k = 0;
+        for &vr in vrs {
+            let e = self.entry(vr);
+            let len = usize::from(e.len);
+            let given = &values[k..k + len];
+            if e.offset & NOT_IN_PLACE == 0 {
+                // SAFETY: `len` f64s lie one after the other from this offset in every `M`
+                // (fields found inside the model's bytes and aligned when the table was
+                // built), and `model` is borrowed mutably for this write.
+                unsafe {
+                    let to = base.add(e.offset as usize).cast::<f64>();
+                    if let [v] = given {
+                        to.write(*v);
+                    } else {
+                        std::ptr::copy_nonoverlapping(given.as_ptr(), to, len);
+                    }
+                }
+            } else if let Some(a) = self.accessors(&e) {
+                if let Some(set) = a.set {
+                    for (i, &v) in given.iter().enumerate() {
+                        // SAFETY: `base` is `model`, not otherwise used during this call.
+                        set(unsafe { &mut *base.cast::<M>() }, a.element + i, v);
+                    }
+                }
+            }
+            k += len;
+        }
+        true
+    }
+
+    /// Reads the references `vrs` into `values` if each is a Real of this table and the
+    /// count matches, and says whether it did; false means the values are no result, for
+    /// the generic path to read again or refuse with a reason.
+    #[inline(always)]
+    pub fn read(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
+        if self.scalars && vrs.len() == values.len() {
+            self.read_scalars(vrs, values, model)
         } else {
-            // Within [-MAX, MAX] is finite: `v - v` is 0 exactly then (NaN otherwise).
-            #[allow(clippy::eq_op)]
-            values.iter().fold(true, |ok, &v| ok & (v - v == 0.0))
-        };
+            self.read_elements(vrs, values, model)
+        }
+    }
+
+    /// [`read`](Self::read) of references with any number of elements (FMI 3.0 arrays).
+    #[inline(always)]
+    fn read_elements(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
+        let base = (model as *const M).cast::<u8>();
+        let mut k = 0;
+        for &vr in vrs {
+            let e = self.entry(vr);
+            let len = usize::from(e.len);
+            let Some(out) = values.get_mut(k..k + len).filter(|_| len != 0) else {
+                return false;
+            };
+            if e.offset & NOT_IN_PLACE == 0 {
+                // SAFETY: as in `write`, for a shared borrow.
+                unsafe {
+                    let from = base.add(e.offset as usize).cast::<f64>();
+                    if let [v] = out {
+                        *v = from.read();
+                    } else {
+                        std::ptr::copy_nonoverlapping(from, out.as_mut_ptr(), len);
+                    }
+                }
+            } else if let Some(a) = self.accessors(&e) {
+                for (i, v) in out.iter_mut().enumerate() {
+                    *v = (a.get)(model, a.element + i);
+                }
+            }
+            k += len;
+        }
+        k == values.len()
+    }
+
+    /// [`write`](Self::write) of one value per reference, each a scalar: per value, one
+    /// entry loaded and checked, then one store.
+    #[inline(always)]
+    fn write_scalars(&self, vrs: &[u32], values: &[f64], model: &mut M, state_bit: u16) -> bool {
+        let (entries, bounds) = (&*self.entries, &*self.bounds);
+        let mut admitted = true;
+        for (&vr, &v) in vrs.iter().zip(values) {
+            let Some(e) = entries.get(vr as usize) else {
+                return false;
+            };
+            // An empty entry is settable in no state (and its bounds are NaN).
+            // SAFETY: every entry's `bounds` indexes `bounds` (set when the table was built).
+            let (lowest, highest) = unsafe { *bounds.get_unchecked(e.bounds as usize) };
+            admitted &= (e.settable_in & state_bit != 0) & (v >= lowest) & (v <= highest);
+        }
         if !admitted {
             return false;
         }
         let base = (model as *mut M).cast::<u8>();
-        match plan.layout {
-            // SAFETY (both arms): each offset is where an element's f64 lies in every `M`
-            // (a field of the model, found inside its bytes and aligned when the list was
-            // kept; a contiguous run was found element by element), and `model` is
-            // borrowed mutably for this write.
-            Layout::Contiguous(first) => unsafe {
-                let to = base.add(first).cast::<f64>();
-                std::ptr::copy_nonoverlapping(values.as_ptr(), to, values.len());
-            },
-            Layout::Scattered => {
-                for (e, &value) in entries.iter().zip(values) {
-                    unsafe { base.add(e.offset).cast::<f64>().write(value) };
-                }
-            }
-            Layout::Accessors => {
-                for (e, &value) in entries.iter().zip(values) {
-                    (e.set)(model, e.element, value);
-                }
+        for (&vr, &v) in vrs.iter().zip(values) {
+            // Found by the first pass.
+            let e = &entries[vr as usize];
+            if e.offset & NOT_IN_PLACE == 0 {
+                // SAFETY: as in `write`.
+                unsafe { base.add(e.offset as usize).cast::<f64>().write(v) };
+            } else if let Some(Accessors {
+                set: Some(set),
+                element,
+                ..
+            }) = self.accessors(e)
+            {
+                // SAFETY: `base` is `model`, not otherwise used during this call.
+                set(unsafe { &mut *base.cast::<M>() }, *element, v);
             }
         }
         true
     }
-}
 
-/// The last lists of a Real get; each derives where its elements are.
-pub struct PreparedGet<M> {
-    lists: Lists<Getter<M>, Layout>,
-}
-
-impl<M> Default for PreparedGet<M> {
-    fn default() -> Self {
-        PreparedGet {
-            lists: Lists::default(),
-        }
-    }
-}
-
-impl<M> PreparedGet<M> {
-    /// Reads the references `vrs` into `values` if each is found by `lookup` and the count
-    /// matches, and says whether it did; false writes nothing, for the generic path to
-    /// refuse with a reason.
-    #[inline]
-    pub fn read(
-        &mut self,
-        vrs: &[u32],
-        values: &mut [f64],
-        model: &M,
-        lookup: impl FnMut(u32, &mut Vec<Getter<M>>) -> bool,
-    ) -> bool {
-        let plan = |entries: &mut [Getter<M>]| {
-            Layout::of(model, entries, |e| (e.place, e.element), |e| &mut e.offset)
-        };
-        let Some(list) = self.lists.ready(vrs, lookup, plan) else {
-            return false;
-        };
-        if list.entries.len() != values.len() {
-            return false;
-        }
+    /// [`read`](Self::read) of one value per reference, each a scalar.
+    #[inline(always)]
+    fn read_scalars(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
         let base = (model as *const M).cast::<u8>();
-        match list.derived {
-            // SAFETY (both arms): as in `PreparedSet::write`, for a shared borrow.
-            Layout::Contiguous(first) => unsafe {
-                let from = base.add(first).cast::<f64>();
-                std::ptr::copy_nonoverlapping(from, values.as_mut_ptr(), values.len());
-            },
-            Layout::Scattered => {
-                for (e, value) in list.entries.iter().zip(values) {
-                    *value = unsafe { base.add(e.offset).cast::<f64>().read() };
-                }
-            }
-            Layout::Accessors => {
-                for (e, value) in list.entries.iter().zip(values) {
-                    *value = (e.get)(model, e.element);
+        for (&vr, value) in vrs.iter().zip(values) {
+            let Some(e) = self.entries.get(vr as usize) else {
+                return false;
+            };
+            if e.offset & NOT_IN_PLACE == 0 {
+                // SAFETY: as in `write`, for a shared borrow.
+                *value = unsafe { base.add(e.offset as usize).cast::<f64>().read() };
+            } else {
+                match self.accessors(e) {
+                    // An empty entry is no Real (its length is 0).
+                    Some(a) if e.len != 0 => *value = (a.get)(model, a.element),
+                    _ => return false,
                 }
             }
         }
@@ -340,206 +425,189 @@ mod tests {
     const INIT: u16 = 1;
     const RUNNING: u16 = 2;
 
-    /// vr 0: settable only initializing; vr 1: a two-element array (elements 1, 2), element
-    /// 2 bounded to [0, 1]; vr 3: not settable. Anything else is unknown.
-    fn setters(vr: u32, out: &mut Vec<Setter<M>>) -> bool {
-        let setter = |element, lowest, highest, settable_in| Setter {
-            set: |m: &mut M, i, v| m[i] = v,
+    fn variable(
+        element: usize,
+        len: usize,
+        lowest: f64,
+        highest: f64,
+        settable_in: u16,
+    ) -> Element<M> {
+        Element {
+            get: |m: &M, i| m[i] * 10.0,
+            set: Some(|m: &mut M, i, v| m[i] = -v),
             element,
+            len,
             place: Some(|m: &M, i| &m[i]),
-            offset: 0,
             lowest,
             highest,
             settable_in,
-        };
-        match vr {
-            0 => out.push(setter(0, -f64::MAX, f64::MAX, INIT)),
-            1 => out.extend([
-                setter(1, -f64::MAX, f64::MAX, INIT | RUNNING),
-                setter(2, 0.0, 1.0, INIT | RUNNING),
-            ]),
-            _ => return false,
         }
-        true
+    }
+
+    /// vr 0: element 0, settable only initializing; vr 5: a two-element array (elements 1,
+    /// 2) bounded to [0, 8]; vr 3: an output (element 3, no setter). Anything else is
+    /// unknown.
+    fn declared() -> Vec<(u32, Element<M>)> {
+        let mut output = variable(3, 1, -f64::MAX, f64::MAX, INIT | RUNNING);
+        output.set = None;
+        vec![
+            (0, variable(0, 1, -f64::MAX, f64::MAX, INIT)),
+            (5, variable(1, 2, 0.0, 8.0, INIT | RUNNING)),
+            (3, output),
+        ]
+    }
+
+    /// FMI 2.0's kind: scalars only (vr 0 element 0, vr 1 element 1 bounded to [0, 1],
+    /// vr 2 an output at element 2).
+    fn scalars() -> Vec<(u32, Element<M>)> {
+        let mut output = variable(2, 1, -f64::MAX, f64::MAX, INIT | RUNNING);
+        output.set = None;
+        vec![
+            (0, variable(0, 1, -f64::MAX, f64::MAX, INIT)),
+            (1, variable(1, 1, 0.0, 1.0, INIT | RUNNING)),
+            (2, output),
+        ]
+    }
+
+    fn table(model: &M, declared: fn() -> Vec<(u32, Element<M>)>) -> RealTable<M> {
+        let mut table = RealTable::default();
+        table.ensure(model, declared);
+        table
     }
 
     #[test]
-    fn a_repeated_list_writes_what_the_checks_admit_and_nothing_else() {
-        let mut set = PreparedSet::default();
+    fn a_set_writes_what_the_checks_admit_in_any_order_and_nothing_else() {
         let mut model: M = [0.0; 4];
-        assert!(set.write(&[1, 0], &[7.0, 0.5, 3.0], &mut model, INIT, setters));
-        assert_eq!(model, [3.0, 7.0, 0.5, 0.0]);
-        // Same list: out of bounds, non-finite, a wrong count, or a state where vr 0 is
-        // not settable.
-        for (values, state) in [
-            (&[1.0, 1.5, 1.0][..], INIT),
-            (&[1.0, -0.1, 1.0], INIT),
-            (&[f64::NAN, 0.5, 1.0], INIT),
-            (&[1.0, 0.5, f64::NEG_INFINITY], INIT),
-            (&[1.0, 0.5], INIT),
-            (&[1.0, 0.5, 1.0], RUNNING),
+        let table = table(&model, declared);
+        assert!(table.write(&[5, 0], &[7.0, 0.5, 3.0], &mut model, INIT));
+        assert_eq!(
+            model,
+            [3.0, 7.0, 0.5, 0.0],
+            "stored in place, not through `set`"
+        );
+        assert!(table.write(&[0, 5], &[4.0, 8.0, 1.0], &mut model, INIT));
+        assert_eq!(model, [4.0, 8.0, 1.0, 0.0]);
+        // Out of bounds, non-finite, a wrong count, a state where vr 0 is not settable, an
+        // output, an unknown reference: nothing written.
+        for (vrs, values, state) in [
+            (&[5, 0][..], &[1.0, 8.5, 1.0][..], INIT),
+            (&[5, 0], &[1.0, -0.1, 1.0], INIT),
+            (&[5, 0], &[f64::NAN, 0.5, 1.0], INIT),
+            (&[5, 0], &[1.0, 0.5, f64::NEG_INFINITY], INIT),
+            (&[5, 0], &[1.0, 0.5], INIT),
+            (&[5, 0], &[1.0, 0.5, 1.0, 2.0], INIT),
+            (&[5, 0], &[1.0, 0.5, 1.0], RUNNING),
+            (&[3], &[1.0], RUNNING),
+            (&[5, 4], &[1.0, 0.5, 1.0], INIT),
+            (&[1], &[1.0], INIT),
+            (&[u32::MAX], &[1.0], INIT),
         ] {
             assert!(
-                !set.write(&[1, 0], values, &mut model, state, setters),
-                "{values:?} in state {state}"
+                !table.write(vrs, values, &mut model, state),
+                "{vrs:?} {values:?} in state {state}"
             );
-            assert_eq!(model, [3.0, 7.0, 0.5, 0.0], "{values:?} in state {state}");
+            assert_eq!(model, [4.0, 8.0, 1.0, 0.0], "{vrs:?} {values:?}");
         }
-        // Another list is looked up afresh; an unknown reference is not prepared.
-        assert!(set.write(&[1], &[4.0, 1.0], &mut model, RUNNING, setters));
-        assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
-        assert!(!set.write(&[1, 3], &[5.0, 0.0, 5.0], &mut model, INIT, setters));
-        assert_eq!(model, [3.0, 4.0, 1.0, 0.0]);
+        // A reference repeated: each takes its own values, the last written last.
+        assert!(table.write(&[5, 5], &[1.0, 0.0, 6.0, 1.0], &mut model, RUNNING));
+        assert_eq!(model, [4.0, 6.0, 1.0, 0.0]);
     }
 
     #[test]
-    fn a_list_without_bounds_admits_every_finite_value_and_nothing_else() {
-        let mut set = PreparedSet::default();
+    fn scalars_are_set_in_any_order_one_or_many_per_call() {
         let mut model: M = [0.0; 4];
+        let table = table(&model, scalars);
+        assert!(table.write(&[1, 0], &[0.5, 3.0], &mut model, INIT));
+        assert_eq!(model, [3.0, 0.5, 0.0, 0.0]);
+        assert!(table.write(&[0], &[2.0], &mut model, INIT));
+        assert!(table.write(&[1], &[0.25], &mut model, RUNNING));
+        assert_eq!(model, [2.0, 0.25, 0.0, 0.0]);
+        for (vrs, values, state) in [
+            (&[1, 0][..], &[1.5, 1.0][..], INIT),
+            (&[0, 1], &[f64::INFINITY, 1.0], INIT),
+            (&[0], &[1.0], RUNNING),
+            (&[2], &[1.0], RUNNING),
+            (&[0, 3], &[1.0, 1.0], INIT),
+            (&[0, 9999], &[1.0, 1.0], INIT),
+            (&[0, 1], &[1.0], INIT),
+        ] {
+            assert!(
+                !table.write(vrs, values, &mut model, state),
+                "{vrs:?} {values:?} in state {state}"
+            );
+            assert_eq!(model, [2.0, 0.25, 0.0, 0.0], "{vrs:?} {values:?}");
+        }
+        let mut values = [0.0; 3];
+        assert!(table.read(&[2, 0, 1], &mut values, &model));
+        assert_eq!(values, [0.0, 2.0, 0.25]);
+        assert!(!table.read(&[2, 3, 1], &mut values, &model));
+        assert!(!table.read(&[2, 1], &mut values, &model), "count");
+    }
+
+    #[test]
+    fn a_set_admits_every_finite_value_where_no_bound_is_declared() {
+        let mut model: M = [0.0; 4];
+        let table = table(&model, declared);
         for v in [f64::MAX, -f64::MAX, f64::MIN_POSITIVE, -0.0, 1e-310] {
-            assert!(set.write(&[0], &[v], &mut model, INIT, setters), "{v}");
+            assert!(table.write(&[0], &[v], &mut model, INIT), "{v}");
             assert_eq!(model[0].to_bits(), v.to_bits());
         }
         for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-            assert!(!set.write(&[0], &[v], &mut model, INIT, setters), "{v}");
+            assert!(!table.write(&[0], &[v], &mut model, INIT), "{v}");
             assert_eq!(model[0], 1e-310);
         }
     }
 
-    /// Lists taking turns (the feedthrough outputs, then all of them) are each looked up
-    /// once while no more than `KEPT` alternate; more still give the right values.
     #[test]
-    fn alternating_lists_are_looked_up_once_each() {
+    fn a_read_gives_each_reference_its_values_in_the_order_asked() {
         let model: M = [1.0, 2.0, 3.0, 4.0];
-        for lists in [2, KEPT, KEPT + 1] {
-            let mut get = PreparedGet::default();
-            let mut lookups = 0;
-            for round in 0..10 {
-                for first in 0..lists {
-                    let vrs = [first as u32, 3];
-                    let mut values = [0.0; 2];
-                    let counting = |vr: u32, out: &mut Vec<Getter<M>>| {
-                        lookups += 1;
-                        out.push(Getter {
-                            get: |m: &M, i| m[i],
-                            element: vr as usize % 4,
-                            place: None,
-                            offset: 0,
-                        });
-                        true
-                    };
-                    assert!(get.read(&vrs, &mut values, &model, counting));
-                    assert_eq!(values, [model[first % 4], 4.0], "round {round}");
-                }
-            }
-            let expected = if lists <= KEPT {
-                2 * lists
-            } else {
-                2 * lists * 10
-            };
-            assert_eq!(lookups, expected, "{lists} lists");
-        }
+        let table = table(&model, declared);
+        let mut values = [0.0; 4];
+        assert!(table.read(&[3, 5, 0], &mut values, &model));
+        assert_eq!(values, [4.0, 2.0, 3.0, 1.0]);
+        assert!(table.read(&[0, 0, 5], &mut values, &model));
+        assert_eq!(values, [1.0, 1.0, 2.0, 3.0]);
+        let mut one = [0.0];
+        assert!(table.read(&[3], &mut one, &model));
+        assert_eq!(one, [4.0]);
+        // Unknown, or a wrong count: no result.
+        assert!(!table.read(&[0, 9, 5], &mut values, &model));
+        assert!(!table.read(&[0, 5], &mut values, &model), "count");
+        assert!(!table.read(&[0, 5, 5], &mut values[..3], &model), "count");
     }
 
+    /// A variable stored outside the model's bytes goes through its accessors.
     #[test]
-    fn a_list_too_long_to_keep_is_left_to_the_generic_path() {
-        let mut set = PreparedSet::default();
-        let mut model: M = [0.0; 4];
-        // vr 1 has two elements.
-        let vrs = vec![1; MAX_ELEMENTS / 2];
-        let values = vec![0.5; MAX_ELEMENTS];
-        assert!(set.write(&vrs, &values, &mut model, RUNNING, setters));
-        let vrs = vec![1; MAX_ELEMENTS / 2 + 1];
-        let values = vec![0.25; MAX_ELEMENTS + 2];
-        assert!(!set.write(&vrs, &values, &mut model, RUNNING, setters));
-        assert_eq!(model, [0.0, 0.5, 0.5, 0.0]);
-        assert!(set
-            .lists
-            .lists
-            .iter()
-            .all(|l| l.entries.capacity() <= MAX_ELEMENTS));
-        // More references than elements kept: refused before any lookup.
-        let vrs = vec![9; MAX_ELEMENTS + 1];
-        let mut looked_up = 0;
-        let count = |_: u32, _: &mut Vec<Setter<M>>| {
-            looked_up += 1;
-            false
-        };
-        assert!(!set.write(&vrs, &values, &mut model, RUNNING, count));
-        assert_eq!(looked_up, 0);
-    }
-
-    #[test]
-    fn a_prepared_read_gives_what_each_accessor_gives() {
-        let getters = |vr: u32, out: &mut Vec<Getter<M>>| {
-            let ok = vr < 4;
-            if ok {
-                out.push(Getter {
-                    get: |m: &M, i| m[i] * 10.0,
-                    element: vr as usize,
-                    place: None,
-                    offset: 0,
-                });
-            }
-            ok
-        };
-        let mut get = PreparedGet::default();
-        let model: M = [1.0, 2.0, 3.0, 4.0];
-        let mut values = [0.0; 3];
-        for vrs in [[3, 0, 3], [2, 1, 0], [2, 1, 0]] {
-            assert!(get.read(&vrs, &mut values, &model, getters));
-            assert_eq!(values, vrs.map(|vr| 10.0 * model[vr as usize]));
-        }
-        assert!(!get.read(&[0, 4, 1], &mut values, &model, getters));
-        assert!(!get.read(&[0, 1], &mut values, &model, getters), "count");
-    }
-
-    /// Elements stored in the model are read and written in place; a list with one element
-    /// stored elsewhere goes through the accessors, whole.
-    #[test]
-    fn stored_elements_are_exchanged_in_place_and_others_through_their_accessors() {
+    fn elements_elsewhere_go_through_their_accessors() {
         static ELSEWHERE: f64 = 0.0;
-        let getter = |element, place: Place<M>| Getter {
-            get: |m: &M, i| m[i] * 10.0,
-            element,
-            place,
-            offset: 0,
+        let outside = || {
+            let mut e = variable(1, 2, -f64::MAX, f64::MAX, INIT);
+            e.place = Some(|m: &M, i| if i == 1 { &m[1] } else { &ELSEWHERE });
+            vec![(7, e)]
         };
-        let inside: Place<M> = Some(|m, i| &m[i]);
-        let outside: Place<M> = Some(|_, _| &ELSEWHERE);
-        let model: M = [1.0, 2.0, 3.0, 4.0];
-        let mut get = PreparedGet::default();
+        let mut model: M = [1.0, 2.0, 3.0, 4.0];
+        let mut table = RealTable::default();
+        table.ensure(&model, outside);
         let mut values = [0.0; 2];
-        // The accessor multiplies by 10: a value read in place is not.
-        assert!(get.read(&[3, 0], &mut values, &model, |vr, out| {
-            out.push(getter(vr as usize, inside));
-            true
-        }));
-        assert_eq!(values, [4.0, 1.0]);
-        assert!(get.read(&[2, 1], &mut values, &model, |vr, out| {
-            out.push(getter(vr as usize, if vr == 1 { outside } else { inside }));
-            true
-        }));
-        assert_eq!(values, [30.0, 20.0]);
-
-        let mut set = PreparedSet::default();
-        let mut model: M = [0.0; 4];
-        assert!(set.write(&[1], &[7.0, 0.5], &mut model, INIT, setters));
-        assert_eq!(model, [0.0, 7.0, 0.5, 0.0]);
-        let elsewhere = |vr: u32, out: &mut Vec<Setter<M>>| {
-            out.push(Setter {
-                set: |m: &mut M, i, v| m[i] = -v,
-                element: vr as usize,
-                place: outside,
-                offset: 0,
-                lowest: -f64::MAX,
-                highest: f64::MAX,
-                settable_in: INIT,
-            });
-            true
-        };
-        assert!(set.write(&[3], &[2.0], &mut model, INIT, elsewhere));
-        assert_eq!(model, [0.0, 7.0, 0.5, -2.0]);
+        assert!(table.read(&[7], &mut values, &model));
+        assert_eq!(values, [20.0, 30.0], "the accessor multiplies by 10");
+        assert!(table.write(&[7], &[5.0, 6.0], &mut model, INIT));
+        assert_eq!(model, [1.0, -5.0, -6.0, 4.0], "the setter negates");
         assert_eq!(ELSEWHERE, 0.0);
+    }
+
+    /// References too far apart for a table: every call is left to the generic path.
+    #[test]
+    fn sparse_references_get_no_table() {
+        let mut model: M = [0.0; 4];
+        let mut table = RealTable::default();
+        table.ensure(&model, || {
+            vec![(4_000_000, variable(0, 1, -f64::MAX, f64::MAX, INIT))]
+        });
+        assert!(!table.write(&[4_000_000], &[1.0], &mut model, INIT));
+        let mut one = [0.0];
+        assert!(!table.read(&[4_000_000], &mut one, &model));
+        // Built once: a second `ensure` does not look at the declarations again.
+        table.ensure(&model, || -> Vec<(u32, Element<M>)> { unreachable!() });
     }
 }

@@ -23,7 +23,7 @@ use crate::version::Fmi2;
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
-use fmi_export::prepared::{Getter, Setter};
+use fmi_export::prepared::Element;
 use fmi_export::setters::{check_enumeration, check_integer, check_real, check_settable};
 use fmi_export::step::Advance;
 use fmi_export::Sink;
@@ -55,6 +55,32 @@ fn row<M: Model>(
         Some(r) => Ok(inst.view.table[r]),
         None => Err(unknown_value_reference(base, vr)),
     }
+}
+
+/// Every Real scalar for the instance's exchange table ([`fmi_export::prepared`]).
+fn real_elements<M: Model>(
+    view: &crate::version::View<M>,
+) -> impl Iterator<Item = (u32, Element<M>)> + '_ {
+    view.table.iter().filter_map(|var| {
+        if !matches!(var.access, Access::Real { .. }) {
+            return None;
+        }
+        let vr = var.value_reference;
+        let slot = view.index.real(vr)?;
+        Some((
+            vr,
+            Element {
+                get: slot.get,
+                set: slot.set,
+                element: slot.element,
+                len: 1,
+                place: slot.place,
+                lowest: slot.lowest,
+                highest: slot.highest,
+                settable_in: slot.settable_in.bits(),
+            },
+        ))
+    })
 }
 
 /// The core's settable rule for an FMI 2.0 scalar.
@@ -345,23 +371,9 @@ pub unsafe fn get_real<M: Model>(
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice_mut(value, nvr, "value")?;
             let success = inst.refresh(f);
-            let index = &inst.view.index;
-            let prepared = inst
-                .prepared_get
-                .read(vrs, values, &inst.core.model, |vr, out| {
-                    match index.real(vr) {
-                        Some(slot) => {
-                            out.push(Getter {
-                                get: slot.get,
-                                element: slot.element,
-                                place: slot.place,
-                                offset: 0,
-                            });
-                            true
-                        }
-                        None => false,
-                    }
-                });
+            let view = &inst.view;
+            inst.reals.ensure(&inst.core.model, || real_elements(view));
+            let prepared = inst.reals.read(vrs, values, &inst.core.model);
             if !prepared {
                 for (&vr, value) in vrs.iter().zip(values.iter_mut()) {
                     let slot = inst
@@ -486,28 +498,11 @@ pub unsafe fn set_real<M: Model>(
             let vrs = slice(vr, nvr, "vr")?;
             let values = slice(value, nvr, "value")?;
             let state = inst.core.state;
-            let index = &inst.view.index;
-            let prepared = inst.prepared_set.write(
-                vrs,
-                values,
-                &mut inst.core.model,
-                state as u16,
-                |vr, out| match index.real(vr) {
-                    Some(slot) => slot.set.is_some_and(|set| {
-                        out.push(Setter {
-                            set,
-                            element: slot.element,
-                            place: slot.place,
-                            offset: 0,
-                            lowest: slot.lowest,
-                            highest: slot.highest,
-                            settable_in: slot.settable_in.bits(),
-                        });
-                        true
-                    }),
-                    None => false,
-                },
-            );
+            let view = &inst.view;
+            inst.reals.ensure(&inst.core.model, || real_elements(view));
+            let prepared = inst
+                .reals
+                .write(vrs, values, &mut inst.core.model, state as u16);
             if prepared {
                 inst.dirty |= !vrs.is_empty();
                 return Ok(Success::Ok);

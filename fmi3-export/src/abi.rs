@@ -21,7 +21,7 @@ use crate::version::Fmi3;
 pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
-use fmi_export::prepared::{Getter, Setter};
+use fmi_export::prepared::Element;
 use fmi_export::setters::{check_enumeration, check_integer, check_real};
 use fmi_export::step::Advance;
 use fmi_export::Sink;
@@ -332,23 +332,10 @@ pub unsafe fn get_float64<M: Model>(
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice_mut(values, n_values, "values")?;
             let success = inst.refresh(f);
-            let (index, table) = (&inst.view.index, &inst.view.float64);
-            let prepared = inst
-                .prepared_get
-                .read(vrs, values, &inst.core.model, |vr, out| {
-                    match index.row(vr).and_then(|row| table.get(row)) {
-                        Some(Some(slot)) => {
-                            out.extend((0..slot.len).map(|element| Getter {
-                                get: slot.get,
-                                element,
-                                place: slot.place,
-                                offset: 0,
-                            }));
-                            true
-                        }
-                        _ => false,
-                    }
-                });
+            let view = &inst.view;
+            inst.reals
+                .ensure(&inst.core.model, || float64_elements::<M>(view));
+            let prepared = inst.reals.read(vrs, values, &inst.core.model);
             if prepared {
                 return finite(inst, vrs, values).map(|()| success);
             }
@@ -509,6 +496,28 @@ fn initializing(state: State) -> bool {
     state.initializing()
 }
 
+/// Every Float64 variable for the instance's exchange table
+/// ([`fmi_export::prepared`]).
+fn float64_elements<M: Model>(
+    view: &crate::version::View<M>,
+) -> impl Iterator<Item = (u32, Element<M>)> + '_ {
+    view.float64.iter().flatten().map(|slot| {
+        let settable_in = (u16::from(slot.settable_initializing) * INITIALIZING)
+            | (u16::from(slot.settable_running) * RUNNING);
+        let variable = Element {
+            get: slot.get,
+            set: slot.set,
+            element: 0,
+            len: slot.len,
+            place: slot.place,
+            lowest: slot.lowest,
+            highest: slot.highest,
+            settable_in,
+        };
+        (slot.declaration.value_reference, variable)
+    })
+}
+
 /// # Safety
 /// See the module documentation.
 pub unsafe fn set_float64<M: Model>(
@@ -532,30 +541,13 @@ pub unsafe fn set_float64<M: Model>(
             let vrs = slice(vrs, n_vrs, "valueReferences")?;
             let values = slice(values, n_values, "values")?;
             let initializing = initializing(inst.core.state);
-            let (index, table) = (&inst.view.index, &inst.view.float64);
-            let prepared = inst.prepared_set.write(
-                vrs,
-                values,
-                &mut inst.core.model,
-                if initializing { INITIALIZING } else { RUNNING },
-                |vr, out| match index.row(vr).and_then(|row| table.get(row)) {
-                    Some(Some(slot)) => slot.set.is_some_and(|set| {
-                        let settable_in = (u16::from(slot.settable_initializing) * INITIALIZING)
-                            | (u16::from(slot.settable_running) * RUNNING);
-                        out.extend((0..slot.len).map(|element| Setter {
-                            set,
-                            element,
-                            place: slot.place,
-                            offset: 0,
-                            lowest: slot.lowest,
-                            highest: slot.highest,
-                            settable_in,
-                        }));
-                        true
-                    }),
-                    _ => false,
-                },
-            );
+            let view = &inst.view;
+            inst.reals
+                .ensure(&inst.core.model, || float64_elements::<M>(view));
+            let state_bit = if initializing { INITIALIZING } else { RUNNING };
+            let prepared = inst
+                .reals
+                .write(vrs, values, &mut inst.core.model, state_bit);
             if prepared {
                 inst.dirty |= !vrs.is_empty();
                 return Ok(Success::Ok);

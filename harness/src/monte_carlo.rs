@@ -164,6 +164,10 @@ pub struct ReplayArgs {
     /// or .ipc name.
     #[arg(long, short, default_value = "target/monte-carlo/replay.csv")]
     pub out: PathBuf,
+    /// Also print the hover-to-descent handover: what the hover hands the descent's cubic
+    /// and how far the cubic carries it (docs/results.md, the handover).
+    #[arg(long)]
+    pub handover: bool,
 }
 
 /// At most this many failed flights are printed (all are in `summary.csv`'s counts and the
@@ -375,8 +379,8 @@ pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32>
         options.workers,
         outcome.manifest.display()
     );
-    // Read back from disk: the campaign held no rows in memory while it ran.
-    let rows = manifest::read(&outcome.manifest)?;
+    // The rows as the manifest holds them, kept as they were written: not read back.
+    let rows = &outcome.rows;
     let title = format!(
         "Monte Carlo, scenario '{}', seed {}, {} runs per point{}",
         spec.scenario,
@@ -389,7 +393,7 @@ pub fn monte_carlo(args: &MonteCarloArgs, fmu_dir: &Path) -> anyhow::Result<i32>
         }
     );
     report(
-        &rows,
+        rows,
         &spec.scenario,
         &args.out_dir,
         &title,
@@ -502,5 +506,12 @@ pub fn replay(args: &ReplayArgs, fmu_dir: &Path) -> anyhow::Result<()> {
         trajectory.len(),
         args.out.display()
     );
+    if args.handover {
+        let handover = lander::handover::analyse(&trajectory).map_err(anyhow::Error::msg)?;
+        println!("the hover-to-descent handover:");
+        for (label, value) in handover.rows() {
+            println!("{label:<48}{value:>10}");
+        }
+    }
     Ok(())
 }

@@ -6,12 +6,13 @@
 //!
 //! Modules from the bottom up: `laws`, `verdict`, `retarget::command`, `scenarios`, `metrics`,
 //! `provenance`, `overrides`; then `paper`, and `retarget`'s comparison on top of it;
-//! `linearize` beside them.
+//! `linearize` and `handover` (a recorded flight's hover-to-descent handover) beside them.
 #![forbid(unsafe_code)]
 // std's transcendental functions compute the flight metrics and the attitude geometry of a
 // scenario here, outside any FMU (the workspace clippy.toml forbids them for the FMUs' sake).
 #![allow(clippy::disallowed_methods)]
 
+pub mod handover;
 pub mod laws;
 pub mod linearize;
 pub mod metrics;

@@ -1,8 +1,9 @@
 //! `cargo xtask bench`: package the FMUs, make sure the Python venv and valgrind exist, then
 //! run the side-by-side speed measurement (tests/speed) in one release process, which prints
 //! the wall-clock table, the instruction counts per closed-loop step in each call order
-//! against the plain Rust floor, and what the harness's master adds to the FMUs (both with
-//! callgrind). Arguments after `--` go to the first (`cargo xtask bench -- --quick`,
+//! against the plain-C floor (then a native C master's, with the value references listed in
+//! each way users' masters list them, and the worst of each call order), and what the
+//! harness's master adds to the FMUs (all with callgrind). Arguments after `--` go to the first (`cargo xtask bench -- --quick`,
 //! `--runs 100`); `--quick` skips the counts.
 use crate::workspace::{self, Workspace};
 use crate::{fmus, python_env, system_packages};

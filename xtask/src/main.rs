@@ -92,9 +92,13 @@ enum Command {
         /// Also fly the campaigns the campaign blocks name.
         #[arg(long)]
         campaigns: bool,
-        /// Only the blocks whose marker contains this text (e.g. `--scenario retarget`).
+        /// Only the blocks whose marker (the prose numbers whose comment) contains this text
+        /// (e.g. `--scenario retarget`), or one of the texts `A || B` separates.
         #[arg(long, value_name = "TEXT", allow_hyphen_values = true)]
         only: Option<String>,
+        /// The campaigns' worker threads (default: one per core); no number depends on it.
+        #[arg(long, value_name = "N")]
+        workers: Option<usize>,
     },
     /// Write a new FMU crate fmu-<name>/ (a tiny model, its metadata, the conformance
     /// suite) that `cargo xtask fmus` packages as it is.
@@ -122,7 +126,11 @@ fn main() -> ExitCode {
         Command::PythonEnv => python_env::ensure(&ws),
         Command::Bench { args } => bench::run(&ws, &args),
         Command::FuzzCrates { check } => fuzz_crates::run(&ws, check),
-        Command::Results { campaigns, only } => results::run(&ws, campaigns, only.as_deref()),
+        Command::Results {
+            campaigns,
+            only,
+            workers,
+        } => results::run(&ws, campaigns, only.as_deref(), workers),
         Command::NewFmu { name, into } => new_fmu::run(&ws, &name, into.as_deref()).map(|_| ()),
     });
     match result {

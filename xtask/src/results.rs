@@ -6,10 +6,21 @@ use crate::fmus;
 use crate::workspace::{self, Workspace};
 use anyhow::Result;
 
-/// `campaigns`: also the campaign blocks (the test's ignored part, minutes of flights);
-/// `only`: just the blocks whose marker contains this text.
-pub fn run(ws: &Workspace, campaigns: bool, only: Option<&str>) -> Result<()> {
+/// `campaigns`: also the campaign blocks (the test's ignored part, minutes of flights), flown
+/// by a release build of the harness; `only`: just the blocks whose marker contains this
+/// text; `workers`: the campaigns' worker threads (default: the harness's, one per core).
+pub fn run(
+    ws: &Workspace,
+    campaigns: bool,
+    only: Option<&str>,
+    workers: Option<usize>,
+) -> Result<()> {
     fmus::package_all(ws)?;
+    let mut release = None;
+    if campaigns {
+        workspace::run(ws.cargo().args(["build", "--release", "-p", "harness"]))?;
+        release = Some(ws.target_dir.join("release").join("harness"));
+    }
     let mut test = ws.cargo();
     test.args([
         "test",
@@ -23,8 +34,13 @@ pub fn run(ws: &Workspace, campaigns: bool, only: Option<&str>) -> Result<()> {
         "--test-threads=1",
     ])
     .env("UPDATE_RESULTS", "1");
-    if campaigns {
-        test.arg("--include-ignored");
+    if let Some(release) = release {
+        // Each campaign's flight count and time on stderr.
+        test.args(["--include-ignored", "--nocapture"])
+            .env("RESULTS_HARNESS", release);
+    }
+    if let Some(workers) = workers {
+        test.env("RESULTS_WORKERS", workers.to_string());
     }
     if let Some(only) = only {
         test.env("RESULTS_ONLY", only);

@@ -43,7 +43,7 @@ pub fn final_state(exe: &Path) -> Result<[f64; 14]> {
     parse_bits(&String::from_utf8_lossy(&output.stdout))
 }
 
-fn parse_bits(stdout: &str) -> Result<[f64; 14]> {
+pub fn parse_bits(stdout: &str) -> Result<[f64; 14]> {
     let line = stdout
         .lines()
         .find_map(|l| l.strip_prefix("bits"))

@@ -149,7 +149,10 @@ fn load(
     ))
 }
 
-fn references<const N: usize>(md: &ModelDescription, names: [&str; N]) -> Result<[u32; N]> {
+pub(crate) fn references<const N: usize>(
+    md: &ModelDescription,
+    names: [&str; N],
+) -> Result<[u32; N]> {
     let mut vrs = [0; N];
     for (vr, name) in vrs.iter_mut().zip(names) {
         *vr = md

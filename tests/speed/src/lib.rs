@@ -7,6 +7,7 @@
 #![deny(unsafe_code)]
 
 pub mod c_floor;
+pub mod c_master;
 /// Loads FMU binaries itself (the one unsafe part: foreign code).
 #[allow(unsafe_code)]
 pub mod call_orders;

@@ -9,6 +9,7 @@
 
 use anyhow::{ensure, Context, Result};
 use clap::{Parser, Subcommand};
+use speed_bench::c_master::{self, Variant};
 use speed_bench::call_orders::{measured_flight, Order, Pair, PAPER_STEPS};
 use speed_bench::{c_floor, callgrind};
 use std::path::PathBuf;
@@ -44,8 +45,10 @@ enum Command {
         #[arg(long, default_value_t = 2)]
         fmi: u8,
     },
-    /// Count every order under callgrind and print the table.
+    /// Count every order under callgrind and print the table, then the C master's.
     Count,
+    /// Only the C master's table: every FMI version, call order and list variant.
+    Variants,
 }
 
 fn main() -> Result<()> {
@@ -62,6 +65,17 @@ fn main() -> Result<()> {
             Ok(())
         }
         Command::Count => count(&cli),
+        Command::Variants => {
+            ensure!(
+                callgrind::available(),
+                "valgrind is not installed (Debian: sudo apt-get install valgrind)"
+            );
+            let scratch = tempfile::tempdir()?;
+            let c_exe = c_floor::compile(scratch.path())?;
+            let c_counts =
+                c_floor::count(&c_exe, scratch.path()).context("counting the C floor")?;
+            variants(&cli, c_counts.instructions as f64 / c_floor::STEPS as f64)
+        }
     }
 }
 
@@ -194,6 +208,82 @@ fn count(cli: &Cli) -> Result<()> {
              the paper flight's {})",
             cli.steps,
             c_floor::STEPS
+        );
+    }
+    println!();
+    variants(cli, c_per_step)
+}
+
+/// The C master's table: each FMI version and call order, with the value references listed
+/// in each variant, against the C floor (`c_per_step` instructions per step), and the worst
+/// variant of each call order. Refuses to print unless every variant flies what the Rust
+/// master flies in that order, bit for bit.
+fn variants(cli: &Cli, c_per_step: f64) -> Result<()> {
+    let scratch = tempfile::tempdir()?;
+    let exe = c_master::compile(scratch.path())?;
+    let binaries = cli.binaries.as_deref();
+    let steps = cli.steps as f64;
+    let orders = [Order::ReadThenStep, Order::StepThenRead, Order::Jacobi];
+    let mut rows = Vec::new();
+    let mut worst = Vec::new();
+    for fmi in [2, 3] {
+        let plan = c_master::Plan::new(&cli.fmu_dir, fmi, binaries)?;
+        for order in orders {
+            let mut pair = Pair::new(order, fmi, &cli.fmu_dir, binaries)?;
+            let expected = measured_flight(&mut pair, order, cli.steps)?.map(f64::to_bits);
+            let mut worst_here = (0.0, Variant::Contract);
+            for variant in Variant::ALL {
+                let flown = plan.fly(&exe, order, variant, cli.steps)?.map(f64::to_bits);
+                ensure!(
+                    flown == expected,
+                    "the C master ({}, {}, FMI {fmi}) flew another flight than the Rust master",
+                    order.name(),
+                    variant.name()
+                );
+                let counts = plan
+                    .count(&exe, order, variant, cli.steps, scratch.path())
+                    .with_context(|| {
+                        format!(
+                            "counting the C master ({} {})",
+                            order.name(),
+                            variant.name()
+                        )
+                    })?;
+                let per_step = counts.instructions as f64 / steps;
+                if per_step > worst_here.0 {
+                    worst_here = (per_step, variant);
+                }
+                rows.push((fmi, order, variant, per_step));
+            }
+            worst.push((fmi, order, worst_here));
+        }
+    }
+    println!(
+        "Instructions per closed-loop step in a native C master (tests/speed/c/\
+         list_orders_master.c, official headers), by how it lists the value references; \
+         C floor {c_per_step:.0}:\n"
+    );
+    println!(
+        "| FMI | Call order | Value references listed | Instructions per step | Ratio to C floor |"
+    );
+    println!("| --- | --- | --- | --- | --- |");
+    for (fmi, order, variant, per_step) in &rows {
+        println!(
+            "| {fmi}.0 | {} | {} | {per_step:.0} | {:.2}x |",
+            order.name(),
+            variant.describe(),
+            per_step / c_per_step
+        );
+    }
+    println!("\nThe worst variant of each call order:\n");
+    println!("| FMI | Call order | Worst variant | Instructions per step | Ratio to C floor |");
+    println!("| --- | --- | --- | --- | --- |");
+    for (fmi, order, (per_step, variant)) in &worst {
+        println!(
+            "| {fmi}.0 | {} | {} | {per_step:.0} | {:.2}x |",
+            order.name(),
+            variant.describe(),
+            per_step / c_per_step
         );
     }
     Ok(())
