@@ -279,3 +279,192 @@ fn an_ssp_scenario_takes_its_campaign_from_a_sidecar_file() {
     let output = common::harness(&["campaign", ssd.to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&output.stderr).contains("osc.campaign.toml: cannot read it"));
 }
+
+/// The Oscillator with a scenario event (`osc.k` stiffened at 5 s) whose time a campaign
+/// draws, and an Integer parameter (`osc.substeps`) swept.
+const EVENT_CAMPAIGN: &str = r#"name = "oscillator-event"
+stop_time = 20.0
+step_size = 0.05
+
+[[instance]]
+name = "osc"
+fmu = "Oscillator.fmu"
+[instance.parameters]
+substeps = 1
+
+[[event]]
+name = "stiffen"
+time = 5.0
+set = "osc.k"
+value = 4.0
+
+[campaign]
+runs = 3
+seed = 5
+
+[[campaign.sweep]]
+parameter = "osc.substeps"
+values = [1, 3]
+
+[[campaign.dispersion]]
+parameter = "event.stiffen.time"
+distribution = "uniform"
+min = 2.0
+max = 15.0
+
+[[requirement]]
+name = "bounded"
+formula = "always [0, 20] abs(osc.x) < 1.6"
+"#;
+
+/// The `osc.x` column of a trajectory CSV, as bits.
+fn x_column(path: &Path) -> Vec<u64> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let x = header.iter().position(|h| *h == "osc.x").unwrap();
+    lines
+        .map(|l| {
+            l.split(',')
+                .nth(x)
+                .unwrap()
+                .parse::<f64>()
+                .unwrap()
+                .to_bits()
+        })
+        .collect()
+}
+
+#[test]
+fn a_drawn_event_time_is_flown_as_a_harness_run_with_that_event_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("event.toml");
+    std::fs::write(&scenario, EVENT_CAMPAIGN).unwrap();
+    let out_dir = dir.path().join("campaign");
+    let (scenario, out) = (scenario.to_str().unwrap(), out_dir.to_str().unwrap());
+    finished(&common::harness(&[
+        "campaign",
+        scenario,
+        "--out-dir",
+        out,
+        "--quiet",
+    ]));
+    let manifest = manifest(&out_dir);
+    let mut lines = manifest.lines();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("index,run,run_seed,point,osc.substeps,event.stiffen.time,"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // The Integer sweep's values are written as integers, each on the same draws.
+    let substeps: Vec<&str> = rows.iter().map(|r| r[4]).collect();
+    assert_eq!(substeps, ["1", "3", "1", "3", "1", "3"]);
+    let times: Vec<f64> = rows.iter().map(|r| r[5].parse().unwrap()).collect();
+    assert!(times.iter().all(|t| (2.0..15.0).contains(t)), "{times:?}");
+    assert_eq!(times[2], times[3]);
+    assert_ne!(times[0], times[2]);
+    // Run 2 (substeps 1) replayed equals `harness run` of the scenario with its drawn time.
+    let replayed = dir.path().join("replay.csv");
+    finished(&common::harness(&[
+        "campaign",
+        scenario,
+        "--out-dir",
+        out,
+        "--replay",
+        "2",
+        "--out",
+        replayed.to_str().unwrap(),
+    ]));
+    let run_with = |time: &str, name: &str| {
+        let path = dir.path().join(format!("{name}.toml"));
+        let text = EVENT_CAMPAIGN.replace("time = 5.0", &format!("time = {time}"));
+        std::fs::write(&path, text).unwrap();
+        let csv = dir.path().join(format!("{name}.csv"));
+        let output = common::harness(&[
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            csv.to_str().unwrap(),
+        ]);
+        assert!(output.status.success(), "{output:?}");
+        x_column(&csv)
+    };
+    let campaign_x = x_column(&replayed);
+    assert!(
+        campaign_x == run_with(rows[2][5], "drawn"),
+        "run 2 is not `harness run` with event time {}",
+        rows[2][5]
+    );
+    // Not the declared time's run: the drawn time is what moved the event.
+    assert!(campaign_x != run_with("5.0", "declared"));
+}
+
+#[test]
+fn every_bad_event_or_integer_target_is_named_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = EVENT_CAMPAIGN
+        .replace("values = [1, 3]", "values = [1.5, 2000]")
+        + "\n[[campaign.sweep]]\nparameter = \"event.stiffen.time\"\nvalues = [25.0]\n\
+           \n[[campaign.dispersion]]\nparameter = \"event.nope.time\"\ndistribution = \"uniform\"\nmin = 1.0\nmax = 2.0\n\
+           \n[[campaign.dispersion]]\nparameter = \"osc.crossing_direction\"\ndistribution = \"uniform\"\nmin = 1.0\nmax = 2.0\n";
+    let bad = bad.replace(
+        "[[campaign.dispersion]]\nparameter = \"event.stiffen.time\"",
+        "[[campaign.dispersion]]\nparameter = \"event.stiffen.value\"",
+    );
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, bad).unwrap();
+    let output = common::harness(&[
+        "campaign",
+        path.to_str().unwrap(),
+        "--out-dir",
+        dir.path().to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    for expected in [
+        "5 problems",
+        "osc.substeps: value 1.5 is not an integer",
+        "osc.substeps: value 2000 is outside the declared range [1, 1000]",
+        "event.stiffen.time: value 25: event 'stiffen'",
+        "the scenario has no event 'nope' (it has stiffen)",
+        "osc.crossing_direction: an integer is swept over its values, not drawn",
+    ] {
+        assert!(
+            stderr.contains(expected),
+            "missing '{expected}' in:\n{stderr}"
+        );
+    }
+    assert!(!dir.path().join("manifest.csv").exists());
+}
+
+#[test]
+fn a_drawn_event_time_the_event_rules_refuse_ends_that_run_in_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("late.toml");
+    let text = EVENT_CAMPAIGN.replace("min = 2.0\nmax = 15.0", "min = 10.0\nmax = 30.0");
+    std::fs::write(&path, text.replace("runs = 3", "runs = 8")).unwrap();
+    let output = common::harness(&[
+        "campaign",
+        path.to_str().unwrap(),
+        "--out-dir",
+        dir.path().to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(output.status.code(), Some(1), "{output:?}");
+    let mut reader = csv::Reader::from_path(dir.path().join("manifest.csv")).unwrap();
+    let mut errors = 0;
+    for record in reader.records() {
+        let row = record.unwrap();
+        let time: f64 = row[5].parse().unwrap();
+        // The last step starts at 19.95 s; a later time changes nothing and is refused.
+        assert_eq!(time > 19.95, &row[7] == "error", "{row:?}");
+        if time > 20.0 {
+            assert!(
+                row[9].contains("is outside [start_time, stop_time]"),
+                "{row:?}"
+            );
+        }
+        errors += usize::from(&row[7] == "error");
+    }
+    assert!(errors > 0 && errors < 16, "{errors} of 16 runs in error");
+}

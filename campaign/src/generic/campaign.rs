@@ -2,12 +2,12 @@
 //! runs and the manifest's columns; and one run flown on a loaded simulation.
 use crate::generic::manifest::{Layout, Row, ERROR, FAIL, PASS};
 use crate::generic::plan::{Plan, RunId};
-use crate::generic::target::Target;
+use crate::generic::target::{Setting, Target};
 use cosim::master::{RunEnd, Trajectory};
 use cosim::requirements::Requirement;
 use cosim::supervise::Runner;
 use cosim::system::campaign_table::{self as declaration, Declaration};
-use cosim::system::{ParamValue, SystemDescription};
+use cosim::system::SystemDescription;
 use std::path::Path;
 
 /// The command line's changes to the scenario's `[campaign]` table.
@@ -27,6 +27,8 @@ pub struct Campaign {
     pub layout: Layout,
     /// The system as each run records it: the requirements' signals only.
     pub system: SystemDescription,
+    /// How each input (in the plan's order: swept, then dispersed) is set.
+    pub settings: Vec<Setting>,
 }
 
 /// The TOML file that declares the campaign of `scenario`: the scenario itself, or for an
@@ -76,20 +78,26 @@ impl Campaign {
         system.record = Some(record);
         // The targets are checked against the FMUs even when the table has other problems,
         // so that every problem is named at once.
-        let targets: Vec<Target> = declaration
-            .sweep
-            .iter()
-            .map(|s| &s.parameter)
-            .chain(declaration.dispersion.iter().map(|d| &d.parameter))
-            .filter_map(|text| Target::parse(text).ok())
+        let swept = declaration.sweep.iter().map(|s| (&s.parameter, true));
+        let dispersed = declaration.dispersion.iter().map(|d| (&d.parameter, false));
+        let targets: Vec<_> = swept
+            .chain(dispersed)
+            .filter_map(|(text, swept)| Some((Target::parse(text).ok()?, swept)))
             .collect();
+        let mut settings = Vec::new();
         let runner = match Runner::new(system.clone(), fmu_dir) {
             Ok(runner) => {
-                problems.extend(
-                    targets
-                        .iter()
-                        .filter_map(|t| t.problem(runner.system(), |i| runner.description(i).1)),
-                );
+                for (target, swept) in &targets {
+                    let values = plan.as_ref().and_then(|plan| {
+                        let at = plan.sweeps.iter().find(|(t, _)| t == target);
+                        at.map(|(_, values)| values.as_slice())
+                    });
+                    let found = check(target, *swept, values.unwrap_or_default(), &runner);
+                    match found {
+                        Ok(setting) => settings.push(setting),
+                        Err(found) => problems.extend(found),
+                    }
+                }
                 Some(runner)
             }
             Err(error) => {
@@ -118,6 +126,7 @@ impl Campaign {
                 requirements,
                 layout,
                 system,
+                settings,
             },
             runner,
         ))
@@ -140,9 +149,17 @@ impl Campaign {
         trajectory.times.clear();
         trajectory.values.clear();
         let mut attempt = || -> anyhow::Result<RunEnd> {
-            for (target, value) in &inputs {
-                let Target::Parameter { instance, variable } = target;
-                runner.set_parameter(instance, variable, ParamValue::Real(*value))?;
+            for ((target, value), setting) in inputs.iter().zip(&self.settings) {
+                match target {
+                    Target::Parameter { instance, variable } => {
+                        runner.set_parameter(instance, variable, setting.value(*value))?
+                    }
+                    Target::EventTime { event } | Target::EventValue { event } => {
+                        if let Some(change) = target.change(*setting, *value) {
+                            runner.change_event(event, &change)?
+                        }
+                    }
+                }
             }
             Ok(runner.run(trajectory)?)
         };
@@ -164,5 +181,33 @@ impl Campaign {
             }
         }
         row
+    }
+}
+
+/// How `runner`'s system takes `target`'s numbers, or every problem of it: a target it cannot
+/// set, an integer drawn rather than swept, a swept value it cannot take.
+fn check(
+    target: &Target,
+    swept: bool,
+    values: &[f64],
+    runner: &Runner,
+) -> Result<Setting, Vec<String>> {
+    let setting = target
+        .check(runner.system(), |i| runner.description(i).1)
+        .map_err(|problem| vec![problem])?;
+    let problems: Vec<String> = match (swept, setting) {
+        (false, Setting::Integer { .. }) => vec![format!(
+            "[[campaign.dispersion]] {target}: an integer is swept over its values, not drawn"
+        )],
+        (false, Setting::Real) => Vec::new(),
+        (true, _) => values
+            .iter()
+            .filter_map(|&v| target.value_problem(setting, runner.system(), v))
+            .map(|problem| format!("[[campaign.sweep]] {problem}"))
+            .collect(),
+    };
+    match problems.is_empty() {
+        true => Ok(setting),
+        false => Err(problems),
     }
 }

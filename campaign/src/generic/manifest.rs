@@ -105,7 +105,7 @@ impl Layout {
         let identity = [id.index, id.run, id.run_seed, id.point].map(|n| n.to_string());
         identity
             .into_iter()
-            .chain(row.inputs.iter().map(|&x| number(x)))
+            .chain(row.inputs.iter().map(|&x| input_number(x)))
             .chain([row.end.clone(), row.verdict.clone()])
             .chain(row.robustness.iter().map(|&x| number(x)))
             .chain([row.error.clone()])
@@ -167,6 +167,19 @@ impl Layout {
             })
             .collect::<anyhow::Result<_>>()?;
         Ok((rows, bytes))
+    }
+}
+
+/// An input as the manifest writes it: a whole number (an Integer parameter's, a swept
+/// `1.0`) as an integer, `2` not `2.0`, which reads back to the same bits; others as
+/// [`number`] does.
+fn input_number(x: f64) -> String {
+    // Below 2^53 every whole f64 is exactly an i64 and back; -0 stays "-0.0", keeping its sign.
+    let whole = x.fract() == 0.0 && x.abs() < 9_007_199_254_740_992.0;
+    if whole && (x != 0.0 || x.is_sign_positive()) {
+        (x as i64).to_string()
+    } else {
+        number(x)
     }
 }
 

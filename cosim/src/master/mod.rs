@@ -812,6 +812,23 @@ impl Simulation {
         Ok(())
     }
 
+    /// Changes a scenario event for the following runs ([`SystemDescription::change_event`]),
+    /// its place among the others' due times with it.
+    pub fn change_event(
+        &mut self,
+        name: &str,
+        change: &crate::system::event::Change,
+    ) -> Result<(), MasterError> {
+        self.system
+            .change_event(name, change)
+            .map_err(|problem| MasterError::Resolve {
+                system: self.system.name.clone(),
+                problems: vec![problem],
+            })?;
+        self.events = events::Schedule::new(&self.system);
+        Ok(())
+    }
+
     /// Sets the initial-input and time conventions of the following runs (default: the
     /// harness's own; see [`Conventions`]).
     pub fn set_conventions(&mut self, conventions: Conventions) {

@@ -176,6 +176,18 @@ impl Runner {
         }
     }
 
+    /// Changes a scenario event for the following runs (a campaign's drawn fault time).
+    pub fn change_event(
+        &mut self,
+        name: &str,
+        change: &crate::system::event::Change,
+    ) -> Result<(), MasterError> {
+        match self {
+            Runner::InProcess(s) => s.change_event(name, change),
+            Runner::Supervised(s) => s.change_event(name, change),
+        }
+    }
+
     pub fn set_final_columns(&mut self, names: &[String]) -> Result<(), MasterError> {
         match self {
             Runner::InProcess(s) => s.set_final_columns(names),

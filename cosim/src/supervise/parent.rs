@@ -10,6 +10,7 @@ use super::{BLACK_BOX, RING, WORKER_FLAG};
 use crate::abnormal::{Abnormal, How};
 use crate::limits::Limits;
 use crate::master::{Checkpoints, Conventions, EventCounts, MasterError, Recorder, RunEnd};
+use crate::system::event::Change;
 use crate::system::{ParamValue, SystemDescription};
 use fmi_import::FmiVersion;
 use model_description::ModelDescription;
@@ -64,6 +65,8 @@ pub struct Supervised {
     final_values: Vec<f64>,
     /// Parameters set since the worker last ran; a new worker gets them in its system.
     pending: Vec<(String, String, ParamValue)>,
+    /// Events changed since the worker last ran; a new worker gets them in its system too.
+    pending_events: Vec<(String, Change)>,
     events: Vec<(String, EventCounts)>,
     /// Sent with every run; where the last one saved.
     checkpoints: Checkpoints,
@@ -102,6 +105,7 @@ impl Supervised {
             final_names: Vec::new(),
             final_values: Vec::new(),
             pending: Vec::new(),
+            pending_events: Vec::new(),
             events: Vec::new(),
             checkpoints: Checkpoints::default(),
             saved_at: None,
@@ -215,6 +219,18 @@ impl Supervised {
         Ok(())
     }
 
+    /// Checked and recorded here, sent with the next run.
+    pub fn change_event(&mut self, name: &str, change: &Change) -> Result<(), MasterError> {
+        self.system
+            .change_event(name, change)
+            .map_err(|problem| MasterError::Resolve {
+                system: self.system.name.clone(),
+                problems: vec![problem],
+            })?;
+        self.pending_events.push((name.to_owned(), change.clone()));
+        Ok(())
+    }
+
     pub fn set_final_columns(&mut self, names: &[String]) -> Result<(), MasterError> {
         self.final_requested = names.to_vec();
         let limits = self.limits;
@@ -244,6 +260,7 @@ impl Supervised {
         self.events.clear();
         self.saved_at = None;
         let parameters = std::mem::take(&mut self.pending);
+        let events = std::mem::take(&mut self.pending_events);
         let limits = self.limits;
         let (conventions, width) = (self.conventions, self.column_names.len());
         let rows_hint = {
@@ -259,6 +276,7 @@ impl Supervised {
         let mut hand = Hand::default();
         let mut answer = worker.send(&ToWorker::Run {
             parameters,
+            events,
             conventions,
             checkpoints,
         });
@@ -358,6 +376,7 @@ impl Supervised {
                 self.final_values = vec![f64::NAN; final_names.len()];
                 self.final_names = final_names;
                 self.pending.clear();
+                self.pending_events.clear();
                 self.worker = Some(worker);
                 Ok(())
             }

@@ -2,6 +2,7 @@
 //! length-prefixed postcard messages. Rows do not travel here but through the shared ring
 //! (`shared.rs`); a message only says how far they go.
 use crate::master::{Checkpoints, Conventions, EventCounts, MasterError, RunEnd};
+use crate::system::event::Change;
 use crate::system::{ParamValue, SystemDescription};
 use serde::{Deserialize, Serialize};
 use std::io::{Read, Write};
@@ -26,6 +27,8 @@ pub(super) enum ToWorker {
     /// `Done` or `Failed`.
     Run {
         parameters: Vec<(String, String, ParamValue)>,
+        /// Scenario events changed, each by its name.
+        events: Vec<(String, Change)>,
         conventions: Conventions,
         checkpoints: Box<Checkpoints>,
     },

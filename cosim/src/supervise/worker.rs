@@ -171,6 +171,7 @@ impl Worker {
             }
             ToWorker::Run {
                 parameters,
+                events,
                 conventions,
                 checkpoints,
             } => {
@@ -180,6 +181,11 @@ impl Worker {
                 };
                 for (instance, variable, value) in parameters {
                     if let Err(error) = simulation.set_parameter(&instance, &variable, value) {
+                        return send(output, &failed(&error, 0));
+                    }
+                }
+                for (name, change) in events {
+                    if let Err(error) = simulation.change_event(&name, &change) {
                         return send(output, &failed(&error, 0));
                     }
                 }

@@ -60,8 +60,16 @@ impl Event {
 
 /// The problems of the system's events that need no FMU: names, times, values, instances.
 pub fn problems(system: &SystemDescription) -> Vec<String> {
+    (0..system.events.len())
+        .flat_map(|i| problems_of(system, i))
+        .collect()
+}
+
+/// The problems of the system's event `i` that need no FMU.
+fn problems_of(system: &SystemDescription, i: usize) -> Vec<String> {
     let mut problems = Vec::new();
-    for (i, event) in system.events.iter().enumerate() {
+    {
+        let event = &system.events[i];
         let label = format!("event '{}' ({})", event.name, event.describe());
         if event.name.is_empty() {
             problems.push(format!("{label}: the name must not be empty"));
@@ -104,7 +112,114 @@ pub fn problems(system: &SystemDescription) -> Vec<String> {
     problems
 }
 
+/// A change to one event for the following runs: a campaign's drawn or swept fault time or
+/// value.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Change {
+    Time(f64),
+    Value(ParamValue),
+}
+
+impl SystemDescription {
+    /// Changes event `name` as `change` says, checked as the scenario's own events are (a
+    /// time on a communication point a step starts from, a finite value); a new value keeps
+    /// the event's type, which the FMU was checked against when the system was loaded.
+    /// Refused with the reason, the event unchanged.
+    pub fn change_event(&mut self, name: &str, change: &Change) -> Result<(), String> {
+        let Some(i) = self.events.iter().position(|e| e.name == name) else {
+            let known: Vec<&str> = self.events.iter().map(|e| e.name.as_str()).collect();
+            return Err(format!(
+                "no event named '{name}' (the scenario has {})",
+                match known.is_empty() {
+                    true => "none".to_owned(),
+                    false => known.join(", "),
+                }
+            ));
+        };
+        let before = self.events[i].clone();
+        match change {
+            Change::Time(time_s) => self.events[i].time_s = *time_s,
+            Change::Value(value) => {
+                if std::mem::discriminant(value) != std::mem::discriminant(&before.value) {
+                    return Err(format!(
+                        "event '{name}' ({}): the new value {value:?} is not of the event's type",
+                        before.describe()
+                    ));
+                }
+                self.events[i].value = value.clone();
+            }
+        }
+        let problems = problems_of(self, i);
+        if problems.is_empty() {
+            return Ok(());
+        }
+        self.events[i] = before;
+        Err(problems.join("; "))
+    }
+}
+
 /// Reads `set = "instance.variable"` into its two parts.
 pub(super) fn target(set: &str) -> Option<(String, String)> {
     split_path(set).map(|(i, v)| (i.to_owned(), v.to_owned()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Change;
+    use crate::system::ParamValue;
+
+    fn system() -> crate::system::SystemDescription {
+        let text = "name = \"s\"\nstop_time = 10.0\nstep_size = 0.5\n\
+            [[instance]]\nname = \"osc\"\nfmu = \"Oscillator.fmu\"\n\
+            [[event]]\nname = \"stiffen\"\ntime = 2.0\nset = \"osc.k\"\nvalue = 4.0\n\
+            [[event]]\nname = \"damp\"\ntime = 3.0\nset = \"osc.c\"\nvalue = 1.0\n";
+        crate::system::toml_format::parse(text, std::path::Path::new(".")).unwrap()
+    }
+
+    #[test]
+    fn a_changed_event_takes_its_new_time_or_value_and_a_refused_one_stays() {
+        let mut s = system();
+        s.change_event("stiffen", &Change::Time(7.25)).unwrap();
+        s.change_event("damp", &Change::Value(ParamValue::Real(0.5)))
+            .unwrap();
+        assert_eq!(s.events[0].time_s, 7.25);
+        assert_eq!(s.events[1].value, ParamValue::Real(0.5));
+        let before = s.events.clone();
+        for (name, change, expected) in [
+            (
+                "nope",
+                Change::Time(1.0),
+                "no event named 'nope' (the scenario has stiffen, damp)",
+            ),
+            (
+                "stiffen",
+                Change::Time(10.5),
+                "time 10.5 s is outside [start_time, stop_time]",
+            ),
+            (
+                "stiffen",
+                Change::Time(9.75),
+                "after the last communication point a step starts",
+            ),
+            (
+                "stiffen",
+                Change::Time(f64::NAN),
+                "time NaN is not a number",
+            ),
+            (
+                "damp",
+                Change::Value(ParamValue::Integer(2)),
+                "is not of the event's type",
+            ),
+            (
+                "damp",
+                Change::Value(ParamValue::Real(f64::INFINITY)),
+                "value inf is not a finite",
+            ),
+        ] {
+            let refused = s.change_event(name, &change).unwrap_err();
+            assert!(refused.contains(expected), "{change:?}: {refused}");
+        }
+        assert_eq!(s.events, before);
+    }
 }

@@ -78,6 +78,10 @@ pub const BUILT_IN: &[(&str, &str)] = &[
         "fault-sensors",
         include_str!("../../../harness/scenarios/fault-sensors.toml"),
     ),
+    (
+        "fault-campaign",
+        include_str!("../../../harness/scenarios/fault-campaign.toml"),
+    ),
 ];
 
 /// The error for a scenario argument that is neither a file nor a built-in name: it lists
