@@ -126,6 +126,15 @@ fn is_built_in(scenario: &str) -> bool {
         .any(|(name, _)| *name == scenario)
 }
 
+/// The harness's command line as clap defines it, given by the binary at its start: the
+/// tasks get the options given, which only the definition can tell from their values.
+static COMMAND_LINE: std::sync::OnceLock<clap::Command> = std::sync::OnceLock::new();
+
+/// Gives this module the command line's definition (once, at the start of `main`).
+pub fn know_command_line(definition: clap::Command) {
+    let _ = COMMAND_LINE.set(definition);
+}
+
 /// Flies the shards not yet stored and returns every stored shard. `check_stored` is given a
 /// stored shard's directory on `--resume`: it refuses shards of another campaign.
 pub fn fly(
@@ -137,7 +146,16 @@ pub fn fly(
         bail!("no --dask address");
     };
     let argv: Vec<OsString> = std::env::args_os().collect();
-    let args = forwarded_args(&argv, job.subcommand, job.scenario_id, job.scenario)?;
+    let Some(definition) = COMMAND_LINE.get() else {
+        bail!("--dask: the command line's definition was not given (know_command_line)");
+    };
+    let args = forwarded_args(
+        definition,
+        &argv,
+        job.subcommand,
+        job.scenario_id,
+        job.scenario,
+    )?;
     let files = shipped_files(job.scenario, job.declaration, job.fmu_dir)?;
     let harnesses = harnesses()?;
     let driver = driver()?;
@@ -262,13 +280,14 @@ fn clear_store(out_dir: &Path) -> anyhow::Result<()> {
 /// The arguments the tasks get: every option of `subcommand` given on `argv` (the global
 /// ones too), as `--name=value`, less those kept here; the scenario renamed as a worker sees
 /// it. An option the tasks cannot honour is refused.
-fn forwarded_args(
+pub(crate) fn forwarded_args(
+    definition: &clap::Command,
     argv: &[OsString],
     subcommand: &str,
     scenario_id: &str,
     scenario: &str,
 ) -> anyhow::Result<Vec<String>> {
-    let mut command = <crate::Cli as clap::CommandFactory>::command();
+    let mut command = definition.clone();
     command.build();
     let matches = command.clone().try_get_matches_from(argv)?;
     let (Some(sub), Some(sub_matches)) = (
@@ -496,128 +515,6 @@ fn run_driver(driver: &Path, job: &Path) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn argv(args: &[&str]) -> Vec<OsString> {
-        args.iter().map(OsString::from).collect()
-    }
-
-    #[test]
-    fn the_tasks_get_the_options_given_less_those_kept_here() {
-        let args = forwarded_args(
-            &argv(&[
-                "harness",
-                "--call-timeout",
-                "30",
-                "monte-carlo",
-                "-n",
-                "8",
-                "--phi-cmd-deg",
-                "-30,150",
-                "--law",
-                "decoupled",
-                "--set",
-                "plant.m0=850",
-                "--dask",
-                "tcp://h:8786",
-                "--out-dir",
-                "x",
-                "-q",
-                "--resume",
-                "--no-plots",
-                "--fmu-dir",
-                "f",
-            ]),
-            "monte-carlo",
-            "scenario",
-            "paper",
-        )
-        .unwrap();
-        let mut sorted = args.clone();
-        sorted.sort();
-        assert_eq!(
-            sorted,
-            [
-                "--call-timeout=30",
-                "--law=decoupled",
-                "--phi-cmd-deg=-30",
-                "--phi-cmd-deg=150",
-                "--runs=8",
-                "--set=plant.m0=850",
-            ]
-        );
-    }
-
-    #[test]
-    fn a_scenario_file_is_renamed_and_a_built_in_one_kept() {
-        let args = |scenario: &str| {
-            forwarded_args(
-                &argv(&[
-                    "harness",
-                    "monte-carlo",
-                    "--scenario",
-                    scenario,
-                    "--dask",
-                    "a",
-                ]),
-                "monte-carlo",
-                "scenario",
-                scenario,
-            )
-            .unwrap()
-        };
-        assert_eq!(args("flight"), ["--scenario=flight"]);
-        assert_eq!(args("../my/short.toml"), ["--scenario=scenario/short.toml"]);
-    }
-
-    #[test]
-    fn a_scenario_campaign_gets_its_scenario_as_a_positional_after_the_options() {
-        let args = forwarded_args(
-            &argv(&[
-                "harness",
-                "campaign",
-                "../my/osc.toml",
-                "-n",
-                "6",
-                "--seed",
-                "3",
-                "--dask",
-                "local:2",
-                "--out-dir",
-                "x",
-            ]),
-            "campaign",
-            "scenario",
-            "../my/osc.toml",
-        )
-        .unwrap();
-        assert_eq!(args, ["--seed=3", "--runs=6", "scenario/osc.toml"]);
-    }
-
-    #[test]
-    fn options_a_dask_campaign_cannot_honour_are_refused_by_name() {
-        let error = forwarded_args(
-            &argv(&[
-                "harness",
-                "monte-carlo",
-                "--dask",
-                "a",
-                "--shard",
-                "1/2",
-                "--workers",
-                "2",
-            ]),
-            "monte-carlo",
-            "scenario",
-            "paper",
-        )
-        .unwrap_err()
-        .to_string();
-        assert!(
-            error.contains("--shard:") && error.contains("--workers:"),
-            "{error}"
-        );
-        assert!(!error.contains("--rerun"), "{error}");
-    }
 
     /// The paper scenario in a folder of its own, with `LanderGnc.fmu` beside it and
     /// `LanderPlant.fmu` in an FMU directory (empty files: only their paths matter here).

@@ -450,6 +450,7 @@ fn main() {
     init_logging();
     // Started as a supervised worker: serve the parent and exit.
     cosim::supervise::serve_if_worker();
+    dask::know_command_line(<Cli as clap::CommandFactory>::command());
     let cli = Cli::parse();
     match run(cli) {
         Ok(code) => std::process::exit(code),
@@ -1186,5 +1187,144 @@ mod tests {
             panic!("not monte-carlo")
         };
         assert_eq!(args.campaign.phi_cmd_deg, [-30.0]);
+    }
+}
+
+/// What the Dask tasks are given of a command line: tested here, where the command line is
+/// defined.
+#[cfg(test)]
+mod dask_arguments {
+    use std::ffi::OsString;
+
+    fn forwarded_args(
+        argv: &[OsString],
+        subcommand: &str,
+        scenario_id: &str,
+        scenario: &str,
+    ) -> anyhow::Result<Vec<String>> {
+        let definition = <crate::Cli as clap::CommandFactory>::command();
+        crate::dask::forwarded_args(&definition, argv, subcommand, scenario_id, scenario)
+    }
+
+    fn argv(args: &[&str]) -> Vec<OsString> {
+        args.iter().map(OsString::from).collect()
+    }
+
+    #[test]
+    fn the_tasks_get_the_options_given_less_those_kept_here() {
+        let args = forwarded_args(
+            &argv(&[
+                "harness",
+                "--call-timeout",
+                "30",
+                "monte-carlo",
+                "-n",
+                "8",
+                "--phi-cmd-deg",
+                "-30,150",
+                "--law",
+                "decoupled",
+                "--set",
+                "plant.m0=850",
+                "--dask",
+                "tcp://h:8786",
+                "--out-dir",
+                "x",
+                "-q",
+                "--resume",
+                "--no-plots",
+                "--fmu-dir",
+                "f",
+            ]),
+            "monte-carlo",
+            "scenario",
+            "paper",
+        )
+        .unwrap();
+        let mut sorted = args.clone();
+        sorted.sort();
+        assert_eq!(
+            sorted,
+            [
+                "--call-timeout=30",
+                "--law=decoupled",
+                "--phi-cmd-deg=-30",
+                "--phi-cmd-deg=150",
+                "--runs=8",
+                "--set=plant.m0=850",
+            ]
+        );
+    }
+
+    #[test]
+    fn a_scenario_file_is_renamed_and_a_built_in_one_kept() {
+        let args = |scenario: &str| {
+            forwarded_args(
+                &argv(&[
+                    "harness",
+                    "monte-carlo",
+                    "--scenario",
+                    scenario,
+                    "--dask",
+                    "a",
+                ]),
+                "monte-carlo",
+                "scenario",
+                scenario,
+            )
+            .unwrap()
+        };
+        assert_eq!(args("flight"), ["--scenario=flight"]);
+        assert_eq!(args("../my/short.toml"), ["--scenario=scenario/short.toml"]);
+    }
+
+    #[test]
+    fn a_scenario_campaign_gets_its_scenario_as_a_positional_after_the_options() {
+        let args = forwarded_args(
+            &argv(&[
+                "harness",
+                "campaign",
+                "../my/osc.toml",
+                "-n",
+                "6",
+                "--seed",
+                "3",
+                "--dask",
+                "local:2",
+                "--out-dir",
+                "x",
+            ]),
+            "campaign",
+            "scenario",
+            "../my/osc.toml",
+        )
+        .unwrap();
+        assert_eq!(args, ["--seed=3", "--runs=6", "scenario/osc.toml"]);
+    }
+
+    #[test]
+    fn options_a_dask_campaign_cannot_honour_are_refused_by_name() {
+        let error = forwarded_args(
+            &argv(&[
+                "harness",
+                "monte-carlo",
+                "--dask",
+                "a",
+                "--shard",
+                "1/2",
+                "--workers",
+                "2",
+            ]),
+            "monte-carlo",
+            "scenario",
+            "paper",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            error.contains("--shard:") && error.contains("--workers:"),
+            "{error}"
+        );
+        assert!(!error.contains("--rerun"), "{error}");
     }
 }

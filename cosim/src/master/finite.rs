@@ -9,9 +9,17 @@
 //! still recorded (so the value is seen in the results), no step is taken after it. Variables
 //! listed in the system's `allow_non_finite` (an FMU that means "no value" by NaN) are
 //! reported by a warning instead, once per variable and run, with the time of their first row.
-use super::MasterError;
 use crate::system::SystemDescription;
 use fmi_import::{Fmu, VariableKind};
+
+/// A value the run may not go on with: the first one a read found, named.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct NonFinite {
+    pub instance: String,
+    pub variable: String,
+    pub time: f64,
+    pub value: f64,
+}
 
 /// Whether every value is finite. A fold of `&` over `is_finite` has no early exit, so the
 /// compiler turns it into a few vector compares: on the hot path this costs less than the
@@ -98,18 +106,19 @@ impl Check {
     /// returns the error for the first value that is not allowed.
     #[cold]
     /// Notes the Float32 outputs of unit `u` that are not numbers, as the Real ones are
-    /// noted (they travel as words, whose slots `outputs.float32` lists).
+    /// noted (they travel as words: `words` and `vrs` are the word buffer, `float32` the
+    /// slots of the Float32 outputs in it).
     #[inline(never)]
-    pub(super) fn note_float32(&mut self, outputs: &super::Io, u: usize) {
-        for &slot in &outputs.float32 {
-            let value = f64::from_bits(outputs.word.values[slot]);
+    pub(super) fn note_float32(&mut self, float32: &[usize], words: &[u64], vrs: &[u32], u: usize) {
+        for &slot in float32 {
+            let value = f64::from_bits(words[slot]);
             if !value.is_finite() {
-                self.note(u, &[outputs.word.vrs[slot]], &[value]);
+                self.note(u, &[vrs[slot]], &[value]);
             }
         }
     }
 
-    pub(super) fn settle(&mut self, time: f64, units: &[String]) -> Result<(), MasterError> {
+    pub(super) fn settle(&mut self, time: f64, units: &[String]) -> Result<(), NonFinite> {
         let mut error = None;
         for (unit, vr, value) in std::mem::take(&mut self.found) {
             let variable = self.names[unit]
@@ -117,7 +126,7 @@ impl Check {
                 .find(|(v, _)| *v == vr)
                 .map_or_else(|| format!("value reference {vr}"), |(_, n)| n.clone());
             if !self.allowed[unit].contains(&vr) {
-                error.get_or_insert(MasterError::NonFinite {
+                error.get_or_insert(NonFinite {
                     instance: units[unit].clone(),
                     variable,
                     time,
@@ -172,7 +181,7 @@ mod tests {
         assert_eq!(check.warned, [(0, 4)]);
         check.note(0, &[4, 3], &[f64::NAN, f64::NEG_INFINITY]);
         match check.settle(0.5, &units) {
-            Err(MasterError::NonFinite {
+            Err(NonFinite {
                 instance,
                 variable,
                 time,

@@ -1338,7 +1338,8 @@ impl Simulation {
         })();
         result.map_err(|e| call(&unit.name, "getting outputs", e))?;
         if outputs.others && self.finite.armed {
-            self.finite.note_float32(outputs, u);
+            self.finite
+                .note_float32(&outputs.float32, &outputs.word.values, &outputs.word.vrs, u);
         }
         let real = part.of(&outputs.real);
         if self.finite.armed && !finite::all_finite(&outputs.real.values[real.clone()]) {
@@ -1420,7 +1421,12 @@ impl Simulation {
         if settled.is_err() {
             self.terminate_all();
         }
-        settled
+        settled.map_err(|n| MasterError::NonFinite {
+            instance: n.instance,
+            variable: n.variable,
+            time: n.time,
+            value: n.value,
+        })
     }
 
     /// Reads the final-only outputs, one call per value: a handful, once per run. `time` is

@@ -128,17 +128,4 @@ mod tests {
         let e = from_toml("[campaign]\nrunz = 3\n").unwrap_err();
         assert!(e.contains("[campaign]") && e.contains("runz"), "{e}");
     }
-
-    #[test]
-    fn the_system_reader_accepts_the_table_and_refuses_a_misspelt_key_in_it() {
-        let scenario = "name = 'x'\nstop_time = 1.0\n[[instance]]\nname = 'a'\nfmu = 'A.fmu'\n\
-                        [campaign]\nruns = 2\n[[campaign.sweep]]\nparameter = 'a.b'\n\
-                        values = [1.0]\n";
-        let origin = std::path::Path::new("x.toml");
-        let system = crate::system::toml_format::parse(scenario, origin).unwrap();
-        assert_eq!(system.instances[0].name, "a");
-        let misspelt = scenario.replace("parameter = 'a.b'", "paramter = 'a.b'");
-        let e = crate::system::toml_format::parse(&misspelt, origin).unwrap_err();
-        assert!(e.to_string().contains("paramter"), "{e}");
-    }
 }

@@ -421,3 +421,81 @@ mod tests {
         assert!(error.contains("step_size"), "{error}");
     }
 }
+
+// A scenario's events read here, then changed as a campaign changes them.
+#[cfg(test)]
+mod event_changes {
+    use crate::system::event::Change;
+    use crate::system::ParamValue;
+
+    fn system() -> crate::system::SystemDescription {
+        let text = "name = \"s\"\nstop_time = 10.0\nstep_size = 0.5\n\
+            [[instance]]\nname = \"osc\"\nfmu = \"Oscillator.fmu\"\n\
+            [[event]]\nname = \"stiffen\"\ntime = 2.0\nset = \"osc.k\"\nvalue = 4.0\n\
+            [[event]]\nname = \"damp\"\ntime = 3.0\nset = \"osc.c\"\nvalue = 1.0\n";
+        super::parse(text, std::path::Path::new(".")).unwrap()
+    }
+
+    #[test]
+    fn a_changed_event_takes_its_new_time_or_value_and_a_refused_one_stays() {
+        let mut s = system();
+        s.change_event("stiffen", &Change::Time(7.25)).unwrap();
+        s.change_event("damp", &Change::Value(ParamValue::Real(0.5)))
+            .unwrap();
+        assert_eq!(s.events[0].time_s, 7.25);
+        assert_eq!(s.events[1].value, ParamValue::Real(0.5));
+        let before = s.events.clone();
+        for (name, change, expected) in [
+            (
+                "nope",
+                Change::Time(1.0),
+                "no event named 'nope' (the scenario has stiffen, damp)",
+            ),
+            (
+                "stiffen",
+                Change::Time(10.5),
+                "time 10.5 s is outside [start_time, stop_time]",
+            ),
+            (
+                "stiffen",
+                Change::Time(9.75),
+                "after the last communication point a step starts",
+            ),
+            (
+                "stiffen",
+                Change::Time(f64::NAN),
+                "time NaN is not a number",
+            ),
+            (
+                "damp",
+                Change::Value(ParamValue::Integer(2)),
+                "is not of the event's type",
+            ),
+            (
+                "damp",
+                Change::Value(ParamValue::Real(f64::INFINITY)),
+                "value inf is not a finite",
+            ),
+        ] {
+            let refused = s.change_event(name, &change).unwrap_err();
+            assert!(refused.contains(expected), "{change:?}: {refused}");
+        }
+        assert_eq!(s.events, before);
+    }
+}
+
+#[cfg(test)]
+mod campaign_table {
+    #[test]
+    fn the_system_reader_accepts_the_table_and_refuses_a_misspelt_key_in_it() {
+        let scenario = "name = 'x'\nstop_time = 1.0\n[[instance]]\nname = 'a'\nfmu = 'A.fmu'\n\
+                        [campaign]\nruns = 2\n[[campaign.sweep]]\nparameter = 'a.b'\n\
+                        values = [1.0]\n";
+        let origin = std::path::Path::new("x.toml");
+        let system = super::parse(scenario, origin).unwrap();
+        assert_eq!(system.instances[0].name, "a");
+        let misspelt = scenario.replace("parameter = 'a.b'", "paramter = 'a.b'");
+        let e = super::parse(&misspelt, origin).unwrap_err();
+        assert!(e.to_string().contains("paramter"), "{e}");
+    }
+}
