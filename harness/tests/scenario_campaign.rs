@@ -251,6 +251,29 @@ fn every_problem_of_a_campaign_table_is_named_at_once_without_a_backtrace() {
 }
 
 #[test]
+fn a_campaign_without_requirements_is_refused_rather_than_passing_unjudged_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(example()).unwrap();
+    let unjudged = &text[..text.find("[[requirement]]").unwrap()];
+    let path = dir.path().join("unjudged.toml");
+    std::fs::write(&path, unjudged).unwrap();
+    let output = common::harness(&[
+        "campaign",
+        path.to_str().unwrap(),
+        "--out-dir",
+        dir.path().to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("1 problem in its campaign")
+            && stderr.contains("declares no [[requirement]]"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("manifest.csv").exists());
+}
+
+#[test]
 fn an_ssp_scenario_takes_its_campaign_from_a_sidecar_file() {
     let dir = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(example()).unwrap();

@@ -73,6 +73,14 @@ impl Campaign {
         let (mut system, _) = lander::scenarios::spec::load(scenario)?;
         let requirements =
             cosim::requirements::from_toml(&text).map_err(|e| anyhow::anyhow!("{at}: {e}"))?;
+        if requirements.is_empty() {
+            // Without a requirement every run that ends would count as a pass: a pass rate
+            // of runs nobody judged.
+            problems.push(format!(
+                "{at} declares no [[requirement]]: a campaign judges each run by at least one \
+                 (docs/campaigns.md says how to declare them)"
+            ));
+        }
         let mut record = Vec::new();
         cosim::requirements::record_signals(&mut record, &requirements);
         system.record = Some(record);
