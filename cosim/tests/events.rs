@@ -350,3 +350,128 @@ value = false
         );
     }
 }
+
+/// `landing-model-exchange` (LanderGnc as Co-Simulation, LanderPlant as Model Exchange) to
+/// `stop_s`, with `events`; the plant as Co-Simulation instead when `co_simulation`.
+fn landing(events: &str, stop_s: f64, co_simulation: bool) -> Trajectory {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../harness/scenarios/landing-model-exchange.toml");
+    // The system only: `[verdict]` is the mission's (lander), not the master's.
+    let text = std::fs::read_to_string(&path).unwrap();
+    let system_part = text.split("\n[verdict]").next().unwrap();
+    let mut system =
+        toml_format::parse(&format!("{system_part}\n{events}"), &path).unwrap_or_else(|e| {
+            panic!("{e}");
+        });
+    system.stop_time = stop_s;
+    if co_simulation {
+        system.instance_mut("plant").unwrap().model_exchange = None;
+    }
+    let mut simulation = Simulation::new(system, &fmu_dir()).unwrap();
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    let end = simulation.run(&mut trajectory).unwrap();
+    // The run goes on past the event to its stop time.
+    assert_eq!(end, RunEnd::Completed);
+    assert_eq!(*trajectory.times.last().unwrap(), stop_s);
+    trajectory
+}
+
+/// Due at 20.003 s, during the descent from the 800 m hover: applied at the point 20.01 s.
+const ENGINE_DEGRADED: &str = r#"
+[[event]]
+name = "engine-degraded"
+time = 20.003
+set = "plant.engine_health"
+value = 0.93
+"#;
+const DEGRADED_AT_S: f64 = 20.01;
+
+#[test]
+fn an_engine_fault_on_the_model_exchange_plant_scales_its_thrust_from_the_events_point() {
+    // GIVEN the landing with the plant as Model Exchange, its engines losing 7 % of their
+    // thrust by an event, and the same landing without it
+    let stop_s = 22.0;
+    let degraded = landing(ENGINE_DEGRADED, stop_s, false);
+    let nominal = landing("", stop_s, false);
+    let width = degraded.names.len();
+    let k = degraded
+        .times
+        .iter()
+        .position(|&t| t == DEGRADED_AT_S)
+        .unwrap();
+    // THEN up to and including the event's point (its row shows the values before it), the
+    // two runs are the same bit for bit
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(
+        bits(&degraded.values[..(k + 1) * width]),
+        bits(&nominal.values[..(k + 1) * width])
+    );
+    // AND from the next point on the plant delivers 0.93 of the command it gets (1 without
+    // the fault), every point to the stop time
+    let ratio = |t: &Trajectory, j: usize| {
+        let (thrust, command) = (
+            t.column("plant.thrust_actual").unwrap()[j],
+            t.column("gnc.thrust_cmd").unwrap()[j],
+        );
+        // Inside the throttle range, so that only the health scales it.
+        assert!(
+            800.0 < command && command < 1600.0,
+            "t = {}: {command} N",
+            t.times[j]
+        );
+        thrust / command
+    };
+    assert_eq!(ratio(&degraded, k), 1.0);
+    for j in k + 1..degraded.len() {
+        let t = degraded.times[j];
+        assert!((ratio(&degraded, j) - 0.93).abs() < 1e-12, "t = {t}");
+        assert!((ratio(&nominal, j) - 1.0).abs() < 1e-12, "t = {t}");
+    }
+    // AND over the first step after the event the vertical velocity gains less than in the
+    // nominal run by the lost thrust's vertical component over the mass, times the step:
+    // (0.93 - 1) T u_up / m h, the thrust T commanded at the point and held over the step
+    let at = |t: &Trajectory, column: &str, j: usize| t.column(column).unwrap()[j];
+    let q = |i: usize| at(&degraded, &format!("plant.q_body_to_nue[{i}]"), k);
+    // Up (NUE element 2) component of the body +y thrust axis: R[1][1] of (w, x, y, z).
+    let up = 1.0 - 2.0 * (q(2) * q(2) + q(4) * q(4));
+    let (thrust, mass) = (
+        at(&degraded, "gnc.thrust_cmd", k),
+        at(&degraded, "plant.mass", k),
+    );
+    let h = 0.01;
+    let expected = (0.93 - 1.0) * thrust * up / mass * h;
+    let gain = |t: &Trajectory| at(t, "plant.v_nue[2]", k + 1) - at(t, "plant.v_nue[2]", k);
+    let difference = gain(&degraded) - gain(&nominal);
+    assert!(
+        (difference - expected).abs() < 1e-4 * expected.abs(),
+        "dv_up degraded - nominal over [{DEGRADED_AT_S}, {}]: {difference} m/s, \
+         expected {expected} m/s",
+        DEGRADED_AT_S + h
+    );
+    // AND the whole degraded flight is the Co-Simulation plant's with the same event, to the
+    // solver's tolerance (an event a step late would be 1e-3 m/s off in the vertical speed)
+    let co_simulation = landing(ENGINE_DEGRADED, stop_s, true);
+    assert_eq!(co_simulation.names, degraded.names);
+    let mut largest = (0.0_f64, String::new());
+    for (j, name) in degraded.names.iter().enumerate() {
+        if !(name.starts_with("plant.r_nue") || name.starts_with("plant.v_nue")) {
+            continue;
+        }
+        let (a, b) = (
+            degraded.column(name).unwrap(),
+            co_simulation.column(name).unwrap(),
+        );
+        for (x, y) in a.iter().zip(&b) {
+            if (x - y).abs() > largest.0 {
+                largest = ((x - y).abs(), format!("{name} (column {j})"));
+            }
+        }
+    }
+    println!(
+        "Model Exchange vs Co-Simulation plant, engine fault at {DEGRADED_AT_S} s: {largest:?}"
+    );
+    assert!(largest.0 < 1e-7, "{largest:?}");
+}
