@@ -245,3 +245,128 @@ fn a_continued_run_saves_again_and_its_continuation_is_still_the_uninterrupted_r
         "{error}"
     );
 }
+
+/// Engine faults on the paper loop around a save point at 7.5 s: two before it on the same
+/// variable (the later must win in the continued run too), one due at it (7.495 s applies at
+/// the point 7.5 s, after the save), one after it.
+const FAULTS: [(&str, f64, f64); 4] = [
+    ("first", 3.0, 0.95),
+    ("second", 5.004, 0.97),
+    ("at-the-save-point", 7.495, 0.96),
+    ("after", 12.0, 0.9),
+];
+
+fn with_faults(version: &str, faults: &[(&str, f64, f64)]) -> SystemDescription {
+    let mut system = paper_loop(version, Ordering::GaussSeidel);
+    system.stop_time = 15.0;
+    system.events = faults
+        .iter()
+        .map(|&(name, time_s, health)| cosim::system::Event {
+            name: name.into(),
+            time_s,
+            instance: "plant".into(),
+            variable: "engine_health".into(),
+            value: cosim::system::ParamValue::Real(health),
+        })
+        .collect();
+    system
+}
+
+#[test]
+fn events_before_at_and_after_the_save_point_give_the_uninterrupted_run_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    for version in ["2.0", "3.0"] {
+        let file = dir.path().join(format!("faults-{version}.state"));
+        // GIVEN a run with the four faults, saved at 7.5 s on its way
+        let (whole, _, saved_at) = fly(with_faults(version, &FAULTS), save(&file, Some(7.5)));
+        assert_eq!(saved_at, Some(7.5));
+        // WHEN another simulation of the same scenario continues from the file
+        let (continued, _, _) = fly(with_faults(version, &FAULTS), resume(&file));
+        // THEN its rows are the uninterrupted run's from 7.5 s on, bit for bit: the faults
+        // before the point are in the FMU states, not applied again; the one due at the point
+        // and the one after are applied once, where the uninterrupted run applied them
+        let from = whole.times.iter().position(|&t| t == 7.5).unwrap();
+        let width = whole.names.len();
+        assert_eq!(
+            bits(&continued.times),
+            bits(&whole.times[from..]),
+            "{version}"
+        );
+        assert_eq!(
+            bits(&continued.values),
+            bits(&whole.values[from * width..]),
+            "FMI {version}"
+        );
+        // AND the faults changed the flight (what the comparison above tells apart): without
+        // the last two the rows after the point differ
+        let (unfaulted, _, _) = fly(with_faults(version, &FAULTS[..2]), Checkpoints::default());
+        let thrust = whole.column_index("plant.thrust_actual").unwrap();
+        let next = from + 1;
+        assert_ne!(
+            unfaulted.values[next * width + thrust],
+            whole.values[next * width + thrust],
+            "FMI {version}: the fault at the save point must change the step from it"
+        );
+    }
+}
+
+#[test]
+fn a_continuation_whose_events_before_the_save_point_differ_is_refused_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("faults.state");
+    fly(with_faults("2.0", &FAULTS), save(&file, Some(7.5)));
+    // An event before the point moved, given another value, left out or added: the FMU states
+    // hold what the saved run applied, so the continued run would silently differ.
+    let mut moved = FAULTS;
+    moved[0].1 = 4.0;
+    let mut revalued = FAULTS;
+    revalued[1].2 = 0.5;
+    let mut added = FAULTS.to_vec();
+    added.insert(0, ("early", 1.0, 0.99));
+    for (case, faults) in [
+        ("moved", moved.to_vec()),
+        ("revalued", revalued.to_vec()),
+        ("left out", FAULTS[1..].to_vec()),
+        ("added", added),
+    ] {
+        let error = refused(with_faults("2.0", &faults), &file);
+        assert!(
+            error.contains("events") && error.contains("before t = 7.5 s"),
+            "{case}: {error}"
+        );
+    }
+    // Those due at or after the point are the continued run's own: another value or time
+    // there is a run branching from the saved point, accepted.
+    let mut branched = FAULTS;
+    branched[2].2 = 0.5;
+    branched[3].1 = 13.0;
+    let mut simulation = Simulation::new(with_faults("2.0", &branched), &fmu_dir()).unwrap();
+    simulation
+        .set_checkpoints(resume(&file))
+        .unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn an_event_due_at_the_start_of_a_shortened_last_step_is_applied_once_in_a_continuation() {
+    // GIVEN a run to 10.005 s, its last step 5 ms from 10 s, saved at 10 s, and a fault at
+    // 9.993 s: due at the point 10 s (the first at or after it), so not yet in the saved state
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("last-step.state");
+    let mut system = with_faults("2.0", &[("in-the-last-step", 9.993, 0.5)]);
+    system.stop_time = 10.005;
+    let (whole, _, saved_at) = fly(system.clone(), save(&file, Some(10.0)));
+    assert_eq!(saved_at, Some(10.0));
+    // WHEN continued
+    let (continued, _, _) = fly(system, resume(&file));
+    // THEN the continued rows are the uninterrupted ones: the fault applied at 10 s
+    let width = whole.names.len();
+    assert_eq!(continued.times, [10.0, 10.005]);
+    assert_eq!(
+        bits(&continued.values),
+        bits(&whole.values[whole.values.len() - 2 * width..])
+    );
+    let thrust = whole.column("plant.thrust_actual").unwrap();
+    let command = whole.column("gnc.thrust_cmd").unwrap();
+    let last = thrust.len() - 1;
+    assert!((thrust[last] / command[last] - 0.5).abs() < 1e-12);
+}

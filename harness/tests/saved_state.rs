@@ -131,6 +131,75 @@ fn a_landing_continued_from_a_saved_state_touches_down_on_the_same_row() {
 
 /// A refusal before the run: exit code 1, the words expected on stderr, no backtrace, no
 /// results written.
+#[test]
+fn a_fault_due_at_the_saved_point_is_applied_once_by_the_continued_flight() {
+    // GIVEN fault-engine, its engine fault due at 60 s, saved at 60 s (before the point's
+    // exchange, so before the fault): the continued flight applies it, once, at 60 s, and
+    // writes the uninterrupted flight's rows and verdicts
+    // (to 80 s: the whole flight ends in a hard landing, exit code 1; to 80 s its
+    // requirements over [12, 142] s are inconclusive, exit code 3, in both runs alike)
+    let dir = tempfile::tempdir().unwrap();
+    let (whole, state, continued) = (
+        dir.path().join("whole.csv"),
+        dir.path().join("fault.state"),
+        dir.path().join("continued.csv"),
+    );
+    let run = |extra: &[&str], out: &Path| {
+        let mut args = vec!["run", "fault-engine", "--stop-time", "80", "-o"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let output = harness(&args);
+        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        (output.status.code(), stdout)
+    };
+    let (code, saved) = run(
+        &["--save-state", state.to_str().unwrap(), "--save-at", "60"],
+        &whole,
+    );
+    assert!(saved.contains("saved the run at t = 60 s"), "{saved}");
+    let (continued_code, said) = run(&["--from-state", state.to_str().unwrap()], &continued);
+    assert_eq!(
+        (code, continued_code),
+        (Some(3), Some(3)),
+        "{saved}\n{said}"
+    );
+    // CSV values are written shortest-round-trip: equal text is equal bits.
+    let got: Vec<String> = std::fs::read_to_string(&continued)
+        .unwrap()
+        .lines()
+        .map(str::to_owned)
+        .collect();
+    assert_eq!(got, rows_from(&whole, "60.0"), "continued rows");
+    let event = "event 'engine-degraded' (plant.engine_health = 0.93) due at 60 s: applied at 60 s";
+    assert!(saved.contains(event) && said.contains(event), "{said}");
+    // WHEN the fault is moved before the saved point THEN that scenario cannot continue the
+    // file: its FMU states were saved without the fault
+    let shipped =
+        std::fs::read_to_string(workspace_root().join("harness/scenarios/fault-engine.toml"))
+            .unwrap();
+    let moved = shipped.replace("time = 60.0", "time = 40.0");
+    assert_ne!(moved, shipped);
+    let scenario = dir.path().join("fault-engine-40.toml");
+    std::fs::write(&scenario, moved).unwrap();
+    let out = dir.path().join("never.csv");
+    refused(
+        &[
+            "run",
+            scenario.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--from-state",
+            state.to_str().unwrap(),
+        ],
+        &out,
+        &[
+            "fault.state",
+            "the events before t = 60 s were none in the run saved",
+            "'engine-degraded' (plant.engine_health = 0.93) due at 40 s",
+        ],
+    );
+}
+
 fn refused(args: &[&str], out: &Path, expected: &[&str]) {
     let output = harness(args);
     let stderr = String::from_utf8_lossy(&output.stderr);

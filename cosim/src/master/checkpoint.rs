@@ -2,8 +2,8 @@
 //! (`saved.rs`): the FMUs' states through the importer, the exchange buffers, the clock.
 use super::conventions::Clock;
 use super::saved::{
-    check, exchange_of, ordering_text, save_point, version_text, Checkpoints, SavedInstance,
-    SavedIo, SavedRun,
+    check, events_before, exchange_of, ordering_text, save_point, version_text, Checkpoints,
+    SavedInstance, SavedIo, SavedRun,
 };
 use super::{Io, MasterError, Simulation};
 use std::path::Path;
@@ -214,6 +214,7 @@ impl Simulation {
             accumulated,
             exchange: exchange_of(&self.system),
             columns: self.column_names.clone(),
+            events_before: events_before(&self.system, time),
             instances,
             rows_before: None,
         };

@@ -12,7 +12,8 @@
 //! change only in Event Mode there).
 //!
 //! A run held at `t_k` (`linearize.rs`) stops before the events due at `t_k`; a continued
-//! saved run finds those due before its first point in the FMU states it restored.
+//! saved run finds those due before its first point in the FMU states it restored, and is
+//! refused when its own events before that point are not the saved run's (`saved.rs`).
 //!
 //! Only tunable parameters and inputs that nothing else drives may be set: a connected
 //! input, or one driven by an input table, is refused rather than overridden, since the
@@ -123,16 +124,12 @@ impl Schedule {
         self.next = 0;
     }
 
-    /// A run continued from the communication point `t` (step `h`): the events due before it
-    /// are in the FMU states it restored.
-    pub(super) fn skip_before(&mut self, system: &SystemDescription, t: f64, h: f64) {
-        while let Some(&(e, _)) = self.order.get(self.next) {
-            // Due at the point before `t` already.
-            if !is_due(system.events[e].time_s, t - h, h) {
-                break;
-            }
-            self.next += 1;
-        }
+    /// A run continued from the communication point `t`: the events due before it are in
+    /// the FMU states it restored (`crate::system::event::applied_before`, which the saved
+    /// run's file lists and a continuation is checked against).
+    pub(super) fn skip_before(&mut self, system: &SystemDescription, t: f64) {
+        let before = crate::system::event::applied_before(system, t).len();
+        self.next = self.next.max(before.min(self.order.len()));
     }
 
     /// Applies every event due at the communication point `t` (step `h`), in order. `Some`

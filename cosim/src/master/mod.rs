@@ -970,7 +970,7 @@ impl Simulation {
             };
             if first_point {
                 // A continued run's FMU states hold the events due before it.
-                self.events.skip_before(&self.system, time, h);
+                self.events.skip_before(&self.system, time);
                 first_point = false;
             }
             self.now = time;

@@ -11,10 +11,11 @@
 //! starts with that point's exchange and records its row first.
 //!
 //! The header names the system, each instance's model, instantiation token (FMI 2.0 GUID)
-//! and FMI version, and the run's grid (start, step, ordering, conventions), so that a file
-//! continued with other FMUs or another system is refused, naming what differs. Model
-//! Exchange instances are refused: their solver's state (step size, history, the event
-//! search) is not saved.
+//! and FMI version, the run's grid (start, step, ordering, conventions) and the scenario
+//! events applied before the point (the FMU states hold their values), so that a file
+//! continued with other FMUs, another system or other events before the point is refused,
+//! naming what differs. Model Exchange instances are refused: their solver's state (step
+//! size, history, the event search) is not saved.
 use super::conventions::{Clock, Conventions};
 use crate::system::{Ordering, SystemDescription};
 use fmi_import::FmiVersion;
@@ -25,7 +26,7 @@ use std::path::{Path, PathBuf};
 /// The file's first bytes.
 pub const MAGIC: &[u8; 16] = b"cosim saved run\n";
 /// The format this build writes and reads; a file of another is refused with both numbers.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 /// magic, format version (u32), payload length (u64), payload CRC-32 (u32).
 const PREAMBLE: usize = MAGIC.len() + 4 + 8 + 4;
 
@@ -93,6 +94,9 @@ pub struct SavedRun {
     /// connections (`from -> to`), the inputs of the input table, the recorded columns.
     pub exchange: Vec<String>,
     pub columns: Vec<String>,
+    /// The scenario events applied before `time`, whose values the FMU states hold
+    /// ([`crate::system::Event::label`]); a continuation must have the same.
+    pub events_before: Vec<String>,
     pub instances: Vec<SavedInstance>,
     /// What a caller judging the run over its whole length kept of the rows before the
     /// saved point (the harness: its requirements' columns, see
@@ -116,6 +120,14 @@ pub enum SavedError {
     Read { path: PathBuf, reason: String },
     #[error("{} is not a saved run of this harness: {reason}", path.display())]
     Corrupt { path: PathBuf, reason: String },
+}
+
+/// What [`SavedRun::events_before`] holds for `system` saved at `time`.
+pub(super) fn events_before(system: &SystemDescription, time: f64) -> Vec<String> {
+    crate::system::event::applied_before(system, time)
+        .into_iter()
+        .map(crate::system::Event::label)
+        .collect()
 }
 
 pub(super) fn version_text(version: FmiVersion) -> &'static str {
@@ -272,6 +284,21 @@ impl SavedRun {
                 "it was saved from a run that exchanged {:?}; this run exchanges {:?} (continue \
                  with the same connections and --input)",
                 self.exchange, exchange
+            ));
+        }
+        let events_before = events_before(system, self.time);
+        if self.events_before != events_before {
+            let list = |events: &[String]| match events.is_empty() {
+                true => "none".to_owned(),
+                false => events.join(", "),
+            };
+            return Err(format!(
+                "the events before t = {} s were {} in the run saved; this run's are {}: the \
+                 FMU states hold what those set, so continue with the same events before that \
+                 point (those due at or after it may differ)",
+                self.time,
+                list(&self.events_before),
+                list(&events_before)
             ));
         }
         if self.columns != columns {

@@ -40,6 +40,21 @@ pub fn is_due(time_s: f64, t: f64, h: f64) -> bool {
     t >= time_s - ON_GRID * h
 }
 
+/// The events a run continued from its communication point `t` finds in the FMU states it
+/// restores: those due at a point before `t` (`t` less a step, on the regular grid, so also
+/// when the step from `t` is a shortened last one), in the order they were applied (by
+/// time, declaration order at one time). Those due at `t` are the continued run's.
+pub fn applied_before(system: &SystemDescription, t: f64) -> Vec<&Event> {
+    let h = system.step_size;
+    let mut before: Vec<&Event> = system
+        .events
+        .iter()
+        .filter(|event| is_due(event.time_s, t - h, h))
+        .collect();
+    before.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
+    before
+}
+
 impl Event {
     /// `instance.variable`.
     pub fn path(&self) -> String {
@@ -55,6 +70,16 @@ impl Event {
             ParamValue::String(s) => format!("\"{s}\""),
         };
         format!("{} = {value}", self.path())
+    }
+
+    /// The event as a saved run names it: `'name' (instance.variable = value) due at T s`.
+    pub fn label(&self) -> String {
+        format!(
+            "'{}' ({}) due at {} s",
+            self.name,
+            self.describe(),
+            self.time_s
+        )
     }
 }
 
