@@ -475,3 +475,78 @@ fn an_engine_fault_on_the_model_exchange_plant_scales_its_thrust_from_the_events
     );
     assert!(largest.0 < 1e-7, "{largest:?}");
 }
+
+/// The engine health a held run's plant is linearized with, from its `B`: the partial of the
+/// vertical acceleration with respect to the thrust command is `health u_up / m`, `u_up` the
+/// up component of the body +y thrust axis and `m` the mass at the held point (its row).
+fn health_held_at(at_s: f64, events: &[(&str, f64, f64)]) -> (f64, f64) {
+    let mut system = crate::common::lander_loop();
+    system.instance_mut("plant").unwrap().model_exchange =
+        Some(cosim::master::SolverSettings::default());
+    system.events = events
+        .iter()
+        .map(|&(name, time_s, health)| cosim::system::Event {
+            name: name.into(),
+            time_s,
+            instance: "plant".into(),
+            variable: "engine_health".into(),
+            value: cosim::system::ParamValue::Real(health),
+        })
+        .collect();
+    let mut simulation = Simulation::new(system, &fmu_dir()).unwrap();
+    let mut trajectory = Trajectory {
+        names: simulation.column_names().to_vec(),
+        ..Default::default()
+    };
+    let held = simulation.run_to(at_s, &mut trajectory).unwrap().unwrap();
+    assert_eq!(*trajectory.times.last().unwrap(), held);
+    let model = simulation.linearize(cosim::master::Jacobians::Fmu).unwrap();
+    assert_eq!(model.time_s, held);
+    let plant = model.units.iter().find(|u| u.instance == "plant").unwrap();
+    let state = plant
+        .states
+        .iter()
+        // Flat model: r_nue, then v_nue; its element 5 is v_nue[2], the up velocity.
+        .position(|s| s == "plant.translation_state[5]")
+        .unwrap_or_else(|| panic!("{:?}", plant.states));
+    let input = plant
+        .inputs
+        .iter()
+        .position(|s| s == "plant.thrust_cmd")
+        .unwrap();
+    let last = trajectory.len() - 1;
+    let at = |column: &str| trajectory.column(column).unwrap()[last];
+    let q = |i: usize| at(&format!("plant.q_body_to_nue[{i}]"));
+    let up = 1.0 - 2.0 * (q(2) * q(2) + q(4) * q(4));
+    (plant.b[(state, input)] * at("plant.mass") / up, held)
+}
+
+#[test]
+fn a_run_held_for_linearization_has_applied_the_events_due_up_to_its_point_once() {
+    // GIVEN engine faults at 4 s, at 10 s and at 10.005 s (applied at the point 10.01 s), the
+    // plant as Model Exchange
+    // Mild faults: the hover's 1,460 N stays inside the throttle range (0.9 of 1,600 N would
+    // saturate the command, whose partial is then 0).
+    let faults = [
+        ("early", 4.0, 0.98),
+        ("on-time", 10.0, 0.96),
+        ("late", 10.005, 0.94),
+    ];
+    // WHEN the run is held at 10 s and linearized THEN the plant's thrust partial is that of
+    // health 0.96: the events due up to and at the point are applied (the model is that of
+    // the step from the point, which flies with them), the one due after it is not
+    let (health, held) = health_held_at(10.0, &faults);
+    assert_eq!(held, 10.0);
+    assert!((health - 0.96).abs() < 1e-9, "{health}");
+    // AND held a step earlier, only the first applies
+    let (health, held) = health_held_at(9.99, &faults);
+    assert_eq!(held, 9.99);
+    assert!((health - 0.98).abs() < 1e-9, "{health}");
+    // AND asked for 10.006 s, the point nearest it is 10.01 s, where the last is due
+    let (health, held) = health_held_at(10.006, &faults);
+    assert_eq!(held, 10.01);
+    assert!((health - 0.94).abs() < 1e-9, "{health}");
+    // AND without events the partial is that of a healthy engine (what the above tells apart)
+    let (health, _) = health_held_at(10.0, &[]);
+    assert!((health - 1.0).abs() < 1e-9, "{health}");
+}

@@ -262,3 +262,79 @@ fn a_time_beyond_the_run_or_an_unknown_scenario_is_one_clear_error() {
         assert!(output.stdout.is_empty());
     }
 }
+
+/// `fault-engine` (engine health 0.93 from an event at 60 s) linearized at `at`: the JSON,
+/// and the summary printed.
+fn fault_engine_at(at: &str) -> (serde_json::Value, String) {
+    let out = tempfile::tempdir().unwrap();
+    let file = out.path().join("linear.json");
+    let output = common::harness(&[
+        "linearize",
+        "fault-engine",
+        "--at",
+        at,
+        "-o",
+        file.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let document = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    (document, stdout)
+}
+
+/// The plant's partial of its vertical acceleration with respect to the thrust command:
+/// `health u_up / m`.
+fn thrust_partial(document: &serde_json::Value) -> f64 {
+    let plant = document["instances"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|i| i["instance"] == "plant")
+        .unwrap();
+    let position = |list: &str, name: &str| {
+        plant[list]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|v| v == name)
+            .unwrap_or_else(|| panic!("{name} not among {}", plant[list]))
+    };
+    let (row, column) = (
+        // Flat model: r_nue, then v_nue; its element 5 is v_nue[2], the up velocity.
+        position("states", "plant.translation_state[5]"),
+        position("inputs", "plant.thrust_cmd"),
+    );
+    plant["B"][row][column].as_f64().unwrap()
+}
+
+#[test]
+fn an_engine_fault_due_at_the_point_is_in_the_linear_model_and_one_due_after_it_is_not() {
+    // GIVEN fault-engine, whose engines lose 7 % of their thrust by an event at 60 s
+    // WHEN linearized at 60 s and a step before
+    let (at_fault, summary) = fault_engine_at("60");
+    let (before, summary_before) = fault_engine_at("59.99");
+    // THEN at 60 s the plant's thrust partial is 0.93 of the one a step before (mass and
+    // attitude move by less than 1e-5 over the step): the fault is in the model of the step
+    // from its point, and not in the model before it
+    let ratio = thrust_partial(&at_fault) / thrust_partial(&before);
+    assert!((ratio - 0.93).abs() < 1e-4, "{ratio}");
+    // AND each says so, in the JSON and in the summary
+    let event = |document: &serde_json::Value| document["events"][0].clone();
+    assert_eq!(event(&at_fault)["name"], "engine-degraded");
+    assert_eq!(event(&at_fault)["applied_at_s"], 60.0);
+    assert!(event(&before)["applied_at_s"].is_null());
+    assert!(
+        summary.contains(
+            "event 'engine-degraded' (plant.engine_health = 0.93) due at 60 s: applied at 60 s"
+        ),
+        "{summary}"
+    );
+    assert!(
+        summary_before.contains("due after this point, not applied"),
+        "{summary_before}"
+    );
+}

@@ -48,11 +48,24 @@ pub struct Eigenvalue {
     pub s_im: f64,
 }
 
+/// One scenario event and whether the run to the point applied it.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct EventAt {
+    pub name: String,
+    /// `instance.variable = value`.
+    pub set: String,
+    pub time_s: f64,
+    /// The communication point it was applied at; `None`: due after the held point.
+    pub applied_at_s: Option<f64>,
+}
+
 /// The result of the command.
 #[derive(Debug, Clone)]
 pub struct Linearized {
     pub scenario: String,
     pub model: SystemModel,
+    /// The scenario's events, in its order.
+    pub events: Vec<EventAt>,
     pub closed_loop: DMatrix<f64>,
     pub eigenvalues: Vec<Eigenvalue>,
     pub axes: Vec<Axis>,
@@ -78,6 +91,18 @@ pub fn linearize(request: &Request, fmu_dir: &Path) -> anyhow::Result<Linearized
     }
     prefer_model_exchange(&mut system, fmu_dir)?;
     let design = Design::of(&system, fmu_dir);
+    // Each event's point, on the master's grid (cosim/src/system/event.rs).
+    let mut events: Vec<EventAt> = system
+        .events
+        .iter()
+        .map(|e| EventAt {
+            name: e.name.clone(),
+            set: e.describe(),
+            time_s: e.time_s,
+            applied_at_s: cosim::system::event::application_time(&system, e.time_s),
+        })
+        .collect();
+    let half_step = 0.5 * system.step_size;
     let mut simulation = Simulation::new(system, fmu_dir)?;
     let mut nothing = Discard;
     let Some(held) = simulation.run_to(at, &mut nothing)? else {
@@ -116,10 +141,14 @@ pub fn linearize(request: &Request, fmu_dir: &Path) -> anyhow::Result<Linearized
             }),
         });
     }
-    let _ = held;
+    // The run held after the events due at its point (cosim/src/master/events.rs).
+    for event in &mut events {
+        event.applied_at_s = event.applied_at_s.filter(|&t_k| t_k <= held + half_step);
+    }
     Ok(Linearized {
         scenario: request.scenario.to_owned(),
         model,
+        events,
         closed_loop,
         eigenvalues,
         axes,
@@ -306,6 +335,7 @@ impl Linearized {
                 Ordering::GaussSeidel => "gauss-seidel",
                 Ordering::Jacobi => "jacobi",
             },
+            "events": self.events,
             "instances": instances,
             "closed_loop": {
                 "states": states,
@@ -326,6 +356,17 @@ impl Linearized {
             "{} linearized at t = {} s (communication step {} s, {:?})",
             self.scenario, model.time_s, model.period_s, model.ordering
         );
+        for e in &self.events {
+            let applied = match e.applied_at_s {
+                Some(t_k) => format!("applied at {t_k} s"),
+                None => "due after this point, not applied".to_owned(),
+            };
+            let _ = writeln!(
+                text,
+                "  event '{}' ({}) due at {} s: {applied}",
+                e.name, e.set, e.time_s
+            );
+        }
         for u in &model.units {
             let source = match &u.source {
                 Source::DirectionalDerivatives => "the FMU's directional derivatives".to_owned(),

@@ -11,7 +11,8 @@
 //! solver started afresh, as after any event (FMI 2.0 and 3.0 allow tunable parameters to
 //! change only in Event Mode there).
 //!
-//! A run held at `t_k` (`linearize.rs`) stops before the events due at `t_k`; a continued
+//! A run held at `t_k` (`linearize.rs`) stops after the events due at `t_k`, before the
+//! step from it: its linear model is that of the step, which flies with them. A continued
 //! saved run finds those due before its first point in the FMU states it restored, and is
 //! refused when its own events before that point are not the saved run's (`saved.rs`).
 //!

@@ -27,7 +27,8 @@ const RELATIVE_STEP: f64 = 1e-6;
 
 impl Simulation {
     /// Runs from the start and stops at the communication point at `time` (the nearest one of
-    /// the grid), inputs set for it and nothing stepped, the instances kept for
+    /// the grid), inputs set for it, the scenario events due up to and at it applied (those
+    /// after it not) and nothing stepped, the instances kept for
     /// [`Simulation::linearize`]. `Ok(None)` when the run ended before (an instance stopped
     /// it, or `time` is past the stop time).
     pub fn run_to(

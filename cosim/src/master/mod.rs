@@ -996,11 +996,6 @@ impl Simulation {
                     self.set_inputs(u)?;
                 }
             }
-            // A hold: every input set for this point, nothing stepped, nothing terminated.
-            if self.hold_at.is_some_and(|hold| time >= hold - 0.5 * h) {
-                self.held_at = Some(time);
-                return Ok(RunEnd::Completed);
-            }
             // Events due here change the step from this point, not its row (`events.rs`).
             let applied = self
                 .events
@@ -1011,6 +1006,12 @@ impl Simulation {
                 self.read_final(time)?;
                 self.terminate_all();
                 return Ok(RunEnd::Terminated { instance, time });
+            }
+            // A hold: every input set for this point and its events applied (the linear model
+            // is that of the step from it), nothing stepped, nothing terminated.
+            if self.hold_at.is_some_and(|hold| time >= hold - 0.5 * h) {
+                self.held_at = Some(time);
+                return Ok(RunEnd::Completed);
             }
             for u in 0..self.units.len() {
                 self.outputs_read[u] = false;
