@@ -25,8 +25,8 @@ use crate::controller::{
 use crate::guidance::retarget::MAX_DIVERT_TIME_S;
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::{self, GncDesign, GncParameters};
-use crate::supervision::consistency::{MonitorSettings, Observation};
-use crate::supervision::{feasibility, SupervisionSettings, Supervisor};
+use crate::supervision::consistency::Observation;
+use crate::supervision::{feasibility, Supervisor};
 use fmi_model::parameter::{check_declared, ParameterError};
 use fmi_model::{
     decl, same_names, Declaration, Experiment, Log, MatchingRule, Model, ModelError, StepEnd,
@@ -315,16 +315,13 @@ impl LanderGnc {
     /// (read before the step, or after the previous one).
     fn supervise(&mut self, log: &mut Log) {
         let p = &self.params;
-        let settings = SupervisionSettings {
-            monitor: MonitorSettings {
-                gravity_mps2: p.gravity_mps2,
-                inertia_body_kgm2: p.inertia_body_kgm2,
-                torque_is_applied: p.rcs() == RcsModel::Torque,
-            },
-            monitor_enabled: p.input_monitor,
-            thrust_range_n: (p.thrust_min_n, p.thrust_max_n),
-            torque_limit_body_nm: p.torque_limit_body_nm,
-            saturation_time_s: p.saturation_time_s,
+        let derived;
+        let settings = match &self.design {
+            Some(design) => &design.supervision,
+            None => {
+                derived = p.supervision_settings();
+                &derived
+            }
         };
         let nav = &self.inputs;
         // Forces other than thrust and gravity: the gear on the ground, after the engine cut.
@@ -343,13 +340,11 @@ impl LanderGnc {
             torque_cmd_body_nm: self.outputs.torque_cmd_body_nm,
             ground_contact_possible,
         };
-        let tilt_error_rad = self.outputs.tilt_error_rad;
-        for message in self
-            .supervisor
-            .observe(&settings, observation, tilt_error_rad)
-        {
-            log.warning(format!("t = {} s: {message}", self.time_s));
-        }
+        let (tilt_error_rad, time_s) = (self.outputs.tilt_error_rad, self.time_s);
+        self.supervisor
+            .observe(settings, &observation, tilt_error_rad, &mut |message| {
+                log.warning(format!("t = {time_s} s: {message}"));
+            });
     }
 
     /// Whether the memory a sample at the time of `e` commits may differ from `e`'s for the
@@ -439,8 +434,9 @@ impl Model for LanderGnc {
         'Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3'";
     /// 2: the thrust-axis profile and the initialization flag; 3: and the RCS thruster
     /// model's modulators.
-    /// 5: and the supervision.
-    const STATE_VERSION: u32 = 5;
+    /// 5: and the supervision; 6: its input monitor's window keeps the thrust axis and
+    /// which mistakes it integrates.
+    const STATE_VERSION: u32 = 6;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,
