@@ -17,10 +17,10 @@
 //! a trajectory.
 use crate::actuation::{PwpfBank, RcsModel};
 use crate::attitude::profile::PhiProfile;
-use crate::attitude::ControlLaw;
+use crate::attitude::{ControlLaw, GuidanceReference};
 use crate::controller::{
-    actuate, gnc_advance, gnc_outputs, gnc_sample, Advance, GncOutputs, NavigationInputs, Sample,
-    QUATERNION_NORM_TOLERANCE,
+    actuate, gnc_advance, gnc_outputs_keeping_reference, gnc_sample, Advance, GncOutputs,
+    NavigationInputs, Sample, QUATERNION_NORM_TOLERANCE,
 };
 use crate::guidance::retarget::MAX_DIVERT_TIME_S;
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
@@ -62,6 +62,10 @@ pub struct LanderGnc {
     /// A cache, not state: a restored or deserialized instance evaluates afresh.
     #[serde(skip)]
     evaluated: Evaluated,
+    /// The reference attitude of the last guidance command shown, kept for the samples that
+    /// hold it (a cache keyed by the bits it was computed from, not state).
+    #[serde(skip)]
+    reference: Option<GuidanceReference>,
 }
 
 /// The supervision's outputs: its findings so far and the residuals of the last window.
@@ -137,6 +141,7 @@ impl Default for LanderGnc {
             },
             design: None,
             evaluated: Evaluated::default(),
+            reference: None,
         }
     }
 }
@@ -239,12 +244,13 @@ impl LanderGnc {
             &self.inputs,
             self.time_s,
         );
-        gnc_outputs(
+        gnc_outputs_keeping_reference(
             design,
             &kept.advance,
             &self.guidance,
             &self.inputs,
             &mut self.outputs,
+            &mut self.reference,
         );
         kept.pwpf = actuate(design, &mut self.outputs, &self.pwpf);
         kept.t_bits = self.time_s.to_bits();
