@@ -7,7 +7,9 @@ use crate::attitude::{command_toward, reference, GuidanceReference};
 use crate::conventions::{
     attitude_from_scalar_first, attitude_to_scalar_first, Attitude, MIN_QUATERNION_NORM,
 };
-use crate::guidance::sequencer::{guidance_sample, has_reached, GuidanceInputs, GuidanceState};
+use crate::guidance::sequencer::{
+    guidance_cycle_index, guidance_sample_in_cycle, has_reached, GuidanceInputs, GuidanceState,
+};
 use crate::guidance::thrust::thrust_magnitude_n;
 use crate::params::{GncDesign, GncParameters};
 use lander_math::frames::{Body, Nue};
@@ -248,6 +250,22 @@ pub fn gnc_advance(
     nav: &NavigationInputs,
     t_s: f64,
 ) -> Advance {
+    let cycle = guidance_cycle_index(t_s - start_time_s, design.scenario.guidance_cycle_s);
+    gnc_advance_in_cycle(design, start_time_s, guidance, profile, nav, t_s, cycle)
+}
+
+/// [`gnc_advance`] for a caller that has the guidance cycle of `t_s`
+/// ([`guidance_cycle_index`] of the time elapsed since `start_time_s`).
+#[inline(always)]
+pub fn gnc_advance_in_cycle(
+    design: &GncDesign,
+    start_time_s: f64,
+    guidance: &GuidanceState,
+    profile: &PhiProfile,
+    nav: &NavigationInputs,
+    t_s: f64,
+    cycle: (i64, bool),
+) -> Advance {
     let params = &design.params;
     let phi_cmd_rad = if has_reached(t_s, params.phi_cmd_time_s) {
         params.phi_cmd_rad
@@ -268,10 +286,11 @@ pub fn gnc_advance(
     let guidance = match attitude {
         // No guidance solve from unusable inputs.
         None => *guidance,
-        Some(_) => guidance_sample(
+        Some(_) => guidance_sample_in_cycle(
             &design.scenario,
             guidance,
             t_s - start_time_s,
+            cycle,
             &GuidanceInputs {
                 r_nue: Nue::from(nav.r_nue_m),
                 v_nue: Nue::from(nav.v_nue_mps),

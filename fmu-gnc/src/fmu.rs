@@ -19,8 +19,8 @@ use crate::actuation::{PwpfBank, RcsModel};
 use crate::attitude::profile::PhiProfile;
 use crate::attitude::{ControlLaw, GuidanceReference};
 use crate::controller::{
-    actuate, gnc_advance, gnc_outputs_keeping_reference, gnc_sample, Advance, GncOutputs,
-    NavigationInputs, Sample, QUATERNION_NORM_TOLERANCE,
+    actuate, gnc_advance, gnc_advance_in_cycle, gnc_outputs_keeping_reference, gnc_sample, Advance,
+    GncOutputs, NavigationInputs, Sample, QUATERNION_NORM_TOLERANCE,
 };
 use crate::guidance::retarget::MAX_DIVERT_TIME_S;
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
@@ -97,8 +97,10 @@ struct Evaluated {
     input_bits: [u64; 14],
     /// The memory the sample leaves (its outputs are in `LanderGnc::outputs`).
     advance: Advance,
-    /// The modulators after the coming period, for this sample's duties.
+    /// The modulators after the coming period, for this sample's duties (thruster model:
+    /// `pwpf_moves`; without thrusters they stay as they are and this is not written).
     pwpf: PwpfBank,
+    pwpf_moves: bool,
 }
 
 /// All that `gnc_sample` reads of its time `t` (for given parameters, start time and
@@ -163,8 +165,17 @@ impl LanderGnc {
     /// The [`SampleTime`] of the sample at `t_s`, mirroring how `gnc_sample` and the guidance
     /// sequencer use the time.
     fn sample_time(&self, t_s: f64) -> SampleTime {
+        self.sample_time_in(t_s, self.cycle_at(t_s))
+    }
+
+    /// The guidance cycle the sample at `t_s` falls in, as `gnc_advance` finds it.
+    fn cycle_at(&self, t_s: f64) -> (i64, bool) {
+        guidance_cycle_index(t_s - self.start_time_s, self.params.guidance_cycle_s)
+    }
+
+    /// [`Self::sample_time`] with [`Self::cycle_at`] of `t_s` given.
+    fn sample_time_in(&self, t_s: f64, (cycle, on_boundary): (i64, bool)) -> SampleTime {
         let elapsed_s = t_s - self.start_time_s;
-        let (cycle, on_boundary) = guidance_cycle_index(elapsed_s, self.params.guidance_cycle_s);
         let opens_cycle = self.guidance.last_cycle != Some(cycle);
         SampleTime {
             phi_cmd_applies: has_reached(t_s, self.params.phi_cmd_time_s),
@@ -234,15 +245,17 @@ impl LanderGnc {
                 &unchecked
             }
         };
-        let time = self.sample_time(self.time_s);
+        let cycle = self.cycle_at(self.time_s);
+        let time = self.sample_time_in(self.time_s, cycle);
         let kept = &mut self.evaluated;
-        kept.advance = gnc_advance(
+        kept.advance = gnc_advance_in_cycle(
             design,
             self.start_time_s,
             &self.guidance,
             &self.profile,
             &self.inputs,
             self.time_s,
+            cycle,
         );
         gnc_outputs_keeping_reference(
             design,
@@ -252,7 +265,10 @@ impl LanderGnc {
             &mut self.outputs,
             &mut self.reference,
         );
-        kept.pwpf = actuate(design, &mut self.outputs, &self.pwpf);
+        kept.pwpf_moves = design.thrusters.is_some();
+        if kept.pwpf_moves {
+            kept.pwpf = actuate(design, &mut self.outputs, &self.pwpf);
+        }
         kept.t_bits = self.time_s.to_bits();
         kept.time = time;
         kept.input_bits = self.inputs.to_bits();
@@ -292,16 +308,25 @@ impl LanderGnc {
             e.t_bits == self.time_s.to_bits() || e.time == self.sample_time(self.time_s)
         };
         match &self.evaluated {
+            // A sample that opens no guidance cycle leaves the guidance memory as it is
+            // (`gnc_advance` returns it unchanged), and one without thrusters the modulators:
+            // nothing to copy back then.
             e if e.valid && e.input_bits == bits && same_time(e) => {
                 report(&e.advance, self.time_s, log);
-                self.guidance = e.advance.guidance;
+                if e.time.opens_cycle {
+                    self.guidance = e.advance.guidance;
+                }
                 self.profile = e.advance.profile;
-                self.pwpf = e.pwpf;
+                if e.pwpf_moves {
+                    self.pwpf = e.pwpf;
+                }
             }
             // A master that steps before it reads (fmpy's loop, Jacobi) evaluated the
             // previous inputs at this time.
             e if e.valid && !self.inputs_reach_memory(e) && same_time(e) => {
-                self.guidance = e.advance.guidance;
+                if e.time.opens_cycle {
+                    self.guidance = e.advance.guidance;
+                }
                 self.profile = e.advance.profile;
             }
             _ => {
