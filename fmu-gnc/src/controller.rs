@@ -3,11 +3,13 @@
 //! commit the returned guidance state (do_step) or only read the outputs (calculate_values).
 use crate::actuation::{duties, PwpfBank, THRUSTER_COUNT};
 use crate::attitude::profile::{PhiProfile, RollReference};
-use crate::attitude::{reference, tracking_attitude_command};
+use crate::attitude::{command_toward, reference, GuidanceReference};
 use crate::conventions::{
     attitude_from_scalar_first, attitude_to_scalar_first, Attitude, MIN_QUATERNION_NORM,
 };
-use crate::guidance::sequencer::{guidance_sample, has_reached, GuidanceInputs, GuidanceState};
+use crate::guidance::sequencer::{
+    guidance_cycle_index, guidance_sample_in_cycle, has_reached, GuidanceInputs, GuidanceState,
+};
 use crate::guidance::thrust::thrust_magnitude_n;
 use crate::params::{GncDesign, GncParameters};
 use lander_math::frames::{Body, Nue};
@@ -248,6 +250,22 @@ pub fn gnc_advance(
     nav: &NavigationInputs,
     t_s: f64,
 ) -> Advance {
+    let cycle = guidance_cycle_index(t_s - start_time_s, design.scenario.guidance_cycle_s);
+    gnc_advance_in_cycle(design, start_time_s, guidance, profile, nav, t_s, cycle)
+}
+
+/// [`gnc_advance`] for a caller that has the guidance cycle of `t_s`
+/// ([`guidance_cycle_index`] of the time elapsed since `start_time_s`).
+#[inline(always)]
+pub fn gnc_advance_in_cycle(
+    design: &GncDesign,
+    start_time_s: f64,
+    guidance: &GuidanceState,
+    profile: &PhiProfile,
+    nav: &NavigationInputs,
+    t_s: f64,
+    cycle: (i64, bool),
+) -> Advance {
     let params = &design.params;
     let phi_cmd_rad = if has_reached(t_s, params.phi_cmd_time_s) {
         params.phi_cmd_rad
@@ -268,10 +286,11 @@ pub fn gnc_advance(
     let guidance = match attitude {
         // No guidance solve from unusable inputs.
         None => *guidance,
-        Some(_) => guidance_sample(
+        Some(_) => guidance_sample_in_cycle(
             &design.scenario,
             guidance,
             t_s - start_time_s,
+            cycle,
             &GuidanceInputs {
                 r_nue: Nue::from(nav.r_nue_m),
                 v_nue: Nue::from(nav.v_nue_mps),
@@ -321,17 +340,51 @@ pub fn gnc_outputs(
     nav: &NavigationInputs,
     out: &mut GncOutputs,
 ) {
+    outputs(design, advance, guidance, nav, out, &mut None);
+}
+
+/// [`gnc_outputs`] for a caller that keeps the reference attitude of the guidance command
+/// in `reference` from one sample to the next (computed afresh when the command or the
+/// angle about the thrust axis changed): the same outputs, bit for bit. Never inlined, and
+/// named so, for the same count.
+#[inline(never)]
+pub fn gnc_outputs_keeping_reference(
+    design: &GncDesign,
+    advance: &Advance,
+    guidance: &GuidanceState,
+    nav: &NavigationInputs,
+    out: &mut GncOutputs,
+    reference: &mut Option<GuidanceReference>,
+) {
+    outputs(design, advance, guidance, nav, out, reference);
+}
+
+#[inline(always)]
+fn outputs(
+    design: &GncDesign,
+    advance: &Advance,
+    guidance: &GuidanceState,
+    nav: &NavigationInputs,
+    out: &mut GncOutputs,
+    reference: &mut Option<GuidanceReference>,
+) {
     let params = &design.params;
     let Some(q) = advance.attitude else {
         *out = safe_outputs(params, guidance, advance.roll.phi_rad);
         return;
     };
     let next = &advance.guidance;
-    let attitude = tracking_attitude_command(
+    let reference = GuidanceReference::keep(
+        reference,
         &design.attitude,
+        &next.a_thrust_cmd_nue,
+        advance.roll.phi_rad,
+    );
+    let attitude = command_toward(
+        &design.attitude,
+        reference,
         &q,
         &Body::from(nav.omega_body_radps),
-        &next.a_thrust_cmd_nue,
         &advance.roll,
     );
     *out = GncOutputs {
@@ -503,6 +556,68 @@ mod tests {
             let differing: Vec<usize> = (0..14).filter(|&i| new_bits[i] != bits[i]).collect();
             assert_eq!(differing, [k]);
         }
+    }
+
+    #[test]
+    fn a_kept_reference_gives_the_fresh_outputs_bit_for_bit() {
+        // GIVEN samples whose command, angle about the thrust axis or design change, and
+        // repeat, in turn
+        let params = GncParameters {
+            phi_cmd_rad: 1.0,
+            ..GncParameters::default()
+        };
+        let designs = [
+            params.design().unwrap(),
+            GncParameters {
+                phi_cmd_rad: -2.0,
+                ..params
+            }
+            .design()
+            .unwrap(),
+        ];
+        let nav = NavigationInputs {
+            q_body_to_nue: [0.9, 0.1, -0.3, 0.2],
+            omega_body_radps: [0.01, -0.02, 0.03],
+            ..NavigationInputs::default()
+        };
+        let base = gnc_advance(
+            &designs[0],
+            0.0,
+            &initial(),
+            &PhiProfile::default(),
+            &nav,
+            0.0,
+        );
+        let commands = [Nue::new(0.2, 1.5, -0.1), Nue::new(-0.3, 1.6, 0.0)];
+        let angles = [1.0, 0.4, -0.0, 0.0];
+        let mut kept = None;
+        let mut compared = 0;
+        for design in &designs {
+            for a in commands {
+                for phi_rad in angles {
+                    for _repeat in 0..2 {
+                        let mut advance = base;
+                        advance.guidance.a_thrust_cmd_nue = a;
+                        advance.roll = RollReference::step(phi_rad);
+                        let (mut fresh, mut from_kept) = Default::default();
+                        gnc_outputs(design, &advance, &initial(), &nav, &mut fresh);
+                        gnc_outputs_keeping_reference(
+                            design,
+                            &advance,
+                            &initial(),
+                            &nav,
+                            &mut from_kept,
+                            &mut kept,
+                        );
+                        // THEN each output has the fresh one's bits (Debug prints an f64
+                        // exactly, the sign of a zero included)
+                        assert_eq!(format!("{fresh:?}"), format!("{from_kept:?}"));
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(compared, 32);
     }
 
     #[test]

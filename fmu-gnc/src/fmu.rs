@@ -17,16 +17,16 @@
 //! a trajectory.
 use crate::actuation::{PwpfBank, RcsModel};
 use crate::attitude::profile::PhiProfile;
-use crate::attitude::ControlLaw;
+use crate::attitude::{ControlLaw, GuidanceReference};
 use crate::controller::{
-    actuate, gnc_advance, gnc_outputs, gnc_sample, Advance, GncOutputs, NavigationInputs, Sample,
-    QUATERNION_NORM_TOLERANCE,
+    actuate, gnc_advance, gnc_advance_in_cycle, gnc_outputs_keeping_reference, gnc_sample, Advance,
+    GncOutputs, NavigationInputs, Sample, QUATERNION_NORM_TOLERANCE,
 };
 use crate::guidance::retarget::MAX_DIVERT_TIME_S;
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
 use crate::params::{self, GncDesign, GncParameters};
-use crate::supervision::consistency::{MonitorSettings, Observation};
-use crate::supervision::{feasibility, SupervisionSettings, Supervisor};
+use crate::supervision::consistency::Observation;
+use crate::supervision::{feasibility, Supervisor};
 use fmi_model::parameter::{check_declared, ParameterError};
 use fmi_model::{
     decl, same_names, Declaration, Experiment, Log, MatchingRule, Model, ModelError, StepEnd,
@@ -62,6 +62,10 @@ pub struct LanderGnc {
     /// A cache, not state: a restored or deserialized instance evaluates afresh.
     #[serde(skip)]
     evaluated: Evaluated,
+    /// The reference attitude of the last guidance command shown, kept for the samples that
+    /// hold it (a cache keyed by the bits it was computed from, not state).
+    #[serde(skip)]
+    reference: Option<GuidanceReference>,
 }
 
 /// The supervision's outputs: its findings so far and the residuals of the last window.
@@ -93,8 +97,10 @@ struct Evaluated {
     input_bits: [u64; 14],
     /// The memory the sample leaves (its outputs are in `LanderGnc::outputs`).
     advance: Advance,
-    /// The modulators after the coming period, for this sample's duties.
+    /// The modulators after the coming period, for this sample's duties (thruster model:
+    /// `pwpf_moves`; without thrusters they stay as they are and this is not written).
     pwpf: PwpfBank,
+    pwpf_moves: bool,
 }
 
 /// All that `gnc_sample` reads of its time `t` (for given parameters, start time and
@@ -137,6 +143,7 @@ impl Default for LanderGnc {
             },
             design: None,
             evaluated: Evaluated::default(),
+            reference: None,
         }
     }
 }
@@ -158,8 +165,17 @@ impl LanderGnc {
     /// The [`SampleTime`] of the sample at `t_s`, mirroring how `gnc_sample` and the guidance
     /// sequencer use the time.
     fn sample_time(&self, t_s: f64) -> SampleTime {
+        self.sample_time_in(t_s, self.cycle_at(t_s))
+    }
+
+    /// The guidance cycle the sample at `t_s` falls in, as `gnc_advance` finds it.
+    fn cycle_at(&self, t_s: f64) -> (i64, bool) {
+        guidance_cycle_index(t_s - self.start_time_s, self.params.guidance_cycle_s)
+    }
+
+    /// [`Self::sample_time`] with [`Self::cycle_at`] of `t_s` given.
+    fn sample_time_in(&self, t_s: f64, (cycle, on_boundary): (i64, bool)) -> SampleTime {
         let elapsed_s = t_s - self.start_time_s;
-        let (cycle, on_boundary) = guidance_cycle_index(elapsed_s, self.params.guidance_cycle_s);
         let opens_cycle = self.guidance.last_cycle != Some(cycle);
         SampleTime {
             phi_cmd_applies: has_reached(t_s, self.params.phi_cmd_time_s),
@@ -229,24 +245,30 @@ impl LanderGnc {
                 &unchecked
             }
         };
-        let time = self.sample_time(self.time_s);
+        let cycle = self.cycle_at(self.time_s);
+        let time = self.sample_time_in(self.time_s, cycle);
         let kept = &mut self.evaluated;
-        kept.advance = gnc_advance(
+        kept.advance = gnc_advance_in_cycle(
             design,
             self.start_time_s,
             &self.guidance,
             &self.profile,
             &self.inputs,
             self.time_s,
+            cycle,
         );
-        gnc_outputs(
+        gnc_outputs_keeping_reference(
             design,
             &kept.advance,
             &self.guidance,
             &self.inputs,
             &mut self.outputs,
+            &mut self.reference,
         );
-        kept.pwpf = actuate(design, &mut self.outputs, &self.pwpf);
+        kept.pwpf_moves = design.thrusters.is_some();
+        if kept.pwpf_moves {
+            kept.pwpf = actuate(design, &mut self.outputs, &self.pwpf);
+        }
         kept.t_bits = self.time_s.to_bits();
         kept.time = time;
         kept.input_bits = self.inputs.to_bits();
@@ -286,16 +308,25 @@ impl LanderGnc {
             e.t_bits == self.time_s.to_bits() || e.time == self.sample_time(self.time_s)
         };
         match &self.evaluated {
+            // A sample that opens no guidance cycle leaves the guidance memory as it is
+            // (`gnc_advance` returns it unchanged), and one without thrusters the modulators:
+            // nothing to copy back then.
             e if e.valid && e.input_bits == bits && same_time(e) => {
                 report(&e.advance, self.time_s, log);
-                self.guidance = e.advance.guidance;
+                if e.time.opens_cycle {
+                    self.guidance = e.advance.guidance;
+                }
                 self.profile = e.advance.profile;
-                self.pwpf = e.pwpf;
+                if e.pwpf_moves {
+                    self.pwpf = e.pwpf;
+                }
             }
             // A master that steps before it reads (fmpy's loop, Jacobi) evaluated the
             // previous inputs at this time.
             e if e.valid && !self.inputs_reach_memory(e) && same_time(e) => {
-                self.guidance = e.advance.guidance;
+                if e.time.opens_cycle {
+                    self.guidance = e.advance.guidance;
+                }
                 self.profile = e.advance.profile;
             }
             _ => {
@@ -315,16 +346,13 @@ impl LanderGnc {
     /// (read before the step, or after the previous one).
     fn supervise(&mut self, log: &mut Log) {
         let p = &self.params;
-        let settings = SupervisionSettings {
-            monitor: MonitorSettings {
-                gravity_mps2: p.gravity_mps2,
-                inertia_body_kgm2: p.inertia_body_kgm2,
-                torque_is_applied: p.rcs() == RcsModel::Torque,
-            },
-            monitor_enabled: p.input_monitor,
-            thrust_range_n: (p.thrust_min_n, p.thrust_max_n),
-            torque_limit_body_nm: p.torque_limit_body_nm,
-            saturation_time_s: p.saturation_time_s,
+        let derived;
+        let settings = match &self.design {
+            Some(design) => &design.supervision,
+            None => {
+                derived = p.supervision_settings();
+                &derived
+            }
         };
         let nav = &self.inputs;
         // Forces other than thrust and gravity: the gear on the ground, after the engine cut.
@@ -343,13 +371,11 @@ impl LanderGnc {
             torque_cmd_body_nm: self.outputs.torque_cmd_body_nm,
             ground_contact_possible,
         };
-        let tilt_error_rad = self.outputs.tilt_error_rad;
-        for message in self
-            .supervisor
-            .observe(&settings, observation, tilt_error_rad)
-        {
-            log.warning(format!("t = {} s: {message}", self.time_s));
-        }
+        let (tilt_error_rad, time_s) = (self.outputs.tilt_error_rad, self.time_s);
+        self.supervisor
+            .observe(settings, &observation, tilt_error_rad, &mut |message| {
+                log.warning(format!("t = {time_s} s: {message}"));
+            });
     }
 
     /// Whether the memory a sample at the time of `e` commits may differ from `e`'s for the
@@ -439,8 +465,9 @@ impl Model for LanderGnc {
         'Decoupled Thrust-Axis Attitude Control Using Quaternions for Chandrayaan-3'";
     /// 2: the thrust-axis profile and the initialization flag; 3: and the RCS thruster
     /// model's modulators.
-    /// 5: and the supervision.
-    const STATE_VERSION: u32 = 5;
+    /// 5: and the supervision; 6: its input monitor's window keeps the thrust axis and
+    /// which mistakes it integrates.
+    const STATE_VERSION: u32 = 6;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,

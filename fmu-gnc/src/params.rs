@@ -10,6 +10,9 @@ use crate::attitude::{AttitudeSettings, ControlLaw, ThrustAxisRotation};
 use crate::guidance::pv::PvGains;
 use crate::guidance::sequencer::{Handover, Retarget, Scenario};
 use crate::guidance::terminal::TerminalDescent;
+use crate::supervision::consistency::MonitorSettings;
+use crate::supervision::feasibility::Limits;
+use crate::supervision::SupervisionSettings;
 use lander_math::frames::Nue;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -93,6 +96,8 @@ pub struct GncDesign {
     pub roll_profile: Option<ProfileLimits>,
     /// `None`: the torque model (no thrusters to drive).
     pub thrusters: Option<ThrusterDesign>,
+    /// What the supervision reads of the parameters.
+    pub supervision: SupervisionSettings,
 }
 
 /// The thruster chain as the samples use it: allocation geometry and modulator settings.
@@ -324,6 +329,24 @@ impl GncParameters {
                 allocator: self.allocator(),
                 pwpf: self.pwpf_settings(),
             }),
+            supervision: self.supervision_settings(),
+        }
+    }
+
+    /// What the supervision reads of these parameters.
+    pub fn supervision_settings(&self) -> SupervisionSettings {
+        SupervisionSettings {
+            monitor: MonitorSettings {
+                gravity_mps2: self.gravity_mps2,
+                inertia_body_kgm2: self.inertia_body_kgm2,
+                torque_is_applied: self.rcs() == RcsModel::Torque,
+            },
+            monitor_enabled: self.input_monitor,
+            limits: Limits::new(
+                (self.thrust_min_n, self.thrust_max_n),
+                self.torque_limit_body_nm,
+                self.saturation_time_s,
+            ),
         }
     }
 

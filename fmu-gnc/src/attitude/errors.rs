@@ -4,6 +4,7 @@ use super::phi_b::phi_b;
 use super::reference::q_phi;
 use crate::conventions::{angle_between, canonical, thrust_axis_body, wrap_angle, Attitude};
 use lander_math::frames::Body;
+use nalgebra::Vector3;
 
 /// Control errors about the body axes, all angles in rad (ERRATA 9).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,6 +51,23 @@ pub fn thrust_axis_errors(
     q_guid: &Attitude,
     phi_cmd_rad: f64,
 ) -> ThrustAxisErrors {
+    thrust_axis_errors_toward(
+        q_body_to_nue,
+        q_guid,
+        &(q_guid * thrust_axis_body()),
+        phi_cmd_rad,
+    )
+}
+
+/// [`thrust_axis_errors`] with the guidance thrust direction `q_guid t` (NUE) given, as a
+/// caller that keeps it between samples has it.
+#[inline(always)]
+pub fn thrust_axis_errors_toward(
+    q_body_to_nue: &Attitude,
+    q_guid: &Attitude,
+    guidance_thrust_axis_nue: &Vector3<f64>,
+    phi_cmd_rad: f64,
+) -> ThrustAxisErrors {
     let phi_b_rad = phi_b(q_body_to_nue);
     let q_ref_lateral = q_guid * q_phi(phi_b_rad);
     let q_e = canonical(&(q_ref_lateral.inverse() * q_body_to_nue));
@@ -57,7 +75,10 @@ pub fn thrust_axis_errors(
         roll_rad: wrap_angle(phi_b_rad - phi_cmd_rad),
         yaw_rad: 2.0 * q_e.i,
         pitch_rad: 2.0 * q_e.k,
-        tilt_rad: tilt_angle(q_body_to_nue, q_guid),
+        tilt_rad: angle_between(
+            &(q_body_to_nue * thrust_axis_body()),
+            guidance_thrust_axis_nue,
+        ),
         phi_b_rad,
     }
 }

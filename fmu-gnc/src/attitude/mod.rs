@@ -6,7 +6,7 @@ pub mod phi_b;
 pub mod profile;
 pub mod reference;
 
-use crate::conventions::Attitude;
+use crate::conventions::{self, Attitude};
 use gains::{saturate_torque_body, AttitudeGains};
 use lander_math::frames::{Body, Nue};
 use nalgebra::Vector3;
@@ -154,22 +154,98 @@ pub fn tracking_attitude_command(
     a_thrust_cmd_nue: &Nue,
     roll: &RollReference,
 ) -> AttitudeCommand {
-    let q_guid = reference::q_guid(a_thrust_cmd_nue);
-    let q_ref = q_guid * settings.phi_cmd_rotation.at(roll.phi_rad);
-    let split = errors::thrust_axis_errors(q_body_to_nue, &q_guid, roll.phi_rad);
+    let reference = GuidanceReference::new(settings, a_thrust_cmd_nue, roll.phi_rad);
+    command_toward(settings, &reference, q_body_to_nue, omega_body, roll)
+}
+
+/// As [`tracking_attitude_command`], with the reference attitude `reference` (for the sample's
+/// guidance command and `roll`).
+#[inline(always)]
+pub fn command_toward(
+    settings: &AttitudeSettings,
+    reference: &GuidanceReference,
+    q_body_to_nue: &Attitude,
+    omega_body: &Body,
+    roll: &RollReference,
+) -> AttitudeCommand {
+    let split = errors::thrust_axis_errors_toward(
+        q_body_to_nue,
+        &reference.q_guid,
+        &reference.thrust_axis_nue,
+        roll.phi_rad,
+    );
     let (torque, angle_error_body) = settings.law.torque(&LawInputs {
         settings,
         q_body_to_nue,
         omega_body,
-        q_ref: &q_ref,
+        q_ref: &reference.q_ref,
         split: &split,
         roll,
     });
     AttitudeCommand {
         torque_body_nm: saturate_torque_body(&torque, &settings.torque_limit_body_nm),
-        q_ref,
+        q_ref: reference.q_ref,
         angle_error_body,
         phi_b_rad: split.phi_b_rad,
         tilt_rad: split.tilt_rad,
     }
+}
+
+/// The reference attitude of a guidance command and an angle about the thrust axis: `q_guid`,
+/// the thrust direction it gives (`q_guid t`, NUE) and `q_ref = q_guid ⊗ q_phi`. Guidance
+/// holds its command over a whole cycle, and the angle is `phi_cmd` but for a shaped
+/// manoeuvre: a caller that keeps this between samples ([`GuidanceReference::keep`]) computes
+/// `q_guid` (two `hypot`, an `atan2`, a `sincos`) once a cycle, with the same bits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GuidanceReference {
+    /// The bits it was computed from: the command's and the angle's (all it is a function
+    /// of: [`ThrustAxisRotation::at`] is `q_phi` whatever the rotation kept).
+    a_thrust_cmd_bits: [u64; 3],
+    phi_bits: u64,
+    q_guid: Attitude,
+    thrust_axis_nue: Vector3<f64>,
+    q_ref: Attitude,
+}
+
+impl GuidanceReference {
+    #[inline(always)]
+    pub fn new(settings: &AttitudeSettings, a_thrust_cmd_nue: &Nue, phi_rad: f64) -> Self {
+        let q_guid = reference::q_guid(a_thrust_cmd_nue);
+        Self {
+            a_thrust_cmd_bits: command_bits(a_thrust_cmd_nue),
+            phi_bits: phi_rad.to_bits(),
+            q_guid,
+            thrust_axis_nue: q_guid * conventions::thrust_axis_body(),
+            q_ref: q_guid * settings.phi_cmd_rotation.at(phi_rad),
+        }
+    }
+
+    /// The reference for `a_thrust_cmd_nue` and `phi_rad`: `kept` if it was computed from the
+    /// same bits, else computed into `kept` (only `q_ref` when only the angle moved).
+    #[inline(always)]
+    pub fn keep<'a>(
+        kept: &'a mut Option<Self>,
+        settings: &AttitudeSettings,
+        a_thrust_cmd_nue: &Nue,
+        phi_rad: f64,
+    ) -> &'a Self {
+        let same_command = kept
+            .as_ref()
+            .is_some_and(|r| r.a_thrust_cmd_bits == command_bits(a_thrust_cmd_nue));
+        if !same_command {
+            return kept.insert(Self::new(settings, a_thrust_cmd_nue, phi_rad));
+        }
+        let r = kept.get_or_insert_with(|| Self::new(settings, a_thrust_cmd_nue, phi_rad));
+        if r.phi_bits != phi_rad.to_bits() {
+            r.phi_bits = phi_rad.to_bits();
+            r.q_ref = r.q_guid * settings.phi_cmd_rotation.at(phi_rad);
+        }
+        r
+    }
+}
+
+#[inline(always)]
+fn command_bits(a_thrust_cmd_nue: &Nue) -> [u64; 3] {
+    let a = &a_thrust_cmd_nue.0;
+    [a.x.to_bits(), a.y.to_bits(), a.z.to_bits()]
 }

@@ -228,7 +228,20 @@ pub fn guidance_sample(
     elapsed_s: f64,
     nav: &GuidanceInputs,
 ) -> GuidanceState {
-    let (cycle, on_boundary) = guidance_cycle_index(elapsed_s, scenario.guidance_cycle_s);
+    let cycle = guidance_cycle_index(elapsed_s, scenario.guidance_cycle_s);
+    guidance_sample_in_cycle(scenario, state, elapsed_s, cycle, nav)
+}
+
+/// [`guidance_sample`] for a caller that has the cycle `elapsed_s` falls in, as
+/// [`guidance_cycle_index`] gives it.
+#[inline(always)]
+pub fn guidance_sample_in_cycle(
+    scenario: &Scenario,
+    state: &GuidanceState,
+    elapsed_s: f64,
+    (cycle, on_boundary): (i64, bool),
+    nav: &GuidanceInputs,
+) -> GuidanceState {
     if state.last_cycle == Some(cycle) {
         return *state;
     }

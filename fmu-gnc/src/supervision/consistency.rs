@@ -15,6 +15,12 @@
 //! cause: the monitor tries the usual mistakes (scalar-last, conjugate, deg/s, ENU) and names
 //! the one that explains the inputs. It observes only: nothing here changes a command.
 //!
+//! Per sample it integrates what the judgement of the inputs as given needs; the mistakes
+//! that must be integrated to be tried (rates in deg/s, the quaternion scalar-last or
+//! conjugated) only in a window whose failure would raise its check, the one after a failing
+//! window: the cause is named only when a check is raised, so every verdict, residual and
+//! message is what integrating them in every window gives.
+//!
 //! Thresholds are absolute plus relative, sized so that the shipped scenarios (sensor noise,
 //! the filter's estimates, engine lag, the plant's own throttle and torque limits) stay
 //! well inside them and each mistake lands well outside (docs/interface.md gives the numbers).
@@ -130,6 +136,17 @@ impl Reading {
         (norm.is_finite() && norm > 1e-6).then(|| raw / norm)
     }
 
+    /// [`Reading::attitude`] from the attitude `unit` the inputs as given stand for: every
+    /// reading has the same norm (the same squares, summed in an order that gives the same
+    /// bits), so its attitude is `unit`'s components permuted or negated, bit for bit.
+    fn of_unit(self, unit: &Quaternion<f64>) -> Quaternion<f64> {
+        match self {
+            Reading::AsGiven => *unit,
+            Reading::ScalarLast => Quaternion::new(unit.k, unit.w, unit.i, unit.j),
+            Reading::Conjugate => unit.conjugate(),
+        }
+    }
+
     fn cause(self) -> &'static str {
         match self {
             Reading::AsGiven => "",
@@ -150,6 +167,21 @@ fn rotate(q: &Quaternion<f64>, v: &Vector3<f64>) -> Vector3<f64> {
     p.imag()
 }
 
+/// Body +y rotated into NUE by `q`: [`rotate`]`(q, y)` without the products by the zero and
+/// unit components of `y`. `q ⊗ (0, y)` is `(-q_j, -q_k, q_w, q_i)` exactly; the product
+/// with `q*` is nalgebra's, term by term. Only the sign of a zero component can differ from
+/// [`rotate`]'s, which no integral sees: each starts at +0, and adding a zero of either sign
+/// to +0 gives +0.
+fn thrust_axis_nue(q: &Quaternion<f64>) -> [f64; 3] {
+    let (pw, pi, pj, pk) = (-q.j, -q.k, q.w, q.i);
+    let (cw, ci, cj, ck) = (q.w, -q.i, -q.j, -q.k);
+    [
+        pw * ci + pi * cw + pj * ck - pk * cj,
+        pw * cj - pi * ck + pj * cw + pk * ci,
+        pw * ck + pi * cj - pj * ci + pk * cw,
+    ]
+}
+
 /// The rotation angle of a unit quaternion, in [0, pi].
 fn angle(q: &Quaternion<f64>) -> f64 {
     2.0 * libm::atan2(q.imag().norm(), q.w.abs())
@@ -168,11 +200,23 @@ fn enu_read_as_nue(v: &Vector3<f64>) -> Vector3<f64> {
     Vector3::new(v[1], v[2], v[0])
 }
 
+/// The mistakes a window integrates besides the inputs as given (see the module's text).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+struct Diagnoses {
+    /// The rates read as deg/s: the attitude check's.
+    rates_in_deg: bool,
+    /// The quaternion read scalar-last and conjugated: the acceleration check's.
+    other_readings: bool,
+}
+
 /// What a window accumulates from its first observation on.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 struct Window {
     start: Observation,
     last: Observation,
+    /// Body +y in NUE at `last` under each [`Reading`] integrated (the thrust axis the next
+    /// sample's interval starts from).
+    last_thrust_axis_nue: [[f64; 3]; 3],
     /// The body rotation the rates integrate to, as given and read as deg/s.
     rotation_from_rates: [f64; 4],
     rotation_from_rates_deg: [f64; 4],
@@ -182,7 +226,10 @@ struct Window {
     thrust_impulse_nue_mps: [[f64; 3]; 3],
     /// Integral of what the commanded torque gives the declared inertia, rad/s.
     rate_change_predicted_radps: [f64; 3],
+    /// Once set, the thrust and torque checks rest for the window, and their integrals with
+    /// them.
     contact: bool,
+    diagnoses: Diagnoses,
 }
 
 /// The monitor's memory: the open window, the checks failing in a row, what it raised.
@@ -203,137 +250,210 @@ fn a_of(q: &Quaternion<f64>) -> [f64; 4] {
     lander_math::quaternion::from_nalgebra(q)
 }
 
-fn usable(o: &Observation) -> bool {
-    let finite = o
-        .r_nue_m
-        .iter()
-        .chain(&o.v_nue_mps)
-        .chain(&o.q_body_to_nue)
-        .chain(&o.omega_body_radps)
-        .chain(&o.torque_cmd_body_nm)
-        .chain([&o.t_s, &o.mass_kg, &o.thrust_cmd_n])
-        .all(|x| x.is_finite());
-    finite && o.mass_kg > 0.0 && Reading::AsGiven.attitude(o.q_body_to_nue).is_some()
+/// The attitude the inputs as given stand for, when the observation can be used: every
+/// value finite (`x * 0` is 0 for finite `x`, NaN otherwise: one sum tells), a positive
+/// mass, a quaternion with a direction.
+fn usable(o: &Observation) -> Option<Quaternion<f64>> {
+    let [r0, r1, r2] = o.r_nue_m;
+    let [v0, v1, v2] = o.v_nue_mps;
+    let [q0, q1, q2, q3] = o.q_body_to_nue;
+    let [w0, w1, w2] = o.omega_body_radps;
+    let [m0, m1, m2] = o.torque_cmd_body_nm;
+    let probe = [
+        r0,
+        r1,
+        r2,
+        v0,
+        v1,
+        v2,
+        q0,
+        q1,
+        q2,
+        q3,
+        w0,
+        w1,
+        w2,
+        m0,
+        m1,
+        m2,
+        o.t_s,
+        o.mass_kg,
+        o.thrust_cmd_n,
+    ]
+    .iter()
+    .fold(0.0, |sum, x| sum + x * 0.0);
+    if probe == 0.0 && o.mass_kg > 0.0 {
+        Reading::AsGiven.attitude(o.q_body_to_nue)
+    } else {
+        None
+    }
+}
+
+/// What a check found in a window: its residual and whether it failed.
+struct Verdict {
+    residual: f64,
+    failed: bool,
 }
 
 impl ConsistencyMonitor {
-    /// Takes the next observation; the messages of checks raised by it (each check raises
-    /// once a run).
-    pub fn observe(&mut self, settings: &MonitorSettings, o: Observation) -> Vec<String> {
-        if !usable(&o) {
+    /// Takes the next observation; `raise` is given the message of each check raised by it
+    /// (each check raises once a run).
+    pub fn observe(
+        &mut self,
+        settings: &MonitorSettings,
+        o: &Observation,
+        raise: &mut impl FnMut(String),
+    ) {
+        let Some(attitude) = usable(o) else {
             self.window = None;
-            return Vec::new();
-        }
-        let Some(mut w) = self.window.filter(|w| o.t_s > w.last.t_s) else {
-            self.window = Some(Window::open(o));
-            return Vec::new();
+            return;
         };
-        w.accumulate(settings, &o);
-        if o.t_s - w.start.t_s < WINDOW_S * (1.0 - 1e-9) {
-            self.window = Some(w);
-            return Vec::new();
+        let ended = match &mut self.window {
+            Some(w) if o.t_s > w.last.t_s => {
+                w.accumulate(settings, o, &attitude);
+                // Times are finite here.
+                o.t_s - w.start.t_s >= WINDOW_S * (1.0 - 1e-9)
+            }
+            _ => {
+                self.window = Some(Window::open(o, &attitude, self.diagnoses()));
+                return;
+            }
+        };
+        if ended {
+            if let Some(w) = self.window.take() {
+                self.judge(settings, &w, raise);
+            }
+            self.window = Some(Window::open(o, &attitude, self.diagnoses()));
         }
-        self.window = Some(Window::open(o));
-        self.judge(settings, &w)
     }
 
-    fn judge(&mut self, settings: &MonitorSettings, w: &Window) -> Vec<String> {
-        let mut findings: [Option<String>; 4] = [None, None, None, None];
+    /// What the next window integrates: the mistakes of a check whose failure in it would be
+    /// raised (it failed in the window before, and has not been raised).
+    fn diagnoses(&self) -> Diagnoses {
+        let raises =
+            |k: usize| self.failing_in_a_row[k] >= PERSISTENCE - 1 && self.raised & (1 << k) == 0;
+        Diagnoses {
+            rates_in_deg: raises(0),
+            other_readings: raises(2),
+        }
+    }
+
+    /// Out of line: once a window, and the words of a finding with it; the per-sample path
+    /// stays small.
+    #[inline(never)]
+    fn judge(&mut self, settings: &MonitorSettings, w: &Window, raise: &mut impl FnMut(String)) {
+        let mut failed = [false; 4];
         let attitude = w.attitude_check();
         self.residuals.attitude_rad = attitude.residual;
-        findings[0] = attitude.finding;
+        failed[0] = attitude.failed;
         let position = w.position_check();
         self.residuals.position_m = position.residual;
-        findings[1] = position.finding;
+        failed[1] = position.failed;
         // Thrust direction and torque response rest on the attitude and rates: judged only
         // while those agree, so one mistake is named once, by its first symptom.
-        if findings[0].is_none() && !w.contact {
+        if !failed[0] && !w.contact {
             let acceleration = w.acceleration_check(settings);
             self.residuals.acceleration_mps2 = acceleration.residual;
-            findings[2] = acceleration.finding;
+            failed[2] = acceleration.failed;
             if settings.torque_is_applied {
-                let angular = w.angular_check(settings);
+                let angular = w.angular_check();
                 self.residuals.angular_response = angular.residual;
-                findings[3] = angular.finding;
+                failed[3] = angular.failed;
             }
         } else {
             self.residuals.angular_response = 1.0;
         }
-        let mut raised = Vec::new();
-        for (k, finding) in findings.into_iter().enumerate() {
+        for (k, failed) in failed.into_iter().enumerate() {
             let bit = 1 << k;
-            match finding {
-                Some(message) => {
-                    self.failing_in_a_row[k] = self.failing_in_a_row[k].saturating_add(1);
-                    if self.failing_in_a_row[k] >= PERSISTENCE && self.raised & bit == 0 {
-                        self.raised |= bit;
-                        raised.push(format!(
-                            "input monitor, window from t = {} s to {} s: {message}",
-                            w.start.t_s, w.last.t_s
-                        ));
-                    }
+            if failed {
+                self.failing_in_a_row[k] = self.failing_in_a_row[k].saturating_add(1);
+                if self.failing_in_a_row[k] >= PERSISTENCE && self.raised & bit == 0 {
+                    self.raised |= bit;
+                    let message = match k {
+                        0 => w.attitude_finding(),
+                        1 => w.position_finding(),
+                        2 => w.acceleration_finding(settings),
+                        _ => w.angular_finding(settings),
+                    };
+                    raise(format!(
+                        "input monitor, window from t = {} s to {} s: {message}",
+                        w.start.t_s, w.last.t_s
+                    ));
                 }
-                None => self.failing_in_a_row[k] = 0,
+            } else {
+                self.failing_in_a_row[k] = 0;
             }
         }
-        raised
     }
 }
 
-/// One check's verdict on a window.
-struct Check {
-    residual: f64,
-    finding: Option<String>,
-}
-
 impl Window {
-    fn open(o: Observation) -> Window {
+    /// Out of line: once a window.
+    #[inline(never)]
+    fn open(o: &Observation, attitude: &Quaternion<f64>, diagnoses: Diagnoses) -> Window {
         let identity = [1.0, 0.0, 0.0, 0.0];
+        let mut last_thrust_axis_nue = [[0.0; 3]; 3];
+        last_thrust_axis_nue[0] = thrust_axis_nue(attitude);
+        if diagnoses.other_readings {
+            for k in 1..3 {
+                last_thrust_axis_nue[k] = thrust_axis_nue(&READINGS[k].of_unit(attitude));
+            }
+        }
         Window {
-            start: o,
-            last: o,
+            start: *o,
+            last: *o,
+            last_thrust_axis_nue,
             rotation_from_rates: identity,
             rotation_from_rates_deg: identity,
             distance_nue_m: [0.0; 3],
             thrust_impulse_nue_mps: [[0.0; 3]; 3],
             rate_change_predicted_radps: [0.0; 3],
             contact: o.ground_contact_possible,
+            diagnoses,
         }
     }
 
-    fn accumulate(&mut self, settings: &MonitorSettings, o: &Observation) {
-        let p = self.last;
+    /// Integrates over `[last, o]`; `attitude` is `o`'s as given.
+    fn accumulate(
+        &mut self,
+        settings: &MonitorSettings,
+        o: &Observation,
+        attitude: &Quaternion<f64>,
+    ) {
+        let p = &self.last;
         let dt = o.t_s - p.t_s;
         let omega_mid =
             (Vector3::from(p.omega_body_radps) + Vector3::from(o.omega_body_radps)) * 0.5;
         self.rotation_from_rates = a_of(&advance(&q_of(self.rotation_from_rates), &omega_mid, dt));
-        self.rotation_from_rates_deg = a_of(&advance(
-            &q_of(self.rotation_from_rates_deg),
-            &(omega_mid * std::f64::consts::PI / 180.0),
-            dt,
-        ));
+        if self.diagnoses.rates_in_deg {
+            self.rotation_from_rates_deg = a_of(&advance(
+                &q_of(self.rotation_from_rates_deg),
+                &(omega_mid * std::f64::consts::PI / 180.0),
+                dt,
+            ));
+        }
         let v_mid = (Vector3::from(p.v_nue_mps) + Vector3::from(o.v_nue_mps)) * 0.5;
         self.distance_nue_m = (Vector3::from(self.distance_nue_m) + v_mid * dt).into();
-        // The command read at p acts over [p, o]; the thrust axis moves with the attitude.
-        let specific_force = p.thrust_cmd_n / p.mass_kg;
-        for (k, reading) in READINGS.iter().enumerate() {
-            if let (Some(qp), Some(qo)) = (
-                reading.attitude(p.q_body_to_nue),
-                reading.attitude(o.q_body_to_nue),
-            ) {
-                let axis = (rotate(&qp, &Vector3::y()) + rotate(&qo, &Vector3::y())) * 0.5;
-                self.thrust_impulse_nue_mps[k] = (Vector3::from(self.thrust_impulse_nue_mps[k])
-                    + axis * (specific_force * dt))
-                    .into();
-            }
-        }
-        let inertia = Vector3::from(settings.inertia_body_kgm2);
-        let omega = Vector3::from(p.omega_body_radps);
-        let gyroscopic = omega.cross(&inertia.component_mul(&omega));
-        let accel = (Vector3::from(p.torque_cmd_body_nm) - gyroscopic).component_div(&inertia);
-        self.rate_change_predicted_radps =
-            (Vector3::from(self.rate_change_predicted_radps) + accel * dt).into();
         self.contact |= o.ground_contact_possible;
+        if !self.contact {
+            // The command read at p acts over [p, o]; the thrust axis moves with the attitude.
+            let impulse = p.thrust_cmd_n / p.mass_kg * dt;
+            let readings = if self.diagnoses.other_readings { 3 } else { 1 };
+            for (k, reading) in READINGS.iter().enumerate().take(readings) {
+                let now = thrust_axis_nue(&reading.of_unit(attitude));
+                let before = std::mem::replace(&mut self.last_thrust_axis_nue[k], now);
+                let sums = self.thrust_impulse_nue_mps[k].iter_mut();
+                for ((sum, before), now) in sums.zip(before).zip(now) {
+                    *sum += (before + now) * 0.5 * impulse;
+                }
+            }
+            let inertia = Vector3::from(settings.inertia_body_kgm2);
+            let omega = Vector3::from(p.omega_body_radps);
+            let gyroscopic = omega.cross(&inertia.component_mul(&omega));
+            let accel = (Vector3::from(p.torque_cmd_body_nm) - gyroscopic).component_div(&inertia);
+            self.rate_change_predicted_radps =
+                (Vector3::from(self.rate_change_predicted_radps) + accel * dt).into();
+        }
         self.last = *o;
     }
 
@@ -348,108 +468,145 @@ impl Window {
         Some(q0.conjugate() * q1)
     }
 
-    fn attitude_check(&self) -> Check {
-        let mismatch = |reading: Reading, from_rates: [f64; 4]| {
-            let measured = self.relative_rotation(reading)?;
-            let predicted = q_of(from_rates);
-            let residual = angle(&(predicted.conjugate() * measured));
-            let tolerance =
-                ATTITUDE_ABSOLUTE_RAD + ATTITUDE_RELATIVE * angle(&measured).max(angle(&predicted));
-            Some((
-                residual,
-                residual > tolerance,
-                angle(&measured),
-                angle(&predicted),
-            ))
-        };
-        let Some((residual, failed, measured, predicted)) =
-            mismatch(Reading::AsGiven, self.rotation_from_rates)
-        else {
-            return Check {
+    /// The attitude check under `reading` against `from_rates`: residual, failed, and the
+    /// rotations measured and integrated (rad).
+    fn attitude_mismatch(
+        &self,
+        reading: Reading,
+        from_rates: [f64; 4],
+    ) -> Option<(f64, bool, f64, f64)> {
+        let measured = self.relative_rotation(reading)?;
+        let predicted = q_of(from_rates);
+        let residual = angle(&(predicted.conjugate() * measured));
+        let tolerance =
+            ATTITUDE_ABSOLUTE_RAD + ATTITUDE_RELATIVE * angle(&measured).max(angle(&predicted));
+        Some((
+            residual,
+            residual > tolerance,
+            angle(&measured),
+            angle(&predicted),
+        ))
+    }
+
+    fn attitude_check(&self) -> Verdict {
+        match self.attitude_mismatch(Reading::AsGiven, self.rotation_from_rates) {
+            Some((residual, failed, ..)) => Verdict { residual, failed },
+            None => Verdict {
                 residual: 0.0,
-                finding: None,
-            };
-        };
-        if !failed {
-            return Check {
-                residual,
-                finding: None,
-            };
+                failed: false,
+            },
         }
-        let deg = mismatch(Reading::AsGiven, self.rotation_from_rates_deg);
+    }
+
+    /// The message of a failed attitude check (the window integrated the rates as deg/s).
+    fn attitude_finding(&self) -> String {
+        let (measured, predicted) = self
+            .attitude_mismatch(Reading::AsGiven, self.rotation_from_rates)
+            .map_or((0.0, 0.0), |(_, _, measured, predicted)| {
+                (measured, predicted)
+            });
+        let deg = self.attitude_mismatch(Reading::AsGiven, self.rotation_from_rates_deg);
         let cause = if deg.is_some_and(|(_, failed, ..)| !failed) {
-            "body rates look like deg/s: omega_body must be in rad/s".to_string()
-        } else if let Some(reading) = [Reading::ScalarLast, Reading::Conjugate]
-            .into_iter()
-            .find(|&r| mismatch(r, self.rotation_from_rates).is_some_and(|(_, f, ..)| !f))
+            "body rates look like deg/s: omega_body must be in rad/s"
+        } else if let Some(reading) =
+            [Reading::ScalarLast, Reading::Conjugate]
+                .into_iter()
+                .find(|&r| {
+                    self.attitude_mismatch(r, self.rotation_from_rates)
+                        .is_some_and(|(_, f, ..)| !f)
+                })
         {
-            reading.cause().to_string()
+            reading.cause()
         } else {
             "the attitude does not turn the way omega_body says: check that omega_body is the \
              body rate in body axes (rad/s) and q_body_to_nue the scalar-first body-to-NUE \
              quaternion"
-                .to_string()
         };
-        Check {
-            residual,
-            finding: Some(format!(
-                "{cause} (q_body_to_nue turned {:.3} deg, omega_body integrates to {:.3} deg)",
-                measured.to_degrees(),
-                predicted.to_degrees()
-            )),
-        }
+        format!(
+            "{cause} (q_body_to_nue turned {:.3} deg, omega_body integrates to {:.3} deg)",
+            measured.to_degrees(),
+            predicted.to_degrees()
+        )
     }
 
-    fn position_check(&self) -> Check {
+    fn moved_and_integrated(&self) -> (Vector3<f64>, Vector3<f64>) {
         let moved = Vector3::from(self.last.r_nue_m) - Vector3::from(self.start.r_nue_m);
-        let integrated = Vector3::from(self.distance_nue_m);
+        (moved, Vector3::from(self.distance_nue_m))
+    }
+
+    fn position_check(&self) -> Verdict {
+        let (moved, integrated) = self.moved_and_integrated();
         let residual = (moved - integrated).norm();
         let tolerance = POSITION_ABSOLUTE_M + POSITION_RELATIVE * integrated.norm();
-        let finding = (residual > tolerance).then(|| {
-            format!(
-                "the position's change ({:.3} m) is not what v_nue integrates to ({:.3} m) \
-                 over {:.2} s: check the units of r_nue (m) and v_nue (m/s), and that both \
-                 are NUE (North, Up, East)",
-                moved.norm(),
-                integrated.norm(),
-                self.duration_s()
-            )
-        });
-        Check { residual, finding }
+        Verdict {
+            residual,
+            failed: residual > tolerance,
+        }
     }
 
-    fn acceleration_check(&self, settings: &MonitorSettings) -> Check {
-        let dt = self.duration_s();
-        let gravity_nue = Vector3::new(0.0, -settings.gravity_mps2, 0.0);
+    fn position_finding(&self) -> String {
+        let (moved, integrated) = self.moved_and_integrated();
+        format!(
+            "the position's change ({:.3} m) is not what v_nue integrates to ({:.3} m) \
+             over {:.2} s: check the units of r_nue (m) and v_nue (m/s), and that both \
+             are NUE (North, Up, East)",
+            moved.norm(),
+            integrated.norm(),
+            self.duration_s()
+        )
+    }
+
+    fn gravity_nue(settings: &MonitorSettings) -> Vector3<f64> {
+        Vector3::new(0.0, -settings.gravity_mps2, 0.0)
+    }
+
+    /// The mean acceleration over the window, m/s2.
+    fn acceleration(&self) -> Vector3<f64> {
         let dv = Vector3::from(self.last.v_nue_mps) - Vector3::from(self.start.v_nue_mps);
-        let predicted = |reading: usize| Vector3::from(self.thrust_impulse_nue_mps[reading]) / dt;
+        dv / self.duration_s()
+    }
+
+    /// The mean specific force the commanded thrust gives under reading `k`, m/s2.
+    fn predicted_force(&self, k: usize) -> Vector3<f64> {
+        Vector3::from(self.thrust_impulse_nue_mps[k]) / self.duration_s()
+    }
+
+    /// The acceleration check of `acceleration` against reading `k`: residual, failed.
+    fn acceleration_mismatch(
+        &self,
+        settings: &MonitorSettings,
+        acceleration: Vector3<f64>,
+        k: usize,
+    ) -> Verdict {
         // Along the thrust the plant's throttle range and lag blur the magnitude; across
         // it only the attitude's error does.
-        let mismatch = |acceleration: Vector3<f64>, reading: usize| {
-            let force = predicted(reading);
-            let residual = acceleration - force - gravity_nue;
-            let along = force
-                .try_normalize(1e-9)
-                .map_or(0.0, |axis| residual.dot(&axis));
-            let across = (residual.norm_squared() - along * along).max(0.0).sqrt();
-            (
-                residual.norm(),
-                along.abs() > ACCELERATION_ABSOLUTE_MPS2 + ACCELERATION_RELATIVE * force.norm()
-                    || across > ACCELERATION_ABSOLUTE_MPS2 + ACCELERATION_ACROSS * force.norm(),
-            )
-        };
-        let acceleration = dv / dt;
-        let (residual, failed) = mismatch(acceleration, 0);
-        if !failed {
-            return Check {
-                residual,
-                finding: None,
-            };
+        let force = self.predicted_force(k);
+        let residual = acceleration - force - Self::gravity_nue(settings);
+        let along = force
+            .try_normalize(1e-9)
+            .map_or(0.0, |axis| residual.dot(&axis));
+        let across = (residual.norm_squared() - along * along).max(0.0).sqrt();
+        Verdict {
+            residual: residual.norm(),
+            failed: along.abs() > ACCELERATION_ABSOLUTE_MPS2 + ACCELERATION_RELATIVE * force.norm()
+                || across > ACCELERATION_ABSOLUTE_MPS2 + ACCELERATION_ACROSS * force.norm(),
         }
-        let enu = mismatch(enu_read_as_nue(&acceleration), 0);
-        let reading = (1..3).find(|&k| !mismatch(acceleration, k).1);
+    }
+
+    fn acceleration_check(&self, settings: &MonitorSettings) -> Verdict {
+        self.acceleration_mismatch(settings, self.acceleration(), 0)
+    }
+
+    /// The message of a failed acceleration check (the window integrated the other
+    /// readings).
+    fn acceleration_finding(&self, settings: &MonitorSettings) -> String {
+        let gravity_nue = Self::gravity_nue(settings);
+        let acceleration = self.acceleration();
+        let enu = self.acceleration_mismatch(settings, enu_read_as_nue(&acceleration), 0);
+        let reading =
+            (1..3).find(|&k| !self.acceleration_mismatch(settings, acceleration, k).failed);
         let force_measured = acceleration - gravity_nue;
-        let force_predicted = predicted(0);
+        let force_predicted = self.predicted_force(0);
         let numbers = format!(
             "(v_nue changed at [{:.3}, {:.3}, {:.3}] m/s2; gravity and thrust_cmd / mass along \
              body +y predict [{:.3}, {:.3}, {:.3}] m/s2)",
@@ -460,7 +617,7 @@ impl Window {
             (force_predicted + gravity_nue).y,
             (force_predicted + gravity_nue).z,
         );
-        let cause = if !enu.1 {
+        let cause = if !enu.failed {
             "position and velocity look like ENU (East, North, Up): r_nue and v_nue must be \
              North, Up, East"
                 .to_string()
@@ -505,24 +662,35 @@ impl Window {
                 )
             }
         };
-        Check {
-            residual,
-            finding: Some(format!("{cause} {numbers}")),
-        }
+        format!("{cause} {numbers}")
     }
 
-    fn angular_check(&self, settings: &MonitorSettings) -> Check {
-        let predicted = Vector3::from(self.rate_change_predicted_radps);
+    /// The rates' change measured and predicted over the window, rad/s.
+    fn rate_changes(&self) -> (Vector3<f64>, Vector3<f64>) {
         let measured =
             Vector3::from(self.last.omega_body_radps) - Vector3::from(self.start.omega_body_radps);
+        (measured, Vector3::from(self.rate_change_predicted_radps))
+    }
+
+    fn angular_check(&self) -> Verdict {
+        let (measured, predicted) = self.rate_changes();
         if predicted.norm() < ANGULAR_MIN_PREDICTED_RADPS {
-            return Check {
+            return Verdict {
                 residual: 1.0,
-                finding: None,
+                failed: false,
             };
         }
         let ratio = measured.dot(&predicted) / predicted.norm_squared();
-        let finding = !(1.0 / ANGULAR_RATIO_LIMIT..=ANGULAR_RATIO_LIMIT).contains(&ratio);
+        Verdict {
+            residual: ratio,
+            failed: !(1.0 / ANGULAR_RATIO_LIMIT..=ANGULAR_RATIO_LIMIT).contains(&ratio),
+        }
+    }
+
+    /// The message of a failed angular check.
+    fn angular_finding(&self, settings: &MonitorSettings) -> String {
+        let (measured, predicted) = self.rate_changes();
+        let ratio = self.angular_check().residual;
         let inertia = Matrix3::from_diagonal(&Vector3::from(settings.inertia_body_kgm2));
         let cause = if ratio > 1e-6 {
             format!(
@@ -535,20 +703,81 @@ impl Window {
              the plant, in body axes and N m, and omega_body comes back from it"
                 .to_string()
         };
-        Check {
-            residual: ratio,
-            finding: finding.then(|| {
-                format!(
-                    "the body rates changed by {:.3e} rad/s, {ratio:.3e} times what \
-                     torque_cmd_body predicts for inertia_body = [{}, {}, {}] kg m2 \
-                     ({:.3e} rad/s): {cause}",
-                    measured.norm(),
-                    inertia[(0, 0)],
-                    inertia[(1, 1)],
-                    inertia[(2, 2)],
-                    predicted.norm(),
-                )
-            }),
+        format!(
+            "the body rates changed by {:.3e} rad/s, {ratio:.3e} times what \
+             torque_cmd_body predicts for inertia_body = [{}, {}, {}] kg m2 \
+             ({:.3e} rad/s): {cause}",
+            measured.norm(),
+            inertia[(0, 0)],
+            inertia[(1, 1)],
+            inertia[(2, 2)],
+            predicted.norm(),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Quaternions of every sign pattern and size, zeros among them.
+    fn quaternions() -> Vec<[f64; 4]> {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut qs = vec![
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [-0.0, 0.0, -0.0, 1.0],
+            [0.5, -0.5, 0.5, -0.5],
+        ];
+        for k in 0..20_000 {
+            let mut q = [next(), next(), next(), next()];
+            // a component exactly zero in a share of them, and some far from unit norm
+            if k % 7 == 0 {
+                q[k % 4] = 0.0;
+            }
+            if k % 11 == 0 {
+                q = q.map(|c| c * 1e3);
+            }
+            qs.push(q);
+        }
+        qs
+    }
+
+    #[test]
+    fn every_reading_of_the_unit_attitude_is_its_own_normalisation_bit_for_bit() {
+        for q in quaternions() {
+            let Some(unit) = Reading::AsGiven.attitude(q) else {
+                continue;
+            };
+            for reading in READINGS {
+                let own = reading.attitude(q).expect("the same norm");
+                assert_eq!(
+                    a_of(&own).map(f64::to_bits),
+                    a_of(&reading.of_unit(&unit)).map(f64::to_bits),
+                    "{reading:?} of {q:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_thrust_axis_is_the_rotated_body_y_to_the_sign_of_a_zero() {
+        for q in quaternions() {
+            let Some(unit) = Reading::AsGiven.attitude(q) else {
+                continue;
+            };
+            for reading in READINGS {
+                let q = reading.of_unit(&unit);
+                let full: [f64; 3] = rotate(&q, &Vector3::y()).into();
+                // == equates the zeros of either sign, and nothing else
+                assert_eq!(thrust_axis_nue(&q), full, "{q:?}");
+            }
         }
     }
 }

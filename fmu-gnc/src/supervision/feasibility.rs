@@ -74,6 +74,23 @@ pub struct Limits {
     pub thrust_range_n: (f64, f64),
     pub torque_limit_body_nm: [f64; 3],
     pub time_s: f64,
+    /// How close to each limit counts as at it ([`AT_LIMIT`] of the limit, at least of 1),
+    /// derived once.
+    thrust_closeness_n: (f64, f64),
+    torque_closeness_body_nm: [f64; 3],
+}
+
+impl Limits {
+    pub fn new(thrust_range_n: (f64, f64), torque_limit_body_nm: [f64; 3], time_s: f64) -> Self {
+        let closeness = |limit: f64| AT_LIMIT * limit.abs().max(1.0);
+        Limits {
+            thrust_range_n,
+            torque_limit_body_nm,
+            time_s,
+            thrust_closeness_n: (closeness(thrust_range_n.0), closeness(thrust_range_n.1)),
+            torque_closeness_body_nm: torque_limit_body_nm.map(closeness),
+        }
+    }
 }
 
 /// A command pinned at a limit longer than allowed.
@@ -87,8 +104,8 @@ pub enum Pinned {
 const AT_LIMIT: f64 = 1e-9;
 
 impl SaturationClock {
-    /// Counts the command `thrust_cmd_n`, `torque_cmd_body_nm` shown at `t_s`; the commands
-    /// pinned for longer than `limits.time_s`.
+    /// Counts the command `thrust_cmd_n`, `torque_cmd_body_nm` shown at `t_s`; `found` is
+    /// given each command pinned for longer than `limits.time_s`.
     pub fn observe(
         &mut self,
         t_s: f64,
@@ -96,37 +113,38 @@ impl SaturationClock {
         torque_cmd_body_nm: [f64; 3],
         limits: &Limits,
         ground_contact_possible: bool,
-    ) -> Vec<Pinned> {
+        found: &mut impl FnMut(Pinned),
+    ) {
         // On the ground the gear holds the vehicle against its commands.
         if ground_contact_possible {
             *self = SaturationClock::default();
-            return Vec::new();
+            return;
         }
         let (thrust_min_n, thrust_max_n) = limits.thrust_range_n;
         let (torque_limit_body_nm, limit_s) = (limits.torque_limit_body_nm, limits.time_s);
-        let at = |value: f64, limit: f64| (value - limit).abs() <= AT_LIMIT * limit.abs().max(1.0);
+        let at = |value: f64, limit: f64, closeness: f64| (value - limit).abs() <= closeness;
+        let at_max = |thrust_n| at(thrust_n, thrust_max_n, limits.thrust_closeness_n.1);
         // An engine switched off is a choice of guidance, not a saturation.
         let thrust_pinned = thrust_cmd_n > 1.0
-            && (at(thrust_cmd_n, thrust_max_n) || at(thrust_cmd_n, thrust_min_n));
+            && (at_max(thrust_cmd_n)
+                || at(thrust_cmd_n, thrust_min_n, limits.thrust_closeness_n.0));
         let torque_axis = (0..3).find(|&k| {
             torque_limit_body_nm[k] > 0.0
-                && at(torque_cmd_body_nm[k].abs(), torque_limit_body_nm[k])
+                && at(
+                    torque_cmd_body_nm[k].abs(),
+                    torque_limit_body_nm[k],
+                    limits.torque_closeness_body_nm[k],
+                )
         });
-        let mut found = Vec::new();
         self.thrust_since_s = if thrust_pinned {
             let since = self.thrust_since_s.unwrap_or(t_s);
             if t_s - since > limit_s {
-                let which = if at(thrust_cmd_n, thrust_max_n) {
+                let which = if at_max(thrust_cmd_n) {
                     "thrust_max"
                 } else {
                     "thrust_min"
                 };
-                found.push(Pinned::Thrust(format!(
-                    "thrust_cmd has been at {which} = {thrust_cmd_n} N since t = {since} s \
-                     (longer than saturation_time = {limit_s} s): guidance asks for more than \
-                     the throttle range gives; check thrust_min, thrust_max, gravity and the \
-                     mass against the plant's"
-                )));
+                found(thrust_pinned_finding(which, thrust_cmd_n, since, limit_s));
             }
             Some(since)
         } else {
@@ -136,22 +154,45 @@ impl SaturationClock {
             Some(k) => {
                 let since = self.torque_since_s.unwrap_or(t_s);
                 if t_s - since > limit_s {
-                    found.push(Pinned::Torque(format!(
-                        "torque_cmd_body has been at a torque limit (body {} at {} N m) since \
-                         t = {since} s (longer than saturation_time = {limit_s} s): the \
-                         attitude loop cannot reach its reference; check inertia_body, \
-                         torque_limit_body and control_bandwidth against the plant's, and the \
-                         attitude and rate conventions",
-                        ["x", "y", "z"][k],
-                        torque_cmd_body_nm[k]
-                    )));
+                    found(torque_pinned_finding(
+                        k,
+                        torque_cmd_body_nm[k],
+                        since,
+                        limit_s,
+                    ));
                 }
                 Some(since)
             }
             None => None,
         };
-        found
     }
+}
+
+// The findings' words, out of line: the count above runs at every sample.
+
+#[cold]
+#[inline(never)]
+fn thrust_pinned_finding(which: &str, thrust_cmd_n: f64, since: f64, limit_s: f64) -> Pinned {
+    Pinned::Thrust(format!(
+        "thrust_cmd has been at {which} = {thrust_cmd_n} N since t = {since} s \
+         (longer than saturation_time = {limit_s} s): guidance asks for more than \
+         the throttle range gives; check thrust_min, thrust_max, gravity and the \
+         mass against the plant's"
+    ))
+}
+
+#[cold]
+#[inline(never)]
+fn torque_pinned_finding(axis: usize, torque_cmd_nm: f64, since: f64, limit_s: f64) -> Pinned {
+    Pinned::Torque(format!(
+        "torque_cmd_body has been at a torque limit (body {} at {} N m) since \
+         t = {since} s (longer than saturation_time = {limit_s} s): the \
+         attitude loop cannot reach its reference; check inertia_body, \
+         torque_limit_body and control_bandwidth against the plant's, and the \
+         attitude and rate conventions",
+        ["x", "y", "z"][axis],
+        torque_cmd_nm
+    ))
 }
 
 #[cfg(test)]
@@ -185,17 +226,15 @@ mod tests {
     #[test]
     fn a_command_pinned_past_the_allowed_time_is_found_and_a_break_restarts_the_clock() {
         let mut clock = SaturationClock::default();
-        let limits = Limits {
-            thrust_range_n: (720.0, 1600.0),
-            torque_limit_body_nm: [116.0; 3],
-            time_s: 4.0,
-        };
+        let limits = Limits::new((720.0, 1600.0), [116.0; 3], 4.0);
         let mut found = Vec::new();
         for k in 0..700 {
             let t = f64::from(k) * 0.01;
             // a break at 2 s
             let thrust = if k == 200 { 1500.0 } else { 1600.0 };
-            found.extend(clock.observe(t, thrust, [0.0, -116.0, 0.0], &limits, false));
+            clock.observe(t, thrust, [0.0, -116.0, 0.0], &limits, false, &mut |p| {
+                found.push(p)
+            });
         }
         assert!(found
             .iter()
@@ -210,15 +249,17 @@ mod tests {
         let mut clock = SaturationClock::default();
         for k in 0..700 {
             let t = f64::from(k) * 0.01;
-            assert!(clock
-                .observe(t, 1600.0, [116.0; 3], &limits, true)
-                .is_empty());
+            clock.observe(t, 1600.0, [116.0; 3], &limits, true, &mut |p| {
+                panic!("{p:?} on the ground")
+            });
         }
         // an engine switched off is no saturation
         let mut clock = SaturationClock::default();
         for k in 0..700 {
             let t = f64::from(k) * 0.01;
-            assert!(clock.observe(t, 0.0, [0.0; 3], &limits, false).is_empty());
+            clock.observe(t, 0.0, [0.0; 3], &limits, false, &mut |p| {
+                panic!("{p:?} with the engine off")
+            });
         }
     }
 }

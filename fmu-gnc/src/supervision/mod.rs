@@ -7,7 +7,7 @@ pub mod consistency;
 pub mod feasibility;
 
 use consistency::{ConsistencyMonitor, MonitorSettings, Observation, Residuals};
-use feasibility::{Pinned, SaturationClock};
+use feasibility::{Limits, Pinned, SaturationClock};
 use serde::{Deserialize, Serialize};
 
 /// Bits of the status output beyond the consistency checks' ([`consistency::ATTITUDE_BIT`]
@@ -24,9 +24,8 @@ pub struct SupervisionSettings {
     pub monitor: MonitorSettings,
     /// The input consistency monitor is on.
     pub monitor_enabled: bool,
-    pub thrust_range_n: (f64, f64),
-    pub torque_limit_body_nm: [f64; 3],
-    pub saturation_time_s: f64,
+    /// The commands' ranges and how long one may sit at a limit.
+    pub limits: Limits,
 }
 
 /// The supervision's memory over a run.
@@ -53,67 +52,69 @@ impl Supervisor {
 
     /// A finding of the parameters alone, reported once (at the end of initialization).
     pub fn parameters(&mut self, bandwidth_finding: Option<String>) -> Vec<String> {
-        self.report(BANDWIDTH_BIT, bandwidth_finding)
-    }
-
-    fn report(&mut self, bit: i32, finding: Option<String>) -> Vec<String> {
-        match finding {
-            Some(message) if self.reported & bit == 0 => {
-                self.reported |= bit;
-                vec![message]
-            }
+        match bandwidth_finding {
+            Some(message) if first(&mut self.reported, BANDWIDTH_BIT) => vec![message],
             _ => Vec::new(),
         }
     }
 
     /// One committed sample: `o` the inputs with the command shown for them, `tilt_error_rad`
-    /// the tilt error shown; the messages of the findings it raised.
+    /// the tilt error shown; `report` is given the message of each finding it raised.
     pub fn observe(
         &mut self,
         settings: &SupervisionSettings,
-        o: Observation,
+        o: &Observation,
         tilt_error_rad: f64,
-    ) -> Vec<String> {
-        let mut messages = Vec::new();
+        report: &mut impl FnMut(String),
+    ) {
         if !self.weight_checked && o.mass_kg > 0.0 && o.mass_kg.is_finite() {
             self.weight_checked = true;
             let finding = feasibility::cannot_hover(
                 o.mass_kg,
                 settings.monitor.gravity_mps2,
-                settings.thrust_range_n.1,
+                settings.limits.thrust_range_n.1,
             );
-            messages.extend(self.report(CANNOT_HOVER_BIT, finding));
+            if let Some(message) = finding {
+                if first(&mut self.reported, CANNOT_HOVER_BIT) {
+                    report(message);
+                }
+            }
         }
-        let limits = feasibility::Limits {
-            thrust_range_n: settings.thrust_range_n,
-            torque_limit_body_nm: settings.torque_limit_body_nm,
-            time_s: settings.saturation_time_s,
-        };
-        for pinned in self.saturation.observe(
+        let reported = &mut self.reported;
+        self.saturation.observe(
             o.t_s,
             o.thrust_cmd_n,
             o.torque_cmd_body_nm,
-            &limits,
+            &settings.limits,
             o.ground_contact_possible,
-        ) {
-            let (bit, message) = match pinned {
-                Pinned::Thrust(m) => (THRUST_PINNED_BIT, m),
-                Pinned::Torque(m) => (TORQUE_PINNED_BIT, m),
-            };
-            messages.extend(self.report(bit, Some(message)));
-        }
-        let tilt = (tilt_error_rad > feasibility::MAX_TILT_ERROR_RAD).then(|| {
-            format!(
+            &mut |pinned| {
+                let (bit, message) = match pinned {
+                    Pinned::Thrust(m) => (THRUST_PINNED_BIT, m),
+                    Pinned::Torque(m) => (TORQUE_PINNED_BIT, m),
+                };
+                if first(reported, bit) {
+                    report(message);
+                }
+            },
+        );
+        if tilt_error_rad > feasibility::MAX_TILT_ERROR_RAD && first(&mut self.reported, TILT_BIT) {
+            report(format!(
                 "the tilt error is {:.1} deg, beyond 90 deg: the thrust pushes away from where \
                  guidance wants it; if the vehicle is upright, check the quaternion convention \
                  (scalar first, body to NUE) and the thrust axis (body +y)",
                 tilt_error_rad.to_degrees()
-            )
-        });
-        messages.extend(self.report(TILT_BIT, tilt));
-        if settings.monitor_enabled {
-            messages.extend(self.consistency.observe(&settings.monitor, o));
+            ));
         }
-        messages
+        if settings.monitor_enabled {
+            self.consistency.observe(&settings.monitor, o, report);
+        }
     }
+}
+
+/// Marks the finding of `bit` reported; whether it is its first time (each finding is
+/// reported once a run).
+fn first(reported: &mut i32, bit: i32) -> bool {
+    let first = *reported & bit == 0;
+    *reported |= bit;
+    first
 }
