@@ -10,7 +10,10 @@ use fmi_abi::unpack::Unpacked;
 use fmi_testkit::{Fmi2Functions, Instance};
 use fmu_gnc::actuation::PwpfBank;
 use fmu_gnc::attitude::profile::PhiProfile;
-use fmu_gnc::controller::{actuate, gnc_advance, gnc_outputs, GncOutputs, NavigationInputs};
+use fmu_gnc::attitude::GuidanceReference;
+use fmu_gnc::controller::{
+    actuate, gnc_advance, gnc_outputs_keeping_reference, GncOutputs, NavigationInputs,
+};
 use fmu_gnc::guidance::sequencer::GuidanceState;
 use fmu_gnc::params::{GncDesign, GncParameters};
 use fmu_plant::physics::continuous::unit_attitude;
@@ -240,6 +243,8 @@ pub struct PlainPair {
     profile: PhiProfile,
     pwpf: PwpfBank,
     outputs: GncOutputs,
+    /// The reference attitude of the guidance command, kept as the FMU keeps it.
+    reference: Option<GuidanceReference>,
     plant: Plant,
     run: PlantRun,
 }
@@ -256,6 +261,7 @@ impl PlainPair {
             profile: PhiProfile::default(),
             pwpf: PwpfBank::default(),
             outputs: GncOutputs::default(),
+            reference: None,
             design,
             plant,
             run,
@@ -324,7 +330,14 @@ fn plain(p: &mut PlainPair, steps: usize) -> [f64; 14] {
         let nav = p.navigation();
         // `gnc_sample` in its two parts, the outputs kept in place as the FMU keeps them.
         let advance = gnc_advance(&p.design, 0.0, &p.guidance, &p.profile, &nav, t);
-        gnc_outputs(&p.design, &advance, &p.guidance, &nav, &mut p.outputs);
+        gnc_outputs_keeping_reference(
+            &p.design,
+            &advance,
+            &p.guidance,
+            &nav,
+            &mut p.outputs,
+            &mut p.reference,
+        );
         p.pwpf = actuate(&p.design, &mut p.outputs, &p.pwpf);
         p.guidance = advance.guidance;
         p.profile = advance.profile;
