@@ -64,10 +64,10 @@ impl LanderPlant {
     /// have set them since the last step or event (`physics::faults`). Refuses a stuck
     /// thruster the RCS model has none of.
     fn apply_faults(&mut self) -> Result<(), ModelError> {
-        let Some((plant, _)) = self.running.as_mut() else {
+        self.sync_engine_health();
+        let Some((plant, _)) = self.running.as_ref() else {
             return Ok(());
         };
-        plant.engines.health = self.parameters.engines.health;
         match (self.parameters.rcs_stuck.fault(), &plant.thrusters) {
             (Some((k, _)), None) => Err(ModelError::Refused(format!(
                 "rcs_stuck_thruster = {}: the torque model (rcs_model = 1) has no thrusters \
@@ -78,13 +78,24 @@ impl LanderPlant {
         }
     }
 
+    /// The engine health parameter, which is tunable, into the running plant (the part of
+    /// [`LanderPlant::apply_faults`] that cannot refuse).
+    #[inline]
+    fn sync_engine_health(&mut self) {
+        if let Some((plant, _)) = self.running.as_mut() {
+            plant.engines.health = self.parameters.engines.health;
+        }
+    }
+
     /// The RCS duties the valves act on: the commanded ones with a stuck thruster's forced.
     fn valve_duty(&self) -> [f64; THRUSTER_COUNT] {
         self.parameters.rcs_stuck.duty(&self.rcs_duty)
     }
 
     fn refresh_outputs(&mut self) {
-        let _ = self.apply_faults();
+        // The outputs show the engine health set since the last step; a stuck thruster the
+        // RCS model lacks is refused by the next step, not here.
+        self.sync_engine_health();
         let p = &self.parameters;
         let provisional;
         let (plant, run) = match &self.running {
@@ -233,6 +244,7 @@ const RESTORED_QUATERNION_NORM_TOLERANCE: f64 = 0.1;
 const RESTORED_MASS_BELOW_DRY_RELATIVE: f64 = 1e-3;
 
 /// Whether |omega|^2 x the largest inertia, a bound of |omega x (I omega)|, is finite.
+#[inline(always)]
 fn gyroscopic_torque_representable(omega_body: &Body, plant: &Plant) -> bool {
     (omega_body.0.norm_squared() * plant.inertia_body_kgm2.max()).is_finite()
 }

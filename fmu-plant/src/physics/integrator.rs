@@ -11,6 +11,7 @@ pub trait OdeState: Sized {
 }
 
 impl<const N: usize> OdeState for SVector<f64, N> {
+    #[inline]
     fn add_scaled(&self, h: f64, derivative: &Self) -> Self {
         self + derivative * h
     }
@@ -75,6 +76,7 @@ pub struct SubSteps {
 }
 
 impl SubSteps {
+    #[inline]
     pub fn new(h: f64, h_sub: f64) -> Self {
         // The common case (the communication step is one sub-step, up to the rounding of a
         // master's `(t + h) - t`): what the general rule below gives for it, without its
@@ -107,6 +109,7 @@ impl SubSteps {
     }
 
     /// Start time offset (from the communication-step start) and size of sub-step `k`.
+    #[inline]
     pub fn get(&self, k: usize) -> (f64, f64) {
         let offset = k as f64 * self.size;
         if k + 1 == self.count {
