@@ -13,12 +13,12 @@ pub fn pack(r_nue: &Nue, v_nue: &Nue) -> Vector6<f64> {
 
 #[inline]
 pub fn position_nue(x: &Vector6<f64>) -> Nue {
-    Nue(x.fixed_rows::<3>(0).into())
+    Nue::new(x[0], x[1], x[2])
 }
 
 #[inline]
 pub fn velocity_nue(x: &Vector6<f64>) -> Nue {
-    Nue(x.fixed_rows::<3>(3).into())
+    Nue::new(x[3], x[4], x[5])
 }
 
 /// Altitude above the flat surface in m.
