@@ -150,6 +150,23 @@ impl PlantRun {
         (self.mean_span_s > 0.0).then(|| self.omega_integral_body / self.mean_span_s)
     }
 
+    /// Takes the state `x` and the pendulums `pendulums` (`None`: unchanged, without slosh)
+    /// reached over `span_s`, with the integrals of the means over it.
+    #[inline]
+    fn accept(
+        &mut self,
+        x: PlantState,
+        pendulums: Option<SloshState>,
+        integrals: &Vector6<f64>,
+        span_s: f64,
+    ) {
+        self.state = x;
+        if let Some(pendulums) = pendulums {
+            self.slosh = pendulums;
+        }
+        self.accumulate_means(integrals, span_s);
+    }
+
     /// Adds a sub-step's integrals (specific force, then body rate) over `span_s`.
     #[inline]
     fn accumulate_means(&mut self, integrals: &Vector6<f64>, span_s: f64) {
@@ -784,7 +801,7 @@ impl Plant {
     }
 
     /// [`Plant::rk4`] of the plant with its slosh pendulums: without slosh exactly `rk4`
-    /// (the pendulums untouched). The third element is the integral over the step of the
+    /// (the pendulums untouched: `None`, nothing to copy back). The third element is the integral over the step of the
     /// specific force (body axes, m/s; with slosh the rigid part's, solved with the
     /// pendulums), then of the body rate (rad).
     #[allow(clippy::too_many_arguments)]
@@ -797,10 +814,10 @@ impl Plant {
         exhausted: bool,
         t: f64,
         h: f64,
-    ) -> (PlantState, SloshState, Vector6<f64>) {
+    ) -> (PlantState, Option<SloshState>, Vector6<f64>) {
         let Some(slosh) = &self.slosh else {
             let (y, integral) = self.rk4(x, commands, firing, exhausted, t, h);
-            return (y, *pendulums, integral);
+            return (y, None, integral);
         };
         let targets = self.targets_at(commands, exhausted, x);
         let (y, integral) = rk4_step_with_quadrature(
@@ -812,7 +829,7 @@ impl Plant {
             },
             h,
         );
-        (y.plant.renormalised(), y.slosh.renormalised(), integral)
+        (y.plant.renormalised(), Some(y.slosh.renormalised()), integral)
     }
 
     /// The derivative of the plant with its slosh pendulums, body and pendulums solved
@@ -1207,9 +1224,7 @@ impl Plant {
             // Nearly every piece: no event can end it, and it is accepted whole without the
             // event search's set-up.
             if !self.may_end_at_event(run, &x1) {
-                run.state = x1;
-                run.slosh = s1;
-                run.accumulate_means(&q1, h);
+                run.accept(x1, s1, &q1, h);
                 return None;
             }
             match self.piece_with_events(run, commands, firing, off, t, h, end, (x1, s1, q1)) {
@@ -1250,7 +1265,7 @@ impl Plant {
         t: f64,
         h: f64,
         end: f64,
-        step: (PlantState, SloshState, Vector6<f64>),
+        step: (PlantState, Option<SloshState>, Vector6<f64>),
     ) -> PieceEnd {
         let (x1, s1, q1) = step;
         let exhausted = run.propellant_exhausted;
@@ -1313,9 +1328,7 @@ impl Plant {
             }
         }
         let Some((tau, event)) = first else {
-            run.state = x1;
-            run.slosh = s1;
-            run.accumulate_means(&q1, h);
+            run.accept(x1, s1, &q1, h);
             return PieceEnd::Whole;
         };
         let (x, s, q) = if tau >= h {
@@ -1323,8 +1336,7 @@ impl Plant {
         } else {
             self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, tau)
         };
-        (run.state, run.slosh) = (x, s);
-        run.accumulate_means(&q, tau.min(h));
+        run.accept(x, s, &q, tau.min(h));
         let t = if tau >= h { end } else { t + tau };
         match event {
             Event::Exhaustion => self.exhaust(run),
