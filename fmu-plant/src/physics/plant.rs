@@ -829,7 +829,11 @@ impl Plant {
             },
             h,
         );
-        (y.plant.renormalised(), Some(y.slosh.renormalised()), integral)
+        (
+            y.plant.renormalised(),
+            Some(y.slosh.renormalised()),
+            integral,
+        )
     }
 
     /// The derivative of the plant with its slosh pendulums, body and pendulums solved
