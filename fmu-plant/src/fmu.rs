@@ -36,6 +36,22 @@ struct Outputs {
     propellant_used: f64,
 }
 
+impl Outputs {
+    /// The outputs of `run`, written in place (the master reads them after every step).
+    #[inline(always)]
+    fn show(&mut self, plant: &Plant, run: &PlantRun, m0_kg: f64) {
+        let x = &run.state;
+        let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
+        self.r_nue = r_nue.to_array();
+        self.v_nue = v_nue.to_array();
+        self.q_body_to_nue = quaternion_to_scalar_first(&unit_attitude(&x.q_body_to_nue));
+        self.omega_body = x.omega_body.to_array();
+        self.mass = x.mass_kg;
+        self.altitude = plant.altitude(x);
+        self.propellant_used = m0_kg - x.mass_kg;
+    }
+}
+
 /// The LanderPlant FMU instance. Everything lives here: no global state.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct LanderPlant {
@@ -64,10 +80,10 @@ impl LanderPlant {
     /// have set them since the last step or event (`physics::faults`). Refuses a stuck
     /// thruster the RCS model has none of.
     fn apply_faults(&mut self) -> Result<(), ModelError> {
-        let Some((plant, _)) = self.running.as_mut() else {
+        self.sync_engine_health();
+        let Some((plant, _)) = self.running.as_ref() else {
             return Ok(());
         };
-        plant.engines.health = self.parameters.engines.health;
         match (self.parameters.rcs_stuck.fault(), &plant.thrusters) {
             (Some((k, _)), None) => Err(ModelError::Refused(format!(
                 "rcs_stuck_thruster = {}: the torque model (rcs_model = 1) has no thrusters \
@@ -78,51 +94,46 @@ impl LanderPlant {
         }
     }
 
+    /// The engine health parameter, which is tunable, into the running plant (the part of
+    /// [`LanderPlant::apply_faults`] that cannot refuse).
+    #[inline]
+    fn sync_engine_health(&mut self) {
+        if let Some((plant, _)) = self.running.as_mut() {
+            plant.engines.health = self.parameters.engines.health;
+        }
+    }
+
     /// The RCS duties the valves act on: the commanded ones with a stuck thruster's forced.
     fn valve_duty(&self) -> [f64; THRUSTER_COUNT] {
         self.parameters.rcs_stuck.duty(&self.rcs_duty)
     }
 
     fn refresh_outputs(&mut self) {
-        let _ = self.apply_faults();
-        let p = &self.parameters;
-        let provisional;
-        let (plant, run) = match &self.running {
-            Some((plant, run)) => (plant, run),
-            // Initialization mode: show the initial state the parameters give, when they
-            // are valid; otherwise the raw parameter values (validation reports the error).
-            None => match Plant::new(p) {
-                Ok((plant, run, _)) => {
-                    provisional = (plant, run);
-                    (&provisional.0, &provisional.1)
-                }
-                Err(_) => {
-                    self.outputs = Outputs {
-                        r_nue: p.r0_nue_m.into(),
-                        v_nue: p.v0_nue_mps.into(),
-                        q_body_to_nue: p.q0_body_to_nue,
-                        omega_body: p.omega0_body_radps.into(),
-                        mass: p.m0_kg,
-                        altitude: p.r0_nue_m.y,
-                        ..Outputs::default()
-                    };
-                    self.delivered.take();
-                    return;
-                }
-            },
-        };
-        let x = &run.state;
-        let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
+        // The outputs show the engine health set since the last step; a stuck thruster the
+        // RCS model lacks is refused by the next step, not here.
+        self.sync_engine_health();
         self.delivered = OnceCell::new();
-        self.outputs = Outputs {
-            r_nue: r_nue.to_array(),
-            v_nue: v_nue.to_array(),
-            q_body_to_nue: quaternion_to_scalar_first(&unit_attitude(&x.q_body_to_nue)),
-            omega_body: x.omega_body.to_array(),
-            mass: x.mass_kg,
-            altitude: plant.altitude(x),
-            propellant_used: p.m0_kg - x.mass_kg,
-        };
+        if let Some((plant, run)) = &self.running {
+            self.outputs.show(plant, run, self.parameters.m0_kg);
+            return;
+        }
+        // Initialization mode: show the initial state the parameters give, when they are
+        // valid; otherwise the raw parameter values (validation reports the error).
+        let p = &self.parameters;
+        match Plant::new(p) {
+            Ok((plant, run, _)) => self.outputs.show(&plant, &run, p.m0_kg),
+            Err(_) => {
+                self.outputs = Outputs {
+                    r_nue: p.r0_nue_m.into(),
+                    v_nue: p.v0_nue_mps.into(),
+                    q_body_to_nue: p.q0_body_to_nue,
+                    omega_body: p.omega0_body_radps.into(),
+                    mass: p.m0_kg,
+                    altitude: p.r0_nue_m.y,
+                    ..Outputs::default()
+                };
+            }
+        }
     }
 
     /// What the actuators deliver at the state the outputs show (see `delivered`); zero
@@ -233,6 +244,7 @@ const RESTORED_QUATERNION_NORM_TOLERANCE: f64 = 0.1;
 const RESTORED_MASS_BELOW_DRY_RELATIVE: f64 = 1e-3;
 
 /// Whether |omega|^2 x the largest inertia, a bound of |omega x (I omega)|, is finite.
+#[inline(always)]
 fn gyroscopic_torque_representable(omega_body: &Body, plant: &Plant) -> bool {
     (omega_body.0.norm_squared() * plant.inertia_body_kgm2.max()).is_finite()
 }

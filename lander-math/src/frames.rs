@@ -22,28 +22,34 @@ pub struct Body(pub Vector3<f64>);
 macro_rules! frame_vector {
     ($frame:ident) => {
         impl $frame {
+            #[inline]
             pub fn new(x: f64, y: f64, z: f64) -> Self {
                 Self(Vector3::new(x, y, z))
             }
 
+            #[inline]
             pub fn zeros() -> Self {
                 Self(Vector3::zeros())
             }
 
+            #[inline]
             pub fn dot(&self, other: &Self) -> f64 {
                 self.0.dot(&other.0)
             }
 
+            #[inline]
             pub fn norm(&self) -> f64 {
                 self.0.norm()
             }
 
+            #[inline]
             pub fn to_array(self) -> [f64; 3] {
                 self.0.into()
             }
         }
 
         impl From<[f64; 3]> for $frame {
+            #[inline]
             fn from(components: [f64; 3]) -> Self {
                 Self(Vector3::from(components))
             }
@@ -51,6 +57,7 @@ macro_rules! frame_vector {
 
         impl std::ops::Add for $frame {
             type Output = Self;
+            #[inline]
             fn add(self, other: Self) -> Self {
                 Self(self.0 + other.0)
             }
@@ -58,6 +65,7 @@ macro_rules! frame_vector {
 
         impl std::ops::Sub for $frame {
             type Output = Self;
+            #[inline]
             fn sub(self, other: Self) -> Self {
                 Self(self.0 - other.0)
             }
@@ -65,6 +73,7 @@ macro_rules! frame_vector {
 
         impl std::ops::Neg for $frame {
             type Output = Self;
+            #[inline]
             fn neg(self) -> Self {
                 Self(-self.0)
             }
@@ -73,6 +82,7 @@ macro_rules! frame_vector {
         /// A scale keeps the frame: `v * k`, the vector on the left as nalgebra has it.
         impl std::ops::Mul<f64> for $frame {
             type Output = Self;
+            #[inline]
             fn mul(self, k: f64) -> Self {
                 Self(self.0 * k)
             }
@@ -90,20 +100,24 @@ pub struct BodyToNue(Matrix3<f64>);
 
 impl BodyToNue {
     /// The rotation of the unit quaternion `q_body_to_nue` (scalar first).
+    #[inline]
     pub fn of(q_body_to_nue: &Quaternion) -> Self {
         Self(matrix(q_body_to_nue))
     }
 
     /// `R`, for a caller that forms products with it (covariances, Jacobians).
+    #[inline]
     pub fn matrix(&self) -> &Matrix3<f64> {
         &self.0
     }
 
+    #[inline]
     pub fn to_nue(&self, v: &Body) -> Nue {
         Nue(self.0 * v.0)
     }
 
     /// `R^T v`.
+    #[inline]
     pub fn to_body(&self, v: &Nue) -> Body {
         Body(self.0.transpose() * v.0)
     }

@@ -12,16 +12,19 @@ use nalgebra::{Matrix3, Vector3};
 pub type Quaternion = [f64; 4];
 
 /// A scalar-first array as a nalgebra quaternion, not normalised.
+#[inline]
 pub fn to_nalgebra(q: &Quaternion) -> nalgebra::Quaternion<f64> {
     nalgebra::Quaternion::new(q[0], q[1], q[2], q[3])
 }
 
 /// A nalgebra quaternion as a scalar-first array.
+#[inline]
 pub fn from_nalgebra(q: &nalgebra::Quaternion<f64>) -> Quaternion {
     [q.w, q.i, q.j, q.k]
 }
 
 /// The direction cosine matrix of the unit `q`: `v_nue = R v_body`.
+#[inline]
 pub fn matrix(q: &Quaternion) -> Matrix3<f64> {
     let [w, x, y, z] = *q;
     Matrix3::new(
@@ -38,6 +41,7 @@ pub fn matrix(q: &Quaternion) -> Matrix3<f64> {
 }
 
 /// The Hamilton product `a b`.
+#[inline]
 pub fn mul(a: &Quaternion, b: &Quaternion) -> Quaternion {
     [
         a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
@@ -48,6 +52,7 @@ pub fn mul(a: &Quaternion, b: &Quaternion) -> Quaternion {
 }
 
 /// The unit quaternion of the rotation vector `phi` (angle `|phi|` about `phi / |phi|`).
+#[inline]
 pub fn exp(phi: &Vector3<f64>) -> Quaternion {
     let angle = phi.norm();
     // Below 1e-8 rad, sin(a/2)/a = 1/2 - a^2/48 is 1/2 to the last bit.
@@ -65,16 +70,19 @@ pub fn exp(phi: &Vector3<f64>) -> Quaternion {
     ]
 }
 
+#[inline]
 pub fn norm(q: &Quaternion) -> f64 {
     libm::sqrt(q.iter().map(|x| x * x).sum::<f64>())
 }
 
+#[inline]
 pub fn normalized(q: &Quaternion) -> Quaternion {
     let n = norm(q);
     q.map(|x| x / n)
 }
 
 /// `[v]x`: `skew(v) u = v x u`.
+#[inline]
 pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0)
 }
@@ -82,6 +90,7 @@ pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
 /// `v` divided by its length, for a finite `v` of non-zero length. A vector whose squared
 /// length overflows (a component above about 1e154) is scaled by its largest component
 /// first, so that its direction is kept rather than divided by infinity to zero.
+#[inline]
 pub fn unit(v: &Vector3<f64>) -> Vector3<f64> {
     let n = v.norm();
     if n.is_finite() {
@@ -93,6 +102,7 @@ pub fn unit(v: &Vector3<f64>) -> Vector3<f64> {
 
 /// As [`unit`] for any `v`: `None` for a vector too short to have a direction (norm at or
 /// below 1e-9) or not finite.
+#[inline]
 pub fn direction(v: &[f64; 3]) -> Option<Vector3<f64>> {
     let v = Vector3::from(*v);
     if !v.iter().all(|x| x.is_finite()) {

@@ -27,6 +27,7 @@ pub struct Engines {
 impl Engines {
     /// Total thrust the engines deliver in steady state for a command, in N: the command
     /// within the throttle range, times the thrust level.
+    #[inline]
     pub fn saturate(&self, thrust_cmd_n: f64) -> f64 {
         if thrust_cmd_n <= self.off_threshold_n {
             return 0.0;
@@ -53,6 +54,7 @@ pub struct Rcs {
 
 impl Rcs {
     /// Per-axis torque limit: one couple of two thrusters at the moment arm, in N m.
+    #[inline]
     pub fn torque_limit_nm(&self) -> f64 {
         2.0 * self.thruster_force_n * self.moment_arm_m
     }
@@ -85,6 +87,7 @@ impl ThrustLine {
     }
 
     /// Engine torque about the centre of mass for a thrust magnitude, body axes, N m.
+    #[inline]
     pub fn torque_body_nm(&self, direction_body: &Vector3<f64>, thrust_n: f64) -> Vector3<f64> {
         self.point_body_m.cross(&(direction_body * thrust_n))
     }
@@ -92,6 +95,7 @@ impl ThrustLine {
 
 /// Time derivative of a first-order lag `x' = (target - x) / tau`; 0 when there is no lag
 /// (`tau == 0`: the output is then the target itself, see `lagged_or_direct`).
+#[inline]
 pub fn lag_rate(target: f64, current: f64, time_constant_s: f64) -> f64 {
     if time_constant_s > 0.0 {
         (target - current) / time_constant_s
@@ -101,6 +105,7 @@ pub fn lag_rate(target: f64, current: f64, time_constant_s: f64) -> f64 {
 }
 
 /// The delivered value: the lag state, or the target when the lag is disabled.
+#[inline]
 pub fn lagged_or_direct(target: f64, lag_state: f64, time_constant_s: f64) -> f64 {
     if time_constant_s > 0.0 {
         lag_state

@@ -31,6 +31,7 @@ pub const MAX_ITERATIONS: usize = 4096;
 /// The finest time resolution that makes sense at simulation time `t_s` (see the module
 /// documentation). An infinite `t_s` gives an infinite tolerance, which ends any loop
 /// comparing against it at once; a NaN `t_s` gives the absolute tolerance.
+#[inline]
 pub fn crossing_tolerance_s(t_s: f64) -> f64 {
     CROSSING_TIME_TOLERANCE_S.max(CROSSING_TIME_RELATIVE_TOLERANCE * t_s.abs())
 }

@@ -30,6 +30,7 @@ pub use lander_math::quaternion::from_nalgebra as quaternion_to_scalar_first;
 
 /// Rotates a body vector into NUE with the attitude `q_body_to_nue` (unit or not: the
 /// rotation of the normalised quaternion is used).
+#[inline]
 pub fn body_to_nue(q_body_to_nue: &Quaternion<f64>, v_body: &Body) -> Nue {
     Nue(UnitQuaternion::from_quaternion(*q_body_to_nue) * v_body.0)
 }

@@ -23,6 +23,7 @@ pub enum Translation {
 }
 
 impl Translation {
+    #[inline]
     pub fn from_nue(&self, r_nue: &Nue, v_nue: &Nue) -> Vector6<f64> {
         match self {
             Self::Flat { .. } => translation_flat::pack(r_nue, v_nue),
@@ -31,6 +32,7 @@ impl Translation {
     }
 
     /// Position (m) and Moon-relative velocity (m/s) in site NUE.
+    #[inline]
     pub fn to_nue(&self, x: &Vector6<f64>) -> (Nue, Nue) {
         match self {
             Self::Flat { .. } => (
@@ -42,6 +44,7 @@ impl Translation {
     }
 
     /// Height above the surface (the plane, or the sphere), m.
+    #[inline]
     pub fn altitude(&self, x: &Vector6<f64>) -> f64 {
         match self {
             Self::Flat { .. } => translation_flat::altitude(x),
@@ -49,6 +52,7 @@ impl Translation {
         }
     }
 
+    #[inline]
     fn derivative(&self, x: &Vector6<f64>, a_thrust_nue: &Nue) -> Vector6<f64> {
         match self {
             Self::Flat { gravity_mps2 } => {
@@ -127,6 +131,7 @@ pub struct PlantRun {
 impl PlantRun {
     /// Starts new means of the specific force and the body rate (the Co-Simulation step
     /// does, at its start).
+    #[inline]
     pub fn start_means(&mut self) {
         self.specific_force_integral_body = Vector3::zeros();
         self.omega_integral_body = Vector3::zeros();
@@ -145,7 +150,25 @@ impl PlantRun {
         (self.mean_span_s > 0.0).then(|| self.omega_integral_body / self.mean_span_s)
     }
 
+    /// Takes the state `x` and the pendulums `pendulums` (`None`: unchanged, without slosh)
+    /// reached over `span_s`, with the integrals of the means over it.
+    #[inline]
+    fn accept(
+        &mut self,
+        x: PlantState,
+        pendulums: Option<SloshState>,
+        integrals: &Vector6<f64>,
+        span_s: f64,
+    ) {
+        self.state = x;
+        if let Some(pendulums) = pendulums {
+            self.slosh = pendulums;
+        }
+        self.accumulate_means(integrals, span_s);
+    }
+
     /// Adds a sub-step's integrals (specific force, then body rate) over `span_s`.
+    #[inline]
     fn accumulate_means(&mut self, integrals: &Vector6<f64>, span_s: f64) {
         self.specific_force_integral_body += integrals.fixed_rows::<3>(0);
         self.omega_integral_body += integrals.fixed_rows::<3>(3);
@@ -155,6 +178,7 @@ impl PlantRun {
 
 /// What [`PlantRun`]'s means integrate at a state: the specific force (body axes), then the
 /// body rate.
+#[inline]
 fn mean_integrand(specific_force_body: &Vector3<f64>, omega_body: &Vector3<f64>) -> Vector6<f64> {
     Vector6::new(
         specific_force_body.x,
@@ -274,6 +298,16 @@ struct Targets {
     thrust_ramp_nps: f64,
 }
 
+/// How a piece searched for events ended.
+enum PieceEnd {
+    /// At its end, without an event.
+    Whole,
+    /// At an event at this time, applied; the sub-step goes on from there.
+    At(f64),
+    /// At the end of the run (touchdown; with the gear, the centre of mass on the terrain).
+    Stopped(f64),
+}
+
 /// Which event ended an RK4 piece.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Event {
@@ -382,6 +416,7 @@ impl Plant {
     }
 
     /// The steady-state actuator targets: each command saturated once per evaluation.
+    #[inline]
     fn targets(&self, commands: &Commands, exhausted: bool) -> Targets {
         Targets {
             thrust_n: if exhausted {
@@ -395,6 +430,7 @@ impl Plant {
     }
 
     /// Rate limit without a lag: the rate towards `target` from the delivered `thrust_n`.
+    #[inline]
     fn thrust_ramp(&self, target: f64, thrust_n: f64) -> f64 {
         let limit = self.throttle_rate_limit_nps;
         if limit > 0.0 && self.engines.time_constant_s == 0.0 {
@@ -411,6 +447,7 @@ impl Plant {
     }
 
     /// The targets for a piece starting at `x` (the ramp direction of a rate limit fixed).
+    #[inline]
     fn targets_at(&self, commands: &Commands, exhausted: bool, x: &PlantState) -> Targets {
         let mut targets = self.targets(commands, exhausted);
         targets.thrust_ramp_nps = self.thrust_ramp(targets.thrust_n, x.thrust_lag_n);
@@ -418,6 +455,7 @@ impl Plant {
     }
 
     /// Whether the actuator lag states take part in the dynamics (either time constant > 0).
+    #[inline]
     pub fn has_actuator_lags(&self) -> bool {
         self.engines.time_constant_s > 0.0
             || self.rcs.time_constant_s > 0.0
@@ -478,6 +516,7 @@ impl Plant {
 
     /// The specific force at `x` with the actuators delivering `d`, body axes, m/s^2 (see
     /// [`Delivered::specific_force_body_mps2`]); the mass as the equations of motion use it.
+    #[inline(always)]
     pub fn specific_force_body(&self, x: &PlantState, d: &Delivered) -> Vector3<f64> {
         let mass_kg = x.mass_kg.max(self.dry_mass_kg);
         let actuators = self.thrust_direction_body * d.thrust_n + d.rcs_force_body_n;
@@ -492,6 +531,7 @@ impl Plant {
     }
 
     /// The landing gear's contact forces at `x` (`None` without the gear).
+    #[inline]
     pub fn contact(&self, x: &PlantState) -> Option<super::gear::Contact> {
         self.gear.as_ref().map(|gear| {
             let (r, v) = self.translation.to_nue(&x.translation);
@@ -524,6 +564,7 @@ impl Plant {
 
     /// When the run stopped for good: touchdown without the gear, the centre of mass on the
     /// terrain with it.
+    #[inline]
     pub fn stopped_at(&self, run: &PlantRun) -> Option<f64> {
         match self.gear {
             None => run.touchdown.map(|td| td.time_s),
@@ -533,6 +574,7 @@ impl Plant {
 
     /// Gear: height of the centre of mass above the terrain along its normal; the event
     /// function of the end of the run. Without the gear the altitude.
+    #[inline]
     fn ground_indicator(&self, x: &PlantState) -> f64 {
         match &self.gear {
             None => self.altitude(x),
@@ -546,6 +588,7 @@ impl Plant {
         gear.lowest_foot_clearance(&r_nue.0, &x.q_body_to_nue)
     }
 
+    #[inline(always)]
     fn delivered_from(
         &self,
         x: &PlantState,
@@ -758,7 +801,7 @@ impl Plant {
     }
 
     /// [`Plant::rk4`] of the plant with its slosh pendulums: without slosh exactly `rk4`
-    /// (the pendulums untouched). The third element is the integral over the step of the
+    /// (the pendulums untouched: `None`, nothing to copy back). The third element is the integral over the step of the
     /// specific force (body axes, m/s; with slosh the rigid part's, solved with the
     /// pendulums), then of the body rate (rad).
     #[allow(clippy::too_many_arguments)]
@@ -771,10 +814,10 @@ impl Plant {
         exhausted: bool,
         t: f64,
         h: f64,
-    ) -> (PlantState, SloshState, Vector6<f64>) {
+    ) -> (PlantState, Option<SloshState>, Vector6<f64>) {
         let Some(slosh) = &self.slosh else {
             let (y, integral) = self.rk4(x, commands, firing, exhausted, t, h);
-            return (y, *pendulums, integral);
+            return (y, None, integral);
         };
         let targets = self.targets_at(commands, exhausted, x);
         let (y, integral) = rk4_step_with_quadrature(
@@ -786,7 +829,11 @@ impl Plant {
             },
             h,
         );
-        (y.plant.renormalised(), y.slosh.renormalised(), integral)
+        (
+            y.plant.renormalised(),
+            Some(y.slosh.renormalised()),
+            integral,
+        )
     }
 
     /// The derivative of the plant with its slosh pendulums, body and pendulums solved
@@ -903,6 +950,7 @@ impl Plant {
     /// Advances `run` from `t` to `t + h` under constant `commands`, in RK4 sub-steps of at
     /// most `integration_step_s`, stopping at a touchdown. After a touchdown it does not move.
     /// In the thruster model no thruster fires (see [`Plant::advance_with_duty`]).
+    #[inline]
     pub fn advance(&self, run: &mut PlantRun, commands: &Commands, t: f64, h: f64) -> Advance {
         if let Some(time) = self.stopped_at(run) {
             return self.stop(time);
@@ -916,6 +964,7 @@ impl Plant {
     /// [`Plant::advance_with_duty`] with the RCS valve delay, whose commands in flight
     /// `history` holds (untouched without a delay). `advance_with_duty` itself ignores the
     /// delay: it has no history to take the commands from.
+    #[inline]
     pub fn advance_with_history(
         &self,
         run: &mut PlantRun,
@@ -1029,6 +1078,7 @@ impl Plant {
         Advance::Reached
     }
 
+    #[inline]
     fn stop(&self, time: f64) -> Advance {
         Advance::Touchdown(time)
     }
@@ -1036,6 +1086,7 @@ impl Plant {
     /// [`Plant::advance`] with the RCS duties of the step: in the thruster model thruster `k`
     /// fires from `t` for `rcs_duty[k] h` (see `Thrusters::on_times_s`), and the step is
     /// integrated in pieces that end at every pulse end. The torque model ignores the duties.
+    #[inline]
     pub fn advance_with_duty(
         &self,
         run: &mut PlantRun,
@@ -1068,6 +1119,7 @@ impl Plant {
     /// From `t` over `h` s ending at `end_time` (= t + h, passed so that a whole step ends
     /// exactly at the master's time) with constant firing, in RK4 sub-steps of at most
     /// `integration_step_s`; returns the touchdown time if any.
+    #[inline]
     fn advance_span(
         &self,
         run: &mut PlantRun,
@@ -1170,105 +1222,148 @@ impl Plant {
         // is not worth an RK4 step (it would only add round-off).
         while end - t > super::events::crossing_tolerance_s(end) {
             let h = end - t;
-            let exhausted = run.propellant_exhausted;
             // Without the gear `off` is `exhausted`.
-            let off = exhausted || run.gear.engine_cut;
+            let off = run.propellant_exhausted || run.gear.engine_cut;
             let (x1, s1, q1) = self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, h);
-            let x0 = &run.state;
-            let s0 = &run.slosh;
-            let crossing = |g: &dyn Fn(&PlantState) -> f64, g0: f64, g1: f64| {
-                find_crossing(
-                    |s| g(&self.rk4_pair(x0, s0, commands, firing, off, t, s).0),
-                    g0,
-                    g1,
-                    h,
-                    t,
-                )
-            };
-            let mut first: Option<(f64, Event)> = None;
-            // The event functions are evaluated directly on both ends; only a sign change
-            // (rare) searches through the dynamically dispatched re-integration.
-            if !exhausted {
-                let (g0, g1) = (x0.mass_kg - self.dry_mass_kg, x1.mass_kg - self.dry_mass_kg);
-                if g0 > 0.0 && g1 <= 0.0 {
-                    let tau = crossing(&|x: &PlantState| x.mass_kg - self.dry_mass_kg, g0, g1);
-                    first = Some((tau, Event::Exhaustion));
-                }
-            }
-            let (g0, g1) = (self.ground_indicator(x0), self.ground_indicator(&x1));
-            if g0 > 0.0 && g1 <= 0.0 {
-                let tau = crossing(&|x: &PlantState| self.ground_indicator(x), g0, g1);
-                if first.is_none_or(|(best, _)| tau < best) {
-                    first = Some((tau, Event::Touchdown));
-                }
-            }
-            if self.throttle_rate_limit_nps > 0.0 {
-                let target = self.targets(commands, off).thrust_n;
-                let ramp = self.thrust_ramp(target, x0.thrust_lag_n);
-                if ramp != 0.0 {
-                    // The thrust is linear over the piece: it reaches the target exactly then.
-                    let tau = (target - x0.thrust_lag_n) / ramp;
-                    if tau < h && first.is_none_or(|(best, _)| tau < best) {
-                        first = Some((tau, Event::RampEnd(target)));
-                    }
-                }
-            }
-            if let Some(gear) = &self.gear {
-                let lowest = |x: &PlantState| self.lowest_foot_clearance(gear, x);
-                let mut candidates: [Option<(Event, f64)>; 2] = [None, None];
-                if run.touchdown.is_none() {
-                    candidates[0] = Some((Event::FootContact, 0.0));
-                }
-                if let (EngineCutoff::Height(height), false) = (gear.cutoff, run.gear.engine_cut) {
-                    candidates[1] = Some((Event::CutoffHeight, height));
-                }
-                for (event, height) in candidates.into_iter().flatten() {
-                    let (g0, g1) = (lowest(x0) - height, lowest(&x1) - height);
-                    if g0 > 0.0 && g1 <= 0.0 {
-                        let tau = crossing(&|x: &PlantState| lowest(x) - height, g0, g1);
-                        if first.is_none_or(|(best, _)| tau < best) {
-                            first = Some((tau, event));
-                        }
-                    }
-                }
-            }
-            let Some((tau, event)) = first else {
-                run.state = x1;
-                run.slosh = s1;
-                run.accumulate_means(&q1, h);
+            // Nearly every piece: no event can end it, and it is accepted whole without the
+            // event search's set-up.
+            if !self.may_end_at_event(run, &x1) {
+                run.accept(x1, s1, &q1, h);
                 return None;
-            };
-            let (x, s, q) = if tau >= h {
-                (x1, s1, q1)
-            } else {
-                self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, tau)
-            };
-            (run.state, run.slosh) = (x, s);
-            run.accumulate_means(&q, tau.min(h));
-            t = if tau >= h { end } else { t + tau };
-            match event {
-                Event::Exhaustion => self.exhaust(run),
-                Event::Touchdown => {
-                    match &self.gear {
-                        None => run.touchdown = Some(self.touchdown_at(&run.state, t)),
-                        Some(gear) => {
-                            if run.touchdown.is_none() {
-                                self.foot_contact(gear, run, t);
-                            }
-                            run.gear.crashed_at_s = Some(t);
-                        }
-                    }
-                    return Some(t);
-                }
-                Event::FootContact => {
-                    if let Some(gear) = &self.gear {
-                        self.foot_contact(gear, run, t);
-                    }
-                }
-                Event::CutoffHeight => run.gear.engine_cut = true,
-                Event::RampEnd(target) => run.state.thrust_lag_n = target,
+            }
+            match self.piece_with_events(run, commands, firing, off, t, h, end, (x1, s1, q1)) {
+                PieceEnd::Whole => return None,
+                PieceEnd::Stopped(time) => return Some(time),
+                PieceEnd::At(event_time) => t = event_time,
             }
         }
         None
+    }
+
+    /// Whether [`Plant::piece_with_events`] may find an event in the piece from `run` to
+    /// `x1`: an event function of the plant without the gear changes sign (the test that
+    /// search starts with), or a throttle rate limit or the gear, whose events it checks.
+    #[inline]
+    fn may_end_at_event(&self, run: &PlantRun, x1: &PlantState) -> bool {
+        if self.gear.is_some() || self.throttle_rate_limit_nps > 0.0 {
+            return true;
+        }
+        let x0 = &run.state;
+        let exhaustion = !run.propellant_exhausted
+            && x0.mass_kg - self.dry_mass_kg > 0.0
+            && x1.mass_kg - self.dry_mass_kg <= 0.0;
+        exhaustion || (self.altitude(x0) > 0.0 && self.altitude(x1) <= 0.0)
+    }
+
+    /// The piece from `t` over `h` (ending at `end`) whose RK4 step from `run` is `step`,
+    /// searched for events: accepted whole without one, otherwise advanced to the first
+    /// event and the event applied. Out of line: most pieces never get here.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn piece_with_events(
+        &self,
+        run: &mut PlantRun,
+        commands: &Commands,
+        firing: &Firing,
+        off: bool,
+        t: f64,
+        h: f64,
+        end: f64,
+        step: (PlantState, Option<SloshState>, Vector6<f64>),
+    ) -> PieceEnd {
+        let (x1, s1, q1) = step;
+        let exhausted = run.propellant_exhausted;
+        let x0 = &run.state;
+        let s0 = &run.slosh;
+        let crossing = |g: &dyn Fn(&PlantState) -> f64, g0: f64, g1: f64| {
+            find_crossing(
+                |s| g(&self.rk4_pair(x0, s0, commands, firing, off, t, s).0),
+                g0,
+                g1,
+                h,
+                t,
+            )
+        };
+        let mut first: Option<(f64, Event)> = None;
+        // The event functions are evaluated directly on both ends; only a sign change
+        // (rare) searches through the dynamically dispatched re-integration.
+        if !exhausted {
+            let (g0, g1) = (x0.mass_kg - self.dry_mass_kg, x1.mass_kg - self.dry_mass_kg);
+            if g0 > 0.0 && g1 <= 0.0 {
+                let tau = crossing(&|x: &PlantState| x.mass_kg - self.dry_mass_kg, g0, g1);
+                first = Some((tau, Event::Exhaustion));
+            }
+        }
+        let (g0, g1) = (self.ground_indicator(x0), self.ground_indicator(&x1));
+        if g0 > 0.0 && g1 <= 0.0 {
+            let tau = crossing(&|x: &PlantState| self.ground_indicator(x), g0, g1);
+            if first.is_none_or(|(best, _)| tau < best) {
+                first = Some((tau, Event::Touchdown));
+            }
+        }
+        if self.throttle_rate_limit_nps > 0.0 {
+            let target = self.targets(commands, off).thrust_n;
+            let ramp = self.thrust_ramp(target, x0.thrust_lag_n);
+            if ramp != 0.0 {
+                // The thrust is linear over the piece: it reaches the target exactly then.
+                let tau = (target - x0.thrust_lag_n) / ramp;
+                if tau < h && first.is_none_or(|(best, _)| tau < best) {
+                    first = Some((tau, Event::RampEnd(target)));
+                }
+            }
+        }
+        if let Some(gear) = &self.gear {
+            let lowest = |x: &PlantState| self.lowest_foot_clearance(gear, x);
+            let mut candidates: [Option<(Event, f64)>; 2] = [None, None];
+            if run.touchdown.is_none() {
+                candidates[0] = Some((Event::FootContact, 0.0));
+            }
+            if let (EngineCutoff::Height(height), false) = (gear.cutoff, run.gear.engine_cut) {
+                candidates[1] = Some((Event::CutoffHeight, height));
+            }
+            for (event, height) in candidates.into_iter().flatten() {
+                let (g0, g1) = (lowest(x0) - height, lowest(&x1) - height);
+                if g0 > 0.0 && g1 <= 0.0 {
+                    let tau = crossing(&|x: &PlantState| lowest(x) - height, g0, g1);
+                    if first.is_none_or(|(best, _)| tau < best) {
+                        first = Some((tau, event));
+                    }
+                }
+            }
+        }
+        let Some((tau, event)) = first else {
+            run.accept(x1, s1, &q1, h);
+            return PieceEnd::Whole;
+        };
+        let (x, s, q) = if tau >= h {
+            (x1, s1, q1)
+        } else {
+            self.rk4_pair(&run.state, &run.slosh, commands, firing, off, t, tau)
+        };
+        run.accept(x, s, &q, tau.min(h));
+        let t = if tau >= h { end } else { t + tau };
+        match event {
+            Event::Exhaustion => self.exhaust(run),
+            Event::Touchdown => {
+                match &self.gear {
+                    None => run.touchdown = Some(self.touchdown_at(&run.state, t)),
+                    Some(gear) => {
+                        if run.touchdown.is_none() {
+                            self.foot_contact(gear, run, t);
+                        }
+                        run.gear.crashed_at_s = Some(t);
+                    }
+                }
+                return PieceEnd::Stopped(t);
+            }
+            Event::FootContact => {
+                if let Some(gear) = &self.gear {
+                    self.foot_contact(gear, run, t);
+                }
+            }
+            Event::CutoffHeight => run.gear.engine_cut = true,
+            Event::RampEnd(target) => run.state.thrust_lag_n = target,
+        }
+        PieceEnd::At(t)
     }
 }

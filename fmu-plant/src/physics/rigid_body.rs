@@ -21,6 +21,7 @@ pub type PrincipalInertia = Vector3<f64>;
 /// let torque_nue = Nue::new(0.0, 0.0, 116.0); // not yet rotated into body axes
 /// omega_dot_body(&inertia, &Body::zeros(), &torque_nue);
 /// ```
+#[inline]
 pub fn omega_dot_body(inertia: &PrincipalInertia, omega_body: &Body, torque_body: &Body) -> Body {
     let (omega_body, torque_body) = (&omega_body.0, &torque_body.0);
     let angular_momentum_body = inertia.component_mul(omega_body);
@@ -28,6 +29,7 @@ pub fn omega_dot_body(inertia: &PrincipalInertia, omega_body: &Body, torque_body
 }
 
 /// `q' = ½ q ⊗ [0, omega_body]` for `q` = body to NUE.
+#[inline]
 pub fn quaternion_rate(q_body_to_nue: &Quaternion<f64>, omega_body: &Body) -> Quaternion<f64> {
     (q_body_to_nue * Quaternion::from_imag(omega_body.0)) * 0.5
 }
