@@ -4,7 +4,7 @@
 //! A co-simulation master sets and gets Reals at every step, and each master lists them its
 //! own way: in its connection table's order, sorted, one per call, rebuilt every step. So
 //! nothing here depends on the list: each instance keeps one table indexed by value
-//! reference (built once, at its first Real get or set, from the model's static
+//! reference (built once, at the first Real get or set it cannot serve, from the model's static
 //! declarations), whose entry for a reference gives its elements (one per FMI 2.0 scalar,
 //! one per element of an FMI 3.0 array) with everything a value needs on its way: where the
 //! element is stored in the model (an offset in its bytes, so a value is one load or store;
