@@ -4,12 +4,16 @@
 //! A co-simulation master sets and gets Reals at every step, and each master lists them its
 //! own way: in its connection table's order, sorted, one per call, rebuilt every step. So
 //! nothing here depends on the list: each instance keeps one table indexed by value
-//! reference (built once, at the first Real get or set it cannot serve, from the model's static
-//! declarations), whose entry for a reference gives its elements (one per FMI 2.0 scalar,
-//! one per element of an FMI 3.0 array) with everything a value needs on its way: where the
-//! element is stored in the model (an offset in its bytes, so a value is one load or store;
-//! an element that is no field of the model goes through its accessor), the closed range of
-//! values its bounds admit, and the states in which it is settable.
+//! reference (built once, at the first Real get or set it cannot serve, from the model's
+//! static declarations), whose entry for a reference gives its elements (one per FMI 2.0
+//! scalar, one per element of an FMI 3.0 array) with everything a value needs on its way:
+//! where the element is stored in the model (an offset in its bytes, so a value is one load
+//! or store; an element that is no field of the model goes through its accessor), the closed
+//! range of values its bounds admit, and the states in which it is settable.
+//!
+//! A call whose references are all stored in the model's bytes is served by loops with no
+//! call in them, so that their values stay in registers; a call with any other goes to loops
+//! that call the accessors, out of line.
 //!
 //! Anything unusual (an unknown reference, a value out of range or not finite, a variable
 //! not settable in this state, a wrong value count) leaves the decision, and its message, to
@@ -72,30 +76,30 @@ fn run_in<M>(model: &M, e: &Element<M>) -> u32 {
     }
 }
 
-/// What a value of one reference needs on its way, in 32 bytes (the table has a slot per
-/// reference up to the largest): a set checks it against its bounds and writes at
-/// `offset`, a get reads there; one load of the entry serves both.
+/// What a value of one reference needs on its way, in 12 bytes (the table has a slot per
+/// reference up to the largest, and an instance's heap is kept small): a set checks it
+/// against its bounds and writes at `offset`, a get reads there.
 #[derive(Clone, Copy)]
 struct Entry {
-    /// The closed range of finite values every element admits (NaN, admitting nothing, for
-    /// an empty entry).
-    lowest: f64,
-    highest: f64,
     /// Where the first element is in the model's bytes, or [`NOT_IN_PLACE`] with the
     /// index of its accessors (an empty entry: `NOT_IN_PLACE` alone).
     offset: u32,
+    /// Its bounds in [`RealTable::bounds`] (few distinct: most variables have none).
+    bounds: u16,
     /// Elements; 0: no Real at this reference.
-    len: u32,
+    len: u16,
     settable_in: u16,
     /// `settable_in` for elements stored in place, else none: what the in-place loops check,
     /// so that they need no test of their own for an entry they cannot serve.
     settable_in_place: u16,
 }
 
+// The slot per reference is most of an instance's heap (fmi-testkit's heap check).
+const _: () = assert!(size_of::<Entry>() == 12);
+
 const NO_ENTRY: Entry = Entry {
-    lowest: f64::NAN,
-    highest: f64::NAN,
     offset: NOT_IN_PLACE,
+    bounds: 0,
     len: 0,
     settable_in: 0,
     settable_in_place: 0,
@@ -132,6 +136,9 @@ enum Built {
 /// Every Real variable of an instance by value reference; see the module documentation.
 pub struct RealTable<M> {
     entries: Box<[Entry]>,
+    /// The closed ranges the entries admit, `(lowest, highest)`; the first admits nothing
+    /// (NaN), for the empty entries.
+    bounds: Box<[(f64, f64)]>,
     accessors: Box<[Accessors<M>]>,
     built: Built,
 }
@@ -140,6 +147,7 @@ impl<M> Default for RealTable<M> {
     fn default() -> Self {
         RealTable {
             entries: Box::default(),
+            bounds: Box::default(),
             accessors: Box::default(),
             built: Built::Not,
         }
@@ -173,7 +181,7 @@ impl<M> RealTable<M> {
             slots = slots.max(vr as usize + 1);
             count += 1;
             outside += usize::from(run_in(model, &e) == NOT_IN_PLACE);
-            if u32::try_from(e.len).is_err() {
+            if u16::try_from(e.len).is_err() {
                 count = 0;
                 break;
             }
@@ -183,6 +191,7 @@ impl<M> RealTable<M> {
             return;
         }
         let mut entries = vec![NO_ENTRY; slots];
+        let mut bounds = vec![(f64::NAN, f64::NAN)];
         let mut accessors = Vec::with_capacity(outside);
         for (vr, e) in declared() {
             let slot = vr as usize;
@@ -206,11 +215,25 @@ impl<M> RealTable<M> {
             }
             let settable_in = if e.set.is_some() { e.settable_in } else { 0 };
             let in_place = offset & NOT_IN_PLACE == 0;
+            let range = (e.lowest, e.highest);
+            let same = |b: &(f64, f64)| {
+                b.0.to_bits() == range.0.to_bits() && b.1.to_bits() == range.1.to_bits()
+            };
+            let at = match bounds.iter().position(same) {
+                Some(at) => at,
+                None => {
+                    bounds.push(range);
+                    bounds.len() - 1
+                }
+            };
+            let Ok(at) = u16::try_from(at) else {
+                self.built = Built::Never;
+                return;
+            };
             entries[slot] = Entry {
-                lowest: e.lowest,
-                highest: e.highest,
                 offset,
-                len: e.len as u32,
+                bounds: at,
+                len: e.len as u16,
                 settable_in,
                 settable_in_place: if in_place { settable_in } else { 0 },
             };
@@ -221,6 +244,7 @@ impl<M> RealTable<M> {
             Built::Elements
         };
         self.entries = entries.into_boxed_slice();
+        self.bounds = bounds.into_boxed_slice();
         self.accessors = accessors.into_boxed_slice();
     }
 
@@ -228,6 +252,13 @@ impl<M> RealTable<M> {
     #[inline(always)]
     fn accessors(&self, e: &Entry) -> Option<&Accessors<M>> {
         self.accessors.get((e.offset & !NOT_IN_PLACE) as usize)
+    }
+
+    /// The closed range an entry admits.
+    #[inline(always)]
+    fn range(&self, e: &Entry) -> (f64, f64) {
+        // SAFETY: every entry's `bounds` indexes `bounds` (set when the table was built).
+        unsafe { *self.bounds.get_unchecked(e.bounds as usize) }
     }
 
     #[inline(always)]
@@ -267,15 +298,16 @@ impl<M> RealTable<M> {
         let mut k = 0;
         for &vr in vrs {
             let e = self.entry(vr);
-            let len = e.len as usize;
+            let len = usize::from(e.len);
             // No elements: an unknown reference or one of another type. Too few values:
             // a wrong count.
             let Some(given) = values.get(k..k + len).filter(|_| len != 0) else {
                 return false;
             };
             admitted &= e.settable_in & state_bit != 0;
+            let (lowest, highest) = self.range(&e);
             for v in given {
-                admitted &= (*v >= e.lowest) & (*v <= e.highest);
+                admitted &= (*v >= lowest) & (*v <= highest);
             }
             k += len;
         }
@@ -286,7 +318,7 @@ impl<M> RealTable<M> {
         let mut k = 0;
         for &vr in vrs {
             let e = self.entry(vr);
-            let len = e.len as usize;
+            let len = usize::from(e.len);
             let given = &values[k..k + len];
             if e.offset & NOT_IN_PLACE == 0 {
                 // SAFETY: `len` f64s lie one after the other from this offset in every `M`
@@ -335,7 +367,7 @@ impl<M> RealTable<M> {
         let mut k = 0;
         for &vr in vrs {
             let e = self.entry(vr);
-            let len = e.len as usize;
+            let len = usize::from(e.len);
             let Some(out) = values.get_mut(k..k + len).filter(|_| len != 0) else {
                 return false;
             };
@@ -370,12 +402,13 @@ impl<M> RealTable<M> {
             };
             // Too few values: a wrong count. An empty entry (no values taken) or one not in
             // place is settable in no state here.
-            let Some(given) = values.get(k..k + e.len as usize) else {
+            let Some(given) = values.get(k..k + usize::from(e.len)) else {
                 return false;
             };
             admitted &= e.settable_in_place & state_bit != 0;
+            let (lowest, highest) = self.range(e);
             for &v in given {
-                admitted &= (v >= e.lowest) & (v <= e.highest);
+                admitted &= (v >= lowest) & (v <= highest);
             }
             k += given.len();
         }
@@ -391,7 +424,7 @@ impl<M> RealTable<M> {
             // for this write; the first pass found `len` values from `k`.
             unsafe {
                 let e = entries.get_unchecked(vr as usize);
-                let len = e.len as usize;
+                let len = usize::from(e.len);
                 let to = base.add(e.offset as usize).cast::<f64>();
                 copy_few(values.as_ptr().add(k), to, len);
                 k += len;
@@ -416,7 +449,7 @@ impl<M> RealTable<M> {
             if e.offset & NOT_IN_PLACE != 0 {
                 return false;
             }
-            let Some(out) = values.get_mut(k..k + e.len as usize) else {
+            let Some(out) = values.get_mut(k..k + usize::from(e.len)) else {
                 return false;
             };
             // SAFETY: as in `write_in_place`, for a shared borrow; `out` has `len` values.
@@ -449,7 +482,8 @@ impl<M> RealTable<M> {
             // An empty entry, or one not in place, is settable in no state here (and an
             // empty one's bounds are NaN).
             // (A table of scalars: each entry has one element or none.)
-            admitted &= (e.settable_in_place & state_bit != 0) & (v >= e.lowest) & (v <= e.highest);
+            let (lowest, highest) = self.range(e);
+            admitted &= (e.settable_in_place & state_bit != 0) & (v >= lowest) & (v <= highest);
         }
         if !admitted {
             return false;
