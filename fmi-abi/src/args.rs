@@ -62,6 +62,69 @@ pub unsafe fn slice_mut<'a, T>(
     Ok(unsafe { std::slice::from_raw_parts_mut(ptr, n) })
 }
 
+/// A list of `na` elements at `a` (value references) and one of `nb` at `b` (their
+/// values), each checked as [`slice`] checks it, in that order; the common case (neither
+/// NULL, lengths far below the limit) in one test of each.
+///
+/// # Safety
+/// As [`slice`], for each.
+#[inline(always)]
+pub unsafe fn lists<'a, A, B>(
+    a: *const A,
+    na: usize,
+    a_name: &'static str,
+    b: *const B,
+    nb: usize,
+    b_name: &'static str,
+) -> Result<(&'a [A], &'a [B]), ArgError> {
+    if !a.is_null() && !b.is_null() && (na | nb) <= const { few::<A, B>() } {
+        // SAFETY: non-NULL, the sizes fit; the caller guarantees the elements.
+        return Ok(unsafe {
+            (
+                std::slice::from_raw_parts(a, na),
+                std::slice::from_raw_parts(b, nb),
+            )
+        });
+    }
+    unsafe { Ok((slice(a, na, a_name)?, slice(b, nb, b_name)?)) }
+}
+
+/// [`lists`] with the values written to.
+///
+/// # Safety
+/// As [`slice`] for `a`, [`slice_mut`] for `b`.
+#[inline(always)]
+pub unsafe fn lists_mut<'a, A, B>(
+    a: *const A,
+    na: usize,
+    a_name: &'static str,
+    b: *mut B,
+    nb: usize,
+    b_name: &'static str,
+) -> Result<(&'a [A], &'a mut [B]), ArgError> {
+    if !a.is_null() && !b.is_null() && (na | nb) <= const { few::<A, B>() } {
+        // SAFETY: as in `lists`, writable by the caller's guarantee.
+        return Ok(unsafe {
+            (
+                std::slice::from_raw_parts(a, na),
+                std::slice::from_raw_parts_mut(b, nb),
+            )
+        });
+    }
+    unsafe { Ok((slice(a, na, a_name)?, slice_mut(b, nb, b_name)?)) }
+}
+
+/// The longest arrays of `A` and of `B` [`slice`] admits, the shorter of the two (a
+/// constant): both lengths at most this pass its checks. `(na | nb) <= few` implies
+/// both are, and nearly never refuses a pair `slice` would admit (it then decides).
+const fn few<A, B>() -> usize {
+    let (a, b) = (std::mem::size_of::<A>(), std::mem::size_of::<B>());
+    let larger = if a > b { a } else { b };
+    // The largest power of two at most the limit, so that `na | nb` stays below it.
+    let limit = isize::MAX as usize / if larger == 0 { 1 } else { larger };
+    (1usize << (usize::BITS - 1 - limit.leading_zeros())) - 1
+}
+
 /// `*ptr` as an out-parameter.
 ///
 /// # Safety
@@ -123,5 +186,34 @@ mod tests {
             "argument size is NULL"
         );
         assert_eq!(unsafe { show([1, 2].as_ptr(), 2) }, "[1, 2]");
+    }
+
+    /// A pair of lists is refused exactly as its two `slice`s are, the first one first.
+    #[test]
+    fn lists_are_checked_as_their_slices_are() {
+        let (vrs, values) = ([1u32, 2], [1.0f64, 2.0]);
+        let (np_u, np_f) = (std::ptr::null::<u32>(), std::ptr::null_mut::<f64>());
+        let cases = [
+            (vrs.as_ptr(), 2, values.as_ptr(), 2),
+            (vrs.as_ptr(), 1, values.as_ptr(), 2),
+            (np_u, 0, np_f.cast_const(), 0),
+            (np_u, 2, np_f.cast_const(), 2),
+            (vrs.as_ptr(), 2, np_f.cast_const(), 2),
+            (np_u, 0, values.as_ptr(), 2),
+            (vrs.as_ptr(), usize::MAX, values.as_ptr(), 2),
+            (vrs.as_ptr(), 2, values.as_ptr(), usize::MAX / 4),
+        ];
+        for (a, na, b, nb) in cases {
+            let each = unsafe { slice(a, na, "vr").and_then(|a| Ok((a, slice(b, nb, "value")?))) };
+            assert_eq!(unsafe { lists(a, na, "vr", b, nb, "value") }, each);
+            let each_mut = each.clone().map(|(a, b)| (a, b.to_vec()));
+            let mut copy = values;
+            let b_mut = if b.is_null() { np_f } else { copy.as_mut_ptr() };
+            let got = unsafe { lists_mut(a, na, "vr", b_mut, nb.min(2), "value") }
+                .map(|(a, b)| (a, b.to_vec()));
+            if nb <= 2 {
+                assert_eq!(got, each_mut);
+            }
+        }
     }
 }

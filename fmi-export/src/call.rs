@@ -52,8 +52,8 @@ pub unsafe fn enter<'a, M: Model, A: Abi>(
     // SAFETY: a registered address is a live Box<Instance<_, A>> from `instantiate`, whose
     // first field is the Tag (repr(C)); the tag check guards against an instance of
     // another model of this version linked into the same process.
-    let tag = unsafe { ptr::read(address as *const Tag) };
-    if tag != Tag::of::<M, A>() {
+    let tag = unsafe { &*(address as *const Tag) };
+    if !tag.is_of::<M, A>() {
         return None;
     }
     // SAFETY: live, of type M, and no other call holds it (the registry says idle).

@@ -68,6 +68,14 @@ impl Tag {
         }
     }
 
+    /// Whether this is the tag of an instance of `M` and `A`. Only the type is compared:
+    /// the registry has already found the address live in `A`'s table, so it is an instance
+    /// of some model of `A`, whose tag was written whole at its creation.
+    #[inline(always)]
+    pub fn is_of<M: Model, A: Abi>(&self) -> bool {
+        self.model == TypeId::of::<(M, A)>()
+    }
+
     pub fn cleared() -> Tag {
         Tag {
             magic: 0,

@@ -4,12 +4,16 @@
 //! A co-simulation master sets and gets Reals at every step, and each master lists them its
 //! own way: in its connection table's order, sorted, one per call, rebuilt every step. So
 //! nothing here depends on the list: each instance keeps one table indexed by value
-//! reference (built once, at its first Real get or set, from the model's static
-//! declarations), whose entry for a reference gives its elements (one per FMI 2.0 scalar,
-//! one per element of an FMI 3.0 array) with everything a value needs on its way: where the
-//! element is stored in the model (an offset in its bytes, so a value is one load or store;
-//! an element that is no field of the model goes through its accessor), the closed range of
-//! values its bounds admit, and the states in which it is settable.
+//! reference (built once, at the first Real get or set it cannot serve, from the model's
+//! static declarations), whose entry for a reference gives its elements (one per FMI 2.0
+//! scalar, one per element of an FMI 3.0 array) with everything a value needs on its way:
+//! where the element is stored in the model (an offset in its bytes, so a value is one load
+//! or store; an element that is no field of the model goes through its accessor), the closed
+//! range of values its bounds admit, and the states in which it is settable.
+//!
+//! A call whose references are all stored in the model's bytes is served by loops with no
+//! call in them, so that their values stay in registers; a call with any other goes to loops
+//! that call the accessors, out of line.
 //!
 //! Anything unusual (an unknown reference, a value out of range or not finite, a variable
 //! not settable in this state, a wrong value count) leaves the decision, and its message, to
@@ -73,25 +77,32 @@ fn run_in<M>(model: &M, e: &Element<M>) -> u32 {
 }
 
 /// What a value of one reference needs on its way, in 12 bytes (the table has a slot per
-/// reference up to the largest): a set checks it against its bounds and writes at
-/// `offset`, a get reads there.
+/// reference up to the largest, and an instance's heap is kept small): a set checks it
+/// against its bounds and writes at `offset`, a get reads there.
 #[derive(Clone, Copy)]
 struct Entry {
     /// Where the first element is in the model's bytes, or [`NOT_IN_PLACE`] with the
-    /// index of its accessors.
+    /// index of its accessors (an empty entry: `NOT_IN_PLACE` alone).
     offset: u32,
     /// Its bounds in [`RealTable::bounds`] (few distinct: most variables have none).
-    bounds: u32,
+    bounds: u16,
     /// Elements; 0: no Real at this reference.
     len: u16,
     settable_in: u16,
+    /// `settable_in` for elements stored in place, else none: what the in-place loops check,
+    /// so that they need no test of their own for an entry they cannot serve.
+    settable_in_place: u16,
 }
+
+// The slot per reference is most of an instance's heap (fmi-testkit's heap check).
+const _: () = assert!(size_of::<Entry>() == 12);
 
 const NO_ENTRY: Entry = Entry {
     offset: NOT_IN_PLACE,
     bounds: 0,
     len: 0,
     settable_in: 0,
+    settable_in_place: 0,
 };
 
 /// The accessors of a reference whose elements are not in place (few: a table of its own,
@@ -107,12 +118,17 @@ struct Accessors<M> {
 const SLOTS_PER_REFERENCE: usize = 8;
 const SLOTS_ALLOWANCE: usize = 256;
 
-/// Whether the table was built, and whether it could be.
+/// Whether the table was built, and which loops serve it.
 #[derive(Default, Clone, Copy, PartialEq, Eq)]
 enum Built {
     #[default]
     Not,
-    Yes,
+    /// Every reference has at most one element (FMI 2.0): a call whose references are all
+    /// stored in place is served by loops with one load of the entry and one load or store
+    /// per value, without a call in them; any other by the loops of `Elements`.
+    Scalars,
+    /// References with any number of elements (FMI 3.0 arrays).
+    Elements,
     /// References too sparse for a table: the generic path serves every call.
     Never,
 }
@@ -124,9 +140,6 @@ pub struct RealTable<M> {
     /// (NaN), for the empty entries.
     bounds: Box<[(f64, f64)]>,
     accessors: Box<[Accessors<M>]>,
-    /// Every reference has at most one element (FMI 2.0): the tight loops serve a call
-    /// with one value per reference.
-    scalars: bool,
     built: Built,
 }
 
@@ -136,7 +149,6 @@ impl<M> Default for RealTable<M> {
             entries: Box::default(),
             bounds: Box::default(),
             accessors: Box::default(),
-            scalars: false,
             built: Built::Not,
         }
     }
@@ -201,6 +213,8 @@ impl<M> RealTable<M> {
                     element: e.element,
                 });
             }
+            let settable_in = if e.set.is_some() { e.settable_in } else { 0 };
+            let in_place = offset & NOT_IN_PLACE == 0;
             let range = (e.lowest, e.highest);
             let same = |b: &(f64, f64)| {
                 b.0.to_bits() == range.0.to_bits() && b.1.to_bits() == range.1.to_bits()
@@ -212,24 +226,39 @@ impl<M> RealTable<M> {
                     bounds.len() - 1
                 }
             };
+            let Ok(at) = u16::try_from(at) else {
+                self.built = Built::Never;
+                return;
+            };
             entries[slot] = Entry {
-                bounds: at as u32,
                 offset,
+                bounds: at,
                 len: e.len as u16,
-                settable_in: if e.set.is_some() { e.settable_in } else { 0 },
+                settable_in,
+                settable_in_place: if in_place { settable_in } else { 0 },
             };
         }
-        self.scalars = entries.iter().all(|e| e.len <= 1);
+        self.built = if entries.iter().all(|e| e.len <= 1) {
+            Built::Scalars
+        } else {
+            Built::Elements
+        };
         self.entries = entries.into_boxed_slice();
         self.bounds = bounds.into_boxed_slice();
         self.accessors = accessors.into_boxed_slice();
-        self.built = Built::Yes;
     }
 
     /// The accessors of an entry not in place.
     #[inline(always)]
     fn accessors(&self, e: &Entry) -> Option<&Accessors<M>> {
         self.accessors.get((e.offset & !NOT_IN_PLACE) as usize)
+    }
+
+    /// The closed range an entry admits.
+    #[inline(always)]
+    fn range(&self, e: &Entry) -> (f64, f64) {
+        // SAFETY: every entry's `bounds` indexes `bounds` (set when the table was built).
+        unsafe { *self.bounds.get_unchecked(e.bounds as usize) }
     }
 
     #[inline(always)]
@@ -246,15 +275,22 @@ impl<M> RealTable<M> {
     /// refuse with a reason.
     #[inline(always)]
     pub fn write(&self, vrs: &[u32], values: &[f64], model: &mut M, state_bit: u16) -> bool {
-        if self.scalars && vrs.len() == values.len() {
-            self.write_scalars(vrs, values, model, state_bit)
+        // Tested one after the other, the common case first (a `match` compiles to a jump
+        // table here).
+        if self.built == Built::Scalars && vrs.len() == values.len() {
+            self.write_in_place_scalars(vrs, values, model, state_bit)
+                || self.write_elements(vrs, values, model, state_bit)
+        } else if matches!(self.built, Built::Scalars | Built::Elements) {
+            self.write_in_place(vrs, values, model, state_bit)
+                || self.write_elements(vrs, values, model, state_bit)
         } else {
-            self.write_elements(vrs, values, model, state_bit)
+            false
         }
     }
 
-    /// [`write`](Self::write) of references with any number of elements (FMI 3.0 arrays).
-    #[inline(always)]
+    /// [`write`](Self::write) of references with any number of elements (FMI 3.0 arrays),
+    /// or stored anywhere.
+    #[inline(never)]
     fn write_elements(&self, vrs: &[u32], values: &[f64], model: &mut M, state_bit: u16) -> bool {
         // Checked before anything is written, so a refused call changes nothing. The
         // comparisons are combined without branching: a refusal is the rare case.
@@ -269,13 +305,9 @@ impl<M> RealTable<M> {
                 return false;
             };
             admitted &= e.settable_in & state_bit != 0;
-            let (lowest, highest) = self.bounds[e.bounds as usize];
-            if let [v] = given {
+            let (lowest, highest) = self.range(&e);
+            for v in given {
                 admitted &= (*v >= lowest) & (*v <= highest);
-            } else {
-                for v in given {
-                    admitted &= (*v >= lowest) & (*v <= highest);
-                }
             }
             k += len;
         }
@@ -292,12 +324,12 @@ impl<M> RealTable<M> {
                 // SAFETY: `len` f64s lie one after the other from this offset in every `M`
                 // (fields found inside the model's bytes and aligned when the table was
                 // built), and `model` is borrowed mutably for this write.
+                // (A loop, not `copy_nonoverlapping`: a handful of values, where a call of
+                // memcpy would cost more than the copy.)
                 unsafe {
                     let to = base.add(e.offset as usize).cast::<f64>();
-                    if let [v] = given {
-                        to.write(*v);
-                    } else {
-                        std::ptr::copy_nonoverlapping(given.as_ptr(), to, len);
+                    for (i, &v) in given.iter().enumerate() {
+                        to.add(i).write(v);
                     }
                 }
             } else if let Some(a) = self.accessors(&e) {
@@ -318,15 +350,18 @@ impl<M> RealTable<M> {
     /// the generic path to read again or refuse with a reason.
     #[inline(always)]
     pub fn read(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
-        if self.scalars && vrs.len() == values.len() {
-            self.read_scalars(vrs, values, model)
+        if self.built == Built::Scalars && vrs.len() == values.len() {
+            self.read_in_place_scalars(vrs, values, model) || self.read_elements(vrs, values, model)
+        } else if matches!(self.built, Built::Scalars | Built::Elements) {
+            self.read_in_place(vrs, values, model) || self.read_elements(vrs, values, model)
         } else {
-            self.read_elements(vrs, values, model)
+            false
         }
     }
 
-    /// [`read`](Self::read) of references with any number of elements (FMI 3.0 arrays).
-    #[inline(always)]
+    /// [`read`](Self::read) of references with any number of elements (FMI 3.0 arrays),
+    /// or stored anywhere.
+    #[inline(never)]
     fn read_elements(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
         let base = (model as *const M).cast::<u8>();
         let mut k = 0;
@@ -340,10 +375,8 @@ impl<M> RealTable<M> {
                 // SAFETY: as in `write`, for a shared borrow.
                 unsafe {
                     let from = base.add(e.offset as usize).cast::<f64>();
-                    if let [v] = out {
-                        *v = from.read();
-                    } else {
-                        std::ptr::copy_nonoverlapping(from, out.as_mut_ptr(), len);
+                    for (i, v) in out.iter_mut().enumerate() {
+                        *v = from.add(i).read();
                     }
                 }
             } else if let Some(a) = self.accessors(&e) {
@@ -356,64 +389,166 @@ impl<M> RealTable<M> {
         k == values.len()
     }
 
-    /// [`write`](Self::write) of one value per reference, each a scalar: per value, one
-    /// entry loaded and checked, then one store.
+    /// [`write`](Self::write) of references with any number of elements, each stored in
+    /// place; false (nothing written) also for a reference stored elsewhere.
     #[inline(always)]
-    fn write_scalars(&self, vrs: &[u32], values: &[f64], model: &mut M, state_bit: u16) -> bool {
-        let (entries, bounds) = (&*self.entries, &*self.bounds);
+    fn write_in_place(&self, vrs: &[u32], values: &[f64], model: &mut M, state_bit: u16) -> bool {
+        let entries = &*self.entries;
+        let mut admitted = true;
+        let mut k = 0;
+        for &vr in vrs {
+            let Some(e) = entries.get(vr as usize) else {
+                return false;
+            };
+            // Too few values: a wrong count. An empty entry (no values taken) or one not in
+            // place is settable in no state here.
+            let Some(given) = values.get(k..k + usize::from(e.len)) else {
+                return false;
+            };
+            admitted &= e.settable_in_place & state_bit != 0;
+            let (lowest, highest) = self.range(e);
+            for &v in given {
+                admitted &= (v >= lowest) & (v <= highest);
+            }
+            k += given.len();
+        }
+        if !admitted || k != values.len() {
+            return false;
+        }
+        let base = (model as *mut M).cast::<u8>();
+        let mut k = 0;
+        for &vr in vrs {
+            // SAFETY: found by the first pass, settable in place: its `len` elements lie
+            // one after the other from its offset in every `M` (found inside the model's
+            // bytes and aligned when the table was built), and `model` is borrowed mutably
+            // for this write; the first pass found `len` values from `k`.
+            unsafe {
+                let e = entries.get_unchecked(vr as usize);
+                let len = usize::from(e.len);
+                let to = base.add(e.offset as usize).cast::<f64>();
+                copy_few(values.as_ptr().add(k), to, len);
+                k += len;
+            }
+        }
+        true
+    }
+
+    /// [`read`](Self::read) of references with any number of elements, each stored in
+    /// place; false (the values no result) also for a reference stored elsewhere.
+    #[inline(always)]
+    fn read_in_place(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
+        let base = (model as *const M).cast::<u8>();
+        let entries = &*self.entries;
+        let mut k = 0;
+        for &vr in vrs {
+            let Some(e) = entries.get(vr as usize) else {
+                return false;
+            };
+            // Neither an empty entry nor one stored elsewhere is read here (both have
+            // `NOT_IN_PLACE`).
+            if e.offset & NOT_IN_PLACE != 0 {
+                return false;
+            }
+            let Some(out) = values.get_mut(k..k + usize::from(e.len)) else {
+                return false;
+            };
+            // SAFETY: as in `write_in_place`, for a shared borrow; `out` has `len` values.
+            unsafe {
+                let from = base.add(e.offset as usize).cast::<f64>();
+                copy_few(from, out.as_mut_ptr(), out.len());
+            }
+            k += out.len();
+        }
+        k == values.len()
+    }
+
+    /// [`write`](Self::write) of one value per reference, each a scalar stored in place:
+    /// per value, one entry loaded and checked, then one store; no call in either loop.
+    /// False (nothing written) also for a reference stored elsewhere.
+    #[inline(always)]
+    fn write_in_place_scalars(
+        &self,
+        vrs: &[u32],
+        values: &[f64],
+        model: &mut M,
+        state_bit: u16,
+    ) -> bool {
+        let entries = &*self.entries;
         let mut admitted = true;
         for (&vr, &v) in vrs.iter().zip(values) {
             let Some(e) = entries.get(vr as usize) else {
                 return false;
             };
-            // An empty entry is settable in no state (and its bounds are NaN).
-            // SAFETY: every entry's `bounds` indexes `bounds` (set when the table was built).
-            let (lowest, highest) = unsafe { *bounds.get_unchecked(e.bounds as usize) };
-            admitted &= (e.settable_in & state_bit != 0) & (v >= lowest) & (v <= highest);
+            // An empty entry, or one not in place, is settable in no state here (and an
+            // empty one's bounds are NaN).
+            // (A table of scalars: each entry has one element or none.)
+            let (lowest, highest) = self.range(e);
+            admitted &= (e.settable_in_place & state_bit != 0) & (v >= lowest) & (v <= highest);
         }
         if !admitted {
             return false;
         }
         let base = (model as *mut M).cast::<u8>();
         for (&vr, &v) in vrs.iter().zip(values) {
-            // Found by the first pass.
-            let e = &entries[vr as usize];
-            if e.offset & NOT_IN_PLACE == 0 {
-                // SAFETY: as in `write`.
-                unsafe { base.add(e.offset as usize).cast::<f64>().write(v) };
-            } else if let Some(Accessors {
-                set: Some(set),
-                element,
-                ..
-            }) = self.accessors(e)
-            {
-                // SAFETY: `base` is `model`, not otherwise used during this call.
-                set(unsafe { &mut *base.cast::<M>() }, *element, v);
+            // SAFETY: found by the first pass, and settable in place, so a scalar in place:
+            // its offset is an f64 of every `M` (found inside the model's bytes and aligned when the
+            // table was built), and `model` is borrowed mutably for this write.
+            unsafe {
+                let e = entries.get_unchecked(vr as usize);
+                base.add(e.offset as usize).cast::<f64>().write(v);
             }
         }
         true
     }
 
-    /// [`read`](Self::read) of one value per reference, each a scalar.
+    /// [`read`](Self::read) of one value per reference, each a scalar stored in place;
+    /// false (the values no result) also for a reference stored elsewhere.
     #[inline(always)]
-    fn read_scalars(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
+    fn read_in_place_scalars(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
         let base = (model as *const M).cast::<u8>();
+        let entries = &*self.entries;
         for (&vr, value) in vrs.iter().zip(values) {
-            let Some(e) = self.entries.get(vr as usize) else {
+            let Some(e) = entries.get(vr as usize) else {
                 return false;
             };
-            if e.offset & NOT_IN_PLACE == 0 {
-                // SAFETY: as in `write`, for a shared borrow.
-                *value = unsafe { base.add(e.offset as usize).cast::<f64>().read() };
-            } else {
-                match self.accessors(e) {
-                    // An empty entry is no Real (its length is 0).
-                    Some(a) if e.len != 0 => *value = (a.get)(model, a.element),
-                    _ => return false,
-                }
+            // Neither an empty entry nor one stored elsewhere is read here (both have
+            // `NOT_IN_PLACE`); a scalar's offset is its only element's.
+            if e.offset & NOT_IN_PLACE != 0 {
+                return false;
             }
+            // SAFETY: as in `write_in_place_scalars`, for a shared borrow.
+            *value = unsafe { base.add(e.offset as usize).cast::<f64>().read() };
         }
         true
+    }
+}
+
+/// Copies `len` values, in a few moves for the lengths a variable has (a vector or a
+/// quaternion: a call of memcpy, which the compiler makes of a plain copy loop, costs more
+/// than the copy).
+///
+/// # Safety
+/// As `std::ptr::copy_nonoverlapping`.
+#[inline(always)]
+unsafe fn copy_few(from: *const f64, to: *mut f64, len: usize) {
+    // SAFETY: `len` elements are readable at `from` and writable at `to`, apart.
+    unsafe {
+        if len > 4 {
+            std::ptr::copy_nonoverlapping(from, to, len);
+            return;
+        }
+        if len >= 1 {
+            to.write(from.read());
+        }
+        if len >= 2 {
+            to.add(1).write(from.add(1).read());
+        }
+        if len >= 3 {
+            to.add(2).write(from.add(2).read());
+        }
+        if len == 4 {
+            to.add(3).write(from.add(3).read());
+        }
     }
 }
 

@@ -234,8 +234,9 @@ impl<T: Clone> Registry<T> {
             Ok(_) => Ok(Entered {
                 registry: self,
                 handle,
+                word: &slot.word,
+                idle: word(generation, IDLE),
                 address: slot.address.load(Ordering::Relaxed),
-                removed: false,
             }),
             Err(now) => Err(self.refusal(handle, now)),
         }
@@ -285,8 +286,10 @@ impl<T: Clone> Registry<T> {
 pub struct Entered<'r, T: Clone> {
     registry: &'r Registry<T>,
     handle: usize,
+    /// The slot's word and its idle value, kept so that the end of a call is one store.
+    word: &'r AtomicUsize,
+    idle: usize,
     address: usize,
-    removed: bool,
 }
 
 impl<T: Clone> Entered<'_, T> {
@@ -303,11 +306,13 @@ impl<T: Clone> Entered<'_, T> {
 
     /// Unregisters the instance (its free): its handle is refused from now on, whichever
     /// instance its slot and address hold next.
-    pub fn remove(mut self) {
-        let mut registered = self.registry.registered();
-        registered.reports.remove(&self.handle);
-        let slot = &self.registry.slots[self.handle & INDEX];
-        let next = next_generation(self.handle >> SLOT_BITS);
+    pub fn remove(self) {
+        // Not idle again at its end: the slot is free (no flag for `drop` to test).
+        let this = std::mem::ManuallyDrop::new(self);
+        let mut registered = this.registry.registered();
+        registered.reports.remove(&this.handle);
+        let slot = &this.registry.slots[this.handle & INDEX];
+        let next = next_generation(this.handle >> SLOT_BITS);
         slot.address.store(0, Ordering::Relaxed);
         slot.word.store(word(next, FREE), Ordering::Release);
         // An emptied BTreeMap keeps its root node; a fresh one owns no memory, so nothing of
@@ -316,19 +321,15 @@ impl<T: Clone> Entered<'_, T> {
             registered.reports = BTreeMap::new();
         }
         drop(registered);
-        self.removed = true;
     }
 }
 
 impl<T: Clone> Drop for Entered<'_, T> {
+    #[inline(always)]
     fn drop(&mut self) {
-        if !self.removed {
-            // Busy, or Reporting if a nested refusal's report is still held: either way the
-            // call is over.
-            self.registry.slots[self.handle & INDEX]
-                .word
-                .store(word(self.handle >> SLOT_BITS, IDLE), Ordering::Release);
-        }
+        // Busy, or Reporting if a nested refusal's report is still held: either way the
+        // call is over.
+        self.word.store(self.idle, Ordering::Release);
     }
 }
 

@@ -20,7 +20,7 @@ use crate::index::BaseType;
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
 use crate::version::Fmi2;
-pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
+pub(crate) use fmi_abi::args::{lists, lists_mut, out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
 use fmi_export::prepared::Element;
@@ -368,12 +368,14 @@ pub unsafe fn get_real<M: Model>(
     let f = Function::GetReal;
     unsafe {
         call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr), |inst| {
-            let vrs = slice(vr, nvr, "vr")?;
-            let values = slice_mut(value, nvr, "value")?;
+            let (vrs, values) = lists_mut(vr, nvr, "vr", value, nvr, "value")?;
             let success = inst.refresh(f);
-            let view = &inst.view;
-            inst.reals.ensure(&inst.core.model, || real_elements(view));
-            let prepared = inst.reals.read(vrs, values, &inst.core.model);
+            // The table is built at the first call it cannot serve (its first of all).
+            let prepared = inst.reals.read(vrs, values, &inst.core.model) || {
+                let view = &inst.view;
+                inst.reals.ensure(&inst.core.model, || real_elements(view));
+                inst.reals.read(vrs, values, &inst.core.model)
+            };
             if !prepared {
                 for (&vr, value) in vrs.iter().zip(values.iter_mut()) {
                     let slot = inst
@@ -495,14 +497,15 @@ pub unsafe fn set_real<M: Model>(
     let f = Function::SetReal;
     unsafe {
         call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr, value), |inst| {
-            let vrs = slice(vr, nvr, "vr")?;
-            let values = slice(value, nvr, "value")?;
+            let (vrs, values) = lists(vr, nvr, "vr", value, nvr, "value")?;
             let state = inst.core.state;
-            let view = &inst.view;
-            inst.reals.ensure(&inst.core.model, || real_elements(view));
-            let prepared = inst
-                .reals
-                .write(vrs, values, &mut inst.core.model, state as u16);
+            // The table is built at the first call it cannot serve (its first of all).
+            let model = &mut inst.core.model;
+            let prepared = inst.reals.write(vrs, values, model, state as u16) || {
+                let view = &inst.view;
+                inst.reals.ensure(model, || real_elements(view));
+                inst.reals.write(vrs, values, model, state as u16)
+            };
             if prepared {
                 inst.dirty |= !vrs.is_empty();
                 return Ok(Success::Ok);

@@ -18,7 +18,7 @@ use crate::ffi::*;
 use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Float64Slot, Type};
 use crate::version::Fmi3;
-pub(crate) use fmi_abi::args::{out, show, slice, slice_mut};
+pub(crate) use fmi_abi::args::{lists, lists_mut, out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
 use fmi_export::prepared::Element;
@@ -329,13 +329,16 @@ pub unsafe fn get_float64<M: Model>(
     let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
     unsafe {
         call::<M, Fmi3>(c, f, trace, |inst| {
-            let vrs = slice(vrs, n_vrs, "valueReferences")?;
-            let values = slice_mut(values, n_values, "values")?;
+            let (vrs, values) =
+                lists_mut(vrs, n_vrs, "valueReferences", values, n_values, "values")?;
             let success = inst.refresh(f);
-            let view = &inst.view;
-            inst.reals
-                .ensure(&inst.core.model, || float64_elements::<M>(view));
-            let prepared = inst.reals.read(vrs, values, &inst.core.model);
+            // The table is built at the first call it cannot serve (its first of all).
+            let prepared = inst.reals.read(vrs, values, &inst.core.model) || {
+                let view = &inst.view;
+                inst.reals
+                    .ensure(&inst.core.model, || float64_elements::<M>(view));
+                inst.reals.read(vrs, values, &inst.core.model)
+            };
             if prepared {
                 return finite(inst, vrs, values).map(|()| success);
             }
@@ -538,16 +541,16 @@ pub unsafe fn set_float64<M: Model>(
     };
     unsafe {
         call::<M, Fmi3>(c, f, trace, |inst| {
-            let vrs = slice(vrs, n_vrs, "valueReferences")?;
-            let values = slice(values, n_values, "values")?;
+            let (vrs, values) = lists(vrs, n_vrs, "valueReferences", values, n_values, "values")?;
             let initializing = initializing(inst.core.state);
-            let view = &inst.view;
-            inst.reals
-                .ensure(&inst.core.model, || float64_elements::<M>(view));
             let state_bit = if initializing { INITIALIZING } else { RUNNING };
-            let prepared = inst
-                .reals
-                .write(vrs, values, &mut inst.core.model, state_bit);
+            // The table is built at the first call it cannot serve (its first of all).
+            let model = &mut inst.core.model;
+            let prepared = inst.reals.write(vrs, values, model, state_bit) || {
+                let view = &inst.view;
+                inst.reals.ensure(model, || float64_elements::<M>(view));
+                inst.reals.write(vrs, values, model, state_bit)
+            };
             if prepared {
                 inst.dirty |= !vrs.is_empty();
                 return Ok(Success::Ok);
