@@ -281,6 +281,15 @@ impl Io {
         }
     }
 
+    /// Whether an output may depend on the unit's inputs (slots partitioned, see
+    /// [`feedthrough_last`]): a read of [`Part::Feedthrough`] has something to read.
+    fn has_feedthrough(&self) -> bool {
+        self.others
+            || self.real.feedthrough_start < self.real.vrs.len()
+            || self.integer.feedthrough_start < self.integer.vrs.len()
+            || self.boolean.feedthrough_start < self.boolean.vrs.len()
+    }
+
     /// Notes whether it has words or texts, once its slots are all taken.
     fn note_others(&mut self) {
         self.others = !self.word.vrs.is_empty() || !self.text.is_empty();
@@ -501,6 +510,9 @@ pub struct Simulation {
     /// Per unit: a get may not follow a set at one communication point (an FMI 3.0 instance
     /// in Step Mode), so its outputs are read before its inputs are set.
     get_before_set: Vec<bool>,
+    /// Per unit: it has outputs that may depend on its inputs; without any, reading them
+    /// again at its turn (its other outputs read after its step) is skipped, not made empty.
+    has_feedthrough: Vec<bool>,
     /// Values that are not numbers among those read.
     finite: finite::Check,
     fresh: bool,
@@ -727,6 +739,7 @@ impl Simulation {
         let row = vec![0.0; columns.len()];
         let last_texts = vec![None; columns.len()];
         let read_after_step = AfterStep::of(&links, &outputs);
+        let has_feedthrough = outputs.iter().map(Io::has_feedthrough).collect();
         let events = events::Schedule::new(&system);
         Ok(Self {
             system,
@@ -752,6 +765,7 @@ impl Simulation {
             outputs_read: vec![false; read_after_step.len()],
             read_after_step,
             get_before_set,
+            has_feedthrough,
             finite,
             fresh: true,
             conventions: Conventions::default(),
@@ -1293,12 +1307,17 @@ impl Simulation {
     }
 
     /// Reads the outputs of unit `u` that may depend on its inputs.
+    #[inline]
     fn get_feedthrough_outputs(&mut self, u: usize) -> Result<(), MasterError> {
+        if !self.has_feedthrough[u] {
+            return Ok(());
+        }
         self.read_outputs(u, Part::Feedthrough)
     }
 
     /// At a unit's turn: the outputs not read since its step, or only those that depend on its
     /// inputs when the others were.
+    #[inline]
     fn read_for_exchange(&mut self, u: usize) -> Result<(), MasterError> {
         if self.outputs_read[u] {
             self.get_feedthrough_outputs(u)
