@@ -351,12 +351,38 @@ impl<M> RealTable<M> {
     #[inline(always)]
     pub fn read(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
         if self.built == Built::Scalars && vrs.len() == values.len() {
-            self.read_in_place_scalars(vrs, values, model) || self.read_elements(vrs, values, model)
+            self.read_in_place_scalars(vrs, values, model) || self.read_scalars(vrs, values, model)
         } else if matches!(self.built, Built::Scalars | Built::Elements) {
             self.read_in_place(vrs, values, model) || self.read_elements(vrs, values, model)
         } else {
             false
         }
+    }
+
+    /// [`read`](Self::read) of one value per reference, some stored elsewhere (a master
+    /// that reads every output, computed ones too): per value, one entry loaded, then one
+    /// load or one accessor call. Out of line, so that the in-place loop keeps its values in
+    /// registers across no call.
+    #[inline(never)]
+    fn read_scalars(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
+        let base = (model as *const M).cast::<u8>();
+        let entries = &*self.entries;
+        for (&vr, value) in vrs.iter().zip(values) {
+            let Some(e) = entries.get(vr as usize) else {
+                return false;
+            };
+            if e.offset & NOT_IN_PLACE == 0 {
+                // SAFETY: as in `write_in_place_scalars`, for a shared borrow.
+                *value = unsafe { base.add(e.offset as usize).cast::<f64>().read() };
+            } else {
+                match self.accessors(e) {
+                    // An empty entry is no Real (its length is 0).
+                    Some(a) if e.len != 0 => *value = (a.get)(model, a.element),
+                    _ => return false,
+                }
+            }
+        }
+        true
     }
 
     /// [`read`](Self::read) of references with any number of elements (FMI 3.0 arrays),
