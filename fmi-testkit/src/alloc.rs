@@ -1,9 +1,26 @@
-//! A global allocator that forwards to the system allocator and counts.
+//! A global allocator that forwards to the system allocator and counts what the measuring
+//! thread allocates and frees.
 use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
 use std::sync::atomic::{AtomicIsize, Ordering};
 
+thread_local! {
+    /// Whether this thread's allocations are counted: only the thread inside
+    /// [`CountingAllocator::measure`]'s is. The test harness's own threads allocate when
+    /// they are scheduled (the main thread books a started test after the test thread has
+    /// begun), which would otherwise land in a measurement at random. Const-initialised and
+    /// without a destructor, so reading it never allocates.
+    static COUNTED: Cell<bool> = const { Cell::new(false) };
+}
+
+fn counted() -> bool {
+    COUNTED.try_with(Cell::get).unwrap_or(false)
+}
+
 /// Install with `#[global_allocator] static A: CountingAllocator = CountingAllocator::new();`
-/// in a test binary with one test (so that nothing else allocates meanwhile).
+/// in a test binary. It counts the allocations of a thread while that thread is inside
+/// [`measure`](Self::measure): the object measured must not hand its memory to other
+/// threads.
 #[derive(Debug)]
 pub struct CountingAllocator {
     live: AtomicIsize,
@@ -50,17 +67,20 @@ impl CountingAllocator {
     /// measurement in a process also counts what the process sets up once (output capture,
     /// thread data): measure twice and judge the second.
     pub fn measure<T>(&self, create: impl FnOnce() -> T, exercise: impl FnOnce(&T)) -> HeapUse {
+        let outer = COUNTED.with(|c| c.replace(true));
         let before = self.live();
         self.reset_peak();
         let object = create();
         exercise(&object);
         let held = self.live() - before;
         drop(object);
-        HeapUse {
+        let heap = HeapUse {
             held,
             peak: self.peak() - before,
             after: self.live() - before,
-        }
+        };
+        COUNTED.with(|c| c.set(outer));
+        heap
     }
 }
 
@@ -74,7 +94,7 @@ impl Default for CountingAllocator {
 unsafe impl GlobalAlloc for CountingAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
+        if !p.is_null() && counted() {
             let size = layout.size() as isize;
             let live = self.live.fetch_add(size, Ordering::SeqCst) + size;
             self.peak.fetch_max(live, Ordering::SeqCst);
@@ -84,7 +104,48 @@ unsafe impl GlobalAlloc for CountingAllocator {
 
     unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
         unsafe { System.dealloc(p, layout) };
-        self.live
-            .fetch_sub(layout.size() as isize, Ordering::SeqCst);
+        if counted() {
+            self.live
+                .fetch_sub(layout.size() as isize, Ordering::SeqCst);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[global_allocator]
+    static ALLOCATOR: CountingAllocator = CountingAllocator::new();
+
+    #[test]
+    fn another_threads_allocation_during_a_measurement_is_not_counted() {
+        use std::sync::{Arc, Barrier};
+        // Barriers wait without allocating, so the measured thread allocates only its vector.
+        let (start, done) = (Arc::new(Barrier::new(2)), Arc::new(Barrier::new(2)));
+        let (other_start, other_done) = (start.clone(), done.clone());
+        let other = std::thread::spawn(move || {
+            other_start.wait();
+            let kept = std::hint::black_box(vec![1u8; 4096]);
+            other_done.wait();
+            kept
+        });
+        let heap = ALLOCATOR.measure(
+            || vec![0u64; 100],
+            |_| {
+                start.wait();
+                done.wait();
+            },
+        );
+        let kept = other.join().unwrap();
+        assert_eq!(kept.len(), 4096);
+        assert_eq!(
+            heap,
+            HeapUse {
+                held: 800,
+                peak: 800,
+                after: 0
+            }
+        );
     }
 }
