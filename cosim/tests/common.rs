@@ -16,3 +16,17 @@ pub fn lander_loop() -> SystemDescription {
     let text = fs::read_to_string(&path).unwrap();
     toml_format::parse(&text, &path).unwrap_or_else(|e| panic!("{e}"))
 }
+
+/// Scenario events that set the plant's `engine_health`: (name, time in s, health) each.
+pub fn engine_faults(faults: &[(&str, f64, f64)]) -> Vec<cosim::system::Event> {
+    faults
+        .iter()
+        .map(|&(name, time_s, health)| cosim::system::Event {
+            name: name.into(),
+            time_s,
+            instance: "plant".into(),
+            variable: "engine_health".into(),
+            value: cosim::system::ParamValue::Real(health),
+        })
+        .collect()
+}

@@ -483,16 +483,7 @@ fn health_held_at(at_s: f64, events: &[(&str, f64, f64)]) -> (f64, f64) {
     let mut system = crate::common::lander_loop();
     system.instance_mut("plant").unwrap().model_exchange =
         Some(cosim::master::SolverSettings::default());
-    system.events = events
-        .iter()
-        .map(|&(name, time_s, health)| cosim::system::Event {
-            name: name.into(),
-            time_s,
-            instance: "plant".into(),
-            variable: "engine_health".into(),
-            value: cosim::system::ParamValue::Real(health),
-        })
-        .collect();
+    system.events = crate::common::engine_faults(events);
     let mut simulation = Simulation::new(system, &fmu_dir()).unwrap();
     let mut trajectory = Trajectory {
         names: simulation.column_names().to_vec(),

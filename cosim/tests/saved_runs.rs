@@ -259,16 +259,7 @@ const FAULTS: [(&str, f64, f64); 4] = [
 fn with_faults(version: &str, faults: &[(&str, f64, f64)]) -> SystemDescription {
     let mut system = paper_loop(version, Ordering::GaussSeidel);
     system.stop_time = 15.0;
-    system.events = faults
-        .iter()
-        .map(|&(name, time_s, health)| cosim::system::Event {
-            name: name.into(),
-            time_s,
-            instance: "plant".into(),
-            variable: "engine_health".into(),
-            value: cosim::system::ParamValue::Real(health),
-        })
-        .collect();
+    system.events = crate::common::engine_faults(faults);
     system
 }
 
