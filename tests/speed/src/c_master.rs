@@ -303,4 +303,16 @@ impl Plan {
     ) -> Result<Counts> {
         callgrind::count(exe, &self.args(order, variant, steps), "run_loop", out_dir)
     }
+
+    /// [`Plan::count`], keeping callgrind's file at `out`.
+    pub fn profile(
+        &self,
+        exe: &Path,
+        order: Order,
+        variant: Variant,
+        steps: usize,
+        out: &Path,
+    ) -> Result<Counts> {
+        callgrind::count_into(exe, &self.args(order, variant, steps), "run_loop", out)
+    }
 }

@@ -37,7 +37,16 @@ pub fn available() -> bool {
 /// Runs `program args` under callgrind, counting only inside functions matching `collect`
 /// (a callgrind pattern such as `*measured_flight*`).
 pub fn count(program: &Path, args: &[String], collect: &str, out_dir: &Path) -> Result<Counts> {
-    let out_file = out_dir.join("callgrind.out");
+    count_into(program, args, collect, &out_dir.join("callgrind.out"))
+}
+
+/// [`count`], with callgrind's file written to `out_file` (kept for `callgrind_annotate`).
+pub fn count_into(
+    program: &Path,
+    args: &[String],
+    collect: &str,
+    out_file: &Path,
+) -> Result<Counts> {
     let output = Command::new("valgrind")
         .arg("--tool=callgrind")
         .arg(format!("--callgrind-out-file={}", out_file.display()))

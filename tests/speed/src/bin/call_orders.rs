@@ -49,6 +49,20 @@ enum Command {
     Count,
     /// Only the C master's table: every FMI version, call order and list variant.
     Variants,
+    /// The C master in one FMI version, call order and list variant under callgrind, its
+    /// `run_loop` counted; the callgrind file is kept for `callgrind_annotate`.
+    Profile {
+        #[arg(long, value_enum)]
+        order: Order,
+        #[arg(long, default_value_t = 2)]
+        fmi: u8,
+        /// contract, sorted, reversed, shuffled, reshuffled or per-value.
+        #[arg(long, default_value = "per-value")]
+        variant: String,
+        /// Where callgrind writes its file.
+        #[arg(long, default_value = "callgrind.out.profile")]
+        out: PathBuf,
+    },
 }
 
 fn main() -> Result<()> {
@@ -65,6 +79,27 @@ fn main() -> Result<()> {
             Ok(())
         }
         Command::Count => count(&cli),
+        Command::Profile {
+            order,
+            fmi,
+            ref variant,
+            ref out,
+        } => {
+            let variant = Variant::ALL
+                .into_iter()
+                .find(|v| v.name() == variant)
+                .with_context(|| format!("no list variant named {variant}"))?;
+            let scratch = tempfile::tempdir()?;
+            let exe = c_master::compile(scratch.path())?;
+            let plan = c_master::Plan::new(&cli.fmu_dir, fmi, cli.binaries.as_deref())?;
+            let counts = plan.profile(&exe, order, variant, cli.steps, out)?;
+            println!(
+                "{:.0} instructions per step; callgrind file {}",
+                counts.instructions as f64 / cli.steps as f64,
+                out.display()
+            );
+            Ok(())
+        }
         Command::Variants => {
             ensure!(
                 callgrind::available(),
