@@ -63,7 +63,7 @@ pub fn count_into(
         output.status,
         String::from_utf8_lossy(&output.stderr)
     );
-    let text = std::fs::read_to_string(&out_file)
+    let text = std::fs::read_to_string(out_file)
         .with_context(|| format!("reading {}", out_file.display()))?;
     parse(&text)
 }
