@@ -9,7 +9,7 @@ use crate::physics::frames::{quaternion_to_scalar_first, Body};
 use crate::physics::parameters::{
     PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
 };
-use crate::physics::plant::{Advance, Commands, Delivered, Plant, PlantRun};
+use crate::physics::plant::{Advance, Commands, Delivered, Plant, PlantRun, RunCheckpoint};
 use crate::physics::slosh::{Slosh, LINEAR_RANGE_RAD};
 use crate::physics::thrusters::THRUSTER_COUNT;
 use fmi_model::parameter::ParameterError;
@@ -559,13 +559,13 @@ impl Model for LanderPlant {
                 crate::physics::plant::RCS_HISTORY_CAPACITY - 2
             )));
         }
-        let before = *run;
+        let before = run.checkpoint(plant);
         run.start_means();
         let history_before = (plant.rcs_valve_delay_s > 0.0).then_some(self.rcs_history);
         let advance =
             plant.advance_with_history(run, &mut self.rcs_history, &self.commands, &duty, t, h);
         if !run.state.is_finite() {
-            *run = before;
+            run.restore(&before);
             if let Some(history) = history_before {
                 self.rcs_history = history;
             }
@@ -576,7 +576,7 @@ impl Model for LanderPlant {
         // A body rate can grow within a step until omega x (I omega) overflows (found by the
         // fuzzer from a restored rate of 1e85 rad/s): the outputs' derivatives would be NaN.
         if !gyroscopic_torque_representable(&run.state.omega_body, plant) {
-            *run = before;
+            run.restore(&before);
             if let Some(history) = history_before {
                 self.rcs_history = history;
             }
@@ -585,13 +585,13 @@ impl Model for LanderPlant {
                  torque overflows"
             )));
         }
-        if run.propellant_exhausted && !before.propellant_exhausted {
+        if run.propellant_exhausted && !before.propellant_exhausted() {
             log.warning(format!(
                 "propellant exhausted in the step from t = {t} s: mass = dry_mass = {} kg, engines cut",
                 plant.dry_mass_kg
             ));
         }
-        if let (Some(td), None) = (run.touchdown, before.touchdown) {
+        if let (Some(td), false) = (run.touchdown, before.had_touchdown()) {
             if plant.gear.is_some() {
                 log.info(format!(
                     "touchdown (first footpad contact) at t = {} s: v_nue = [{:.3}, {:.3}, {:.3}] m/s, tilt = {:.2} deg",
@@ -603,7 +603,7 @@ impl Model for LanderPlant {
                 ));
             }
         }
-        if run.gear.tipped_over && !before.gear.tipped_over {
+        if run.gear.tipped_over && !before.gear().tipped_over {
             log.warning(format!("the lander tipped over in the step from t = {t} s"));
         }
         if let Some(slosh) = &plant.slosh {
@@ -641,8 +641,17 @@ impl Model for LanderPlant {
 /// A warning when a slosh pendulum swings out of the range its model holds in: past the
 /// linear sloshing theory's 30 deg, and past level with its hinge (the liquid no longer at
 /// the bottom of its tank: a tumble, or thrust against the liquid).
-fn warn_of_slosh_swing(slosh: &Slosh, before: &PlantRun, run: &PlantRun, t: f64, log: &mut Log) {
-    let was = slosh.largest_swing(&before.slosh, before.state.mass_kg);
+fn warn_of_slosh_swing(
+    slosh: &Slosh,
+    before: &RunCheckpoint,
+    run: &PlantRun,
+    t: f64,
+    log: &mut Log,
+) {
+    let Some(pendulums_before) = before.slosh() else {
+        return;
+    };
+    let was = slosh.largest_swing(pendulums_before, before.mass_kg());
     let now = slosh.largest_swing(&run.slosh, run.state.mass_kg);
     if now > LINEAR_RANGE_RAD && was <= LINEAR_RANGE_RAD {
         log.warning(format!(

@@ -176,6 +176,104 @@ impl PlantRun {
     }
 }
 
+/// What a Co-Simulation step may change in a [`PlantRun`], kept to put the run back when the
+/// step fails: the run but the touchdown record, which a step only ever sets where there was
+/// none, and the pendulums, which only slosh moves. Smaller than the run, it is copied in a
+/// few moves where the whole run took a `memcpy` at every step.
+#[derive(Debug, Clone, Copy)]
+pub struct RunCheckpoint {
+    // The state field by field: copied whole (144 bytes) it would be a `memcpy` call.
+    translation: Vector6<f64>,
+    q_body_to_nue: Quaternion<f64>,
+    omega_body: Body,
+    mass_kg: f64,
+    thrust_lag_n: f64,
+    torque_lag_body_nm: Body,
+    propellant_exhausted: bool,
+    had_touchdown: bool,
+    rcs_firing_at_step_end: Firing,
+    gear: GearRun,
+    slosh: Option<SloshState>,
+    specific_force_integral_body: Vector3<f64>,
+    omega_integral_body: Vector3<f64>,
+    mean_span_s: f64,
+}
+
+impl RunCheckpoint {
+    /// Whether the propellant was exhausted at the checkpoint.
+    pub fn propellant_exhausted(&self) -> bool {
+        self.propellant_exhausted
+    }
+
+    /// Whether the touchdown was recorded at the checkpoint.
+    pub fn had_touchdown(&self) -> bool {
+        self.had_touchdown
+    }
+
+    /// The landing gear's latches at the checkpoint.
+    pub fn gear(&self) -> &GearRun {
+        &self.gear
+    }
+
+    /// The mass at the checkpoint, kg.
+    pub fn mass_kg(&self) -> f64 {
+        self.mass_kg
+    }
+
+    /// The pendulums at the checkpoint (`None`: not kept, without slosh).
+    pub fn slosh(&self) -> Option<&SloshState> {
+        self.slosh.as_ref()
+    }
+}
+
+impl PlantRun {
+    /// What [`PlantRun::restore`] needs to undo a step of `plant` from here.
+    #[inline]
+    pub fn checkpoint(&self, plant: &Plant) -> RunCheckpoint {
+        let x = &self.state;
+        RunCheckpoint {
+            translation: x.translation,
+            q_body_to_nue: x.q_body_to_nue,
+            omega_body: x.omega_body,
+            mass_kg: x.mass_kg,
+            thrust_lag_n: x.thrust_lag_n,
+            torque_lag_body_nm: x.torque_lag_body_nm,
+            propellant_exhausted: self.propellant_exhausted,
+            had_touchdown: self.touchdown.is_some(),
+            rcs_firing_at_step_end: self.rcs_firing_at_step_end,
+            gear: self.gear,
+            slosh: plant.slosh.is_some().then_some(self.slosh),
+            specific_force_integral_body: self.specific_force_integral_body,
+            omega_integral_body: self.omega_integral_body,
+            mean_span_s: self.mean_span_s,
+        }
+    }
+
+    /// The run as it was at `checkpoint`, taken before a step of the same plant.
+    pub fn restore(&mut self, checkpoint: &RunCheckpoint) {
+        self.state = PlantState {
+            translation: checkpoint.translation,
+            q_body_to_nue: checkpoint.q_body_to_nue,
+            omega_body: checkpoint.omega_body,
+            mass_kg: checkpoint.mass_kg,
+            thrust_lag_n: checkpoint.thrust_lag_n,
+            torque_lag_body_nm: checkpoint.torque_lag_body_nm,
+        };
+        self.propellant_exhausted = checkpoint.propellant_exhausted;
+        if !checkpoint.had_touchdown {
+            self.touchdown = None;
+        }
+        self.rcs_firing_at_step_end = checkpoint.rcs_firing_at_step_end;
+        self.gear = checkpoint.gear;
+        if let Some(pendulums) = checkpoint.slosh {
+            self.slosh = pendulums;
+        }
+        self.specific_force_integral_body = checkpoint.specific_force_integral_body;
+        self.omega_integral_body = checkpoint.omega_integral_body;
+        self.mean_span_s = checkpoint.mean_span_s;
+    }
+}
+
 /// What [`PlantRun`]'s means integrate at a state: the specific force (body axes), then the
 /// body rate.
 #[inline]
@@ -923,6 +1021,8 @@ impl Plant {
         slosh_dynamics::solve(slosh, &slosh.pendulums_at(mass_kg), pendulums, &loads)
     }
 
+    // Inlined into `rk4_pair`, the step is written where its caller takes it, not copied.
+    #[inline(always)]
     fn rk4(
         &self,
         x: &PlantState,
