@@ -9,7 +9,9 @@ use crate::physics::frames::{quaternion_to_scalar_first, Body};
 use crate::physics::parameters::{
     PlantParameters, RcsModelKind, TranslationModelKind, MAX_SITE_LATITUDE_RAD,
 };
-use crate::physics::plant::{Advance, Commands, Delivered, Plant, PlantRun, RunCheckpoint};
+use crate::physics::plant::{
+    Advance, Commands, Delivered, Plant, PlantRun, RunCheckpoint, Translation,
+};
 use crate::physics::slosh::{Slosh, LINEAR_RANGE_RAD};
 use crate::physics::thrusters::THRUSTER_COUNT;
 use fmi_model::parameter::ParameterError;
@@ -41,9 +43,20 @@ impl Outputs {
     #[inline(always)]
     fn show(&mut self, plant: &Plant, run: &PlantRun, m0_kg: f64) {
         let x = &run.state;
-        let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
-        self.r_nue = r_nue.to_array();
-        self.v_nue = v_nue.to_array();
+        match plant.translation {
+            // The flat model's state is the position and velocity in NUE, written as they
+            // are rather than through `to_nue`'s pair of vectors.
+            Translation::Flat { .. } => {
+                let t = &x.translation;
+                self.r_nue = [t[0], t[1], t[2]];
+                self.v_nue = [t[3], t[4], t[5]];
+            }
+            Translation::Spherical(_) => {
+                let (r_nue, v_nue) = plant.translation.to_nue(&x.translation);
+                self.r_nue = r_nue.to_array();
+                self.v_nue = v_nue.to_array();
+            }
+        }
         self.q_body_to_nue = quaternion_to_scalar_first(&unit_attitude(&x.q_body_to_nue));
         self.omega_body = x.omega_body.to_array();
         self.mass = x.mass_kg;

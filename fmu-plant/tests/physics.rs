@@ -511,3 +511,33 @@ proptest! {
         }
     }
 }
+
+/// A Co-Simulation step that fails is undone from the checkpoint taken before it: the run
+/// as it was, down to the means of the step before, the touchdown the failed step recorded
+/// and the pendulums it swung.
+#[test]
+fn a_step_undone_from_its_checkpoint_leaves_the_run_as_it_was() {
+    let mut p = PlantParameters {
+        r0_nue_m: Vector3::new(0.0, 1.0, 0.0),
+        v0_nue_mps: Vector3::new(0.5, -2.0, 0.0),
+        ..Default::default()
+    };
+    p.slosh.enabled = true;
+    p.slosh.delta0_m = [0.05, 0.0, 0.0, 0.05];
+    let (plant, mut run) = start(&p);
+    run.start_means();
+    assert_eq!(
+        plant.advance(&mut run, &thrust(1000.0), 0.0, 0.01),
+        Advance::Reached
+    );
+    let before = run;
+    let checkpoint = run.checkpoint(&plant);
+    run.start_means();
+    let end = plant.advance(&mut run, &thrust(1000.0), 0.01, 1.0);
+    assert!(matches!(end, Advance::Touchdown(_)), "{end:?}");
+    assert!(run.touchdown.is_some());
+    assert_ne!(run.slosh, before.slosh);
+    assert_ne!(run.state, before.state);
+    run.restore(&checkpoint);
+    assert_eq!(run, before);
+}
