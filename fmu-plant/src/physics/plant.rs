@@ -331,7 +331,7 @@ impl OdeState for Coupled {
 pub const RCS_HISTORY_CAPACITY: usize = 16;
 
 /// The RCS commands issued but not yet acted on (or still acting), absolute times in s.
-/// Kept apart from [`PlantRun`] (which a step copies to restore it on an error): 3.7 kB
+/// Kept apart from [`PlantRun`] (which a step checkpoints to restore it on an error): 3.7 kB
 /// that only a valve delay needs, passed to [`Plant::advance_with_history`].
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct RcsHistory {
