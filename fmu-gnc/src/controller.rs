@@ -68,6 +68,18 @@ impl NavigationInputs {
             self.mass_kg.to_bits(),
         ]
     }
+
+    /// Whether `bits` are [`Self::to_bits`] of these inputs: the pairs' differences or-ed
+    /// together, in vector lanes and without a call to `memcmp`.
+    #[inline(always)]
+    pub fn has_bits(&self, bits: &[u64; 14]) -> bool {
+        let differing = self
+            .to_bits()
+            .iter()
+            .zip(bits)
+            .fold(0, |all, (a, b)| all | (a ^ b));
+        differing == 0
+    }
 }
 
 /// Commands and diagnostics of one sample, as exchanged.
@@ -266,6 +278,39 @@ pub fn gnc_advance_in_cycle(
     t_s: f64,
     cycle: (i64, bool),
 ) -> Advance {
+    let mut advance = Advance {
+        guidance: *guidance,
+        ..Advance::default()
+    };
+    gnc_advance_into(
+        design,
+        start_time_s,
+        guidance,
+        profile,
+        nav,
+        t_s,
+        cycle,
+        &mut advance,
+    );
+    advance
+}
+
+/// [`gnc_advance_in_cycle`] written into `out`, for a caller that keeps the memory in place:
+/// `out.guidance` is written only when the sample solves a guidance cycle, and whether it
+/// did is returned; otherwise the guidance memory is `guidance` as it is (the zero-order
+/// hold), and `out.guidance` is left as it was.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn gnc_advance_into(
+    design: &GncDesign,
+    start_time_s: f64,
+    guidance: &GuidanceState,
+    profile: &PhiProfile,
+    nav: &NavigationInputs,
+    t_s: f64,
+    cycle: (i64, bool),
+    out: &mut Advance,
+) -> bool {
     let params = &design.params;
     let phi_cmd_rad = if has_reached(t_s, params.phi_cmd_time_s) {
         params.phi_cmd_rad
@@ -283,10 +328,11 @@ pub fn gnc_advance_in_cycle(
         Some(_) => None,
     };
     let attitude = q.filter(|_| degenerate.is_none());
-    let guidance = match attitude {
-        // No guidance solve from unusable inputs.
-        None => *guidance,
-        Some(_) => guidance_sample_in_cycle(
+    // No guidance solve from unusable inputs; within a solved cycle `guidance_sample_in_cycle`
+    // holds the memory as it is.
+    let solves = attitude.is_some() && guidance.last_cycle != Some(cycle.0);
+    if solves {
+        out.guidance = guidance_sample_in_cycle(
             &design.scenario,
             guidance,
             t_s - start_time_s,
@@ -296,16 +342,14 @@ pub fn gnc_advance_in_cycle(
                 v_nue: Nue::from(nav.v_nue_mps),
                 mass_kg: nav.mass_kg,
             },
-        ),
-    };
-    Advance {
-        guidance,
-        profile,
-        degenerate,
-        non_unit_quaternion_norm,
-        roll,
-        attitude,
+        );
     }
+    out.profile = profile;
+    out.degenerate = degenerate;
+    out.non_unit_quaternion_norm = non_unit_quaternion_norm;
+    out.roll = roll;
+    out.attitude = attitude;
+    solves
 }
 
 /// Evaluate the GNC at absolute time `t_s`; `start_time_s` anchors the phase schedule.
@@ -340,7 +384,15 @@ pub fn gnc_outputs(
     nav: &NavigationInputs,
     out: &mut GncOutputs,
 ) {
-    outputs(design, advance, guidance, nav, out, &mut None);
+    outputs(
+        design,
+        advance,
+        &advance.guidance,
+        guidance,
+        nav,
+        out,
+        &mut None,
+    );
 }
 
 /// [`gnc_outputs`] for a caller that keeps the reference attitude of the guidance command
@@ -356,13 +408,38 @@ pub fn gnc_outputs_keeping_reference(
     out: &mut GncOutputs,
     reference: &mut Option<GuidanceReference>,
 ) {
-    outputs(design, advance, guidance, nav, out, reference);
+    outputs(
+        design,
+        advance,
+        &advance.guidance,
+        guidance,
+        nav,
+        out,
+        reference,
+    );
+}
+
+/// [`gnc_outputs_keeping_reference`] of a memory kept by [`gnc_advance_into`]: `next` is the
+/// guidance memory after the sample (`advance.guidance` if the sample solved a cycle, else
+/// `guidance`). Never inlined, and named so, for the same count.
+#[inline(never)]
+pub fn gnc_outputs_keeping_reference_in_place(
+    design: &GncDesign,
+    advance: &Advance,
+    next: &GuidanceState,
+    guidance: &GuidanceState,
+    nav: &NavigationInputs,
+    out: &mut GncOutputs,
+    reference: &mut Option<GuidanceReference>,
+) {
+    outputs(design, advance, next, guidance, nav, out, reference);
 }
 
 #[inline(always)]
 fn outputs(
     design: &GncDesign,
     advance: &Advance,
+    next: &GuidanceState,
     guidance: &GuidanceState,
     nav: &NavigationInputs,
     out: &mut GncOutputs,
@@ -373,7 +450,6 @@ fn outputs(
         *out = safe_outputs(params, guidance, advance.roll.phi_rad);
         return;
     };
-    let next = &advance.guidance;
     let reference = GuidanceReference::keep(
         reference,
         &design.attitude,

@@ -62,7 +62,9 @@ pub const ACCELERATION_BIT: i32 = 4;
 pub const ANGULAR_BIT: i32 = 8;
 
 /// What the GNC was given at one sample, and the command that acts from it on.
+/// `repr(C)`: its numbers lie side by side, for the test of [`usable`] to read in pairs.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[repr(C)]
 pub struct Observation {
     pub t_s: f64,
     pub r_nue_m: [f64; 3],
@@ -251,42 +253,45 @@ fn a_of(q: &Quaternion<f64>) -> [f64; 4] {
 }
 
 /// The attitude the inputs as given stand for, when the observation can be used: every
-/// value finite (`x * 0` is 0 for finite `x`, NaN otherwise: one sum tells), a positive
-/// mass, a quaternion with a direction.
-fn usable(o: &Observation) -> Option<Quaternion<f64>> {
+/// value finite, a positive mass, a quaternion with a direction. `as_given` is `o`'s quaternion normalised as
+/// [`Reading::attitude`] normalises it, if the caller has it.
+#[inline(always)]
+fn usable(o: &Observation, as_given: Option<Quaternion<f64>>) -> Option<Quaternion<f64>> {
+    if all_finite(o) && o.mass_kg > 0.0 {
+        as_given.or_else(|| Reading::AsGiven.attitude(o.q_body_to_nue))
+    } else {
+        None
+    }
+}
+
+/// Whether every number of `o` is finite: `x * 0` is 0 for finite `x` and NaN otherwise, so
+/// a sum of them is 0 exactly when all are, in whatever order it is added; in two running
+/// sums of neighbours, a vector unit adds two at once.
+#[inline(always)]
+fn all_finite(o: &Observation) -> bool {
     let [r0, r1, r2] = o.r_nue_m;
     let [v0, v1, v2] = o.v_nue_mps;
     let [q0, q1, q2, q3] = o.q_body_to_nue;
     let [w0, w1, w2] = o.omega_body_radps;
     let [m0, m1, m2] = o.torque_cmd_body_nm;
-    let probe = [
-        r0,
-        r1,
-        r2,
-        v0,
-        v1,
-        v2,
-        q0,
-        q1,
-        q2,
-        q3,
-        w0,
-        w1,
-        w2,
-        m0,
-        m1,
-        m2,
-        o.t_s,
-        o.mass_kg,
-        o.thrust_cmd_n,
-    ]
-    .iter()
-    .fold(0.0, |sum, x| sum + x * 0.0);
-    if probe == 0.0 && o.mass_kg > 0.0 {
-        Reading::AsGiven.attitude(o.q_body_to_nue)
-    } else {
-        None
+    let pairs = [
+        [o.t_s, r0],
+        [r1, r2],
+        [v0, v1],
+        [v2, q0],
+        [q1, q2],
+        [q3, w0],
+        [w1, w2],
+        [o.mass_kg, o.thrust_cmd_n],
+        [m0, m1],
+        [m2, 0.0],
+    ];
+    let mut sums = [0.0f64; 2];
+    for [a, b] in pairs {
+        sums[0] += a * 0.0;
+        sums[1] += b * 0.0;
     }
+    sums[0] + sums[1] == 0.0
 }
 
 /// What a check found in a window: its residual and whether it failed.
@@ -296,15 +301,17 @@ struct Verdict {
 }
 
 impl ConsistencyMonitor {
-    /// Takes the next observation; `raise` is given the message of each check raised by it
+    /// Takes the next observation (`as_given` its quaternion normalised, if the caller has
+    /// it, see [`usable`]); `raise` is given the message of each check raised by it
     /// (each check raises once a run).
     pub fn observe(
         &mut self,
         settings: &MonitorSettings,
         o: &Observation,
+        as_given: Option<Quaternion<f64>>,
         raise: &mut impl FnMut(String),
     ) {
-        let Some(attitude) = usable(o) else {
+        let Some(attitude) = usable(o, as_given) else {
             self.window = None;
             return;
         };

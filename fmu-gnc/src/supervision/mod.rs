@@ -8,6 +8,7 @@ pub mod feasibility;
 
 use consistency::{ConsistencyMonitor, MonitorSettings, Observation, Residuals};
 use feasibility::{Limits, Pinned, SaturationClock};
+use nalgebra::Quaternion;
 use serde::{Deserialize, Serialize};
 
 /// Bits of the status output beyond the consistency checks' ([`consistency::ATTITUDE_BIT`]
@@ -58,12 +59,14 @@ impl Supervisor {
         }
     }
 
-    /// One committed sample: `o` the inputs with the command shown for them, `tilt_error_rad`
-    /// the tilt error shown; `report` is given the message of each finding it raised.
+    /// One committed sample: `o` the inputs with the command shown for them, `attitude` its
+    /// quaternion normalised as given if the caller has it, `tilt_error_rad` the tilt error
+    /// shown; `report` is given the message of each finding it raised.
     pub fn observe(
         &mut self,
         settings: &SupervisionSettings,
         o: &Observation,
+        attitude: Option<Quaternion<f64>>,
         tilt_error_rad: f64,
         report: &mut impl FnMut(String),
     ) {
@@ -106,7 +109,8 @@ impl Supervisor {
             ));
         }
         if settings.monitor_enabled {
-            self.consistency.observe(&settings.monitor, o, report);
+            self.consistency
+                .observe(&settings.monitor, o, attitude, report);
         }
     }
 }
