@@ -94,7 +94,10 @@ struct Evaluated {
     /// The time it was evaluated at, exactly: a step from that very time needs no
     /// [`SampleTime`] comparison.
     t_bits: u64,
-    time: SampleTime,
+    /// The guidance cycle of that time; with it the [`SampleTime`] of the sample is worked
+    /// out only for a step from another time (the state it depends on is that of the
+    /// evaluation while the sample is valid).
+    cycle: (i64, bool),
     input_bits: [u64; 14],
     /// The memory the sample leaves (its outputs are in `LanderGnc::outputs`); its guidance
     /// state only if `solves` (else the guidance memory stays as it is).
@@ -105,6 +108,19 @@ struct Evaluated {
     /// `pwpf_moves`; without thrusters they stay as they are and this is not written).
     pwpf: PwpfBank,
     pwpf_moves: bool,
+}
+
+impl Evaluated {
+    /// The [`SampleTime`] of the kept sample, for `gnc` as it was evaluated in (the kept
+    /// sample is valid).
+    fn time(&self, gnc: &LanderGnc) -> SampleTime {
+        gnc.sample_time_in(f64::from_bits(self.t_bits), self.cycle)
+    }
+
+    /// Whether the kept sample opens its guidance cycle (`SampleTime::opens_cycle`).
+    fn opens_cycle(&self, gnc: &LanderGnc) -> bool {
+        gnc.guidance.last_cycle != Some(self.cycle.0)
+    }
 }
 
 /// All that `gnc_sample` reads of its time `t` (for given parameters, start time and
@@ -166,6 +182,13 @@ impl GncParameters {
 }
 
 impl LanderGnc {
+    /// Whether the kept sample's time is the same sample time as the current one (out of
+    /// line: a master whose time is ours to the bit needs no key).
+    #[inline(never)]
+    fn same_sample_time(&self, e: &Evaluated) -> bool {
+        e.time(self) == self.sample_time(self.time_s)
+    }
+
     /// The [`SampleTime`] of the sample at `t_s`, mirroring how `gnc_sample` and the guidance
     /// sequencer use the time.
     fn sample_time(&self, t_s: f64) -> SampleTime {
@@ -250,7 +273,6 @@ impl LanderGnc {
             }
         };
         let cycle = self.cycle_at(self.time_s);
-        let time = self.sample_time_in(self.time_s, cycle);
         let kept = &mut self.evaluated;
         // Written in place, the guidance memory only when the sample solves a cycle (one
         // sample in ten at 100 Hz): the others hold it as it is.
@@ -283,7 +305,7 @@ impl LanderGnc {
             kept.pwpf = actuate(design, &mut self.outputs, &self.pwpf);
         }
         kept.t_bits = self.time_s.to_bits();
-        kept.time = time;
+        kept.cycle = cycle;
         kept.input_bits = self.inputs.to_bits();
         kept.valid = true;
         report(&kept.advance, self.time_s, log);
@@ -316,9 +338,8 @@ impl LanderGnc {
     fn commit(&mut self, log: &mut Log) {
         self.keep_design();
         // Read in place: the kept memory is a few hundred bytes, worth not moving twice.
-        let same_time = |e: &Evaluated| {
-            e.t_bits == self.time_s.to_bits() || e.time == self.sample_time(self.time_s)
-        };
+        let same_time =
+            |e: &Evaluated| e.t_bits == self.time_s.to_bits() || self.same_sample_time(e);
         // The attitude the sample normalised from these very inputs, when it used them as
         // they came: the input monitor's reading of them as given, bit for bit.
         let attitude = match &self.evaluated {
@@ -412,7 +433,7 @@ impl LanderGnc {
         let norm_squared: f64 = q.iter().map(|c| c * c).sum();
         let plain =
             (norm_squared - 1.0).abs() <= QUATERNION_NORM_TOLERANCE && self.inputs.mass_kg > 0.0;
-        e.time.opens_cycle || !torque_model || !plain
+        e.opens_cycle(self) || !torque_model || !plain
     }
 
     /// The memory of the sample at the current time, with the modulators after it.
