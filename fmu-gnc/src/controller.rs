@@ -280,6 +280,7 @@ pub fn gnc_advance_in_cycle(
 ) -> Advance {
     let mut advance = Advance {
         guidance: *guidance,
+        profile: *profile,
         ..Advance::default()
     };
     gnc_advance_into(
@@ -298,7 +299,8 @@ pub fn gnc_advance_in_cycle(
 /// [`gnc_advance_in_cycle`] written into `out`, for a caller that keeps the memory in place:
 /// `out.guidance` is written only when the sample solves a guidance cycle, and whether it
 /// did is returned; otherwise the guidance memory is `guidance` as it is (the zero-order
-/// hold), and `out.guidance` is left as it was.
+/// hold), and `out.guidance` is left as it was. Likewise `out.profile` is written only with
+/// a shaped thrust-axis profile (`design.roll_profile`); without one it stays `profile`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn gnc_advance_into(
@@ -317,9 +319,13 @@ pub fn gnc_advance_into(
     } else {
         0.0
     };
-    let (profile, roll) = match &design.roll_profile {
-        Some(limits) => profile.advance(limits, t_s, phi_cmd_rad),
-        None => (*profile, RollReference::step(phi_cmd_rad)),
+    out.roll = match &design.roll_profile {
+        Some(limits) => {
+            let (profile, roll) = profile.advance(limits, t_s, phi_cmd_rad);
+            out.profile = profile;
+            roll
+        }
+        None => RollReference::step(phi_cmd_rad),
     };
     let (q, non_unit_quaternion_norm) = input_attitude(nav.q_body_to_nue);
     let degenerate = match q {
@@ -344,10 +350,8 @@ pub fn gnc_advance_into(
             },
         );
     }
-    out.profile = profile;
     out.degenerate = degenerate;
     out.non_unit_quaternion_norm = non_unit_quaternion_norm;
-    out.roll = roll;
     out.attitude = attitude;
     solves
 }

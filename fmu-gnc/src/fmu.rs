@@ -104,6 +104,9 @@ struct Evaluated {
     advance: Advance,
     /// The sample solved a guidance cycle: `advance.guidance` holds the new memory.
     solves: bool,
+    /// The thrust-axis profile is shaped: `advance.profile` holds its new memory (without
+    /// shaping it stays as it is).
+    profile_moves: bool,
     /// The modulators after the coming period, for this sample's duties (thruster model:
     /// `pwpf_moves`; without thrusters they stay as they are and this is not written).
     pwpf: PwpfBank,
@@ -286,6 +289,7 @@ impl LanderGnc {
             cycle,
             &mut kept.advance,
         );
+        kept.profile_moves = design.roll_profile.is_some();
         let next = if kept.solves {
             &kept.advance.guidance
         } else {
@@ -350,7 +354,9 @@ impl LanderGnc {
                 if e.solves {
                     self.guidance = e.advance.guidance;
                 }
-                self.profile = e.advance.profile;
+                if e.profile_moves {
+                    self.profile = e.advance.profile;
+                }
                 if e.pwpf_moves {
                     self.pwpf = e.pwpf;
                 }
@@ -362,7 +368,9 @@ impl LanderGnc {
                 if e.solves {
                     self.guidance = e.advance.guidance;
                 }
-                self.profile = e.advance.profile;
+                if e.profile_moves {
+                    self.profile = e.advance.profile;
+                }
                 None
             }
             _ => {
