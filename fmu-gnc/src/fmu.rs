@@ -406,7 +406,7 @@ impl LanderGnc {
         let ground_contact_possible = self.guidance.engine_cut
             || (self.guidance.phase == crate::guidance::sequencer::Phase::TerminalDescent
                 && height_m < GROUND_CONTACT_HEIGHT_M);
-        let observation = Observation {
+        *self.supervisor.incoming() = Observation {
             t_s: self.time_s,
             r_nue_m: nav.r_nue_m,
             v_nue_mps: nav.v_nue_mps,
@@ -418,15 +418,10 @@ impl LanderGnc {
             ground_contact_possible,
         };
         let (tilt_error_rad, time_s) = (self.outputs.tilt_error_rad, self.time_s);
-        self.supervisor.observe(
-            settings,
-            &observation,
-            attitude,
-            tilt_error_rad,
-            &mut |message| {
+        self.supervisor
+            .observe(settings, attitude, tilt_error_rad, &mut |message| {
                 log.warning(format!("t = {time_s} s: {message}"));
-            },
-        );
+            });
     }
 
     /// Whether the memory a sample at the time of `e` commits may differ from `e`'s for the
@@ -527,8 +522,9 @@ impl Model for LanderGnc {
     /// 2: the thrust-axis profile and the initialization flag; 3: and the RCS thruster
     /// model's modulators.
     /// 5: and the supervision; 6: its input monitor's window keeps the thrust axis and
-    /// which mistakes it integrates.
-    const STATE_VERSION: u32 = 6;
+    /// which mistakes it integrates; 7: and its last two observations in turn, in place of
+    /// the newest alone.
+    const STATE_VERSION: u32 = 7;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,
