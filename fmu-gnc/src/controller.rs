@@ -191,6 +191,8 @@ pub fn quaternion_norm(q: [f64; 4]) -> (f64, [f64; 4]) {
 }
 
 /// The attitude of a quaternion input and, when its norm is far from 1, that norm.
+/// Inlined: the common case is a few instructions; the others are out of line.
+#[inline(always)]
 fn input_attitude(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
     // The common case without the scaling: a sum of squares this close to 1 has a norm
     // within the tolerance whatever the rounding ((1 -+ 1e-3)^2 = 1 -+ 2e-3 + 1e-6), so the
@@ -199,6 +201,13 @@ fn input_attitude(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
     if (squares - 1.0).abs() <= UNIT_SQUARES_MARGIN {
         return (attitude_from_scalar_first(q), None);
     }
+    input_attitude_scaled(q)
+}
+
+/// [`input_attitude`] of a quaternion whose sum of squares is not close to 1.
+#[cold]
+#[inline(never)]
+fn input_attitude_scaled(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
     let (norm, scaled) = quaternion_norm(q);
     if (norm - 1.0).abs() <= QUATERNION_NORM_TOLERANCE || norm < MIN_QUATERNION_NORM {
         // Unit-norm inputs exactly as they come (trajectories bit for bit); (near) zero ones
