@@ -315,18 +315,17 @@ impl ConsistencyMonitor {
         as_given: Option<Quaternion<f64>>,
         raise: &mut impl FnMut(String),
     ) {
-        let diagnoses = self.diagnoses();
-        let w = &mut self.window;
-        let o = w.incoming();
+        let o = self.window.incoming();
         let Some(attitude) = usable(o, as_given) else {
-            w.open = false;
+            self.window.open = false;
             return;
         };
-        if !(w.open && o.t_s > w.last().t_s) {
-            w.latest = !w.latest;
-            w.open(&attitude, diagnoses);
+        if !(self.window.open && o.t_s > self.window.last().t_s) {
+            self.window.latest = !self.window.latest;
+            self.window.open(&attitude, self.diagnoses());
             return;
         }
+        let w = &mut self.window;
         w.accumulate(settings, &attitude);
         // Times are finite here.
         if w.last().t_s - w.start.t_s >= WINDOW_S * (1.0 - 1e-9) {
