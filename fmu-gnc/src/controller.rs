@@ -68,6 +68,18 @@ impl NavigationInputs {
             self.mass_kg.to_bits(),
         ]
     }
+
+    /// Whether `bits` are [`Self::to_bits`] of these inputs: the pairs' differences or-ed
+    /// together, in vector lanes and without a call to `memcmp`.
+    #[inline(always)]
+    pub fn has_bits(&self, bits: &[u64; 14]) -> bool {
+        let differing = self
+            .to_bits()
+            .iter()
+            .zip(bits)
+            .fold(0, |all, (a, b)| all | (a ^ b));
+        differing == 0
+    }
 }
 
 /// Commands and diagnostics of one sample, as exchanged.
@@ -179,6 +191,8 @@ pub fn quaternion_norm(q: [f64; 4]) -> (f64, [f64; 4]) {
 }
 
 /// The attitude of a quaternion input and, when its norm is far from 1, that norm.
+/// Inlined: the common case is a few instructions; the others are out of line.
+#[inline(always)]
 fn input_attitude(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
     // The common case without the scaling: a sum of squares this close to 1 has a norm
     // within the tolerance whatever the rounding ((1 -+ 1e-3)^2 = 1 -+ 2e-3 + 1e-6), so the
@@ -187,6 +201,13 @@ fn input_attitude(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
     if (squares - 1.0).abs() <= UNIT_SQUARES_MARGIN {
         return (attitude_from_scalar_first(q), None);
     }
+    input_attitude_scaled(q)
+}
+
+/// [`input_attitude`] of a quaternion whose sum of squares is not close to 1.
+#[cold]
+#[inline(never)]
+fn input_attitude_scaled(q: [f64; 4]) -> (Option<Attitude>, Option<f64>) {
     let (norm, scaled) = quaternion_norm(q);
     if (norm - 1.0).abs() <= QUATERNION_NORM_TOLERANCE || norm < MIN_QUATERNION_NORM {
         // Unit-norm inputs exactly as they come (trajectories bit for bit); (near) zero ones
@@ -266,15 +287,54 @@ pub fn gnc_advance_in_cycle(
     t_s: f64,
     cycle: (i64, bool),
 ) -> Advance {
+    let mut advance = Advance {
+        guidance: *guidance,
+        profile: *profile,
+        ..Advance::default()
+    };
+    gnc_advance_into(
+        design,
+        start_time_s,
+        guidance,
+        profile,
+        nav,
+        t_s,
+        cycle,
+        &mut advance,
+    );
+    advance
+}
+
+/// [`gnc_advance_in_cycle`] written into `out`, for a caller that keeps the memory in place:
+/// `out.guidance` is written only when the sample solves a guidance cycle, and whether it
+/// did is returned; otherwise the guidance memory is `guidance` as it is (the zero-order
+/// hold), and `out.guidance` is left as it was. Likewise `out.profile` is written only with
+/// a shaped thrust-axis profile (`design.roll_profile`); without one it stays `profile`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn gnc_advance_into(
+    design: &GncDesign,
+    start_time_s: f64,
+    guidance: &GuidanceState,
+    profile: &PhiProfile,
+    nav: &NavigationInputs,
+    t_s: f64,
+    cycle: (i64, bool),
+    out: &mut Advance,
+) -> bool {
     let params = &design.params;
     let phi_cmd_rad = if has_reached(t_s, params.phi_cmd_time_s) {
         params.phi_cmd_rad
     } else {
         0.0
     };
-    let (profile, roll) = match &design.roll_profile {
-        Some(limits) => profile.advance(limits, t_s, phi_cmd_rad),
-        None => (*profile, RollReference::step(phi_cmd_rad)),
+    out.roll = match &design.roll_profile {
+        Some(limits) => {
+            let (profile, roll) = profile.advance(limits, t_s, phi_cmd_rad);
+            out.profile = profile;
+            roll
+        }
+        None => RollReference::step(phi_cmd_rad),
     };
     let (q, non_unit_quaternion_norm) = input_attitude(nav.q_body_to_nue);
     let degenerate = match q {
@@ -283,10 +343,11 @@ pub fn gnc_advance_in_cycle(
         Some(_) => None,
     };
     let attitude = q.filter(|_| degenerate.is_none());
-    let guidance = match attitude {
-        // No guidance solve from unusable inputs.
-        None => *guidance,
-        Some(_) => guidance_sample_in_cycle(
+    // No guidance solve from unusable inputs; within a solved cycle `guidance_sample_in_cycle`
+    // holds the memory as it is.
+    let solves = attitude.is_some() && guidance.last_cycle != Some(cycle.0);
+    if solves {
+        out.guidance = guidance_sample_in_cycle(
             &design.scenario,
             guidance,
             t_s - start_time_s,
@@ -296,16 +357,12 @@ pub fn gnc_advance_in_cycle(
                 v_nue: Nue::from(nav.v_nue_mps),
                 mass_kg: nav.mass_kg,
             },
-        ),
-    };
-    Advance {
-        guidance,
-        profile,
-        degenerate,
-        non_unit_quaternion_norm,
-        roll,
-        attitude,
+        );
     }
+    out.degenerate = degenerate;
+    out.non_unit_quaternion_norm = non_unit_quaternion_norm;
+    out.attitude = attitude;
+    solves
 }
 
 /// Evaluate the GNC at absolute time `t_s`; `start_time_s` anchors the phase schedule.
@@ -340,7 +397,15 @@ pub fn gnc_outputs(
     nav: &NavigationInputs,
     out: &mut GncOutputs,
 ) {
-    outputs(design, advance, guidance, nav, out, &mut None);
+    outputs(
+        design,
+        advance,
+        &advance.guidance,
+        guidance,
+        nav,
+        out,
+        &mut None,
+    );
 }
 
 /// [`gnc_outputs`] for a caller that keeps the reference attitude of the guidance command
@@ -356,13 +421,38 @@ pub fn gnc_outputs_keeping_reference(
     out: &mut GncOutputs,
     reference: &mut Option<GuidanceReference>,
 ) {
-    outputs(design, advance, guidance, nav, out, reference);
+    outputs(
+        design,
+        advance,
+        &advance.guidance,
+        guidance,
+        nav,
+        out,
+        reference,
+    );
+}
+
+/// [`gnc_outputs_keeping_reference`] of a memory kept by [`gnc_advance_into`]: `next` is the
+/// guidance memory after the sample (`advance.guidance` if the sample solved a cycle, else
+/// `guidance`). Never inlined, and named so, for the same count.
+#[inline(never)]
+pub fn gnc_outputs_keeping_reference_in_place(
+    design: &GncDesign,
+    advance: &Advance,
+    next: &GuidanceState,
+    guidance: &GuidanceState,
+    nav: &NavigationInputs,
+    out: &mut GncOutputs,
+    reference: &mut Option<GuidanceReference>,
+) {
+    outputs(design, advance, next, guidance, nav, out, reference);
 }
 
 #[inline(always)]
 fn outputs(
     design: &GncDesign,
     advance: &Advance,
+    next: &GuidanceState,
     guidance: &GuidanceState,
     nav: &NavigationInputs,
     out: &mut GncOutputs,
@@ -373,7 +463,6 @@ fn outputs(
         *out = safe_outputs(params, guidance, advance.roll.phi_rad);
         return;
     };
-    let next = &advance.guidance;
     let reference = GuidanceReference::keep(
         reference,
         &design.attitude,

@@ -81,10 +81,32 @@ pub fn twist_angle(q: &Attitude, axis: &Unit<Vector3<f64>>) -> f64 {
     wrap_angle(2.0 * libm::atan2(projection, q.w))
 }
 
+/// `x.round()` (half away from zero) inline, bit for bit: below 2^52 in magnitude `x`
+/// truncates exactly through an i64 and its fraction is exact, a zero result takes the sign
+/// of `x`; from there on (infinities and NaN too) every value is its own.
+#[inline(always)]
+fn round(x: f64) -> f64 {
+    const INTEGRAL_FROM: f64 = 4_503_599_627_370_496.0;
+    if x.abs() < INTEGRAL_FROM {
+        let truncated = x as i64 as f64;
+        let fraction = x - truncated;
+        let rounded = if fraction >= 0.5 {
+            truncated + 1.0
+        } else if fraction <= -0.5 {
+            truncated - 1.0
+        } else {
+            truncated
+        };
+        rounded.copysign(x)
+    } else {
+        x
+    }
+}
+
 /// Wrap an angle to (-pi, pi].
 pub fn wrap_angle(angle_rad: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
-    let wrapped = angle_rad - TAU * (angle_rad / TAU).round();
+    let wrapped = angle_rad - TAU * round(angle_rad / TAU);
     // `round` leaves [-pi, pi]; the half-open interval maps -pi to +pi.
     if wrapped <= -PI {
         wrapped + TAU
@@ -157,6 +179,57 @@ mod tests {
         assert!(short.w >= 0.0);
         assert!((short.angle() - 0.5 * PI).abs() < 1e-12);
         assert!(short.angle_to(&long_way) < 1e-12, "same rotation");
+    }
+
+    #[test]
+    fn the_inline_round_is_std_round_bit_for_bit() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            f64::from_bits(1),
+            -f64::from_bits(1),
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            9.3e18,
+            -9.3e18,
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let x = f64::from_bits(state);
+            values.extend([
+                x,
+                x.fract(),
+                x * 1e-300,
+                ((state >> 11) as f64 - 4e15) * 1e-12,
+            ]);
+        }
+        for k in -100_000..=100_000 {
+            values.extend([f64::from(k) * 0.5, f64::from(k) * 0.01, f64::from(k) * 0.3]);
+        }
+        for x in values {
+            let (ours, std) = (round(x), x.round());
+            if std.is_nan() {
+                assert!(ours.is_nan(), "{x:e}");
+            } else {
+                assert_eq!(ours.to_bits(), std.to_bits(), "{x:e}");
+            }
+        }
     }
 
     #[test]

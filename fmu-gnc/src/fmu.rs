@@ -19,8 +19,8 @@ use crate::actuation::{PwpfBank, RcsModel};
 use crate::attitude::profile::PhiProfile;
 use crate::attitude::{ControlLaw, GuidanceReference};
 use crate::controller::{
-    actuate, gnc_advance, gnc_advance_in_cycle, gnc_outputs_keeping_reference, gnc_sample, Advance,
-    GncOutputs, NavigationInputs, Sample, QUATERNION_NORM_TOLERANCE,
+    actuate, gnc_advance, gnc_advance_into, gnc_outputs_keeping_reference_in_place, gnc_sample,
+    Advance, GncOutputs, NavigationInputs, Sample, QUATERNION_NORM_TOLERANCE,
 };
 use crate::guidance::retarget::MAX_DIVERT_TIME_S;
 use crate::guidance::sequencer::{guidance_cycle_index, has_reached, GuidanceState};
@@ -33,6 +33,7 @@ use fmi_model::{
     Terminal,
 };
 use lander_math::signal_groups as groups;
+use nalgebra::Quaternion;
 use serde::{Deserialize, Serialize};
 
 /// The GNC FMU instance: parameters, latest inputs and outputs, guidance memory, time.
@@ -93,14 +94,36 @@ struct Evaluated {
     /// The time it was evaluated at, exactly: a step from that very time needs no
     /// [`SampleTime`] comparison.
     t_bits: u64,
-    time: SampleTime,
+    /// The guidance cycle of that time; with it the [`SampleTime`] of the sample is worked
+    /// out only for a step from another time (the state it depends on is that of the
+    /// evaluation while the sample is valid).
+    cycle: (i64, bool),
     input_bits: [u64; 14],
-    /// The memory the sample leaves (its outputs are in `LanderGnc::outputs`).
+    /// The memory the sample leaves (its outputs are in `LanderGnc::outputs`); its guidance
+    /// state only if `solves` (else the guidance memory stays as it is).
     advance: Advance,
+    /// The sample solved a guidance cycle: `advance.guidance` holds the new memory.
+    solves: bool,
+    /// The thrust-axis profile is shaped: `advance.profile` holds its new memory (without
+    /// shaping it stays as it is).
+    profile_moves: bool,
     /// The modulators after the coming period, for this sample's duties (thruster model:
     /// `pwpf_moves`; without thrusters they stay as they are and this is not written).
     pwpf: PwpfBank,
     pwpf_moves: bool,
+}
+
+impl Evaluated {
+    /// The [`SampleTime`] of the kept sample, for `gnc` as it was evaluated in (the kept
+    /// sample is valid).
+    fn time(&self, gnc: &LanderGnc) -> SampleTime {
+        gnc.sample_time_in(f64::from_bits(self.t_bits), self.cycle)
+    }
+
+    /// Whether the kept sample opens its guidance cycle (`SampleTime::opens_cycle`).
+    fn opens_cycle(&self, gnc: &LanderGnc) -> bool {
+        gnc.guidance.last_cycle != Some(self.cycle.0)
+    }
 }
 
 /// All that `gnc_sample` reads of its time `t` (for given parameters, start time and
@@ -162,6 +185,13 @@ impl GncParameters {
 }
 
 impl LanderGnc {
+    /// Whether the kept sample's time is the same sample time as the current one (out of
+    /// line: a master whose time is ours to the bit needs no key).
+    #[inline(never)]
+    fn same_sample_time(&self, e: &Evaluated) -> bool {
+        e.time(self) == self.sample_time(self.time_s)
+    }
+
     /// The [`SampleTime`] of the sample at `t_s`, mirroring how `gnc_sample` and the guidance
     /// sequencer use the time.
     fn sample_time(&self, t_s: f64) -> SampleTime {
@@ -246,9 +276,10 @@ impl LanderGnc {
             }
         };
         let cycle = self.cycle_at(self.time_s);
-        let time = self.sample_time_in(self.time_s, cycle);
         let kept = &mut self.evaluated;
-        kept.advance = gnc_advance_in_cycle(
+        // Written in place, the guidance memory only when the sample solves a cycle (one
+        // sample in ten at 100 Hz): the others hold it as it is.
+        kept.solves = gnc_advance_into(
             design,
             self.start_time_s,
             &self.guidance,
@@ -256,10 +287,18 @@ impl LanderGnc {
             &self.inputs,
             self.time_s,
             cycle,
+            &mut kept.advance,
         );
-        gnc_outputs_keeping_reference(
+        kept.profile_moves = design.roll_profile.is_some();
+        let next = if kept.solves {
+            &kept.advance.guidance
+        } else {
+            &self.guidance
+        };
+        gnc_outputs_keeping_reference_in_place(
             design,
             &kept.advance,
+            next,
             &self.guidance,
             &self.inputs,
             &mut self.outputs,
@@ -270,7 +309,7 @@ impl LanderGnc {
             kept.pwpf = actuate(design, &mut self.outputs, &self.pwpf);
         }
         kept.t_bits = self.time_s.to_bits();
-        kept.time = time;
+        kept.cycle = cycle;
         kept.input_bits = self.inputs.to_bits();
         kept.valid = true;
         report(&kept.advance, self.time_s, log);
@@ -303,31 +342,36 @@ impl LanderGnc {
     fn commit(&mut self, log: &mut Log) {
         self.keep_design();
         // Read in place: the kept memory is a few hundred bytes, worth not moving twice.
-        let bits = self.inputs.to_bits();
-        let same_time = |e: &Evaluated| {
-            e.t_bits == self.time_s.to_bits() || e.time == self.sample_time(self.time_s)
-        };
-        match &self.evaluated {
-            // A sample that opens no guidance cycle leaves the guidance memory as it is
-            // (`gnc_advance` returns it unchanged), and one without thrusters the modulators:
-            // nothing to copy back then.
-            e if e.valid && e.input_bits == bits && same_time(e) => {
+        let same_time =
+            |e: &Evaluated| e.t_bits == self.time_s.to_bits() || self.same_sample_time(e);
+        // The attitude the sample normalised from these very inputs, when it used them as
+        // they came: the input monitor's reading of them as given, bit for bit.
+        let attitude = match &self.evaluated {
+            // A sample that solves no guidance cycle leaves the guidance memory as it is,
+            // and one without thrusters the modulators: nothing to copy back then.
+            e if e.valid && self.inputs.has_bits(&e.input_bits) && same_time(e) => {
                 report(&e.advance, self.time_s, log);
-                if e.time.opens_cycle {
+                if e.solves {
                     self.guidance = e.advance.guidance;
                 }
-                self.profile = e.advance.profile;
+                if e.profile_moves {
+                    self.profile = e.advance.profile;
+                }
                 if e.pwpf_moves {
                     self.pwpf = e.pwpf;
                 }
+                as_given(&e.advance)
             }
             // A master that steps before it reads (fmpy's loop, Jacobi) evaluated the
             // previous inputs at this time.
             e if e.valid && !self.inputs_reach_memory(e) && same_time(e) => {
-                if e.time.opens_cycle {
+                if e.solves {
                     self.guidance = e.advance.guidance;
                 }
-                self.profile = e.advance.profile;
+                if e.profile_moves {
+                    self.profile = e.advance.profile;
+                }
+                None
             }
             _ => {
                 let (advance, pwpf) = self.advance_without_outputs();
@@ -335,16 +379,18 @@ impl LanderGnc {
                 self.guidance = advance.guidance;
                 self.profile = advance.profile;
                 self.pwpf = pwpf;
+                as_given(&advance)
             }
-        }
+        };
         self.evaluated.valid = false;
-        self.supervise(log);
+        self.supervise(attitude, log);
     }
 
     /// The supervision of the committed sample: the inputs at the current time with the
     /// command last shown, which is the one acting from now on whatever the master's order
     /// (read before the step, or after the previous one).
-    fn supervise(&mut self, log: &mut Log) {
+    /// `attitude` is the inputs' quaternion normalised as they came, if the caller has it.
+    fn supervise(&mut self, attitude: Option<Quaternion<f64>>, log: &mut Log) {
         let p = &self.params;
         let derived;
         let settings = match &self.design {
@@ -360,7 +406,7 @@ impl LanderGnc {
         let ground_contact_possible = self.guidance.engine_cut
             || (self.guidance.phase == crate::guidance::sequencer::Phase::TerminalDescent
                 && height_m < GROUND_CONTACT_HEIGHT_M);
-        let observation = Observation {
+        *self.supervisor.incoming() = Observation {
             t_s: self.time_s,
             r_nue_m: nav.r_nue_m,
             v_nue_mps: nav.v_nue_mps,
@@ -373,7 +419,7 @@ impl LanderGnc {
         };
         let (tilt_error_rad, time_s) = (self.outputs.tilt_error_rad, self.time_s);
         self.supervisor
-            .observe(settings, &observation, tilt_error_rad, &mut |message| {
+            .observe(settings, attitude, tilt_error_rad, &mut |message| {
                 log.warning(format!("t = {time_s} s: {message}"));
             });
     }
@@ -390,7 +436,7 @@ impl LanderGnc {
         let norm_squared: f64 = q.iter().map(|c| c * c).sum();
         let plain =
             (norm_squared - 1.0).abs() <= QUATERNION_NORM_TOLERANCE && self.inputs.mass_kg > 0.0;
-        e.time.opens_cycle || !torque_model || !plain
+        e.opens_cycle(self) || !torque_model || !plain
     }
 
     /// The memory of the sample at the current time, with the modulators after it.
@@ -415,6 +461,16 @@ impl LanderGnc {
 /// Height above `terminal_ground_height` below which, in the terminal descent, the gear may
 /// touch: the legs and a margin for the terrain.
 const GROUND_CONTACT_HEIGHT_M: f64 = 5.0;
+
+/// The sample's attitude when it is its quaternion input normalised as it came (a norm
+/// near 1: not rescaled before normalising).
+#[inline(always)]
+fn as_given(advance: &Advance) -> Option<Quaternion<f64>> {
+    match advance.non_unit_quaternion_norm {
+        None => advance.attitude.map(|q| q.into_inner()),
+        Some(_) => None,
+    }
+}
 
 /// Log what the sample found wrong with its inputs, if anything.
 #[inline(always)]
@@ -466,8 +522,9 @@ impl Model for LanderGnc {
     /// 2: the thrust-axis profile and the initialization flag; 3: and the RCS thruster
     /// model's modulators.
     /// 5: and the supervision; 6: its input monitor's window keeps the thrust axis and
-    /// which mistakes it integrates.
-    const STATE_VERSION: u32 = 6;
+    /// which mistakes it integrates; 7: and its last two observations in turn, in place of
+    /// the newest alone.
+    const STATE_VERSION: u32 = 7;
     const DEFAULT_EXPERIMENT: Experiment = Experiment {
         start_time: 0.0,
         stop_time: 172.0,

@@ -75,10 +75,75 @@ pub fn thrust_axis_errors_toward(
         roll_rad: wrap_angle(phi_b_rad - phi_cmd_rad),
         yaw_rad: 2.0 * q_e.i,
         pitch_rad: 2.0 * q_e.k,
-        tilt_rad: angle_between(
-            &(q_body_to_nue * thrust_axis_body()),
-            guidance_thrust_axis_nue,
-        ),
+        tilt_rad: angle_between(&thrust_axis_nue(q_body_to_nue), guidance_thrust_axis_nue),
         phi_b_rad,
+    }
+}
+
+/// Body +y rotated into NUE by `q`: `q * thrust_axis_body()` as nalgebra computes it
+/// (`t = 2 u x y`, then `t w + u x t + y`), without the products by the zero and unit
+/// components of `y`: `t = (-2 z, 0, 2 x)` exactly, and each remaining term is the same
+/// rounded product or sum. Only the sign of a zero component can differ, which an angle
+/// between unit vectors never sees (the norm of their cross product squares it, and
+/// their dot product is a zero of either sign only when that norm is 1).
+#[inline(always)]
+pub fn thrust_axis_nue(q: &Attitude) -> Vector3<f64> {
+    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+    let (t0, t2) = (-z * 2.0, x * 2.0);
+    Vector3::new(t0 * w + y * t2, (z * t0 - x * t2) + 1.0, t2 * w + -(y * t0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Quaternion, UnitQuaternion};
+
+    #[test]
+    fn the_thrust_axis_is_nalgebras_rotation_of_body_y_to_the_sign_of_a_zero() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut attitudes = vec![
+            UnitQuaternion::identity(),
+            UnitQuaternion::new_unchecked(Quaternion::new(0.0, 0.0, 0.0, 1.0)),
+            UnitQuaternion::new_unchecked(Quaternion::new(-0.0, 1.0, -0.0, 0.0)),
+        ];
+        for k in 0..50_000 {
+            let mut q = [next(), next(), next(), next()];
+            if k % 5 == 0 {
+                q[k % 4] = 0.0;
+            }
+            if k % 7 == 0 {
+                q[(k + 1) % 4] = -0.0;
+            }
+            let raw = Quaternion::new(q[0], q[1], q[2], q[3]);
+            attitudes.push(UnitQuaternion::new_unchecked(raw / raw.norm()));
+        }
+        let mut directions = vec![
+            Vector3::y(),
+            -Vector3::y(),
+            Vector3::x(),
+            Vector3::new(0.0, -0.0, 1.0),
+        ];
+        for _ in 0..8 {
+            directions.push(Vector3::new(next(), next(), next()).normalize());
+        }
+        for q in attitudes {
+            let full = q * thrust_axis_body();
+            let ours = thrust_axis_nue(&q);
+            // == equates the zeros of either sign, and nothing else
+            assert_eq!(ours, full, "{q:?}");
+            for b in &directions {
+                assert_eq!(
+                    angle_between(&ours, b).to_bits(),
+                    angle_between(&full, b).to_bits(),
+                    "{q:?} {b:?}"
+                );
+            }
+        }
     }
 }

@@ -119,8 +119,17 @@ pub fn saturate_torque_body(torque_body: &Body, limit_body: &Vector3<f64>) -> Bo
         if tau.is_nan() {
             0.0
         } else {
-            // max/min rather than clamp: never panics on a negative limit from a restored state.
-            tau.max(-limit).min(limit)
+            // `tau.max(-limit).min(limit)` as compares (never a panic on a negative limit
+            // from a restored state, as `clamp` would): a NaN limit leaves the value as it
+            // is, as max and min do, and a tie keeps the value, as they do here (`maxsd` and
+            // `minsd` with the value second), so one instruction each rather than their
+            // NaN-aware lowering.
+            let at_least = if -limit > tau { -limit } else { tau };
+            if limit < at_least {
+                limit
+            } else {
+                at_least
+            }
         }
     }))
 }

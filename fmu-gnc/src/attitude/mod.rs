@@ -235,12 +235,20 @@ impl GuidanceReference {
         if !same_command {
             return kept.insert(Self::new(settings, a_thrust_cmd_nue, phi_rad));
         }
-        let r = kept.get_or_insert_with(|| Self::new(settings, a_thrust_cmd_nue, phi_rad));
+        // Never computed here (the command was kept): out of line, so that the test of the
+        // kept value is inlined.
+        let r = kept.get_or_insert_with(|| Self::computed(settings, a_thrust_cmd_nue, phi_rad));
         if r.phi_bits != phi_rad.to_bits() {
             r.phi_bits = phi_rad.to_bits();
             r.q_ref = r.q_guid * settings.phi_cmd_rotation.at(phi_rad);
         }
         r
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn computed(settings: &AttitudeSettings, a_thrust_cmd_nue: &Nue, phi_rad: f64) -> Self {
+        Self::new(settings, a_thrust_cmd_nue, phi_rad)
     }
 }
 

@@ -45,11 +45,30 @@ pub fn has_reached(t: f64, boundary: f64) -> bool {
 /// (within tolerance). `elapsed_s` below zero counts as cycle 0.
 pub fn guidance_cycle_index(elapsed_s: f64, cycle_s: f64) -> (i64, bool) {
     let elapsed_s = elapsed_s.max(0.0);
-    let index = ((elapsed_s + time_tolerance(elapsed_s)) / cycle_s).floor();
+    let index = floor((elapsed_s + time_tolerance(elapsed_s)) / cycle_s);
     let on_boundary = (elapsed_s - index * cycle_s).abs() <= time_tolerance(elapsed_s);
     // An f64 quotient of a finite time by a validated positive cycle fits an i64 for any
     // realistic run; `as` saturates rather than wraps beyond that.
     (index as i64, on_boundary)
+}
+
+/// `x.floor()` but for the sign of a zero, inline: below 2^52 in magnitude an f64 truncates
+/// exactly through an i64 (one below the truncation for a negative fraction), and from
+/// there on (infinities and NaN too) it is its own floor. Only the sign of a zero result
+/// can differ (+0 for -0), which neither `as i64` nor `elapsed - index * cycle` sees.
+#[inline(always)]
+fn floor(x: f64) -> f64 {
+    const INTEGRAL_FROM: f64 = 4_503_599_627_370_496.0;
+    if x.abs() < INTEGRAL_FROM {
+        let truncated = x as i64 as f64;
+        if truncated > x {
+            truncated - 1.0
+        } else {
+            truncated
+        }
+    } else {
+        x
+    }
 }
 
 /// The scenario: targets, durations and the guidance settings, all in SI and NUE.
@@ -463,6 +482,54 @@ mod tests {
             terminal: TerminalDescent::NONE,
             retarget: None,
             handover: Handover::HoverCommand,
+        }
+    }
+
+    #[test]
+    fn the_inline_floor_is_std_floor_but_for_the_sign_of_zero() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            f64::from_bits(1),
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            9.3e18,
+            -9.3e18,
+            1e300,
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let x = f64::from_bits(state);
+            values.extend([x, x.fract(), x * 1e-300, (state >> 11) as f64 * 1e-12]);
+        }
+        for k in 0..=100_000 {
+            values.extend([f64::from(k) * 0.01, f64::from(k) * 0.1 + 1e-9]);
+        }
+        for x in values {
+            let (ours, std) = (floor(x), x.floor());
+            if std.is_nan() {
+                assert!(ours.is_nan(), "{x:e}");
+            } else {
+                assert_eq!(ours, std, "{x:e}");
+                assert!(
+                    ours != 0.0 || ours.to_bits() == std.to_bits() || x == 0.0,
+                    "{x:e}"
+                );
+            }
         }
     }
 

@@ -62,7 +62,9 @@ pub const ACCELERATION_BIT: i32 = 4;
 pub const ANGULAR_BIT: i32 = 8;
 
 /// What the GNC was given at one sample, and the command that acts from it on.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// `repr(C)`: its numbers lie side by side, for the test of [`usable`] to read in pairs.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[repr(C)]
 pub struct Observation {
     pub t_s: f64,
     pub r_nue_m: [f64; 3],
@@ -210,10 +212,15 @@ struct Diagnoses {
 }
 
 /// What a window accumulates from its first observation on.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 struct Window {
+    /// A window is open: the rest holds it (otherwise only `samples` is used).
+    open: bool,
     start: Observation,
-    last: Observation,
+    /// The newest observation, `samples[latest]`, and the one written for the next sample:
+    /// an observation is written once, where the window reads it, the two taking turns.
+    samples: [Observation; 2],
+    latest: bool,
     /// Body +y in NUE at `last` under each [`Reading`] integrated (the thrust axis the next
     /// sample's interval starts from).
     last_thrust_axis_nue: [[f64; 3]; 3],
@@ -235,7 +242,7 @@ struct Window {
 /// The monitor's memory: the open window, the checks failing in a row, what it raised.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct ConsistencyMonitor {
-    window: Option<Window>,
+    window: Window,
     failing_in_a_row: [u8; 4],
     /// Bits of the checks raised in this run.
     pub raised: i32,
@@ -251,42 +258,45 @@ fn a_of(q: &Quaternion<f64>) -> [f64; 4] {
 }
 
 /// The attitude the inputs as given stand for, when the observation can be used: every
-/// value finite (`x * 0` is 0 for finite `x`, NaN otherwise: one sum tells), a positive
-/// mass, a quaternion with a direction.
-fn usable(o: &Observation) -> Option<Quaternion<f64>> {
+/// value finite, a positive mass, a quaternion with a direction. `as_given` is `o`'s quaternion normalised as
+/// [`Reading::attitude`] normalises it, if the caller has it.
+#[inline(always)]
+fn usable(o: &Observation, as_given: Option<Quaternion<f64>>) -> Option<Quaternion<f64>> {
+    if all_finite(o) && o.mass_kg > 0.0 {
+        as_given.or_else(|| Reading::AsGiven.attitude(o.q_body_to_nue))
+    } else {
+        None
+    }
+}
+
+/// Whether every number of `o` is finite: `x * 0` is 0 for finite `x` and NaN otherwise, so
+/// a sum of them is 0 exactly when all are, in whatever order it is added; in two running
+/// sums of neighbours, a vector unit adds two at once.
+#[inline(always)]
+fn all_finite(o: &Observation) -> bool {
     let [r0, r1, r2] = o.r_nue_m;
     let [v0, v1, v2] = o.v_nue_mps;
     let [q0, q1, q2, q3] = o.q_body_to_nue;
     let [w0, w1, w2] = o.omega_body_radps;
     let [m0, m1, m2] = o.torque_cmd_body_nm;
-    let probe = [
-        r0,
-        r1,
-        r2,
-        v0,
-        v1,
-        v2,
-        q0,
-        q1,
-        q2,
-        q3,
-        w0,
-        w1,
-        w2,
-        m0,
-        m1,
-        m2,
-        o.t_s,
-        o.mass_kg,
-        o.thrust_cmd_n,
-    ]
-    .iter()
-    .fold(0.0, |sum, x| sum + x * 0.0);
-    if probe == 0.0 && o.mass_kg > 0.0 {
-        Reading::AsGiven.attitude(o.q_body_to_nue)
-    } else {
-        None
+    let pairs = [
+        [o.t_s, r0],
+        [r1, r2],
+        [v0, v1],
+        [v2, q0],
+        [q1, q2],
+        [q3, w0],
+        [w1, w2],
+        [o.mass_kg, o.thrust_cmd_n],
+        [m0, m1],
+        [m2, 0.0],
+    ];
+    let mut sums = [0.0f64; 2];
+    for [a, b] in pairs {
+        sums[0] += a * 0.0;
+        sums[1] += b * 0.0;
     }
+    sums[0] + sums[1] == 0.0
 }
 
 /// What a check found in a window: its residual and whether it failed.
@@ -296,35 +306,43 @@ struct Verdict {
 }
 
 impl ConsistencyMonitor {
-    /// Takes the next observation; `raise` is given the message of each check raised by it
+    /// Takes the next observation (`as_given` its quaternion normalised, if the caller has
+    /// it, see [`usable`]); `raise` is given the message of each check raised by it
     /// (each check raises once a run).
     pub fn observe(
         &mut self,
         settings: &MonitorSettings,
-        o: &Observation,
+        as_given: Option<Quaternion<f64>>,
         raise: &mut impl FnMut(String),
     ) {
-        let Some(attitude) = usable(o) else {
-            self.window = None;
+        let o = self.window.incoming();
+        let Some(attitude) = usable(o, as_given) else {
+            self.window.open = false;
             return;
         };
-        let ended = match &mut self.window {
-            Some(w) if o.t_s > w.last.t_s => {
-                w.accumulate(settings, o, &attitude);
-                // Times are finite here.
-                o.t_s - w.start.t_s >= WINDOW_S * (1.0 - 1e-9)
-            }
-            _ => {
-                self.window = Some(Window::open(o, &attitude, self.diagnoses()));
-                return;
-            }
-        };
-        if ended {
-            if let Some(w) = self.window.take() {
-                self.judge(settings, &w, raise);
-            }
-            self.window = Some(Window::open(o, &attitude, self.diagnoses()));
+        if !(self.window.open && o.t_s > self.window.last().t_s) {
+            self.window.latest = !self.window.latest;
+            self.window.open(&attitude, self.diagnoses());
+            return;
         }
+        let w = &mut self.window;
+        w.accumulate(settings, &attitude);
+        // Times are finite here.
+        if w.last().t_s - w.start.t_s >= WINDOW_S * (1.0 - 1e-9) {
+            let ended = *w;
+            self.judge(settings, &ended, raise);
+            self.window.open(&attitude, self.diagnoses());
+        }
+    }
+
+    /// Where the next observation is written before [`Self::observe`] takes it.
+    pub fn incoming(&mut self) -> &mut Observation {
+        &mut self.window.samples[usize::from(!self.window.latest)]
+    }
+
+    /// The observation written to [`Self::incoming`].
+    pub fn next_observation(&self) -> &Observation {
+        self.window.incoming()
     }
 
     /// What the next window integrates: the mistakes of a check whose failure in it would be
@@ -377,7 +395,8 @@ impl ConsistencyMonitor {
                     };
                     raise(format!(
                         "input monitor, window from t = {} s to {} s: {message}",
-                        w.start.t_s, w.last.t_s
+                        w.start.t_s,
+                        w.last().t_s
                     ));
                 }
             } else {
@@ -388,9 +407,18 @@ impl ConsistencyMonitor {
 }
 
 impl Window {
+    fn incoming(&self) -> &Observation {
+        &self.samples[usize::from(!self.latest)]
+    }
+
+    fn last(&self) -> &Observation {
+        &self.samples[usize::from(self.latest)]
+    }
+
+    /// Opens a window at the newest observation, whose attitude as given is `attitude`.
     /// Out of line: once a window.
     #[inline(never)]
-    fn open(o: &Observation, attitude: &Quaternion<f64>, diagnoses: Diagnoses) -> Window {
+    fn open(&mut self, attitude: &Quaternion<f64>, diagnoses: Diagnoses) {
         let identity = [1.0, 0.0, 0.0, 0.0];
         let mut last_thrust_axis_nue = [[0.0; 3]; 3];
         last_thrust_axis_nue[0] = thrust_axis_nue(attitude);
@@ -399,9 +427,12 @@ impl Window {
                 last_thrust_axis_nue[k] = thrust_axis_nue(&READINGS[k].of_unit(attitude));
             }
         }
-        Window {
-            start: *o,
-            last: *o,
+        let o = *self.last();
+        *self = Window {
+            open: true,
+            start: o,
+            samples: self.samples,
+            latest: self.latest,
             last_thrust_axis_nue,
             rotation_from_rates: identity,
             rotation_from_rates_deg: identity,
@@ -410,17 +441,16 @@ impl Window {
             rate_change_predicted_radps: [0.0; 3],
             contact: o.ground_contact_possible,
             diagnoses,
-        }
+        };
     }
 
-    /// Integrates over `[last, o]`; `attitude` is `o`'s as given.
-    fn accumulate(
-        &mut self,
-        settings: &MonitorSettings,
-        o: &Observation,
-        attitude: &Quaternion<f64>,
-    ) {
-        let p = &self.last;
+    /// Integrates over `[last, o]` for the incoming observation `o`, which becomes the
+    /// newest; `attitude` is `o`'s as given.
+    fn accumulate(&mut self, settings: &MonitorSettings, attitude: &Quaternion<f64>) {
+        let (p, o) = (
+            &self.samples[usize::from(self.latest)],
+            &self.samples[usize::from(!self.latest)],
+        );
         let dt = o.t_s - p.t_s;
         let omega_mid =
             (Vector3::from(p.omega_body_radps) + Vector3::from(o.omega_body_radps)) * 0.5;
@@ -454,17 +484,17 @@ impl Window {
             self.rate_change_predicted_radps =
                 (Vector3::from(self.rate_change_predicted_radps) + accel * dt).into();
         }
-        self.last = *o;
+        self.latest = !self.latest;
     }
 
     fn duration_s(&self) -> f64 {
-        self.last.t_s - self.start.t_s
+        self.last().t_s - self.start.t_s
     }
 
     /// The attitude's change (body frame, from the window's start) under `reading`.
     fn relative_rotation(&self, reading: Reading) -> Option<Quaternion<f64>> {
         let q0 = reading.attitude(self.start.q_body_to_nue)?;
-        let q1 = reading.attitude(self.last.q_body_to_nue)?;
+        let q1 = reading.attitude(self.last().q_body_to_nue)?;
         Some(q0.conjugate() * q1)
     }
 
@@ -530,7 +560,7 @@ impl Window {
     }
 
     fn moved_and_integrated(&self) -> (Vector3<f64>, Vector3<f64>) {
-        let moved = Vector3::from(self.last.r_nue_m) - Vector3::from(self.start.r_nue_m);
+        let moved = Vector3::from(self.last().r_nue_m) - Vector3::from(self.start.r_nue_m);
         (moved, Vector3::from(self.distance_nue_m))
     }
 
@@ -562,7 +592,7 @@ impl Window {
 
     /// The mean acceleration over the window, m/s2.
     fn acceleration(&self) -> Vector3<f64> {
-        let dv = Vector3::from(self.last.v_nue_mps) - Vector3::from(self.start.v_nue_mps);
+        let dv = Vector3::from(self.last().v_nue_mps) - Vector3::from(self.start.v_nue_mps);
         dv / self.duration_s()
     }
 
@@ -629,7 +659,7 @@ impl Window {
             // Say where the specific force points in body axes: a plant whose thrust is
             // along another body axis, or whose axes are another frame's, shows here.
             let q = Reading::AsGiven
-                .attitude(self.last.q_body_to_nue)
+                .attitude(self.last().q_body_to_nue)
                 .unwrap_or_else(Quaternion::identity);
             let body = rotate(&q.conjugate(), &force_measured);
             let k = body.iamax();
@@ -667,8 +697,8 @@ impl Window {
 
     /// The rates' change measured and predicted over the window, rad/s.
     fn rate_changes(&self) -> (Vector3<f64>, Vector3<f64>) {
-        let measured =
-            Vector3::from(self.last.omega_body_radps) - Vector3::from(self.start.omega_body_radps);
+        let measured = Vector3::from(self.last().omega_body_radps)
+            - Vector3::from(self.start.omega_body_radps);
         (measured, Vector3::from(self.rate_change_predicted_radps))
     }
 

@@ -8,6 +8,7 @@ pub mod feasibility;
 
 use consistency::{ConsistencyMonitor, MonitorSettings, Observation, Residuals};
 use feasibility::{Limits, Pinned, SaturationClock};
+use nalgebra::Quaternion;
 use serde::{Deserialize, Serialize};
 
 /// Bits of the status output beyond the consistency checks' ([`consistency::ATTITUDE_BIT`]
@@ -58,15 +59,23 @@ impl Supervisor {
         }
     }
 
-    /// One committed sample: `o` the inputs with the command shown for them, `tilt_error_rad`
-    /// the tilt error shown; `report` is given the message of each finding it raised.
+    /// Where the caller writes the observation of the next committed sample (the inputs
+    /// with the command shown for them) before [`Self::observe`] takes it.
+    pub fn incoming(&mut self) -> &mut Observation {
+        self.consistency.incoming()
+    }
+
+    /// One committed sample, written to [`Self::incoming`]: `attitude` its quaternion
+    /// normalised as given if the caller has it, `tilt_error_rad` the tilt error shown;
+    /// `report` is given the message of each finding it raised.
     pub fn observe(
         &mut self,
         settings: &SupervisionSettings,
-        o: &Observation,
+        attitude: Option<Quaternion<f64>>,
         tilt_error_rad: f64,
         report: &mut impl FnMut(String),
     ) {
+        let o = self.consistency.next_observation();
         if !self.weight_checked && o.mass_kg > 0.0 && o.mass_kg.is_finite() {
             self.weight_checked = true;
             let finding = feasibility::cannot_hover(
@@ -106,7 +115,8 @@ impl Supervisor {
             ));
         }
         if settings.monitor_enabled {
-            self.consistency.observe(&settings.monitor, o, report);
+            self.consistency
+                .observe(&settings.monitor, attitude, report);
         }
     }
 }
