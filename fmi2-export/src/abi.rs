@@ -378,20 +378,43 @@ pub unsafe fn get_real<M: Model>(
     let served = unsafe {
         quick::<M, Fmi2, _>(c, Function::GetReal, |inst| {
             let (vrs, values) = few_mut(vr, nvr, value, nvr)?;
+            // The outputs computed first, if anything changed: model code, out of line
+            // under the panic guard. OK, Warning (a message logged) or Fatal (a panic).
+            let mut refreshed = fmi2OK;
             if inst.dirty {
-                // The outputs are computed first: model code, called where it can unwind.
-                return Some(get_real_admitted(inst, vr, nvr, value));
+                refreshed = refresh_outputs(inst);
+                if refreshed == fmi2Fatal {
+                    return Some(refreshed);
+                }
             }
-            let read = inst
+            if inst
                 .reals
-                .read_fast(vrs, values, &inst.core.model, SCALARS_ONLY);
-            read.then_some(fmi2OK)
+                .read_fast(vrs, values, &inst.core.model, SCALARS_ONLY)
+            {
+                return Some(refreshed);
+            }
+            if refreshed == fmi2OK {
+                // Nothing to remember: the full path decides, as if it had refreshed.
+                return None;
+            }
+            // The warning is this call's: the rest of the call here, at least a Warning.
+            let status = get_real_admitted(inst, vr, nvr, value);
+            Some(if status == fmi2OK { refreshed } else { status })
         })
     };
     match served {
         Some(status) => status,
         None => unsafe { get_real_full::<M>(c, vr, nvr, value) },
     }
+}
+
+/// The outputs of an instance a fast get has admitted computed, under the core's panic
+/// guard: `fmi2OK`, `fmi2Warning` (a warning logged) or `fmi2Fatal` (a panic, logged).
+/// `extern "C"`: nothing unwinds out of it into the fast path.
+#[inline(never)]
+extern "C" fn refresh_outputs<M: Model>(inst: &mut Instance<M>) -> fmi2Status {
+    let f = Function::GetReal;
+    Fmi2::status(fmi_export::call::run(inst, f, |inst| Ok(inst.refresh(f))))
 }
 
 /// The body of an `fmi2GetReal` the fast path has admitted, under the core's panic guard.

@@ -339,20 +339,43 @@ pub unsafe fn get_float64<M: Model>(
     let served = unsafe {
         quick::<M, Fmi3, _>(c, Function::GetFloat64, |inst| {
             let (vr_list, value_list) = few_mut(vrs, n_vrs, values, n_values)?;
+            // The outputs computed first, if anything changed: model code, out of line
+            // under the panic guard. OK, Warning (a message logged) or Fatal (a panic).
+            let mut refreshed = fmi3OK;
             if inst.dirty {
-                // The outputs are computed first: model code, called where it can unwind.
-                return Some(get_float64_admitted(inst, vrs, n_vrs, values, n_values));
+                refreshed = refresh_outputs(inst);
+                if refreshed == fmi3Fatal {
+                    return Some(refreshed);
+                }
             }
-            let read = inst
+            if inst
                 .reals
-                .read_fast(vr_list, value_list, &inst.core.model, SCALARS_ONLY);
-            read.then_some(fmi3OK)
+                .read_fast(vr_list, value_list, &inst.core.model, SCALARS_ONLY)
+            {
+                return Some(refreshed);
+            }
+            if refreshed == fmi3OK {
+                // Nothing to remember: the full path decides, as if it had refreshed.
+                return None;
+            }
+            // The warning is this call's: the rest of the call here, at least a Warning.
+            let status = get_float64_admitted(inst, vrs, n_vrs, values, n_values);
+            Some(if status == fmi3OK { refreshed } else { status })
         })
     };
     match served {
         Some(status) => status,
         None => unsafe { get_float64_full::<M>(c, vrs, n_vrs, values, n_values) },
     }
+}
+
+/// The outputs of an instance a fast get has admitted computed, under the core's panic
+/// guard: `fmi3OK`, `fmi3Warning` (a warning logged) or `fmi3Fatal` (a panic, logged).
+/// `extern "C"`: nothing unwinds out of it into the fast path.
+#[inline(never)]
+extern "C" fn refresh_outputs<M: Model>(inst: &mut Instance<M>) -> fmi3Status {
+    let f = Function::GetFloat64;
+    Fmi3::status(fmi_export::call::run(inst, f, |inst| Ok(inst.refresh(f))))
 }
 
 /// The body of an `fmi3GetFloat64` the fast path has admitted, under the core's panic
