@@ -325,7 +325,15 @@ impl<M> RealTable<M> {
         if self.built == Built::Scalars && vrs.len() == values.len() {
             self.read_in_place_scalars_finite(vrs, values, model)
         } else if !scalars_only && matches!(self.built, Built::Scalars | Built::Elements) {
-            self.read_in_place_elements_finite(vrs, values, model)
+            // One variable: each value tested as it is copied. Several: the copy in a few
+            // moves per variable, then every value tested at once (vectorised), fewer
+            // instructions for a long list.
+            if vrs.len() == 1 {
+                return self.read_in_place_elements_finite(vrs, values, model);
+            }
+            #[allow(clippy::eq_op)]
+            let finite = |values: &[f64]| values.iter().fold(true, |all, &v| all & (v - v == 0.0));
+            self.read_in_place(vrs, values, model) && finite(values)
         } else {
             false
         }
