@@ -77,7 +77,7 @@ pub unsafe fn lists<'a, A, B>(
     nb: usize,
     b_name: &'static str,
 ) -> Result<(&'a [A], &'a [B]), ArgError> {
-    if !a.is_null() && !b.is_null() && (na | nb) <= const { few::<A, B>() } {
+    if !a.is_null() && !b.is_null() && (na | nb) <= const { limit::<A, B>() } {
         // SAFETY: non-NULL, the sizes fit; the caller guarantees the elements.
         return Ok(unsafe {
             (
@@ -87,6 +87,53 @@ pub unsafe fn lists<'a, A, B>(
         });
     }
     unsafe { Ok((slice(a, na, a_name)?, slice(b, nb, b_name)?)) }
+}
+
+/// [`lists`] for a call's fast path: the lists when neither is NULL and both lengths are
+/// far below the limit, else `None` (for [`lists`] to decide).
+///
+/// # Safety
+/// As [`slice`], for each.
+#[inline(always)]
+pub unsafe fn few<'a, A, B>(
+    a: *const A,
+    na: usize,
+    b: *const B,
+    nb: usize,
+) -> Option<(&'a [A], &'a [B])> {
+    if !a.is_null() && !b.is_null() && (na | nb) <= const { limit::<A, B>() } {
+        // SAFETY: as in `lists`.
+        return Some(unsafe {
+            (
+                std::slice::from_raw_parts(a, na),
+                std::slice::from_raw_parts(b, nb),
+            )
+        });
+    }
+    None
+}
+
+/// [`few`] with the values written to.
+///
+/// # Safety
+/// As [`slice`] for `a`, [`slice_mut`] for `b`.
+#[inline(always)]
+pub unsafe fn few_mut<'a, A, B>(
+    a: *const A,
+    na: usize,
+    b: *mut B,
+    nb: usize,
+) -> Option<(&'a [A], &'a mut [B])> {
+    if !a.is_null() && !b.is_null() && (na | nb) <= const { limit::<A, B>() } {
+        // SAFETY: as in `lists_mut`.
+        return Some(unsafe {
+            (
+                std::slice::from_raw_parts(a, na),
+                std::slice::from_raw_parts_mut(b, nb),
+            )
+        });
+    }
+    None
 }
 
 /// [`lists`] with the values written to.
@@ -102,7 +149,7 @@ pub unsafe fn lists_mut<'a, A, B>(
     nb: usize,
     b_name: &'static str,
 ) -> Result<(&'a [A], &'a mut [B]), ArgError> {
-    if !a.is_null() && !b.is_null() && (na | nb) <= const { few::<A, B>() } {
+    if !a.is_null() && !b.is_null() && (na | nb) <= const { limit::<A, B>() } {
         // SAFETY: as in `lists`, writable by the caller's guarantee.
         return Ok(unsafe {
             (
@@ -115,9 +162,9 @@ pub unsafe fn lists_mut<'a, A, B>(
 }
 
 /// The longest arrays of `A` and of `B` [`slice`] admits, the shorter of the two (a
-/// constant): both lengths at most this pass its checks. `(na | nb) <= few` implies
+/// constant): both lengths at most this pass its checks. `(na | nb) <= limit` implies
 /// both are, and nearly never refuses a pair `slice` would admit (it then decides).
-const fn few<A, B>() -> usize {
+const fn limit<A, B>() -> usize {
     let (a, b) = (std::mem::size_of::<A>(), std::mem::size_of::<B>());
     let larger = if a > b { a } else { b };
     // The largest power of two at most the limit, so that `na | nb` stays below it.

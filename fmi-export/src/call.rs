@@ -77,6 +77,56 @@ fn refuse_nested<A: Abi>(report: Option<Reporting<'_, Logger<A>>>, function: A::
     }
 }
 
+/// A call's fast path: `body` on the instance behind `handle` when it is a live, idle
+/// instance of `M` and `A`, the call trace is off and the state admits `function`; `None`
+/// (the instance as it was) for anything else, and whenever `body` says `None`, for the
+/// caller to hand the call to the full path ([`call`]), which decides and logs. No panic
+/// can start here and nothing needs unwinding: `body` must not panic either (its calls into
+/// anything that could are `extern "C"`, which cannot unwind).
+///
+/// # Safety
+/// As [`enter`].
+#[inline(always)]
+pub unsafe fn quick<M: Model, A: Abi, R>(
+    handle: *mut c_void,
+    function: A::Function,
+    body: impl FnOnce(&mut Instance<M, A>) -> Option<R>,
+) -> Option<R> {
+    let entered = A::REGISTRY.try_enter(handle as usize)?;
+    let address = entered.address() as *mut Instance<M, A>;
+    // SAFETY: as in `enter`: a registered address is a live instance of `A` with its tag
+    // first.
+    let served = if unsafe { &*(address as *const Tag) }.is_of::<M, A>() {
+        // SAFETY: live, of type M, and no other call holds it (the registry said idle).
+        let inst = unsafe { &mut *address };
+        if inst.logger.is_on(Category::Calls)
+            || function.admit(inst.interface(), inst.core.state).is_err()
+        {
+            None
+        } else {
+            body(inst)
+        }
+    } else {
+        None
+    };
+    entered.leave();
+    served
+}
+
+/// The part of [`call`] after the instance was entered and the call admitted: `body` under
+/// `catch_unwind`, a refusal logged, a panic Fatal. For a fast path that calls the model.
+pub fn run<M: Model, A: Abi>(
+    inst: &mut Instance<M, A>,
+    function: A::Function,
+    body: impl FnOnce(&mut Instance<M, A>) -> Result<Success, CallError>,
+) -> Status {
+    let outcome = catch_unwind(AssertUnwindSafe(|| match body(inst) {
+        Ok(success) => success.status(),
+        Err(error) => report(inst, function, error),
+    }));
+    outcome.unwrap_or_else(|payload| fatal(inst, function, payload.as_ref()))
+}
+
 /// Runs one FMI call on an instance; see the module documentation.
 ///
 /// # Safety

@@ -288,6 +288,169 @@ impl<M> RealTable<M> {
         }
     }
 
+    /// [`write`](Self::write) for a call's fast path: only references stored in the model's
+    /// bytes, with no call in the loops (neither of an accessor, so no code of the model's
+    /// that could panic, nor of memcpy, so that the caller's values stay in caller-saved
+    /// registers); false leaves `model` as it was, for the full path. `scalars_only`: a
+    /// layer whose references are all scalars (FMI 2.0) leaves out the loops of arrays.
+    #[inline(always)]
+    pub fn write_fast(
+        &self,
+        vrs: &[u32],
+        values: &[f64],
+        model: &mut M,
+        state_bit: u16,
+        scalars_only: bool,
+    ) -> bool {
+        if self.built == Built::Scalars && vrs.len() == values.len() {
+            self.write_in_place_scalars(vrs, values, model, state_bit)
+        } else if !scalars_only && matches!(self.built, Built::Scalars | Built::Elements) {
+            self.write_in_place_elements(vrs, values, model, state_bit)
+        } else {
+            false
+        }
+    }
+
+    /// [`read`](Self::read) for a call's fast path, as [`write_fast`](Self::write_fast) is
+    /// for writes; true only if every value read is finite (false: the values are no
+    /// result, for the full path to read again and refuse with a reason).
+    #[inline(always)]
+    pub fn read_fast(
+        &self,
+        vrs: &[u32],
+        values: &mut [f64],
+        model: &M,
+        scalars_only: bool,
+    ) -> bool {
+        if self.built == Built::Scalars && vrs.len() == values.len() {
+            self.read_in_place_scalars_finite(vrs, values, model)
+        } else if !scalars_only && matches!(self.built, Built::Scalars | Built::Elements) {
+            // One variable: each value tested as it is copied. Several: the copy in a few
+            // moves per variable, then every value tested at once (vectorised), fewer
+            // instructions for a long list.
+            if vrs.len() == 1 {
+                return self.read_in_place_elements_finite(vrs, values, model);
+            }
+            #[allow(clippy::eq_op)]
+            let finite = |values: &[f64]| values.iter().fold(true, |all, &v| all & (v - v == 0.0));
+            self.read_in_place(vrs, values, model) && finite(values)
+        } else {
+            false
+        }
+    }
+
+    /// [`read_in_place_scalars`](Self::read_in_place_scalars) that also says whether every
+    /// value is finite, in the same pass.
+    #[inline(always)]
+    fn read_in_place_scalars_finite(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
+        let base = (model as *const M).cast::<u8>();
+        let entries = &*self.entries;
+        // `v - v` is 0 exactly when `v` is finite and NaN otherwise, so the sum is 0 exactly
+        // when every value is finite: two operations a value, no branch.
+        let mut nan_unless_finite = 0.0;
+        for (&vr, value) in vrs.iter().zip(values) {
+            let Some(e) = entries.get(vr as usize) else {
+                return false;
+            };
+            if e.offset & NOT_IN_PLACE != 0 {
+                return false;
+            }
+            // SAFETY: as in `write_in_place_scalars`, for a shared borrow.
+            let v = unsafe { base.add(e.offset as usize).cast::<f64>().read() };
+            #[allow(clippy::eq_op)]
+            {
+                nan_unless_finite += v - v;
+            }
+            *value = v;
+        }
+        nan_unless_finite == 0.0
+    }
+
+    /// [`read_in_place`](Self::read_in_place) that also says whether every value is
+    /// finite, in the same pass (which also keeps the copy from becoming a call of memcpy).
+    #[inline(always)]
+    fn read_in_place_elements_finite(&self, vrs: &[u32], values: &mut [f64], model: &M) -> bool {
+        let base = (model as *const M).cast::<u8>();
+        let entries = &*self.entries;
+        let mut nan_unless_finite = 0.0;
+        let mut k = 0;
+        for &vr in vrs {
+            let Some(e) = entries.get(vr as usize) else {
+                return false;
+            };
+            if e.offset & NOT_IN_PLACE != 0 {
+                return false;
+            }
+            let Some(out) = values.get_mut(k..k + usize::from(e.len)) else {
+                return false;
+            };
+            // SAFETY: as in `write_in_place`, for a shared borrow; `out` has `len` values.
+            let from = unsafe { base.add(e.offset as usize).cast::<f64>() };
+            for (i, value) in out.iter_mut().enumerate() {
+                // SAFETY: element `i` of `len`.
+                let v = unsafe { from.add(i).read() };
+                #[allow(clippy::eq_op)]
+                {
+                    nan_unless_finite += v - v;
+                }
+                *value = v;
+            }
+            k += out.len();
+        }
+        k == values.len() && nan_unless_finite == 0.0
+    }
+
+    /// [`write_in_place`](Self::write_in_place) with the copy as a loop of its own (not
+    /// a call of memcpy).
+    #[inline(always)]
+    fn write_in_place_elements(
+        &self,
+        vrs: &[u32],
+        values: &[f64],
+        model: &mut M,
+        state_bit: u16,
+    ) -> bool {
+        let entries = &*self.entries;
+        let mut k = 0;
+        for &vr in vrs {
+            let Some(e) = entries.get(vr as usize) else {
+                return false;
+            };
+            let Some(given) = values.get(k..k + usize::from(e.len)) else {
+                return false;
+            };
+            if e.settable_in_place & state_bit == 0 {
+                return false;
+            }
+            let (lowest, highest) = self.range(e);
+            for &v in given {
+                if !(lowest..=highest).contains(&v) {
+                    return false;
+                }
+            }
+            k += given.len();
+        }
+        if k != values.len() {
+            return false;
+        }
+        let base = (model as *mut M).cast::<u8>();
+        let mut from = values.as_ptr();
+        for &vr in vrs {
+            // SAFETY: as in `write_in_place`; `from` walks `values`, `len` of them per
+            // reference, as the first pass counted.
+            unsafe {
+                let e = entries.get_unchecked(vr as usize);
+                let to = base.add(e.offset as usize).cast::<f64>();
+                for i in 0..usize::from(e.len) {
+                    // Volatile: the same one store, but never merged into a memcpy call.
+                    to.add(i).write_volatile(from.read());
+                    from = from.add(1);
+                }
+            }
+        }
+        true
+    }
+
     /// [`write`](Self::write) of references with any number of elements (FMI 3.0 arrays),
     /// or stored anywhere.
     #[inline(never)]
@@ -500,7 +663,8 @@ impl<M> RealTable<M> {
         state_bit: u16,
     ) -> bool {
         let entries = &*self.entries;
-        let mut admitted = true;
+        // A branch per test, taken only by a refusal: fewer instructions (and registers)
+        // than combining them.
         for (&vr, &v) in vrs.iter().zip(values) {
             let Some(e) = entries.get(vr as usize) else {
                 return false;
@@ -509,10 +673,9 @@ impl<M> RealTable<M> {
             // empty one's bounds are NaN).
             // (A table of scalars: each entry has one element or none.)
             let (lowest, highest) = self.range(e);
-            admitted &= (e.settable_in_place & state_bit != 0) & (v >= lowest) & (v <= highest);
-        }
-        if !admitted {
-            return false;
+            if e.settable_in_place & state_bit == 0 || !(lowest..=highest).contains(&v) {
+                return false;
+            }
         }
         let base = (model as *mut M).cast::<u8>();
         for (&vr, &v) in vrs.iter().zip(values) {

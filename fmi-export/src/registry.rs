@@ -242,6 +242,31 @@ impl<T: Clone> Registry<T> {
         }
     }
 
+    /// [`enter`](Self::enter) for a call's fast path: the instance of `handle` marked busy
+    /// until [`Quick::leave`], or `None` (nothing changed) for anything but a live, idle
+    /// instance, whose refusal the caller leaves to `enter`. No guard drops it: the fast
+    /// path has no landing pad and leaves on every way out.
+    #[inline(always)]
+    pub fn try_enter(&self, handle: usize) -> Option<Quick<'_>> {
+        let generation = handle >> SLOT_BITS;
+        // Always a slot (`handle & INDEX` is below CAPACITY): `get` only keeps a panic out.
+        let slot = self.slots.get(handle & INDEX)?;
+        let idle = word(generation, IDLE);
+        slot.word
+            .compare_exchange(
+                idle,
+                word(generation, BUSY),
+                Ordering::AcqRel,
+                Ordering::Relaxed,
+            )
+            .ok()?;
+        Some(Quick {
+            word: &slot.word,
+            idle,
+            address: slot.address.load(Ordering::Relaxed),
+        })
+    }
+
     /// Why a call with `handle` found its slot's word `now` instead of idle.
     #[cold]
     #[inline(never)]
@@ -329,6 +354,30 @@ impl<T: Clone> Drop for Entered<'_, T> {
     fn drop(&mut self) {
         // Busy, or Reporting if a nested refusal's report is still held: either way the
         // call is over.
+        self.word.store(self.idle, Ordering::Release);
+    }
+}
+
+/// A call's fast path in progress on a live instance ([`Registry::try_enter`]): idle again
+/// at [`leave`](Quick::leave), which every way out of the fast path calls.
+#[derive(Debug)]
+#[must_use = "the instance stays busy until `leave`"]
+pub struct Quick<'r> {
+    word: &'r AtomicUsize,
+    idle: usize,
+    address: usize,
+}
+
+impl Quick<'_> {
+    /// The address registered with the instance.
+    #[inline(always)]
+    pub fn address(&self) -> usize {
+        self.address
+    }
+
+    /// The call is over: the instance is idle again.
+    #[inline(always)]
+    pub fn leave(self) {
         self.word.store(self.idle, Ordering::Release);
     }
 }

@@ -20,12 +20,14 @@ use crate::index::BaseType;
 use crate::state::{Function, State};
 use crate::variable::{Access, Variable};
 use crate::version::Fmi2;
-pub(crate) use fmi_abi::args::{lists, lists_mut, out, show, slice, slice_mut};
+pub(crate) use fmi_abi::args::{few, few_mut, lists, lists_mut, out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
+use fmi_export::call::quick;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
 use fmi_export::prepared::Element;
 use fmi_export::setters::{check_enumeration, check_integer, check_real, check_settable};
 use fmi_export::step::Advance;
+use fmi_export::Abi;
 use fmi_export::Sink;
 use fmi_export::{lifecycle, CallError, Interface, Logger, Options, Success};
 use fmi_model::Model;
@@ -35,6 +37,9 @@ use std::ptr;
 
 /// An FMI 2.0 instance of `M`.
 pub type Instance<M> = fmi_export::Instance<M, Fmi2>;
+
+/// Every Real of FMI 2.0 is a scalar: the fast paths leave out the loops of arrays.
+const SCALARS_ONLY: bool = true;
 
 unsafe fn show_str(s: fmi2String) -> String {
     if s.is_null() {
@@ -357,9 +362,85 @@ macro_rules! trace_array_call {
     };
 }
 
+/// The fast path of `fmi2GetReal` (see [`fmi_export::call::quick`]): outputs up to date,
+/// every reference a Real stored in the model's bytes and every value finite; any other
+/// call goes on to [`get_real_full`] (a jump: same arguments, no unwinding in between).
+///
 /// # Safety
 /// See the module documentation.
+#[inline(always)]
 pub unsafe fn get_real<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    let served = unsafe {
+        quick::<M, Fmi2, _>(c, Function::GetReal, |inst| {
+            let (vrs, values) = few_mut(vr, nvr, value, nvr)?;
+            // The outputs computed first, if anything changed: model code, out of line
+            // under the panic guard. OK, Warning (a message logged) or Fatal (a panic).
+            let mut refreshed = fmi2OK;
+            if inst.dirty {
+                refreshed = refresh_outputs(inst);
+                if refreshed == fmi2Fatal {
+                    return Some(refreshed);
+                }
+            }
+            if inst
+                .reals
+                .read_fast(vrs, values, &inst.core.model, SCALARS_ONLY)
+            {
+                return Some(refreshed);
+            }
+            if refreshed == fmi2OK {
+                // Nothing to remember: the full path decides, as if it had refreshed.
+                return None;
+            }
+            // The warning is this call's: the rest of the call here, at least a Warning.
+            let status = get_real_admitted(inst, vr, nvr, value);
+            Some(if status == fmi2OK { refreshed } else { status })
+        })
+    };
+    match served {
+        Some(status) => status,
+        None => unsafe { get_real_full::<M>(c, vr, nvr, value) },
+    }
+}
+
+/// The outputs of an instance a fast get has admitted computed, under the core's panic
+/// guard: `fmi2OK`, `fmi2Warning` (a warning logged) or `fmi2Fatal` (a panic, logged).
+/// `extern "C"`: nothing unwinds out of it into the fast path.
+#[inline(never)]
+extern "C" fn refresh_outputs<M: Model>(inst: &mut Instance<M>) -> fmi2Status {
+    let f = Function::GetReal;
+    Fmi2::status(fmi_export::call::run(inst, f, |inst| Ok(inst.refresh(f))))
+}
+
+/// The body of an `fmi2GetReal` the fast path has admitted, under the core's panic guard.
+/// `extern "C"`: nothing unwinds out of it into the fast path.
+///
+/// # Safety
+/// See the module documentation.
+#[inline(never)]
+unsafe extern "C" fn get_real_admitted<M: Model>(
+    inst: &mut Instance<M>,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    let f = Function::GetReal;
+    Fmi2::status(fmi_export::call::run(inst, f, |inst| unsafe {
+        get_real_body(inst, vr, nvr, value)
+    }))
+}
+
+/// `fmi2GetReal` through the full guard.
+///
+/// # Safety
+/// See the module documentation.
+#[inline(never)]
+pub unsafe extern "C" fn get_real_full<M: Model>(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
     nvr: usize,
@@ -368,6 +449,24 @@ pub unsafe fn get_real<M: Model>(
     let f = Function::GetReal;
     unsafe {
         call::<M, Fmi2>(c, f, trace_array_call!(f, vr, nvr), |inst| {
+            get_real_body(inst, vr, nvr, value)
+        })
+    }
+}
+
+/// What `fmi2GetReal` does once the call is admitted.
+///
+/// # Safety
+/// See the module documentation.
+unsafe fn get_real_body<M: Model>(
+    inst: &mut Instance<M>,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> Result<Success, CallError> {
+    let f = Function::GetReal;
+    unsafe {
+        {
             let (vrs, values) = lists_mut(vr, nvr, "vr", value, nvr, "value")?;
             let success = inst.refresh(f);
             // The table is built at the first call it cannot serve (its first of all).
@@ -391,7 +490,7 @@ pub unsafe fn get_real<M: Model>(
                 return Err(non_finite_read(name, vrs[i], values[i]));
             }
             Ok(success)
-        })
+        }
     }
 }
 
@@ -486,9 +585,46 @@ pub unsafe fn get_string<M: Model>(
     }
 }
 
+/// The fast path of `fmi2SetReal` (see [`fmi_export::call::quick`]): every reference a
+/// Real stored in the model's bytes, settable now, every value admitted; any other call
+/// goes on to [`set_real_full`] with nothing written.
+///
 /// # Safety
 /// See the module documentation.
+#[inline(always)]
 pub unsafe fn set_real<M: Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    let served = unsafe {
+        quick::<M, Fmi2, _>(c, Function::SetReal, |inst| {
+            let (vrs, values) = few(vr, nvr, value, nvr)?;
+            let state_bit = inst.core.state as u16;
+            let model = &mut inst.core.model;
+            if !inst
+                .reals
+                .write_fast(vrs, values, model, state_bit, SCALARS_ONLY)
+            {
+                return None;
+            }
+            inst.dirty |= nvr != 0;
+            Some(fmi2OK)
+        })
+    };
+    match served {
+        Some(status) => status,
+        None => unsafe { set_real_full::<M>(c, vr, nvr, value) },
+    }
+}
+
+/// `fmi2SetReal` through the full guard.
+///
+/// # Safety
+/// See the module documentation.
+#[inline(never)]
+pub unsafe extern "C" fn set_real_full<M: Model>(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
     nvr: usize,
@@ -822,9 +958,55 @@ pub unsafe fn get_real_output_derivatives<M: Model>(
 // Stepping and status
 // ---------------------------------------------------------------------------------------
 
+/// The fast path of `fmi2DoStep` (see [`fmi_export::call::quick`]): a step the checks
+/// accept goes straight to the model ([`step_accepted`]); any other call goes on to
+/// [`do_step_full`].
+///
 /// # Safety
 /// See the module documentation.
+#[inline(always)]
 pub unsafe fn do_step<M: Model>(
+    c: fmi2Component,
+    current_communication_point: fmi2Real,
+    communication_step_size: fmi2Real,
+    no_set_fmu_state_prior_to_current_point: fmi2Boolean,
+) -> fmi2Status {
+    let (t, h) = (current_communication_point, communication_step_size);
+    let served = unsafe {
+        quick::<M, Fmi2, _>(c, Function::DoStep, |inst| {
+            let end = fmi_export::step::accepted(inst, t, h)?;
+            Some(step_accepted(inst, t, h, end))
+        })
+    };
+    match served {
+        Some(status) => status,
+        None => unsafe { do_step_full::<M>(c, t, h, no_set_fmu_state_prior_to_current_point) },
+    }
+}
+
+/// The step of an admitted `fmi2DoStep` whose arguments the checks accepted, ending at
+/// `end`. `extern "C"`: nothing unwinds out of it into the fast path.
+#[inline(never)]
+extern "C" fn step_accepted<M: Model>(
+    inst: &mut Instance<M>,
+    t: f64,
+    h: f64,
+    end: f64,
+) -> fmi2Status {
+    let f = Function::DoStep;
+    let status = fmi_export::call::run(inst, f, |inst| {
+        let outcome = fmi_export::step::advance_checked(inst, f, t, h, end)?;
+        stepped(inst, outcome)
+    });
+    Fmi2::status(status)
+}
+
+/// `fmi2DoStep` through the full guard.
+///
+/// # Safety
+/// See the module documentation.
+#[inline(never)]
+pub unsafe extern "C" fn do_step_full<M: Model>(
     c: fmi2Component,
     current_communication_point: fmi2Real,
     communication_step_size: fmi2Real,
@@ -840,7 +1022,16 @@ pub unsafe fn do_step<M: Model>(
 /// A step that ended early is `fmi2Discard`, state StepFailed, with `fmi2LastSuccessfulTime`
 /// and `fmi2Terminated` telling where and whether the model asks to end (FMI 2.0.4 §4.2.2).
 fn step<M: Model>(inst: &mut Instance<M>, t: f64, h: f64) -> Result<Success, CallError> {
-    match fmi_export::step::advance(inst, Function::DoStep, t, h)? {
+    let outcome = fmi_export::step::advance(inst, Function::DoStep, t, h)?;
+    stepped(inst, outcome)
+}
+
+/// The answer to a step that was carried out (see [`step`]).
+fn stepped<M: Model>(
+    inst: &mut Instance<M>,
+    outcome: (Success, Advance),
+) -> Result<Success, CallError> {
+    match outcome {
         (success, Advance::Complete) => Ok(success),
         (
             _,

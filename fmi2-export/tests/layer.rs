@@ -362,3 +362,182 @@ fn a_non_finite_output_is_refused_and_the_instance_stays_usable() {
         abi::free_instance::<Bounded>(c);
     }
 }
+
+// ---- the fast paths of fmi2GetReal, fmi2SetReal and fmi2DoStep ---------------------------
+
+/// A model whose Reals all lie in its own bytes (what the fast paths serve): `y = 2 u`
+/// computed before a get, and a step that adds 1 to `u`. Its step also calls into the
+/// instance it belongs to (the handle in `NESTED_INTO`), as a master's callback could.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+struct Doubler {
+    u: f64,
+    y: f64,
+}
+
+static DOUBLER: [Declaration<Doubler>; 2] = [
+    decl!(0, input u: u, "1", ""),
+    decl!(1, output y: y, "1", ""),
+];
+
+/// The instance a step of a `Doubler` calls into (0: none), and what those calls returned.
+static NESTED_INTO: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+static NESTED_STATUSES: std::sync::Mutex<Vec<fmi2Status>> = std::sync::Mutex::new(Vec::new());
+
+fmi_testkit::test_model!(
+    Doubler,
+    DOUBLER,
+    "y = 2 u",
+    calculate = |m| m.y = 2.0 * m.u,
+    step = |m| {
+        m.u += 1.0;
+        let c = NESTED_INTO.load(std::sync::atomic::Ordering::SeqCst) as fmi2Component;
+        if !c.is_null() {
+            let (mut y, u) = (0.0, 0.5);
+            let statuses = unsafe {
+                [
+                    abi::get_real::<Doubler>(c, &1, 1, &mut y),
+                    abi::set_real::<Doubler>(c, &0, 1, &u),
+                    abi::do_step::<Doubler>(c, 0.0, 0.1, 0),
+                ]
+            };
+            NESTED_STATUSES.lock().unwrap().extend(statuses);
+        }
+    }
+);
+
+/// A `Doubler` in step mode at t = 0, with the logger's messages so far cleared.
+unsafe fn stepping_doubler(logger: &TestLogger, logging_on: bool) -> fmi2Component {
+    let functions = logger.callbacks();
+    let guid = CString::new(guid::<Doubler>()).unwrap();
+    unsafe {
+        let c = abi::instantiate::<Doubler>(
+            c"d".as_ptr(),
+            fmi2CoSimulation,
+            guid.as_ptr(),
+            std::ptr::null(),
+            &functions,
+            0,
+            fmi2Boolean::from(logging_on),
+        );
+        assert!(!c.is_null());
+        assert_eq!(
+            abi::setup_experiment::<Doubler>(c, 0, 0.0, 0.0, 0, 0.0),
+            fmi2OK
+        );
+        assert_eq!(abi::enter_initialization_mode::<Doubler>(c), fmi2OK);
+        assert_eq!(lifecycle::exit_initialization_mode::<Doubler>(c), fmi2OK);
+        logger.clear();
+        c
+    }
+}
+
+/// The outputs a get returns are those of the inputs set and the steps taken just before,
+/// whichever path serves the get.
+#[test]
+fn a_get_right_after_a_set_or_a_step_sees_the_new_outputs() {
+    let logger = Box::<TestLogger>::default();
+    unsafe {
+        let c = stepping_doubler(&logger, false);
+        let get = || {
+            let mut y = f64::NAN;
+            assert_eq!(abi::get_real::<Doubler>(c, &1, 1, &mut y), fmi2OK);
+            y
+        };
+        assert_eq!(get(), 0.0);
+        for u in [1.0, -3.0, 0.25] {
+            assert_eq!(abi::set_real::<Doubler>(c, &0, 1, &u), fmi2OK);
+            assert_eq!(get(), 2.0 * u);
+            // Again, with nothing changed in between.
+            assert_eq!(get(), 2.0 * u);
+        }
+        let mut t = 0.0;
+        for k in 1..=3 {
+            assert_eq!(abi::do_step::<Doubler>(c, t, 0.5, 0), fmi2OK);
+            t += 0.5;
+            assert_eq!(get(), 2.0 * (0.25 + f64::from(k)));
+        }
+        assert!(logger.is_empty(), "{:?}", logger.messages());
+        abi::free_instance::<Doubler>(c);
+    }
+}
+
+/// With `logCalls` switched on during a run, every get, set and step is traced from the
+/// next call on; switched off again, none is.
+#[test]
+fn log_calls_switched_on_mid_run_traces_every_exchange_call() {
+    let logger = Box::<TestLogger>::default();
+    unsafe {
+        let c = stepping_doubler(&logger, false);
+        let u = 1.0;
+        let exchange = |t: f64| {
+            let mut y = 0.0;
+            assert_eq!(abi::set_real::<Doubler>(c, &0, 1, &u), fmi2OK);
+            assert_eq!(abi::get_real::<Doubler>(c, &1, 1, &mut y), fmi2OK);
+            assert_eq!(abi::do_step::<Doubler>(c, t, 0.5, 0), fmi2OK);
+        };
+        exchange(0.0);
+        assert!(logger.is_empty(), "{:?}", logger.messages());
+        let calls = [c"logCalls".as_ptr()];
+        assert_eq!(
+            abi::set_debug_logging::<Doubler>(c, fmi2True, 1, calls.as_ptr()),
+            fmi2OK
+        );
+        logger.clear();
+        exchange(0.5);
+        let traced: Vec<String> = logger.messages();
+        assert_eq!(traced.len(), 3, "{traced:?}");
+        for (message, function) in
+            traced
+                .iter()
+                .zip(["fmi2SetReal(", "fmi2GetReal(", "fmi2DoStep("])
+        {
+            assert!(message.starts_with(function), "{traced:?}");
+        }
+        assert_eq!(
+            abi::set_debug_logging::<Doubler>(c, fmi2False, 1, calls.as_ptr()),
+            fmi2OK
+        );
+        logger.clear();
+        exchange(1.0);
+        assert!(logger.is_empty(), "{:?}", logger.messages());
+        abi::free_instance::<Doubler>(c);
+    }
+}
+
+/// A get, set or step on an instance while its step runs (here from inside the model, as
+/// from a master's callback) is refused with fmi2Error and a log line, changes nothing,
+/// and the outer step goes on.
+#[test]
+fn a_call_on_a_busy_instance_is_refused_and_logged() {
+    let logger = Box::<TestLogger>::default();
+    unsafe {
+        let c = stepping_doubler(&logger, false);
+        NESTED_INTO.store(c as usize, std::sync::atomic::Ordering::SeqCst);
+        let status = abi::do_step::<Doubler>(c, 0.0, 0.5, 0);
+        NESTED_INTO.store(0, std::sync::atomic::Ordering::SeqCst);
+        assert_eq!(status, fmi2OK);
+        assert_eq!(
+            std::mem::take(&mut *NESTED_STATUSES.lock().unwrap()),
+            [fmi2Error; 3]
+        );
+        let messages = logger.messages();
+        assert_eq!(messages.len(), 3, "{messages:?}");
+        for (message, function) in messages
+            .iter()
+            .zip(["fmi2GetReal", "fmi2SetReal", "fmi2DoStep"])
+        {
+            assert_eq!(
+                *message,
+                format!(
+                    "{function}: refused: another call on this instance has not returned yet \
+                     (a call from inside one of its callbacks, or from a second thread)"
+                )
+            );
+        }
+        // The refused set changed nothing: u is 0 + 1 from the one step.
+        let mut y = 0.0;
+        assert_eq!(abi::get_real::<Doubler>(c, &1, 1, &mut y), fmi2OK);
+        assert_eq!(y, 2.0);
+        abi::free_instance::<Doubler>(c);
+    }
+}

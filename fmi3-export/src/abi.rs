@@ -18,12 +18,14 @@ use crate::ffi::*;
 use crate::state::{Function, Interface, Refusal, State};
 use crate::variables::{settable, Float64Slot, Type};
 use crate::version::Fmi3;
-pub(crate) use fmi_abi::args::{lists, lists_mut, out, show, slice, slice_mut};
+pub(crate) use fmi_abi::args::{few, few_mut, lists, lists_mut, out, show, slice, slice_mut};
 pub(crate) use fmi_export::call::c_call as call;
+use fmi_export::call::quick;
 use fmi_export::call::{first_non_finite, non_finite_read, shown, Request};
 use fmi_export::prepared::Element;
 use fmi_export::setters::{check_enumeration, check_integer, check_real};
 use fmi_export::step::Advance;
+use fmi_export::Abi;
 use fmi_export::Sink;
 use fmi_export::{lifecycle, CallError, Category, Logger, Options, Status, Success};
 use fmi_model::{Declaration, Kind, Model};
@@ -33,6 +35,9 @@ use std::ptr;
 
 /// An FMI 3.0 instance of `M`.
 pub type Instance<M> = fmi_export::Instance<M, Fmi3>;
+
+/// FMI 3.0 exchanges arrays: the fast paths keep the loops of arrays.
+const SCALARS_ONLY: bool = false;
 
 fn owned(s: fmi3String) -> Option<CString> {
     // SAFETY: NUL-terminated when non-null, per the standard; copied at once.
@@ -316,9 +321,88 @@ fn check_count<M: Model>(
     Ok(vrs.iter().map(|&vr| checked(inst, vr)).collect())
 }
 
+/// The fast path of `fmi3GetFloat64` (see [`fmi_export::call::quick`]): outputs up to
+/// date, every reference a Float64 stored in the model's bytes, the count right and every
+/// value finite; any other call goes on to [`get_float64_full`] (a jump: same arguments, no
+/// unwinding in between).
+///
 /// # Safety
 /// See the module documentation.
+#[inline(always)]
 pub unsafe fn get_float64<M: Model>(
+    c: fmi3Instance,
+    vrs: *const fmi3ValueReference,
+    n_vrs: usize,
+    values: *mut fmi3Float64,
+    n_values: usize,
+) -> fmi3Status {
+    let served = unsafe {
+        quick::<M, Fmi3, _>(c, Function::GetFloat64, |inst| {
+            let (vr_list, value_list) = few_mut(vrs, n_vrs, values, n_values)?;
+            // The outputs computed first, if anything changed: model code, out of line
+            // under the panic guard. OK, Warning (a message logged) or Fatal (a panic).
+            let mut refreshed = fmi3OK;
+            if inst.dirty {
+                refreshed = refresh_outputs(inst);
+                if refreshed == fmi3Fatal {
+                    return Some(refreshed);
+                }
+            }
+            if inst
+                .reals
+                .read_fast(vr_list, value_list, &inst.core.model, SCALARS_ONLY)
+            {
+                return Some(refreshed);
+            }
+            if refreshed == fmi3OK {
+                // Nothing to remember: the full path decides, as if it had refreshed.
+                return None;
+            }
+            // The warning is this call's: the rest of the call here, at least a Warning.
+            let status = get_float64_admitted(inst, vrs, n_vrs, values, n_values);
+            Some(if status == fmi3OK { refreshed } else { status })
+        })
+    };
+    match served {
+        Some(status) => status,
+        None => unsafe { get_float64_full::<M>(c, vrs, n_vrs, values, n_values) },
+    }
+}
+
+/// The outputs of an instance a fast get has admitted computed, under the core's panic
+/// guard: `fmi3OK`, `fmi3Warning` (a warning logged) or `fmi3Fatal` (a panic, logged).
+/// `extern "C"`: nothing unwinds out of it into the fast path.
+#[inline(never)]
+extern "C" fn refresh_outputs<M: Model>(inst: &mut Instance<M>) -> fmi3Status {
+    let f = Function::GetFloat64;
+    Fmi3::status(fmi_export::call::run(inst, f, |inst| Ok(inst.refresh(f))))
+}
+
+/// The body of an `fmi3GetFloat64` the fast path has admitted, under the core's panic
+/// guard. `extern "C"`: nothing unwinds out of it into the fast path.
+///
+/// # Safety
+/// See the module documentation.
+#[inline(never)]
+unsafe extern "C" fn get_float64_admitted<M: Model>(
+    inst: &mut Instance<M>,
+    vrs: *const fmi3ValueReference,
+    n_vrs: usize,
+    values: *mut fmi3Float64,
+    n_values: usize,
+) -> fmi3Status {
+    let f = Function::GetFloat64;
+    Fmi3::status(fmi_export::call::run(inst, f, |inst| unsafe {
+        get_float64_body(inst, vrs, n_vrs, values, n_values)
+    }))
+}
+
+/// `fmi3GetFloat64` through the full guard.
+///
+/// # Safety
+/// See the module documentation.
+#[inline(never)]
+pub unsafe extern "C" fn get_float64_full<M: Model>(
     c: fmi3Instance,
     vrs: *const fmi3ValueReference,
     n_vrs: usize,
@@ -329,6 +413,25 @@ pub unsafe fn get_float64<M: Model>(
     let trace = || unsafe { format!("{}(vr={})", f.name(), show(vrs, n_vrs)) };
     unsafe {
         call::<M, Fmi3>(c, f, trace, |inst| {
+            get_float64_body(inst, vrs, n_vrs, values, n_values)
+        })
+    }
+}
+
+/// What `fmi3GetFloat64` does once the call is admitted.
+///
+/// # Safety
+/// See the module documentation.
+unsafe fn get_float64_body<M: Model>(
+    inst: &mut Instance<M>,
+    vrs: *const fmi3ValueReference,
+    n_vrs: usize,
+    values: *mut fmi3Float64,
+    n_values: usize,
+) -> Result<Success, CallError> {
+    let f = Function::GetFloat64;
+    unsafe {
+        {
             let (vrs, values) =
                 lists_mut(vrs, n_vrs, "valueReferences", values, n_values, "values")?;
             let success = inst.refresh(f);
@@ -367,7 +470,7 @@ pub unsafe fn get_float64<M: Model>(
                 return Err(count_error(inst, vrs, n_values));
             }
             finite(inst, vrs, values).map(|()| success)
-        })
+        }
     }
 }
 
@@ -521,9 +624,51 @@ fn float64_elements<M: Model>(
     })
 }
 
+/// The fast path of `fmi3SetFloat64` (see [`fmi_export::call::quick`]): every reference
+/// a Float64 stored in the model's bytes, settable now, the count right and every value
+/// admitted; any other call goes on to [`set_float64_full`] with nothing written.
+///
 /// # Safety
 /// See the module documentation.
+#[inline(always)]
 pub unsafe fn set_float64<M: Model>(
+    c: fmi3Instance,
+    vrs: *const fmi3ValueReference,
+    n_vrs: usize,
+    values: *const fmi3Float64,
+    n_values: usize,
+) -> fmi3Status {
+    let served = unsafe {
+        quick::<M, Fmi3, _>(c, Function::SetFloat64, |inst| {
+            let (vrs, values) = few(vrs, n_vrs, values, n_values)?;
+            let state_bit = if initializing(inst.core.state) {
+                INITIALIZING
+            } else {
+                RUNNING
+            };
+            let model = &mut inst.core.model;
+            if !inst
+                .reals
+                .write_fast(vrs, values, model, state_bit, SCALARS_ONLY)
+            {
+                return None;
+            }
+            inst.dirty |= !vrs.is_empty();
+            Some(fmi3OK)
+        })
+    };
+    match served {
+        Some(status) => status,
+        None => unsafe { set_float64_full::<M>(c, vrs, n_vrs, values, n_values) },
+    }
+}
+
+/// `fmi3SetFloat64` through the full guard.
+///
+/// # Safety
+/// See the module documentation.
+#[inline(never)]
+pub unsafe extern "C" fn set_float64_full<M: Model>(
     c: fmi3Instance,
     vrs: *const fmi3ValueReference,
     n_vrs: usize,
@@ -976,10 +1121,153 @@ struct StepReport {
     last_successful_time: f64,
 }
 
+/// Where `fmi3DoStep` writes what it tells the master besides its status.
+struct StepOut<'a> {
+    event_handling_needed: &'a mut fmi3Boolean,
+    terminate: &'a mut fmi3Boolean,
+    early_return: &'a mut fmi3Boolean,
+    last_successful_time: &'a mut fmi3Float64,
+}
+
+impl StepOut<'_> {
+    /// The out-arguments, or the first that is NULL.
+    ///
+    /// # Safety
+    /// Each non-NULL pointer points to a writable value.
+    #[inline(always)]
+    unsafe fn of(
+        event_handling_needed: *mut fmi3Boolean,
+        terminate_simulation: *mut fmi3Boolean,
+        early_return: *mut fmi3Boolean,
+        last_successful_time: *mut fmi3Float64,
+    ) -> Result<Self, fmi_abi::args::ArgError> {
+        unsafe {
+            Ok(StepOut {
+                event_handling_needed: out(event_handling_needed, "eventHandlingNeeded")?,
+                terminate: out(terminate_simulation, "terminateSimulation")?,
+                early_return: out(early_return, "earlyReturn")?,
+                last_successful_time: out(last_successful_time, "lastSuccessfulTime")?,
+            })
+        }
+    }
+
+    /// Runs a step (`step`, given the report to fill) and writes its report.
+    fn report<M: Model>(
+        self,
+        inst: &mut Instance<M>,
+        step: impl FnOnce(&mut Instance<M>, &mut StepReport) -> Result<Success, CallError>,
+    ) -> Result<Success, CallError> {
+        let mut report = StepReport {
+            event_handling_needed: false,
+            terminate: inst.core.terminated,
+            early_return: false,
+            last_successful_time: inst.core.time,
+        };
+        let result = step(inst, &mut report);
+        *self.event_handling_needed = report.event_handling_needed;
+        *self.terminate = report.terminate;
+        *self.early_return = report.early_return;
+        *self.last_successful_time = report.last_successful_time;
+        result
+    }
+}
+
+/// The fast path of `fmi3DoStep` (see [`fmi_export::call::quick`]): a step the checks
+/// accept, with every out-argument given, goes straight to the model ([`step_accepted`]);
+/// any other call goes on to [`do_step_full`].
+///
 /// # Safety
 /// See the module documentation.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub unsafe fn do_step<M: Model>(
+    c: fmi3Instance,
+    current_communication_point: fmi3Float64,
+    communication_step_size: fmi3Float64,
+    no_set_fmu_state_prior_to_current_point: fmi3Boolean,
+    event_handling_needed: *mut fmi3Boolean,
+    terminate_simulation: *mut fmi3Boolean,
+    early_return: *mut fmi3Boolean,
+    last_successful_time: *mut fmi3Float64,
+) -> fmi3Status {
+    let (t, h) = (current_communication_point, communication_step_size);
+    let served = unsafe {
+        quick::<M, Fmi3, _>(c, Function::DoStep, |inst| {
+            let given = !event_handling_needed.is_null()
+                & !terminate_simulation.is_null()
+                & !early_return.is_null()
+                & !last_successful_time.is_null();
+            if !given || inst.core.terminated {
+                return None;
+            }
+            let end = fmi_export::step::accepted(inst, t, h)?;
+            Some(step_accepted(
+                inst,
+                t,
+                h,
+                end,
+                event_handling_needed,
+                terminate_simulation,
+                early_return,
+                last_successful_time,
+            ))
+        })
+    };
+    match served {
+        Some(status) => status,
+        None => unsafe {
+            do_step_full::<M>(
+                c,
+                t,
+                h,
+                no_set_fmu_state_prior_to_current_point,
+                event_handling_needed,
+                terminate_simulation,
+                early_return,
+                last_successful_time,
+            )
+        },
+    }
+}
+
+/// The step of an admitted `fmi3DoStep` whose arguments the checks accepted, ending at
+/// `end`. `extern "C"`: nothing unwinds out of it into the fast path.
+///
+/// # Safety
+/// The out-arguments are non-NULL and writable.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+unsafe extern "C" fn step_accepted<M: Model>(
+    inst: &mut Instance<M>,
+    t: f64,
+    h: f64,
+    end: f64,
+    event_handling_needed: *mut fmi3Boolean,
+    terminate_simulation: *mut fmi3Boolean,
+    early_return: *mut fmi3Boolean,
+    last_successful_time: *mut fmi3Float64,
+) -> fmi3Status {
+    let status = fmi_export::call::run(inst, Function::DoStep, |inst| {
+        let outs = unsafe {
+            StepOut::of(
+                event_handling_needed,
+                terminate_simulation,
+                early_return,
+                last_successful_time,
+            )
+        }?;
+        outs.report(inst, |inst, report| step_from(inst, t, h, end, report))
+    });
+    Fmi3::status(status)
+}
+
+/// `fmi3DoStep` through the full guard.
+///
+/// # Safety
+/// See the module documentation.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+pub unsafe extern "C" fn do_step_full<M: Model>(
     c: fmi3Instance,
     current_communication_point: fmi3Float64,
     communication_step_size: fmi3Float64,
@@ -995,22 +1283,13 @@ pub unsafe fn do_step<M: Model>(
     let trace = || fmi_export::step::trace(f.name(), t, h, no_set_prior);
     unsafe {
         call::<M, Fmi3>(c, f, trace, |inst| {
-            let event = out(event_handling_needed, "eventHandlingNeeded")?;
-            let terminate = out(terminate_simulation, "terminateSimulation")?;
-            let early = out(early_return, "earlyReturn")?;
-            let last = out(last_successful_time, "lastSuccessfulTime")?;
-            let mut report = StepReport {
-                event_handling_needed: false,
-                terminate: inst.core.terminated,
-                early_return: false,
-                last_successful_time: inst.core.time,
-            };
-            let result = step(inst, t, h, &mut report);
-            *event = report.event_handling_needed;
-            *terminate = report.terminate;
-            *early = report.early_return;
-            *last = report.last_successful_time;
-            result
+            let outs = StepOut::of(
+                event_handling_needed,
+                terminate_simulation,
+                early_return,
+                last_successful_time,
+            )?;
+            outs.report(inst, |inst, report| step(inst, t, h, report))
         })
     }
 }
@@ -1032,7 +1311,6 @@ fn step<M: Model>(
     h: f64,
     report: &mut StepReport,
 ) -> Result<Success, CallError> {
-    let f = Function::DoStep;
     if inst.core.terminated {
         // Once terminateSimulation was returned the importer must end the run with
         // fmi3Terminate (FMI 3.0, fmi3DoStep); a step past it would integrate a model that
@@ -1047,6 +1325,18 @@ fn step<M: Model>(
         )));
     }
     let end = fmi_export::step::check(inst, t, h)?;
+    step_from(inst, t, h, end, report)
+}
+
+/// [`step`] once its arguments were accepted: from `t` to `end` (= `t + h`).
+fn step_from<M: Model>(
+    inst: &mut Instance<M>,
+    t: f64,
+    h: f64,
+    end: f64,
+    report: &mut StepReport,
+) -> Result<Success, CallError> {
+    let f = Function::DoStep;
     let mut success = Success::Ok;
     let mut from = t;
     let mut finished = false;
