@@ -103,7 +103,7 @@ pub fn advance<M: Model, A: Abi>(
     advance_checked(inst, f, t, h, end)
 }
 
-#[inline]
+#[inline(always)]
 /// [`advance`] of a step [`check`] has accepted, ending at `end` (= `t + h` as the master
 /// computed it); also the rest of a step after an event inside it.
 pub fn advance_checked<M: Model, A: Abi>(

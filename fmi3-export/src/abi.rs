@@ -1247,16 +1247,34 @@ unsafe extern "C" fn step_accepted<M: Model>(
     early_return: *mut fmi3Boolean,
     last_successful_time: *mut fmi3Float64,
 ) -> fmi3Status {
-    let status = fmi_export::call::run(inst, Function::DoStep, |inst| {
-        let outs = unsafe {
-            StepOut::of(
-                event_handling_needed,
-                terminate_simulation,
-                early_return,
-                last_successful_time,
-            )
-        }?;
-        outs.report(inst, |inst, report| step_from(inst, t, h, end, report))
+    let f = Function::DoStep;
+    let status = fmi_export::call::run(inst, f, |inst| {
+        // What the report starts from ([`StepOut::report`]); the fast path admitted only an
+        // instance that has not ended its run.
+        let mut report = StepReport {
+            event_handling_needed: false,
+            terminate: false,
+            early_return: false,
+            last_successful_time: inst.core.time,
+        };
+        let result = match fmi_export::step::advance_checked(inst, f, t, h, end) {
+            // The common step, done in one advance: what `step_from` concludes for it.
+            Ok((outcome, Advance::Complete)) => {
+                inst.core.time = end;
+                inst.core.last_successful_time = end;
+                report.last_successful_time = end;
+                Ok(Success::Ok.and(outcome))
+            }
+            first => first.and_then(|first| step_from(inst, t, h, end, Some(first), &mut report)),
+        };
+        // SAFETY: the fast path checked every out-argument non-NULL; the caller owns them.
+        unsafe {
+            *event_handling_needed = report.event_handling_needed;
+            *terminate_simulation = report.terminate;
+            *early_return = report.early_return;
+            *last_successful_time = report.last_successful_time;
+        }
+        result
     });
     Fmi3::status(status)
 }
@@ -1325,15 +1343,17 @@ fn step<M: Model>(
         )));
     }
     let end = fmi_export::step::check(inst, t, h)?;
-    step_from(inst, t, h, end, report)
+    step_from(inst, t, h, end, None, report)
 }
 
-/// [`step`] once its arguments were accepted: from `t` to `end` (= `t + h`).
+/// [`step`] once its arguments were accepted: from `t` to `end` (= `t + h`); `first`, when
+/// given, is the outcome of the advance over the whole step already made.
 fn step_from<M: Model>(
     inst: &mut Instance<M>,
     t: f64,
     h: f64,
     end: f64,
+    mut first: Option<(Success, Advance)>,
     report: &mut StepReport,
 ) -> Result<Success, CallError> {
     let f = Function::DoStep;
@@ -1346,7 +1366,10 @@ fn step_from<M: Model>(
         // can differ from h in its last bit, and a model that integrates over h would then
         // fly another trajectory); after an event, the rest of the step.
         let span = if from == t { h } else { end - from };
-        let (outcome, advance) = fmi_export::step::advance_checked(inst, f, from, span, end)?;
+        let (outcome, advance) = match first.take() {
+            Some(first) => first,
+            None => fmi_export::step::advance_checked(inst, f, from, span, end)?,
+        };
         success = success.and(outcome);
         let (at, terminated, reason) = match advance {
             Advance::Complete => {
