@@ -272,21 +272,6 @@ pub fn gnc_advance(
     t_s: f64,
 ) -> Advance {
     let cycle = guidance_cycle_index(t_s - start_time_s, design.scenario.guidance_cycle_s);
-    gnc_advance_in_cycle(design, start_time_s, guidance, profile, nav, t_s, cycle)
-}
-
-/// [`gnc_advance`] for a caller that has the guidance cycle of `t_s`
-/// ([`guidance_cycle_index`] of the time elapsed since `start_time_s`).
-#[inline(always)]
-pub fn gnc_advance_in_cycle(
-    design: &GncDesign,
-    start_time_s: f64,
-    guidance: &GuidanceState,
-    profile: &PhiProfile,
-    nav: &NavigationInputs,
-    t_s: f64,
-    cycle: (i64, bool),
-) -> Advance {
     let mut advance = Advance {
         guidance: *guidance,
         profile: *profile,
@@ -305,8 +290,9 @@ pub fn gnc_advance_in_cycle(
     advance
 }
 
-/// [`gnc_advance_in_cycle`] written into `out`, for a caller that keeps the memory in place:
-/// `out.guidance` is written only when the sample solves a guidance cycle, and whether it
+/// [`gnc_advance`] for a caller that has the guidance cycle of `t_s` ([`guidance_cycle_index`]
+/// of the time elapsed since `start_time_s`) and keeps the memory in place, written into
+/// `out`: `out.guidance` is written only when the sample solves a guidance cycle, and whether it
 /// did is returned; otherwise the guidance memory is `guidance` as it is (the zero-order
 /// hold), and `out.guidance` is left as it was. Likewise `out.profile` is written only with
 /// a shaped thrust-axis profile (`design.roll_profile`); without one it stays `profile`.
